@@ -1,0 +1,39 @@
+"""Buddy Search geometry: find the seeker in the buddy's photo from a few shared landmarks.
+
+Kasten & Werman, "Two view constraints on the epipoles from few correspondences": with the
+buddy tapped in photo 1 (epipole ``e1``), 4 landmarks put the seeker on a conic in photo 2,
+5 fix the point ``e2``, and a line through the buddy with 6 landmarks fixes both epipoles.
+
+Three layers, as in PoseLib: exact few-landmark solvers (:func:`epipole_conic`,
+:func:`epipole_from_five`, :func:`epipoles_from_six`, :func:`fundamental_from_epipoles`),
+estimation under tap noise (maximum likelihood, mis-tapped landmarks, plane model,
+uncertainty), and :func:`solve`, which picks among them. :func:`draw_overlay` draws the
+answer on a photo. Pure numpy and OpenCV: no web, no database.
+
+Pixels everywhere: x right, y down, origin at the top-left (OpenCV's convention).
+"""
+
+from .conic import epipole_conic
+from .errors import ErrorCode, SolverError
+from .five_point import epipole_from_five
+from .overlay import draw_overlay
+from .result import Candidate, Ellipse, SolveResult, Uncertainty
+from .six_point import EpipoleCandidate, epipoles_from_six
+from .solve import solve
+from .two_epipoles import fundamental_from_epipoles
+
+__all__ = [
+    "Candidate",
+    "Ellipse",
+    "EpipoleCandidate",
+    "ErrorCode",
+    "SolveResult",
+    "SolverError",
+    "Uncertainty",
+    "draw_overlay",
+    "epipole_conic",
+    "epipole_from_five",
+    "epipoles_from_six",
+    "fundamental_from_epipoles",
+    "solve",
+]

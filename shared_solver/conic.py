@@ -1,0 +1,63 @@
+"""Four landmarks and the buddy's position: the conic the seeker stands on (paper 3.1)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from . import validation
+from .projective import Array, hartley_normaliser, homogeneous, transform
+
+
+def bracket(a: Array, b: Array, c: Array) -> Array:
+    """|a b c| = a . (b x c) for (..., 3) homogeneous points, broadcast over leading axes."""
+    return np.einsum("...i,...i->...", a, np.cross(b, c))
+
+
+def conic_from_cross_ratio(e1: Array, p: Array, q: Array) -> Array:
+    """The conic of paper eq. (3) in the coordinates of ``q``, without checks.
+
+    Args:
+        e1: (3,) buddy position in photo 1, homogeneous.
+        p, q: (4, 3) homogeneous landmarks i, j, k, l of photo 1 and photo 2.
+
+    Returns:
+        (3, 3) symmetric C, unit Frobenius norm, with ``e2^T C e2 = 0`` and ``q_s^T C q_s = 0``.
+    """
+    i, j, k, l = range(4)  # noqa: E741 (the paper's indices)
+    a = bracket(e1, p[i], p[j]) * bracket(e1, p[k], p[l])
+    b = bracket(e1, p[i], p[k]) * bracket(e1, p[j], p[l])
+    # |e2 q_i q_k| = e2 . (q_i x q_k): each bracket is a linear form in e2.
+    l_ik, l_jl = np.cross(q[i], q[k]), np.cross(q[j], q[l])
+    l_ij, l_kl = np.cross(q[i], q[j]), np.cross(q[k], q[l])
+    c = a * np.outer(l_ik, l_jl) - b * np.outer(l_ij, l_kl)
+    c = c + c.T
+    return c / np.linalg.norm(c)
+
+
+def epipole_conic(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> Array:
+    """The conic in photo 2 on which the seeker stands, from 4 landmarks (paper 3.1, eq. 3).
+
+    Equal cross ratios of the four epipolar lines through ``e1`` and through ``e2`` give one
+    quadratic equation in ``e2``. The conic also passes through the four landmarks of photo 2.
+
+    Args:
+        e1: (2,) pixel or (3,) homogeneous position of the buddy in photo 1.
+        pts1: (4, 2) landmarks in photo 1, pixels.
+        pts2: (4, 2) the same landmarks in photo 2, pixels.
+
+    Returns:
+        (3, 3) symmetric matrix C (unit Frobenius norm) in photo-2 pixel coordinates with
+        ``e2^T C e2 = 0`` for homogeneous ``e2``.
+
+    Raises:
+        SolverError: invalid or degenerate input (see :mod:`shared_solver.errors`).
+    """
+    e1h = validation.point(e1, "e1")
+    p, q = validation.landmark_pairs(pts1, pts2, minimum=4, maximum=4, epipole1=e1h)
+    t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
+    conic = conic_from_cross_ratio(
+        t1 @ e1h, transform(t1, homogeneous(p)), transform(t2, homogeneous(q))
+    )
+    pixel_conic = t2.T @ conic @ t2
+    return pixel_conic / np.linalg.norm(pixel_conic)

@@ -1,0 +1,300 @@
+"""Maximum-likelihood epipolar geometry over every tap, with its first-order uncertainty.
+
+Each landmark contributes its Sampson distance (the first-order distance, in pixels, from
+the taps to the nearest pair of points that fit F exactly; Hartley & Zisserman 11.4.3), and
+the buddy's tap contributes its own offset: the tap on the buddy is as noisy as any other.
+With isotropic tap noise ``sigma`` every residual has standard deviation ``sigma``, so the
+least-squares minimum is the maximum-likelihood estimate to first order and
+``sigma^2 (J^T J)^-1`` its covariance.
+
+Parametrisation (normalised coordinates): ``F = [a1 | a2 | -(x a1 + y a2)]`` keeps
+``F (x, y, 1)^T = 0`` for any columns ``a1, a2`` and buddy position ``(x, y)``: seven degrees
+of freedom after the scale of ``(a1, a2)``, and ``e2 = a1 x a2``. When both friends tapped
+each other, ``(a1, a2)`` is further tied to ``e2 = (x2, y2, 1)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ErrorCode, SolverError
+from .five_point import right_epipole
+from .least_squares import gauge_free_covariance, levenberg_marquardt
+from .projective import Array, hartley_normaliser, homogeneous, skew
+
+# Beyond this the first-order ellipse of e2 says nothing useful: e2 is effectively at infinity.
+_FAR_W = 1e-9
+
+
+@dataclass(frozen=True)
+class EpipolarFit:
+    """A fitted geometry in photo pixels.
+
+    Attributes:
+        fundamental: (3, 3) F, unit Frobenius norm, ``q^T F p = 0``.
+        epipole1, epipole2: (3,) homogeneous epipoles (``F e1 = 0``, ``F^T e2 = 0``).
+        distances: (N,) signed Sampson distance of each landmark, px.
+        cost: sum of squared residuals of landmarks and epipole taps, px^2.
+        dof: residual degrees of freedom (observations minus 7).
+        covariance1, covariance2: (2, 2) px^2 covariance of each epipole's pixel position,
+            None when that epipole is at infinity.
+    """
+
+    fundamental: Array
+    epipole1: Array
+    epipole2: Array
+    distances: Array
+    cost: float
+    dof: int
+    covariance1: Array | None
+    covariance2: Array | None
+
+
+@dataclass(frozen=True)
+class _Frame:
+    """Hartley-normalised landmarks and how to get back to pixels."""
+
+    t1: Array
+    t2: Array
+    p: Array  # (N, 2) normalised photo-1 landmarks
+    q: Array  # (N, 3) normalised photo-2 landmarks, homogeneous
+    s1: float  # normalised units per pixel, photo 1
+    s2: float
+
+    @classmethod
+    def of(cls, p: Array, q: Array) -> _Frame:
+        t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
+        s1, s2 = float(t1[0, 0]), float(t2[0, 0])
+        p_n = p * s1 + t1[:2, 2]
+        q_n = np.empty((len(q), 3))
+        q_n[:, :2] = q * s2 + t2[:2, 2]
+        q_n[:, 2] = 1.0
+        return cls(t1, t2, p_n, q_n, s1, s2)
+
+    def normalised_f(self, fundamental: Array) -> Array:
+        return np.linalg.solve(self.t2.T, fundamental) @ np.linalg.inv(self.t1)
+
+    def pixel_f(self, normalised: Array) -> Array:
+        fundamental = self.t2.T @ normalised @ self.t1
+        return fundamental / np.linalg.norm(fundamental)
+
+
+def _sampson(frame: _Frame, a1: Array, a2: Array, x: float, y: float) -> tuple[Array, Array]:
+    """Sampson distances (px) and their Jacobian w.r.t. (a1, a2, x, y): (N,), (N, 8)."""
+    q, s1, s2 = frame.q, frame.s1 * frame.s1, frame.s2 * frame.s2
+    u, v = frame.p[:, 0] - x, frame.p[:, 1] - y
+    qa1, qa2 = q @ a1, q @ a2
+    fx = u * a1[0] + v * a2[0]  # (F p)_x
+    fy = u * a1[1] + v * a2[1]  # (F p)_y
+    eps = qa1 * u + qa2 * v  # q^T F p
+    g2 = s1 * (qa1 * qa1 + qa2 * qa2) + s2 * (fx * fx + fy * fy)
+    # d(eps) and d(g2)/2 w.r.t. (a1, a2, x, y), side by side.
+    d_eps = np.empty((len(u), 8))
+    d_eps[:, 0:3] = u[:, None] * q
+    d_eps[:, 3:6] = v[:, None] * q
+    d_eps[:, 6], d_eps[:, 7] = -qa1, -qa2
+    half_d_g2 = np.empty((len(u), 8))
+    half_d_g2[:, 0:3] = (s1 * qa1)[:, None] * q
+    half_d_g2[:, 3:6] = (s1 * qa2)[:, None] * q
+    su, sv = s2 * u, s2 * v
+    half_d_g2[:, 0] += su * fx
+    half_d_g2[:, 1] += su * fy
+    half_d_g2[:, 3] += sv * fx
+    half_d_g2[:, 4] += sv * fy
+    half_d_g2[:, 6] = -s2 * (fx * a1[0] + fy * a1[1])
+    half_d_g2[:, 7] = -s2 * (fx * a2[0] + fy * a2[1])
+    inv_g = 1.0 / np.sqrt(g2)
+    distance = eps * inv_g
+    jacobian = (d_eps - (distance * inv_g)[:, None] * half_d_g2) * inv_g[:, None]
+    return distance, jacobian
+
+
+def _unit_block(theta: Array, size: int) -> Array:
+    theta = theta.copy()
+    theta[:size] /= np.linalg.norm(theta[:size])
+    return theta
+
+
+def fit_epipolar(
+    p: Array,
+    q: Array,
+    start: Array,
+    *,
+    sigma: float,
+    epipole1_tap: Array | None = None,
+    line1: Array | None = None,
+) -> EpipolarFit:
+    """Refine F over all taps, the buddy's tap (or line) included, and its uncertainty.
+
+    Args:
+        p, q: (N, 2) landmarks of photo 1 and 2, pixels, N >= 7 - (taps' equations).
+        start: (3, 3) initial F in pixels (a linear or minimal solution), with a finite e1.
+        sigma: tap noise, px (standard deviation of each coordinate).
+        epipole1_tap: (2,) where the seeker tapped the buddy in photo 1, or None.
+        line1: (3,) line through the buddy in photo 1, or None.
+    """
+    frame = _Frame.of(p, q)
+    f0 = frame.normalised_f(start)
+    e1 = right_epipole(f0)
+    if abs(e1[2]) < _FAR_W * np.linalg.norm(e1):
+        raise SolverError(
+            ErrorCode.DEGENERATE_CONFIGURATION,
+            "The landmarks put the buddy at infinity in photo 1; re-check the landmarks.",
+        )
+    x0, y0 = e1[:2] / e1[2]
+    prior_rows, prior_target = _prior(frame, epipole1_tap, line1)
+
+    def residuals(theta: Array) -> tuple[Array, Array]:
+        r, jacobian = _sampson(frame, theta[0:3], theta[3:6], theta[6], theta[7])
+        if prior_rows is None:
+            return r, jacobian
+        r_prior = prior_rows @ np.array([theta[6], theta[7], 1.0]) - prior_target
+        j_prior = np.zeros((len(r_prior), 8))
+        j_prior[:, 6:8] = prior_rows[:, :2]
+        return np.concatenate([r, r_prior]), np.vstack([jacobian, j_prior])
+
+    start_theta = np.concatenate([f0[:, 0], f0[:, 1], [x0, y0]])
+    theta, r, jacobian = levenberg_marquardt(
+        residuals, start_theta, renormalise=lambda t: _unit_block(t, 6)
+    )
+    a1, a2, x, y = theta[0:3], theta[3:6], theta[6], theta[7]
+    gauge = np.concatenate([a1, a2, [0.0, 0.0]])
+    covariance = gauge_free_covariance(jacobian, gauge, sigma)
+    e1_n, e2_n = np.array([x, y, 1.0]), np.cross(a1, a2)
+    # d(a1 x a2) = -[a2]x da1 + [a1]x da2
+    d_e2 = np.hstack([-skew(a2), skew(a1), np.zeros((3, 2))])
+    d_e1 = np.zeros((3, 8))
+    d_e1[0, 6] = d_e1[1, 7] = 1.0
+    normalised = np.column_stack([a1, a2, -(x * a1 + y * a2)])
+    return EpipolarFit(
+        fundamental=frame.pixel_f(normalised),
+        epipole1=np.linalg.solve(frame.t1, e1_n),
+        epipole2=np.linalg.solve(frame.t2, e2_n),
+        distances=r[: len(p)],
+        cost=float(r @ r),
+        dof=len(r) - 7,
+        covariance1=_pixel_covariance(frame.t1, e1_n, d_e1, covariance),
+        covariance2=_pixel_covariance(frame.t2, e2_n, d_e2, covariance),
+    )
+
+
+def fit_two_epipoles(
+    p: Array, q: Array, start: Array, *, sigma: float, epipole1_tap: Array, epipole2_tap: Array
+) -> EpipolarFit:
+    """Refine F when both friends tapped each other: both taps are refined with the landmarks.
+
+    Args:
+        p, q: (N, 2) landmarks, N >= 3.
+        start: (3, 3) initial F with finite epipoles (e.g. from both taps).
+        sigma: tap noise, px.
+        epipole1_tap, epipole2_tap: (2,) the taps on the buddy (photo 1) and seeker (photo 2).
+    """
+    frame = _Frame.of(p, q)
+    f0 = frame.normalised_f(start)
+    e1, e2 = right_epipole(f0), right_epipole(f0.T)
+    x1, y1 = e1[:2] / e1[2]
+    x2, y2 = e2[:2] / e2[2]
+    # F = B2 M B1^T with B = [[1, 0], [0, 1], [-x, -y]]: the top-left 2x2 block of F is M.
+    start_theta = np.array([f0[0, 0], f0[0, 1], f0[1, 0], f0[1, 1], x1, y1, x2, y2])
+    taps = np.concatenate(
+        [frame.t1 @ np.append(epipole1_tap, 1.0), frame.t2 @ np.append(epipole2_tap, 1.0)]
+    )
+    tap_target = np.array(
+        [taps[0] / frame.s1, taps[1] / frame.s1, taps[3] / frame.s2, taps[4] / frame.s2]
+    )
+    tap_scale = np.array([1 / frame.s1, 1 / frame.s1, 1 / frame.s2, 1 / frame.s2])
+
+    def columns(theta: Array) -> tuple[Array, Array]:
+        m11, m12, m21, m22, _, _, x2_, y2_ = theta
+        return (
+            np.array([m11, m21, -(x2_ * m11 + y2_ * m21)]),
+            np.array([m12, m22, -(x2_ * m12 + y2_ * m22)]),
+        )
+
+    def residuals(theta: Array) -> tuple[Array, Array]:
+        m11, m12, m21, m22, x1_, y1_, x2_, y2_ = theta
+        a1, a2 = columns(theta)
+        r, j_a = _sampson(frame, a1, a2, x1_, y1_)
+        # Chain rule from (a1, a2, x1, y1) to (M, x1, y1, x2, y2).
+        jacobian = np.zeros((len(r), 8))
+        jacobian[:, 0] = j_a[:, 0] - x2_ * j_a[:, 2]  # m11
+        jacobian[:, 1] = j_a[:, 3] - x2_ * j_a[:, 5]  # m12
+        jacobian[:, 2] = j_a[:, 1] - y2_ * j_a[:, 2]  # m21
+        jacobian[:, 3] = j_a[:, 4] - y2_ * j_a[:, 5]  # m22
+        jacobian[:, 4:6] = j_a[:, 6:8]
+        jacobian[:, 6] = -m11 * j_a[:, 2] - m12 * j_a[:, 5]
+        jacobian[:, 7] = -m21 * j_a[:, 2] - m22 * j_a[:, 5]
+        r_taps = theta[4:8] * tap_scale - tap_target
+        return np.concatenate([r, r_taps]), np.vstack(
+            [jacobian, np.hstack([np.zeros((4, 4)), np.diag(tap_scale)])]
+        )
+
+    theta, r, jacobian = levenberg_marquardt(
+        residuals, start_theta, renormalise=lambda t: _unit_block(t, 4)
+    )
+    a1, a2 = columns(theta)
+    x1, y1, x2, y2 = theta[4:8]
+    gauge = np.concatenate([theta[:4], np.zeros(4)])
+    covariance = gauge_free_covariance(jacobian, gauge, sigma)
+    e1_n, e2_n = np.array([x1, y1, 1.0]), np.array([x2, y2, 1.0])
+    d_e1, d_e2 = np.zeros((3, 8)), np.zeros((3, 8))
+    d_e1[0, 4] = d_e1[1, 5] = d_e2[0, 6] = d_e2[1, 7] = 1.0
+    return EpipolarFit(
+        fundamental=frame.pixel_f(np.column_stack([a1, a2, -(x1 * a1 + y1 * a2)])),
+        epipole1=np.linalg.solve(frame.t1, e1_n),
+        epipole2=np.linalg.solve(frame.t2, e2_n),
+        distances=r[: len(p)],
+        cost=float(r @ r),
+        dof=len(r) - 7,
+        covariance1=_pixel_covariance(frame.t1, e1_n, d_e1, covariance),
+        covariance2=_pixel_covariance(frame.t2, e2_n, d_e2, covariance),
+    )
+
+
+def _prior(
+    frame: _Frame, epipole1_tap: Array | None, line1: Array | None
+) -> tuple[Array | None, Array]:
+    """Rows R and target b so that ``R @ (x, y, 1) - b`` are the buddy-tap residuals in px."""
+    if epipole1_tap is not None:
+        tap = frame.t1 @ np.append(epipole1_tap, 1.0)
+        rows = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) / frame.s1
+        return rows, tap[:2] / frame.s1
+    if line1 is not None:
+        line = np.linalg.solve(frame.t1.T, line1)  # lines map by the inverse transpose
+        return (line / (np.hypot(line[0], line[1]) * frame.s1))[None, :], np.zeros(1)
+    return None, np.zeros(0)
+
+
+def _pixel_covariance(
+    to_pixels_from: Array, point_n: Array, d_point_n: Array, covariance: Array
+) -> Array | None:
+    """(2, 2) pixel covariance of a homogeneous normalised point with Jacobian (3, P)."""
+    point = np.linalg.solve(to_pixels_from, point_n)
+    d_point = np.linalg.solve(to_pixels_from, d_point_n)
+    if abs(point[2]) < _FAR_W * np.linalg.norm(point):
+        return None
+    w = point[2]
+    dehomogenise = np.array([[1.0, 0.0, -point[0] / w], [0.0, 1.0, -point[1] / w]]) / w
+    jacobian = dehomogenise @ d_point
+    return jacobian @ covariance @ jacobian.T
+
+
+def sampson_distances(fundamental: Array, p: Array, q: Array) -> Array:
+    """Signed Sampson distances (px) of landmarks to one or many geometries.
+
+    Args:
+        fundamental: (3, 3) or (K, 3, 3) F in pixels.
+        p, q: (N, 2) landmarks of photo 1 and photo 2.
+
+    Returns:
+        (N,) or (K, N) distances.
+    """
+    ph, qh = homogeneous(p), homogeneous(q)
+    fp = np.einsum("...ij,nj->...ni", fundamental, ph)
+    ftq = np.einsum("...ji,nj->...ni", fundamental, qh)
+    eps = np.einsum("...ni,ni->...n", fp, qh)
+    g2 = fp[..., 0] ** 2 + fp[..., 1] ** 2 + ftq[..., 0] ** 2 + ftq[..., 1] ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return eps / np.sqrt(g2)

@@ -1,0 +1,2 @@
+def draw_overlay(*a, **k):
+    raise NotImplementedError

@@ -1,0 +1,124 @@
+"""Is a candidate geometry physically possible for two phone cameras?
+
+Used to rank the several real solutions of the 6-landmark cubic and of the 7-point method:
+
+* the oriented epipolar constraint (Chum, Werner & Pajdla 2004): every landmark lies in front
+  of both cameras only if ``(e2 x q_i) . (F p_i)`` has the same sign for all ``i``;
+* the focal lengths a candidate ``F`` implies when each principal point is the image centre
+  (Bougnoux, ICCV 1998; restated in MATH.md): they
+  must be real and phone-like;
+* phones photographing each other see each other: epipoles inside the photos are likelier.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .projective import Array, homogeneous, skew
+
+# A phone's focal length in pixels relative to the long side of the photo: ultra-wide
+# (13 mm equivalent, about 0.36) to 3x tele (77 mm, about 2.1), with margin.
+PHONE_FOCAL_RANGE = (0.25, 3.5)
+
+
+@dataclass(frozen=True)
+class Plausibility:
+    """How physically possible a candidate geometry is (fewer violations rank first)."""
+
+    oriented_violations: int
+    focal_lengths: tuple[float | None, float | None]
+    phone_like: bool
+    epipoles_inside: int
+
+    def sort_key(self) -> tuple[int, int, int]:
+        return (self.oriented_violations, 0 if self.phone_like else 1, -self.epipoles_inside)
+
+
+def oriented_violations(fundamental: Array, e2: Array, p: Array, q: Array) -> int:
+    """How many landmarks break the oriented epipolar constraint (minority sign count).
+
+    Args:
+        fundamental: (3, 3) F with ``q^T F p = 0``.
+        e2: (3,) epipole in photo 2 (``F^T e2 = 0``).
+        p, q: (N, 2) landmarks in photo 1 and photo 2, pixels.
+    """
+    signs = np.einsum("ij,ij->i", np.cross(e2, homogeneous(q)), homogeneous(p) @ fundamental.T)
+    positive = int(np.count_nonzero(signs > 0))
+    return min(positive, len(signs) - positive)
+
+
+def implied_focal_lengths(
+    fundamental: Array, e1: Array, e2: Array, centre1: Array, centre2: Array
+) -> tuple[float | None, float | None]:
+    """Focal lengths (px) of both cameras implied by F, square pixels and known principal points.
+
+    Bougnoux's formula; None where the implied squared focal length is not positive.
+
+    Args:
+        fundamental: (3, 3) F; e1, e2: (3,) its epipoles in photo 1 and 2.
+        centre1, centre2: (2,) principal points (image centres), pixels.
+    """
+    flat = np.diag([1.0, 1.0, 0.0])
+    c1, c2 = np.append(centre1, 1.0), np.append(centre2, 1.0)
+    f = fundamental
+
+    def squared(f_: Array, e_other: Array, c: Array, c_other: Array) -> float:
+        lead = c_other @ skew(e_other) @ flat @ f_
+        denominator = lead @ flat @ f_.T @ c_other
+        if denominator == 0:
+            return -1.0
+        return float(-(lead @ c) * (c @ f_.T @ c_other) / denominator)
+
+    first, second = squared(f, e2, c1, c2), squared(f.T, e1, c2, c1)
+    return (
+        math.sqrt(first) if first > 0 else None,
+        math.sqrt(second) if second > 0 else None,
+    )
+
+
+def assess(
+    fundamental: Array,
+    e1: Array,
+    e2: Array,
+    p: Array,
+    q: Array,
+    *,
+    image_size1: tuple[float, float] | None,
+    image_size2: tuple[float, float] | None,
+) -> Plausibility:
+    """All plausibility cues of one candidate geometry.
+
+    Without image sizes the landmarks' bounding box stands in for the photo (its centre for
+    the principal point, its long side for the photo's).
+    """
+    frames = [_frame(points, size) for points, size in ((p, image_size1), (q, image_size2))]
+    focals = implied_focal_lengths(fundamental, e1, e2, frames[0][0], frames[1][0])
+    low, high = PHONE_FOCAL_RANGE
+    phone_like = all(
+        focal is not None and low * long_side <= focal <= high * long_side
+        for focal, (_, long_side, _) in zip(focals, frames, strict=True)
+    )
+    inside = sum(
+        _inside(epipole, box) for epipole, (_, _, box) in zip((e1, e2), frames, strict=True)
+    )
+    return Plausibility(oriented_violations(fundamental, e2, p, q), focals, phone_like, inside)
+
+
+def _frame(points: Array, size: tuple[float, float] | None) -> tuple[Array, float, Array]:
+    """(principal point, long side, [xmin, ymin, xmax, ymax]) of a photo."""
+    if size is not None:
+        box = np.array([0.0, 0.0, size[0], size[1]])
+    else:
+        box = np.concatenate([points.min(axis=0), points.max(axis=0)])
+    centre = (box[:2] + box[2:]) / 2
+    return centre, float(max(box[2] - box[0], box[3] - box[1], 1.0)), box
+
+
+def _inside(epipole: Array, box: Array) -> bool:
+    if abs(epipole[2]) < 1e-12 * np.linalg.norm(epipole):
+        return False
+    x, y = epipole[:2] / epipole[2]
+    return bool(box[0] <= x <= box[2] and box[1] <= y <= box[3])

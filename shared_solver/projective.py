@@ -1,0 +1,68 @@
+"""Small helpers of projective geometry in the plane.
+
+Points are homogeneous 3-vectors ``(x, y, w)``; pixel points are ``(x, y)`` with x right and
+y down (OpenCV's convention). Nothing here divides by ``w`` without checking it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.floating[Any]]
+Mask = NDArray[np.bool_]
+Indices = NDArray[np.intp]
+
+# A homogeneous point whose pixel position exceeds this many pixels is treated as lying at
+# infinity: no phone photo is anywhere near that large.
+FAR_AWAY_PX = 1e7
+
+
+def homogeneous(points: Array) -> Array:
+    """(N, 2) pixel points -> (N, 3) homogeneous points with w = 1."""
+    return np.hstack([points, np.ones((points.shape[0], 1))])
+
+
+def unit(vector: Array) -> Array:
+    """The vector scaled to unit Euclidean norm (homogeneous quantities are up to scale)."""
+    return vector / np.linalg.norm(vector)
+
+
+def to_pixel(point: Array) -> Array | None:
+    """(3,) homogeneous -> (2,) pixel point, or None when the point is (practically) at infinity."""
+    w = point[2]
+    if abs(w) * FAR_AWAY_PX <= max(abs(point[0]), abs(point[1])):
+        return None
+    return point[:2] / w
+
+
+def hartley_normaliser(points: Array) -> Array:
+    """3x3 similarity moving the centroid of (N, 2) points to the origin, mean distance sqrt(2).
+
+    Hartley & Zisserman 4.4.4: every linear solve runs in these coordinates.
+    """
+    centroid = points.mean(axis=0)
+    offsets = points - centroid
+    spread = float(np.sqrt((offsets * offsets).sum(axis=1)).mean())
+    scale = np.sqrt(2.0) / spread if spread > 0 else 1.0
+    cx, cy = centroid.tolist()
+    return np.array([[scale, 0.0, -scale * cx], [0.0, scale, -scale * cy], [0.0, 0.0, 1.0]])
+
+
+def transform(matrix: Array, points: Array) -> Array:
+    """Apply a 3x3 homography to (N, 3) homogeneous points (row vectors)."""
+    return points @ matrix.T
+
+
+def orthogonal_complement(vector: Array) -> Array:
+    """(3, 2) orthonormal basis of the plane orthogonal to a (3,) vector."""
+    basis, _, _ = np.linalg.svd(vector.reshape(3, 1))
+    return basis[:, 1:]
+
+
+def skew(vector: Array) -> Array:
+    """The cross-product matrix [v]x, so that skew(a) @ b == cross(a, b)."""
+    x, y, z = vector
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])

@@ -1,0 +1,98 @@
+"""What ``solve`` returns: a pydantic model whose JSON is exactly the REST API's answer.
+
+Pixel positions are ``[x, y]`` (x right, y down) in the photo's own pixels; homogeneous
+ones ``[x, y, w]`` (unit norm, ``w == 0`` at infinity). Matrices are lists of rows.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Method = Literal[
+    "conic",
+    "five_point_epipole",
+    "least_squares_epipole",
+    "planar",
+    "six_point_line",
+    "two_epipoles",
+    "seven_point",
+    "eight_point",
+]
+Quality = Literal["good", "fair", "poor"]
+Pixel = tuple[float, float]
+Homogeneous = tuple[float, float, float]
+Matrix = tuple[Homogeneous, Homogeneous, Homogeneous]
+
+
+class _Frozen(BaseModel):
+    model_config = ConfigDict(frozen=True)
+
+
+class Ellipse(_Frozen):
+    """A region in photo 2: semi-axes in px, ``angle_deg`` of the first axis from x, y down."""
+
+    center: Pixel
+    axes: tuple[float, float] = Field(description="Semi-axis lengths (a >= b), px.")
+    angle_deg: float = Field(description="Angle of axis a from the x axis, degrees, y down.")
+
+
+class Uncertainty(_Frozen):
+    """Where the seeker is with probability ``level``, from the tap noise ``tap_sigma``."""
+
+    level: float = 0.95
+    ellipse: Ellipse | None = Field(
+        description="None when the position is at infinity or not bounded by the taps."
+    )
+    covariance: tuple[tuple[float, float], tuple[float, float]] | None = Field(
+        default=None, description="2x2 covariance of epipole2, px^2."
+    )
+
+
+class Candidate(_Frozen):
+    """One geometry that fits the landmarks exactly (several for a line or 7 landmarks)."""
+
+    rank: int = Field(description="1 = most plausible.")
+    epipole1: Pixel | None
+    epipole1_h: Homogeneous
+    epipole2: Pixel | None
+    epipole2_h: Homogeneous
+    fundamental: Matrix
+    oriented_violations: int = Field(
+        description="Landmarks that would have to be behind a camera (0 for a real scene)."
+    )
+    focal_lengths: tuple[float | None, float | None] = Field(
+        description="Focal lengths (px) the geometry implies, None if imaginary."
+    )
+    phone_like: bool
+
+
+class SolveResult(_Frozen):
+    """Where the seeker stands in the buddy's photo, how sure that is, and why."""
+
+    method: Method
+    landmark_count: int
+    tap_sigma: float
+    epipole2: Pixel | None = Field(
+        description="The seeker in photo 2 (the answer), px; None at infinity or for a conic."
+    )
+    epipole2_h: Homogeneous | None
+    epipole1: Pixel | None = Field(description="The buddy in photo 1, refined from the tap.")
+    epipole1_h: Homogeneous | None
+    fundamental: Matrix | None = None
+    homography: Matrix | None = Field(default=None, description="Plane model: q ~ H p.")
+    conic2: Matrix | None = Field(default=None, description="4 landmarks: e2^T C e2 = 0.")
+    candidates: list[Candidate] = Field(default_factory=list)
+    uncertainty: Uncertainty | None = None
+    suspect_landmarks: list[int] = Field(
+        default_factory=list,
+        description="Indices (0-based, input order) of landmarks that look mis-tapped; "
+        "the answer is computed without them.",
+    )
+    residuals: list[float] = Field(
+        default_factory=list,
+        description="Per landmark (input order), its distance from the fitted geometry, px.",
+    )
+    quality: Quality
+    warnings: list[str] = Field(default_factory=list)

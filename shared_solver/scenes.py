@@ -1,0 +1,252 @@
+"""Synthetic and calibrated two-camera scenes, for tests, benchmarks and the demo.
+
+A *facing scene* is the buddy search: two phones across a venue, each aimed at the other
+(so each sees the other: both epipoles are inside the photos), landmarks between them. The
+*temple* scenes use the real calibration of the Middlebury templeSparseRing set.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .projective import Array, Mask, skew
+
+# Tight bounding box of the templeSparseRing model (metres), from the dataset's README.
+TEMPLE_BOX = (np.array([-0.073568, 0.021728, -0.012445]), np.array([0.028855, 0.181892, 0.062736]))
+TEMPLE_IMAGE_SIZE = (640, 480)
+_MAX_DRAWS = 200
+
+
+@dataclass(frozen=True)
+class Camera:
+    """A pinhole camera ``x = K [R | t] X`` with pixel coordinates x right, y down."""
+
+    intrinsics: Array
+    rotation: Array
+    translation: Array
+
+    @property
+    def centre(self) -> Array:
+        """(3,) camera centre in world coordinates."""
+        return -self.rotation.T @ self.translation
+
+    def depth(self, points: Array) -> Array:
+        """(N,) depth along the optical axis of (N, 3) world points (positive: in front)."""
+        return points @ self.rotation[2] + self.translation[2]
+
+    def project(self, points: Array) -> Array:
+        """(N, 3) world points -> (N, 2) pixels."""
+        image = (points @ self.rotation.T + self.translation) @ self.intrinsics.T
+        return image[:, :2] / image[:, 2:]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Two cameras and 3-D landmarks seen by both; ground truth for every solver."""
+
+    camera1: Camera
+    camera2: Camera
+    points: Array
+    image_size1: tuple[int, int]
+    image_size2: tuple[int, int]
+
+    @property
+    def landmarks1(self) -> Array:
+        return self.camera1.project(self.points)
+
+    @property
+    def landmarks2(self) -> Array:
+        return self.camera2.project(self.points)
+
+    @property
+    def epipole1(self) -> Array:
+        """(2,) where camera 2 (the buddy) appears in photo 1."""
+        return self.camera1.project(self.camera2.centre[None])[0]
+
+    @property
+    def epipole2(self) -> Array:
+        """(2,) where camera 1 (the seeker) appears in photo 2."""
+        return self.camera2.project(self.camera1.centre[None])[0]
+
+    @property
+    def fundamental(self) -> Array:
+        """(3, 3) true F (unit norm) with ``x2^T F x1 = 0``."""
+        c1, c2 = self.camera1, self.camera2
+        rotation = c2.rotation @ c1.rotation.T
+        translation = c2.translation - rotation @ c1.translation
+        essential = skew(translation) @ rotation
+        f = np.linalg.inv(c2.intrinsics).T @ essential @ np.linalg.inv(c1.intrinsics)
+        return f / np.linalg.norm(f)
+
+
+def look_at(centre: Array, target: Array, roll: float = 0.0) -> tuple[Array, Array]:
+    """(R, t) of a camera at ``centre`` looking at ``target``, world y pointing down."""
+    forward = (target - centre) / np.linalg.norm(target - centre)
+    right = np.cross(forward, np.array([0.0, -1.0, 0.0]))
+    right /= np.linalg.norm(right)
+    down = np.cross(forward, right)
+    c, s = math.cos(roll), math.sin(roll)
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ np.stack(
+        [right, down, forward]
+    )
+    return rotation, -rotation @ centre
+
+
+def _inside(pixels: Array, size: tuple[int, int]) -> Mask:
+    return (
+        (pixels[:, 0] >= 0)
+        & (pixels[:, 0] <= size[0])
+        & (pixels[:, 1] >= 0)
+        & (pixels[:, 1] <= size[1])
+    )
+
+
+def facing_scene(
+    rng: np.random.Generator,
+    landmarks: int,
+    *,
+    image_size: tuple[int, int] = (1600, 1200),
+    focal: float = 1400.0,
+    distance: float = 40.0,
+    aim_jitter_deg: float = 6.0,
+    planar: bool = False,
+) -> Scene:
+    """Two phones across a venue aimed at each other, landmarks between them.
+
+    Args:
+        rng: the random source (scenes are reproducible from its seed).
+        landmarks: how many 3-D landmarks, each visible in both photos.
+        image_size: (width, height) of both photos, px.
+        focal: focal length of both cameras, px.
+        distance: metres between the two phones.
+        aim_jitter_deg: standard deviation of how far each phone points off the other.
+        planar: put every landmark on the venue floor (a plane below both phones).
+    """
+    intrinsics = np.array(
+        [[focal, 0.0, image_size[0] / 2], [0.0, focal, image_size[1] / 2], [0.0, 0.0, 1.0]]
+    )
+    jitter = distance * math.tan(math.radians(aim_jitter_deg))
+
+    def draw(count: int) -> Array:
+        depth = rng.uniform(0.2, 0.8, count) * distance
+        # planar: the floor, 2.5 m below eye level (y is down)
+        height = np.full(count, 2.5) if planar else rng.uniform(-6.0, 4.0, count)
+        return np.column_stack([rng.uniform(-12.0, 12.0, count), height, depth])
+
+    for _ in range(_MAX_DRAWS):
+        centre1 = np.zeros(3)
+        centre2 = np.array([rng.normal(0, 2.0), rng.normal(0, 1.0), distance])
+        camera1 = Camera(
+            intrinsics, *look_at(centre1, centre2 + rng.normal(0, jitter, 3), rng.normal(0, 0.05))
+        )
+        camera2 = Camera(
+            intrinsics, *look_at(centre2, centre1 + rng.normal(0, jitter, 3), rng.normal(0, 0.05))
+        )
+        scene = Scene(camera1, camera2, np.zeros((0, 3)), image_size, image_size)
+        if not (
+            _inside(scene.epipole1[None], image_size)[0]
+            and _inside(scene.epipole2[None], image_size)[0]
+        ):
+            continue
+        points = _visible(
+            lambda: draw(4 * landmarks),
+            camera1=camera1,
+            camera2=camera2,
+            size1=image_size,
+            size2=image_size,
+            count=landmarks,
+        )
+        if points is not None:
+            return Scene(camera1, camera2, points, image_size, image_size)
+    raise RuntimeError("could not aim the cameras at each other over the landmarks")
+
+
+def _visible(
+    draw: Callable[[], Array],
+    *,
+    camera1: Camera,
+    camera2: Camera,
+    size1: tuple[int, int],
+    size2: tuple[int, int],
+    count: int,
+) -> Array | None:
+    """Draw points until ``count`` are in front of both cameras and inside both photos.
+
+    None when the cameras see too little of the region the points are drawn from.
+    """
+    kept: list[Array] = []
+    total = 0
+    for _ in range(_MAX_DRAWS // 10):
+        points = draw()
+        ok = (
+            (camera1.depth(points) > 0)
+            & (camera2.depth(points) > 0)
+            & _inside(camera1.project(points), size1)
+            & _inside(camera2.project(points), size2)
+        )
+        kept.append(points[ok])
+        total += int(ok.sum())
+        if total >= count:
+            return np.vstack(kept)[:count]
+    return None
+
+
+def temple_cameras(parameters: Path) -> dict[str, Camera]:
+    """Cameras of ``templeSR_par.txt`` by image name without extension (``templeSR0003``)."""
+    cameras = {}
+    lines = parameters.read_text().split("\n")
+    for line in lines[1:]:
+        fields = line.split()
+        if len(fields) != 22:
+            continue
+        values = np.array([float(v) for v in fields[1:]])
+        cameras[Path(fields[0]).stem] = Camera(
+            values[0:9].reshape(3, 3), values[9:18].reshape(3, 3), values[18:21]
+        )
+    return cameras
+
+
+def temple_scene(
+    parameters: Path, name1: str, name2: str, landmarks: int, rng: np.random.Generator
+) -> Scene:
+    """Two real temple views and landmarks drawn in the model's bounding box."""
+    cameras = temple_cameras(parameters)
+    camera1, camera2 = cameras[name1], cameras[name2]
+    low, high = TEMPLE_BOX
+    points = _visible(
+        lambda: rng.uniform(low, high, (4 * landmarks, 3)),
+        camera1=camera1,
+        camera2=camera2,
+        size1=TEMPLE_IMAGE_SIZE,
+        size2=TEMPLE_IMAGE_SIZE,
+        count=landmarks,
+    )
+    if points is None:
+        raise ValueError(f"{name1} and {name2} see too little of the temple in common")
+    return Scene(camera1, camera2, points, TEMPLE_IMAGE_SIZE, TEMPLE_IMAGE_SIZE)
+
+
+@dataclass(frozen=True)
+class Taps:
+    """What two people's fingers report: every position with tap noise."""
+
+    landmarks1: Array
+    landmarks2: Array
+    epipole1: Array
+    epipole2: Array
+
+
+def tap(scene: Scene, sigma: float, rng: np.random.Generator) -> Taps:
+    """The scene's landmarks and both epipoles with Gaussian tap noise ``sigma`` px per axis."""
+    n = len(scene.points)
+    return Taps(
+        scene.landmarks1 + rng.normal(0.0, sigma, (n, 2)),
+        scene.landmarks2 + rng.normal(0.0, sigma, (n, 2)),
+        scene.epipole1 + rng.normal(0.0, sigma, 2),
+        scene.epipole2 + rng.normal(0.0, sigma, 2),
+    )

@@ -1,0 +1,600 @@
+"""``solve``: the one entry point. It picks the method from what the two people tapped.
+
+| given                          | landmarks | method                                         |
+|--------------------------------|-----------|------------------------------------------------|
+| buddy (e1) and seeker (e2)     | >= 3      | ``two_epipoles``                               |
+| buddy (e1)                     | 4         | ``conic`` (a curve, not a point)               |
+| buddy (e1)                     | 5         | ``five_point_epipole`` or ``planar``           |
+| buddy (e1)                     | >= 6      | ``least_squares_epipole`` or ``planar``        |
+| a line through the buddy       | >= 6      | ``six_point_line`` (ranked candidates)         |
+| nothing                        | 7 / >= 8  | ``seven_point`` / ``eight_point`` (OpenCV)     |
+
+Every tap is noisy (``tap_sigma`` px per axis), the buddy's included: with more than the
+minimum the answer is the maximum-likelihood fit over all taps, and always comes with a
+95 % ellipse, per-landmark residuals, suspects, a quality grade and sentences to act on.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike
+
+from . import validation
+from .conic import conic_from_cross_ratio
+from .epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles, sampson_distances
+from .errors import ErrorCode, SolverError
+from .five_point import canonical, fundamental_with_epipole
+from .mistaps import consistent, find_mistaps, refit
+from .planar import PlanarFit, fit_planar, gric, plane_cost
+from .plausibility import assess
+from .projective import Array, Indices, hartley_normaliser, homogeneous, to_pixel, transform
+from .result import Candidate, Ellipse, Matrix, Method, Quality, SolveResult, Uncertainty
+from .six_point import canonical_matrix, epipoles_from_six
+from .two_epipoles import fundamental_between
+from .uncertainty import bootstrap_scale, ellipse, quality
+
+# Two taps closer than this many tap sigmas are the same place; landmarks within it of one
+# line are collinear: degenerate at the precision of a finger.
+_SAME_PLACE_SIGMAS = 0.5
+
+
+@dataclass(frozen=True)
+class _Taps:
+    """Validated input: landmarks, what was tapped about the friends, and how precisely."""
+
+    p: Array
+    q: Array
+    epipole1: Array | None
+    epipole2: Array | None
+    line1: Array | None
+    sigma: float
+    size1: tuple[float, float] | None
+    size2: tuple[float, float] | None
+    labels: list[int]
+
+    @property
+    def diagonal2(self) -> float:
+        """Photo 2's diagonal in px (the landmarks' extent when its size is unknown)."""
+        if self.size2 is not None:
+            return math.hypot(*self.size2)
+        return validation.spread(self.q)
+
+
+def solve(
+    points1: ArrayLike,
+    points2: ArrayLike,
+    *,
+    epipole1: ArrayLike | None = None,
+    epipole2: ArrayLike | None = None,
+    epipolar_line1: ArrayLike | None = None,
+    tap_sigma: float = 2.0,
+    image_size1: ArrayLike | None = None,
+    image_size2: ArrayLike | None = None,
+    landmark_ids: Sequence[int] | None = None,
+) -> SolveResult:
+    """Where the seeker stands in the buddy's photo, from whatever the two people tapped.
+
+    Args:
+        points1: (N, 2) landmarks in photo 1 (the seeker's), pixels, x right, y down.
+        points2: (N, 2) the same landmarks, same order, in photo 2 (the buddy's).
+        epipole1: (2,) where the seeker tapped the buddy in photo 1.
+        epipole2: (2,) where the buddy tapped the seeker in photo 2 (both see each other);
+            needs ``epipole1``.
+        epipolar_line1: (3,) line ``a x + b y + c = 0`` in photo 1 through the buddy, when
+            the seeker can only say "somewhere along here"; excludes ``epipole1``.
+        tap_sigma: standard deviation of a tap, px per axis: the noise the uncertainty,
+            the consistency tests and the degeneracy tolerance are based on.
+        image_size1, image_size2: (width, height) of the photos, px; used for plausibility,
+            quality and "outside the photo" warnings.
+        landmark_ids: the numbers people see on the landmarks, for messages (default 1..N).
+
+    Returns:
+        A :class:`SolveResult`; ``model_dump(mode="json")`` is the REST API's JSON.
+
+    Raises:
+        SolverError: invalid or degenerate input, with a stable ``code``.
+    """
+    taps = _parse(
+        points1,
+        points2,
+        epipole1=epipole1,
+        epipole2=epipole2,
+        epipolar_line1=epipolar_line1,
+        tap_sigma=tap_sigma,
+        image_size1=image_size1,
+        image_size2=image_size2,
+        landmark_ids=landmark_ids,
+    )
+    if taps.epipole1 is not None and taps.epipole2 is not None:
+        return _both_epipoles(taps)
+    if taps.epipole1 is not None:
+        return _conic(taps) if len(taps.p) == 4 else _buddy_tapped(taps)
+    if taps.line1 is not None:
+        return _line_through_buddy(taps)
+    return _landmarks_only(taps)
+
+
+def _parse(
+    points1: ArrayLike,
+    points2: ArrayLike,
+    *,
+    epipole1: ArrayLike | None,
+    epipole2: ArrayLike | None,
+    epipolar_line1: ArrayLike | None,
+    tap_sigma: float,
+    image_size1: ArrayLike | None,
+    image_size2: ArrayLike | None,
+    landmark_ids: Sequence[int] | None,
+) -> _Taps:
+    sigma = validation.positive(tap_sigma, "tap_sigma")
+    e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
+    e2 = None if epipole2 is None else validation.pixel(epipole2, "epipole2")
+    line1 = None if epipolar_line1 is None else validation.line(epipolar_line1, "epipolar_line1")
+    if e1 is not None and line1 is not None:
+        raise SolverError(
+            ErrorCode.CONFLICTING_INPUTS,
+            "Give either the buddy's position or a line through the buddy in photo 1, not both.",
+        )
+    if e2 is not None and e1 is None:
+        raise SolverError(
+            ErrorCode.MISSING_EPIPOLE1,
+            "The seeker's mark in photo 2 is used together with the buddy's mark in photo 1; "
+            "tap the buddy in photo 1 too.",
+        )
+    if e1 is not None:
+        minimum, purpose = (
+            (3, "when both friends are marked") if e2 is not None else (4, "with the buddy marked")
+        )
+    elif line1 is not None:
+        minimum, purpose = 6, "with a line through the buddy"
+    else:
+        minimum, purpose = 7, "without marking the buddy (mark the buddy to need only 5)"
+    labels = None if landmark_ids is None else [int(i) for i in landmark_ids]
+    p, q = validation.landmark_pairs(
+        points1,
+        points2,
+        minimum=minimum,
+        purpose=purpose,
+        tolerance=_SAME_PLACE_SIGMAS * sigma,
+        labels=labels,
+        epipole1=None if e1 is None else np.append(e1, 1.0),
+        epipole2=None if e2 is None else np.append(e2, 1.0),
+    )
+    if labels is not None and len(labels) != len(p):
+        raise SolverError(
+            ErrorCode.MISMATCHED_LENGTHS, "landmark_ids must have one id per landmark."
+        )
+    return _Taps(
+        p,
+        q,
+        e1,
+        e2,
+        line1,
+        sigma,
+        validation.image_size(image_size1, "image_size1"),
+        validation.image_size(image_size2, "image_size2"),
+        labels or list(range(1, len(p) + 1)),
+    )
+
+
+# --- the cases -------------------------------------------------------------------------
+
+
+def _conic(taps: _Taps) -> SolveResult:
+    assert taps.epipole1 is not None
+    t1, t2 = hartley_normaliser(taps.p), hartley_normaliser(taps.q)
+    conic = conic_from_cross_ratio(
+        t1 @ np.append(taps.epipole1, 1.0),
+        transform(t1, homogeneous(taps.p)),
+        transform(t2, homogeneous(taps.q)),
+    )
+    return SolveResult(
+        method="conic",
+        landmark_count=len(taps.p),
+        tap_sigma=taps.sigma,
+        epipole2=None,
+        epipole2_h=None,
+        epipole1=_pixel(np.append(taps.epipole1, 1.0)),
+        epipole1_h=_homogeneous(np.append(taps.epipole1, 1.0)),
+        conic2=_matrix(canonical_matrix(t2.T @ conic @ t2)),
+        residuals=[0.0] * len(taps.p),
+        quality="fair",
+        warnings=[
+            "Your friend is somewhere on the curve. Mark one more landmark in both photos "
+            "to pin down the spot."
+        ],
+    )
+
+
+def _buddy_tapped(taps: _Taps) -> SolveResult:
+    """The paper's case: the buddy tapped in photo 1, five or more landmarks."""
+    e1 = taps.epipole1
+    assert e1 is not None
+    fit = fit_epipolar(
+        taps.p,
+        taps.q,
+        fundamental_with_epipole(np.append(e1, 1.0), taps.p, taps.q),
+        sigma=taps.sigma,
+        epipole1_tap=e1,
+    )
+    suspects: list[int] = []
+    warnings: list[str] = []
+    if not consistent(fit, taps.sigma):
+        found = (
+            find_mistaps(taps.p, taps.q, taps.sigma, epipole1_tap=e1) if len(taps.p) >= 7 else None
+        )
+        if found is not None:
+            suspects, fit = found
+            warnings += _suspect_warnings(taps, suspects, fit)
+    used = np.setdiff1d(np.arange(len(taps.p)), suspects)
+    plane = _plane_if_better(taps, used, fit)
+    if plane is not None:
+        return _planar_result(taps, plane, used, suspects, warnings)
+    covariance = fit.covariance2
+    if len(used) == 5 and covariance is not None and fit.epipole2[2] != 0:
+        # Minimal: first order is too optimistic near degenerate layouts; calibrate its size.
+        e2 = to_pixel(fit.epipole2)
+        if e2 is not None:
+            covariance = covariance * bootstrap_scale(
+                e1, taps.p[used], taps.q[used], e2, covariance=covariance, sigma=taps.sigma
+            )
+    covariance, inconsistent = _widen_if_inconsistent(
+        fit, covariance, taps.sigma, warnings, suspects
+    )
+    method: Method = "five_point_epipole" if len(used) == 5 else "least_squares_epipole"
+    return _fitted_result(
+        method,
+        taps,
+        fit,
+        covariance=covariance,
+        suspects=suspects,
+        warnings=warnings,
+        inconsistent=inconsistent,
+    )
+
+
+def _both_epipoles(taps: _Taps) -> SolveResult:
+    assert taps.epipole1 is not None
+    assert taps.epipole2 is not None
+    e1h, e2h = np.append(taps.epipole1, 1.0), np.append(taps.epipole2, 1.0)
+    start = fundamental_between(e1h, e2h, taps.p, taps.q)
+    fit = fit_two_epipoles(
+        taps.p,
+        taps.q,
+        start,
+        sigma=taps.sigma,
+        epipole1_tap=taps.epipole1,
+        epipole2_tap=taps.epipole2,
+    )
+    warnings: list[str] = []
+    covariance, inconsistent = _widen_if_inconsistent(
+        fit, fit.covariance2, taps.sigma, warnings, []
+    )
+    return _fitted_result(
+        "two_epipoles",
+        taps,
+        fit,
+        covariance=covariance,
+        suspects=[],
+        warnings=warnings,
+        inconsistent=inconsistent,
+    )
+
+
+def _line_through_buddy(taps: _Taps) -> SolveResult:
+    """Paper 3.3: the cubic's real roots on the first six landmarks, refined over all."""
+    assert taps.line1 is not None
+    candidates = epipoles_from_six(
+        taps.line1, taps.p[:6], taps.q[:6], image_size1=taps.size1, image_size2=taps.size2
+    )
+    starts = [c.fundamental for c in candidates]
+    if len(taps.p) == 6:
+        best = candidates[0]
+        fit = fit_epipolar(taps.p, taps.q, best.fundamental, sigma=taps.sigma, line1=taps.line1)
+    else:
+        fits = [fit_epipolar(taps.p, taps.q, f, sigma=taps.sigma, line1=taps.line1) for f in starts]
+        cues = [
+            assess(
+                f.fundamental,
+                f.epipole1,
+                f.epipole2,
+                taps.p,
+                taps.q,
+                image_size1=taps.size1,
+                image_size2=taps.size2,
+            )
+            for f in fits
+        ]
+        fit = min(zip(fits, cues, strict=True), key=lambda fc: (fc[1].sort_key(), fc[0].cost))[0]
+    listed = _candidates(taps, [(c.epipole1, c.epipole2, c.fundamental) for c in candidates])
+    warnings: list[str] = []
+    ambiguous = (
+        sum(c.plausibility.sort_key() == candidates[0].plausibility.sort_key() for c in candidates)
+        > 1
+    )
+    if ambiguous:
+        warnings.append(
+            "More than one position fits these landmarks; the likeliest is shown. Mark the "
+            "buddy as a point, or add a landmark, to decide."
+        )
+    covariance, inconsistent = _widen_if_inconsistent(
+        fit, fit.covariance2, taps.sigma, warnings, []
+    )
+    return _fitted_result(
+        "six_point_line",
+        taps,
+        fit,
+        covariance=covariance,
+        suspects=[],
+        warnings=warnings,
+        inconsistent=inconsistent,
+        candidates=listed,
+        at_best="fair" if ambiguous else "good",
+    )
+
+
+def _landmarks_only(taps: _Taps) -> SolveResult:
+    """No buddy tap: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
+    n = len(taps.p)
+    if n >= 8 and _looks_planar(taps, np.arange(n), None):
+        raise SolverError(
+            ErrorCode.DEGENERATE_CONFIGURATION,
+            "The landmarks all lie on one surface, which cannot locate your friend on its "
+            "own; mark the buddy in photo 1.",
+        )
+    suspects: list[int] = []
+    warnings: list[str] = []
+    listed: list[Candidate] = []
+    if n == 7:
+        stacked, _ = cv2.findFundamentalMat(taps.p, taps.q, cv2.FM_7POINT)
+        if stacked is None:
+            raise SolverError(
+                ErrorCode.NO_SOLUTION, "No geometry fits these 7 landmarks; re-check them."
+            )
+        roots = [
+            canonical_matrix(f) for f in np.asarray(stacked, dtype=np.float64).reshape(-1, 3, 3)
+        ]
+        geometries = [(_null(f), _null(f.T), f) for f in roots]
+        cues = [
+            assess(f, e1, e2, taps.p, taps.q, image_size1=taps.size1, image_size2=taps.size2)
+            for e1, e2, f in geometries
+        ]
+        order = sorted(range(len(roots)), key=lambda i: cues[i].sort_key())
+        listed = _candidates(taps, [geometries[i] for i in order])
+        fit = fit_epipolar(taps.p, taps.q, roots[order[0]], sigma=taps.sigma)
+        method: Method = "seven_point"
+    else:
+        fit = refit(taps.p, taps.q, taps.sigma, None)
+        if not consistent(fit, taps.sigma) and n >= 9:
+            found = find_mistaps(taps.p, taps.q, taps.sigma)
+            if found is not None:
+                suspects, fit = found
+                warnings += _suspect_warnings(taps, suspects, fit)
+        method = "eight_point"
+    covariance, inconsistent = _widen_if_inconsistent(
+        fit, fit.covariance2, taps.sigma, warnings, suspects
+    )
+    return _fitted_result(
+        method,
+        taps,
+        fit,
+        covariance=covariance,
+        suspects=suspects,
+        warnings=warnings,
+        inconsistent=inconsistent,
+        candidates=listed,
+    )
+
+
+# --- model selection, consistency and warnings -----------------------------------------
+
+
+def _looks_planar(taps: _Taps, used: Indices, fit: EpipolarFit | None) -> bool:
+    """Whether a homography explains the used landmarks better than F (Torr's GRIC)."""
+    p, q = taps.p[used], taps.q[used]
+    plane = gric(plane_cost(p, q, sigma=taps.sigma), dimension=2, parameters=8)
+    if fit is None:
+        fit = refit(p, q, taps.sigma, None)
+    landmark_sq = (fit.distances / taps.sigma) ** 2
+    buddy_sq = max(fit.cost - float(fit.distances @ fit.distances), 0.0) / taps.sigma**2
+    return plane < gric(landmark_sq, dimension=3, parameters=7) + buddy_sq
+
+
+def _plane_if_better(taps: _Taps, used: Indices, fit: EpipolarFit) -> PlanarFit | None:
+    assert taps.epipole1 is not None
+    if not _looks_planar(taps, used, fit):
+        return None
+    return fit_planar(taps.p[used], taps.q[used], taps.epipole1, sigma=taps.sigma)
+
+
+def _widen_if_inconsistent(
+    fit: EpipolarFit,
+    covariance: Array | None,
+    sigma: float,
+    warnings: list[str],
+    suspects: list[int],
+) -> tuple[Array | None, bool]:
+    """Taps noisier than ``sigma`` (and no culprit found): widen the ellipse and say so."""
+    if consistent(fit, sigma):
+        return covariance, False
+    warnings.append(
+        "The marks disagree more than tapping error explains: re-check the buddy mark and "
+        "each landmark (same spot, same number in both photos). The uncertainty is widened."
+    )
+    if covariance is not None:
+        covariance = covariance * (fit.cost / sigma**2 / fit.dof)
+    return covariance, True
+
+
+def _suspect_warnings(taps: _Taps, suspects: list[int], fit: EpipolarFit) -> list[str]:
+    off = np.abs(sampson_distances(fit.fundamental, taps.p, taps.q))
+    return [
+        f"Landmark #{taps.labels[i]} looks mis-tapped (about {off[i]:.0f} px from where the "
+        f"others put it), so the answer leaves it out. Re-check #{taps.labels[i]} in both photos."
+        for i in suspects
+    ]
+
+
+def _where_warnings(
+    taps: _Taps, e2: tuple[float, float] | None, semi_major: float | None
+) -> list[str]:
+    warnings = []
+    if e2 is None:
+        warnings.append(
+            "The landmarks put your friend very far off in one direction; re-check the marks "
+            "or add landmarks."
+        )
+    elif taps.size2 is not None:
+        width, height = taps.size2
+        x, y = e2
+        beyond = max(-x, x - width, -y, y - height)
+        if beyond > 0:
+            side = (
+                ("left" if x < 0 else "right")
+                if max(-x, x - width) >= max(-y, y - height)
+                else ("up" if y < 0 else "down")
+            )
+            turn = {
+                "left": "turn left",
+                "right": "turn right",
+                "up": "look up",
+                "down": "look down",
+            }[side]
+            warnings.append(
+                f"Your friend is outside this photo, about {beyond:.0f} px beyond its {side} "
+                f"edge: {turn}."
+            )
+    if semi_major is not None and semi_major > 0.1 * taps.diagonal2:
+        warnings.append(
+            "The position is uncertain. Add landmarks spread across both photos, near and far, "
+            "to narrow it down."
+        )
+    return warnings
+
+
+# --- building the answer ---------------------------------------------------------------
+
+
+def _fitted_result(
+    method: Method,
+    taps: _Taps,
+    fit: EpipolarFit,
+    *,
+    covariance: Array | None,
+    suspects: list[int],
+    warnings: list[str],
+    inconsistent: bool,
+    candidates: list[Candidate] | None = None,
+    at_best: Quality = "good",
+) -> SolveResult:
+    e2 = _pixel(fit.epipole2)
+    uncertainty, semi_major = _uncertainty(e2, covariance)
+    residuals = np.abs(sampson_distances(fit.fundamental, taps.p, taps.q))
+    grade = quality(semi_major, taps.diagonal2)
+    if inconsistent or e2 is None:
+        grade = "poor"
+    if at_best == "fair" and grade == "good":
+        grade = "fair"
+    return SolveResult(
+        method=method,
+        landmark_count=len(taps.p),
+        tap_sigma=taps.sigma,
+        epipole2=e2,
+        epipole2_h=_homogeneous(fit.epipole2),
+        epipole1=_pixel(fit.epipole1),
+        epipole1_h=_homogeneous(fit.epipole1),
+        fundamental=_matrix(canonical_matrix(fit.fundamental)),
+        candidates=candidates or [],
+        uncertainty=uncertainty,
+        suspect_landmarks=suspects,
+        residuals=[float(r) for r in residuals],
+        quality=grade,
+        warnings=warnings + _where_warnings(taps, e2, semi_major),
+    )
+
+
+def _planar_result(
+    taps: _Taps, plane: PlanarFit, used: Indices, suspects: list[int], warnings: list[str]
+) -> SolveResult:
+    e2 = _pixel(plane.epipole2)
+    uncertainty, semi_major = _uncertainty(e2, plane.covariance2)
+    mapped = homogeneous(taps.p) @ plane.homography.T
+    residuals = np.linalg.norm(mapped[:, :2] / mapped[:, 2:] - taps.q, axis=1)
+    return SolveResult(
+        method="planar",
+        landmark_count=len(taps.p),
+        tap_sigma=taps.sigma,
+        epipole2=e2,
+        epipole2_h=_homogeneous(plane.epipole2),
+        epipole1=_pixel(plane.epipole1),
+        epipole1_h=_homogeneous(plane.epipole1),
+        homography=_matrix(canonical_matrix(plane.homography)),
+        uncertainty=uncertainty,
+        suspect_landmarks=suspects,
+        residuals=[float(r) for r in residuals],
+        quality=quality(semi_major, taps.diagonal2) if e2 is not None else "poor",
+        warnings=warnings + _where_warnings(taps, e2, semi_major),
+    )
+
+
+def _candidates(taps: _Taps, geometries: list[tuple[Array, Array, Array]]) -> list[Candidate]:
+    listed = []
+    for rank, (e1, e2, f) in enumerate(geometries, 1):
+        cue = assess(f, e1, e2, taps.p, taps.q, image_size1=taps.size1, image_size2=taps.size2)
+        listed.append(
+            Candidate(
+                rank=rank,
+                epipole1=_pixel(e1),
+                epipole1_h=_homogeneous(e1),
+                epipole2=_pixel(e2),
+                epipole2_h=_homogeneous(e2),
+                fundamental=_matrix(canonical_matrix(f)),
+                oriented_violations=cue.oriented_violations,
+                focal_lengths=cue.focal_lengths,
+                phone_like=cue.phone_like,
+            )
+        )
+    return listed
+
+
+def _uncertainty(
+    e2: tuple[float, float] | None, covariance: Array | None
+) -> tuple[Uncertainty, float | None]:
+    if e2 is None or covariance is None or not np.all(np.isfinite(covariance)):
+        return Uncertainty(ellipse=None), None
+    centre, axes, angle = ellipse(np.array(e2), covariance)
+    cov = (
+        (float(covariance[0, 0]), float(covariance[0, 1])),
+        (float(covariance[1, 0]), float(covariance[1, 1])),
+    )
+    return Uncertainty(
+        ellipse=Ellipse(center=centre, axes=axes, angle_deg=angle), covariance=cov
+    ), axes[0]
+
+
+def _null(matrix: Array) -> Array:
+    return np.linalg.svd(matrix)[2][-1]
+
+
+def _pixel(point: Array) -> tuple[float, float] | None:
+    pixel = to_pixel(point)
+    return None if pixel is None else (float(pixel[0]), float(pixel[1]))
+
+
+def _homogeneous(point: Array) -> tuple[float, float, float]:
+    x, y, w = canonical(point)
+    return float(x), float(y), float(w)
+
+
+def _matrix(matrix: Array) -> Matrix:
+    first, second, third = (_homogeneous_row(row) for row in matrix)
+    return first, second, third
+
+
+def _homogeneous_row(row: Array) -> tuple[float, float, float]:
+    return float(row[0]), float(row[1]), float(row[2])

@@ -1,0 +1,195 @@
+"""Turning caller input into clean arrays, and refusing what cannot be answered.
+
+Every check raises :class:`SolverError` with a stable code. Tolerances are in pixels: the
+exact solvers use a tiny one relative to the image spread (exact degeneracy), ``solve``
+uses the tap noise (degenerate at the precision of a finger).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .errors import ErrorCode, SolverError
+from .projective import Array
+
+MAX_LANDMARKS = 256
+# Relative tolerance for exact degeneracy: far below any tap, far above float rounding.
+EXACT_TOLERANCE = 1e-9
+
+
+def _array(value: ArrayLike, name: str) -> Array:
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be numbers.") from error
+    if not np.all(np.isfinite(array)):
+        raise SolverError(ErrorCode.NOT_FINITE, f"{name} contains a NaN or infinite value.")
+    return array
+
+
+def points(value: ArrayLike, name: str) -> Array:
+    """(N, 2) float array of pixel points, finite."""
+    array = _array(value, name)
+    if array.ndim != 2 or array.shape[1] != 2:
+        raise SolverError(
+            ErrorCode.INVALID_SHAPE,
+            f"{name} must be a list of [x, y] pairs, got shape {array.shape}.",
+        )
+    return array
+
+
+def point(value: ArrayLike, name: str) -> Array:
+    """(3,) homogeneous point from a (2,) pixel point or a (3,) homogeneous one."""
+    array = _array(value, name)
+    if array.shape == (2,):
+        return np.append(array, 1.0)
+    if array.shape == (3,) and np.any(array != 0):
+        return array
+    raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be [x, y] or a nonzero [x, y, w].")
+
+
+def pixel(value: ArrayLike, name: str) -> Array:
+    """(2,) pixel position of a tap, finite."""
+    array = _array(value, name)
+    if array.shape != (2,):
+        raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be [x, y] in pixels.")
+    return array
+
+
+def line(value: ArrayLike, name: str) -> Array:
+    """(3,) line (a, b, c) meaning a x + b y + c = 0, with (a, b) not both zero."""
+    array = _array(value, name)
+    if array.shape != (3,) or not np.any(array[:2] != 0):
+        raise SolverError(
+            ErrorCode.INVALID_SHAPE, f"{name} must be [a, b, c] for the line a*x + b*y + c = 0."
+        )
+    return array
+
+
+def positive(value: float, name: str) -> float:
+    """A finite, strictly positive number."""
+    if not np.isfinite(value) or value <= 0:
+        raise SolverError(ErrorCode.INVALID_PARAMETER, f"{name} must be a positive number.")
+    return float(value)
+
+
+def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None:
+    """(width, height) in pixels, both positive, or None."""
+    if value is None:
+        return None
+    array = _array(value, name)
+    if array.shape != (2,) or np.any(array <= 0):
+        raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be [width, height] in pixels.")
+    return float(array[0]), float(array[1])
+
+
+def spread(pts: Array) -> float:
+    """Typical size of a point set in pixels (its bounding-box diagonal, at least 1)."""
+    return max(float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))), 1.0)
+
+
+def landmark_pairs(
+    points1: ArrayLike,
+    points2: ArrayLike,
+    *,
+    minimum: int,
+    maximum: int = MAX_LANDMARKS,
+    purpose: str = "here",
+    tolerance: float | None = None,
+    labels: Sequence[int] | None = None,
+    epipole1: Array | None = None,
+    epipole2: Array | None = None,
+) -> tuple[Array, Array]:
+    """Both photos' landmarks as (N, 2) arrays, refused when they cannot determine anything.
+
+    Args:
+        points1, points2: (N, 2) landmarks in photo 1 and photo 2, same order.
+        minimum, maximum: how many landmarks the caller's method takes.
+        purpose: completes "at least N landmarks are needed ..." in the refusal.
+        tolerance: distance in pixels below which two taps count as the same place; by
+            default an exact (relative) tolerance.
+        labels: the landmark numbers a person sees, for messages (default 1..N).
+        epipole1, epipole2: (3,) homogeneous epipoles when known, checked against the
+            landmarks of their photo.
+    """
+    p, q = points(points1, "points1"), points(points2, "points2")
+    if len(p) != len(q):
+        raise SolverError(
+            ErrorCode.MISMATCHED_LENGTHS,
+            f"Photo 1 has {len(p)} landmarks and photo 2 has {len(q)}; mark the same ones in both.",
+        )
+    if len(p) < minimum:
+        raise SolverError(
+            ErrorCode.TOO_FEW_LANDMARKS,
+            f"{len(p)} landmarks marked; at least {minimum} are needed {purpose}.",
+        )
+    if len(p) > maximum:
+        raise SolverError(
+            ErrorCode.TOO_MANY_LANDMARKS, f"{len(p)} landmarks; at most {maximum} are taken here."
+        )
+    names = list(labels) if labels is not None else list(range(1, len(p) + 1))
+    for photo, pts, epipole in (("photo 1", p, epipole1), ("photo 2", q, epipole2)):
+        tol = tolerance if tolerance is not None else EXACT_TOLERANCE * spread(pts)
+        _refuse_repeats(pts, tol, photo, names)
+        if epipole is not None:
+            _refuse_epipole(epipole, pts, tol, photo, names)
+        if len(pts) >= 3 and _off_line_spread(pts) <= tol:
+            raise SolverError(
+                ErrorCode.COLLINEAR_LANDMARKS,
+                f"All landmarks in {photo} lie on one straight line; add landmarks off that line.",
+            )
+    return p, q
+
+
+def _refuse_repeats(pts: Array, tol: float, photo: str, names: Sequence[int]) -> None:
+    gaps = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=2)
+    gaps[np.diag_indices(len(pts))] = np.inf
+    i, j = np.unravel_index(np.argmin(gaps), gaps.shape)
+    if gaps[i, j] <= tol:
+        first, second = sorted((int(i), int(j)))
+        raise SolverError(
+            ErrorCode.REPEATED_LANDMARKS,
+            f"Landmarks #{names[first]} and #{names[second]} are at the same place in {photo}; "
+            "each landmark must be a different spot.",
+        )
+
+
+def _off_line_spread(pts: Array) -> float:
+    """Largest distance (px) of a point from the best-fitting line through all of them."""
+    centred = pts - pts.mean(axis=0)
+    _, _, axes = np.linalg.svd(centred, full_matrices=False)
+    return float(np.max(np.abs(centred @ axes[1])))
+
+
+def _refuse_epipole(
+    epipole: Array, pts: Array, tolerance: float, photo: str, names: Sequence[int]
+) -> None:
+    """Refuse an epipole tapped on a landmark, or landmarks all on one line through it."""
+    who = "buddy" if photo == "photo 1" else "seeker"
+    if abs(epipole[2]) > 0:
+        at = epipole[:2] / epipole[2]
+        directions = pts - at
+        distances = np.linalg.norm(directions, axis=1)
+        closest = int(np.argmin(distances))
+        if distances[closest] <= tolerance:
+            raise SolverError(
+                ErrorCode.EPIPOLE_ON_LANDMARK,
+                f"The {who}'s mark is on landmark #{names[closest]} in {photo}; "
+                f"mark the {who} and the landmarks at different spots.",
+            )
+        # Each landmark's distance from the line through the epipole and the farthest landmark.
+        far = int(np.argmax(distances))
+        normal = np.array([-directions[far, 1], directions[far, 0]]) / distances[far]
+        off_line = float(np.max(np.abs(directions @ normal)))
+    else:  # epipole at infinity: the epipolar lines are parallel to its direction
+        normal = np.array([-epipole[1], epipole[0]]) / np.hypot(epipole[0], epipole[1])
+        off_line = float(np.ptp(pts @ normal))
+    if off_line <= tolerance:
+        raise SolverError(
+            ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE,
+            f"All landmarks lie on one line through the {who} in {photo}, so they say nothing "
+            "about direction; add landmarks to the side of that line.",
+        )
