@@ -17,6 +17,7 @@ from .conic import epipole_conic
 from .errors import ErrorCode, SolverError
 from .five_point import epipole_from_five
 from .overlay import draw_overlay
+from .palette import landmark_colour, landmark_colour_hex
 from .result import Candidate, Ellipse, SolveResult, Uncertainty
 from .six_point import EpipoleCandidate, epipoles_from_six
 from .solve import solve
@@ -35,5 +36,7 @@ __all__ = [
     "epipole_from_five",
     "epipoles_from_six",
     "fundamental_from_epipoles",
+    "landmark_colour",
+    "landmark_colour_hex",
     "solve",
 ]

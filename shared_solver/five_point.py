@@ -99,7 +99,7 @@ def epipole_from_five(
     if method == "linear":
         e1h, p, q = _checked_five(e1, pts1, pts2)
         return canonical(left_epipole(fundamental_with_epipole(e1h, p, q)))
-    raise SolverError(ErrorCode.INVALID_PARAMETER, "method must be 'cremona' or 'linear'.")
+    raise SolverError(ErrorCode.INVALID_PARAMETER, "The method must be 'cremona' or 'linear'.")
 
 
 _UNDETERMINED = (

@@ -22,6 +22,9 @@ from .projective import Array, homogeneous, skew
 # A phone's focal length in pixels relative to the long side of the photo: ultra-wide
 # (13 mm equivalent, about 0.36) to 3x tele (77 mm, about 2.1), with margin.
 PHONE_FOCAL_RANGE = (0.25, 3.5)
+# The main camera of a phone (about 26 mm equivalent): the tie-breaker between candidates
+# that pass every hard cue.
+TYPICAL_PHONE_FOCAL = 0.75
 
 
 @dataclass(frozen=True)
@@ -32,9 +35,14 @@ class Plausibility:
     focal_lengths: tuple[float | None, float | None]
     phone_like: bool
     epipoles_inside: int
+    focal_deviation: float  # sum of |log(f / typical phone f)|, inf if imaginary
 
-    def sort_key(self) -> tuple[int, int, int]:
+    def hard_cues(self) -> tuple[int, int, int]:
+        """What a real scene must satisfy; candidates equal here are genuinely ambiguous."""
         return (self.oriented_violations, 0 if self.phone_like else 1, -self.epipoles_inside)
+
+    def sort_key(self) -> tuple[int, int, int, float]:
+        return (*self.hard_cues(), self.focal_deviation)
 
 
 def oriented_violations(fundamental: Array, e2: Array, p: Array, q: Array) -> int:
@@ -48,6 +56,34 @@ def oriented_violations(fundamental: Array, e2: Array, p: Array, q: Array) -> in
     signs = np.einsum("ij,ij->i", np.cross(e2, homogeneous(q)), homogeneous(p) @ fundamental.T)
     positive = int(np.count_nonzero(signs > 0))
     return min(positive, len(signs) - positive)
+
+
+def orient_seeker(
+    fundamental: Array, e1: Array, e2: Array, p: Array, q: Array
+) -> tuple[Array, bool]:
+    """``e2`` with the sign of the true ``P2 C1``, given ``e1`` with the sign of ``P1 C2``.
+
+    For oriented epipoles the two oriented constraints, ``(e2 x q).(F p)`` and
+    ``(e1 x p).(F^T q)``, have the same sign for every landmark in front of both cameras,
+    whatever the sign of F (checked on facing and turned-away scenes). With ``e1`` oriented
+    (the buddy is in front of the seeker's camera: ``w > 0``) this fixes ``e2``: ``w > 0``
+    means the seeker is in front of the buddy's camera, ``w < 0`` behind it, and at ``w = 0``
+    the direction ``(x, y)`` is the true one. The landmarks vote.
+
+    Args:
+        fundamental: (3, 3) F, any sign; e1: (3,) oriented; e2: (3,) any sign.
+        p, q: (N, 2) landmarks, pixels.
+
+    Returns:
+        (oriented e2, whether F is orientable: every landmark on the same side in both
+        photos). A noisy fit can break the constraint for some landmarks (it is then not a
+        physical geometry) and its orientation must not be trusted.
+    """
+    ph, qh = homogeneous(p), homogeneous(q)
+    seeker = np.sign(np.einsum("ij,ij->i", np.cross(e2, qh), ph @ fundamental.T))
+    buddy = np.sign(np.einsum("ij,ij->i", np.cross(e1, ph), qh @ fundamental))
+    orientable = bool(abs(seeker.sum()) == len(seeker) and abs(buddy.sum()) == len(buddy))
+    return (e2 if np.sum(seeker * buddy) >= 0 else -e2), orientable
 
 
 def implied_focal_lengths(
@@ -104,7 +140,13 @@ def assess(
     inside = sum(
         _inside(epipole, box) for epipole, (_, _, box) in zip((e1, e2), frames, strict=True)
     )
-    return Plausibility(oriented_violations(fundamental, e2, p, q), focals, phone_like, inside)
+    deviation = sum(
+        abs(math.log(focal / (TYPICAL_PHONE_FOCAL * long_side))) if focal is not None else math.inf
+        for focal, (_, long_side, _) in zip(focals, frames, strict=True)
+    )
+    return Plausibility(
+        oriented_violations(fundamental, e2, p, q), focals, phone_like, inside, deviation
+    )
 
 
 def _frame(points: Array, size: tuple[float, float] | None) -> tuple[Array, float, Array]:

@@ -17,26 +17,26 @@ minimum the answer is the maximum-likelihood fit over all taps, and always comes
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import validation
+from . import bootstrap, validation
 from .conic import conic_from_cross_ratio
 from .epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles, sampson_distances
 from .errors import ErrorCode, SolverError
 from .five_point import canonical, fundamental_with_epipole
 from .mistaps import consistent, find_mistaps, refit
-from .planar import PlanarFit, fit_planar, gric, plane_cost
-from .plausibility import assess
-from .projective import Array, Indices, hartley_normaliser, homogeneous, to_pixel, transform
-from .result import Candidate, Ellipse, Matrix, Method, Quality, SolveResult, Uncertainty
+from .planar import PlanarFit, coplanar_fit
+from .plausibility import assess, orient_seeker
+from .projective import Array, hartley_normaliser, homogeneous, skew, to_pixel, transform
+from .result import Candidate, Ellipse, Matrix, Method, SolveResult, Uncertainty
 from .six_point import canonical_matrix, epipoles_from_six
 from .two_epipoles import fundamental_between
-from .uncertainty import bootstrap_scale, ellipse, quality
+from .uncertainty import ellipse, quality
 
 # Two taps closer than this many tap sigmas are the same place; landmarks within it of one
 # line are collinear: degenerate at the precision of a finger.
@@ -167,7 +167,7 @@ def _parse(
     )
     if labels is not None and len(labels) != len(p):
         raise SolverError(
-            ErrorCode.MISMATCHED_LENGTHS, "landmark_ids must have one id per landmark."
+            ErrorCode.MISMATCHED_LENGTHS, "Give one number in landmark_ids per landmark."
         )
     return _Taps(
         p,
@@ -200,7 +200,7 @@ def _conic(taps: _Taps) -> SolveResult:
         epipole2=None,
         epipole2_h=None,
         epipole1=_pixel(np.append(taps.epipole1, 1.0)),
-        epipole1_h=_homogeneous(np.append(taps.epipole1, 1.0)),
+        epipole1_h=_unit(np.append(taps.epipole1, 1.0)),
         conic2=_matrix(canonical_matrix(t2.T @ conic @ t2)),
         residuals=[0.0] * len(taps.p),
         quality="fair",
@@ -232,26 +232,24 @@ def _buddy_tapped(taps: _Taps) -> SolveResult:
             suspects, fit = found
             warnings += _suspect_warnings(taps, suspects, fit)
     used = np.setdiff1d(np.arange(len(taps.p)), suspects)
-    plane = _plane_if_better(taps, used, fit)
+    plane = coplanar_fit(taps.p[used], taps.q[used], sigma=taps.sigma)
     if plane is not None:
-        return _planar_result(taps, plane, used, suspects, warnings)
+        return _result(
+            "planar", taps, _Answer.of_plane(taps, plane), suspects=suspects, warnings=warnings
+        )
     covariance = fit.covariance2
-    if len(used) == 5 and covariance is not None and fit.epipole2[2] != 0:
-        # Minimal: first order is too optimistic near degenerate layouts; calibrate its size.
-        e2 = to_pixel(fit.epipole2)
-        if e2 is not None:
-            covariance = covariance * bootstrap_scale(
-                e1, taps.p[used], taps.q[used], e2, covariance=covariance, sigma=taps.sigma
-            )
-    covariance, inconsistent = _widen_if_inconsistent(
-        fit, covariance, taps.sigma, warnings, suspects
-    )
+    if len(used) == 5:  # minimal: first order is too optimistic near degenerate layouts
+        covariance = _calibrated(
+            fit,
+            covariance,
+            lambda: bootstrap.five_point_samples(e1, taps.p[used], taps.q[used], taps.sigma),
+        )
+    covariance, inconsistent = _widen_if_inconsistent(fit, covariance, taps.sigma, warnings)
     method: Method = "five_point_epipole" if len(used) == 5 else "least_squares_epipole"
-    return _fitted_result(
+    return _result(
         method,
         taps,
-        fit,
-        covariance=covariance,
+        _Answer.of_fit(taps, fit, covariance),
         suspects=suspects,
         warnings=warnings,
         inconsistent=inconsistent,
@@ -272,14 +270,11 @@ def _both_epipoles(taps: _Taps) -> SolveResult:
         epipole2_tap=taps.epipole2,
     )
     warnings: list[str] = []
-    covariance, inconsistent = _widen_if_inconsistent(
-        fit, fit.covariance2, taps.sigma, warnings, []
-    )
-    return _fitted_result(
+    covariance, inconsistent = _widen_if_inconsistent(fit, fit.covariance2, taps.sigma, warnings)
+    return _result(
         "two_epipoles",
         taps,
-        fit,
-        covariance=covariance,
+        _Answer.of_fit(taps, fit, covariance),
         suspects=[],
         warnings=warnings,
         inconsistent=inconsistent,
@@ -292,65 +287,19 @@ def _line_through_buddy(taps: _Taps) -> SolveResult:
     candidates = epipoles_from_six(
         taps.line1, taps.p[:6], taps.q[:6], image_size1=taps.size1, image_size2=taps.size2
     )
-    starts = [c.fundamental for c in candidates]
-    if len(taps.p) == 6:
-        best = candidates[0]
-        fit = fit_epipolar(taps.p, taps.q, best.fundamental, sigma=taps.sigma, line1=taps.line1)
-    else:
-        fits = [fit_epipolar(taps.p, taps.q, f, sigma=taps.sigma, line1=taps.line1) for f in starts]
-        cues = [
-            assess(
-                f.fundamental,
-                f.epipole1,
-                f.epipole2,
-                taps.p,
-                taps.q,
-                image_size1=taps.size1,
-                image_size2=taps.size2,
-            )
-            for f in fits
-        ]
-        fit = min(zip(fits, cues, strict=True), key=lambda fc: (fc[1].sort_key(), fc[0].cost))[0]
-    listed = _candidates(taps, [(c.epipole1, c.epipole2, c.fundamental) for c in candidates])
-    warnings: list[str] = []
-    ambiguous = (
-        sum(c.plausibility.sort_key() == candidates[0].plausibility.sort_key() for c in candidates)
-        > 1
-    )
-    if ambiguous:
-        warnings.append(
-            "More than one position fits these landmarks; the likeliest is shown. Mark the "
-            "buddy as a point, or add a landmark, to decide."
-        )
-    covariance, inconsistent = _widen_if_inconsistent(
-        fit, fit.covariance2, taps.sigma, warnings, []
-    )
-    return _fitted_result(
-        "six_point_line",
-        taps,
-        fit,
-        covariance=covariance,
-        suspects=[],
-        warnings=warnings,
-        inconsistent=inconsistent,
-        candidates=listed,
-        at_best="fair" if ambiguous else "good",
-    )
+    geometries = [(c.epipole1, c.epipole2, c.fundamental) for c in candidates]
+    return _likeliest(taps, "six_point_line", geometries, minimal=len(taps.p) == 6)
 
 
 def _landmarks_only(taps: _Taps) -> SolveResult:
     """No buddy tap: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
-    n = len(taps.p)
-    if n >= 8 and _looks_planar(taps, np.arange(n), None):
+    if coplanar_fit(taps.p, taps.q, sigma=taps.sigma) is not None:
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
             "The landmarks all lie on one surface, which cannot locate your friend on its "
             "own; mark the buddy in photo 1.",
         )
-    suspects: list[int] = []
-    warnings: list[str] = []
-    listed: list[Candidate] = []
-    if n == 7:
+    if len(taps.p) == 7:
         stacked, _ = cv2.findFundamentalMat(taps.p, taps.q, cv2.FM_7POINT)
         if stacked is None:
             raise SolverError(
@@ -360,66 +309,119 @@ def _landmarks_only(taps: _Taps) -> SolveResult:
             canonical_matrix(f) for f in np.asarray(stacked, dtype=np.float64).reshape(-1, 3, 3)
         ]
         geometries = [(_null(f), _null(f.T), f) for f in roots]
-        cues = [
-            assess(f, e1, e2, taps.p, taps.q, image_size1=taps.size1, image_size2=taps.size2)
-            for e1, e2, f in geometries
-        ]
-        order = sorted(range(len(roots)), key=lambda i: cues[i].sort_key())
-        listed = _candidates(taps, [geometries[i] for i in order])
-        fit = fit_epipolar(taps.p, taps.q, roots[order[0]], sigma=taps.sigma)
-        method: Method = "seven_point"
-    else:
-        fit = refit(taps.p, taps.q, taps.sigma, None)
-        if not consistent(fit, taps.sigma) and n >= 9:
-            found = find_mistaps(taps.p, taps.q, taps.sigma)
-            if found is not None:
-                suspects, fit = found
-                warnings += _suspect_warnings(taps, suspects, fit)
-        method = "eight_point"
-    covariance, inconsistent = _widen_if_inconsistent(
-        fit, fit.covariance2, taps.sigma, warnings, suspects
-    )
-    return _fitted_result(
-        method,
+        return _likeliest(taps, "seven_point", geometries, minimal=True)
+    suspects: list[int] = []
+    warnings: list[str] = []
+    fit = refit(taps.p, taps.q, taps.sigma, None)
+    if not consistent(fit, taps.sigma) and len(taps.p) >= 9:
+        found = find_mistaps(taps.p, taps.q, taps.sigma)
+        if found is not None:
+            suspects, fit = found
+            warnings += _suspect_warnings(taps, suspects, fit)
+    covariance = fit.covariance2
+    if len(taps.p) - len(suspects) == 8:  # one more than minimal: first order measured optimistic
+
+        def refitted(rng: np.random.Generator) -> Array:
+            p, q = _retapped(taps, rng)
+            return _pixel_or_nan(refit(p, q, taps.sigma, None).epipole2)
+
+        covariance = _calibrated(fit, covariance, lambda: bootstrap.resolved_samples(refitted))
+    covariance, inconsistent = _widen_if_inconsistent(fit, covariance, taps.sigma, warnings)
+    return _result(
+        "eight_point",
         taps,
-        fit,
-        covariance=covariance,
+        _Answer.of_fit(taps, fit, covariance),
         suspects=suspects,
         warnings=warnings,
         inconsistent=inconsistent,
-        candidates=listed,
     )
 
 
-# --- model selection, consistency and warnings -----------------------------------------
+def _likeliest(
+    taps: _Taps, method: Method, geometries: list[tuple[Array, Array, Array]], *, minimal: bool
+) -> SolveResult:
+    """Several geometries fit: rank them by plausibility, answer with the first, list all.
+
+    With more landmarks than the minimum each candidate is first refined over all of them,
+    and a spurious root stops fitting. No 95 % region is claimed for these methods: measured
+    on facing scenes, neither first order nor a bootstrap held the truth often enough (the
+    noise can carry the answer into another root's basin), so the answer is graded 'poor'
+    and says what would make it reliable.
+    """
+    fits = None
+    if not minimal:
+        fits = [
+            fit_epipolar(taps.p, taps.q, f, sigma=taps.sigma, line1=taps.line1)
+            for _, _, f in geometries
+        ]
+        geometries = [(f.epipole1, f.epipole2, f.fundamental) for f in fits]
+    fit_ok = [True] * len(geometries) if fits is None else [consistent(f, taps.sigma) for f in fits]
+    cues = [
+        assess(f, e1, e2, taps.p, taps.q, image_size1=taps.size1, image_size2=taps.size2)
+        for e1, e2, f in geometries
+    ]
+    order = sorted(
+        range(len(geometries)),
+        key=lambda i: (cues[i].hard_cues(), not fit_ok[i], cues[i].focal_deviation),
+    )
+    top = order[0]
+    if fits is not None:
+        fit = fits[top]
+    else:
+        fit = fit_epipolar(taps.p, taps.q, geometries[top][2], sigma=taps.sigma, line1=taps.line1)
+    decide = "mark the buddy as a point" if taps.line1 is not None else "mark the buddy in photo 1"
+    ambiguous = sum(cues[i].hard_cues() == cues[top].hard_cues() and fit_ok[i] for i in order) > 1
+    warnings = [
+        "More than one position fits these landmarks; the likeliest is marked and the others "
+        f"are listed. To decide, {decide} or add a landmark."
+        if ambiguous
+        else f"This position has no reliable error margin; {decide} for one."
+    ]
+    _, inconsistent = _widen_if_inconsistent(fit, None, taps.sigma, warnings)
+    return _result(
+        method,
+        taps,
+        _Answer.of_fit(taps, fit, None),
+        suspects=[],
+        warnings=warnings,
+        inconsistent=inconsistent,
+        candidates=_candidates(taps, [geometries[i] for i in order]),
+    )
 
 
-def _looks_planar(taps: _Taps, used: Indices, fit: EpipolarFit | None) -> bool:
-    """Whether a homography explains the used landmarks better than F (Torr's GRIC)."""
-    p, q = taps.p[used], taps.q[used]
-    plane = gric(plane_cost(p, q, sigma=taps.sigma), dimension=2, parameters=8)
-    if fit is None:
-        fit = refit(p, q, taps.sigma, None)
-    landmark_sq = (fit.distances / taps.sigma) ** 2
-    buddy_sq = max(fit.cost - float(fit.distances @ fit.distances), 0.0) / taps.sigma**2
-    return plane < gric(landmark_sq, dimension=3, parameters=7) + buddy_sq
+def _retapped(taps: _Taps, rng: np.random.Generator) -> tuple[Array, Array]:
+    """The landmarks as the same fingers might tap them again: fresh noise of ``sigma``."""
+    return (
+        taps.p + rng.normal(0.0, taps.sigma, taps.p.shape),
+        taps.q + rng.normal(0.0, taps.sigma, taps.q.shape),
+    )
 
 
-def _plane_if_better(taps: _Taps, used: Indices, fit: EpipolarFit) -> PlanarFit | None:
-    assert taps.epipole1 is not None
-    if not _looks_planar(taps, used, fit):
-        return None
-    return fit_planar(taps.p[used], taps.q[used], taps.epipole1, sigma=taps.sigma)
+def _calibrated(
+    fit: EpipolarFit, covariance: Array | None, samples: Callable[[], Array]
+) -> Array | None:
+    """The covariance grown until its ellipse holds the bootstrap's answers (see bootstrap)."""
+    answer = to_pixel(fit.epipole2)
+    if covariance is None or answer is None:
+        return covariance
+    return covariance * bootstrap.scale(answer, covariance, samples())
+
+
+def _pixel_or_nan(point: Array) -> Array:
+    pixel = to_pixel(point)
+    return np.full(2, np.nan) if pixel is None else pixel
+
+
+# --- consistency and warnings -----------------------------------------------------------
 
 
 def _widen_if_inconsistent(
-    fit: EpipolarFit,
-    covariance: Array | None,
-    sigma: float,
-    warnings: list[str],
-    suspects: list[int],
+    fit: EpipolarFit, covariance: Array | None, sigma: float, warnings: list[str]
 ) -> tuple[Array | None, bool]:
-    """Taps noisier than ``sigma`` (and no culprit found): widen the ellipse and say so."""
+    """Taps noisier than ``sigma`` (and no culprit found): widen the ellipse, add a warning.
+
+    Returns the covariance to report and whether the taps were inconsistent.
+    """
     if consistent(fit, sigma):
         return covariance, False
     warnings.append(
@@ -440,18 +442,33 @@ def _suspect_warnings(taps: _Taps, suspects: list[int], fit: EpipolarFit) -> lis
     ]
 
 
-def _where_warnings(
-    taps: _Taps, e2: tuple[float, float] | None, semi_major: float | None
-) -> list[str]:
+def _where_warnings(taps: _Taps, e2: Array, *, behind: str, loose: bool) -> list[str]:
+    """Sentences about where the seeker is relative to the buddy's photo (oriented e2).
+
+    ``behind``: "no", "yes" (pinned down behind the buddy's camera) or "unsure"; ``loose``:
+    the 95 % region is wider than a tenth of the photo.
+    """
     warnings = []
-    if e2 is None:
+    position = to_pixel(e2)
+    if position is None:
         warnings.append(
-            "The landmarks put your friend very far off in one direction; re-check the marks "
+            "The landmarks put your friend very far off to the side; re-check the marks "
             "or add landmarks."
         )
+    elif behind != "no":
+        if behind == "unsure":
+            warnings.append(
+                "These marks do not pin down where your friend is; re-check each landmark "
+                "and the buddy mark, or add landmarks."
+            )
+        else:
+            warnings.append(
+                "Your friend is behind you: turn around, and photograph the side where they are."
+            )
+        return warnings
     elif taps.size2 is not None:
         width, height = taps.size2
-        x, y = e2
+        x, y = position
         beyond = max(-x, x - width, -y, y - height)
         if beyond > 0:
             side = (
@@ -469,7 +486,7 @@ def _where_warnings(
                 f"Your friend is outside this photo, about {beyond:.0f} px beyond its {side} "
                 f"edge: {turn}."
             )
-    if semi_major is not None and semi_major > 0.1 * taps.diagonal2:
+    if loose:
         warnings.append(
             "The position is uncertain. Add landmarks spread across both photos, near and far, "
             "to narrow it down."
@@ -480,79 +497,98 @@ def _where_warnings(
 # --- building the answer ---------------------------------------------------------------
 
 
-def _fitted_result(
+@dataclass(frozen=True)
+class _Answer:
+    """What a fitted model says, before it becomes a :class:`SolveResult`."""
+
+    epipole1: Array  # (3,) the buddy in photo 1
+    epipole2: Array  # (3,) the seeker in photo 2, any sign
+    covariance: Array | None  # (2, 2) px^2 of epipole2, None: no region claimed
+    residuals: Array  # (N,) px
+    fundamental: Array  # (3, 3); for the plane model the one it induces, [e2]x H
+    homography: Array | None = None
+
+    @classmethod
+    def of_fit(cls, taps: _Taps, fit: EpipolarFit, covariance: Array | None) -> _Answer:
+        distances = np.abs(sampson_distances(fit.fundamental, taps.p, taps.q))
+        return cls(fit.epipole1, fit.epipole2, covariance, distances, fit.fundamental)
+
+    @classmethod
+    def of_plane(cls, taps: _Taps, plane: PlanarFit) -> _Answer:
+        assert taps.epipole1 is not None
+        seeker, covariance = plane.seeker(taps.epipole1, taps.sigma)
+        mapped = homogeneous(taps.p) @ plane.homography.T
+        transfer = np.linalg.norm(mapped[:, :2] / mapped[:, 2:] - taps.q, axis=1)
+        induced = skew(seeker) @ plane.homography
+        return cls(
+            np.append(taps.epipole1, 1.0), seeker, covariance, transfer, induced, plane.homography
+        )
+
+
+def _result(
     method: Method,
     taps: _Taps,
-    fit: EpipolarFit,
+    answer: _Answer,
     *,
-    covariance: Array | None,
     suspects: list[int],
     warnings: list[str],
-    inconsistent: bool,
+    inconsistent: bool = False,
     candidates: list[Candidate] | None = None,
-    at_best: Quality = "good",
 ) -> SolveResult:
-    e2 = _pixel(fit.epipole2)
-    uncertainty, semi_major = _uncertainty(e2, covariance)
-    residuals = np.abs(sampson_distances(fit.fundamental, taps.p, taps.q))
-    grade = quality(semi_major, taps.diagonal2)
-    if inconsistent or e2 is None:
+    # The buddy is seen in photo 1, so in front of the seeker's camera: that orients e1,
+    # and through the landmarks e2 (in front of the buddy's camera, behind it, or sideways).
+    e1 = canonical(answer.epipole1)
+    e2, orientable = orient_seeker(answer.fundamental, e1, answer.epipole2, taps.p, taps.q)
+    position = _pixel(e2)
+    uncertainty, semi_major = _uncertainty(position, answer.covariance)
+    region = quality(semi_major, taps.diagonal2)
+    behind = "no"
+    if position is not None and e2[2] < 0:
+        # Behind the buddy: nothing to mark in the photo. Only a pinned-down, physical answer
+        # may say "behind you": a loose one may have crossed infinity, and a fit that breaks
+        # the oriented constraint has no reliable side (both measured on 5-landmark taps).
+        behind = "yes" if orientable and region != "poor" else "unsure"
+        position, uncertainty = None, Uncertainty(ellipse=None)
+    grade = region
+    if inconsistent or (position is None and behind != "yes"):
         grade = "poor"
-    if at_best == "fair" and grade == "good":
-        grade = "fair"
     return SolveResult(
         method=method,
         landmark_count=len(taps.p),
         tap_sigma=taps.sigma,
-        epipole2=e2,
-        epipole2_h=_homogeneous(fit.epipole2),
-        epipole1=_pixel(fit.epipole1),
-        epipole1_h=_homogeneous(fit.epipole1),
-        fundamental=_matrix(canonical_matrix(fit.fundamental)),
+        epipole2=position,
+        epipole2_h=_unit(e2),
+        epipole1=_pixel(e1),
+        epipole1_h=_unit(e1),
+        fundamental=None if answer.homography is not None else _matrix(answer.fundamental),
+        homography=None if answer.homography is None else _matrix(answer.homography),
         candidates=candidates or [],
         uncertainty=uncertainty,
         suspect_landmarks=suspects,
-        residuals=[float(r) for r in residuals],
+        residuals=[float(r) for r in answer.residuals],
         quality=grade,
-        warnings=warnings + _where_warnings(taps, e2, semi_major),
-    )
-
-
-def _planar_result(
-    taps: _Taps, plane: PlanarFit, used: Indices, suspects: list[int], warnings: list[str]
-) -> SolveResult:
-    e2 = _pixel(plane.epipole2)
-    uncertainty, semi_major = _uncertainty(e2, plane.covariance2)
-    mapped = homogeneous(taps.p) @ plane.homography.T
-    residuals = np.linalg.norm(mapped[:, :2] / mapped[:, 2:] - taps.q, axis=1)
-    return SolveResult(
-        method="planar",
-        landmark_count=len(taps.p),
-        tap_sigma=taps.sigma,
-        epipole2=e2,
-        epipole2_h=_homogeneous(plane.epipole2),
-        epipole1=_pixel(plane.epipole1),
-        epipole1_h=_homogeneous(plane.epipole1),
-        homography=_matrix(canonical_matrix(plane.homography)),
-        uncertainty=uncertainty,
-        suspect_landmarks=suspects,
-        residuals=[float(r) for r in residuals],
-        quality=quality(semi_major, taps.diagonal2) if e2 is not None else "poor",
-        warnings=warnings + _where_warnings(taps, e2, semi_major),
+        warnings=warnings
+        + _where_warnings(
+            taps, e2, behind=behind, loose=semi_major is not None and region == "poor"
+        ),
     )
 
 
 def _candidates(taps: _Taps, geometries: list[tuple[Array, Array, Array]]) -> list[Candidate]:
     listed = []
-    for rank, (e1, e2, f) in enumerate(geometries, 1):
-        cue = assess(f, e1, e2, taps.p, taps.q, image_size1=taps.size1, image_size2=taps.size2)
+    for rank, (buddy, seeker, f) in enumerate(geometries, 1):
+        cue = assess(
+            f, buddy, seeker, taps.p, taps.q, image_size1=taps.size1, image_size2=taps.size2
+        )
+        e1 = canonical(buddy)
+        e2, _ = orient_seeker(f, e1, seeker, taps.p, taps.q)
         listed.append(
             Candidate(
                 rank=rank,
                 epipole1=_pixel(e1),
-                epipole1_h=_homogeneous(e1),
+                epipole1_h=_unit(e1),
                 epipole2=_pixel(e2),
-                epipole2_h=_homogeneous(e2),
+                epipole2_h=_unit(e2),
                 fundamental=_matrix(canonical_matrix(f)),
                 oriented_violations=cue.oriented_violations,
                 focal_lengths=cue.focal_lengths,
@@ -586,8 +622,9 @@ def _pixel(point: Array) -> tuple[float, float] | None:
     return None if pixel is None else (float(pixel[0]), float(pixel[1]))
 
 
-def _homogeneous(point: Array) -> tuple[float, float, float]:
-    x, y, w = canonical(point)
+def _unit(point: Array) -> tuple[float, float, float]:
+    """A homogeneous point at unit norm, its sign (orientation) kept."""
+    x, y, w = point / np.linalg.norm(point)
     return float(x), float(y), float(w)
 
 

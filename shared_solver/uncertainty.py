@@ -1,11 +1,8 @@
 """How sure the answer is: the 95 % ellipse of the seeker's position, and its quality.
 
-The ellipse is first-order propagation of the tap noise through the maximum-likelihood fit.
-For the minimal five-landmark case, where a near-degenerate layout makes the first-order
-approximation too optimistic, its size is calibrated by a parametric bootstrap of the
-closed form: re-solve with fresh tap noise around the taps and grow the ellipse until it
-holds 95 % of those answers (never shrink it). Coverage is measured in the test suite and
-in ``benchmarks/solver.py``.
+The ellipse is first-order propagation of the tap noise through the maximum-likelihood fit;
+where that is measured to be too optimistic (minimal cases), :mod:`bootstrap` calibrates its
+size. Coverage is measured in the test suite and in ``benchmarks/solver.py``.
 """
 
 from __future__ import annotations
@@ -14,15 +11,12 @@ import math
 
 import numpy as np
 
-from .five_point import cremona_batch
 from .projective import Array
 from .result import Quality
 
 LEVEL = 0.95
 # Chi-square quantile with 2 degrees of freedom at LEVEL: -2 ln(1 - LEVEL).
 CHI2_2D = -2.0 * math.log(1.0 - LEVEL)  # = chi2_quantile(LEVEL, 2)
-BOOTSTRAP_SAMPLES = 200
-_BOOTSTRAP_SEED = 2017  # fixed: the same taps always give the same answer
 
 # Quality bands: the 95 % ellipse's longer semi-axis as a fraction of photo 2's diagonal.
 GOOD_FRACTION = 0.03
@@ -56,11 +50,11 @@ def ellipse(
     centre: Array, covariance: Array
 ) -> tuple[tuple[float, float], tuple[float, float], float]:
     """(centre, (a, b) semi-axes in px, angle of axis a from the x axis in degrees, y down)."""
-    values, vectors = np.linalg.eigh(covariance)
-    values = np.maximum(values, 0.0)
-    major, minor = vectors[:, 1], values[::-1]
-    angle = math.degrees(math.atan2(major[1], major[0])) % 180.0
-    a, b = (math.sqrt(CHI2_2D * v) for v in minor)
+    values, vectors = np.linalg.eigh(covariance)  # ascending
+    smaller, larger = np.maximum(values, 0.0)
+    major_axis = vectors[:, 1]
+    angle = math.degrees(math.atan2(major_axis[1], major_axis[0])) % 180.0
+    a, b = math.sqrt(CHI2_2D * larger), math.sqrt(CHI2_2D * smaller)
     return (float(centre[0]), float(centre[1])), (a, b), angle
 
 
@@ -68,29 +62,6 @@ def contains(centre: Array, covariance: Array, point: Array) -> bool:
     """Whether ``point`` lies inside the LEVEL ellipse of (centre, covariance)."""
     offset = point - centre
     return bool(offset @ np.linalg.solve(covariance, offset) <= CHI2_2D)
-
-
-def bootstrap_scale(
-    e1: Array, p: Array, q: Array, e2: Array, *, covariance: Array, sigma: float
-) -> float:
-    """Factor (>= 1) to multiply a minimal solve's first-order covariance of e2 by.
-
-    Args:
-        e1: (2,) buddy tap; p, q: (5, 2) landmarks; e2: (2,) the answer, pixels.
-        covariance: (2, 2) its first-order covariance, px^2.
-        sigma: tap noise, px.
-    """
-    rng = np.random.default_rng(_BOOTSTRAP_SEED)
-    k = BOOTSTRAP_SAMPLES
-    e1s = np.column_stack([e1 + rng.normal(0.0, sigma, (k, 2)), np.ones(k)])
-    samples = cremona_batch(
-        e1s, p + rng.normal(0.0, sigma, (k, 5, 2)), q + rng.normal(0.0, sigma, (k, 5, 2))
-    )
-    with np.errstate(divide="ignore", invalid="ignore"):
-        offsets = samples[:, :2] / samples[:, 2:] - e2
-        distances = np.einsum("ki,ij,kj->k", offsets, np.linalg.inv(covariance), offsets)
-    distances[~np.isfinite(distances)] = np.inf
-    return max(1.0, float(np.quantile(distances, LEVEL)) / CHI2_2D)
 
 
 def quality(semi_major: float | None, diagonal: float) -> Quality:

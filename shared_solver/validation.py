@@ -24,9 +24,13 @@ def _array(value: ArrayLike, name: str) -> Array:
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
-        raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be numbers.") from error
+        raise SolverError(
+            ErrorCode.INVALID_SHAPE, f"Every value of {name} must be a number."
+        ) from error
     if not np.all(np.isfinite(array)):
-        raise SolverError(ErrorCode.NOT_FINITE, f"{name} contains a NaN or infinite value.")
+        raise SolverError(
+            ErrorCode.NOT_FINITE, f"A value of {name} is not a finite number (NaN or infinity)."
+        )
     return array
 
 
@@ -36,7 +40,8 @@ def points(value: ArrayLike, name: str) -> Array:
     if array.ndim != 2 or array.shape[1] != 2:
         raise SolverError(
             ErrorCode.INVALID_SHAPE,
-            f"{name} must be a list of [x, y] pairs, got shape {array.shape}.",
+            f"The value of {name} must be a list of [x, y] pairs, "
+            f"not an array of shape {array.shape}.",
         )
     return array
 
@@ -48,14 +53,16 @@ def point(value: ArrayLike, name: str) -> Array:
         return np.append(array, 1.0)
     if array.shape == (3,) and np.any(array != 0):
         return array
-    raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be [x, y] or a nonzero [x, y, w].")
+    raise SolverError(
+        ErrorCode.INVALID_SHAPE, f"The value of {name} must be [x, y] or a nonzero [x, y, w]."
+    )
 
 
 def pixel(value: ArrayLike, name: str) -> Array:
     """(2,) pixel position of a tap, finite."""
     array = _array(value, name)
     if array.shape != (2,):
-        raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be [x, y] in pixels.")
+        raise SolverError(ErrorCode.INVALID_SHAPE, f"The value of {name} must be [x, y] in pixels.")
     return array
 
 
@@ -64,7 +71,9 @@ def line(value: ArrayLike, name: str) -> Array:
     array = _array(value, name)
     if array.shape != (3,) or not np.any(array[:2] != 0):
         raise SolverError(
-            ErrorCode.INVALID_SHAPE, f"{name} must be [a, b, c] for the line a*x + b*y + c = 0."
+            ErrorCode.INVALID_SHAPE,
+            f"The value of {name} must be [a, b, c] for the line a*x + b*y + c = 0, "
+            "with a or b nonzero.",
         )
     return array
 
@@ -72,7 +81,9 @@ def line(value: ArrayLike, name: str) -> Array:
 def positive(value: float, name: str) -> float:
     """A finite, strictly positive number."""
     if not np.isfinite(value) or value <= 0:
-        raise SolverError(ErrorCode.INVALID_PARAMETER, f"{name} must be a positive number.")
+        raise SolverError(
+            ErrorCode.INVALID_PARAMETER, f"The value of {name} must be a positive number."
+        )
     return float(value)
 
 
@@ -82,7 +93,10 @@ def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None
         return None
     array = _array(value, name)
     if array.shape != (2,) or np.any(array <= 0):
-        raise SolverError(ErrorCode.INVALID_SHAPE, f"{name} must be [width, height] in pixels.")
+        raise SolverError(
+            ErrorCode.INVALID_SHAPE,
+            f"The value of {name} must be [width, height] in pixels, both positive.",
+        )
     return float(array[0]), float(array[1])
 
 

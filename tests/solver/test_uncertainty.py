@@ -1,0 +1,93 @@
+"""The 95 % ellipse is a claim: over many noisy trials it must hold the truth about 95 % of
+the time, neither much less (overconfident) nor nearly always (useless)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from shared_solver import solve
+from shared_solver.scenes import facing_scene, tap
+from shared_solver.uncertainty import CHI2_2D, contains
+
+TRIALS = 500
+
+
+def covered(
+    result_covariance: tuple[tuple[float, float], tuple[float, float]] | None,
+    answer: tuple[float, float] | None,
+    truth: np.ndarray,
+) -> bool:
+    """Inside the claimed region; no region claimed counts as a miss."""
+    if result_covariance is None or answer is None:
+        return False
+    return contains(np.array(answer), np.array(result_covariance), truth)
+
+
+@pytest.mark.parametrize(("landmarks", "sigma"), [(5, 1.0), (5, 2.0), (6, 1.0), (8, 1.0), (8, 2.0)])
+def test_ellipse_holds_the_truth_about_95_percent_of_the_time(
+    landmarks: int, sigma: float, record_property: pytest.RecordProperty
+) -> None:
+    rng = np.random.default_rng(landmarks * 100 + int(sigma * 10))
+    hits = 0
+    for _ in range(TRIALS):
+        s = facing_scene(rng, landmarks)
+        taps = tap(s, sigma, rng)
+        result = solve(
+            taps.landmarks1,
+            taps.landmarks2,
+            epipole1=taps.epipole1,
+            tap_sigma=sigma,
+            image_size1=s.image_size1,
+            image_size2=s.image_size2,
+        )
+        assert result.uncertainty is not None
+        hits += covered(result.uncertainty.covariance, result.epipole2, s.epipole2)
+    coverage = hits / TRIALS
+    record_property("coverage", coverage)
+    print(
+        f"coverage of the 95 % ellipse, {landmarks} landmarks + e1, sigma {sigma}: {coverage:.3f}"
+    )
+    assert 0.90 <= coverage <= 0.99
+
+
+def test_ellipse_matches_the_reported_axes() -> None:
+    """The ellipse fields describe the covariance: axes^2 = 5.99 * eigenvalues."""
+    rng = np.random.default_rng(1)
+    s = facing_scene(rng, 8)
+    taps = tap(s, 1.0, rng)
+    result = solve(taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=1.0)
+    assert result.uncertainty is not None
+    ellipse, covariance = result.uncertainty.ellipse, np.array(result.uncertainty.covariance)
+    assert ellipse is not None
+    assert result.uncertainty.level == 0.95
+    assert ellipse.center == result.epipole2
+    a, b = ellipse.axes
+    assert a >= b
+    assert np.allclose(sorted([a * a, b * b]), CHI2_2D * np.linalg.eigvalsh(covariance))
+    angle = np.radians(ellipse.angle_deg)
+    major = np.array([np.cos(angle), np.sin(angle)])
+    assert np.isclose(major @ covariance @ major, a * a / CHI2_2D)
+
+
+def test_quality_follows_the_uncertainty() -> None:
+    """Sloppy taps (sigma 8 px) on 5 landmarks are rarely 'good'; precise taps on 12 usually are."""
+    rng = np.random.default_rng(2)
+    grades: dict[str, list[str]] = {"sloppy": [], "precise": []}
+    for _ in range(100):
+        s = facing_scene(rng, 12)
+        for name, n, sigma in (("sloppy", 5, 8.0), ("precise", 12, 0.5)):
+            taps = tap(s, sigma, rng)
+            result = solve(
+                taps.landmarks1[:n],
+                taps.landmarks2[:n],
+                epipole1=taps.epipole1,
+                tap_sigma=sigma,
+                image_size1=s.image_size1,
+                image_size2=s.image_size2,
+            )
+            grades[name].append(result.quality)
+    assert grades["sloppy"].count("good") < 30
+    assert grades["precise"].count("good") > 80
+    poor = [g for g in grades["sloppy"] if g == "poor"]
+    assert poor, "a very uncertain answer must be graded poor"
