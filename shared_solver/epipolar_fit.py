@@ -159,24 +159,21 @@ def fit_epipolar(
     theta, r, jacobian = levenberg_marquardt(
         residuals, start_theta, renormalise=lambda t: _unit_block(t, 6)
     )
-    a1, a2, x, y = theta[0:3], theta[3:6], theta[6], theta[7]
-    gauge = np.concatenate([a1, a2, [0.0, 0.0]])
-    covariance = gauge_free_covariance(jacobian, gauge, sigma)
-    e1_n, e2_n = np.array([x, y, 1.0]), np.cross(a1, a2)
+    a1, a2 = theta[0:3], theta[3:6]
     # d(a1 x a2) = -[a2]x da1 + [a1]x da2
     d_e2 = np.hstack([-skew(a2), skew(a1), np.zeros((3, 2))])
     d_e1 = np.zeros((3, 8))
     d_e1[0, 6] = d_e1[1, 7] = 1.0
-    normalised = np.column_stack([a1, a2, -(x * a1 + y * a2)])
-    return EpipolarFit(
-        fundamental=frame.pixel_f(normalised),
-        epipole1=np.linalg.solve(frame.t1, e1_n),
-        epipole2=np.linalg.solve(frame.t2, e2_n),
-        distances=r[: len(p)],
-        cost=float(r @ r),
-        dof=len(r) - 7,
-        covariance1=_pixel_covariance(frame.t1, e1_n, d_e1, covariance),
-        covariance2=_pixel_covariance(frame.t2, e2_n, d_e2, covariance),
+    return _fit(
+        frame,
+        a1,
+        a2,
+        buddy=theta[6:8],
+        seeker=np.cross(a1, a2),
+        derivatives=(d_e1, d_e2),
+        residuals=(r, jacobian, len(p)),
+        gauge=np.concatenate([a1, a2, [0.0, 0.0]]),
+        sigma=sigma,
     )
 
 
@@ -235,21 +232,53 @@ def fit_two_epipoles(
         residuals, start_theta, renormalise=lambda t: _unit_block(t, 4)
     )
     a1, a2 = columns(theta)
-    x1, y1, x2, y2 = theta[4:8]
-    gauge = np.concatenate([theta[:4], np.zeros(4)])
-    covariance = gauge_free_covariance(jacobian, gauge, sigma)
-    e1_n, e2_n = np.array([x1, y1, 1.0]), np.array([x2, y2, 1.0])
     d_e1, d_e2 = np.zeros((3, 8)), np.zeros((3, 8))
     d_e1[0, 4] = d_e1[1, 5] = d_e2[0, 6] = d_e2[1, 7] = 1.0
+    return _fit(
+        frame,
+        a1,
+        a2,
+        buddy=theta[4:6],
+        seeker=np.append(theta[6:8], 1.0),
+        derivatives=(d_e1, d_e2),
+        residuals=(r, jacobian, len(p)),
+        gauge=np.concatenate([theta[:4], np.zeros(4)]),
+        sigma=sigma,
+    )
+
+
+def _fit(
+    frame: _Frame,
+    a1: Array,
+    a2: Array,
+    *,
+    buddy: Array,
+    seeker: Array,
+    derivatives: tuple[Array, Array],
+    residuals: tuple[Array, Array, int],
+    gauge: Array,
+    sigma: float,
+) -> EpipolarFit:
+    """The fit in pixels from its normalised parameters at the minimum.
+
+    Args:
+        a1, a2: columns of F (normalised); buddy: (2,) e1 (normalised); seeker: (3,) e2.
+        derivatives: (3, P) Jacobians of e1 and e2 (homogeneous, normalised) w.r.t. theta.
+        residuals: (r, J, number of landmarks) at the minimum; gauge: theta's null direction.
+    """
+    r, jacobian, landmarks = residuals
+    covariance = gauge_free_covariance(jacobian, gauge, sigma)
+    e1_n = np.append(buddy, 1.0)
+    x, y = buddy
     return EpipolarFit(
-        fundamental=frame.pixel_f(np.column_stack([a1, a2, -(x1 * a1 + y1 * a2)])),
+        fundamental=frame.pixel_f(np.column_stack([a1, a2, -(x * a1 + y * a2)])),
         epipole1=np.linalg.solve(frame.t1, e1_n),
-        epipole2=np.linalg.solve(frame.t2, e2_n),
-        distances=r[: len(p)],
+        epipole2=np.linalg.solve(frame.t2, seeker),
+        distances=r[:landmarks],
         cost=float(r @ r),
         dof=len(r) - 7,
-        covariance1=_pixel_covariance(frame.t1, e1_n, d_e1, covariance),
-        covariance2=_pixel_covariance(frame.t2, e2_n, d_e2, covariance),
+        covariance1=_pixel_covariance(frame.t1, e1_n, derivatives[0], covariance),
+        covariance2=_pixel_covariance(frame.t2, seeker, derivatives[1], covariance),
     )
 
 

@@ -10,8 +10,10 @@
 | nothing                        | 7 / >= 8  | ``seven_point`` / ``eight_point`` (OpenCV)     |
 
 Every tap is noisy (``tap_sigma`` px per axis), the buddy's included: with more than the
-minimum the answer is the maximum-likelihood fit over all taps, and always comes with a
-95 % ellipse, per-landmark residuals, suspects, a quality grade and sentences to act on.
+minimum the answer is the maximum-likelihood fit over all taps. It comes with per-landmark
+residuals, suspects, a quality grade, sentences to act on, and a 95 % ellipse wherever one
+was measured to hold the truth about 95 % of the time (not for the line and 7-point
+fallbacks, which say so).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from . import bootstrap, validation
 from .conic import conic_from_cross_ratio
 from .epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles, sampson_distances
 from .errors import ErrorCode, SolverError
-from .five_point import canonical, fundamental_with_epipole
+from .five_point import canonical, fundamental_with_epipole, left_epipole, right_epipole
 from .mistaps import consistent, find_mistaps, refit
 from .planar import PlanarFit, coplanar_fit
 from .plausibility import assess, orient_seeker
@@ -308,7 +310,7 @@ def _landmarks_only(taps: _Taps) -> SolveResult:
         roots = [
             canonical_matrix(f) for f in np.asarray(stacked, dtype=np.float64).reshape(-1, 3, 3)
         ]
-        geometries = [(_null(f), _null(f.T), f) for f in roots]
+        geometries = [(right_epipole(f), left_epipole(f), f) for f in roots]
         return _likeliest(taps, "seven_point", geometries, minimal=True)
     suspects: list[int] = []
     warnings: list[str] = []
@@ -611,10 +613,6 @@ def _uncertainty(
     return Uncertainty(
         ellipse=Ellipse(center=centre, axes=axes, angle_deg=angle), covariance=cov
     ), axes[0]
-
-
-def _null(matrix: Array) -> Array:
-    return np.linalg.svd(matrix)[2][-1]
 
 
 def _pixel(point: Array) -> tuple[float, float] | None:
