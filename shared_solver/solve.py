@@ -81,6 +81,11 @@ def solve(
 ) -> SolveResult:
     """Where the seeker stands in the buddy's photo, from whatever the two people tapped.
 
+    The method follows from the input (module docstring): ``conic`` is paper 3.1,
+    ``five_point_epipole`` 3.2, ``six_point_line`` 3.3, ``two_epipoles`` the introduction's
+    pencil homography; with more landmarks, maximum likelihood over every tap (Sampson
+    distances, Hartley & Zisserman 11.4.3), and ``planar`` is ``e2 = H e1`` (MATH.md).
+
     Args:
         points1: (N, 2) landmarks in photo 1 (the seeker's), pixels, x right, y down.
         points2: (N, 2) the same landmarks, same order, in photo 2 (the buddy's).

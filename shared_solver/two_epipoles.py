@@ -29,6 +29,9 @@ def fundamental_from_epipoles(
 ) -> Array:
     """F from both epipoles and N >= 3 landmarks (least squares beyond 3).
 
+    The paper's introduction: the epipoles (4 degrees of freedom) and the 1-D homography
+    between the pencils of epipolar lines (3, fixed by three landmarks) make up F.
+
     Args:
         e1: (2,) pixel or (3,) homogeneous buddy position in photo 1.
         e2: (2,) pixel or (3,) homogeneous seeker position in photo 2.
