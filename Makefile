@@ -6,10 +6,10 @@ VENV := .venv
 BIN := $(VENV)/bin
 INSTALLED := $(VENV)/.installed
 
-.PHONY: run test lint typecheck bench demo clean
+.PHONY: run test lint typecheck bench bench-api demo clean
 
 run: $(INSTALLED)
-	$(BIN)/python -m shared_solver.demo
+	$(BIN)/python -m backend
 
 test: $(INSTALLED) lint typecheck
 	$(BIN)/python -m pytest
@@ -24,7 +24,11 @@ typecheck: $(INSTALLED)
 bench: $(INSTALLED)
 	$(BIN)/python benchmarks/solver.py
 
-demo: run
+bench-api: $(INSTALLED)
+	$(BIN)/python benchmarks/api.py
+
+demo: $(INSTALLED)
+	$(BIN)/python -m shared_solver
 
 $(INSTALLED): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)

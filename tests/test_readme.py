@@ -7,12 +7,18 @@ import io
 import re
 from pathlib import Path
 
+import pytest
+from fastapi.testclient import TestClient
+
+from backend.main import create_app
+from backend.settings import Settings
+
 README = Path(__file__).parents[1] / "README.md"
 
 
-def example() -> str:
+def example(name: str = "solve") -> str:
     text = README.read_text()
-    marker = text.index("<!-- example: solve")
+    marker = text.index(f"<!-- example: {name}")
     block = re.search(r"```python\n(.*?)```", text[marker:], re.S)
     assert block is not None
     return block.group(1)
@@ -33,3 +39,29 @@ def test_readme_example_prints_what_it_promises() -> None:
     axes = [float(v) for v in re.findall(r"[\d.]+", second)]
     assert abs(axes[0] - 4.4) < 0.2
     assert abs(axes[1] - 2.9) < 0.2
+
+
+def test_readme_session_script_finds_the_buddy(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The httpx script, run against the app in-process instead of a server on :8000."""
+    script = example("session")
+    opening = 'http = httpx.Client(base_url="http://127.0.0.1:8000")'
+    assert opening in script
+    settings = Settings(database_url=f"sqlite:///{tmp_path / 'readme.db'}")
+    monkeypatch.chdir(README.parent)
+    output = io.StringIO()
+    with TestClient(create_app(settings)) as client, contextlib.redirect_stdout(output):
+        exec(
+            compile(script.replace(opening, "http = client"), "README.md", "exec"),
+            {"client": client},
+        )
+    assert output.getvalue().strip() == "least_squares_epipole [522.8, 73.9] fair"
+
+
+def test_readme_lists_every_setting_with_its_default() -> None:
+    text = README.read_text()
+    for name, field in Settings.model_fields.items():
+        row = re.search(rf"^\| `BUDDY_{name.upper()}` \| `([^`]*)` \|", text, re.M)
+        assert row is not None, name
+        assert row.group(1) == str(field.default), name

@@ -1,0 +1,59 @@
+"""Typed dependencies, defined once: every route reuses them."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import Depends, Query, Request
+from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
+
+from backend.sessions.service import SessionService
+from backend.settings import Settings
+from backend.storage.repository import Participant
+
+_bearer = HTTPBearer(
+    auto_error=False, description="The token from creating or joining the session."
+)
+
+
+def get_service(request: Request) -> SessionService:
+    service: SessionService = request.app.state.service
+    return service
+
+
+def get_settings(request: Request) -> Settings:
+    settings: Settings = request.app.state.settings
+    return settings
+
+
+def base_url(request: Request) -> str:
+    """This app's URL as the caller reached it (for join links)."""
+    return str(request.base_url)
+
+
+ServiceDep = Annotated[SessionService, Depends(get_service)]
+SettingsDep = Annotated[Settings, Depends(get_settings)]
+BaseUrlDep = Annotated[str, Depends(base_url)]
+Credentials = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
+
+
+def participant(session_id: str, service: ServiceDep, credentials: Credentials) -> Participant:
+    """The caller, from its bearer token, which must open this session."""
+    return service.authenticate(credentials.credentials if credentials else None, session_id)
+
+
+def viewer(
+    session_id: str,
+    service: ServiceDep,
+    credentials: Credentials,
+    token: Annotated[
+        str | None,
+        Query(description="The token, for EventSource and <img>, which cannot send headers."),
+    ] = None,
+) -> Participant:
+    """Like :func:`participant`, also accepting ``?token=`` (pictures and event streams)."""
+    return service.authenticate(credentials.credentials if credentials else token, session_id)
+
+
+ParticipantDep = Annotated[Participant, Depends(participant)]
+ViewerDep = Annotated[Participant, Depends(viewer)]

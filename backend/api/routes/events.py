@@ -1,0 +1,45 @@
+"""The event stream a phone listens to: 'this changed', then it fetches the state."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Header, Request
+from fastapi.responses import StreamingResponse
+
+from backend.api.deps import ServiceDep, ViewerDep
+from backend.api.responses import errors
+
+router = APIRouter(prefix="/api/sessions", tags=["sessions"])
+
+
+@router.get(
+    "/{session_id}/events",
+    responses={
+        200: {
+            "description": "text/event-stream: events joined, photo, taps, result, left, "
+            "expired; ': ping' comments keep it alive.",
+            "content": {
+                "text/event-stream": {
+                    "example": 'retry: 3000\n\nid: 41\nevent: taps\ndata: {"role": "buddy", '
+                    '"version": 9}\n\nid: 42\nevent: result\ndata: {"version": 9}\n\n'
+                    ": ping\n\n"
+                }
+            },
+        },
+        **errors(401, 403),
+    },
+    response_class=StreamingResponse,
+)
+async def events(
+    request: Request,
+    participant: ViewerDep,
+    service: ServiceDep,
+    last_event_id: Annotated[int | None, Header(description="Resume after this event.")] = None,
+) -> StreamingResponse:
+    """Server-sent events for this session (EventSource: pass ``?token=``)."""
+    return StreamingResponse(
+        service.events(participant, last_event_id, request.is_disconnected),
+        media_type="text/event-stream",
+        headers={"Cache-Control": "no-store", "X-Accel-Buffering": "no"},
+    )

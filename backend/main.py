@@ -1,0 +1,108 @@
+"""The ASGI app: ``backend.main:app`` (``make run`` serves it with uvicorn)."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from typing import Any
+
+from fastapi import FastAPI
+from fastapi.openapi.docs import get_swagger_ui_html
+from fastapi.responses import HTMLResponse
+from fastapi.staticfiles import StaticFiles
+from swagger_ui_bundle import swagger_ui_path
+
+from backend import __version__, errors
+from backend.api import responses as api_responses
+from backend.api.routes import events, health, sessions, solver
+from backend.clock import Clock, utc_now
+from backend.events import Notifier
+from backend.limits import BodySizeLimit, ServerTiming
+from backend.sessions.service import SessionService
+from backend.settings import Settings, get_settings
+from backend.storage.database import make_engine
+from backend.storage.repository import Store
+from backend.sweeper import sweep_forever
+
+DESCRIPTION = """Find a friend across a venue from two phone photos.
+
+Stateless: `POST /api/solve` and `POST /api/overlay` for scripts.
+Sessions: the seeker creates one, the buddy joins with its code; each uploads a photo and
+taps landmarks; the answer is recomputed on every change and drawn on each photo. Every
+error is `{"error": {"code": "...", "message": "..."}}`.
+"""
+
+
+def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> FastAPI:
+    """The app with its database, event notifier and expiry sweeper."""
+    settings = settings or get_settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        engine = make_engine(settings.database_url)
+        service = SessionService(Store(engine), settings, Notifier(), clock)
+        app.state.service = service
+        sweeper = asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds))
+        try:
+            yield
+        finally:
+            sweeper.cancel()
+            engine.dispose()
+
+    app = FastAPI(
+        title="Buddy Search",
+        version=__version__,
+        description=DESCRIPTION,
+        lifespan=lifespan,
+        docs_url=None,  # served below from local files: nothing is loaded from the internet
+        redoc_url=None,
+    )
+    app.state.settings = settings
+    errors.install(app)
+    app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    app.add_middleware(ServerTiming)
+    for module in (solver, sessions, events, health):
+        app.include_router(module.router)
+    _serve_docs(app)
+    _document_refusals(app)
+    return app
+
+
+def _document_refusals(app: FastAPI) -> None:
+    """FastAPI documents request errors as {"detail": [...]}; this API answers them in its
+    one shape, so the schema says that instead."""
+    build = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is None:
+            schema = build()
+            for operations in schema.get("paths", {}).values():
+                for operation in operations.values():
+                    answers = operation.get("responses", {})
+                    if answers.get("422", {}).get("description") == "Validation Error":
+                        answers["422"] = api_responses.INVALID_REQUEST
+            schema.get("components", {}).get("schemas", {}).pop("HTTPValidationError", None)
+            schema.get("components", {}).get("schemas", {}).pop("ValidationError", None)
+            app.openapi_schema = schema
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
+
+
+def _serve_docs(app: FastAPI) -> None:
+    """Swagger UI at /docs, from the swagger-ui-bundle package instead of a CDN."""
+    app.mount("/docs-assets", StaticFiles(directory=swagger_ui_path), name="docs-assets")
+
+    @app.get("/docs", include_in_schema=False)
+    def docs() -> HTMLResponse:
+        return get_swagger_ui_html(
+            openapi_url="/openapi.json",
+            title="Buddy Search API",
+            swagger_js_url="/docs-assets/swagger-ui-bundle.js",
+            swagger_css_url="/docs-assets/swagger-ui.css",
+            swagger_favicon_url="/docs-assets/favicon-32x32.png",
+        )
+
+
+app = create_app()

@@ -1,0 +1,74 @@
+"""Every setting of the service, from the environment (prefix ``BUDDY_``), in one class.
+
+The defaults run the app on one machine with nothing else to start: SQLite under ``./var``.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from pydantic import Field
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+
+class Settings(BaseSettings):
+    """Documented in the README's settings table; each field's description is the reference."""
+
+    model_config = SettingsConfigDict(env_prefix="BUDDY_", env_file=".env", extra="ignore")
+
+    host: str = Field(
+        "0.0.0.0", description="Address make run listens on (all: phones on the network reach it)."
+    )
+    port: int = Field(8000, gt=0, lt=65536, description="Port make run listens on.")
+    database_url: str = Field(
+        "sqlite:///var/buddy.db",
+        description="SQLAlchemy URL; SQLite runs in WAL mode. PostgreSQL for several replicas.",
+    )
+    public_url: str | None = Field(
+        None,
+        description="Base URL of the app as phones reach it, for join links "
+        "(default: the URL of the request that created the session).",
+    )
+    session_ttl_seconds: int = Field(
+        7200, gt=0, description="A session is deleted this long after it starts."
+    )
+    join_code_ttl_seconds: int = Field(600, gt=0, description="How long a join code stays valid.")
+    sweep_interval_seconds: float = Field(
+        60.0, gt=0, description="How often expired sessions are deleted."
+    )
+    max_body_bytes: int = Field(30_000_000, gt=0, description="Largest request body accepted.")
+    max_photo_pixels: int = Field(
+        50_000_000,
+        gt=0,
+        description="Largest photo (width x height, read from its header before decoding).",
+    )
+    stored_photo_side: int = Field(
+        2560,
+        gt=0,
+        description="Photos are stored downscaled to at most this many px on the long side.",
+    )
+    max_landmarks: int = Field(64, gt=0, description="Most landmarks one participant may tap.")
+    tap_sigma: float = Field(
+        3.0,
+        gt=0,
+        description="Standard deviation of a finger's tap on a stored photo, px: the noise "
+        "the answer's uncertainty is computed from.",
+    )
+    online_seconds: float = Field(
+        45.0,
+        gt=0,
+        description="A participant counts as online this long after its event stream was "
+        "last alive.",
+    )
+    keepalive_seconds: float = Field(
+        15.0, gt=0, description="Interval of keepalive pings on the event stream."
+    )
+    event_poll_seconds: float = Field(
+        1.0, gt=0, description="How often an event stream looks for events from other replicas."
+    )
+
+
+@lru_cache
+def get_settings() -> Settings:
+    """The settings of this process, read once from the environment."""
+    return Settings()

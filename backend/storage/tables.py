@@ -1,0 +1,99 @@
+"""The tables. Everything of a session hangs off its row and goes with it (ON DELETE CASCADE)."""
+
+from __future__ import annotations
+
+from datetime import datetime
+
+from sqlalchemy import (
+    DateTime,
+    Float,
+    ForeignKey,
+    Integer,
+    LargeBinary,
+    String,
+    Text,
+    UniqueConstraint,
+)
+from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
+
+
+class Base(DeclarativeBase):
+    pass
+
+
+class SessionRow(Base):
+    """One search: two participants, their photos and taps, the current answer."""
+
+    __tablename__ = "sessions"
+
+    id: Mapped[str] = mapped_column(String(32), primary_key=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime())
+    expires_at: Mapped[datetime] = mapped_column(DateTime(), index=True)
+    # Single use: cleared when the buddy joins.
+    join_code: Mapped[str | None] = mapped_column(String(6), unique=True)
+    join_code_expires_at: Mapped[datetime | None] = mapped_column(DateTime())
+    # Bumped by every change a phone should see; the answer records the version it is for.
+    version: Mapped[int] = mapped_column(Integer, default=1)
+    result: Mapped[str | None] = mapped_column(Text)  # JSON: SolveResult, or an error
+    result_version: Mapped[int | None] = mapped_column(Integer)
+
+
+class ParticipantRow(Base):
+    """The seeker or the buddy: who holds which token, whether online, what they tapped."""
+
+    __tablename__ = "participants"
+    __table_args__ = (UniqueConstraint("session_id", "role"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    session_id: Mapped[str] = mapped_column(
+        ForeignKey("sessions.id", ondelete="CASCADE"), index=True
+    )
+    role: Mapped[str] = mapped_column(String(6))
+    token_hash: Mapped[str] = mapped_column(String(64), unique=True)
+    joined_at: Mapped[datetime] = mapped_column(DateTime())
+    last_seen_at: Mapped[datetime | None] = mapped_column(DateTime())
+    taps: Mapped[str | None] = mapped_column(Text)  # JSON: TapsIn
+
+
+class PhotoRow(Base):
+    """A participant's photo as stored: upright JPEG, downscaled, no metadata."""
+
+    __tablename__ = "photos"
+
+    session_id: Mapped[str] = mapped_column(
+        ForeignKey("sessions.id", ondelete="CASCADE"), primary_key=True
+    )
+    role: Mapped[str] = mapped_column(String(6), primary_key=True)
+    data: Mapped[bytes] = mapped_column(LargeBinary)
+    width: Mapped[int] = mapped_column(Integer)
+    height: Mapped[int] = mapped_column(Integer)
+    scale: Mapped[float] = mapped_column(Float)
+    uploaded_at: Mapped[datetime] = mapped_column(DateTime())
+
+
+class OverlayRow(Base):
+    """A drawn overlay, kept for the answer version it shows."""
+
+    __tablename__ = "overlays"
+
+    session_id: Mapped[str] = mapped_column(
+        ForeignKey("sessions.id", ondelete="CASCADE"), primary_key=True
+    )
+    role: Mapped[str] = mapped_column(String(6), primary_key=True)
+    format: Mapped[str] = mapped_column(String(4), primary_key=True)
+    version: Mapped[int] = mapped_column(Integer)
+    data: Mapped[bytes] = mapped_column(LargeBinary)
+
+
+class EventRow(Base):
+    """'This changed' for the phones' event streams; ids are the streams' event ids."""
+
+    __tablename__ = "events"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    session_id: Mapped[str] = mapped_column(
+        ForeignKey("sessions.id", ondelete="CASCADE"), index=True
+    )
+    type: Mapped[str] = mapped_column(String(16))
+    data: Mapped[str] = mapped_column(Text)  # JSON
+    created_at: Mapped[datetime] = mapped_column(DateTime())

@@ -1,0 +1,112 @@
+"""The event stream: each change reaches the other phone, with ids to resume from."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+
+import pytest
+from fastapi.testclient import TestClient
+from phones import FakeClock, Phone
+
+from backend.storage.repository import Participant
+
+
+@pytest.fixture
+def anyio_backend() -> str:
+    return "asyncio"
+
+
+async def connected() -> bool:
+    return False
+
+
+async def next_frames(stream: AsyncIterator[str], *types: str) -> list[str]:
+    """Frames until one of each ``types`` has arrived (pings skipped)."""
+    frames, waiting = [], set(types)
+    while waiting:
+        chunk = await anext(stream)
+        if chunk.startswith(":"):
+            continue
+        frames.append(chunk)
+        waiting.discard(_type(chunk))
+    return frames
+
+
+def _type(chunk: str) -> str:
+    return next((line[7:] for line in chunk.splitlines() if line.startswith("event: ")), "")
+
+
+def _id(chunk: str) -> int:
+    return int(next(line[4:] for line in chunk.splitlines() if line.startswith("id: ")))
+
+
+@pytest.mark.anyio
+async def test_changes_reach_the_other_phone_in_order(
+    client: TestClient, seeker: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    service = client.app.state.service  # type: ignore[attr-defined]
+    stream = service.events(Participant(seeker.session_id, "seeker"), None, connected)
+    assert (await anext(stream)).startswith("retry:")
+    joined = await next_frames(stream, "joined")  # its own presence
+    code = seeker.state()["join_code"]
+    buddy_token = client.post("/api/sessions/join", json={"code": code}).json()["token"]
+    buddy = Phone(client, seeker.session_id, buddy_token, "buddy")
+    frames = await next_frames(stream, "joined")
+    assert '"role": "buddy"' in frames[-1]
+    assert buddy.upload(temple_photos[1], "b.png").status_code == 200
+    frames += await next_frames(stream, "photo")
+    ids = [_id(f) for f in joined + frames]
+    assert ids == sorted(ids)
+    assert len(set(ids)) == len(ids)
+
+    # A phone that reconnects with the last id it saw misses nothing.
+    resumed = service.events(Participant(seeker.session_id, "seeker"), ids[0], connected)
+    await anext(resumed)
+    replay = await next_frames(resumed, "photo")
+    assert [_id(f) for f in replay] == ids[1:]
+    await resumed.aclose()
+
+    assert client.delete(buddy.url(), headers=buddy.auth).status_code == 204
+    last = await next_frames(stream, "expired")
+    assert _type(last[-1]) == "expired"
+    with pytest.raises(StopAsyncIteration):
+        await anext(stream)
+
+
+@pytest.mark.anyio
+async def test_a_phone_that_goes_away_is_shown_offline(
+    client: TestClient, seeker: Phone, buddy: Phone
+) -> None:
+    service = client.app.state.service  # type: ignore[attr-defined]
+    gone = False
+
+    async def disconnected() -> bool:
+        return gone
+
+    stream = service.events(Participant(buddy.session_id, "buddy"), None, disconnected)
+    await anext(stream)
+    await next_frames(stream, "joined")
+    assert seeker.state()["participants"]["buddy"]["online"] is True
+    gone = True
+    rest = [chunk async for chunk in stream]  # the stream ends by itself
+    assert all(chunk.startswith(":") or "event: " in chunk for chunk in rest)
+    state = seeker.state()
+    assert state["participants"]["buddy"]["online"] is False
+    watcher = service.events(Participant(seeker.session_id, "seeker"), 0, connected)
+    await anext(watcher)
+    history = await next_frames(watcher, "left")
+    assert '"role": "buddy"' in history[-1]
+    await watcher.aclose()
+
+
+@pytest.mark.anyio
+async def test_a_stream_ends_when_its_session_runs_out_of_time(
+    client: TestClient, seeker: Phone, clock: FakeClock
+) -> None:
+    service = client.app.state.service  # type: ignore[attr-defined]
+    stream = service.events(Participant(seeker.session_id, "seeker"), None, connected)
+    await anext(stream)
+    await next_frames(stream, "joined")
+    clock.advance(7200)
+    rest = [chunk async for chunk in stream]
+    assert _type(rest[-1]) == "expired"

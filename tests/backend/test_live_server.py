@@ -1,0 +1,168 @@
+"""The whole two-phone flow against a real uvicorn process on loopback, events included."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import cv2
+import httpx
+import numpy as np
+import pytest
+from phones import TEMPLE
+
+from shared_solver.scenes import tap, temple_scene
+from shared_solver.uncertainty import contains
+
+ROOT = Path(__file__).parents[2]
+PAIR = ("templeSR0003", "templeSR0006")
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[str]:
+    """uvicorn serving backend.main:app on a free loopback port; its base URL."""
+    port = free_port()
+    env = os.environ | {"BUDDY_DATABASE_URL": f"sqlite:///{tmp_path / 'live.db'}"}
+    process = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "uvicorn",
+            "backend.main:app",
+            "--host",
+            "127.0.0.1",
+            "--port",
+            str(port),
+            "--no-access-log",
+        ],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+    )
+    base = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(150):  # up to 30 s to start
+            try:
+                if httpx.get(f"{base}/healthz", timeout=1).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            if process.poll() is not None:
+                raise RuntimeError(process.stdout.read().decode() if process.stdout else "died")
+            time.sleep(0.2)
+        else:
+            raise RuntimeError("uvicorn did not start")
+        yield base
+    finally:
+        process.terminate()
+        process.wait(timeout=20)
+
+
+class Listener(threading.Thread):
+    """A phone's event stream, collected in the background until 'expired'."""
+
+    def __init__(self, base: str, session_id: str, token: str) -> None:
+        super().__init__(daemon=True)
+        self.url = f"{base}/api/sessions/{session_id}/events"
+        self.token = token
+        self.types: list[str] = []
+        self.ids: list[int] = []
+        self.ended = threading.Event()
+
+    def run(self) -> None:
+        with httpx.stream("GET", self.url, params={"token": self.token}, timeout=30) as response:
+            assert response.status_code == 200
+            assert response.headers["content-type"].startswith("text/event-stream")
+            for line in response.iter_lines():
+                if line.startswith("event: "):
+                    self.types.append(line[7:])
+                    if line == "event: expired":
+                        break
+                elif line.startswith("id: "):
+                    self.ids.append(int(line[4:]))
+        self.ended.set()
+
+    def wait_for(self, type_: str, count: int = 1, seconds: float = 15) -> None:
+        deadline = time.monotonic() + seconds
+        while self.types.count(type_) < count:
+            assert time.monotonic() < deadline, f"no {type_} event; got {self.types}"
+            time.sleep(0.05)
+
+
+def test_two_phones_find_each_other(server: str) -> None:
+    http = httpx.Client(base_url=server, timeout=30)
+    created = http.post("/api/sessions").json()
+    seeker = {"Authorization": f"Bearer {created['token']}"}
+    sid = created["session_id"]
+    seeker_events = Listener(server, sid, created["token"])
+    seeker_events.start()
+    seeker_events.wait_for("joined")  # its own presence
+
+    # The buddy opens the join link: the code is its last part.
+    code = created["join_url"].rsplit("/", 1)[-1]
+    joined = http.post("/api/sessions/join", json={"code": code}).json()
+    buddy = {"Authorization": f"Bearer {joined['token']}"}
+    buddy_events = Listener(server, sid, joined["token"])
+    buddy_events.start()
+    seeker_events.wait_for("joined", 3)  # buddy joined, buddy online
+
+    for headers, name in ((seeker, PAIR[0]), (buddy, PAIR[1])):
+        photo = (TEMPLE / f"{name}.png").read_bytes()
+        stored = http.put(
+            f"/api/sessions/{sid}/photo",
+            headers=headers,
+            files={"photo": (f"{name}.png", photo, "image/png")},
+        )
+        assert stored.status_code == 200
+        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0}
+    seeker_events.wait_for("photo", 2)
+
+    rng = np.random.default_rng(6)
+    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
+    taps = tap(scene, 1.0, rng)
+
+    def landmarks(points: np.ndarray) -> list[dict[str, float]]:
+        return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
+
+    http.put(
+        f"/api/sessions/{sid}/taps",
+        headers=seeker,
+        json={"landmarks": landmarks(taps.landmarks1), "epipole1": taps.epipole1.tolist()},
+    )
+    state = http.put(
+        f"/api/sessions/{sid}/taps", headers=buddy, json={"landmarks": landmarks(taps.landmarks2)}
+    ).json()
+    seeker_events.wait_for("result")
+    buddy_events.wait_for("result")
+
+    result = state["result"]
+    assert result["method"] in ("least_squares_epipole", "planar")
+    covariance = np.array(result["uncertainty"]["covariance"])
+    assert contains(np.array(result["epipole2"]), covariance, scene.epipole2)
+    assert http.get(f"/api/sessions/{sid}", headers=seeker).json()["result"] == result
+
+    for role in ("seeker", "buddy"):
+        picture = http.get(f"/api/sessions/{sid}/overlay/{role}", headers=buddy)
+        assert picture.status_code == 200
+        image = cv2.imdecode(np.frombuffer(picture.content, np.uint8), cv2.IMREAD_COLOR)
+        assert image.shape == (480, 640, 3)
+
+    assert seeker_events.ids == sorted(seeker_events.ids)
+    assert {"joined", "photo", "taps", "result"} <= set(seeker_events.types)
+    assert http.delete(f"/api/sessions/{sid}", headers=seeker).status_code == 204
+    assert seeker_events.ended.wait(15)
+    assert buddy_events.ended.wait(15)
+    assert seeker_events.types[-1] == buddy_events.types[-1] == "expired"

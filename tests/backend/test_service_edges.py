@@ -1,0 +1,99 @@
+"""The service's edges: unknown routes, wrong methods, big bodies, health, docs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fastapi.testclient import TestClient
+
+from backend.main import create_app
+from backend.settings import Settings
+
+
+def test_unknown_routes_and_methods_answer_in_the_one_shape(client: TestClient) -> None:
+    missing = client.get("/api/nowhere")
+    assert missing.status_code == 404
+    assert missing.json()["error"]["code"] == "not_found"
+    wrong = client.delete("/api/solve")
+    assert wrong.status_code == 405
+    assert wrong.json()["error"]["code"] == "method_not_allowed"
+
+
+def test_bodies_over_the_limit_are_refused(tmp_path: Path) -> None:
+    settings = Settings(database_url=f"sqlite:///{tmp_path / 'b.db'}", max_body_bytes=1000)
+    with TestClient(create_app(settings)) as client:
+        declared = client.post(
+            "/api/solve", content=b"x" * 2000, headers={"Content-Type": "application/json"}
+        )
+        assert declared.status_code == 413
+        assert declared.json()["error"]["code"] == "body_too_large"
+
+        def chunks():  # no Content-Length: counted while reading
+            for _ in range(5):
+                yield b"x" * 500
+
+        streamed = client.post(
+            "/api/solve", content=chunks(), headers={"Content-Type": "application/json"}
+        )
+        assert streamed.status_code == 413
+        assert streamed.json()["error"]["code"] == "body_too_large"
+        assert client.get("/healthz").status_code == 200  # still serving
+
+
+def test_health_and_version(client: TestClient) -> None:
+    assert client.get("/healthz").json() == {"status": "ok"}
+    version = client.get("/api/version")
+    assert version.json()["version"]
+    # Every answer says how long the server spent on it.
+    assert version.headers["server-timing"].startswith("app;dur=")
+    assert float(version.headers["server-timing"].split("=")[1]) >= 0
+
+
+def test_docs_are_served_without_the_internet(client: TestClient) -> None:
+    page = client.get("/docs")
+    assert page.status_code == 200
+    assert "cdn." not in page.text
+    assert "http://" not in page.text.replace("http://testserver", "")
+    assert "https://" not in page.text
+    for asset in ("/docs-assets/swagger-ui-bundle.js", "/docs-assets/swagger-ui.css"):
+        assert client.get(asset).status_code == 200
+
+
+def test_every_endpoint_is_documented_with_examples(client: TestClient) -> None:
+    """Each operation: a description, an example of its request body (if it takes one) and
+    of its successful answer (pictures excepted), and of its refusals."""
+    spec = client.get("/openapi.json").json()
+    schemas = spec["components"]["schemas"]
+
+    def has_example(node: object, seen: frozenset[str] = frozenset()) -> bool:
+        if isinstance(node, dict):
+            if "example" in node or "examples" in node:
+                return True
+            reference = node.get("$ref")
+            if isinstance(reference, str):
+                name = reference.rsplit("/", 1)[-1]
+                return name not in seen and has_example(schemas[name], seen | {name})
+            return any(has_example(value, seen) for value in node.values())
+        return isinstance(node, list) and any(has_example(value, seen) for value in node)
+
+    for path, operations in spec["paths"].items():
+        for method, operation in operations.items():
+            where = f"{method.upper()} {path}"
+            assert operation.get("description"), where
+            body = operation.get("requestBody", {}).get("content", {})
+            if "application/json" in body:
+                assert has_example(body["application/json"]), where
+            for form in body.get("multipart/form-data", {}).values():  # files: no example
+                name = form["$ref"].rsplit("/", 1)[-1]
+                for field, part in schemas[name]["properties"].items():
+                    file = part.get("format") == "binary" or "contentMediaType" in part
+                    assert file or has_example(part), (where, field)
+            success = {k: v for k, v in operation["responses"].items() if k.startswith("2")}
+            pictures = all(
+                set(answer.get("content", {})) <= {"image/png", "image/jpeg"}
+                for answer in success.values()
+            )
+            if not pictures and any("content" in answer for answer in success.values()):
+                assert has_example(success), where
+            refusals = {k: v for k, v in operation["responses"].items() if k[0] in "45"}
+            assert all(has_example(answer) for answer in refusals.values()), where

@@ -1,0 +1,337 @@
+"""The two-phone flow over the API: pairing, photos, taps, the answer, pictures, the end."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cv2
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+from phones import TEMPLE, FakeClock, Phone
+
+from shared_solver.scenes import Scene, temple_scene
+
+
+def error_of(response: Any) -> str:
+    body = response.json()
+    assert set(body) == {"error"}, body
+    assert set(body["error"]) == {"code", "message"}, body
+    assert body["error"]["message"]
+    return str(body["error"]["code"])
+
+
+def scene(landmarks: int, seed: int = 0) -> Scene:
+    return temple_scene(
+        TEMPLE / "templeSR_par.txt",
+        "templeSR0003",
+        "templeSR0006",
+        landmarks,
+        np.random.default_rng(seed),
+    )
+
+
+def landmarks(points: np.ndarray, ids: list[int] | None = None) -> list[dict[str, float]]:
+    ids = ids or list(range(1, len(points) + 1))
+    return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
+
+
+def photos_uploaded(seeker: Phone, buddy: Phone, photos: tuple[bytes, bytes]) -> None:
+    for phone, photo in zip((seeker, buddy), photos, strict=True):
+        stored = phone.upload(photo, "photo.png")
+        assert stored.status_code == 200, stored.text
+        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0}
+
+
+# --- pairing --------------------------------------------------------------------------
+
+
+def test_a_session_starts_with_a_code_and_a_link(client: TestClient) -> None:
+    created = client.post("/api/sessions")
+    assert created.status_code == 201
+    body = created.json()
+    assert body["role"] == "seeker"
+    assert len(body["join_code"]) == 6
+    assert body["join_code"].isdigit()
+    assert body["join_url"].endswith(f"/join/{body['join_code']}")
+    assert len(body["token"]) >= 40
+    assert body["expires_at"] > body["join_code_expires_at"]
+
+
+def test_the_buddy_joins_once_and_a_third_phone_is_refused(
+    client: TestClient, seeker: Phone
+) -> None:
+    code = seeker.state()["join_code"]
+    first = client.post("/api/sessions/join", json={"code": code})
+    assert first.status_code == 200
+    assert first.json()["role"] == "buddy"
+    assert first.json()["session_id"] == seeker.session_id
+    third = client.post("/api/sessions/join", json={"code": code})
+    assert third.status_code == 404
+    assert error_of(third) == "invalid_join_code"
+    state = seeker.state()
+    assert state["participants"]["buddy"]["joined"] is True
+    assert state["join_code"] is None
+
+
+def test_join_codes_expire(client: TestClient, seeker: Phone, clock: FakeClock) -> None:
+    code = seeker.state()["join_code"]
+    clock.advance(601)
+    assert seeker.state()["join_code"] is None
+    late = client.post("/api/sessions/join", json={"code": code})
+    assert late.status_code == 404
+    assert error_of(late) == "invalid_join_code"
+
+
+@pytest.mark.parametrize("code", ["12345", "abcdef", "1234567", ""])
+def test_malformed_join_codes_are_refused(client: TestClient, code: str) -> None:
+    response = client.post("/api/sessions/join", json={"code": code})
+    assert response.status_code == 422
+    assert error_of(response) == "invalid_request"
+
+
+# --- who may do what ------------------------------------------------------------------
+
+
+def test_a_token_opens_only_its_own_session(client: TestClient, seeker: Phone) -> None:
+    other = client.post("/api/sessions").json()
+    response = client.get(seeker.url(), headers={"Authorization": f"Bearer {other['token']}"})
+    assert response.status_code == 403
+    assert error_of(response) == "forbidden"
+    missing = client.get(seeker.url())
+    assert missing.status_code == 401
+    assert error_of(missing) == "unauthorized"
+    wrong = client.get(seeker.url(), headers={"Authorization": "Bearer not-a-token"})
+    assert wrong.status_code == 401
+
+
+def test_tokens_are_stored_hashed(client: TestClient, seeker: Phone) -> None:
+    app_state = client.app.state  # type: ignore[attr-defined]
+    database = app_state.service.store.engine.url.database
+    with open(database, "rb") as raw:
+        assert seeker.token.encode() not in raw.read()
+
+
+# --- photos and taps ------------------------------------------------------------------
+
+
+def test_taps_need_a_photo_first(seeker: Phone, buddy: Phone) -> None:
+    response = seeker.tap(landmarks=[{"id": 1, "x": 10, "y": 10}])
+    assert response.status_code == 409
+    assert error_of(response) == "photo_missing"
+
+
+@pytest.mark.parametrize(
+    ("role", "taps", "code"),
+    [
+        ("seeker", {"landmarks": [{"id": 1, "x": 700, "y": 10}]}, "outside_photo"),
+        ("seeker", {"landmarks": [{"id": 1, "x": 10, "y": -1}]}, "outside_photo"),
+        ("seeker", {"epipole1": [641, 10]}, "outside_photo"),
+        (
+            "seeker",
+            {"landmarks": [{"id": 2, "x": 1, "y": 1}, {"id": 2, "x": 5, "y": 5}]},
+            "duplicate_landmark",
+        ),
+        ("seeker", {"epipole2": [10, 10]}, "not_your_mark"),
+        ("buddy", {"epipole1": [10, 10]}, "not_your_mark"),
+        ("buddy", {"epipolar_line1": [1, 0, -5]}, "not_your_mark"),
+        ("seeker", {"epipole1": [10, 10], "epipolar_line1": [1, 0, -5]}, "conflicting_inputs"),
+        ("seeker", {"epipolar_line1": [0, 0, 1]}, "invalid_line"),
+        ("seeker", {"landmarks": [{"id": 0, "x": 1, "y": 1}]}, "invalid_request"),
+        ("seeker", {"landmarks": [{"id": 1, "x": "left", "y": 1}]}, "invalid_request"),
+        ("seeker", {"epipole1": [1, 2, 3]}, "invalid_request"),
+    ],
+)
+def test_bad_taps_are_refused_with_a_code(
+    seeker: Phone,
+    buddy: Phone,
+    temple_photos: tuple[bytes, bytes],
+    role: str,
+    taps: dict[str, Any],
+    code: str,
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    phone = seeker if role == "seeker" else buddy
+    response = phone.tap(**taps)
+    assert response.status_code == 422, response.text
+    assert error_of(response) == code
+
+
+def test_non_finite_taps_are_refused(
+    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    raw = b'{"landmarks": [{"id": 1, "x": NaN, "y": 3}]}'
+    response = client.put(
+        seeker.url("/taps"),
+        headers={**seeker.auth, "Content-Type": "application/json"},
+        content=raw,
+    )
+    assert response.status_code == 422
+    assert error_of(response) == "invalid_request"
+
+
+def test_too_many_landmarks_are_refused(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    many = [{"id": i, "x": i % 600, "y": i % 400} for i in range(1, 66)]
+    response = seeker.tap(landmarks=many)
+    assert response.status_code == 422
+    assert error_of(response) == "too_many_landmarks"
+
+
+def test_the_answer_follows_the_taps(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(6, seed=2)
+    seeker.tap(landmarks=landmarks(s.landmarks1[:3]), epipole1=list(s.epipole1))
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[:3])).json()
+    assert state["result"] is None
+    assert state["landmarks_needed"] == 2
+
+    seeker.tap(landmarks=landmarks(s.landmarks1[:4]), epipole1=list(s.epipole1))
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[:4])).json()
+    assert state["result"]["method"] == "conic"
+    assert state["landmarks_needed"] == 1
+
+    # Ids match across photos whatever the order they were tapped in.
+    seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[4::-1], [5, 4, 3, 2, 1])).json()
+    result = state["result"]
+    assert result["method"] == "five_point_epipole"
+    assert state["landmarks_needed"] == 0
+    assert state["result_landmark_ids"] == [1, 2, 3, 4, 5]
+    assert np.linalg.norm(np.array(result["epipole2"]) - s.epipole2) < 1e-6
+    assert state["result_version"] == state["version"]
+    assert seeker.state()["result"] == result  # both phones see the same answer
+
+
+def test_landmarks_tapped_in_one_photo_only_do_not_count(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(7)
+    seeker.tap(landmarks=landmarks(s.landmarks1, [1, 2, 3, 4, 5, 6, 7]), epipole1=list(s.epipole1))
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[[0, 1, 2, 3, 6]], [1, 2, 3, 4, 9])).json()
+    assert state["result"]["method"] == "conic"
+    assert state["result_landmark_ids"] == [1, 2, 3, 4]
+
+
+def test_a_degenerate_tap_set_explains_itself(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(5)
+    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.landmarks1[2]))
+    state = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
+    assert state["result"] is None
+    assert state["result_error"]["code"] == "epipole_on_landmark"
+    assert "#3" in state["result_error"]["message"]
+
+
+def test_a_new_photo_clears_its_taps_and_the_answer(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(5)
+    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
+    assert buddy.tap(landmarks=landmarks(s.landmarks2)).json()["result"] is not None
+    assert buddy.upload(temple_photos[1], "again.png").status_code == 200
+    state = seeker.state()
+    assert state["taps"]["buddy"] is None
+    assert state["taps"]["seeker"] is not None
+    assert state["result"] is None
+
+
+# --- pictures -------------------------------------------------------------------------
+
+
+def test_overlays_show_the_answer_on_each_photo(
+    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    before = client.get(seeker.url("/overlay/buddy"), headers=seeker.auth)
+    assert before.status_code == 409
+    assert error_of(before) == "no_result"
+    s = scene(6)
+    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
+    buddy.tap(landmarks=landmarks(s.landmarks2))
+    for role, fmt, magic in (("buddy", "png", b"\x89PNG"), ("seeker", "jpeg", b"\xff\xd8\xff")):
+        response = client.get(
+            buddy.url(f"/overlay/{role}"), params={"format": fmt}, headers=buddy.auth
+        )
+        assert response.status_code == 200
+        assert response.content.startswith(magic)
+        assert response.headers["content-type"] == f"image/{fmt}"
+        image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
+        assert image.shape == (480, 640, 3)
+    again = client.get(buddy.url("/overlay/buddy"), headers=buddy.auth)
+    assert again.headers["content-type"] == "image/jpeg"  # the default for a phone
+    assert again.content == client.get(buddy.url("/overlay/buddy"), headers=buddy.auth).content
+    # <img> cannot send headers: the token may come in the query.
+    by_query = client.get(buddy.url("/overlay/buddy"), params={"token": buddy.token})
+    assert by_query.status_code == 200
+
+
+def test_the_other_phone_gets_a_crop_of_each_landmark(
+    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(3)
+    seeker.tap(landmarks=landmarks(s.landmarks1))
+    crop = client.get(buddy.url("/landmarks/seeker/2/crop"), headers=buddy.auth)
+    assert crop.status_code == 200
+    assert crop.headers["content-type"] == "image/jpeg"
+    image = cv2.imdecode(np.frombuffer(crop.content, np.uint8), cv2.IMREAD_COLOR)
+    assert image.shape[0] == image.shape[1] > 50
+    missing = client.get(buddy.url("/landmarks/seeker/9/crop"), headers=buddy.auth)
+    assert missing.status_code == 404
+    assert error_of(missing) == "landmark_not_found"
+
+
+# --- the end --------------------------------------------------------------------------
+
+
+def test_delete_now_removes_everything_for_both_phones(
+    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    deleted = client.delete(buddy.url(), headers=buddy.auth)
+    assert deleted.status_code == 204
+    for phone in (seeker, buddy):
+        gone = client.get(phone.url(), headers=phone.auth)
+        assert gone.status_code == 401
+    engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
+    with engine.connect() as connection:
+        for table in ("sessions", "participants", "photos", "events", "overlays"):
+            assert connection.exec_driver_sql(f"SELECT COUNT(*) FROM {table}").scalar() == 0
+
+
+def test_expired_sessions_are_swept_away(
+    client: TestClient,
+    seeker: Phone,
+    buddy: Phone,
+    temple_photos: tuple[bytes, bytes],
+    clock: FakeClock,
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    service = client.app.state.service  # type: ignore[attr-defined]
+    assert service.sweep() == []
+    clock.advance(7201)
+    assert client.get(seeker.url(), headers=seeker.auth).status_code == 401
+    assert service.sweep() == [seeker.session_id]
+    engine = service.store.engine
+    with engine.connect() as connection:
+        assert connection.exec_driver_sql("SELECT COUNT(*) FROM photos").scalar() == 0
+
+
+def test_the_state_says_who_is_there(seeker: Phone, buddy: Phone) -> None:
+    state = buddy.state()
+    assert state["you"] == "buddy"
+    assert state["join_code"] is None  # only the seeker is shown the code
+    assert state["participants"]["seeker"] == {"joined": True, "online": False}
+    assert state["photos"] == {"seeker": None, "buddy": None}
+    version = state["version"]
+    assert seeker.state()["version"] == version
