@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import zlib
 from typing import Any
 
 import cv2
@@ -335,3 +336,20 @@ def test_the_state_says_who_is_there(seeker: Phone, buddy: Phone) -> None:
     assert state["photos"] == {"seeker": None, "buddy": None}
     version = state["version"]
     assert seeker.state()["version"] == version
+
+
+def test_photo_refusals_reach_the_phone_in_the_one_shape(seeker: Phone) -> None:
+    """The photo module's checks, through the route: type from the bytes, size from the
+    header (a small file claiming 60 megapixels), emptiness."""
+    not_a_photo = seeker.upload(b"GIF89a" + b"\0" * 100, "photo.jpg")
+    assert not_a_photo.status_code == 415
+    assert error_of(not_a_photo) == "unsupported_media_type"
+    png = bytearray((TEMPLE / "templeSR0003.png").read_bytes())
+    png[16:24] = (10000).to_bytes(4, "big") + (6000).to_bytes(4, "big")  # IHDR width, height
+    png[29:33] = zlib.crc32(bytes(png[12:29])).to_bytes(4, "big")  # the chunk's CRC
+    bomb = seeker.upload(bytes(png), "small.png")
+    assert bomb.status_code == 413
+    assert error_of(bomb) == "photo_too_large"
+    empty = seeker.upload(b"", "empty.jpg")
+    assert empty.status_code == 422
+    assert seeker.state()["photos"]["seeker"] is None  # nothing half-stored
