@@ -7,6 +7,7 @@ size. Coverage is measured in the test suite and in ``benchmarks/solver.py``.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -23,6 +24,7 @@ GOOD_FRACTION = 0.03
 FAIR_FRACTION = 0.10
 
 
+@functools.cache
 def chi2_quantile(probability: float, dof: int) -> float:
     """Quantile of the chi-square distribution: exact for 1 and 2 degrees of freedom,
     Wilson-Hilferty beyond (within 0.5 % from 3 on)."""

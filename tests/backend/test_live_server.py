@@ -2,10 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -17,58 +13,18 @@ import numpy as np
 import pytest
 from phones import TEMPLE
 
+from backend.loopback import serve
 from shared_solver.scenes import tap, temple_scene
 from shared_solver.uncertainty import contains
 
-ROOT = Path(__file__).parents[2]
 PAIR = ("templeSR0003", "templeSR0006")
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 @pytest.fixture
 def server(tmp_path: Path) -> Iterator[str]:
     """uvicorn serving backend.main:app on a free loopback port; its base URL."""
-    port = free_port()
-    env = os.environ | {"BUDDY_DATABASE_URL": f"sqlite:///{tmp_path / 'live.db'}"}
-    process = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "uvicorn",
-            "backend.main:app",
-            "--host",
-            "127.0.0.1",
-            "--port",
-            str(port),
-            "--no-access-log",
-        ],
-        cwd=ROOT,
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-    )
-    base = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(150):  # up to 30 s to start
-            try:
-                if httpx.get(f"{base}/healthz", timeout=1).status_code == 200:
-                    break
-            except httpx.TransportError:
-                pass
-            if process.poll() is not None:
-                raise RuntimeError(process.stdout.read().decode() if process.stdout else "died")
-            time.sleep(0.2)
-        else:
-            raise RuntimeError("uvicorn did not start")
-        yield base
-    finally:
-        process.terminate()
-        process.wait(timeout=20)
+    with serve(tmp_path) as running:
+        yield running.base_url
 
 
 class Listener(threading.Thread):

@@ -62,14 +62,16 @@ _EXAMPLE_ANSWER = SolveRequest.model_validate(_EXAMPLE).solve().model_dump(mode=
 
 @router.post(
     "/solve",
+    response_model=SolveResult,
     responses={
         200: {"content": {"application/json": {"example": _EXAMPLE_ANSWER}}},
         **errors(422),
     },
 )
-def solve_taps(request: SolveRequest) -> SolveResult:
+def solve_taps(request: SolveRequest) -> Response:
     """Where the seeker is in photo 2, from the taps: exactly ``shared_solver.solve``."""
-    return request.solve()
+    # Serialised by the model itself: FastAPI would validate the fresh result a second time.
+    return Response(request.solve().model_dump_json(), media_type="application/json")
 
 
 @router.post("/overlay", responses={**PICTURE, **errors(413, 415, 422)}, response_class=Response)

@@ -1,0 +1,847 @@
+"""Buddy Search API benchmark: solve throughput, 12 MP upload and overlay render, in one run.
+
+Everything runs against one real uvicorn process (``backend.main:app``, one worker, SQLite
+in a temporary folder) that this script starts on a free loopback port and stops at the end:
+
+1. ``POST /api/solve`` (8 landmarks + the buddy tap e1 of a ``facing_scene``, 1 px tap
+   noise) against ``GET /api/version`` (no database: the cheapest endpoint), from a Python
+   load generator (httpx, one keep-alive connection per worker thread) in interleaved
+   rounds, so both endpoints see the same machine state; 8 workers, then 1 (no queueing).
+   Per endpoint: requests/s, client latency, the server's own time (the ``Server-Timing``
+   header) and the CPU time the server process and the load generator spent per request
+   (``/proc``), because both share the same 2 cores; and ``shared_solver.solve`` alone on
+   the same request, in this process, for what the HTTP layer adds.
+2. ``PUT /api/sessions/{id}/photo`` of a photo-like 4032x3024 JPEG (a temple photo upscaled,
+   with sensor-like noise), repeated: the server time to accept and store it.
+3. ``GET /api/sessions/{id}/overlay/buddy`` of the stored 2560x1920 photo: uncached renders
+   (each after a 0.5 px change of one tap, which makes a new answer version), cached GETs,
+   and PNG renders.
+
+Run from the repository root:
+
+    .venv/bin/python benchmarks/api.py [--seconds S] [--out PATH]     (``make bench-api``)
+
+The report is printed and written as Markdown to ``docs/api-benchmark.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import os
+import platform
+import shlex
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import closing
+from dataclasses import dataclass, field
+from datetime import datetime
+from importlib.metadata import version
+from pathlib import Path
+from typing import Any, TypeVar
+
+import cv2
+import httpx
+import numpy as np
+
+from backend.loopback import Server, serve
+from backend.settings import Settings
+from shared_solver import solve
+from shared_solver.scenes import facing_scene, tap
+
+ROOT = Path(__file__).resolve().parent.parent
+DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
+TEMPLE = ROOT / "tests" / "data" / "temple"
+
+# --- what is measured, and the targets ---------------------------------------------------
+
+DEFAULT_SECONDS = 10.0
+WARMUP_SECONDS = 2.0
+ROUNDS = 5  # each endpoint's load time is split into this many interleaved slices
+CONCURRENCY = 8
+SEQUENTIAL_SLICE_SECONDS = 0.2  # one worker, for the server's time without queueing
+IN_PROCESS_SOLVES = 300
+MAX_REQUESTS_PER_SLICE = 200_000  # per worker: a bound, far above what a slice can reach
+SOLVE_THROUGHPUT_TARGET = 0.6  # /api/solve requests/s at least this share of /api/version's
+
+VERSION = "GET /api/version"
+SOLVE = "POST /api/solve"
+
+SEED = 20240601
+SOLVE_SCENE_SEED = (SEED, 21)
+SESSION_SCENE_SEED = (SEED, 22)
+PHOTO_NOISE_SEED = (SEED, 23)
+SOLVE_LANDMARKS = 8
+SOLVE_SIGMA = 1.0
+
+UPLOAD_SIZE = (4032, 3024)  # 12 MP, a phone camera's default
+UPLOAD_QUALITY = 92
+UPLOAD_NOISE_SIGMA = 6.0  # grey levels: the sensor noise of a phone photo indoors
+UPLOADS = 15
+UPLOAD_BUDGET_MS = 300.0
+
+SESSION_FOCAL = 2200.0
+RENDERS = 15
+PNG_RENDERS = 5
+TAP_NUDGE_PX = 0.5
+RENDER_BUDGET_MS = 50.0
+
+DATABASE_NAME = "bench.db"
+CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
+
+T = TypeVar("T")
+
+
+# --- the server ------------------------------------------------------------------------------
+
+
+def database_url(folder: Path) -> str:
+    return f"sqlite:///{folder / DATABASE_NAME}"
+
+
+def journal_mode(folder: Path) -> str:
+    """The journal mode the app left in the database file (WAL persists in the file)."""
+    with closing(sqlite3.connect(folder / DATABASE_NAME)) as database:
+        return str(database.execute("PRAGMA journal_mode").fetchone()[0])
+
+
+# --- CPU accounting (/proc, so no psutil) ---------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CpuSnapshot:
+    """Cumulative CPU seconds at one instant: the server process, this process, the machine."""
+
+    server: float
+    client: float
+    machine_busy: float
+    machine_total: float
+
+
+def process_cpu_seconds(pid: int) -> float:
+    """utime + stime of every thread of ``pid`` (fields 14 and 15 of /proc/<pid>/stat)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
+
+
+def machine_cpu_seconds() -> tuple[float, float]:
+    """(busy, total) CPU seconds of all cores since boot; idle and iowait are not busy."""
+    values = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
+    # user nice system idle iowait irq softirq steal guest guest_nice; guests are in user.
+    total = sum(values[:8])
+    return (total - values[3] - values[4]) / CLOCK_TICKS, total / CLOCK_TICKS
+
+
+def cpu_snapshot(server: Server) -> CpuSnapshot:
+    busy, total = machine_cpu_seconds()
+    return CpuSnapshot(process_cpu_seconds(server.pid), time.process_time(), busy, total)
+
+
+# --- 1. /api/solve against /api/version under load ------------------------------------------
+
+
+@dataclass(frozen=True)
+class Sample:
+    latency_ms: float  # client: request sent to response read
+    server_ms: float  # Server-Timing
+
+
+@dataclass
+class Load:
+    """Everything measured for one endpoint, summed over its slices."""
+
+    samples: list[Sample] = field(default_factory=list)
+    errors: int = 0
+    seconds: float = 0.0
+    server_cpu: float = 0.0
+    client_cpu: float = 0.0
+    machine_busy: float = 0.0
+    machine_total: float = 0.0
+
+    @property
+    def requests(self) -> int:
+        return len(self.samples)
+
+    @property
+    def per_second(self) -> float:
+        return self.requests / self.seconds
+
+    def latency(self, q: float) -> float:
+        return percentile([s.latency_ms for s in self.samples], q)
+
+    def server_time(self, q: float) -> float:
+        return percentile([s.server_ms for s in self.samples], q)
+
+    def cpu_ms_per_request(self, seconds: float) -> float:
+        return 1000 * seconds / self.requests
+
+    def cores(self, seconds: float) -> float:
+        """CPU seconds per wall second: 1.0 is one core kept busy."""
+        return seconds / self.seconds
+
+
+Call = Callable[[httpx.Client], httpx.Response]
+
+
+def server_timing_ms(response: httpx.Response) -> float:
+    """The ``app;dur=<ms>`` of the response's Server-Timing header."""
+    header = response.headers["server-timing"]
+    return float(header.split("dur=", 1)[1].split(";", 1)[0].split(",", 1)[0])
+
+
+def hammer(client: httpx.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
+    """One worker: requests back to back on its keep-alive connection until ``deadline``."""
+    samples: list[Sample] = []
+    errors = 0
+    for _ in range(MAX_REQUESTS_PER_SLICE):
+        if time.perf_counter() >= deadline:
+            break
+        started = time.perf_counter()
+        response = call(client)
+        elapsed = (time.perf_counter() - started) * 1000
+        if response.status_code == 200:
+            samples.append(Sample(elapsed, server_timing_ms(response)))
+        else:
+            errors += 1
+    return samples, errors
+
+
+def load_slice(
+    server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx.Client], call: Call, s: float
+) -> Load:
+    """All workers on one endpoint for ``s`` seconds; the CPU spent meanwhile."""
+    before = cpu_snapshot(server)
+    started = time.perf_counter()
+    futures = [pool.submit(hammer, client, call, started + s) for client in clients]
+    results = [future.result() for future in futures]
+    elapsed = time.perf_counter() - started
+    after = cpu_snapshot(server)
+    return Load(
+        samples=[sample for samples, _ in results for sample in samples],
+        errors=sum(errors for _, errors in results),
+        seconds=elapsed,
+        server_cpu=after.server - before.server,
+        client_cpu=after.client - before.client,
+        machine_busy=after.machine_busy - before.machine_busy,
+        machine_total=after.machine_total - before.machine_total,
+    )
+
+
+def add(total: Load, part: Load) -> None:
+    total.samples += part.samples
+    total.errors += part.errors
+    total.seconds += part.seconds
+    total.server_cpu += part.server_cpu
+    total.client_cpu += part.client_cpu
+    total.machine_busy += part.machine_busy
+    total.machine_total += part.machine_total
+
+
+def solve_request() -> dict[str, Any]:
+    """8 landmarks + e1 of a facing scene (1600x1200), 1 px tap noise, as /api/solve takes it."""
+    rng = np.random.default_rng(SOLVE_SCENE_SEED)
+    scene = facing_scene(rng, SOLVE_LANDMARKS)
+    taps = tap(scene, SOLVE_SIGMA, rng)
+    return {
+        "points1": taps.landmarks1.round(2).tolist(),
+        "points2": taps.landmarks2.round(2).tolist(),
+        "epipole1": taps.epipole1.round(2).tolist(),
+        "tap_sigma": SOLVE_SIGMA,
+        "image_size1": list(scene.image_size1),
+        "image_size2": list(scene.image_size2),
+    }
+
+
+def endpoint_calls(body: bytes) -> dict[str, Call]:
+    """The two endpoints; the solve request's JSON is encoded once, outside the timing."""
+    headers = {"Content-Type": "application/json"}
+    return {
+        VERSION: lambda client: client.get("/api/version"),
+        SOLVE: lambda client: client.post("/api/solve", content=body, headers=headers),
+    }
+
+
+@dataclass(frozen=True)
+class Throughput:
+    loaded: dict[str, Load]  # CONCURRENCY workers
+    sequential: dict[str, Load]  # one worker: the server's time without queueing
+    solve_method: str
+    slice_seconds: float
+    solve_in_process_ms: float  # shared_solver.solve alone, in this process
+
+
+def interleaved(
+    server: Server,
+    pool: ThreadPoolExecutor,
+    clients: Sequence[httpx.Client],
+    calls: dict[str, Call],
+    slice_seconds: float,
+) -> dict[str, Load]:
+    """``ROUNDS`` rounds; each gives each endpoint one slice, the order alternating between
+    rounds, so slow drift of the machine hits both endpoints alike."""
+    loads = {name: Load() for name in calls}
+    for round_ in range(ROUNDS):
+        order = list(calls) if round_ % 2 == 0 else list(reversed(calls))
+        for name in order:
+            add(loads[name], load_slice(server, pool, clients, calls[name], slice_seconds))
+    return loads
+
+
+def solve_in_process_ms(request: dict[str, Any]) -> float:
+    """Median wall time of ``shared_solver.solve`` on ``request`` in this process, ms: the
+    part of the endpoint's cost that is the solver itself."""
+    arguments = {k: v for k, v in request.items() if k not in ("points1", "points2")}
+    points = (request["points1"], request["points2"])
+    times = []
+    for _ in range(IN_PROCESS_SOLVES):
+        started = time.perf_counter()
+        solve(*points, **arguments)
+        times.append((time.perf_counter() - started) * 1000)
+    return percentile(times, 50)
+
+
+def throughput(server: Server, seconds: float) -> Throughput:
+    """A warm-up of each endpoint, interleaved rounds with ``CONCURRENCY`` workers, then
+    shorter interleaved rounds with one worker."""
+    request = solve_request()
+    calls = endpoint_calls(json.dumps(request).encode())
+    slice_seconds = seconds / ROUNDS
+    clients = [httpx.Client(base_url=server.base_url, timeout=30) for _ in range(CONCURRENCY)]
+    try:
+        answer = calls[SOLVE](clients[0])
+        answer.raise_for_status()
+        with ThreadPoolExecutor(max_workers=CONCURRENCY) as pool:
+            for call in calls.values():
+                load_slice(server, pool, clients, call, WARMUP_SECONDS)
+            loaded = interleaved(server, pool, clients, calls, slice_seconds)
+            sequential = interleaved(server, pool, clients[:1], calls, SEQUENTIAL_SLICE_SECONDS)
+    finally:
+        for client in clients:
+            client.close()
+    return Throughput(
+        loaded,
+        sequential,
+        str(answer.json()["method"]),
+        slice_seconds,
+        solve_in_process_ms(request),
+    )
+
+
+# --- 2 and 3. a session: 12 MP uploads, overlay renders ---------------------------------------
+
+
+def photo_like_jpeg(name: str, rng: np.random.Generator) -> bytes:
+    """A temple photo upscaled to 12 MP (bicubic) with Gaussian sensor-like noise, as a
+    phone's JPEG: real edges and texture, not a flat or pure-noise image."""
+    image = cv2.imread(str(TEMPLE / f"{name}.png"), cv2.IMREAD_COLOR)
+    if image is None:
+        raise FileNotFoundError(TEMPLE / f"{name}.png")
+    large = cv2.resize(image, UPLOAD_SIZE, interpolation=cv2.INTER_CUBIC).astype(np.float32)
+    large += np.asarray(rng.normal(0.0, UPLOAD_NOISE_SIGMA, large.shape), dtype=np.float32)
+    pixels = np.clip(np.rint(large), 0, 255).astype(np.uint8)
+    ok, encoded = cv2.imencode(".jpg", pixels, [cv2.IMWRITE_JPEG_QUALITY, UPLOAD_QUALITY])
+    if not ok:
+        raise RuntimeError("OpenCV could not encode the upload")
+    return bytes(encoded.tobytes())
+
+
+@dataclass(frozen=True)
+class Phone:
+    """One participant: a client with its bearer token."""
+
+    http: httpx.Client
+    session_id: str
+    token: str
+
+    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx.Response, Sample]:
+        """A request to the session (``path`` after its id), timed; fails on an error."""
+        started = time.perf_counter()
+        response = self.http.request(
+            method,
+            f"/api/sessions/{self.session_id}{path}",
+            headers={"Authorization": f"Bearer {self.token}"},
+            **kwargs,
+        )
+        elapsed = (time.perf_counter() - started) * 1000
+        if not response.is_success:
+            raise RuntimeError(f"{method} {path}: {response.status_code} {response.text[:300]}")
+        return response, Sample(elapsed, server_timing_ms(response))
+
+    def upload(self, photo: bytes) -> tuple[dict[str, Any], Sample]:
+        files = {"photo": ("photo.jpg", photo, "image/jpeg")}
+        response, sample = self.request("PUT", "/photo", files=files)
+        return response.json(), sample
+
+    def put_taps(self, taps: dict[str, Any]) -> tuple[dict[str, Any], Sample]:
+        response, sample = self.request("PUT", "/taps", json=taps)
+        return response.json(), sample
+
+
+@dataclass(frozen=True)
+class Uploads:
+    upload_bytes: int
+    stored: dict[str, Any]
+    samples: list[Sample]
+
+
+def uploads(seeker: Phone, photo: bytes) -> Uploads:
+    """The seeker's photo, uploaded ``UPLOADS`` times (each replaces the one before)."""
+    samples = []
+    stored: dict[str, Any] = {}
+    for _ in range(UPLOADS):
+        stored, sample = seeker.upload(photo)
+        samples.append(sample)
+    return Uploads(len(photo), stored, samples)
+
+
+@dataclass(frozen=True)
+class Renders:
+    jpeg: list[Sample]
+    cached: list[Sample]
+    png: list[Sample]
+    taps: list[Sample]  # PUT taps of the nudges: solve + state (informative)
+    method: str
+    jpeg_bytes: int
+    png_bytes: int
+
+
+def landmark_taps(points: np.ndarray, size: tuple[int, int]) -> list[dict[str, float]]:
+    """Landmarks #1..#n at ``points``, kept on the photo."""
+    inside = np.clip(points, 0, size)
+    return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(inside)]
+
+
+def decoded_overlay(data: bytes, size: tuple[int, int]) -> None:
+    """Fails unless ``data`` decodes to a (height, width, 3) picture."""
+    image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    expected = (size[1], size[0], 3)
+    if image is None or image.shape != expected:
+        shape = None if image is None else image.shape
+        raise RuntimeError(f"the overlay decodes to {shape}, not {expected}")
+
+
+def tap_both(
+    seeker: Phone, buddy: Phone, size: tuple[int, int]
+) -> tuple[dict[str, Any], list[dict[str, float]]]:
+    """Both phones tap 8 landmarks of a facing scene of the stored size, the seeker also the
+    buddy (1 px tap noise); the state with its answer, and the buddy's landmarks."""
+    rng = np.random.default_rng(SESSION_SCENE_SEED)
+    scene = facing_scene(rng, SOLVE_LANDMARKS, image_size=size, focal=SESSION_FOCAL)
+    noisy = tap(scene, SOLVE_SIGMA, rng)
+    seeker.put_taps(
+        {
+            "landmarks": landmark_taps(noisy.landmarks1, size),
+            "epipole1": noisy.epipole1.clip(0, size).tolist(),
+        }
+    )
+    buddy_landmarks = landmark_taps(noisy.landmarks2, size)
+    state, _ = buddy.put_taps({"landmarks": buddy_landmarks})
+    if state.get("result") is None:
+        raise RuntimeError(f"no answer from the session's taps: {state.get('result_error')}")
+    return state, buddy_landmarks
+
+
+def renders(seeker: Phone, buddy: Phone, size: tuple[int, int]) -> Renders:
+    """Renders of the buddy's overlay: each uncached one after a new answer version (the
+    buddy's landmark #1 moved by 0.5 px), each jpeg one followed by a cached GET of it."""
+    state, landmarks = tap_both(seeker, buddy, size)
+    method = str(state["result"]["method"])
+    drawn: dict[str, list[Sample]] = {"jpeg": [], "cached": [], "png": [], "taps": []}
+    sizes = {"jpeg": 0, "png": 0}
+    for render in range(RENDERS + PNG_RENDERS):
+        nudge = TAP_NUDGE_PX if render % 2 == 0 else -TAP_NUDGE_PX
+        landmarks[0]["x"] = float(np.clip(landmarks[0]["x"] + nudge, 0, size[0]))
+        before = state["result_version"]
+        state, sample = buddy.put_taps({"landmarks": landmarks})
+        drawn["taps"].append(sample)
+        if state.get("result") is None or state["result_version"] == before:
+            raise RuntimeError(f"the move made no new answer: {state.get('result_error')}")
+        fmt = "jpeg" if render < RENDERS else "png"
+        first, sample = buddy.request("GET", "/overlay/buddy", params={"format": fmt})
+        decoded_overlay(first.content, size)
+        sizes[fmt] = len(first.content)
+        drawn[fmt].append(sample)
+        if fmt == "jpeg":
+            again, sample = buddy.request("GET", "/overlay/buddy")
+            if again.content != first.content:
+                raise RuntimeError("the cached overlay differs from the rendered one")
+            drawn["cached"].append(sample)
+    return Renders(
+        drawn["jpeg"], drawn["cached"], drawn["png"], drawn["taps"], method, *sizes.values()
+    )
+
+
+@dataclass(frozen=True)
+class SessionFigures:
+    uploads: Uploads
+    renders: Renders
+
+
+def session(server: Server) -> SessionFigures:
+    """One two-phone session: the seeker's uploads, then the buddy, taps and overlays."""
+    rng = np.random.default_rng(PHOTO_NOISE_SEED)
+    seeker_photo = photo_like_jpeg("templeSR0006", rng)
+    buddy_photo = photo_like_jpeg("templeSR0003", rng)
+    with httpx.Client(base_url=server.base_url, timeout=60) as http:
+        created = http.post("/api/sessions")
+        created.raise_for_status()
+        seeker = Phone(http, created.json()["session_id"], created.json()["token"])
+        uploaded = uploads(seeker, seeker_photo)
+        state, _ = seeker.request("GET", "")
+        joined = http.post("/api/sessions/join", json={"code": state.json()["join_code"]})
+        joined.raise_for_status()
+        buddy = Phone(http, seeker.session_id, joined.json()["token"])
+        stored, _ = buddy.upload(buddy_photo)
+        size = (int(stored["width"]), int(stored["height"]))
+        drawn = renders(seeker, buddy, size)
+        seeker.request("DELETE", "")
+    return SessionFigures(uploaded, drawn)
+
+
+# --- the report ----------------------------------------------------------------------------
+
+
+def percentile(values: Sequence[float], q: float) -> float:
+    return float(np.percentile(np.asarray(values, dtype=np.float64), q))
+
+
+def percent(fraction: float) -> str:
+    return f"{100 * fraction:.0f} %"
+
+
+def verdict(passed: bool) -> str:
+    return "PASS" if passed else "FAIL"
+
+
+def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def ms(value: float) -> str:
+    return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
+
+
+def load_row(name: str, workers: int, load: Load) -> list[str]:
+    return [
+        f"`{name}`",
+        str(workers),
+        str(load.requests),
+        f"{load.per_second:.0f}",
+        f"{ms(load.latency(50))} / {ms(load.latency(99))}",
+        f"{ms(load.server_time(50))} / {ms(load.server_time(99))}",
+        f"{load.cpu_ms_per_request(load.server_cpu):.3f}",
+        f"{load.cpu_ms_per_request(load.client_cpu):.3f}",
+        f"{load.cores(load.server_cpu):.2f}",
+        f"{load.cores(load.client_cpu):.2f}",
+        f"{percent(load.machine_busy / load.machine_total)}",
+        str(load.errors),
+    ]
+
+
+def throughput_table(result: Throughput) -> str:
+    return markdown_table(
+        [
+            "endpoint",
+            "workers",
+            "requests",
+            "requests/s",
+            "client p50 / p99 (ms)",
+            "Server-Timing p50 / p99 (ms)",
+            "server CPU per request (ms)",
+            "load generator CPU per request (ms)",
+            "server process busy (cores)",
+            "load generator busy (cores)",
+            "machine busy (of 2 cores)",
+            "errors",
+        ],
+        [
+            *(load_row(name, CONCURRENCY, load) for name, load in result.loaded.items()),
+            *(load_row(name, 1, load) for name, load in result.sequential.items()),
+        ],
+    )
+
+
+def throughput_target(result: Throughput) -> str:
+    version_load = result.loaded[VERSION]
+    solve_load = result.loaded[SOLVE]
+    ratio = solve_load.per_second / version_load.per_second
+    errors = solve_load.errors + version_load.errors
+    passed = ratio >= SOLVE_THROUGHPUT_TARGET and errors == 0
+    return (
+        f"{verdict(passed)}: `/api/solve` reaches at least {percent(SOLVE_THROUGHPUT_TARGET)} of "
+        f"`/api/version`'s throughput in the same run, {CONCURRENCY} workers "
+        f"({solve_load.per_second:.0f} vs {version_load.per_second:.0f} requests/s, "
+        f"{percent(ratio)}; errors: {errors})"
+    )
+
+
+def throughput_notes(result: Throughput) -> list[str]:
+    """What limited each endpoint, from this run's figures."""
+    version_load, solve_load = result.loaded[VERSION], result.loaded[SOLVE]
+    version_cpu = version_load.cpu_ms_per_request(version_load.server_cpu)
+    solve_cpu = solve_load.cpu_ms_per_request(solve_load.server_cpu)
+    # One process runs Python on one core at a time (the GIL): at most 1000 / cpu_ms per s.
+    allowed_ms = 1000 / (SOLVE_THROUGHPUT_TARGET * version_load.per_second)
+    solver_ms = result.solve_in_process_ms
+    sequential = result.sequential
+    return [
+        f"With {CONCURRENCY} workers, `/api/version` kept the server process "
+        f"{version_load.cores(version_load.server_cpu):.2f} cores busy and the load generator "
+        f"{version_load.cores(version_load.client_cpu):.2f} "
+        f"({percent(version_load.machine_busy / version_load.machine_total)} of the machine); "
+        f"`/api/solve` kept the server {solve_load.cores(solve_load.server_cpu):.2f} cores "
+        f"busy and the load generator {solve_load.cores(solve_load.client_cpu):.2f}.",
+        f"Server CPU per request: {solve_cpu:.3f} ms for `/api/solve`, {version_cpu:.3f} ms for "
+        f"`/api/version`; if only the server's CPU limited both, on one core's worth of "
+        f"Python (the GIL), the ratio of their rates would be {percent(version_cpu / solve_cpu)}.",
+        f"For `/api/solve` to reach {percent(SOLVE_THROUGHPUT_TARGET)} of the "
+        f"{version_load.per_second:.0f} requests/s measured for `/api/version`, the server "
+        f"could spend at most {allowed_ms:.2f} ms of CPU per solve request; "
+        f"`shared_solver.solve` alone takes {solver_ms:.2f} ms on this request "
+        f"(median of {IN_PROCESS_SOLVES} calls in the benchmark's process, same run)"
+        + (
+            ": at this rate one server process cannot meet the target, and a load generator "
+            "that left the server more of the machine would only raise that rate."
+            if solver_ms > allowed_ms
+            else "."
+        ),
+        f"With one worker (no queueing), Server-Timing p50 is "
+        f"{ms(sequential[SOLVE].server_time(50))} ms for `/api/solve` and "
+        f"{ms(sequential[VERSION].server_time(50))} ms for `/api/version`; with "
+        f"{CONCURRENCY} workers it also holds the wait for the GIL and a worker thread.",
+    ]
+
+
+def summary_row(name: str, samples: Sequence[Sample]) -> list[str]:
+    server = [s.server_ms for s in samples]
+    client = [s.latency_ms for s in samples]
+    return [
+        name,
+        str(len(samples)),
+        f"{ms(percentile(server, 50))} / {ms(percentile(server, 90))} / {ms(max(server))}",
+        f"{ms(percentile(client, 50))} / {ms(percentile(client, 90))} / {ms(max(client))}",
+    ]
+
+
+def session_table(figures: SessionFigures) -> str:
+    drawn = figures.renders
+    return markdown_table(
+        ["request", "n", "server time median / p90 / max (ms)", "client median / p90 / max (ms)"],
+        [
+            summary_row("`PUT /photo`, 12 MP JPEG (seeker, replacing)", figures.uploads.samples),
+            summary_row("`GET /overlay/buddy`, jpeg, uncached (render)", drawn.jpeg),
+            summary_row("`GET /overlay/buddy`, jpeg, cached", drawn.cached),
+            summary_row("`GET /overlay/buddy?format=png`, uncached (informative)", drawn.png),
+            summary_row("`PUT /taps` before each render: solve + state (informative)", drawn.taps),
+        ],
+    )
+
+
+def session_targets(figures: SessionFigures) -> list[str]:
+    upload = percentile([s.server_ms for s in figures.uploads.samples], 50)
+    render = percentile([s.server_ms for s in figures.renders.jpeg], 50)
+    return [
+        f"{verdict(upload <= UPLOAD_BUDGET_MS)}: a 12 MP JPEG accepted and stored in at most "
+        f"{UPLOAD_BUDGET_MS:g} ms of server time (median {ms(upload)} ms)",
+        f"{verdict(render <= RENDER_BUDGET_MS)}: an uncached jpeg overlay of the stored "
+        f"2560 px photo rendered in at most {RENDER_BUDGET_MS:g} ms of server time "
+        f"(median {ms(render)} ms)",
+    ]
+
+
+def git(*args: str) -> str:
+    return subprocess.run(
+        ["git", *args], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+
+
+def source_state() -> str:
+    """The commit, and any uncommitted changes to the code under test."""
+    try:
+        commit = git("rev-parse", "--short", "HEAD").strip()
+        changed = git("status", "--porcelain", "--", "backend", "shared_solver").splitlines()
+    except (OSError, subprocess.CalledProcessError):
+        return "not a git checkout"
+    files = [line[3:] for line in changed if line.strip()]
+    return f"commit {commit}" + (
+        f", uncommitted changes in {', '.join(files)}" if files else ", no uncommitted changes"
+    )
+
+
+def filesystem_type(path: Path) -> str:
+    """The type of the file system holding ``path`` (its longest mount point in /proc/mounts)."""
+    best, kind = "", "unknown"
+    for line in Path("/proc/mounts").read_text().splitlines():
+        _, mount, fs_type, *_ = line.split()
+        inside = str(path).startswith(mount.rstrip("/") + "/") or str(path) == mount
+        if inside and len(mount) >= len(best):
+            best, kind = mount, fs_type
+    return kind
+
+
+def uvicorn_stack() -> str:
+    """What uvicorn's defaults (``--loop auto --http auto``) pick in this environment."""
+    loop = "uvloop" if importlib.util.find_spec("uvloop") else "asyncio (uvloop not installed)"
+    http = "httptools" if importlib.util.find_spec("httptools") else "h11 (httptools not installed)"
+    return f"event loop {loop}, HTTP parser {http}"
+
+
+def header(settings: Settings, database: str) -> str:
+    now = datetime.now().astimezone().isoformat(timespec="seconds")
+    versions = ", ".join(
+        f"{name} {version(name)}"
+        for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx", "numpy", "pillow")
+    )
+    return "\n".join(
+        [
+            "# API benchmark",
+            "",
+            f"Command: `{shlex.join(['python', 'benchmarks/api.py', *sys.argv[1:]])}` "
+            "(from the repository root, in its virtualenv; `make bench-api`)",
+            "",
+            f"- Date: {now}",
+            f"- Machine: {platform.platform()}, {platform.machine()}, "
+            f"os.cpu_count() = {os.cpu_count()}. **The load generator runs on the same "
+            "machine as the server**: both share these cores.",
+            f"- Python {platform.python_version()}, {versions}, OpenCV {cv2.__version__}",
+            f"- Code under test (backend, shared_solver): {source_state()}",
+            "- Server: `python -m uvicorn backend.main:app --host 127.0.0.1 --port <free> "
+            f"--no-access-log`, one worker process, {uvicorn_stack()}; loopback only.",
+            f"- Settings: SQLite in a new temporary folder ({database}; the app sets "
+            f"synchronous=FULL); stored_photo_side = {settings.stored_photo_side}, "
+            f"max_body_bytes = {settings.max_body_bytes}, "
+            f"max_photo_pixels = {settings.max_photo_pixels}, session tap_sigma = "
+            f"{settings.tap_sigma:g}; the rest default.",
+            "- Server time is the `Server-Timing: app;dur=<ms>` header: from the request's "
+            "arrival at the app to the start of its response, body upload included.",
+        ]
+    )
+
+
+def throughput_section(result: Throughput, seconds: float) -> list[str]:
+    return [
+        "## 1. `/api/solve` against `/api/version`, under load",
+        f"Load generator: this Python process, {CONCURRENCY} threads, each with its own httpx "
+        "client and keep-alive connection, sending requests back to back, **on the same "
+        f"2-core machine as the server**. After a {WARMUP_SECONDS:g} s warm-up of each "
+        f"endpoint, {ROUNDS} interleaved rounds (order alternating) of "
+        f"{result.slice_seconds:g} s per endpoint: {seconds:g} s each. Then {ROUNDS} shorter "
+        f"interleaved rounds ({SEQUENTIAL_SLICE_SECONDS:g} s) with one worker, for the "
+        f"server's time without queueing. `/api/solve` gets {SOLVE_LANDMARKS} landmarks + e1 "
+        f"of a `facing_scene` (1600x1200) with {SOLVE_SIGMA:g} px tap noise, tap_sigma "
+        f"{SOLVE_SIGMA:g}, both image sizes (answered by `{result.solve_method}`). CPU from "
+        "/proc over the same slices: the server process's utime + stime (all its threads), "
+        "this process's CPU time, and the machine's busy time over all cores.",
+        throughput_table(result),
+        "\n".join(f"- {line}" for line in throughput_notes(result)),
+        "What limits the numbers: one Python process, threads or not, runs Python on about "
+        "one core at a time (the GIL), and the load generator and the server share 2 cores. "
+        "A side near 1.00 cores is saturated; when the machine is near 100 %, the two sides "
+        "slow each other. Where the load generator's CPU per request is close to the "
+        "server's (the table), the rate is as much the client's limit as the server's; the "
+        "server CPU per request is the cleaner comparison of what each endpoint costs.",
+    ]
+
+
+def session_section(figures: SessionFigures) -> list[str]:
+    stored = figures.uploads.stored
+    drawn = figures.renders
+    return [
+        "## 2 and 3. A session: 12 MP uploads, overlay renders",
+        f"One session, one request at a time. Upload: `templeSR0006.png` upscaled to "
+        f"{UPLOAD_SIZE[0]}x{UPLOAD_SIZE[1]} (bicubic) with Gaussian noise sigma "
+        f"{UPLOAD_NOISE_SIGMA:g}, JPEG quality {UPLOAD_QUALITY} "
+        f"({figures.uploads.upload_bytes / 1e6:.2f} MB, multipart), put {UPLOADS} times as the "
+        f"seeker's photo (each replaces the last); stored as {stored['width']}x"
+        f"{stored['height']} (scale {stored['scale']:.4f}). Then the buddy joins with the code "
+        "from the seeker's state and uploads `templeSR0003` made the same way; both tap "
+        f"{SOLVE_LANDMARKS} landmarks (the seeker also e1) from a `facing_scene` of the stored "
+        f"size (f = {SESSION_FOCAL:g} px, {SOLVE_SIGMA:g} px tap noise), answered by "
+        f"`{drawn.method}`. Each render follows a `PUT /taps` that moves the buddy's landmark "
+        f"#1 by {TAP_NUDGE_PX:g} px (a new answer version, so nothing is cached), then a "
+        "second GET of the same version is the cached one. Every overlay decodes to "
+        f"{stored['height']}x{stored['width']}x3; jpeg {drawn.jpeg_bytes / 1e6:.2f} MB, png "
+        f"{drawn.png_bytes / 1e6:.2f} MB.",
+        session_table(figures),
+    ]
+
+
+@dataclass(frozen=True)
+class Results:
+    settings: Settings
+    database: str  # as found after the run: journal mode, file system
+    seconds: float
+    throughput: Throughput
+    session: SessionFigures
+    timings: dict[str, float]
+
+
+def report(results: Results) -> str:
+    targets = [throughput_target(results.throughput), *session_targets(results.session)]
+    spent = ", ".join(f"{name} {s:.1f} s" for name, s in results.timings.items())
+    sections = [
+        header(results.settings, results.database),
+        *throughput_section(results.throughput, results.seconds),
+        *session_section(results.session),
+        "## Targets",
+        "\n".join(f"- {line}" for line in targets),
+        f"Wall time: {sum(results.timings.values()):.1f} s ({spent}; interpreter start-up "
+        "and imports not included).",
+    ]
+    return "\n\n".join(sections) + "\n"
+
+
+# --- running it ----------------------------------------------------------------------------
+
+
+def timed(seconds: dict[str, float], name: str, work: Callable[[], T]) -> T:
+    start = time.perf_counter()
+    print(f"[{name}] ...", file=sys.stderr, flush=True)
+    value = work()
+    seconds[name] = time.perf_counter() - start
+    return value
+
+
+def run(seconds: float) -> Results:
+    timings: dict[str, float] = {}
+    with tempfile.TemporaryDirectory(prefix="buddy-bench-") as temporary:
+        folder = Path(temporary)
+        settings = Settings(_env_file=ROOT / ".env", database_url=database_url(folder))
+        print("[server start] ...", file=sys.stderr, flush=True)
+        starting = time.perf_counter()
+        with serve(folder, env={"BUDDY_DATABASE_URL": database_url(folder)}) as server:
+            timings["server start"] = time.perf_counter() - starting
+            loads = timed(timings, "throughput", lambda: throughput(server, seconds))
+            figures = timed(timings, "session", lambda: session(server))
+        database = f"journal mode {journal_mode(folder)}, on {filesystem_type(folder)}"
+        return Results(settings, database, seconds, loads, figures, timings)
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser.add_argument(
+        "--seconds",
+        type=float,
+        default=DEFAULT_SECONDS,
+        help="load time per endpoint, after a warm-up (default %(default)s)",
+    )
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
+    args = parser.parse_args(argv)
+    if not 0 < args.seconds <= 120:
+        parser.error("--seconds must be in (0, 120]")
+    text = report(run(args.seconds))
+    print(text, end="")
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(text)
+
+
+if __name__ == "__main__":
+    main()
