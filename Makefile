@@ -1,17 +1,26 @@
 # The two commands of the README: `make run` and `make test`. Each sets up what it needs
-# from nothing (a virtualenv in .venv, pinned packages) and is safe to run again.
+# from nothing (a virtualenv in .venv, pinned Python and npm packages, the built phone app,
+# Debian's Chromium for the browser tests) and is safe to run again.
 
 PYTHON ?= python3
+NPM ?= npm
 VENV := .venv
 BIN := $(VENV)/bin
 INSTALLED := $(VENV)/.installed
+FRONTEND := frontend
+NODE_MODULES := $(FRONTEND)/node_modules/.installed
+APP := $(FRONTEND)/dist/index.html
+APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/null) \
+	$(wildcard $(FRONTEND)/index.html $(FRONTEND)/vite.config.ts $(FRONTEND)/tsconfig*.json)
+# Root needs no sudo (CI, containers); anyone else gets asked once.
+SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck bench bench-api demo clean
+.PHONY: run test lint typecheck frontend-test browser bench bench-api demo clean
 
-run: $(INSTALLED)
+run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
 
-test: $(INSTALLED) lint typecheck
+test: $(INSTALLED) lint typecheck frontend-test $(APP) browser
 	$(BIN)/python -m pytest
 
 lint: $(INSTALLED)
@@ -20,6 +29,14 @@ lint: $(INSTALLED)
 
 typecheck: $(INSTALLED)
 	$(BIN)/mypy
+
+frontend-test: $(NODE_MODULES)
+	cd $(FRONTEND) && $(NPM) run typecheck && $(NPM) test
+
+# Debian's Chromium, which the end-to-end tests drive (Playwright's own download fails here).
+browser:
+	@command -v chromium >/dev/null || ( $(SUDO) apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium )
 
 bench: $(INSTALLED)
 	$(BIN)/python benchmarks/solver.py
@@ -36,5 +53,13 @@ $(INSTALLED): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $(INSTALLED)
 
+$(NODE_MODULES): $(FRONTEND)/package.json $(FRONTEND)/package-lock.json
+	cd $(FRONTEND) && $(NPM) ci --no-audit --no-fund
+	touch $(NODE_MODULES)
+
+$(APP): $(NODE_MODULES) $(APP_SOURCES)
+	cd $(FRONTEND) && $(NPM) run build
+
 clean:
-	rm -rf $(VENV) var artifacts .pytest_cache .ruff_cache .mypy_cache .hypothesis
+	rm -rf $(VENV) var artifacts .pytest_cache .ruff_cache .mypy_cache .hypothesis \
+		$(FRONTEND)/node_modules $(FRONTEND)/dist

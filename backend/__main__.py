@@ -36,6 +36,8 @@ def main() -> None:
         port=port,
         access_log=False,
         proxy_headers=True,
+        # Event streams never end by themselves: do not wait for them on Ctrl+C or SIGTERM.
+        timeout_graceful_shutdown=3,
         log_level="info",
     )
 

@@ -39,7 +39,7 @@ def serve(folder: Path, env: dict[str, str] | None = None) -> Iterator[Server]:
     port = free_port()
     environment = os.environ | {"BUDDY_DATABASE_URL": f"sqlite:///{folder / 'buddy.db'}"}
     command = [sys.executable, "-m", "uvicorn", "backend.main:app", "--host", "127.0.0.1"]
-    command += ["--port", str(port), "--no-access-log"]
+    command += ["--port", str(port), "--no-access-log", "--timeout-graceful-shutdown", "3"]
     log_path = folder / "uvicorn.log"
     with log_path.open("wb") as log:
         process = subprocess.Popen(

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from pathlib import Path
 from typing import Any
 
 from fastapi import FastAPI
@@ -18,6 +19,7 @@ from backend.api import responses as api_responses
 from backend.api.routes import events, health, sessions, solver
 from backend.clock import Clock, utc_now
 from backend.events import Notifier
+from backend.frontend import serve_app
 from backend.limits import BodySizeLimit, ServerTiming
 from backend.sessions.service import SessionService
 from backend.settings import Settings, get_settings
@@ -25,6 +27,7 @@ from backend.storage.database import make_engine
 from backend.storage.repository import Store
 from backend.sweeper import sweep_forever
 
+ROOT = Path(__file__).resolve().parents[1]
 DESCRIPTION = """Find a friend across a venue from two phone photos.
 
 Stateless: `POST /api/solve` and `POST /api/overlay` for scripts.
@@ -66,6 +69,9 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
         app.include_router(module.router)
     _serve_docs(app)
     _document_refusals(app)
+    frontend = Path(settings.frontend_dir)
+    # Last: its catch-all route goes after the API. Relative to the project, not the cwd.
+    serve_app(app, frontend if frontend.is_absolute() else ROOT / frontend)
     return app
 
 

@@ -20,6 +20,9 @@ class Settings(BaseSettings):
         "0.0.0.0", description="Address make run listens on (all: phones on the network reach it)."
     )
     port: int = Field(8000, gt=0, lt=65536, description="Port make run listens on.")
+    frontend_dir: str = Field(
+        "frontend/dist", description="The built phone app, served at / (make run builds it)."
+    )
     database_url: str = Field(
         "sqlite:///var/buddy.db",
         description="SQLAlchemy URL; SQLite runs in WAL mode. PostgreSQL for several replicas.",

@@ -100,6 +100,9 @@ class SessionState(BaseModel):
     version: int = Field(description="Bumped by every change; events say 'this changed'.")
     expires_at: datetime
     join_code: str | None = Field(None, description="Shown to the seeker until the buddy joins.")
+    join_code_expires_at: datetime | None = Field(
+        None, description="When that code stops working (time for a new session)."
+    )
     join_url: str | None = None
     participants: dict[Role, ParticipantState]
     photos: dict[Role, PhotoStored | None]

@@ -131,6 +131,11 @@ class SessionService:
             version=snapshot.version,
             expires_at=aware(snapshot.expires_at),
             join_code=snapshot.join_code if code_valid else None,
+            join_code_expires_at=(
+                aware(snapshot.join_code_expires_at)
+                if code_valid and snapshot.join_code_expires_at
+                else None
+            ),
             join_url=(
                 self._join_url(base_url, snapshot.join_code)
                 if code_valid and snapshot.join_code
@@ -287,6 +292,13 @@ class SessionService:
         data = encode_image(drawn, format=fmt)
         self.store.put_overlay(snapshot.id, role, fmt, version, data)
         return data
+
+    def photo(self, participant: Participant, role: Role) -> bytes:
+        """``role``'s photo as stored (upright JPEG): what that phone taps on."""
+        photo = self.store.photo(participant.session_id, role)
+        if photo is None:
+            raise ApiError(404, "photo_missing", f"The {role} has not uploaded a photo yet.")
+        return photo.data
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
         """A small picture around one landmark of ``role``'s photo: "find this"."""

@@ -37,18 +37,22 @@ class Listener(threading.Thread):
         self.types: list[str] = []
         self.ids: list[int] = []
         self.ended = threading.Event()
+        self.dropped = False
 
     def run(self) -> None:
-        with httpx.stream("GET", self.url, params={"token": self.token}, timeout=30) as response:
-            assert response.status_code == 200
-            assert response.headers["content-type"].startswith("text/event-stream")
-            for line in response.iter_lines():
-                if line.startswith("event: "):
-                    self.types.append(line[7:])
-                    if line == "event: expired":
-                        break
-                elif line.startswith("id: "):
-                    self.ids.append(int(line[4:]))
+        try:
+            with httpx.stream("GET", self.url, params={"token": self.token}, timeout=30) as answer:
+                assert answer.status_code == 200
+                assert answer.headers["content-type"].startswith("text/event-stream")
+                for line in answer.iter_lines():
+                    if line.startswith("event: "):
+                        self.types.append(line[7:])
+                        if line == "event: expired":
+                            break
+                    elif line.startswith("id: "):
+                        self.ids.append(int(line[4:]))
+        except httpx.TransportError:
+            self.dropped = True  # the server went away (a phone's EventSource reconnects)
         self.ended.set()
 
     def wait_for(self, type_: str, count: int = 1, seconds: float = 15) -> None:
@@ -122,3 +126,16 @@ def test_two_phones_find_each_other(server: str) -> None:
     assert seeker_events.ended.wait(15)
     assert buddy_events.ended.wait(15)
     assert seeker_events.types[-1] == buddy_events.types[-1] == "expired"
+
+
+def test_the_server_stops_promptly_with_a_phone_listening(tmp_path: Path) -> None:
+    """Event streams never end by themselves: stopping (SIGTERM) must not wait for them."""
+    with serve(tmp_path) as running:
+        created = httpx.post(f"{running.base_url}/api/sessions").json()
+        listener = Listener(running.base_url, created["session_id"], created["token"])
+        listener.start()
+        listener.wait_for("joined")
+        stopping = time.monotonic()
+    assert time.monotonic() - stopping < 10  # the 3 s grace, not the 20 s kill
+    assert listener.ended.wait(5)
+    assert listener.dropped

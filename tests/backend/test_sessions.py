@@ -76,7 +76,9 @@ def test_the_buddy_joins_once_and_a_third_phone_is_refused(
 
 
 def test_join_codes_expire(client: TestClient, seeker: Phone, clock: FakeClock) -> None:
-    code = seeker.state()["join_code"]
+    state = seeker.state()
+    code = state["join_code"]
+    assert state["join_code_expires_at"].startswith("2026-11-21T20:10:00")  # 10 minutes
     clock.advance(601)
     assert seeker.state()["join_code"] is None
     late = client.post("/api/sessions/join", json={"code": code})
@@ -353,3 +355,19 @@ def test_photo_refusals_reach_the_phone_in_the_one_shape(seeker: Phone) -> None:
     empty = seeker.upload(b"", "empty.jpg")
     assert empty.status_code == 422
     assert seeker.state()["photos"]["seeker"] is None  # nothing half-stored
+
+
+def test_each_phone_can_fetch_the_stored_photos(
+    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The app shows the stored photo to tap on: exactly the pixels taps refer to."""
+    missing = client.get(seeker.url("/photo/buddy"), headers=seeker.auth)
+    assert missing.status_code == 404
+    assert error_of(missing) == "photo_missing"
+    photos_uploaded(seeker, buddy, temple_photos)
+    for role in ("seeker", "buddy"):
+        stored = client.get(seeker.url(f"/photo/{role}"), params={"token": seeker.token})
+        assert stored.status_code == 200
+        assert stored.headers["content-type"] == "image/jpeg"
+        image = cv2.imdecode(np.frombuffer(stored.content, np.uint8), cv2.IMREAD_COLOR)
+        assert image.shape == (480, 640, 3)

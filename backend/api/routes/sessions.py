@@ -68,6 +68,17 @@ def put_taps(
 
 
 @router.get(
+    "/{session_id}/photo/{role}",
+    responses={200: {"content": {"image/jpeg": {}}}, **errors(401, 403, 404)},
+    response_class=Response,
+)
+def stored_photo(role: RoleParam, participant: ViewerDep, service: ServiceDep) -> Response:
+    """A participant's photo as stored: upright, no metadata, taps are in its pixels."""
+    data = service.photo(participant, role)
+    return Response(data, media_type="image/jpeg", headers={"Cache-Control": "private"})
+
+
+@router.get(
     "/{session_id}/overlay/{role}",
     responses={**PICTURE, **errors(401, 403, 404, 409)},
     response_class=Response,

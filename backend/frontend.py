@@ -1,0 +1,42 @@
+"""The phone app: the built frontend (``frontend/dist``) served at ``/``.
+
+Static files under ``/assets``; every other GET that is not the API answers ``index.html``,
+so the app's own routes (``/join/<code>``, the session screen) load it after a reload.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fastapi import FastAPI
+from fastapi.responses import FileResponse, HTMLResponse
+from fastapi.staticfiles import StaticFiles
+
+from backend.errors import ApiError
+
+# Paths the app must never swallow: an unknown API path is a 404 in the one error shape.
+_NOT_THE_APP = ("api/", "docs", "openapi.json", "healthz")
+
+_NOT_BUILT = """<!doctype html><meta charset="utf-8"><title>Buddy Search</title>
+<p>The phone app is not built yet: run <code>make run</code> (it builds it), or
+<code>cd frontend && npm ci && npm run build</code>. The API is at <a href="/docs">/docs</a>.</p>
+"""
+
+
+def serve_app(app: FastAPI, folder: Path) -> None:
+    """Serve the built app in ``folder`` (its ``index.html`` and ``assets/``)."""
+    index = folder / "index.html"
+    assets = folder / "assets"
+    if assets.is_dir():
+        app.mount("/assets", StaticFiles(directory=assets), name="assets")
+
+    @app.get("/{path:path}", include_in_schema=False, response_model=None)
+    def page(path: str) -> FileResponse | HTMLResponse:
+        if path.startswith(_NOT_THE_APP):
+            raise ApiError(404, "not_found", "There is nothing at this address.")
+        static = (folder / path).resolve()
+        if path and static.is_file() and static.is_relative_to(folder.resolve()):
+            return FileResponse(static)  # icons, manifest: files at the top of dist/
+        if index.is_file():
+            return FileResponse(index, headers={"Cache-Control": "no-cache"})
+        return HTMLResponse(_NOT_BUILT)

@@ -1,0 +1,82 @@
+/** Taking (or picking) the photo of the other side, and sending it. */
+
+import type { ComponentChildren } from "preact";
+import type { SessionController, SessionView } from "../session";
+import { CameraIcon } from "./icons";
+
+export function UploadStatus({ controller, view }: { controller: SessionController; view: SessionView }) {
+  const { upload } = view;
+  if (upload.phase === "preparing") {
+    return (
+      <p class="note" role="status">
+        Making the photo smaller...
+      </p>
+    );
+  }
+  if (upload.phase === "uploading") {
+    const percent = Math.round(upload.progress * 100);
+    return (
+      <div class="progress" data-testid="upload-progress" role="progressbar" aria-valuenow={percent} aria-valuemin={0} aria-valuemax={100}>
+        <div class="progress-bar" style={{ width: `${percent}%` }} />
+        <span class="progress-text">Sending photo... {percent} %</span>
+      </div>
+    );
+  }
+  if (upload.phase === "failed") {
+    return (
+      <div class="upload-failed">
+        <p class="error" data-testid="upload-error" role="alert">
+          {upload.message}
+        </p>
+        {upload.retryable ? (
+          <button type="button" class="button primary wide" data-testid="upload-retry" onClick={() => void controller.retryUpload()}>
+            Retry
+          </button>
+        ) : (
+          view.photo && (
+            <button type="button" class="button secondary wide" onClick={() => controller.dismissUpload()}>
+              Keep old photo
+            </button>
+          )
+        )}
+      </div>
+    );
+  }
+  return null;
+}
+
+interface Props {
+  controller: SessionController;
+  view: SessionView;
+  top: ComponentChildren;
+}
+
+export function PhotoStep({ controller, view, top }: Props) {
+  const seeker = view.credentials.role === "seeker";
+  const busy = view.upload.phase === "preparing" || view.upload.phase === "uploading";
+  return (
+    <main class="screen session photo-step">
+      {top}
+      <section class="photo-step-body">
+        <div class="photo-hint" aria-hidden="true">
+          <CameraIcon />
+        </div>
+        <h1>Photo of the other side</h1>
+        <p class="lead">
+          {seeker
+            ? "Aim at your buddy. Get some clear landmarks in too: corners, signs, lights, pillars."
+            : "Aim across the venue, where your friend is. Get some clear landmarks in: corners, signs, lights."}
+        </p>
+      </section>
+      <footer class="bottom-actions">
+        <UploadStatus controller={controller} view={view} />
+        <label class={`button primary huge ${busy ? "disabled" : ""}`} for="photo-input">
+          {view.upload.phase === "failed" && !view.upload.retryable ? "Take another photo" : "Take photo"}
+        </label>
+        <label class={`button secondary wide ${busy ? "disabled" : ""}`} for="photo-pick">
+          Choose from gallery
+        </label>
+      </footer>
+    </main>
+  );
+}

@@ -1,0 +1,107 @@
+/** Start: "Find my buddy" makes a session; a code joins one. */
+
+import { useState } from "preact/hooks";
+import { createSession, joinSession } from "../api";
+import type { Credentials } from "../types";
+
+interface Props {
+  resume: Credentials | null;
+  onResume: () => void;
+  onEnter: (credentials: Credentials) => void;
+  initialCode: string;
+  initialError: string | null;
+}
+
+export function StartScreen({ resume, onResume, onEnter, initialCode, initialError }: Props) {
+  const [code, setCode] = useState(initialCode);
+  const [error, setError] = useState<string | null>(initialError);
+  const [busy, setBusy] = useState<"start" | "join" | null>(null);
+
+  const start = async (): Promise<void> => {
+    setBusy("start");
+    setError(null);
+    try {
+      const created = await createSession();
+      onEnter({ session_id: created.session_id, token: created.token, role: "seeker" });
+    } catch (failure) {
+      setError(failure instanceof Error ? failure.message : String(failure));
+      setBusy(null);
+    }
+  };
+
+  const join = async (event: Event): Promise<void> => {
+    event.preventDefault();
+    const digits = code.replace(/\D/g, "");
+    if (digits.length !== 6) {
+      setError("The code has 6 digits.");
+      return;
+    }
+    setBusy("join");
+    setError(null);
+    try {
+      const joined = await joinSession(digits);
+      onEnter({ session_id: joined.session_id, token: joined.token, role: "buddy" });
+    } catch (failure) {
+      setError(failure instanceof Error ? failure.message : String(failure));
+      setBusy(null);
+    }
+  };
+
+  return (
+    <main class="screen start">
+      <header class="start-head">
+        <h1>
+          Buddy<span class="accent"> Search</span>
+        </h1>
+        <p class="lead">Lost your friend across the venue? Two photos and a few taps show where they are.</p>
+      </header>
+
+      {resume && (
+        <button type="button" class="button secondary wide" onClick={onResume}>
+          Back to your search
+        </button>
+      )}
+
+      <form class="join" onSubmit={join}>
+        <label for="join-code" class="label">
+          Got a code from your friend?
+        </label>
+        <div class="join-row">
+          <input
+            id="join-code"
+            data-testid="join-code"
+            class="code-input"
+            inputMode="numeric"
+            autoComplete="one-time-code"
+            pattern="[0-9 ]*"
+            maxLength={7}
+            placeholder="123456"
+            value={code}
+            onInput={(event) => setCode((event.target as HTMLInputElement).value)}
+          />
+          <button type="submit" data-testid="join" class="button secondary" disabled={busy !== null}>
+            {busy === "join" ? "Joining..." : "Join"}
+          </button>
+        </div>
+      </form>
+
+      {error && (
+        <p class="error" role="alert">
+          {error}
+        </p>
+      )}
+
+      <div class="bottom-actions">
+        <button
+          type="button"
+          data-testid="start"
+          class="button primary huge"
+          disabled={busy !== null}
+          onClick={() => void start()}
+        >
+          {busy === "start" ? "Starting..." : "Find my buddy"}
+        </button>
+      </div>
+    </main>
+  );
+}

@@ -1,0 +1,97 @@
+/** The bar on top of every session screen: the other phone, saving, new photo, delete. */
+
+import { useState } from "preact/hooks";
+import type { SessionController, SessionView } from "../session";
+import { otherRole } from "../types";
+import { CameraIcon, TrashIcon } from "./icons";
+
+const SAVE_WORDS = { saved: "Saved", saving: "Saving...", error: "Not saved" } as const;
+
+export function TopBar({ controller, view }: { controller: SessionController; view: SessionView }) {
+  const [confirming, setConfirming] = useState(false);
+  const [deleting, setDeleting] = useState(false);
+  const { state, credentials } = view;
+  const other = otherRole(credentials.role);
+  const peer = state?.participants[other];
+  const online = peer?.online ?? false;
+  const name = credentials.role === "seeker" ? "Buddy" : "Friend";
+  const peerWords = !peer?.joined ? `${name} not here yet` : online ? `${name} online` : `${name} offline`;
+
+  return (
+    <header class="top-bar">
+      <span class={`peer ${online ? "on" : "off"}`} data-testid="peer-online" data-online={String(online)}>
+        <span class="dot" aria-hidden="true" />
+        {peerWords}
+      </span>
+      {view.stream === "down" && (
+        <span class="reconnecting" data-testid="reconnecting" role="status">
+          Reconnecting...
+        </span>
+      )}
+      <span class="spacer" />
+      {view.photo && (
+        <>
+          <button
+            type="button"
+            class={`save-state ${view.save.status}`}
+            data-testid="save-state"
+            data-state={view.save.status}
+            title={view.save.message ?? undefined}
+            onClick={() => controller.retrySave()}
+          >
+            {SAVE_WORDS[view.save.status]}
+          </button>
+          <label class="icon-button" for="photo-input" title="New photo" aria-label="New photo">
+            <CameraIcon />
+          </label>
+        </>
+      )}
+      <button
+        type="button"
+        class="icon-button danger"
+        data-testid="delete-session"
+        aria-label="Delete now"
+        title="Delete now"
+        onClick={() => setConfirming(true)}
+      >
+        <TrashIcon />
+      </button>
+      {confirming && (
+        <div class="sheet-backdrop" role="dialog" aria-modal="true" aria-labelledby="delete-title">
+          <div class="sheet">
+            <h2 id="delete-title">Delete now?</h2>
+            <p>The search ends on both phones. Photos and taps are deleted at once.</p>
+            {view.deleteError && (
+              <p class="error" role="alert">
+                {view.deleteError}
+              </p>
+            )}
+            <button
+              type="button"
+              class="button danger huge"
+              data-testid="confirm-delete"
+              disabled={deleting}
+              onClick={async () => {
+                setDeleting(true);
+                const done = await controller.deleteNow();
+                if (!done) setDeleting(false);
+              }}
+            >
+              {deleting ? "Deleting..." : "Delete now"}
+            </button>
+            <button
+              type="button"
+              class="button secondary huge"
+              onClick={() => {
+                controller.clearDeleteError();
+                setConfirming(false);
+              }}
+            >
+              Keep searching
+            </button>
+          </div>
+        </div>
+      )}
+    </header>
+  );
+}

@@ -1,0 +1,271 @@
+import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { ApiError, isRetryable } from "./api";
+import {
+  LiveStream,
+  Refetcher,
+  backoffDelay,
+  withRetry,
+  type EventSourceLike,
+  type StreamStatus,
+} from "./reconnect";
+
+describe("backoff", () => {
+  const exact = { jitter: 0 };
+
+  it("doubles from the base delay up to the cap", () => {
+    expect([0, 1, 2, 3].map((n) => backoffDelay(n, { ...exact, baseMs: 500 }))).toEqual([
+      500, 1000, 2000, 4000,
+    ]);
+    expect(backoffDelay(20, { ...exact, baseMs: 1000, maxMs: 30_000 })).toBe(30_000);
+  });
+
+  it("spreads retries by the jitter, never past the cap", () => {
+    expect(backoffDelay(1, { baseMs: 1000, jitter: 0.2, random: () => 0 })).toBe(1600);
+    expect(backoffDelay(1, { baseMs: 1000, jitter: 0.2, random: () => 1 })).toBe(2400);
+    expect(backoffDelay(9, { baseMs: 1000, maxMs: 5000, jitter: 0.2, random: () => 1 })).toBe(5000);
+  });
+});
+
+describe("retrying", () => {
+  const noWait = { delay: () => 0, sleep: async () => undefined };
+
+  it("tries again after network errors, and succeeds", async () => {
+    let calls = 0;
+    const result = await withRetry(
+      async () => {
+        calls++;
+        if (calls < 3) throw new ApiError(0, "network", "offline");
+        return "stored";
+      },
+      { retries: 3, isRetryable, ...noWait },
+    );
+    expect(result).toBe("stored");
+    expect(calls).toBe(3);
+  });
+
+  it("gives up after the last retry", async () => {
+    let calls = 0;
+    const failing = withRetry(
+      async () => {
+        calls++;
+        throw new ApiError(0, "network", "offline");
+      },
+      { retries: 2, isRetryable, ...noWait },
+    );
+    await expect(failing).rejects.toThrow("offline");
+    expect(calls).toBe(3);
+  });
+
+  it("does not retry a refusal (the same photo would be refused again)", async () => {
+    let calls = 0;
+    const refused = withRetry(
+      async () => {
+        calls++;
+        throw new ApiError(415, "unsupported_photo", "HEIC could not be converted.");
+      },
+      { retries: 5, isRetryable, ...noWait },
+    );
+    await expect(refused).rejects.toThrow("HEIC");
+    expect(calls).toBe(1);
+  });
+
+  it("waits the backoff between tries", async () => {
+    const waits: number[] = [];
+    await withRetry(
+      async (attempt) => {
+        if (attempt < 2) throw new ApiError(503, "busy", "busy");
+        return 1;
+      },
+      {
+        retries: 4,
+        isRetryable,
+        delay: (n) => backoffDelay(n, { baseMs: 100, jitter: 0 }),
+        sleep: async (ms) => {
+          waits.push(ms);
+        },
+      },
+    );
+    expect(waits).toEqual([100, 200]);
+  });
+});
+
+describe("fetching the state", () => {
+  it("runs one fetch at a time and one more for any asks meanwhile", async () => {
+    const finishers: Array<() => void> = [];
+    let started = 0;
+    const refetcher = new Refetcher(
+      () =>
+        new Promise<void>((done) => {
+          started++;
+          finishers.push(done);
+        }),
+    );
+    refetcher.request();
+    refetcher.request();
+    refetcher.request();
+    expect(started).toBe(1);
+    finishers.shift()?.();
+    await Promise.resolve();
+    await Promise.resolve();
+    expect(started).toBe(2);
+    finishers.shift()?.();
+    await Promise.resolve();
+    await Promise.resolve();
+    expect(started).toBe(2);
+    refetcher.request();
+    expect(started).toBe(3);
+  });
+});
+
+class FakeSource implements EventSourceLike {
+  static opened: FakeSource[] = [];
+  readyState = 0;
+  onopen: ((event: Event) => void) | null = null;
+  onerror: ((event: Event) => void) | null = null;
+  closed = false;
+  private listeners = new Map<string, Array<(event: Event) => void>>();
+
+  constructor(readonly url: string) {
+    FakeSource.opened.push(this);
+  }
+
+  addEventListener(type: string, listener: (event: Event) => void): void {
+    this.listeners.set(type, [...(this.listeners.get(type) ?? []), listener]);
+  }
+
+  close(): void {
+    this.closed = true;
+    this.readyState = 2;
+  }
+
+  open(): void {
+    this.readyState = 1;
+    this.onopen?.(new Event("open"));
+  }
+
+  /** The connection dropped; EventSource reconnects by itself (CONNECTING). */
+  drop(): void {
+    this.readyState = 0;
+    this.onerror?.(new Event("error"));
+  }
+
+  /** EventSource gave up (an HTTP error such as 401): CLOSED. */
+  fail(): void {
+    this.readyState = 2;
+    this.onerror?.(new Event("error"));
+  }
+
+  emit(type: string): void {
+    for (const listener of this.listeners.get(type) ?? []) listener(new Event(type));
+  }
+}
+
+describe("the event stream", () => {
+  let changes: number;
+  let ended: number;
+  let statuses: StreamStatus[];
+
+  beforeEach(() => {
+    vi.useFakeTimers();
+    FakeSource.opened = [];
+    changes = 0;
+    ended = 0;
+    statuses = [];
+  });
+
+  afterEach(() => {
+    vi.useRealTimers();
+  });
+
+  function stream(): LiveStream {
+    const live = new LiveStream({
+      url: "/events",
+      onChange: () => changes++,
+      onEnded: () => ended++,
+      onStatus: (status) => statuses.push(status),
+      open: (url) => new FakeSource(url),
+      delay: (attempt) => 1000 * 2 ** attempt,
+    });
+    live.start();
+    return live;
+  }
+
+  function latest(): FakeSource {
+    const source = FakeSource.opened[FakeSource.opened.length - 1];
+    if (!source) throw new Error("no stream opened");
+    return source;
+  }
+
+  it("fetches the state when it opens and on every change event", () => {
+    stream();
+    latest().open();
+    expect(statuses).toEqual(["up"]);
+    expect(changes).toBe(1);
+    for (const type of ["joined", "photo", "taps", "result", "left"]) latest().emit(type);
+    expect(changes).toBe(6);
+  });
+
+  it("shows the stream down while EventSource reconnects, and fetches when it is back", () => {
+    stream();
+    latest().open();
+    latest().drop();
+    expect(statuses).toEqual(["up", "down"]);
+    expect(FakeSource.opened).toHaveLength(1); // EventSource retries by itself
+    latest().open();
+    expect(statuses).toEqual(["up", "down", "up"]);
+    expect(changes).toBe(2);
+  });
+
+  it("opens a new stream with backoff when EventSource gives up", () => {
+    stream();
+    latest().fail();
+    expect(changes).toBe(1); // maybe the session ended: the state says
+    expect(FakeSource.opened).toHaveLength(1);
+    vi.advanceTimersByTime(999);
+    expect(FakeSource.opened).toHaveLength(1);
+    vi.advanceTimersByTime(1);
+    expect(FakeSource.opened).toHaveLength(2);
+    latest().fail();
+    vi.advanceTimersByTime(1999);
+    expect(FakeSource.opened).toHaveLength(2);
+    vi.advanceTimersByTime(1);
+    expect(FakeSource.opened).toHaveLength(3);
+    latest().open();
+    latest().fail();
+    vi.advanceTimersByTime(1000); // back to the first delay after a success
+    expect(FakeSource.opened).toHaveLength(4);
+  });
+
+  it("reopens at once when the page shows again or the network is back", () => {
+    const live = stream();
+    latest().fail();
+    live.wake();
+    expect(FakeSource.opened).toHaveLength(2);
+    expect(changes).toBe(2);
+    latest().open();
+    live.wake(); // an open stream is kept; only the state is fetched
+    expect(FakeSource.opened).toHaveLength(2);
+    expect(changes).toBe(4);
+  });
+
+  it("ends on 'expired' and opens nothing more", () => {
+    stream();
+    latest().open();
+    latest().emit("expired");
+    expect(ended).toBe(1);
+    expect(latest().closed).toBe(true);
+    vi.advanceTimersByTime(60_000);
+    expect(FakeSource.opened).toHaveLength(1);
+  });
+
+  it("stops listening when stopped", () => {
+    const live = stream();
+    const source = latest();
+    live.stop();
+    expect(source.closed).toBe(true);
+    source.emit("taps");
+    live.wake();
+    expect(changes).toBe(0);
+    expect(FakeSource.opened).toHaveLength(1);
+  });
+});

@@ -1,0 +1,431 @@
+/**
+ * One phone in one session: the server's state, this phone's taps, saving them, the photo
+ * upload and the event stream. Components read `view` and call the actions; nothing here
+ * draws.
+ */
+
+import {
+  ApiError,
+  deleteSession,
+  eventsUrl,
+  fetchState,
+  isRetryable,
+  putTaps,
+  uploadPhoto,
+} from "./api";
+import { browserDecoder, preparePhoto, type PreparedPhoto } from "./downscale";
+import {
+  addLandmark,
+  deleteLandmark,
+  fromServerTaps,
+  landmarkIds,
+  lineThrough,
+  moveLandmark,
+  newEditor,
+  select,
+  setBuddyLine,
+  setBuddyMark,
+  setSeekerMark,
+  toServerTaps,
+  undo,
+  type TapEditor,
+} from "./landmarks";
+import { LiveStream, Refetcher, backoffDelay, withRetry, type StreamStatus } from "./reconnect";
+import { forgetSession, loadDraft, saveDraft } from "./storage";
+import { TapSaver, type SaveState } from "./tapSaver";
+import { otherRole, type Credentials, type SessionState } from "./types";
+import type { Point, Size } from "./viewTransform";
+
+/** What a tap on the photo places. */
+export type Mode = "buddy" | "line" | "landmark" | "seeker";
+
+export interface UploadState {
+  phase: "idle" | "preparing" | "uploading" | "failed";
+  /** 0..1 while uploading. */
+  progress: number;
+  message: string | null;
+  /** Whether Retry can help (no connection), or another photo is needed (refused). */
+  retryable: boolean;
+}
+
+export type Ending = "deleted" | "ended";
+
+export interface SessionView {
+  readonly credentials: Credentials;
+  readonly state: SessionState | null;
+  /** The state with the latest answer shown (held briefly while an answer is renewed). */
+  readonly answerState: SessionState | null;
+  readonly loadError: string | null;
+  readonly editor: TapEditor;
+  readonly skipped: ReadonlySet<number>;
+  readonly mode: Mode;
+  /** The first point of a line through the buddy, until the second is tapped. */
+  readonly linePoint: Point | null;
+  readonly save: SaveState;
+  readonly stream: StreamStatus;
+  readonly upload: UploadState;
+  readonly ended: Ending | null;
+  /** This phone's stored photo: its size, and a key that changes with each new photo. */
+  readonly photo: { size: Size; key: string } | null;
+  readonly deleteError: string | null;
+}
+
+const IDLE_UPLOAD: UploadState = { phase: "idle", progress: 0, message: null, retryable: false };
+/** How often the state is fetched without being told of a change, ms. */
+const POLL_MS = 30_000;
+/** How long an answer stays on screen while the next one is being computed. */
+const ANSWER_HOLD_MS = 2500;
+
+export class SessionController {
+  view: SessionView;
+  private readonly listeners = new Set<() => void>();
+  private readonly saver: TapSaver;
+  private readonly refetcher: Refetcher;
+  private readonly stream: LiveStream;
+  private loaded = false;
+  private prepared: PreparedPhoto | null = null;
+  private holdTimer: ReturnType<typeof setTimeout> | null = null;
+  private readonly cleanups: Array<() => void> = [];
+
+  constructor(credentials: Credentials) {
+    this.view = {
+      credentials,
+      state: null,
+      answerState: null,
+      loadError: null,
+      editor: newEditor(),
+      skipped: new Set(),
+      mode: credentials.role === "seeker" ? "buddy" : "landmark",
+      linePoint: null,
+      save: { status: "saved", message: null },
+      stream: "connecting",
+      upload: IDLE_UPLOAD,
+      ended: null,
+      photo: null,
+      deleteError: null,
+    };
+    this.saver = new TapSaver({
+      send: (taps) => putTaps(credentials, taps),
+      onSaved: (state) => {
+        this.keepDraft();
+        this.applyState(state);
+      },
+      onStatus: (save) => this.set({ save }),
+      onEnded: () => this.end("ended"),
+    });
+    this.refetcher = new Refetcher(() => this.load());
+    this.stream = new LiveStream({
+      url: eventsUrl(credentials),
+      onChange: () => this.refetcher.request(),
+      onEnded: () => this.end("ended"),
+      onStatus: (stream) => this.set({ stream }),
+    });
+  }
+
+  get role(): Credentials["role"] {
+    return this.view.credentials.role;
+  }
+
+  subscribe(listener: () => void): () => void {
+    this.listeners.add(listener);
+    return () => this.listeners.delete(listener);
+  }
+
+  private set(patch: Partial<SessionView>): void {
+    this.view = { ...this.view, ...patch };
+    for (const listener of this.listeners) listener();
+  }
+
+  // --- staying in touch --------------------------------------------------------------------
+
+  start(): void {
+    this.refetcher.request();
+    this.stream.start();
+    const onVisible = (): void => {
+      if (document.visibilityState === "visible") this.stream.wake();
+    };
+    const onOnline = (): void => {
+      this.stream.wake();
+      this.saver.retryNow();
+      if (this.view.upload.phase === "failed" && this.view.upload.retryable) void this.retryUpload();
+    };
+    document.addEventListener("visibilitychange", onVisible);
+    window.addEventListener("online", onOnline);
+    // Now and then, also without an event: a join code runs out silently, and a proxy may
+    // hold events back.
+    const poll = setInterval(() => {
+      if (document.visibilityState === "visible") this.refetcher.request();
+    }, POLL_MS);
+    this.cleanups.push(
+      () => clearInterval(poll),
+      () => document.removeEventListener("visibilitychange", onVisible),
+      () => window.removeEventListener("online", onOnline),
+    );
+  }
+
+  stop(): void {
+    this.stream.stop();
+    this.saver.stop();
+    if (this.holdTimer) clearTimeout(this.holdTimer);
+    for (const cleanup of this.cleanups.splice(0)) cleanup();
+  }
+
+  private async load(): Promise<void> {
+    if (this.view.ended) return;
+    try {
+      this.applyState(await fetchState(this.view.credentials));
+    } catch (error) {
+      if (error instanceof ApiError && error.sessionEnded) this.end("ended");
+      else if (!this.view.state) {
+        this.set({ loadError: error instanceof Error ? error.message : String(error) });
+      }
+    }
+  }
+
+  /** Try loading again (the person tapped Retry). */
+  reload(): void {
+    this.set({ loadError: null });
+    this.stream.wake();
+  }
+
+  private applyState(state: SessionState): void {
+    if (this.view.ended) return;
+    const current = this.view.state;
+    if (current && state.version < current.version) return; // an older answer arrived late
+    const mine = state.photos[this.role];
+    let extra: Partial<SessionView> = {};
+    if (!this.loaded) {
+      this.loaded = true;
+      extra = this.firstLoad(state);
+    } else if (mine && !this.view.photo) {
+      extra = { photo: { size: mine, key: `${state.version}` } };
+    }
+    this.set({ state, loadError: null, ...this.answerPatch(state), ...extra });
+  }
+
+  /** The taps to start from: unsaved ones kept on this phone, else the server's. */
+  private firstLoad(state: SessionState): Partial<SessionView> {
+    const server = state.taps[this.role];
+    const draft = loadDraft(this.view.credentials.session_id);
+    const mine = state.photos[this.role];
+    this.saver.saved(toServerTaps(fromServerTaps(server)));
+    let taps = fromServerTaps(server);
+    if (draft?.unsaved && draft.taps && mine) {
+      taps = fromServerTaps(draft.taps);
+      this.saver.update(toServerTaps(taps));
+    }
+    const patch: Partial<SessionView> = {
+      editor: newEditor(taps),
+      skipped: new Set(draft?.skipped ?? []),
+      mode: this.startingMode(taps.buddyMark !== null || taps.buddyLine !== null),
+      photo: mine ? { size: mine, key: `${state.version}` } : null,
+    };
+    return patch;
+  }
+
+  private startingMode(buddyMarked: boolean): Mode {
+    return this.role === "seeker" && !buddyMarked ? "buddy" : "landmark";
+  }
+
+  /** Which state's answer to show: a missing answer while one is renewed is held a moment. */
+  private answerPatch(state: SessionState): Partial<SessionView> {
+    const hasAnswer = state.result !== null || state.result_error !== null;
+    const shown = this.view.answerState;
+    if (hasAnswer || !shown || (shown.result === null && shown.result_error === null)) {
+      if (this.holdTimer) clearTimeout(this.holdTimer);
+      this.holdTimer = null;
+      return { answerState: state };
+    }
+    if (!this.holdTimer) {
+      this.holdTimer = setTimeout(() => {
+        this.holdTimer = null;
+        this.set({ answerState: this.view.state });
+      }, ANSWER_HOLD_MS);
+    }
+    return {};
+  }
+
+  private end(ending: Ending): void {
+    if (this.view.ended) return;
+    this.stop();
+    forgetSession();
+    this.set({ ended: ending });
+  }
+
+  // --- the photo ---------------------------------------------------------------------------
+
+  async choosePhoto(file: File): Promise<void> {
+    this.set({ upload: { ...IDLE_UPLOAD, phase: "preparing" } });
+    this.prepared = await preparePhoto(file, browserDecoder());
+    await this.sendPhoto();
+  }
+
+  /** The person read the refusal: back to what was there. */
+  dismissUpload(): void {
+    this.prepared = null;
+    this.set({ upload: IDLE_UPLOAD });
+  }
+
+  async retryUpload(): Promise<void> {
+    if (this.prepared) await this.sendPhoto();
+  }
+
+  private async sendPhoto(): Promise<void> {
+    const prepared = this.prepared;
+    if (!prepared || this.view.ended) return;
+    const progress = (fraction: number): void =>
+      this.set({ upload: { ...IDLE_UPLOAD, phase: "uploading", progress: fraction } });
+    progress(0);
+    try {
+      const stored = await withRetry(
+        () => uploadPhoto(this.view.credentials, prepared.body, prepared.name, progress),
+        { retries: 3, isRetryable, delay: (n) => backoffDelay(n, { baseMs: 1500 }) },
+      );
+      this.prepared = null;
+      // A new photo: the server cleared this phone's taps, and so does the phone.
+      this.saver.saved(toServerTaps(fromServerTaps(null)));
+      const editor = newEditor();
+      this.set({
+        upload: IDLE_UPLOAD,
+        photo: { size: { width: stored.width, height: stored.height }, key: `${Date.now()}` },
+        editor,
+        mode: this.startingMode(false),
+        linePoint: null,
+        save: { status: "saved", message: null },
+      });
+      this.keepDraft();
+      this.refetcher.request();
+    } catch (error) {
+      if (error instanceof ApiError && error.sessionEnded) {
+        this.end("ended");
+        return;
+      }
+      const retryable = isRetryable(error);
+      const message = retryable
+        ? "The photo could not be sent: no connection. Retry when you have a signal."
+        : error instanceof Error
+          ? error.message
+          : String(error);
+      this.set({
+        upload: { ...IDLE_UPLOAD, phase: "failed", message, retryable },
+      });
+    }
+  }
+
+  // --- taps ----------------------------------------------------------------------------------
+
+  private theirIds(): number[] {
+    const state = this.view.state;
+    return state ? landmarkIds(fromServerTaps(state.taps[otherRole(this.role)])) : [];
+  }
+
+  private edit(editor: TapEditor, patch: Partial<SessionView> = {}): void {
+    const changed = editor.taps !== this.view.editor.taps;
+    this.set({ editor, ...patch });
+    if (changed) {
+      this.saver.update(toServerTaps(editor.taps));
+      this.keepDraft();
+    }
+  }
+
+  private keepDraft(): void {
+    saveDraft({
+      session_id: this.view.credentials.session_id,
+      taps: toServerTaps(this.view.editor.taps),
+      unsaved: this.saver.pending,
+      skipped: [...this.view.skipped],
+    });
+  }
+
+  setMode(mode: Mode): void {
+    this.set({ mode, linePoint: null });
+  }
+
+  /** A tap on the photo at `at` (photo pixels, inside the photo): place what the mode says. */
+  tap(at: Point): void {
+    const { editor, mode } = this.view;
+    switch (mode) {
+      case "buddy":
+        this.edit(setBuddyMark(editor, at), { mode: "landmark" });
+        return;
+      case "seeker":
+        this.edit(setSeekerMark(editor, at), { mode: "landmark" });
+        return;
+      case "line": {
+        const first = this.view.linePoint;
+        if (!first) {
+          this.set({ linePoint: at });
+          return;
+        }
+        const line = Math.hypot(first.x - at.x, first.y - at.y) >= 2 ? lineThrough(first, at) : null;
+        if (line) this.edit(setBuddyLine(editor, line), { mode: "landmark", linePoint: null });
+        else this.set({ linePoint: at });
+        return;
+      }
+      case "landmark":
+        this.edit(addLandmark(select(editor, null), at, this.theirIds(), this.view.skipped));
+        return;
+    }
+  }
+
+  moveLandmark(id: number, to: Point): void {
+    this.edit(moveLandmark(this.view.editor, id, to));
+  }
+
+  select(id: number | null): void {
+    this.set({ editor: select(this.view.editor, id) });
+  }
+
+  deleteSelected(): void {
+    const { selected } = this.view.editor;
+    if (selected !== null) this.edit(deleteLandmark(this.view.editor, selected));
+  }
+
+  undo(): void {
+    const editor = undo(this.view.editor);
+    const { buddyMark, buddyLine } = editor.taps;
+    // The buddy mark undone: the next tap marks the buddy again.
+    const unmarked = this.role === "seeker" && !buddyMark && !buddyLine && this.view.mode === "landmark";
+    this.edit(editor, { linePoint: null, ...(unmarked ? { mode: "buddy" as const } : {}) });
+  }
+
+  removeSeekerMark(): void {
+    this.edit(setSeekerMark(this.view.editor, null));
+  }
+
+  /** "I can't see #n here": the next prompt asks for another landmark. */
+  skip(id: number): void {
+    this.set({ skipped: new Set([...this.view.skipped, id]) });
+    this.keepDraft();
+  }
+
+  retrySave(): void {
+    this.saver.retryNow();
+  }
+
+  // --- the end -------------------------------------------------------------------------------
+
+  async deleteNow(): Promise<boolean> {
+    try {
+      await deleteSession(this.view.credentials);
+    } catch (error) {
+      if (!(error instanceof ApiError && error.sessionEnded)) {
+        this.set({ deleteError: error instanceof Error ? error.message : String(error) });
+        return false;
+      }
+    }
+    this.end("deleted");
+    return true;
+  }
+
+  /** Leave this session for a new one: deleted on the server, forgotten here. */
+  abandon(): void {
+    this.stop();
+    forgetSession();
+    void deleteSession(this.view.credentials).catch(() => undefined);
+  }
+
+  clearDeleteError(): void {
+    this.set({ deleteError: null });
+  }
+}

@@ -1,0 +1,142 @@
+/**
+ * Every change of the taps PUTs the whole tap set, without ever losing a tap on a weak
+ * network: one request at a time, the newest tap set wins, failures are retried with
+ * backoff while the taps stay on the phone.
+ */
+
+import { ApiError } from "./api";
+import { backoffDelay } from "./reconnect";
+import type { SessionState, Taps } from "./types";
+
+export type SaveStatus = "saved" | "saving" | "error";
+
+export interface SaveState {
+  status: SaveStatus;
+  /** Why it failed (the server's sentence, or no connection). */
+  message: string | null;
+}
+
+export interface TapSaverOptions {
+  send: (taps: Taps) => Promise<SessionState>;
+  /** The server's state after a saved change (with the answer recomputed). */
+  onSaved: (state: SessionState) => void;
+  onStatus: (state: SaveState) => void;
+  /** The session is gone (401). */
+  onEnded: () => void;
+  /** Wait this long after a change before sending (a burst of changes sends once). */
+  debounceMs?: number;
+  delay?: (attempt: number) => number;
+  setTimer?: (run: () => void, ms: number) => unknown;
+  clearTimer?: (timer: unknown) => void;
+}
+
+export class TapSaver {
+  private wanted: Taps | null = null;
+  private sentJson: string | null = null;
+  private wantedJson: string | null = null;
+  private inFlight = false;
+  private timer: unknown = null;
+  private failures = 0;
+  private state: SaveState = { status: "saved", message: null };
+  private readonly debounceMs: number;
+  private readonly delay: (attempt: number) => number;
+  private readonly setTimer: (run: () => void, ms: number) => unknown;
+  private readonly clearTimer: (timer: unknown) => void;
+
+  constructor(private readonly options: TapSaverOptions) {
+    this.debounceMs = options.debounceMs ?? 120;
+    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 1000, maxMs: 15_000 }));
+    this.setTimer = options.setTimer ?? ((run, ms) => setTimeout(run, ms));
+    this.clearTimer =
+      options.clearTimer ?? ((timer) => clearTimeout(timer as ReturnType<typeof setTimeout>));
+  }
+
+  /** What the server has now (after loading the session): nothing to send for it. */
+  saved(taps: Taps): void {
+    this.sentJson = JSON.stringify(taps);
+  }
+
+  /** The phone's taps changed: send them (soon). */
+  update(taps: Taps): void {
+    this.wanted = taps;
+    this.wantedJson = JSON.stringify(taps);
+    if (this.wantedJson === this.sentJson && !this.inFlight) {
+      this.cancelTimer();
+      this.setState({ status: "saved", message: null });
+      return;
+    }
+    this.setState({ status: "saving", message: null });
+    this.failures = 0;
+    this.schedule(this.debounceMs);
+  }
+
+  /** Whether some taps are not on the server yet. */
+  get pending(): boolean {
+    return this.wantedJson !== null && this.wantedJson !== this.sentJson;
+  }
+
+  /** The network is back (or the person asked): try now. */
+  retryNow(): void {
+    if (this.pending && !this.inFlight) {
+      this.failures = 0;
+      this.setState({ status: "saving", message: null });
+      this.schedule(0);
+    }
+  }
+
+  stop(): void {
+    this.cancelTimer();
+    this.wanted = null;
+    this.wantedJson = null;
+  }
+
+  private setState(state: SaveState): void {
+    if (state.status !== this.state.status || state.message !== this.state.message) {
+      this.state = state;
+      this.options.onStatus(state);
+    }
+  }
+
+  private cancelTimer(): void {
+    if (this.timer !== null) this.clearTimer(this.timer);
+    this.timer = null;
+  }
+
+  private schedule(ms: number): void {
+    this.cancelTimer();
+    this.timer = this.setTimer(() => {
+      this.timer = null;
+      void this.flush();
+    }, ms);
+  }
+
+  private async flush(): Promise<void> {
+    if (this.inFlight || this.wanted === null || !this.pending) return;
+    const taps = this.wanted;
+    const json = this.wantedJson;
+    this.inFlight = true;
+    try {
+      const state = await this.options.send(taps);
+      this.sentJson = json;
+      this.failures = 0;
+      this.inFlight = false;
+      this.options.onSaved(state);
+      if (this.pending) this.schedule(0);
+      else this.setState({ status: "saved", message: null });
+    } catch (error) {
+      this.inFlight = false;
+      const refusal = error instanceof ApiError ? error : new ApiError(0, "network", String(error));
+      if (refusal.sessionEnded) {
+        this.options.onEnded();
+        return;
+      }
+      this.setState({ status: "error", message: refusal.message });
+      if (refusal.retryable) {
+        this.schedule(this.delay(this.failures++));
+      } else if (this.wantedJson !== json) {
+        this.schedule(0); // refused, but the taps changed since: try the new ones
+      }
+      // Refused as it is (say a mark outside the photo): kept on the phone until changed.
+    }
+  }
+}

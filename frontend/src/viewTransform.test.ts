@@ -1,0 +1,163 @@
+import { describe, expect, it } from "vitest";
+import {
+  centreOn,
+  clampTransform,
+  fitTransform,
+  isFitted,
+  isInsidePhoto,
+  panBy,
+  pinchTransform,
+  scaleLimits,
+  toPhoto,
+  toScreen,
+  zoomAbout,
+  type Point,
+} from "./viewTransform";
+
+const phone = { width: 412, height: 560 };
+const photo = { width: 640, height: 480 };
+
+function near(a: Point, b: Point, digits = 6): void {
+  expect(a.x).toBeCloseTo(b.x, digits);
+  expect(a.y).toBeCloseTo(b.y, digits);
+}
+
+describe("the fitted photo", () => {
+  it("fills the width of a portrait phone and is centred vertically", () => {
+    const t = fitTransform(phone, photo);
+    expect(t.scale).toBeCloseTo(412 / 640);
+    expect(t.tx).toBeCloseTo(0);
+    expect(t.ty).toBeCloseTo((560 - 480 * t.scale) / 2);
+    near(toScreen(t, { x: 320, y: 240 }), { x: 206, y: 280 });
+  });
+
+  it("fills the height of a wide view and is centred horizontally", () => {
+    const t = fitTransform({ width: 1000, height: 300 }, photo);
+    expect(t.scale).toBeCloseTo(300 / 480);
+    expect(t.ty).toBeCloseTo(0);
+    expect(t.tx).toBeCloseTo((1000 - 640 * t.scale) / 2);
+  });
+
+  it("counts as fitted, and a zoomed view does not", () => {
+    const t = fitTransform(phone, photo);
+    expect(isFitted(t, phone, photo)).toBe(true);
+    expect(isFitted(zoomAbout(t, 2, { x: 200, y: 280 }, phone, photo), phone, photo)).toBe(false);
+  });
+});
+
+describe("screen <-> photo", () => {
+  it("round-trips any point under any zoom and pan", () => {
+    const transforms = [
+      fitTransform(phone, photo),
+      { scale: 2.5, tx: -300, ty: -120 },
+      { scale: 0.2, tx: 13.5, ty: 400 },
+    ];
+    for (const t of transforms) {
+      for (const p of [
+        { x: 0, y: 0 },
+        { x: 640, y: 480 },
+        { x: 123.4, y: 456.7 },
+      ]) {
+        near(toPhoto(t, toScreen(t, p)), p);
+        near(toScreen(t, toPhoto(t, p)), p);
+      }
+    }
+  });
+
+  it("tells taps on the photo from taps on the margin", () => {
+    expect(isInsidePhoto({ x: 0, y: 0 }, photo)).toBe(true);
+    expect(isInsidePhoto({ x: 640, y: 480 }, photo)).toBe(true);
+    expect(isInsidePhoto({ x: -0.5, y: 10 }, photo)).toBe(false);
+    expect(isInsidePhoto({ x: 10, y: 481 }, photo)).toBe(false);
+    const t = fitTransform(phone, photo);
+    expect(isInsidePhoto(toPhoto(t, { x: 200, y: 20 }), photo)).toBe(false); // black band above
+  });
+});
+
+describe("zoom", () => {
+  it("about a point keeps that point where it is", () => {
+    const t = fitTransform(phone, photo);
+    const centre = { x: 180, y: 300 };
+    const under = toPhoto(t, centre);
+    const zoomed = zoomAbout(t, 3, centre, phone, photo);
+    expect(zoomed.scale).toBeCloseTo(3 * t.scale);
+    near(toScreen(zoomed, under), centre);
+    // and zooming back out the same way returns to the fitted view
+    const back = zoomAbout(zoomed, 1 / 3, centre, phone, photo);
+    expect(back.scale).toBeCloseTo(t.scale);
+  });
+
+  it("stays between the fitted photo and the largest zoom", () => {
+    const t = fitTransform(phone, photo);
+    const { min, max } = scaleLimits(phone, photo);
+    expect(zoomAbout(t, 0.1, { x: 100, y: 100 }, phone, photo).scale).toBeCloseTo(min);
+    expect(zoomAbout(t, 1000, { x: 100, y: 100 }, phone, photo).scale).toBeCloseTo(max);
+    expect(max).toBeGreaterThanOrEqual(2);
+  });
+
+  it("pinching out grows the scale about the fingers' midpoint", () => {
+    const t = fitTransform(phone, photo);
+    const from = [
+      { x: 190, y: 290 },
+      { x: 210, y: 310 },
+    ] as const;
+    const to = [
+      { x: 175, y: 275 },
+      { x: 225, y: 325 },
+    ] as const;
+    const under = toPhoto(t, { x: 200, y: 300 });
+    const pinched = pinchTransform(t, from, to, phone, photo);
+    expect(pinched.scale).toBeCloseTo(t.scale * 2.5);
+    near(toScreen(pinched, under), { x: 200, y: 300 }, 4);
+  });
+
+  it("two fingers moving together pan the zoomed photo", () => {
+    const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
+    const from = [
+      { x: 150, y: 250 },
+      { x: 250, y: 250 },
+    ] as const;
+    const to = [
+      { x: 130, y: 240 },
+      { x: 230, y: 240 },
+    ] as const;
+    const moved = pinchTransform(zoomed, from, to, phone, photo);
+    expect(moved.scale).toBeCloseTo(zoomed.scale);
+    expect(moved.tx).toBeCloseTo(zoomed.tx - 20);
+    expect(moved.ty).toBeCloseTo(zoomed.ty - 10);
+  });
+});
+
+describe("clamping", () => {
+  it("never pans the photo away from the view's edges", () => {
+    const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
+    const farLeft = panBy(zoomed, 10_000, 10_000, phone, photo);
+    expect(farLeft.tx).toBe(0);
+    expect(farLeft.ty).toBe(0);
+    const farRight = panBy(zoomed, -10_000, -10_000, phone, photo);
+    expect(farRight.tx).toBeCloseTo(phone.width - photo.width * zoomed.scale);
+    expect(farRight.ty).toBeCloseTo(phone.height - photo.height * zoomed.scale);
+  });
+
+  it("centres an axis on which the photo is smaller than the view", () => {
+    const t = clampTransform({ scale: 0.7, tx: 999, ty: -999 }, phone, photo);
+    expect(t.ty).toBeCloseTo((phone.height - 480 * 0.7) / 2);
+    expect(t.tx).toBeLessThanOrEqual(0);
+    expect(t.tx).toBeGreaterThanOrEqual(phone.width - 640 * 0.7);
+  });
+
+  it("cannot pan the fitted photo", () => {
+    const t = fitTransform(phone, photo);
+    const panned = panBy(t, 50, 50, phone, photo);
+    expect(panned.tx).toBeCloseTo(t.tx);
+    expect(panned.ty).toBeCloseTo(t.ty);
+  });
+
+  it("centres on a landmark as far as the edges allow", () => {
+    const middle = centreOn({ x: 320, y: 240 }, 3, phone, photo);
+    near(toScreen(middle, { x: 320, y: 240 }), { x: 206, y: 280 });
+    const corner = centreOn({ x: 0, y: 0 }, 3, phone, photo);
+    expect(corner.tx).toBe(0);
+    expect(corner.ty).toBe(0);
+  });
+});
