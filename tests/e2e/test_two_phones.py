@@ -119,6 +119,8 @@ def test_two_phones_find_each_other(
     assert after > 1.3 * before
     tap_landmarks(seeker, truth.landmarks1[4:], first_id=5)
     seeker.screenshot(path=screenshots / "4-taps-seeker.png")
+    expect(buddy.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
+    buddy.screenshot(path=screenshots / "5-find-buddy.png")
 
     buddy_taps(buddy, truth.landmarks2)
     overlay = buddy.get_by_test_id("result-overlay")
@@ -128,9 +130,9 @@ def test_two_phones_find_each_other(
     assert ellipse[0] < 100  # a claim worth checking: a small region...
     assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)  # ...and true
     expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
-    buddy.screenshot(path=screenshots / "5-result-buddy.png")
+    buddy.screenshot(path=screenshots / "6-result-buddy.png")
     expect(seeker.get_by_test_id("seeker-status")).to_be_visible()
-    seeker.screenshot(path=screenshots / "6-result-seeker.png")
+    seeker.screenshot(path=screenshots / "7-result-seeker.png")
 
 
 def test_a_reload_returns_to_the_same_session(
@@ -164,11 +166,11 @@ def test_four_landmarks_show_the_curve(
     expect(buddy.get_by_test_id("result-text")).to_contain_text("curve")
     expect(buddy.get_by_test_id("result-position")).to_have_count(0)
     expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "1")
-    buddy.screenshot(path=screenshots / "7-curve-buddy.png")
+    buddy.screenshot(path=screenshots / "8-curve-buddy.png")
 
 
 def test_delete_now_ends_it_for_both(
-    server: str, pixel: BrowserContext, iphone: BrowserContext
+    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
 ) -> None:
     seeker, buddy = start_and_join(server, pixel, iphone)
     upload(buddy, PAIR[1])
@@ -176,5 +178,6 @@ def test_delete_now_ends_it_for_both(
     buddy.get_by_test_id("confirm-delete").tap()
     expect(buddy.get_by_test_id("ended")).to_be_visible()
     expect(seeker.get_by_test_id("ended")).to_be_visible()
+    seeker.screenshot(path=screenshots / "9-ended-seeker.png")
     seeker.reload()  # nothing to come back to
     expect(seeker.get_by_test_id("start")).to_be_visible()
