@@ -1,6 +1,7 @@
 # The two commands of the README: `make run` and `make test`. Each sets up what it needs
 # from nothing (a virtualenv in .venv, pinned Python and npm packages, the built phone app,
-# Debian's Chromium for the browser tests) and is safe to run again.
+# Debian's Chromium for the browser tests, Debian's PostgreSQL server for the replica
+# tests) and is safe to run again.
 
 PYTHON ?= python3
 NPM ?= npm
@@ -15,12 +16,12 @@ APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/nu
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck frontend-test browser bench bench-api demo clean
+.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api demo clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
 
-test: $(INSTALLED) lint typecheck frontend-test $(APP) browser
+test: $(INSTALLED) lint typecheck frontend-test $(APP) browser postgres
 	$(BIN)/python -m pytest
 
 lint: $(INSTALLED)
@@ -37,6 +38,12 @@ frontend-test: $(NODE_MODULES)
 browser:
 	@command -v chromium >/dev/null || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium )
+
+# Debian's PostgreSQL server binaries: the tests start their own throwaway server from them
+# on a loopback port (tests/postgres.py); the package's own cluster is not used.
+postgres:
+	@ls /usr/lib/postgresql/*/bin/postgres >/dev/null 2>&1 || ( $(SUDO) apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq postgresql )
 
 bench: $(INSTALLED)
 	$(BIN)/python benchmarks/solver.py

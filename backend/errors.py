@@ -2,7 +2,8 @@
 
 ``code`` is stable and machine-readable (phones and scripts branch on it); ``message`` is a
 sentence a person can act on. Services raise :class:`ApiError`; the solver's
-:class:`~shared_solver.SolverError` becomes a 422 with its own code.
+:class:`~shared_solver.SolverError` becomes a 422 with its own code; a database that cannot
+be reached (down, restarting) a 503 ``database_unavailable``, which phones retry.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from backend.storage.database import DatabaseUnavailableError
 from shared_solver import SolverError
 
 log = logging.getLogger(__name__)
@@ -59,6 +61,13 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(SolverError)
     async def solver_error(_: Request, error: SolverError) -> JSONResponse:
         return error_response(422, error.code.value, error.message)
+
+    @app.exception_handler(DatabaseUnavailableError)
+    async def database_unavailable(_: Request, error: DatabaseUnavailableError) -> JSONResponse:
+        log.warning("database unavailable: %s", error)
+        return error_response(
+            503, "database_unavailable", "The database does not answer just now; try again."
+        )
 
     @app.exception_handler(RequestValidationError)
     async def invalid_request(_: Request, error: RequestValidationError) -> JSONResponse:

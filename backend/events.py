@@ -2,8 +2,9 @@
 
 Events live in the database (the store writes each one with its change), so a phone that
 reconnects with ``Last-Event-ID`` gets what it missed, whichever replica it reaches. The
-:class:`Notifier` wakes this process's streams as soon as a change is committed here;
-changes made by other replicas are picked up by polling every ``event_poll_seconds``.
+:class:`Notifier` wakes this process's streams as soon as a change is committed here, and,
+with PostgreSQL, when another replica commits one (the store's LISTEN/NOTIFY). Streams also
+re-read the event table every ``event_poll_seconds``, in case a wake-up was lost.
 """
 
 from __future__ import annotations
@@ -12,41 +13,72 @@ import asyncio
 import json
 import threading
 from collections import defaultdict
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 from typing import Any
 
 # The types the phones react to.
 EVENT_TYPES = ("joined", "photo", "taps", "result", "left", "expired")
 
 
+class Wakeup:
+    """One stream's "something changed" flag, set from any thread."""
+
+    def __init__(self) -> None:
+        self._loop = asyncio.get_running_loop()
+        self._changed = asyncio.Event()
+
+    def set(self) -> None:
+        self._loop.call_soon_threadsafe(self._changed.set)
+
+    def clear(self) -> None:
+        """Before reading: a change from now on makes the next :meth:`wait` return."""
+        self._changed.clear()
+
+    async def wait(self, timeout: float) -> bool:
+        """Whether something changed since :meth:`clear`, waiting at most ``timeout`` s."""
+        with suppress(TimeoutError):
+            await asyncio.wait_for(self._changed.wait(), max(timeout, 0))
+        return self._changed.is_set()
+
+
 class Notifier:
-    """Wakes the event streams of a session, from any thread."""
+    """Wakes the event streams of a session, from any thread.
+
+    A stream subscribes for its whole life (:meth:`subscribe`), so a change that comes
+    while it is busy reading or sending is not lost: its flag stays set until it waits.
+    """
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._waiters: dict[str, set[tuple[asyncio.AbstractEventLoop, asyncio.Event]]] = (
-            defaultdict(set)
-        )
+        self._wakeups: dict[str, set[Wakeup]] = defaultdict(set)
 
     def notify(self, session_id: str) -> None:
         with self._lock:
-            waiters = list(self._waiters.get(session_id, ()))
-        for loop, event in waiters:
-            loop.call_soon_threadsafe(event.set)
+            wakeups = list(self._wakeups.get(session_id, ()))
+        for wakeup in wakeups:
+            wakeup.set()
 
-    async def wait(self, session_id: str, timeout: float) -> None:
-        """Return when the session changes here, or after ``timeout`` seconds."""
-        waiter = (asyncio.get_running_loop(), asyncio.Event())
+    def notify_all(self) -> None:
+        """Wake every stream (after an outage, when some changes may have gone unheard)."""
         with self._lock:
-            self._waiters[session_id].add(waiter)
+            wakeups = [wakeup for session in self._wakeups.values() for wakeup in session]
+        for wakeup in wakeups:
+            wakeup.set()
+
+    @contextmanager
+    def subscribe(self, session_id: str) -> Iterator[Wakeup]:
+        """A flag set by every change of the session, while in the block (in a coroutine)."""
+        wakeup = Wakeup()
+        with self._lock:
+            self._wakeups[session_id].add(wakeup)
         try:
-            await asyncio.wait_for(waiter[1].wait(), timeout)
-        except TimeoutError:
-            pass
+            yield wakeup
         finally:
             with self._lock:
-                self._waiters[session_id].discard(waiter)
-                if not self._waiters[session_id]:
-                    del self._waiters[session_id]
+                self._wakeups[session_id].discard(wakeup)
+                if not self._wakeups[session_id]:
+                    del self._wakeups[session_id]
 
 
 def frame(event_id: int | None, type_: str, data: dict[str, Any]) -> str:

@@ -38,19 +38,26 @@ error is `{"error": {"code": "...", "message": "..."}}`.
 
 
 def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> FastAPI:
-    """The app with its database, event notifier and expiry sweeper."""
+    """The app with its database (migrated at start), event notifier and expiry sweeper."""
     settings = settings or get_settings()
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         engine = make_engine(settings.database_url)
-        service = SessionService(Store(engine), settings, Notifier(), clock)
+        store, notifier = Store(engine), Notifier()
+        service = SessionService(store, settings, notifier, clock)
         app.state.service = service
-        sweeper = asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds))
+        tasks = [asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds))]
+        # PostgreSQL: other replicas' changes wake this one's streams too.
+        if listener := store.change_listener(notifier.notify, notifier.notify_all):
+            tasks.append(asyncio.create_task(listener.run()))
+            await listener.started(timeout=10)  # else /healthz says 503 until it is
         try:
             yield
         finally:
-            sweeper.cancel()
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
             engine.dispose()
 
     app = FastAPI(

@@ -10,6 +10,8 @@ from functools import lru_cache
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from backend.storage.database import is_postgresql
+
 
 class Settings(BaseSettings):
     """Documented in the README's settings table; each field's description is the reference."""
@@ -25,7 +27,8 @@ class Settings(BaseSettings):
     )
     database_url: str = Field(
         "sqlite:///var/buddy.db",
-        description="SQLAlchemy URL; SQLite runs in WAL mode. PostgreSQL for several replicas.",
+        description="SQLAlchemy URL: SQLite (WAL mode) for one process, PostgreSQL "
+        "(`postgresql+psycopg://user:password@host:5432/buddy`) for several replicas.",
     )
     public_url: str | None = Field(
         None,
@@ -66,9 +69,20 @@ class Settings(BaseSettings):
     keepalive_seconds: float = Field(
         15.0, gt=0, description="Interval of keepalive pings on the event stream."
     )
-    event_poll_seconds: float = Field(
-        1.0, gt=0, description="How often an event stream looks for events from other replicas."
+    event_poll_seconds: float | None = Field(
+        None,
+        gt=0,
+        description="How often an event stream re-reads the event table, in case a wake-up "
+        "was lost (default: 1 s on SQLite; 10 s on PostgreSQL, whose notifications wake the "
+        "streams of every replica at once).",
     )
+
+    @property
+    def poll_seconds(self) -> float:
+        """``event_poll_seconds``, or its default for the database in use."""
+        if self.event_poll_seconds is not None:
+            return self.event_poll_seconds
+        return 10.0 if is_postgresql(self.database_url) else 1.0
 
 
 @lru_cache

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import AsyncIterator, Awaitable, Callable
+from contextlib import suppress
 from datetime import timedelta
 from typing import Literal, TypeVar
 
@@ -18,7 +19,8 @@ from backend.errors import ApiError
 from backend.events import PING, RETRY, Notifier, frame
 from backend.photos import crop_around, decode_photo, encode_image, store_photo
 from backend.settings import Settings
-from backend.storage.repository import Participant, Snapshot, Store
+from backend.storage.database import DatabaseUnavailableError
+from backend.storage.repository import Event, Participant, Snapshot, Store
 from shared_solver import SolveResult, draw_overlay
 
 from . import answer as answers
@@ -339,44 +341,72 @@ class SessionService:
         """Server-sent events for one phone: 'this changed', pings, and presence.
 
         Replays what came after ``last_event_id`` (a reconnecting phone). Marks the phone
-        online while connected, offline (and tells the other phone) when it goes.
+        online while connected, offline (and tells the other phone) when it goes. Reads the
+        events when woken by a change (here or, on PostgreSQL, on any replica) and every
+        ``poll_seconds`` in case a wake-up was lost; pings in between. Outlives an outage of
+        the database: it keeps pinging and reads again when woken after it.
         """
         session_id, role = participant.session_id, participant.role
+        keepalive, poll = self.settings.keepalive_seconds, self.settings.poll_seconds
         yield RETRY
-        await self._in_thread(self.store.seen, participant, self.clock())
-        snapshot = await self._in_thread(self.store.snapshot, session_id)
-        if snapshot is None:
-            yield frame(None, "expired", {"reason": "The session ended."})
-            return
-        after = snapshot.last_event_id if last_event_id is None else last_event_id
-        await self._presence(session_id, "joined", {"role": role, "online": True})
+        # Subscribed before reading anything: a change committed after that read wakes it.
+        with self.notifier.subscribe(session_id) as changed:
+            try:
+                await self._in_thread(self.store.seen, participant, self.clock())
+                snapshot = await self._in_thread(self.store.snapshot, session_id)
+            except DatabaseUnavailableError:
+                return  # gone since this request was authenticated: the phone retries
+            if snapshot is None:
+                yield frame(None, "expired", {"reason": "The session ended."})
+                return
+            after = snapshot.last_event_id if last_event_id is None else last_event_id
+            await self._presence(session_id, "joined", {"role": role, "online": True})
+            try:
+                pinged = time.monotonic()
+                while True:
+                    changed.clear()  # a change from now on wakes the wait below
+                    events = await self._events_after(session_id, after)
+                    polled = time.monotonic()
+                    # Gone (deleted, swept), or past its time and about to be swept: it ended.
+                    if events is None or self.clock() >= snapshot.expires_at:
+                        yield frame(None, "expired", {"reason": "The session ended."})
+                        return
+                    for event in events:
+                        yield frame(event.id, event.type, event.data)
+                        after = event.id
+                    # Until a change, the next poll or the end of the session; pinging.
+                    while True:
+                        if await disconnected():
+                            return
+                        now = time.monotonic()
+                        if now - pinged >= keepalive:
+                            yield PING
+                            pinged = now
+                            with suppress(DatabaseUnavailableError):
+                                await self._in_thread(self.store.seen, participant, self.clock())
+                        if now - polled >= poll or self.clock() >= snapshot.expires_at:
+                            break
+                        if await changed.wait(min(pinged + keepalive, polled + poll) - now):
+                            break
+            finally:
+                # Shielded: the client is gone and the stream is being cancelled.
+                with anyio.CancelScope(shield=True), suppress(DatabaseUnavailableError):
+                    await self._in_thread(self.store.seen, participant, None)
+                    await self._presence(session_id, "left", {"role": role, "online": False})
+
+    async def _events_after(self, session_id: str, after: int) -> list[Event] | None:
+        """The session's events after ``after`` (None: it is gone); none while the database
+        is unavailable (when it is back, every stream is woken to read again)."""
         try:
-            pinged = time.monotonic()
-            while True:
-                events = await self._in_thread(self.store.events_after, session_id, after)
-                # Gone (deleted, swept), or past its time and about to be swept: it ended.
-                if events is None or self.clock() >= snapshot.expires_at:
-                    yield frame(None, "expired", {"reason": "The session ended."})
-                    return
-                for event in events:
-                    yield frame(event.id, event.type, event.data)
-                    after = event.id
-                if await disconnected():
-                    return
-                if time.monotonic() - pinged >= self.settings.keepalive_seconds:
-                    yield PING
-                    pinged = time.monotonic()
-                    await self._in_thread(self.store.seen, participant, self.clock())
-                wait = min(self.settings.event_poll_seconds, self.settings.keepalive_seconds)
-                await self.notifier.wait(session_id, wait)
-        finally:
-            # Shielded: the client is gone and the stream is being cancelled.
-            with anyio.CancelScope(shield=True):
-                await self._in_thread(self.store.seen, participant, None)
-                await self._presence(session_id, "left", {"role": role, "online": False})
+            return await self._in_thread(self.store.events_after, session_id, after)
+        except DatabaseUnavailableError:
+            return []
 
     async def _presence(self, session_id: str, type_: str, data: dict[str, object]) -> None:
-        await self._in_thread(self.store.publish, session_id, type_, data, self.clock())
+        """Tell the other phone this one came or went (skipped while the database is away:
+        presence also shows in the state, from ``seen``)."""
+        with suppress(DatabaseUnavailableError):
+            await self._in_thread(self.store.publish, session_id, type_, data, self.clock())
         self.notifier.notify(session_id)
 
     @staticmethod

@@ -1,23 +1,29 @@
 """The store: what the session service reads and writes, one transaction per method.
 
 Every change a phone should see bumps the session's version and writes its event in the
-same transaction, so the version, the change and "this changed" never disagree. Methods
-are synchronous (SQLAlchemy); the service runs them off the event loop.
+same transaction, so the version, the change and "this changed" never disagree; on
+PostgreSQL that transaction also notifies every replica (``pg_notify``). Methods are
+synchronous (SQLAlchemy); the service runs them off the event loop. Any of them raises
+:class:`DatabaseUnavailableError` while the database cannot be reached.
 """
 
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
 from sqlalchemy import Engine, delete, func, select, update
-from sqlalchemy.exc import IntegrityError
+from sqlalchemy.exc import IntegrityError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
 from backend.photos import StoredPhoto
 
+from .database import DatabaseUnavailableError, unavailable
+from .notifications import CHANNEL, ChangeListener
 from .tables import EventRow, OverlayRow, ParticipantRow, PhotoRow, SessionRow
 
 ROLES = ("seeker", "buddy")
@@ -75,7 +81,30 @@ class Store:
 
     def __init__(self, engine: Engine) -> None:
         self.engine = engine
-        self._transaction = sessionmaker(engine, expire_on_commit=False)
+        self._sessions = sessionmaker(engine, expire_on_commit=False)
+        self._listener: ChangeListener | None = None
+
+    def change_listener(
+        self, changed: Callable[[str], None], missed: Callable[[], None]
+    ) -> ChangeListener | None:
+        """What makes ``changed(session_id)`` be called whenever any replica changes a
+        session, and ``missed()`` when some such calls may have been lost (an outage): on
+        PostgreSQL a LISTEN/NOTIFY listener for the caller to run as a task. None with
+        SQLite (one process: the service's own notifications and polling suffice)."""
+        if self.engine.dialect.name == "postgresql" and self._listener is None:
+            self._listener = ChangeListener(self.engine.url, changed, missed)
+        return self._listener
+
+    @contextmanager
+    def _read(self) -> Iterator[Session]:
+        with _translated(), self._sessions() as tx:
+            yield tx
+
+    @contextmanager
+    def _write(self) -> Iterator[Session]:
+        """A transaction, committed at the end of the block (rolled back on an error)."""
+        with _translated(), self._sessions.begin() as tx:
+            yield tx
 
     # --- sessions ------------------------------------------------------------------------
 
@@ -91,7 +120,7 @@ class Store:
     ) -> bool:
         """A new session with its seeker; False if the join code is taken (draw another)."""
         try:
-            with self._transaction.begin() as tx:
+            with self._write() as tx:
                 tx.add(
                     SessionRow(
                         id=session_id,
@@ -121,7 +150,7 @@ class Store:
         The code is cleared in the same statement that finds it, so it works once even when
         two phones race for it.
         """
-        with self._transaction.begin() as tx:
+        with self._write() as tx:
             session_id = tx.scalar(
                 update(SessionRow)
                 .where(
@@ -144,7 +173,7 @@ class Store:
 
     def participant(self, token_hash: str, now: datetime) -> Participant | None:
         """Who holds this token, if its session is still alive."""
-        with self._transaction() as tx:
+        with self._read() as tx:
             row = tx.execute(
                 select(ParticipantRow.session_id, ParticipantRow.role)
                 .join(SessionRow, SessionRow.id == ParticipantRow.session_id)
@@ -153,7 +182,7 @@ class Store:
         return None if row is None else Participant(row.session_id, row.role)
 
     def snapshot(self, session_id: str) -> Snapshot | None:
-        with self._transaction() as tx:
+        with self._read() as tx:
             session = tx.get(SessionRow, session_id)
             if session is None:
                 return None
@@ -195,17 +224,21 @@ class Store:
 
     def delete(self, session_id: str) -> bool:
         """Delete the session and everything of it at once (photos, taps, events)."""
-        with self._transaction.begin() as tx:
+        with self._write() as tx:
             deleted = tx.execute(delete(SessionRow).where(SessionRow.id == session_id))
+            _notify(tx, session_id)
         return bool(deleted.rowcount)  # type: ignore[attr-defined]
 
     def delete_expired(self, now: datetime) -> list[str]:
-        with self._transaction.begin() as tx:
-            return list(
+        with self._write() as tx:
+            gone = list(
                 tx.scalars(
                     delete(SessionRow).where(SessionRow.expires_at <= now).returning(SessionRow.id)
                 )
             )
+            for session_id in gone:
+                _notify(tx, session_id)
+        return gone
 
     # --- photos and taps -----------------------------------------------------------------
 
@@ -213,7 +246,10 @@ class Store:
         """Store (or replace) a participant's photo. Its old taps meant points of the old
         photo, so they are cleared, and so is the answer. Returns the new version."""
         sid, role = participant.session_id, participant.role
-        with self._transaction.begin() as tx:
+        with self._write() as tx:
+            # The version first: it locks the session, so a second upload of the same photo
+            # waits here and then finds this one's row instead of inserting it twice.
+            version = _bump(tx, sid)
             tx.merge(
                 PhotoRow(
                     session_id=sid,
@@ -230,12 +266,11 @@ class Store:
                 .where(ParticipantRow.session_id == sid, ParticipantRow.role == role)
                 .values(taps=None)
             )
-            version = _bump(tx, sid)
             _event(tx, sid, "photo", {"role": role, "version": version}, now)
         return version
 
     def photo(self, session_id: str, role: str) -> StoredPhoto | None:
-        with self._transaction() as tx:
+        with self._read() as tx:
             row = tx.get(PhotoRow, (session_id, role))
             if row is None:
                 return None
@@ -244,7 +279,7 @@ class Store:
     def put_taps(self, participant: Participant, taps: dict[str, Any], now: datetime) -> int:
         """Replace a participant's taps (the answer goes with the old ones); the new version."""
         sid, role = participant.session_id, participant.role
-        with self._transaction.begin() as tx:
+        with self._write() as tx:
             tx.execute(
                 update(ParticipantRow)
                 .where(ParticipantRow.session_id == sid, ParticipantRow.role == role)
@@ -259,7 +294,7 @@ class Store:
     ) -> bool:
         """Record the answer computed for ``version``, unless the session has moved on since
         (then a newer computation records its own)."""
-        with self._transaction.begin() as tx:
+        with self._write() as tx:
             done = tx.execute(
                 update(SessionRow)
                 .where(SessionRow.id == session_id, SessionRow.version == version)
@@ -275,13 +310,13 @@ class Store:
     # --- overlays ------------------------------------------------------------------------
 
     def overlay(self, session_id: str, role: str, fmt: str, version: int) -> bytes | None:
-        with self._transaction() as tx:
+        with self._read() as tx:
             row = tx.get(OverlayRow, (session_id, role, fmt))
             return row.data if row is not None and row.version == version else None
 
     def put_overlay(self, session_id: str, role: str, fmt: str, version: int, data: bytes) -> None:
         try:
-            with self._transaction.begin() as tx:
+            with self._write() as tx:
                 tx.merge(
                     OverlayRow(
                         session_id=session_id, role=role, format=fmt, version=version, data=data
@@ -294,7 +329,7 @@ class Store:
 
     def seen(self, participant: Participant, when: datetime | None) -> None:
         """Mark a participant's event stream alive at ``when`` (None: gone offline)."""
-        with self._transaction.begin() as tx:
+        with self._write() as tx:
             tx.execute(
                 update(ParticipantRow)
                 .where(
@@ -307,14 +342,14 @@ class Store:
     def publish(self, session_id: str, type_: str, data: dict[str, Any], now: datetime) -> None:
         """An event with no change of state (presence)."""
         try:
-            with self._transaction.begin() as tx:
+            with self._write() as tx:
                 _event(tx, session_id, type_, data, now)
         except IntegrityError:
             pass  # the session is gone
 
     def events_after(self, session_id: str, after: int) -> list[Event] | None:
         """Events of a session newer than ``after``; None when the session is gone."""
-        with self._transaction() as tx:
+        with self._read() as tx:
             if tx.get(SessionRow, session_id) is None:
                 return None
             rows = tx.execute(
@@ -325,8 +360,10 @@ class Store:
             return [Event(row.id, row.type, json.loads(row.data)) for row in rows]
 
     def healthy(self) -> bool:
-        with self._transaction() as tx:
-            return tx.scalar(select(1)) == 1
+        """The database answers, and changes from other replicas are being heard."""
+        listening = self._listener is None or self._listener.listening
+        with self._read() as tx:
+            return tx.scalar(select(1)) == 1 and listening
 
 
 def _bump(tx: Session, session_id: str) -> int:
@@ -342,4 +379,31 @@ def _bump(tx: Session, session_id: str) -> int:
 
 
 def _event(tx: Session, session_id: str, type_: str, data: dict[str, Any], now: datetime) -> None:
+    """Write an event, and tell every replica's streams of its session.
+
+    The session's row is locked first (a no-op where the transaction changed it already):
+    then the events of a session commit in the order of their ids, and a stream that has
+    read up to an id never misses a smaller one committed later by a concurrent writer.
+    """
+    tx.execute(
+        select(SessionRow.id).where(SessionRow.id == session_id).with_for_update(key_share=True)
+    )
     tx.add(EventRow(session_id=session_id, type=type_, data=json.dumps(data), created_at=now))
+    _notify(tx, session_id)
+
+
+def _notify(tx: Session, session_id: str) -> None:
+    """PostgreSQL: wake every replica's streams of this session, at commit."""
+    if tx.get_bind().dialect.name == "postgresql":
+        tx.execute(select(func.pg_notify(CHANNEL, session_id)))
+
+
+@contextmanager
+def _translated() -> Iterator[None]:
+    """An unreachable database as :class:`DatabaseUnavailableError`; other errors unchanged."""
+    try:
+        yield
+    except SQLAlchemyError as error:
+        if unavailable(error):
+            raise DatabaseUnavailableError(str(error).splitlines()[0]) from error
+        raise

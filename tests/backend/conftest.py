@@ -1,18 +1,59 @@
-"""Fixtures for the service: an app on a fresh SQLite file, a controllable clock, and two
+"""Fixtures for the service: an app on a fresh database (each test runs twice: on a SQLite
+file, and on a database of a throwaway PostgreSQL server), a controllable clock, and two
 phones already paired."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from contextlib import AbstractContextManager, contextmanager
 from pathlib import Path
 
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
 from phones import TEMPLE, FakeClock, Phone
+from postgres import PostgresServer
+from sqlalchemy.engine import make_url
 
 from backend.main import create_app
 from backend.settings import Settings
+from backend.storage.database import make_engine
+
+
+@pytest.fixture(scope="session")
+def postgres() -> Iterator[PostgresServer]:
+    """One PostgreSQL server for the whole run, on a free loopback port."""
+    server = PostgresServer()
+    try:
+        server.start()
+        yield server
+    finally:
+        server.remove()
+
+
+@pytest.fixture(scope="session")
+def migrated_database(postgres: PostgresServer) -> str:
+    """A database migrated once, which each test's database is a copy of."""
+    name = postgres.create_database()
+    make_engine(postgres.url(name)).dispose()
+    return name
+
+
+@pytest.fixture
+def fresh_postgres_url(postgres: PostgresServer, migrated_database: str) -> Iterator[str]:
+    """The URL of a new, migrated PostgreSQL database, dropped after the test."""
+    name = postgres.create_database(template=migrated_database)
+    yield postgres.url(name)
+    postgres.drop_database(name)
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
+    """A fresh database, SQLite or PostgreSQL: every test using it runs on both."""
+    if request.param == "sqlite":
+        return f"sqlite:///{tmp_path / 'database' / 'buddy.db'}"
+    url: str = request.getfixturevalue("fresh_postgres_url")
+    return url
 
 
 @pytest.fixture
@@ -21,8 +62,37 @@ def clock() -> FakeClock:
 
 
 @pytest.fixture
-def settings(tmp_path: Path) -> Settings:
-    return Settings(database_url=f"sqlite:///{tmp_path / 'buddy.db'}", sweep_interval_seconds=3600)
+def database_outage(
+    request: pytest.FixtureRequest, app: FastAPI, database_url: str
+) -> Callable[[], AbstractContextManager[None]]:
+    """``with database_outage():`` the app's database cannot be reached. PostgreSQL: the
+    server is stopped, then started again. SQLite: its folder is moved away (the app's
+    pooled connections closed first), then back."""
+
+    @contextmanager
+    def outage() -> Iterator[None]:
+        if database_url.startswith("postgresql"):
+            postgres: PostgresServer = request.getfixturevalue("postgres")
+            postgres.stop()
+            try:
+                yield
+            finally:
+                postgres.start()
+            return
+        folder = Path(make_url(database_url).database or "").parent
+        app.state.service.store.engine.dispose()
+        folder.rename(folder.with_name("away"))
+        try:
+            yield
+        finally:
+            folder.with_name("away").rename(folder)
+
+    return outage
+
+
+@pytest.fixture
+def settings(database_url: str) -> Settings:
+    return Settings(database_url=database_url, sweep_interval_seconds=3600)
 
 
 @pytest.fixture

@@ -1,7 +1,11 @@
-"""Test helpers for the service: the temple data, a controllable clock, one phone's API."""
+"""Test helpers for the service: the temple data, a controllable clock, one phone's API,
+a phone's event stream followed over HTTP."""
 
 from __future__ import annotations
 
+import json
+import threading
+import time
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 from pathlib import Path
@@ -54,3 +58,63 @@ class Phone:
 
     def tap(self, **taps: Any) -> httpx.Response:
         return self.client.put(self.url("/taps"), headers=self.auth, json=taps)
+
+
+class Listener(threading.Thread):
+    """A phone's event stream over HTTP, collected in the background until 'expired'.
+
+    ``last_event_id``: resume after it, as a reconnecting EventSource does.
+    """
+
+    def __init__(
+        self, base: str, session_id: str, token: str, last_event_id: int | None = None
+    ) -> None:
+        super().__init__(daemon=True)
+        self.url = f"{base}/api/sessions/{session_id}/events"
+        self.token = token
+        self.headers = {} if last_event_id is None else {"Last-Event-ID": str(last_event_id)}
+        self.types: list[str] = []
+        self.ids: list[int] = []
+        self.data: list[dict[str, Any]] = []
+        self.pings = 0
+        self.ended = threading.Event()
+        self.dropped = False
+
+    def run(self) -> None:
+        try:
+            with httpx.stream(
+                "GET", self.url, params={"token": self.token}, headers=self.headers, timeout=30
+            ) as answer:
+                assert answer.status_code == 200
+                assert answer.headers["content-type"].startswith("text/event-stream")
+                for line in answer.iter_lines():
+                    if line.startswith("event: "):
+                        self.types.append(line[7:])
+                        if line == "event: expired":
+                            break
+                    elif line.startswith("id: "):
+                        self.ids.append(int(line[4:]))
+                    elif line.startswith("data: "):
+                        self.data.append(json.loads(line[6:]))
+                    elif line == ": ping":
+                        self.pings += 1
+        except httpx.TransportError:
+            self.dropped = True  # the server went away (a phone's EventSource reconnects)
+        self.ended.set()
+
+    def count(self, type_: str, **data: Any) -> int:
+        """How many ``type_`` events have arrived whose data has these items."""
+        return sum(
+            1
+            for kind, body in zip(self.types, self.data, strict=False)
+            if kind == type_ and data.items() <= body.items()
+        )
+
+    def wait_for(self, type_: str, count: int = 1, seconds: float = 15, **data: Any) -> None:
+        """Until ``count`` such events have arrived; fails after ``seconds``."""
+        deadline = time.monotonic() + seconds
+        while self.count(type_, **data) < count:
+            assert time.monotonic() < deadline, (
+                f"no {type_} {data} event in {seconds} s; got {self.types}"
+            )
+            time.sleep(0.02)

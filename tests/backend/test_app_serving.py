@@ -10,19 +10,19 @@ from backend.main import create_app
 from backend.settings import Settings
 
 
-def app_client(tmp_path: Path, built: bool) -> TestClient:
+def app_client(tmp_path: Path, database_url: str, built: bool) -> TestClient:
     dist = tmp_path / "dist"
     if built:
         (dist / "assets").mkdir(parents=True)
         (dist / "index.html").write_text("<!doctype html><title>Buddy Search</title><div id=app>")
         (dist / "assets" / "app.js").write_text("console.log('buddy')")
         (dist / "icon.svg").write_text("<svg/>")
-    settings = Settings(database_url=f"sqlite:///{tmp_path / 'a.db'}", frontend_dir=str(dist))
+    settings = Settings(database_url=database_url, frontend_dir=str(dist))
     return TestClient(create_app(settings))
 
 
-def test_the_app_and_its_routes_are_served(tmp_path: Path) -> None:
-    with app_client(tmp_path, built=True) as client:
+def test_the_app_and_its_routes_are_served(tmp_path: Path, database_url: str) -> None:
+    with app_client(tmp_path, database_url, built=True) as client:
         for path in ("/", "/join/482913", "/s"):
             page = client.get(path)
             assert page.status_code == 200
@@ -38,8 +38,8 @@ def test_the_app_and_its_routes_are_served(tmp_path: Path) -> None:
         assert client.get("/healthz").json() == {"status": "ok"}
 
 
-def test_an_unbuilt_app_says_how_to_build_it(tmp_path: Path) -> None:
-    with app_client(tmp_path, built=False) as client:
+def test_an_unbuilt_app_says_how_to_build_it(tmp_path: Path, database_url: str) -> None:
+    with app_client(tmp_path, database_url, built=False) as client:
         page = client.get("/")
         assert page.status_code == 200
         assert "make run" in page.text

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+import time
+from collections.abc import AsyncIterator, Callable
+from contextlib import AbstractContextManager
 
+import anyio
 import pytest
 from fastapi.testclient import TestClient
 from phones import FakeClock, Phone
@@ -110,3 +113,46 @@ async def test_a_stream_ends_when_its_session_runs_out_of_time(
     clock.advance(7200)
     rest = [chunk async for chunk in stream]
     assert _type(rest[-1]) == "expired"
+
+
+@pytest.mark.anyio
+async def test_while_the_database_is_away_requests_get_503_and_streams_keep_pinging(
+    client: TestClient,
+    seeker: Phone,
+    buddy: Phone,
+    temple_photos: tuple[bytes, bytes],
+    database_outage: Callable[[], AbstractContextManager[None]],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    service = client.app.state.service  # type: ignore[attr-defined]
+    quick = {"keepalive_seconds": 0.2, "event_poll_seconds": 0.2}  # it keeps trying to read
+    monkeypatch.setattr(service, "settings", service.settings.model_copy(update=quick))
+    stream = service.events(Participant(seeker.session_id, "seeker"), None, connected)
+    await anext(stream)
+    await next_frames(stream, "joined")
+
+    with database_outage():
+        for response in (
+            client.get(seeker.url(), headers=seeker.auth),
+            client.post("/api/sessions"),
+            buddy.upload(temple_photos[1], "b.png"),
+            client.get("/healthz"),
+        ):
+            assert response.status_code == 503, response.text
+            assert response.json() == {
+                "error": {
+                    "code": "database_unavailable",
+                    "message": response.json()["error"]["message"],
+                }
+            }
+        pings = [await anext(stream) for _ in range(5)]  # 1 s: the stream lives on
+        assert pings == [": ping\n\n"] * 5
+
+    deadline = time.monotonic() + 20
+    while client.get("/healthz").status_code != 200:  # PostgreSQL: listening again too
+        assert time.monotonic() < deadline, "the app did not recover"
+        await anyio.sleep(0.1)
+    assert buddy.upload(temple_photos[1], "b.png").status_code == 200
+    frames = await next_frames(stream, "photo")
+    assert '"role": "buddy"' in frames[-1]
+    await stream.aclose()

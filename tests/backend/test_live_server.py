@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -11,7 +10,7 @@ import cv2
 import httpx
 import numpy as np
 import pytest
-from phones import TEMPLE
+from phones import TEMPLE, Listener
 
 from backend.loopback import serve
 from shared_solver.scenes import tap, temple_scene
@@ -21,45 +20,10 @@ PAIR = ("templeSR0003", "templeSR0006")
 
 
 @pytest.fixture
-def server(tmp_path: Path) -> Iterator[str]:
+def server(tmp_path: Path, database_url: str) -> Iterator[str]:
     """uvicorn serving backend.main:app on a free loopback port; its base URL."""
-    with serve(tmp_path) as running:
+    with serve(tmp_path, {"BUDDY_DATABASE_URL": database_url}) as running:
         yield running.base_url
-
-
-class Listener(threading.Thread):
-    """A phone's event stream, collected in the background until 'expired'."""
-
-    def __init__(self, base: str, session_id: str, token: str) -> None:
-        super().__init__(daemon=True)
-        self.url = f"{base}/api/sessions/{session_id}/events"
-        self.token = token
-        self.types: list[str] = []
-        self.ids: list[int] = []
-        self.ended = threading.Event()
-        self.dropped = False
-
-    def run(self) -> None:
-        try:
-            with httpx.stream("GET", self.url, params={"token": self.token}, timeout=30) as answer:
-                assert answer.status_code == 200
-                assert answer.headers["content-type"].startswith("text/event-stream")
-                for line in answer.iter_lines():
-                    if line.startswith("event: "):
-                        self.types.append(line[7:])
-                        if line == "event: expired":
-                            break
-                    elif line.startswith("id: "):
-                        self.ids.append(int(line[4:]))
-        except httpx.TransportError:
-            self.dropped = True  # the server went away (a phone's EventSource reconnects)
-        self.ended.set()
-
-    def wait_for(self, type_: str, count: int = 1, seconds: float = 15) -> None:
-        deadline = time.monotonic() + seconds
-        while self.types.count(type_) < count:
-            assert time.monotonic() < deadline, f"no {type_} event; got {self.types}"
-            time.sleep(0.05)
 
 
 def test_two_phones_find_each_other(server: str) -> None:
@@ -128,9 +92,12 @@ def test_two_phones_find_each_other(server: str) -> None:
     assert seeker_events.types[-1] == buddy_events.types[-1] == "expired"
 
 
-def test_the_server_stops_promptly_with_a_phone_listening(tmp_path: Path) -> None:
-    """Event streams never end by themselves: stopping (SIGTERM) must not wait for them."""
-    with serve(tmp_path) as running:
+def test_the_server_stops_promptly_with_a_phone_listening(
+    tmp_path: Path, database_url: str
+) -> None:
+    """Event streams never end by themselves: stopping (SIGTERM) must not wait for them
+    (nor for the thread listening to PostgreSQL)."""
+    with serve(tmp_path, {"BUDDY_DATABASE_URL": database_url}) as running:
         created = httpx.post(f"{running.base_url}/api/sessions").json()
         listener = Listener(running.base_url, created["session_id"], created["token"])
         listener.start()

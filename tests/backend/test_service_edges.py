@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from fastapi.testclient import TestClient
 
 from backend.main import create_app
@@ -19,9 +17,9 @@ def test_unknown_routes_and_methods_answer_in_the_one_shape(client: TestClient) 
     assert wrong.json()["error"]["code"] == "method_not_allowed"
 
 
-def test_bodies_over_the_limit_are_refused(tmp_path: Path) -> None:
-    settings = Settings(database_url=f"sqlite:///{tmp_path / 'b.db'}", max_body_bytes=1000)
-    with TestClient(create_app(settings)) as client:
+def test_bodies_over_the_limit_are_refused(settings: Settings) -> None:
+    limited = settings.model_copy(update={"max_body_bytes": 1000})
+    with TestClient(create_app(limited)) as client:
         declared = client.post(
             "/api/solve", content=b"x" * 2000, headers={"Content-Type": "application/json"}
         )

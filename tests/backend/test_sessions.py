@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import zlib
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 from typing import Any
 
 import cv2
@@ -10,7 +12,10 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 from phones import TEMPLE, FakeClock, Phone
+from sqlalchemy import text
 
+from backend.sessions.tokens import token_hash
+from backend.storage.tables import Base
 from shared_solver.scenes import Scene, temple_scene
 
 
@@ -109,10 +114,20 @@ def test_a_token_opens_only_its_own_session(client: TestClient, seeker: Phone) -
 
 
 def test_tokens_are_stored_hashed(client: TestClient, seeker: Phone) -> None:
-    app_state = client.app.state  # type: ignore[attr-defined]
-    database = app_state.service.store.engine.url.database
-    with open(database, "rb") as raw:
-        assert seeker.token.encode() not in raw.read()
+    engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
+    if engine.dialect.name == "sqlite":  # the file and its write-ahead log, byte for byte
+        files = (Path(engine.url.database), Path(f"{engine.url.database}-wal"))
+        stored = b"".join(file.read_bytes() for file in files if file.exists())
+    else:  # every row of every table, as PostgreSQL writes it out
+        with engine.connect() as connection:
+            rows = [
+                row
+                for table in Base.metadata.sorted_tables
+                for row in connection.scalars(text(f"SELECT t::text FROM {table.name} t"))
+            ]
+        stored = "\n".join(rows).encode()
+    assert token_hash(seeker.token).encode() in stored
+    assert seeker.token.encode() not in stored
 
 
 # --- photos and taps ------------------------------------------------------------------
@@ -371,3 +386,13 @@ def test_each_phone_can_fetch_the_stored_photos(
         assert stored.headers["content-type"] == "image/jpeg"
         image = cv2.imdecode(np.frombuffer(stored.content, np.uint8), cv2.IMREAD_COLOR)
         assert image.shape == (480, 640, 3)
+
+
+def test_the_same_photo_sent_twice_at_once_is_stored_once(
+    seeker: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """A phone on a bad network retries an upload that is still in flight."""
+    with ThreadPoolExecutor(4) as pool:
+        answers = list(pool.map(lambda _: seeker.upload(temple_photos[0], "p.png"), range(4)))
+    assert [a.status_code for a in answers] == [200] * 4
+    assert seeker.state()["photos"]["seeker"] == {"width": 640, "height": 480, "scale": 1.0}

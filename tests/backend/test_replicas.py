@@ -1,0 +1,273 @@
+"""Two replicas of the app, two uvicorn processes sharing nothing but a PostgreSQL server:
+the two phones on different replicas find each other, events cross between them, and the
+search survives a replica killed and PostgreSQL restarted."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections.abc import Iterator
+from contextlib import ExitStack
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import httpx
+import numpy as np
+import psycopg
+import pytest
+from phones import TEMPLE, Listener
+from postgres import PostgresServer
+
+from backend.loopback import Server, serve
+from backend.storage.database import database_url
+from shared_solver.scenes import Scene, Taps, tap, temple_scene
+from shared_solver.uncertainty import contains
+
+PAIR = ("templeSR0003", "templeSR0006")
+# Streams read the event table only when woken or every 30 s, and ping every 20 s: an
+# event that reaches the other replica's stream within CROSSING_SECONDS was carried by
+# LISTEN/NOTIFY, nothing else.
+REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"}
+CROSSING_SECONDS = 2.0
+
+
+@pytest.fixture
+def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, Server]]:
+    """Two uvicorn processes on two loopback ports, on the same PostgreSQL database."""
+    environment = {"BUDDY_DATABASE_URL": fresh_postgres_url, **REPLICA_ENV}
+    with ExitStack() as stack:
+        servers = []
+        for name in ("replica1", "replica2"):
+            (tmp_path / name).mkdir()
+            servers.append(stack.enter_context(serve(tmp_path / name, environment)))
+        yield servers[0], servers[1]
+
+
+@dataclass
+class HttpPhone:
+    """One phone over HTTP, talking to whichever replica ``base`` is."""
+
+    base: str
+    session_id: str
+    token: str
+
+    @property
+    def auth(self) -> dict[str, str]:
+        return {"Authorization": f"Bearer {self.token}"}
+
+    def call(self, method: str, rest: str = "", **options: Any) -> httpx.Response:
+        url = f"{self.base}/api/sessions/{self.session_id}{rest}"
+        return httpx.request(method, url, headers=self.auth, timeout=30, **options)
+
+    def state(self) -> dict[str, Any]:
+        answer = self.call("GET")
+        assert answer.status_code == 200, answer.text
+        return dict(answer.json())
+
+    def upload(self, name: str) -> None:
+        photo = (TEMPLE / f"{name}.png").read_bytes()
+        answer = self.call("PUT", "/photo", files={"photo": (f"{name}.png", photo, "image/png")})
+        assert answer.status_code == 200, answer.text
+
+    def tap(self, **taps: Any) -> dict[str, Any]:
+        answer = self.call("PUT", "/taps", json=taps)
+        assert answer.status_code == 200, answer.text
+        return dict(answer.json())
+
+    def listen(self, last_event_id: int | None = None) -> Listener:
+        listener = Listener(self.base, self.session_id, self.token, last_event_id)
+        listener.start()
+        return listener
+
+
+def pair(seeker_replica: Server, buddy_replica: Server) -> tuple[HttpPhone, HttpPhone]:
+    """The seeker starts on one replica, the buddy joins with the code on the other."""
+    created = httpx.post(f"{seeker_replica.base_url}/api/sessions", timeout=30).json()
+    joined = httpx.post(
+        f"{buddy_replica.base_url}/api/sessions/join",
+        json={"code": created["join_code"]},
+        timeout=30,
+    )
+    assert joined.status_code == 200, joined.text
+    sid = created["session_id"]
+    return (
+        HttpPhone(seeker_replica.base_url, sid, created["token"]),
+        HttpPhone(buddy_replica.base_url, sid, joined.json()["token"]),
+    )
+
+
+def follow(seeker: HttpPhone, buddy: HttpPhone) -> tuple[Listener, Listener]:
+    """Both phones' event streams, each on its own replica. The seeker's is open first (its
+    own presence came back), so the buddy coming online is news to it, from the other
+    replica."""
+    seeker_events = seeker.listen()
+    seeker_events.wait_for("joined", role="seeker", online=True)
+    buddy_events = buddy.listen()
+    buddy_events.wait_for("joined", role="buddy", online=True)
+    seeker_events.wait_for("joined", role="buddy", online=True, seconds=CROSSING_SECONDS)
+    return seeker_events, buddy_events
+
+
+def scene_taps() -> tuple[Scene, Taps]:
+    rng = np.random.default_rng(6)
+    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
+    return scene, tap(scene, 1.0, rng)
+
+
+def landmarks(points: np.ndarray) -> list[dict[str, float]]:
+    return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
+
+
+def test_phones_on_two_replicas_find_each_other(
+    replicas: tuple[Server, Server], postgres: PostgresServer, fresh_postgres_url: str
+) -> None:
+    one, two = replicas
+    seeker, buddy = pair(one, two)
+    seeker_events, buddy_events = follow(seeker, buddy)
+
+    seeker.upload(PAIR[0])
+    buddy_events.wait_for("photo", role="seeker", seconds=CROSSING_SECONDS)
+    buddy.upload(PAIR[1])
+    seeker_events.wait_for("photo", role="buddy", seconds=CROSSING_SECONDS)
+
+    scene, taps = scene_taps()
+    seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
+    buddy_events.wait_for("taps", role="seeker", seconds=CROSSING_SECONDS)
+    state = buddy.tap(landmarks=landmarks(taps.landmarks2))  # answered on replica 2
+    seeker_events.wait_for("taps", role="buddy", seconds=CROSSING_SECONDS)
+    seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+
+    # Both replicas tell the same state, drawn from the same photos.
+    result = state["result"]
+    covariance = np.array(result["uncertainty"]["covariance"])
+    assert contains(np.array(result["epipole2"]), covariance, scene.epipole2)
+    assert seeker.state()["result"] == result
+    assert (
+        seeker.call("GET", "/overlay/buddy").content == buddy.call("GET", "/overlay/buddy").content
+    )
+
+    # The control: an event written without a notification waits for the poll (30 s), and
+    # the notification alone delivers it at once. So NOTIFY is what carried the others.
+    with psycopg.connect(conninfo(fresh_postgres_url), autocommit=True) as database:
+        database.execute(
+            "INSERT INTO events (session_id, type, data, created_at) "
+            "VALUES (%s, 'joined', '{\"role\": \"control\"}', now())",
+            (seeker.session_id,),
+        )
+        time.sleep(CROSSING_SECONDS)
+        assert seeker_events.count("joined", role="control") == 0
+        database.execute("SELECT pg_notify('buddy_events', %s)", (seeker.session_id,))
+        seeker_events.wait_for("joined", role="control", seconds=CROSSING_SECONDS)
+
+    # Delete now, on replica 1: the buddy's stream on replica 2 ends at once.
+    assert seeker.call("DELETE").status_code == 204
+    assert buddy_events.ended.wait(CROSSING_SECONDS)
+    assert buddy_events.types[-1] == "expired"
+    assert seeker_events.ended.wait(CROSSING_SECONDS)
+    assert seeker_events.ids == sorted(seeker_events.ids)
+    assert not seeker_events.dropped
+    assert not buddy_events.dropped
+
+
+def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
+    one, two = replicas
+    seeker, buddy = pair(one, two)
+    seeker_events, buddy_events = follow(seeker, buddy)
+    seeker.upload(PAIR[0])
+    buddy.upload(PAIR[1])
+    scene, taps = scene_taps()
+    seeker_taps = {"landmarks": landmarks(taps.landmarks1), "epipole1": taps.epipole1.tolist()}
+    seeker.tap(**seeker_taps)
+    buddy.tap(landmarks=landmarks(taps.landmarks2[:3]))  # the buddy is still tapping
+    seeker_events.wait_for("taps", role="buddy", seconds=CROSSING_SECONDS)
+    before = seeker.state()
+    photos = [seeker.call("GET", f"/photo/{role}").content for role in ("seeker", "buddy")]
+
+    os.kill(one.pid, signal.SIGKILL)  # no shutdown, no goodbye
+    assert seeker_events.ended.wait(10)
+    assert seeker_events.dropped
+
+    # The seeker's phone reconnects to replica 2 with the same token, from its last event.
+    seeker.base = two.base_url
+    after = seeker.state()
+    assert after["photos"] == before["photos"]
+    assert [seeker.call("GET", f"/photo/{role}").content for role in ("seeker", "buddy")] == photos
+    assert after["taps"] == before["taps"]
+    assert after["taps"]["seeker"]["landmarks"] == seeker_taps["landmarks"]
+    assert after["version"] == before["version"]
+    resumed = seeker.listen(last_event_id=seeker_events.ids[-1])
+    resumed.wait_for("joined", role="seeker", online=True)
+
+    state = buddy.tap(landmarks=landmarks(taps.landmarks2))  # the buddy finishes
+    resumed.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+    result = seeker.state()["result"]
+    covariance = np.array(result["uncertainty"]["covariance"])
+    assert contains(np.array(result["epipole2"]), covariance, scene.epipole2)
+    # The buddy's stream on replica 2 never noticed: still the same connection.
+    buddy_events.wait_for("result", version=state["version"])
+    assert not buddy_events.dropped
+    assert not buddy_events.ended.is_set()
+    end(seeker, resumed, buddy_events)
+
+
+def test_postgresql_restarted_mid_search(
+    replicas: tuple[Server, Server], postgres: PostgresServer
+) -> None:
+    one, two = replicas
+    seeker, buddy = pair(one, two)
+    seeker_events, buddy_events = follow(seeker, buddy)
+    seeker.upload(PAIR[0])
+    buddy.upload(PAIR[1])
+    scene, taps = scene_taps()
+    seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
+    buddy_events.wait_for("taps", role="seeker")
+
+    postgres.stop()
+    try:
+        for replica, phone in ((one, seeker), (two, buddy)):
+            health = httpx.get(f"{replica.base_url}/healthz", timeout=10)
+            refused = phone.call("PUT", "/taps", json={"landmarks": []})
+            for answer in (health, phone.call("GET"), refused):
+                assert answer.status_code == 503, answer.text
+                assert answer.json()["error"]["code"] == "database_unavailable"
+    finally:
+        postgres.start()
+
+    for replica in (one, two):  # back by themselves, neither restarted
+        wait_until_healthy(replica)
+        os.kill(replica.pid, 0)  # still the same process
+    state = buddy.tap(landmarks=landmarks(taps.landmarks2))
+    seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+    assert seeker.state()["result"] == state["result"]
+    assert contains(
+        np.array(state["result"]["epipole2"]),
+        np.array(state["result"]["uncertainty"]["covariance"]),
+        scene.epipole2,
+    )
+    # The streams lived through it: the same connections, no reconnection.
+    for events in (seeker_events, buddy_events):
+        assert not events.dropped
+        assert not events.ended.is_set()
+    end(buddy, seeker_events, buddy_events)
+
+
+def end(phone: HttpPhone, *streams: Listener) -> None:
+    """Delete now: every stream of the session ends (and the replicas stop promptly)."""
+    assert phone.call("DELETE").status_code == 204
+    for stream in streams:
+        assert stream.ended.wait(CROSSING_SECONDS)
+        assert stream.types[-1] == "expired"
+
+
+def wait_until_healthy(replica: Server, seconds: float = 20) -> None:
+    deadline = time.monotonic() + seconds
+    while httpx.get(f"{replica.base_url}/healthz", timeout=10).status_code != 200:
+        assert time.monotonic() < deadline, f"{replica.base_url} did not recover"
+        time.sleep(0.1)
+
+
+def conninfo(url: str) -> str:
+    """libpq's form of an app database URL."""
+    return database_url(url).set(drivername="postgresql").render_as_string(hide_password=False)
