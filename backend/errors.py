@@ -24,19 +24,24 @@ log = logging.getLogger(__name__)
 class ApiError(Exception):
     """An answer other than success, with its HTTP status, stable code and sentence."""
 
-    def __init__(self, status: int, code: str, message: str) -> None:
+    def __init__(
+        self, status: int, code: str, message: str, headers: dict[str, str] | None = None
+    ) -> None:
         super().__init__(message)
         self.status = status
         self.code = code
         self.message = message
+        self.headers = headers  # e.g. Retry-After
 
 
 def error_body(code: str, message: str) -> dict[str, dict[str, str]]:
     return {"error": {"code": code, "message": message}}
 
 
-def error_response(status: int, code: str, message: str) -> JSONResponse:
-    return JSONResponse(error_body(code, message), status_code=status)
+def error_response(
+    status: int, code: str, message: str, headers: dict[str, str] | None = None
+) -> JSONResponse:
+    return JSONResponse(error_body(code, message), status_code=status, headers=headers)
 
 
 # Codes for the statuses Starlette itself answers (unknown route, wrong method, ...).
@@ -48,6 +53,7 @@ _HTTP_CODES = {
     405: "method_not_allowed",
     413: "body_too_large",
     415: "unsupported_media_type",
+    429: "too_many_attempts",
 }
 
 
@@ -56,7 +62,7 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(ApiError)
     async def api_error(_: Request, error: ApiError) -> JSONResponse:
-        return error_response(error.status, error.code, error.message)
+        return error_response(error.status, error.code, error.message, error.headers)
 
     @app.exception_handler(SolverError)
     async def solver_error(_: Request, error: SolverError) -> JSONResponse:
@@ -79,11 +85,16 @@ def install(app: FastAPI) -> None:
         message = error.detail if isinstance(error.detail, str) else "Request refused."
         if error.status_code == 404 and message == "Not Found":
             message = "There is nothing at this address."
+        elif error.status_code == 400 and message == "There was an error parsing the body":
+            # FastAPI's words for a body that is not UTF-8 JSON or not a multipart form.
+            message = "The body cannot be read: send JSON (UTF-8) or a form, as documented."
         return error_response(error.status_code, code, message)
 
     @app.exception_handler(Exception)
-    async def unexpected(_: Request, error: Exception) -> JSONResponse:
-        log.exception("unexpected error", exc_info=error)
+    async def unexpected(request: Request, error: Exception) -> JSONResponse:
+        # The route's template, never the URL: pictures and event streams carry ?token=.
+        route = getattr(request.scope.get("route"), "path", "an unknown route")
+        log.exception("unexpected error in %s %s", request.method, route, exc_info=error)
         return error_response(500, "internal_error", "Something went wrong on our side; try again.")
 
 

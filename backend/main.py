@@ -8,11 +8,12 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 from typing import Any
 
+import fastapi_offline
 from fastapi import FastAPI
 from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
-from swagger_ui_bundle import swagger_ui_path
+from starlette.types import ASGIApp
 
 from backend import __version__, errors
 from backend.api import responses as api_responses
@@ -21,6 +22,7 @@ from backend.clock import Clock, utc_now
 from backend.events import Notifier
 from backend.frontend import serve_app
 from backend.limits import BodySizeLimit, ServerTiming
+from backend.security import SecurityHeaders, inline_script_policy, quiet_chatty_loggers
 from backend.sessions.service import SessionService
 from backend.settings import Settings, get_settings
 from backend.storage.database import make_engine
@@ -40,11 +42,12 @@ error is `{"error": {"code": "...", "message": "..."}}`.
 def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> FastAPI:
     """The app with its database (migrated at start), event notifier and expiry sweeper."""
     settings = settings or get_settings()
+    quiet_chatty_loggers()
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         engine = make_engine(settings.database_url)
-        store, notifier = Store(engine), Notifier()
+        store, notifier = Store(engine, settings.erase_interval_seconds), Notifier()
         service = SessionService(store, settings, notifier, clock)
         app.state.service = service
         tasks = [asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds))]
@@ -72,6 +75,7 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
     errors.install(app)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.add_middleware(ServerTiming)
+    _secure_every_response(app)
     for module in (solver, sessions, events, health):
         app.include_router(module.router)
     _serve_docs(app)
@@ -80,6 +84,17 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
     # Last: its catch-all route goes after the API. Relative to the project, not the cwd.
     serve_app(app, frontend if frontend.is_absolute() else ROOT / frontend)
     return app
+
+
+def _secure_every_response(app: FastAPI) -> None:
+    """Security headers on every response, outermost: also on the 500s that Starlette's
+    error middleware answers outside ``add_middleware``'s reach."""
+    build = app.build_middleware_stack
+
+    def build_middleware_stack() -> ASGIApp:
+        return SecurityHeaders(build())
+
+    app.build_middleware_stack = build_middleware_stack  # type: ignore[method-assign]
 
 
 def _document_refusals(app: FastAPI) -> None:
@@ -104,18 +119,26 @@ def _document_refusals(app: FastAPI) -> None:
 
 
 def _serve_docs(app: FastAPI) -> None:
-    """Swagger UI at /docs, from the swagger-ui-bundle package instead of a CDN."""
-    app.mount("/docs-assets", StaticFiles(directory=swagger_ui_path), name="docs-assets")
+    """Swagger UI at /docs, from the fastapi-offline package's copy (Swagger UI 5, which
+    reads OpenAPI 3.1) instead of a CDN."""
+    assets = Path(fastapi_offline.__file__).parent / "static"
+    app.mount("/docs-assets", StaticFiles(directory=assets), name="docs-assets")
+
+    page = get_swagger_ui_html(
+        openapi_url="/openapi.json",
+        title="Buddy Search API",
+        swagger_js_url="/docs-assets/swagger-ui-bundle.js",
+        swagger_css_url="/docs-assets/swagger-ui.css",
+        swagger_favicon_url="/docs-assets/favicon.png",
+        # Not the default validator badge, an image from validator.swagger.io.
+        swagger_ui_parameters={"validatorUrl": None},
+    ).body
+    # Swagger UI starts from one inline script: its page alone allows it, by its hash.
+    policy = inline_script_policy(bytes(page).decode())
 
     @app.get("/docs", include_in_schema=False)
     def docs() -> HTMLResponse:
-        return get_swagger_ui_html(
-            openapi_url="/openapi.json",
-            title="Buddy Search API",
-            swagger_js_url="/docs-assets/swagger-ui-bundle.js",
-            swagger_css_url="/docs-assets/swagger-ui.css",
-            swagger_favicon_url="/docs-assets/favicon-32x32.png",
-        )
+        return HTMLResponse(page, headers={"Content-Security-Policy": policy})
 
 
 app = create_app()

@@ -42,6 +42,33 @@ class Settings(BaseSettings):
     sweep_interval_seconds: float = Field(
         60.0, gt=0, description="How often expired sessions are deleted."
     )
+    join_attempt_window_seconds: int = Field(
+        600,
+        gt=0,
+        description="The window in which failed joins (a wrong, used or expired code) are "
+        "counted, sliding.",
+    )
+    join_failures_per_client: int = Field(
+        60,
+        gt=0,
+        description="Failed joins one client address (an IPv4 address, an IPv6 /64) may make "
+        "per window; then it gets 429 `too_many_attempts` until the oldest leaves the window. "
+        "Successful joins are not counted.",
+    )
+    join_failures_overall: int = Field(
+        600,
+        gt=0,
+        description="Failed joins of all clients together per window above which guessing "
+        "is taken to be under way: then an address that has failed in the window waits until "
+        "its failures leave it; an address that has not may still try.",
+    )
+    erase_interval_seconds: float = Field(
+        600.0,
+        ge=0,
+        description="PostgreSQL: how often at most the bytes of deleted sessions are erased "
+        "from the database's files (VACUUM FULL, by the sweeper; it locks each table while it "
+        "copies it, about 1 s per 100 MB of photos kept). SQLite erases them at once.",
+    )
     max_body_bytes: int = Field(30_000_000, gt=0, description="Largest request body accepted.")
     max_photo_pixels: int = Field(
         50_000_000,

@@ -31,9 +31,16 @@ def base_url(request: Request) -> str:
     return str(request.base_url)
 
 
+def client_address(request: Request) -> str:
+    """The caller's address: the direct peer, or, through a trusted proxy, the address
+    the proxy says it serves (uvicorn's ``--proxy-headers`` rewrites ``request.client``)."""
+    return request.client.host if request.client else ""
+
+
 ServiceDep = Annotated[SessionService, Depends(get_service)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 BaseUrlDep = Annotated[str, Depends(base_url)]
+ClientAddressDep = Annotated[str, Depends(client_address)]
 Credentials = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
 
 

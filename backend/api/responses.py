@@ -4,10 +4,36 @@ from __future__ import annotations
 
 from typing import Any
 
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class ErrorDetail(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    code: str = Field(description="Stable and machine-readable: branch on it.")
+    message: str = Field(description="A sentence a person can act on.")
+
+
+class Error(BaseModel):
+    """The one shape of every refusal."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    error: ErrorDetail
+
+
+# Where a response is documented after FastAPI built the schema (see main.py), the shape is
+# referred to by name: every route documenting errors() puts it among the components.
+ERROR_SCHEMA: dict[str, Any] = {"$ref": "#/components/schemas/Error"}
+
 
 def errors(*statuses: int) -> dict[int | str, dict[str, Any]]:
     """``responses=`` entries documenting the one error shape for these statuses."""
     examples = {
+        400: (
+            "bad_request",
+            "The body cannot be read: send JSON (UTF-8) or a form, as documented.",
+        ),
         401: ("unauthorized", "Send your session token: 'Authorization: Bearer <token>'."),
         403: ("forbidden", "This token opens another session."),
         404: ("session_not_found", "This session has ended."),
@@ -15,11 +41,13 @@ def errors(*statuses: int) -> dict[int | str, dict[str, Any]]:
         413: ("photo_too_large", "This photo has 60 megapixels; at most 50 are accepted."),
         415: ("unsupported_media_type", "Send a JPEG, PNG, WebP or HEIC photo."),
         422: ("too_few_landmarks", "4 landmarks marked; at least 5 are needed here."),
+        429: ("too_many_attempts", "Too many wrong codes from here; wait a minute."),
         503: ("database_unavailable", "The database does not answer."),
     }
     return {
         status: {
             "description": "Refused",
+            "model": Error,
             "content": {
                 "application/json": {
                     "example": {
@@ -36,12 +64,13 @@ INVALID_REQUEST: dict[str, Any] = {
     "description": "The request does not have the documented form.",
     "content": {
         "application/json": {
+            "schema": ERROR_SCHEMA,
             "example": {
                 "error": {
                     "code": "invalid_request",
                     "message": "landmarks.0.x: Input should be a valid number.",
                 }
-            }
+            },
         }
     },
 }

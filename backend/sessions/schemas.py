@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, Strict
 
 Role = Literal["seeker", "buddy"]
+# A JSON number, nothing that converts to one ("12", true): a tap sent as anything else is
+# a bug of the client, refused rather than guessed at.
+Coordinate = Annotated[float, Strict()]
 
 
 class CreatedSession(BaseModel):
@@ -50,9 +53,11 @@ class PhotoStored(BaseModel):
 class LandmarkTap(BaseModel):
     model_config = ConfigDict(allow_inf_nan=False)
 
-    id: int = Field(ge=1, le=999, description="The number people see; #3 here is #3 there.")
-    x: float = Field(description="Stored-photo pixels, x right.")
-    y: float = Field(description="Stored-photo pixels, y down.")
+    id: int = Field(
+        ge=1, le=999, strict=True, description="The number people see; #3 here is #3 there."
+    )
+    x: Coordinate = Field(description="Stored-photo pixels, x right.")
+    y: Coordinate = Field(description="Stored-photo pixels, y down.")
 
 
 class Taps(BaseModel):
@@ -75,14 +80,14 @@ class Taps(BaseModel):
     )
 
     landmarks: list[LandmarkTap] = Field(default_factory=list)
-    epipole1: tuple[float, float] | None = Field(
+    epipole1: tuple[Coordinate, Coordinate] | None = Field(
         None, description="Seeker only: where the buddy is in the seeker's photo."
     )
-    epipolar_line1: tuple[float, float, float] | None = Field(
+    epipolar_line1: tuple[Coordinate, Coordinate, Coordinate] | None = Field(
         None,
         description="Seeker only, instead of epipole1: a line a*x + b*y + c = 0 through the buddy.",
     )
-    epipole2: tuple[float, float] | None = Field(
+    epipole2: tuple[Coordinate, Coordinate] | None = Field(
         None, description="Buddy only, optional: where the seeker is in the buddy's photo."
     )
 

@@ -24,6 +24,7 @@ from backend.storage.repository import Event, Participant, Snapshot, Store
 from shared_solver import SolveResult, draw_overlay
 
 from . import answer as answers
+from . import guessing
 from .schemas import (
     CreatedSession,
     Joined,
@@ -80,11 +81,15 @@ class SessionService:
                 )
         raise ApiError(503, "busy", "Too many searches are starting at once; try again.")
 
-    def join(self, code: str) -> Joined:
-        """The buddy joins with the seeker's code (once, while it is valid)."""
+    def join(self, code: str, client: str = "") -> Joined:
+        """The buddy joins with the seeker's code (once, while it is valid). ``client``:
+        the caller's address, whose failures are limited (:mod:`.guessing`)."""
+        now = self.clock()
+        guessing.refuse_guessing(self.store, client, now, self.settings)
         token = new_token()
-        session_id = self.store.join(code, buddy_token_hash=token_hash(token), now=self.clock())
+        session_id = self.store.join(code, buddy_token_hash=token_hash(token), now=now)
         if session_id is None:
+            guessing.record_failure(self.store, client, now)
             raise ApiError(
                 404,
                 "invalid_join_code",
@@ -236,7 +241,8 @@ class SessionService:
                 raise ApiError(
                     422,
                     "outside_photo",
-                    f"{name.capitalize()} at ({x:.0f}, {y:.0f}) is outside the photo "
+                    # :g, not :.0f: 1e308 is shown as such, not as 309 digits.
+                    f"{name.capitalize()} at ({x:g}, {y:g}) is outside the photo "
                     f"({width} x {height} px).",
                 )
 
@@ -321,10 +327,15 @@ class SessionService:
         self.notifier.notify(participant.session_id)
 
     def sweep(self) -> list[str]:
-        """Delete the sessions whose time is up; their streams say 'expired'."""
-        gone = self.store.delete_expired(self.clock())
+        """Delete the sessions whose time is up (their streams say 'expired') and failed
+        joins out of every window; erase what deletions left in the database's files."""
+        now = self.clock()
+        gone = self.store.delete_expired(now)
         for session_id in gone:
             self.notifier.notify(session_id)
+        window = timedelta(seconds=self.settings.join_attempt_window_seconds)
+        self.store.forget_join_failures(now - window)
+        self.store.erase_deleted()  # deleted bytes out of the database's files
         return gone
 
     def healthy(self) -> bool:

@@ -11,7 +11,8 @@ def new_session_id() -> str:
 
 
 def new_token() -> str:
-    """A bearer token: 256 random bits, URL-safe."""
+    """A bearer token: 256 random bits (twice the 128 that put guessing out of reach),
+    URL-safe, 43 characters."""
     return secrets.token_urlsafe(32)
 
 
@@ -21,5 +22,6 @@ def token_hash(token: str) -> str:
 
 
 def new_join_code() -> str:
-    """Six digits, easy to read out across a venue."""
+    """Six digits, easy to read out across a venue: only 10^6 codes, so guessing them is
+    limited (:mod:`.guessing`)."""
     return f"{secrets.randbelow(1_000_000):06d}"

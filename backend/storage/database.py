@@ -17,6 +17,8 @@ MIGRATIONS = Path(__file__).with_name("migrations")
 INITIAL_REVISION = "0001"
 # Any constant: replicas starting at once take turns to migrate (pg_advisory_xact_lock).
 MIGRATION_LOCK = 0x42554459
+# How long a SQLite statement waits for the writer's lock before it fails.
+SQLITE_BUSY_TIMEOUT_MS = 30_000
 
 
 class DatabaseUnavailableError(Exception):
@@ -52,16 +54,24 @@ def connect(url: str) -> Engine:
 
     SQLite: the file's folder is created; WAL lets readers (event streams) run beside the
     writer; ``synchronous=FULL`` so an acknowledged write survives a crash or power cut;
-    foreign keys on, so deleting a session deletes all of it. PostgreSQL: each pooled
-    connection is checked before use (pre-ping), so the pool recovers by itself after the
-    server restarts; connecting gives up after 5 s, so requests fail fast while it is down.
+    foreign keys on, so deleting a session deletes all of it; ``secure_delete`` overwrites
+    what is deleted with zeros (a deleted photo's pages are otherwise left as they were in
+    the file's free pages). PostgreSQL: each pooled connection is checked before use
+    (pre-ping), so the pool recovers by itself after the server restarts; connecting gives
+    up after 5 s, so requests fail fast while it is down.
+
+    Either way statement parameters (join codes, taps, photos) are left out of errors and
+    logs (``hide_parameters``): an error's message is logged.
     """
     parsed = database_url(url)
     if parsed.get_backend_name() == "sqlite":
         if parsed.database and parsed.database != ":memory:":
             Path(parsed.database).parent.mkdir(parents=True, exist_ok=True)
         engine = create_engine(
-            parsed, connect_args={"check_same_thread": False, "timeout": 30}, pool_pre_ping=True
+            parsed,
+            connect_args={"check_same_thread": False, "timeout": 30},
+            pool_pre_ping=True,
+            hide_parameters=True,
         )
         event.listen(engine, "connect", _sqlite_pragmas)
         return engine
@@ -73,6 +83,7 @@ def connect(url: str) -> Engine:
         max_overflow=10,
         pool_timeout=10,
         connect_args={"connect_timeout": 5},
+        hide_parameters=True,
     )
 
 
@@ -106,5 +117,6 @@ def _sqlite_pragmas(connection: Any, _: Any) -> None:
     cursor.execute("PRAGMA journal_mode=WAL")
     cursor.execute("PRAGMA synchronous=FULL")
     cursor.execute("PRAGMA foreign_keys=ON")
-    cursor.execute("PRAGMA busy_timeout=30000")
+    cursor.execute(f"PRAGMA busy_timeout={SQLITE_BUSY_TIMEOUT_MS}")
+    cursor.execute("PRAGMA secure_delete=ON")
     cursor.close()

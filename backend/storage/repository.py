@@ -9,24 +9,33 @@ synchronous (SQLAlchemy); the service runs them off the event loop. Any of them 
 
 from __future__ import annotations
 
+import hmac
 import json
+import math
+import time
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
 from sqlalchemy import Engine, delete, func, select, update
-from sqlalchemy.exc import IntegrityError, SQLAlchemyError
+from sqlalchemy.exc import DBAPIError, IntegrityError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
 from backend.photos import StoredPhoto
 
-from .database import DatabaseUnavailableError, unavailable
+from .database import SQLITE_BUSY_TIMEOUT_MS, DatabaseUnavailableError, unavailable
 from .notifications import CHANNEL, ChangeListener
-from .tables import EventRow, OverlayRow, ParticipantRow, PhotoRow, SessionRow
+from .tables import EventRow, JoinFailureRow, OverlayRow, ParticipantRow, PhotoRow, SessionRow
 
 ROLES = ("seeker", "buddy")
+# What VACUUM FULL rewrites: everything of a session, and the failed joins' addresses.
+_ERASED_TABLES = ("sessions", "participants", "photos", "overlays", "events", "join_failures")
+_CHECKPOINT_WAIT_MS = 1000
+# VACUUM FULL waits this long for each table's lock (queueing requests behind it), then gives
+# up until the next sweep.
+_ERASE_LOCK_TIMEOUT = "5s"
 
 
 @dataclass(frozen=True)
@@ -70,6 +79,17 @@ class Snapshot:
 
 
 @dataclass(frozen=True)
+class JoinFailures:
+    """Failed joins in the counting window: one client's (how many, the oldest, the
+    newest) and everyone's."""
+
+    client: int
+    client_oldest: datetime | None
+    client_newest: datetime | None
+    overall: int
+
+
+@dataclass(frozen=True)
 class Event:
     id: int
     type: str
@@ -79,10 +99,13 @@ class Event:
 class Store:
     """All persistence of the service, behind intention-named methods."""
 
-    def __init__(self, engine: Engine) -> None:
+    def __init__(self, engine: Engine, erase_interval_seconds: float = 0.0) -> None:
         self.engine = engine
         self._sessions = sessionmaker(engine, expire_on_commit=False)
         self._listener: ChangeListener | None = None
+        self._erase_pending = False
+        self._erase_interval = erase_interval_seconds
+        self._erased_at = -math.inf  # time.monotonic() of the last VACUUM FULL
 
     def change_listener(
         self, changed: Callable[[str], None], missed: Callable[[], None]
@@ -172,14 +195,22 @@ class Store:
         return session_id
 
     def participant(self, token_hash: str, now: datetime) -> Participant | None:
-        """Who holds this token, if its session is still alive."""
+        """Who holds this token, if its session is still alive.
+
+        Found by the token's hash (an index lookup: its timing could tell at most how much
+        of a hash matches a stored one, and a hash tells nothing of the token that makes
+        it); the row found is then compared again in constant time, so that no comparison
+        of this code depends on where two values first differ.
+        """
         with self._read() as tx:
             row = tx.execute(
-                select(ParticipantRow.session_id, ParticipantRow.role)
+                select(ParticipantRow.session_id, ParticipantRow.role, ParticipantRow.token_hash)
                 .join(SessionRow, SessionRow.id == ParticipantRow.session_id)
                 .where(ParticipantRow.token_hash == token_hash, SessionRow.expires_at > now)
             ).first()
-        return None if row is None else Participant(row.session_id, row.role)
+        if row is None or not hmac.compare_digest(row.token_hash, token_hash):
+            return None
+        return Participant(row.session_id, row.role)
 
     def snapshot(self, session_id: str) -> Snapshot | None:
         with self._read() as tx:
@@ -227,6 +258,8 @@ class Store:
         with self._write() as tx:
             deleted = tx.execute(delete(SessionRow).where(SessionRow.id == session_id))
             _notify(tx, session_id)
+        if deleted.rowcount:  # type: ignore[attr-defined]
+            self._deleted()
         return bool(deleted.rowcount)  # type: ignore[attr-defined]
 
     def delete_expired(self, now: datetime) -> list[str]:
@@ -238,7 +271,109 @@ class Store:
             )
             for session_id in gone:
                 _notify(tx, session_id)
+        if gone:
+            self._deleted()
         return gone
+
+    # --- erasing what deleted rows leave behind ------------------------------------------
+
+    def _deleted(self) -> None:
+        self._erase_pending = True
+        if self.engine.dialect.name == "sqlite":
+            # Cheap with one process: at once. The deletion is done whatever happens here;
+            # an erase that fails is the sweeper's to do again.
+            with suppress(DatabaseUnavailableError):
+                self.erase_deleted()
+
+    def erase_deleted(self) -> bool:
+        """Erase from the database's files the bytes of rows deleted since the last call
+        (photos, overlays, taps, answers): True when nothing is left to erase, False when
+        it must be tried again (the sweeper does, at its next round).
+
+        SQLite overwrites deleted content with zeros as it deletes (``secure_delete``), but
+        its write-ahead log still holds every page as it was written, photos included: the
+        log is checkpointed into the database and truncated to nothing. That waits 1 s at
+        most for readers on an older snapshot, and otherwise fails, to be tried again.
+
+        PostgreSQL leaves a deleted row's bytes in its table's files, and VACUUM only marks
+        that space free: VACUUM FULL copies each table without them into a new file and
+        deletes the old one. It locks each table while copying it (requests touching it
+        wait: about 1 s per 100 MB of photos kept), so it runs at most once per
+        ``erase_interval_seconds``, after deletions only, giving up a table's lock after
+        5 s. PostgreSQL's own write-ahead log (``pg_wal``, and any archive or backup of it)
+        keeps the bytes until it is recycled: outside the app's reach.
+        """
+        if not self._erase_pending:
+            return True
+        postgresql = self.engine.dialect.name == "postgresql"
+        if postgresql and time.monotonic() - self._erased_at < self._erase_interval:
+            return False
+        self._erase_pending = False  # a deletion from here on sets it again
+        try:
+            done = self._vacuum_full() if postgresql else self._checkpoint()
+        except BaseException:
+            self._erase_pending = True
+            raise
+        if postgresql:
+            self._erased_at = time.monotonic()
+        if not done:
+            self._erase_pending = True
+        return done
+
+    def _checkpoint(self) -> bool:
+        with _translated(), self.engine.connect() as connection:
+            autocommit = connection.execution_options(isolation_level="AUTOCOMMIT")
+            # Waits for readers 1 s, not the usual 30: "Delete now" answers at once, and a
+            # checkpoint that could not finish is done by the next sweep.
+            autocommit.exec_driver_sql(f"PRAGMA busy_timeout={_CHECKPOINT_WAIT_MS}")
+            try:
+                busy, _, _ = autocommit.exec_driver_sql("PRAGMA wal_checkpoint(TRUNCATE)").one()
+            finally:
+                autocommit.exec_driver_sql(f"PRAGMA busy_timeout={SQLITE_BUSY_TIMEOUT_MS}")
+        return busy == 0
+
+    def _vacuum_full(self) -> bool:
+        with _translated(), self.engine.connect() as connection:
+            autocommit = connection.execution_options(isolation_level="AUTOCOMMIT")
+            autocommit.exec_driver_sql(f"SET lock_timeout = '{_ERASE_LOCK_TIMEOUT}'")
+            try:
+                autocommit.exec_driver_sql(f"VACUUM (FULL) {', '.join(_ERASED_TABLES)}")
+            except DBAPIError as error:
+                if getattr(error.orig, "sqlstate", None) == "55P03":  # lock_not_available
+                    return False
+                raise
+            finally:
+                autocommit.exec_driver_sql("RESET lock_timeout")
+        return True
+
+    # --- failed joins --------------------------------------------------------------------
+
+    def join_failures(self, client: str, since: datetime) -> JoinFailures:
+        """The failed joins after ``since``: ``client``'s and everyone's."""
+        with self._read() as tx:
+            mine = tx.execute(
+                select(
+                    func.count(),
+                    func.min(JoinFailureRow.failed_at),
+                    func.max(JoinFailureRow.failed_at),
+                ).where(JoinFailureRow.client == client, JoinFailureRow.failed_at > since)
+            ).one()
+            overall = tx.scalar(
+                select(func.count())
+                .select_from(JoinFailureRow)
+                .where(JoinFailureRow.failed_at > since)
+            )
+        return JoinFailures(int(mine[0]), mine[1], mine[2], int(overall or 0))
+
+    def record_join_failure(self, client: str, now: datetime) -> None:
+        with self._write() as tx:
+            tx.add(JoinFailureRow(client=client, failed_at=now))
+
+    def forget_join_failures(self, before: datetime) -> None:
+        """Delete failed joins at or before ``before`` (out of every window: client
+        addresses are kept no longer than they count)."""
+        with self._write() as tx:
+            tx.execute(delete(JoinFailureRow).where(JoinFailureRow.failed_at <= before))
 
     # --- photos and taps -----------------------------------------------------------------
 

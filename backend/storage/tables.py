@@ -8,6 +8,7 @@ from sqlalchemy import (
     DateTime,
     Float,
     ForeignKey,
+    Index,
     Integer,
     LargeBinary,
     String,
@@ -97,3 +98,16 @@ class EventRow(Base):
     type: Mapped[str] = mapped_column(String(16))
     data: Mapped[str] = mapped_column(Text)  # JSON
     created_at: Mapped[datetime] = mapped_column(DateTime())
+
+
+class JoinFailureRow(Base):
+    """A join that failed (wrong, used or expired code), by client address: what the
+    guessing limits count. Kept for the counting window only (the sweeper prunes it)."""
+
+    __tablename__ = "join_failures"
+    __table_args__ = (Index("ix_join_failures_client_failed_at", "client", "failed_at"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    # An IPv4 address or an IPv6 /64 network (one subscriber's whole range).
+    client: Mapped[str] = mapped_column(String(64))
+    failed_at: Mapped[datetime] = mapped_column(DateTime(), index=True)

@@ -84,7 +84,10 @@ def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: s
     """``make run`` created its SQLite file with ``create_all`` before there were
     migrations: its sessions stay, and it is marked as migrated."""
     engine = connect(empty_database)
-    Base.metadata.create_all(engine)
+    # The tables of those days: all but those added by later revisions.
+    Base.metadata.create_all(
+        engine, tables=[t for t in Base.metadata.sorted_tables if t.name != "join_failures"]
+    )
     with engine.begin() as connection:
         connection.execute(
             text(

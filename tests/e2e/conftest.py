@@ -6,7 +6,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from playwright.sync_api import Browser, BrowserContext, Playwright, sync_playwright
+from playwright.sync_api import Browser, BrowserContext, Page, Playwright, sync_playwright
 
 from backend.loopback import serve
 
@@ -50,18 +50,35 @@ def phone(playwright: Playwright, browser: Browser, model: str) -> BrowserContex
     return browser.new_context(**device)
 
 
+def console_errors(context: BrowserContext) -> list[str]:
+    """What the context's pages report as errors from now on: console errors (a Content
+    Security Policy violation is one) and uncaught exceptions."""
+    errors: list[str] = []
+
+    def watch(page: Page) -> None:
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda error: errors.append(str(error)))
+
+    context.on("page", watch)
+    return errors
+
+
 @pytest.fixture
 def pixel(playwright: Playwright, browser: Browser) -> Iterator[BrowserContext]:
     context = phone(playwright, browser, "Pixel 7")
+    errors = console_errors(context)
     yield context
     context.close()
+    assert errors == [], "the Pixel's pages reported errors"
 
 
 @pytest.fixture
 def iphone(playwright: Playwright, browser: Browser) -> Iterator[BrowserContext]:
     context = phone(playwright, browser, "iPhone 13")
+    errors = console_errors(context)
     yield context
     context.close()
+    assert errors == [], "the iPhone's pages reported errors"
 
 
 @pytest.fixture(scope="session")

@@ -27,7 +27,7 @@ router = APIRouter(prefix="/api/sessions", tags=["sessions"])
                 }
             },
         },
-        **errors(401, 403),
+        **errors(401, 403, 503),
     },
     response_class=StreamingResponse,
 )
@@ -35,7 +35,11 @@ async def events(
     request: Request,
     participant: ViewerDep,
     service: ServiceDep,
-    last_event_id: Annotated[int | None, Header(description="Resume after this event.")] = None,
+    last_event_id: Annotated[
+        int | None,
+        # Event ids are the database's 64-bit row ids: a larger number can name no event.
+        Header(ge=0, lt=2**63, description="Resume after this event."),
+    ] = None,
 ) -> StreamingResponse:
     """Server-sent events for this session (EventSource: pass ``?token=``)."""
     return StreamingResponse(

@@ -7,7 +7,13 @@ from typing import Annotated
 from fastapi import APIRouter, File, Path, Query, UploadFile
 from fastapi.responses import Response
 
-from backend.api.deps import BaseUrlDep, ParticipantDep, ServiceDep, ViewerDep
+from backend.api.deps import (
+    BaseUrlDep,
+    ClientAddressDep,
+    ParticipantDep,
+    ServiceDep,
+    ViewerDep,
+)
 from backend.api.responses import PICTURE, errors
 from backend.sessions.schemas import (
     CreatedSession,
@@ -26,19 +32,21 @@ RoleParam = Annotated[Role, Path(description="Whose photo: seeker (photo 1) or b
 FormatParam = Annotated[ImageFormat, Query(description="jpeg (photos: small, fast) or png")]
 
 
-@router.post("", status_code=201)
+@router.post("", status_code=201, responses=errors(503))
 def create_session(service: ServiceDep, base: BaseUrlDep) -> CreatedSession:
     """The seeker starts a search: a session, a join code for the buddy, the seeker's token."""
     return service.create(base)
 
 
-@router.post("/join", responses=errors(404, 422))
-def join_session(request: JoinRequest, service: ServiceDep) -> Joined:
-    """The buddy joins with the six-digit code (single use, valid 10 minutes)."""
-    return service.join(request.code)
+@router.post("/join", responses=errors(400, 404, 413, 422, 429, 503))
+def join_session(request: JoinRequest, service: ServiceDep, client: ClientAddressDep) -> Joined:
+    """The buddy joins with the six-digit code (single use, valid 10 minutes). Wrong codes
+    are limited per client address and overall: 429 ``too_many_attempts`` with
+    ``Retry-After`` (seconds)."""
+    return service.join(request.code, client)
 
 
-@router.get("/{session_id}", responses=errors(401, 403, 404))
+@router.get("/{session_id}", responses=errors(401, 403, 404, 503))
 def session_state(
     participant: ParticipantDep, service: ServiceDep, base: BaseUrlDep
 ) -> SessionState:
@@ -46,7 +54,7 @@ def session_state(
     return service.state(participant, base)
 
 
-@router.put("/{session_id}/photo", responses=errors(401, 403, 404, 413, 415, 422))
+@router.put("/{session_id}/photo", responses=errors(400, 401, 403, 404, 413, 415, 422, 503))
 def put_photo(
     participant: ParticipantDep,
     service: ServiceDep,
@@ -58,7 +66,7 @@ def put_photo(
     return service.put_photo(participant, photo.file.read())
 
 
-@router.put("/{session_id}/taps", responses=errors(401, 403, 404, 409, 422))
+@router.put("/{session_id}/taps", responses=errors(400, 401, 403, 404, 409, 413, 422, 503))
 def put_taps(
     taps: Taps, participant: ParticipantDep, service: ServiceDep, base: BaseUrlDep
 ) -> SessionState:
@@ -69,7 +77,7 @@ def put_taps(
 
 @router.get(
     "/{session_id}/photo/{role}",
-    responses={200: {"content": {"image/jpeg": {}}}, **errors(401, 403, 404)},
+    responses={200: {"content": {"image/jpeg": {}}}, **errors(401, 403, 404, 503)},
     response_class=Response,
 )
 def stored_photo(role: RoleParam, participant: ViewerDep, service: ServiceDep) -> Response:
@@ -80,7 +88,7 @@ def stored_photo(role: RoleParam, participant: ViewerDep, service: ServiceDep) -
 
 @router.get(
     "/{session_id}/overlay/{role}",
-    responses={**PICTURE, **errors(401, 403, 404, 409)},
+    responses={**PICTURE, **errors(401, 403, 404, 409, 503)},
     response_class=Response,
 )
 def overlay(
@@ -96,7 +104,7 @@ def overlay(
 
 @router.get(
     "/{session_id}/landmarks/{role}/{landmark_id}/crop",
-    responses={200: {"content": {"image/jpeg": {}}}, **errors(401, 403, 404)},
+    responses={200: {"content": {"image/jpeg": {}}}, **errors(401, 403, 404, 503)},
     response_class=Response,
 )
 def landmark_crop(
@@ -110,7 +118,7 @@ def landmark_crop(
     return Response(data, media_type="image/jpeg", headers={"Cache-Control": "private"})
 
 
-@router.delete("/{session_id}", status_code=204, responses=errors(401, 403))
+@router.delete("/{session_id}", status_code=204, responses=errors(401, 403, 503))
 def delete_session(participant: ParticipantDep, service: ServiceDep) -> Response:
     """Delete now: photos, taps and answer are gone at once, for both phones."""
     service.delete(participant)

@@ -65,7 +65,7 @@ _EXAMPLE_ANSWER = SolveRequest.model_validate(_EXAMPLE).solve().model_dump(mode=
     response_model=SolveResult,
     responses={
         200: {"content": {"application/json": {"example": _EXAMPLE_ANSWER}}},
-        **errors(422),
+        **errors(400, 413, 422),
     },
 )
 def solve_taps(request: SolveRequest) -> Response:
@@ -74,7 +74,9 @@ def solve_taps(request: SolveRequest) -> Response:
     return Response(request.solve().model_dump_json(), media_type="application/json")
 
 
-@router.post("/overlay", responses={**PICTURE, **errors(413, 415, 422)}, response_class=Response)
+@router.post(
+    "/overlay", responses={**PICTURE, **errors(400, 413, 415, 422)}, response_class=Response
+)
 def draw_on_photo(
     settings: SettingsDep,
     photo: Annotated[UploadFile, File(description="The buddy's photo (JPEG, PNG, WebP, HEIC).")],

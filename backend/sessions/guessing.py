@@ -1,0 +1,67 @@
+"""Limits on guessing join codes: failed joins are counted per client address and overall.
+
+A join code is six digits (10^6 codes) valid 10 minutes. A wrong code names no code (a
+guess is as likely to be aimed at one live code as at any other), so a failure cannot be
+charged to the code being guessed; it is charged to the address it came from, and to
+everyone together. Counted in the database, which replicas share:
+
+- one address may fail ``join_failures_per_client`` times per window (sliding), then it
+  waits until its oldest failure leaves the window;
+- once everyone together has failed ``join_failures_overall`` times in the window, guessing
+  from many addresses is taken to be under way: an address that has failed in the window
+  waits until its failures leave it, and one that has not may still try (one guess each).
+
+Only failures count: the thousands of phones behind one carrier address at a stadium that
+type their code right are not limited at all. A refused attempt is not tried, even with a
+right code (else the limit would not limit), and not recorded.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import math
+from datetime import datetime, timedelta
+
+from backend.errors import ApiError
+from backend.settings import Settings
+from backend.storage.repository import Store
+
+
+def client_key(host: str) -> str:
+    """What the limits count: an IPv4 address, or the /64 network of an IPv6 address (one
+    subscriber is given a whole /64: counting single IPv6 addresses would give each one
+    2^64 fresh addresses)."""
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        return host[:64] or "unknown"  # not an IP address (a test client, a Unix socket)
+    if isinstance(address, ipaddress.IPv6Address):
+        if address.ipv4_mapped is not None:
+            return str(address.ipv4_mapped)
+        return str(ipaddress.IPv6Network((address, 64), strict=False))
+    return str(address)
+
+
+def refuse_guessing(store: Store, client: str, now: datetime, settings: Settings) -> None:
+    """Raise 429 ``too_many_attempts`` (with ``Retry-After``) if ``client`` may not try a
+    join code now."""
+    window = timedelta(seconds=settings.join_attempt_window_seconds)
+    failures = store.join_failures(client_key(client), now - window)
+    if failures.client >= settings.join_failures_per_client and failures.client_oldest:
+        until, why = failures.client_oldest + window, "Too many wrong codes from your network"
+    elif failures.overall >= settings.join_failures_overall and failures.client_newest:
+        until, why = failures.client_newest + window, "Many wrong codes are being tried just now"
+    else:
+        return
+    seconds = max(1, math.ceil((until - now).total_seconds()))
+    minutes = max(1, round(seconds / 60))
+    raise ApiError(
+        429,
+        "too_many_attempts",
+        f"{why}; try again in {minutes} minute{'s' if minutes > 1 else ''}.",
+        headers={"Retry-After": str(seconds)},
+    )
+
+
+def record_failure(store: Store, client: str, now: datetime) -> None:
+    store.record_join_failure(client_key(client), now)

@@ -1,0 +1,365 @@
+"""Bad input, end to end: one table of what a phone (or anyone) may send wrong, each row
+with the status and error code it gets, through the API, on SQLite and on PostgreSQL.
+
+Each row runs on a fresh app and database with two phones paired. An accepted row's code
+is the one the answer reports (``result_error``), or none; a refused row's is the error's,
+in the one shape. Rows of accepted photos also check what was stored.
+"""
+
+from __future__ import annotations
+
+import io
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import httpx
+import numpy as np
+import pillow_heif
+import pytest
+from fastapi.testclient import TestClient
+from phones import TEMPLE, FakeClock, Phone
+from PIL import ExifTags, Image
+
+from backend.settings import Settings
+from shared_solver.scenes import temple_scene
+
+pillow_heif.register_heif_opener()
+
+WIDTH, HEIGHT = 400, 300  # of the made-up photos
+
+
+@dataclass
+class Search:
+    """Two paired phones on a fresh app, and what the rows need around them."""
+
+    client: TestClient
+    seeker: Phone
+    buddy: Phone
+    clock: FakeClock
+    settings: Settings
+
+    def with_photos(self) -> Search:
+        """Both phones have uploaded their temple photo (640 x 480)."""
+        for phone, name in ((self.seeker, "templeSR0003"), (self.buddy, "templeSR0006")):
+            stored = phone.upload((TEMPLE / f"{name}.png").read_bytes(), f"{name}.png")
+            assert stored.status_code == 200, stored.text
+        return self
+
+    def stored_photo(self, role: str = "seeker") -> Image.Image:
+        answer = self.client.get(self.seeker.url(f"/photo/{role}"), headers=self.seeker.auth)
+        assert answer.status_code == 200, answer.text
+        assert answer.content.startswith(b"\xff\xd8\xff")  # JPEG, whatever came in
+        image = Image.open(io.BytesIO(answer.content))
+        image.load()
+        return image
+
+    def other_session(self) -> dict[str, Any]:
+        created = self.client.post("/api/sessions")
+        assert created.status_code == 201, created.text
+        return dict(created.json())
+
+    def raw_taps(self, phone: Phone, body: bytes) -> httpx.Response:
+        """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
+        headers = {**phone.auth, "Content-Type": "application/json"}
+        return self.client.put(phone.url("/taps"), headers=headers, content=body)
+
+
+@dataclass(frozen=True)
+class Row:
+    name: str
+    send: Callable[[Search], httpx.Response]
+    status: int
+    code: str | None
+    then: Callable[[Search, httpx.Response], None] | None = None  # what was stored
+
+
+# --- photos to send -------------------------------------------------------------------
+
+
+def noise(mode: str = "RGB") -> Image.Image:
+    pixels = np.random.default_rng(6).integers(0, 256, (HEIGHT, WIDTH, 3), dtype=np.uint8)
+    return Image.fromarray(pixels).convert(mode)
+
+
+def encoded(image: Image.Image, image_format: str, **params: Any) -> bytes:
+    buffer = io.BytesIO()
+    image.save(buffer, format=image_format, **params)
+    return buffer.getvalue()
+
+
+def png_claiming(width: int, height: int) -> bytes:
+    """A real PNG whose header says ``width x height``: decoding it would need
+    ``width * height * 3`` bytes (20000 x 20000: 1.2 GB) from a file of a few hundred."""
+    png = bytearray(encoded(noise().resize((8, 8)), "PNG"))
+    png[16:24] = width.to_bytes(4, "big") + height.to_bytes(4, "big")  # IHDR width, height
+    png[29:33] = zlib.crc32(bytes(png[12:29])).to_bytes(4, "big")  # the chunk's CRC
+    return bytes(png)
+
+
+def animated_gif() -> bytes:
+    frames = [noise().convert("P"), noise().transpose(Image.Transpose.ROTATE_180).convert("P")]
+    return encoded(frames[0], "GIF", save_all=True, append_images=frames[1:], duration=100)
+
+
+def grey_ramp_16_bit() -> bytes:
+    """A 16-bit grey PNG, black on the left to white on the right."""
+    ramp = np.linspace(0, 65535, WIDTH).astype(np.uint16)
+    return encoded(Image.fromarray(np.tile(ramp, (HEIGHT, 1))), "PNG")
+
+
+def turned_by_exif() -> bytes:
+    """A JPEG coded 400 x 300 whose EXIF says: turn 90 degrees to show it (300 x 400)."""
+    exif = Image.Exif()
+    exif[ExifTags.Base.Orientation] = 6
+    return encoded(noise(), "JPEG", exif=exif, quality=90)
+
+
+def upload(data: bytes, name: str = "photo.jpg") -> Callable[[Search], httpx.Response]:
+    return lambda search: search.seeker.upload(data, name)
+
+
+def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx.Response], None]:
+    def check(search: Search, _: httpx.Response) -> None:
+        stored = search.seeker.state()["photos"]["seeker"]
+        assert (stored["width"], stored["height"]) == size
+        photo = search.stored_photo()
+        assert (photo.mode, photo.size) == (mode, size)
+
+    return check
+
+
+def ramp_kept(search: Search, answer: httpx.Response) -> None:
+    """16 bits scaled to 8, not clipped (which would turn it all white)."""
+    grey = np.asarray(search.stored_photo().convert("L"), dtype=int)
+    assert grey[:, :20].mean() < 30
+    assert grey[:, -20:].mean() > 225
+
+
+def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx.Response:
+    """y = 350 is on the photo as shown (300 x 400), not as coded (400 x 300)."""
+    stored = search.seeker.upload(turned_by_exif())
+    assert stored.json() == {"width": HEIGHT, "height": WIDTH, "scale": 1.0}
+    return search.seeker.tap(landmarks=[{"id": 1, "x": 250, "y": 350}], epipole1=[20, 390])
+
+
+# --- taps to send ---------------------------------------------------------------------
+
+
+def taps(**fields: Any) -> Callable[[Search], httpx.Response]:
+    return lambda search: search.with_photos().seeker.tap(**fields)
+
+
+def one_tap(x: Any, y: Any) -> Callable[[Search], httpx.Response]:
+    return taps(landmarks=[{"id": 1, "x": x, "y": y}])
+
+
+def raw_taps(body: bytes) -> Callable[[Search], httpx.Response]:
+    return lambda search: search.raw_taps(search.with_photos().seeker, body)
+
+
+def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]:
+    ids = ids or list(range(1, len(points) + 1))
+    return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
+
+
+def answer_to(seeker_taps: dict[str, Any]) -> Callable[[Search], httpx.Response]:
+    """The seeker taps ``seeker_taps``; the buddy taps five true landmarks: the state the
+    buddy gets back says what came of it."""
+
+    def send(search: Search) -> httpx.Response:
+        search.with_photos()
+        assert search.seeker.tap(**seeker_taps).status_code == 200
+        return search.buddy.tap(landmarks=landmarks(SCENE.landmarks2))
+
+    return send
+
+
+SCENE = temple_scene(
+    TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 5, np.random.default_rng(0)
+)
+COLLINEAR = [(100 + 50 * n, 100 + 30 * n) for n in range(5)]
+
+
+# --- who is asking --------------------------------------------------------------------
+
+
+def get_state(
+    token: str | None, session_id: str | None = None
+) -> Callable[[Search], httpx.Response]:
+    def send(search: Search) -> httpx.Response:
+        headers = {"Authorization": f"Bearer {token}"} if token else {}
+        return search.client.get(
+            f"/api/sessions/{session_id or search.seeker.session_id}", headers=headers
+        )
+
+    return send
+
+
+def with_token(pick: Callable[[Search], str]) -> Callable[[Search], httpx.Response]:
+    return lambda search: get_state(pick(search))(search)
+
+
+def expired_token(search: Search) -> httpx.Response:
+    search.clock.advance(search.settings.session_ttl_seconds + 1)
+    return search.client.get(search.seeker.url(), headers=search.seeker.auth)
+
+
+def as_seeker_at(path: str) -> Callable[[Search], httpx.Response]:
+    """The seeker's valid token, at ``/api/sessions/<path>``: another session's id, or
+    one that is none."""
+    return lambda search: search.client.get(f"/api/sessions/{path}", headers=search.seeker.auth)
+
+
+def join(code: Callable[[Search], str]) -> Callable[[Search], httpx.Response]:
+    return lambda search: search.client.post("/api/sessions/join", json={"code": code(search)})
+
+
+def used_code(search: Search) -> str:
+    """The seeker's code, which the buddy has used."""
+    created = search.other_session()
+    code = created["join_code"]
+    joined = search.client.post("/api/sessions/join", json={"code": code})
+    assert joined.status_code == 200, joined.text
+    return str(code)
+
+
+def expired_code(search: Search) -> str:
+    code = search.other_session()["join_code"]
+    search.clock.advance(search.settings.join_code_ttl_seconds + 1)
+    return str(code)
+
+
+def deleted_sessions_code(search: Search) -> str:
+    created = search.other_session()
+    auth = {"Authorization": f"Bearer {created['token']}"}
+    gone = search.client.delete(f"/api/sessions/{created['session_id']}", headers=auth)
+    assert gone.status_code == 204
+    return str(created["join_code"])
+
+
+def events_after(last_event_id: str) -> Callable[[Search], httpx.Response]:
+    def send(search: Search) -> httpx.Response:
+        headers = {**search.seeker.auth, "Last-Event-ID": last_event_id}
+        return search.client.get(search.seeker.url("/events"), headers=headers)
+
+    return send
+
+
+# --- the table ------------------------------------------------------------------------
+
+NOT_A_PHOTO = b"These bytes are a sentence, not a photo, whatever the name says.\n" * 20
+JPEG = encoded(noise(), "JPEG", quality=90)
+TRUNCATED_JPEG = JPEG[: len(JPEG) // 2]
+BOMB = png_claiming(20000, 20000)
+HEIC = encoded(noise(), "HEIF", quality=90)
+CMYK_JPEG = encoded(noise("CMYK"), "JPEG", quality=90)
+STORED_RGB = stored_as("RGB", (WIDTH, HEIGHT))
+STORED_TURNED = stored_as("RGB", (HEIGHT, WIDTH))
+NAN = b'{"landmarks": [{"id": 1, "x": NaN, "y": 3}]}'
+INFINITY = b'{"landmarks": [{"id": 1, "x": 3, "y": -Infinity}]}'
+OVERFLOW = b'{"epipole1": [1e999, 3]}'  # Python's JSON reads it as infinity
+NOT_UTF_8 = b'{"landmarks": [{"id": 1, "x": 3, "y": "\xff"}]}'
+MANY = [(n % 640, n % 480) for n in range(1000)]
+MANY_IDS = [n % 999 + 1 for n in range(1000)]
+DUPLICATES = landmarks(MANY[:3], [1, 2, 1])
+COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "epipole1": [500, 100]}
+ON_A_LANDMARK = {"landmarks": landmarks(SCENE.landmarks1), "epipole1": list(SCENE.landmarks1[2])}
+
+
+def too_large(search: Search) -> httpx.Response:
+    return search.seeker.upload(b"\xff\xd8\xff" + bytes(search.settings.max_body_bytes))
+
+
+def another_token(search: Search) -> str:
+    return str(search.other_session()["token"])
+
+
+def another_session_id(search: Search) -> httpx.Response:
+    return as_seeker_at(search.other_session()["session_id"])(search)
+
+
+TABLE = [
+    # Photos: what they are is read from their bytes, never from a name or a content type.
+    Row("not an image, named .jpg", upload(NOT_A_PHOTO), 415, "unsupported_media_type"),
+    Row("a truncated JPEG", upload(TRUNCATED_JPEG), 422, "invalid_photo"),
+    Row("an empty file", upload(b""), 422, "empty_photo"),
+    Row("a PNG decompression bomb, 20000 x 20000", upload(BOMB), 413, "photo_too_large"),
+    Row("a body over the size limit", too_large, 413, "body_too_large"),
+    Row("a HEIC photo, converted", upload(HEIC, "IMG_0001.HEIC"), 200, None, STORED_RGB),
+    Row("an animated GIF: not accepted", upload(animated_gif()), 415, "unsupported_media_type"),
+    Row("a CMYK JPEG, stored RGB", upload(CMYK_JPEG), 200, None, STORED_RGB),
+    Row("a 16-bit PNG", upload(grey_ramp_16_bit(), "scan.png"), 200, None, ramp_kept),
+    Row("an EXIF-rotated photo", tap_where_only_the_turned_photo_reaches, 200, None, STORED_TURNED),
+    # Taps: numbers on the photo, each landmark once, not too many.
+    Row("NaN in taps", raw_taps(NAN), 422, "invalid_request"),
+    Row("Infinity in taps", raw_taps(INFINITY), 422, "invalid_request"),
+    Row("1e999 in taps", raw_taps(OVERFLOW), 422, "invalid_request"),
+    Row("a word in taps", one_tap("left", 3), 422, "invalid_request"),
+    Row("a number in a string", one_tap("12", 3), 422, "invalid_request"),
+    Row("true as a coordinate", taps(epipole1=[True, 3]), 422, "invalid_request"),
+    Row("1e308 in taps", one_tap(1e308, 3), 422, "outside_photo"),
+    Row("a tap outside the photo", one_tap(641, 3), 422, "outside_photo"),
+    Row("a buddy mark outside the photo", taps(epipole1=[-0.5, 3]), 422, "outside_photo"),
+    Row("duplicate landmark ids", taps(landmarks=DUPLICATES), 422, "duplicate_landmark"),
+    Row("1000 landmarks", taps(landmarks=landmarks(MANY, MANY_IDS)), 422, "too_many_landmarks"),
+    Row("taps that are not UTF-8", raw_taps(NOT_UTF_8), 400, "bad_request"),
+    # Taps that are fine but cannot be answered: accepted, and the answer says why.
+    Row("collinear landmarks", answer_to(COLLINEAR_TAPS), 200, "collinear_landmarks"),
+    Row("the buddy mark on a landmark", answer_to(ON_A_LANDMARK), 200, "epipole_on_landmark"),
+    # Tokens: a token opens its own session, while it lasts.
+    Row("a missing token", get_state(None), 401, "unauthorized"),
+    Row("a wrong token", get_state("b" * 43), 401, "unauthorized"),
+    Row("an expired token", expired_token, 401, "unauthorized"),
+    Row("another session's token", with_token(another_token), 403, "forbidden"),
+    # Join codes: single use, while valid. (Three failed joins: far below the limit.)
+    Row("a third phone, with the used code", join(used_code), 404, "invalid_join_code"),
+    Row("an expired join code", join(expired_code), 404, "invalid_join_code"),
+    Row("a code replayed after the end", join(deleted_sessions_code), 404, "invalid_join_code"),
+    # Session ids, unknown or malformed, with the valid token of another session.
+    Row("an unknown session id", as_seeker_at("0" * 32), 403, "forbidden"),
+    Row("the id of another live session", another_session_id, 403, "forbidden"),
+    Row("a session id ../x", as_seeker_at("../x"), 404, "not_found"),
+    Row("a session id ..%2Fx", as_seeker_at("..%2Fx"), 404, "not_found"),
+    Row("a session id of 10000 characters", as_seeker_at("7" * 10_000), 403, "forbidden"),
+    Row("a unicode session id", as_seeker_at("s\u00e9ance-\U0001f600"), 403, "forbidden"),
+    Row("a session id with a NUL byte", as_seeker_at("abc%00def"), 403, "forbidden"),
+    Row("a malformed session id, no token", get_state(None, "%ff%fe"), 401, "unauthorized"),
+    # The event stream: a Last-Event-ID no event can have.
+    Row("a Last-Event-ID past 64 bits", events_after(str(2**64)), 422, "invalid_request"),
+    Row("a Last-Event-ID that is no number", events_after("last"), 422, "invalid_request"),
+]
+
+
+def code_of(answer: httpx.Response) -> str | None:
+    """The refusal's code (in the one shape), or what the answer says about itself."""
+    body = answer.json()
+    if answer.status_code >= 400:
+        assert set(body) == {"error"}, body
+        assert set(body["error"]) == {"code", "message"}, body
+        assert body["error"]["message"].endswith("."), body
+        return str(body["error"]["code"])
+    error = body.get("result_error")
+    return None if error is None else str(error["code"])
+
+
+@pytest.mark.parametrize("row", TABLE, ids=[row.name for row in TABLE])
+def test_bad_input(
+    row: Row,
+    client: TestClient,
+    seeker: Phone,
+    buddy: Phone,
+    clock: FakeClock,
+    settings: Settings,
+) -> None:
+    search = Search(client, seeker, buddy, clock, settings)
+    answer = row.send(search)
+    assert answer.status_code == row.status, answer.text[:500]
+    assert code_of(answer) == row.code, answer.text[:500]
+    if row.then is not None:
+        row.then(search, answer)
+
+
+def test_the_table_has_one_row_per_name() -> None:
+    assert len({row.name for row in TABLE}) == len(TABLE)

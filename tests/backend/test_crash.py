@@ -1,0 +1,280 @@
+"""Crash safety: the server killed with ``kill -9`` in the middle of uploads and tap changes
+loses no acknowledged write and leaves nothing half-written, on SQLite and on PostgreSQL.
+
+A real uvicorn process serves four searches; one thread per phone (eight) sends photos and
+tap sets one after the other, as a phone does. At a random moment the process is killed
+(SIGKILL: no shutdown, no rollback by the app), a new one is started on the same database
+(on PostgreSQL the database server stays up: only the app dies), and then:
+
+- every write that was answered 2xx is there: each phone's photo is, byte for byte, the
+  stored form of the last photo it had acknowledged, or of the one in flight at the kill;
+  its taps are exactly the last acknowledged set, or the set in flight (never a mix); the
+  session's version is at least the last one a phone was told;
+- nothing is half-written: each stored photo decodes to the size its row says; every tap
+  set is whole; each stored change has its version and its one event (versions 3, 4, ... in
+  the order of the event ids, as many events of a phone as changes of it are stored);
+  SQLite's ``PRAGMA integrity_check`` says ok on the file as the killed process left it;
+- the new process started on the crashed database (it answers /healthz) and serves it.
+
+Three kill points in a row, each followed by a restart.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import signal
+import sqlite3
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import httpx
+import numpy as np
+from PIL import Image
+from sqlalchemy import text
+
+from backend.loopback import Server, serve
+from backend.photos import store_photo
+from backend.sessions.schemas import Taps
+from backend.settings import Settings
+from backend.storage.database import connect
+
+SEARCHES = 4
+KILLS = 3
+# Each round's traffic runs this long at most; the kill comes at a random moment in it.
+TRAFFIC_SECONDS = (0.8, 2.0)
+LANDMARKS = 6
+# Photos of different sizes (each recognisable from its stored size), all larger than the
+# area taps are drawn in, so every tap set fits every photo.
+PHOTO_SIZES = [(240 + 16 * k, 180 + 8 * k) for k in range(6)]
+TAP_AREA = (240, 180)
+SETTINGS = Settings()
+
+
+def photo(index: int) -> bytes:
+    width, height = PHOTO_SIZES[index]
+    pixels = np.random.default_rng(index).integers(0, 256, (height, width, 3), dtype=np.uint8)
+    buffer = io.BytesIO()
+    Image.fromarray(pixels).save(buffer, format="JPEG", quality=85)
+    return buffer.getvalue()
+
+
+PHOTOS = [photo(index) for index in range(len(PHOTO_SIZES))]
+# What the server stores for each (the same code, deterministic): recognised byte for byte.
+STORED = [
+    store_photo(data, max_pixels=SETTINGS.max_photo_pixels, max_side=SETTINGS.stored_photo_side)
+    for data in PHOTOS
+]
+
+
+@dataclass(frozen=True)
+class Change:
+    """One request a phone sends: a new photo (which clears its taps) or a new tap set."""
+
+    photo: int | None = None
+    taps: dict[str, Any] | None = None
+
+    def applied_to(self, state: PhoneState) -> PhoneState:
+        if self.photo is not None:
+            return PhoneState(self.photo, None)
+        return PhoneState(state.photo, Taps.model_validate(self.taps).model_dump(mode="json"))
+
+
+@dataclass(frozen=True)
+class PhoneState:
+    """What the server should hold of one phone: its photo (an index in PHOTOS) and taps
+    (as the state reports them)."""
+
+    photo: int | None
+    taps: dict[str, Any] | None
+
+
+@dataclass
+class Phone:
+    session_id: str
+    role: str
+    token: str
+    known: PhoneState = PhoneState(None, None)  # as of the last acknowledged change
+    in_flight: Change | None = None  # sent, unanswered when the server died
+    stored: int = 0  # changes known to be stored: acknowledged, or in flight and found
+    acknowledged: int = 0  # changes answered 2xx in this round
+    acknowledged_version: int = 0  # the highest version an answer told this phone
+
+    @property
+    def auth(self) -> dict[str, str]:
+        return {"Authorization": f"Bearer {self.token}"}
+
+    def path(self, rest: str = "") -> str:
+        return f"/api/sessions/{self.session_id}{rest}"
+
+
+@dataclass
+class Traffic:
+    """Every phone's thread sending changes, one after the other, until the server is gone."""
+
+    base: str
+    phones: list[Phone]
+    rng: np.random.Generator
+    failures: list[str] = field(default_factory=list)
+
+    def start(self) -> list[threading.Thread]:
+        seeds = self.rng.integers(0, 2**32, len(self.phones))
+        threads = [
+            threading.Thread(target=self._send, args=(phone, int(seed)), daemon=True)
+            for phone, seed in zip(self.phones, seeds, strict=True)
+        ]
+        for thread in threads:
+            thread.start()
+        return threads
+
+    def _send(self, phone: Phone, seed: int) -> None:
+        rng = np.random.default_rng(seed)
+        phone.acknowledged = 0
+        with httpx.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
+            while True:
+                change = phone.in_flight = self._change(phone, rng)
+                try:
+                    if change.photo is not None:
+                        upload = {"photo": ("photo.jpg", PHOTOS[change.photo], "image/jpeg")}
+                        answer = http.put(phone.path("/photo"), files=upload)
+                    else:
+                        answer = http.put(phone.path("/taps"), json=change.taps)
+                except httpx.TransportError:
+                    return  # the server is gone: this change may or may not have been stored
+                if answer.status_code != 200:
+                    self.failures.append(f"{phone.role} of {phone.session_id}: {answer.text}")
+                    return
+                phone.known, phone.in_flight = change.applied_to(phone.known), None
+                phone.stored += 1
+                phone.acknowledged += 1
+                if change.taps is not None:
+                    version = answer.json()["version"]
+                    phone.acknowledged_version = max(phone.acknowledged_version, version)
+
+    @staticmethod
+    def _change(phone: Phone, rng: np.random.Generator) -> Change:
+        """A new photo (never the one it has) or a new tap set: every change shows."""
+        if phone.known.photo is None or rng.random() < 0.3:
+            others = [n for n in range(len(PHOTOS)) if n != phone.known.photo]
+            return Change(photo=int(rng.choice(others)))
+        points = rng.uniform((0, 0), TAP_AREA, (LANDMARKS, 2)).round(2)
+        taps: dict[str, Any] = {
+            "landmarks": [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points.tolist(), 1)]
+        }
+        if phone.role == "seeker":
+            taps["epipole1"] = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
+        return Change(taps=taps)
+
+
+def pair(base: str) -> list[Phone]:
+    created = httpx.post(f"{base}/api/sessions", timeout=30).json()
+    code = {"code": created["join_code"]}
+    joined = httpx.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
+    sid = created["session_id"]
+    return [Phone(sid, "seeker", created["token"]), Phone(sid, "buddy", joined["token"])]
+
+
+def kill_mid_traffic(server: Server, phones: list[Phone], rng: np.random.Generator) -> None:
+    """Traffic from every phone, then SIGKILL at a random moment in it."""
+    traffic = Traffic(server.base_url, phones, rng)
+    threads = traffic.start()
+    time.sleep(float(rng.uniform(*TRAFFIC_SECONDS)))
+    os.kill(server.pid, signal.SIGKILL)
+    for thread in threads:
+        thread.join(timeout=30)
+        assert not thread.is_alive()
+    assert not traffic.failures, traffic.failures
+    acknowledged = sum(phone.acknowledged for phone in phones)
+    assert acknowledged >= 2 * len(phones), f"{acknowledged} changes in all before the kill"
+    assert any(phone.in_flight for phone in phones), "nothing was in flight at the kill"
+
+
+def check_acknowledged_writes(server: Server, phones: list[Phone]) -> None:
+    """Each phone's photo and taps are what it last had acknowledged, or what it had in
+    flight (then that counts as stored from now on)."""
+    for phone in phones:
+        with httpx.Client(base_url=server.base_url, headers=phone.auth, timeout=30) as http:
+            state, stored = http.get(phone.path()), http.get(phone.path(f"/photo/{phone.role}"))
+        assert state.status_code == 200, state.text
+        assert stored.status_code == 200, stored.text
+        body = state.json()
+        session = [p.acknowledged_version for p in phones if p.session_id == phone.session_id]
+        assert body["version"] >= max(session)
+        found = PhoneState(
+            photo=next(n for n, photo in enumerate(STORED) if photo.data == stored.content),
+            taps=body["taps"][phone.role],
+        )
+        allowed = [phone.known]
+        if phone.in_flight is not None:
+            allowed.append(phone.in_flight.applied_to(phone.known))
+        assert found in allowed, (phone.role, phone.session_id, found, allowed)
+        width, height = PHOTO_SIZES[found.photo]
+        assert body["photos"][phone.role] == {"width": width, "height": height, "scale": 1.0}
+        if found != phone.known:
+            phone.stored += 1
+        phone.known, phone.in_flight = found, None
+
+
+def check_database_intact(database_url: str) -> None:
+    """SQLite: the file the killed process left is consistent, before anyone recovers it."""
+    if database_url.startswith("sqlite"):
+        path = database_url.removeprefix("sqlite:///")
+        with sqlite3.connect(path) as db:
+            assert db.execute("PRAGMA integrity_check").fetchall() == [("ok",)]
+            assert db.execute("PRAGMA foreign_key_check").fetchall() == []
+
+
+def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
+    """Every row is whole, and every stored change has its version and its event."""
+    engine = connect(database_url)
+    try:
+        with engine.connect() as db:
+            for row in db.execute(text("SELECT data, width, height FROM photos")):
+                with Image.open(io.BytesIO(row.data)) as image:
+                    image.load()
+                    assert image.size == (row.width, row.height)
+            for row in db.execute(text("SELECT taps FROM participants WHERE taps IS NOT NULL")):
+                Taps.model_validate_json(row.taps)
+            sessions = db.execute(text("SELECT id, version, result, result_version FROM sessions"))
+            for session in sessions:
+                events = db.execute(
+                    text("SELECT type, data FROM events WHERE session_id = :id ORDER BY id"),
+                    {"id": session.id},
+                ).all()
+                changes = [json.loads(e.data) for e in events if e.type in ("photo", "taps")]
+                # One event per version bump (joining made 2; then each photo or tap set).
+                assert [c["version"] for c in changes] == list(range(3, session.version + 1))
+                for phone in phones:
+                    if phone.session_id == session.id:
+                        events_of_phone = sum(c["role"] == phone.role for c in changes)
+                        assert events_of_phone == phone.stored, "a change without its event"
+                answered = [json.loads(e.data)["version"] for e in events if e.type == "result"]
+                assert answered == sorted(answered)
+                if session.result_version is not None:
+                    assert session.result_version in answered
+                    json.loads(session.result)
+    finally:
+        engine.dispose()
+
+
+def test_kill_9_mid_traffic_loses_no_acknowledged_write(
+    tmp_path: Path, database_url: str, rng: np.random.Generator
+) -> None:
+    environment = {"BUDDY_DATABASE_URL": database_url}
+    phones: list[Phone] = []
+    for process in range(KILLS + 1):
+        folder = tmp_path / f"process{process}"
+        folder.mkdir()
+        with serve(folder, environment) as server:  # on the database the last one crashed on
+            if phones:
+                check_acknowledged_writes(server, phones)
+                check_nothing_half_written(database_url, phones)
+            else:
+                phones = [phone for _ in range(SEARCHES) for phone in pair(server.base_url)]
+            if process < KILLS:
+                kill_mid_traffic(server, phones, rng)
+        check_database_intact(database_url)

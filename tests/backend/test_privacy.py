@@ -1,0 +1,301 @@
+"""What a session leaves behind: no photo bytes in the database's files once it is deleted
+or has expired, no EXIF (GPS) in what is stored, no token, code or position in the logs.
+
+Photos are re-encoded when stored, so the stored JPEG (fetched back from the API) is the
+thing to look for: runs of its bytes are searched for in the raw files of the database, as
+someone holding the disk would: SQLite's database, write-ahead log and shared-memory
+files; PostgreSQL's table files (``base/<database oid>/``, after a CHECKPOINT has written
+out every page). Every search is checked first to find the bytes while they are meant to
+be there.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import logging
+from collections.abc import Callable, Coroutine, Sequence
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+from phones import FakeClock, Phone
+from PIL import ExifTags, Image
+from postgres import PostgresServer
+from sqlalchemy import Engine
+
+from backend.sessions.service import SessionService
+from backend.sweeper import sweep_forever
+
+# The temple landmarks of the README's example, and where the buddy is in photo 1.
+IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]
+IN_PHOTO2 = [(266, 108), (490, 358), (461, 209), (504, 76), (189, 202), (517, 267)]
+BUDDY_IN_PHOTO1 = (523, 384)
+
+
+def taps(points: Sequence[tuple[float, float]]) -> list[dict[str, float]]:
+    return [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points, start=1)]
+
+
+def answered(seeker: Phone, buddy: Phone, photos: tuple[bytes, bytes]) -> None:
+    """Both photos uploaded and tapped: the session has an answer (and overlays to draw)."""
+    for phone, photo in zip((seeker, buddy), photos, strict=True):
+        assert phone.upload(photo, "photo.png").status_code == 200
+    assert seeker.tap(landmarks=taps(IN_PHOTO1), epipole1=BUDDY_IN_PHOTO1).status_code == 200
+    state = buddy.tap(landmarks=taps(IN_PHOTO2))
+    assert state.status_code == 200
+    assert state.json()["result"] is not None
+
+
+def pictures(client: TestClient, phone: Phone) -> list[bytes]:
+    """Every picture of the session the server keeps: both stored photos, both overlays."""
+    found = []
+    for path in ("/photo/seeker", "/photo/buddy", "/overlay/seeker", "/overlay/buddy"):
+        response = client.get(phone.url(path), headers=phone.auth)
+        assert response.status_code == 200, (path, response.text)
+        found.append(response.content)
+    return found
+
+
+def variant(photo: bytes, seed: int) -> bytes:
+    """The photo with faint noise of its own: another picture, stored as other bytes (the
+    same upload twice would be stored byte for byte the same)."""
+    pixels = np.asarray(Image.open(io.BytesIO(photo)).convert("RGB"), dtype=np.int16)
+    noise = np.random.default_rng(seed).integers(-3, 4, pixels.shape)
+    out = io.BytesIO()
+    Image.fromarray(np.clip(pixels + noise, 0, 255).astype(np.uint8)).save(out, "PNG")
+    return out.getvalue()
+
+
+def runs(picture: bytes, count: int = 16, size: int = 64) -> list[bytes]:
+    """``count`` runs of ``size`` bytes spread over the middle of a JPEG (its entropy-coded
+    data: no two pictures share one)."""
+    starts = np.linspace(len(picture) // 8, len(picture) * 7 // 8 - size, count).astype(int)
+    return [picture[start : start + size] for start in starts]
+
+
+class Disk:
+    """The raw files of the app's database."""
+
+    def __init__(self, engine: Engine, postgres: PostgresServer | None) -> None:
+        self.engine = engine
+        self.postgres = postgres
+
+    def files(self) -> list[Path]:
+        if self.postgres is None:
+            database = Path(str(self.engine.url.database))
+            return [Path(f"{database}{suffix}") for suffix in ("", "-wal", "-shm")]
+        with self.engine.connect() as connection:
+            autocommit = connection.execution_options(isolation_level="AUTOCOMMIT")
+            autocommit.exec_driver_sql("CHECKPOINT")  # every changed page out to its file
+            oid = autocommit.exec_driver_sql(
+                "SELECT oid FROM pg_database WHERE datname = current_database()"
+            ).scalar()
+        return sorted(path for path in (self.postgres.data / "base" / str(oid)).rglob("*"))
+
+    def read(self) -> bytes:
+        return b"".join(path.read_bytes() for path in self.files() if path.is_file())
+
+    def holds(self, picture: bytes) -> int:
+        """How many of the picture's runs are in the files."""
+        stored = self.read()
+        return sum(run in stored for run in runs(picture))
+
+
+@pytest.fixture
+def disk(request: pytest.FixtureRequest, client: TestClient, database_url: str) -> Disk:
+    postgres = request.getfixturevalue("postgres") if "postgresql" in database_url else None
+    return Disk(client.app.state.service.store.engine, postgres)  # type: ignore[attr-defined]
+
+
+@pytest.fixture
+def service(client: TestClient) -> SessionService:
+    found: SessionService = client.app.state.service  # type: ignore[attr-defined]
+    return found
+
+
+def other_session(client: TestClient, photo: bytes) -> tuple[Phone, bytes]:
+    """A second search, still going, with a photo: what erasing must leave alone."""
+    created = client.post("/api/sessions").json()
+    phone = Phone(client, created["session_id"], created["token"], "seeker")
+    assert phone.upload(photo, "photo.png").status_code == 200
+    stored = client.get(phone.url("/photo/seeker"), headers=phone.auth).content
+    return phone, stored
+
+
+def test_a_deleted_session_leaves_no_picture_in_the_database_files(
+    client: TestClient,
+    seeker: Phone,
+    buddy: Phone,
+    temple_photos: tuple[bytes, bytes],
+    disk: Disk,
+    service: SessionService,
+    database_url: str,
+) -> None:
+    # A photo replaced by another: the first one's bytes must go too.
+    assert seeker.upload(variant(temple_photos[0], 1), "first.png").status_code == 200
+    replaced = client.get(seeker.url("/photo/seeker"), headers=seeker.auth).content
+    answered(seeker, buddy, temple_photos)
+    kept = pictures(client, seeker)
+    # Another search uploaded after this one's, so that this one's rows are not simply the
+    # end of each table (which any VACUUM cuts off).
+    _, other = other_session(client, variant(temple_photos[0], 2))
+    crop = client.get(seeker.url("/landmarks/buddy/3/crop"), headers=seeker.auth).content
+
+    for picture in [replaced, *kept, other]:
+        assert disk.holds(picture) >= 12  # the search finds what is there
+    assert disk.holds(crop) == 0  # crops are cut from the photo for each request, never kept
+
+    assert client.delete(seeker.url(), headers=seeker.auth).status_code == 204
+    if "sqlite" in database_url:  # at once
+        for picture in [replaced, *kept]:
+            assert disk.holds(picture) == 0
+    service.sweep()  # PostgreSQL: by the next sweep
+    for picture in [replaced, *kept]:
+        assert disk.holds(picture) == 0
+    assert disk.holds(other) >= 12
+
+
+def test_an_expired_session_leaves_no_picture_in_the_database_files(
+    client: TestClient,
+    seeker: Phone,
+    buddy: Phone,
+    temple_photos: tuple[bytes, bytes],
+    disk: Disk,
+    service: SessionService,
+    clock: FakeClock,
+) -> None:
+    answered(seeker, buddy, temple_photos)
+    kept = pictures(client, buddy)
+    clock.advance(3600)
+    _, other = other_session(client, variant(temple_photos[0], 3))  # an hour younger
+    for picture in [*kept, other]:
+        assert disk.holds(picture) >= 12
+    clock.advance(3601)
+    assert service.sweep() == [seeker.session_id]
+    for picture in kept:
+        assert disk.holds(picture) == 0
+    assert disk.holds(other) >= 12
+
+
+def photo_with_gps() -> tuple[bytes, bytes]:
+    """A JPEG as a phone writes it, EXIF with a GPS position; and that EXIF block."""
+    exif = Image.Exif()
+    exif[ExifTags.Base.Make] = "BuddyPhone"
+    gps = exif.get_ifd(ExifTags.IFD.GPSInfo)
+    gps[ExifTags.GPS.GPSLatitudeRef] = "N"
+    gps[ExifTags.GPS.GPSLatitude] = (47.0, 22.0, 13.3712)
+    gps[ExifTags.GPS.GPSLongitudeRef] = "E"
+    gps[ExifTags.GPS.GPSLongitude] = (8.0, 32.0, 41.9183)
+    pixels = np.random.default_rng(7).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    out = io.BytesIO()
+    Image.fromarray(pixels).save(out, "JPEG", quality=90, exif=exif)
+    return out.getvalue(), exif.tobytes()
+
+
+# Made once, before any test captures logs (Pillow logs the tags it writes).
+GPS_PHOTO, GPS_EXIF = photo_with_gps()
+
+
+def test_no_exif_or_gps_reaches_the_stored_photo(
+    client: TestClient, seeker: Phone, buddy: Phone, disk: Disk
+) -> None:
+    upload, exif = GPS_PHOTO, GPS_EXIF
+    assert Image.open(io.BytesIO(upload)).getexif().get_ifd(ExifTags.IFD.GPSInfo)  # it has GPS
+    assert exif in upload
+    assert seeker.upload(upload).status_code == 200
+    stored = client.get(buddy.url("/photo/seeker"), headers=buddy.auth).content  # as shown
+    image = Image.open(io.BytesIO(stored))
+    assert image.format == "JPEG"
+    assert dict(image.getexif()) == {}
+    assert not image.getexif().get_ifd(ExifTags.IFD.GPSInfo)
+    assert b"Exif" not in stored
+    assert b"BuddyPhone" not in stored
+    # Nor is the upload itself kept anywhere: its EXIF block is nowhere in the files.
+    assert disk.holds(stored) >= 12
+    files = disk.read()
+    assert exif not in files
+    assert b"BuddyPhone" not in files
+
+
+# The test's own HTTP client (TestClient is httpx) logs the URLs it requests; the server
+# does not use it.
+CLIENT_LOGGERS = ("httpx", "httpcore")
+
+
+@pytest.fixture
+def logged(caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch) -> Callable[[], str]:
+    """What the server's loggers have logged so far, with the root logger at DEBUG, as a
+    handler would write it (tracebacks included)."""
+    # SQLAlchemy's statements too (its own logger starts at WARNING): what echo=True shows.
+    caplog.set_level(logging.INFO, logger="sqlalchemy.engine")
+    caplog.set_level(logging.DEBUG)  # last: it also sets the capturing handler's level
+    # Every logger on, also those a logging configuration earlier in the run turned off.
+    for logger in logging.root.manager.loggerDict.values():
+        if isinstance(logger, logging.Logger):
+            monkeypatch.setattr(logger, "disabled", False)
+    formatter = logging.Formatter("%(name)s %(levelname)s %(message)s")
+
+    def written() -> str:
+        return "\n".join(
+            formatter.format(record)
+            for record in caplog.records
+            if not record.name.startswith(CLIENT_LOGGERS)
+        )
+
+    return written
+
+
+def test_logs_hold_no_token_code_or_position(
+    client: TestClient,
+    service: SessionService,
+    clock: FakeClock,
+    logged: Callable[[], str],
+    temple_photos: tuple[bytes, bytes],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    created = client.post("/api/sessions").json()
+    code = created["join_code"]
+    wrong = f"{(int(code) + 1) % 1_000_000:06d}"
+    assert client.post("/api/sessions/join", json={"code": wrong}).status_code == 404
+    joined = client.post("/api/sessions/join", json={"code": code}).json()
+    seeker = Phone(client, created["session_id"], created["token"], "seeker")
+    buddy = Phone(client, joined["session_id"], joined["token"], "buddy")
+    assert seeker.upload(GPS_PHOTO).status_code == 200
+    assert seeker.upload(temple_photos[0], "photo.png").status_code == 200
+    assert buddy.upload(temple_photos[1], "photo.png").status_code == 200
+    # Positions nobody else would write: taps with three decimals.
+    photo1 = [(x + 0.417, y + 0.583) for x, y in IN_PHOTO1]
+    photo2 = [(x + 0.271, y + 0.829) for x, y in IN_PHOTO2]
+    assert seeker.tap(landmarks=taps(photo1), epipole1=(523.613, 384.347)).status_code == 200
+    state = buddy.tap(landmarks=taps(photo2)).json()
+    position = state["result"]["epipole2"]
+    for path in ("/overlay/buddy", "/landmarks/seeker/2/crop", "/photo/buddy"):
+        answer = client.get(buddy.url(path), params={"token": buddy.token})
+        assert answer.status_code == 200
+    # An unexpected error on a URL with ?token=: logged with the route, not the URL.
+    monkeypatch.setattr(service, "overlay", lambda *_: 1 / 0)
+    failed = client.get(seeker.url("/overlay/seeker"), params={"token": seeker.token})
+    assert failed.status_code == 500
+    monkeypatch.undo()
+    clock.advance(7201)
+    asyncio.run(run_for(sweep_forever(service, 3600), seconds=1))  # logs what it deleted
+
+    written = logged()
+    assert "ZeroDivisionError" in written  # records were captured, tracebacks included
+    assert "/api/sessions/{session_id}/overlay/{role}" in written
+    assert "deleted 1 expired session" in written
+    assert "INSERT INTO photos" in written  # the statements, without their parameters
+    secrets = [created["token"], joined["token"], code, created["join_url"]]
+    positions = [f"{v:.3f}" for point in photo1 + photo2 for v in point]
+    positions += ["523.613", "384.347", f"{position[0]:.2f}", f"{position[1]:.2f}"]
+    exif = ["13.3712", "41.9183", "BuddyPhone"]
+    for secret in secrets + positions + exif:
+        assert secret not in written, secret
+
+
+async def run_for(task: Coroutine[None, None, None], seconds: float) -> None:
+    with contextlib.suppress(TimeoutError):
+        await asyncio.wait_for(task, seconds)

@@ -1,0 +1,363 @@
+"""Guessing join codes, tokens, the headers every answer carries, and no CORS.
+
+The guessing limits are counted in the database: every test runs on SQLite and PostgreSQL,
+and one runs two apps (two replicas) on the same database.
+"""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import hmac
+import re
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from fastapi import FastAPI
+from fastapi.testclient import TestClient
+from phones import FakeClock, Phone
+
+from backend.loopback import serve
+from backend.main import create_app
+from backend.security import APP_POLICY
+from backend.sessions.guessing import client_key
+from backend.settings import Settings
+from backend.storage import repository
+
+PER_CLIENT = 5
+OVERALL = 12
+
+
+@pytest.fixture
+def settings(database_url: str) -> Settings:
+    """Small limits, to reach them in a few requests."""
+    return Settings(
+        database_url=database_url,
+        sweep_interval_seconds=3600,
+        join_failures_per_client=PER_CLIENT,
+        join_failures_overall=OVERALL,
+    )
+
+
+def from_address(app: FastAPI, address: str) -> TestClient:
+    """Another phone on the same running app, from ``address``."""
+    return TestClient(app, raise_server_exceptions=False, client=(address, 40000))
+
+
+def new_code(client: TestClient) -> str:
+    created = client.post("/api/sessions")
+    assert created.status_code == 201
+    return str(created.json()["join_code"])
+
+
+def wrong_code(*right: str) -> str:
+    """A code no session has (the codes in play are few, and all known)."""
+    return next(f"{n:06d}" for n in range(1_000_000) if f"{n:06d}" not in right)
+
+
+def error_of(response: httpx.Response) -> str:
+    return str(response.json()["error"]["code"])
+
+
+def join(client: TestClient, code: str) -> httpx.Response:
+    return client.post("/api/sessions/join", json={"code": code})
+
+
+# --- guessing join codes --------------------------------------------------------------
+
+
+def test_an_address_that_keeps_guessing_is_stopped_even_with_the_right_code(
+    client: TestClient, clock: FakeClock
+) -> None:
+    wrong = wrong_code()
+    for _ in range(PER_CLIENT):
+        assert error_of(join(client, wrong)) == "invalid_join_code"
+        clock.advance(10)
+    code = new_code(client)
+    refused = join(client, code)  # right, but from an address that has guessed enough
+    assert refused.status_code == 429
+    assert error_of(refused) == "too_many_attempts"
+    assert "try again in 9 minutes" in refused.json()["error"]["message"]
+    # Until the first failure, 50 s ago, leaves the 10-minute window.
+    assert refused.headers["Retry-After"] == str(600 - 50)
+    clock.advance(549)
+    assert join(client, code).status_code == 429
+    clock.advance(1)
+    joined = join(client, code)
+    assert joined.status_code == 200, joined.text
+    # One failure left the window: one more may be made, then it waits again.
+    assert error_of(join(client, wrong)) == "invalid_join_code"
+    assert join(client, wrong).status_code == 429
+
+
+def test_right_codes_never_count_so_a_crowd_behind_one_address_joins(
+    client: TestClient,
+) -> None:
+    """A stadium behind one carrier address: many buddies joining, a few typos."""
+    codes = [new_code(client) for _ in range(3 * PER_CLIENT)]
+    for n, code in enumerate(codes):
+        if n % 4 == 0:  # a typo now and then, under the limit
+            assert error_of(join(client, wrong_code(*codes))) == "invalid_join_code"
+        assert join(client, code).status_code == 200
+
+
+def test_a_used_or_expired_code_counts_as_a_failure(client: TestClient, clock: FakeClock) -> None:
+    used = new_code(client)
+    assert join(client, used).status_code == 200
+    expired = new_code(client)
+    clock.advance(601)
+    replayed = [join(client, code).status_code for code in [used, expired] * PER_CLIENT]
+    assert replayed[: PER_CLIENT + 1] == [404] * PER_CLIENT + [429]
+
+
+def test_each_address_has_its_own_limit_and_ipv6_counts_by_64(
+    client: TestClient, app: FastAPI
+) -> None:
+    code = new_code(client)
+    wrong = wrong_code(code)
+    guesser = from_address(app, "2001:db8:1:2::17")
+    for _ in range(PER_CLIENT):
+        assert join(guesser, wrong).status_code == 404
+    assert join(guesser, code).status_code == 429
+    # Another address of the same /64 is the same subscriber.
+    assert join(from_address(app, "2001:db8:1:2:ffff:ffff:ffff:1"), code).status_code == 429
+    # Another subscriber is not held back.
+    assert join(from_address(app, "2001:db8:1:3::17"), code).status_code == 200
+
+
+def test_client_addresses_are_counted_as_subscribers() -> None:
+    assert client_key("203.0.113.9") == "203.0.113.9"
+    assert client_key("2001:db8:1:2:3:4:5:6") == "2001:db8:1:2::/64"
+    assert client_key("::ffff:203.0.113.9") == "203.0.113.9"
+    assert client_key("testclient") == "testclient"
+    assert client_key("") == "unknown"
+
+
+def test_guessing_from_many_addresses_leaves_one_guess_each(
+    client: TestClient, app: FastAPI
+) -> None:
+    """Above the overall limit an address that has failed waits; a fresh one (a buddy
+    typing a code for the first time) may still try."""
+    code = new_code(client)
+    wrong = wrong_code(code)
+    guessers = [from_address(app, f"198.51.100.{n}") for n in range(OVERALL // PER_CLIENT + 1)]
+    failures = 0
+    for guesser in guessers:
+        while failures < OVERALL and join(guesser, wrong).status_code == 404:
+            failures += 1
+    assert failures == OVERALL
+    # Each guesser has failed; the ones under their own limit are now held back too.
+    last = guessers[-1]
+    refused = join(last, code)
+    assert refused.status_code == 429
+    assert "being tried" in refused.json()["error"]["message"]
+    # A fresh address has one try: a typo, then it waits...
+    typo = from_address(app, "192.0.2.10")
+    assert join(typo, wrong).status_code == 404
+    assert join(typo, code).status_code == 429
+    # ...and one that types the code right joins.
+    assert join(from_address(app, "192.0.2.11"), code).status_code == 200
+
+
+def test_replicas_share_the_count(client: TestClient, settings: Settings, clock: FakeClock) -> None:
+    code = new_code(client)
+    wrong = wrong_code(code)
+    for _ in range(PER_CLIENT):
+        assert join(client, wrong).status_code == 404
+    with TestClient(create_app(settings, clock), raise_server_exceptions=False) as other:
+        assert join(other, code).status_code == 429
+
+
+def test_failures_are_forgotten_after_the_window(client: TestClient, clock: FakeClock) -> None:
+    """The addresses of failed joins are not kept longer than they count."""
+    wrong = wrong_code()
+    for _ in range(3):
+        join(client, wrong)
+    service = client.app.state.service  # type: ignore[attr-defined]
+    engine = service.store.engine
+
+    def kept() -> int:
+        with engine.connect() as connection:
+            count = connection.exec_driver_sql("SELECT COUNT(*) FROM join_failures").scalar()
+        return int(count)
+
+    service.sweep()
+    assert kept() == 3
+    clock.advance(600)
+    service.sweep()
+    assert kept() == 0
+
+
+def test_a_proxys_forwarded_address_is_the_one_counted(tmp_path: Path) -> None:
+    """Through a trusted proxy (here: loopback, uvicorn's default) the address counted is
+    the one the proxy forwards, not the proxy's own: else one guesser would stop everyone
+    behind the proxy, and could not be told apart."""
+    env = {"BUDDY_JOIN_FAILURES_PER_CLIENT": "2"}
+    with serve(tmp_path, env) as server, httpx.Client(base_url=server.base_url) as http:
+        code = http.post("/api/sessions").json()["join_code"]
+        wrong = wrong_code(code)
+
+        def join_from(address: str, join_code: str) -> int:
+            answer = http.post(
+                "/api/sessions/join",
+                json={"code": join_code},
+                headers={"X-Forwarded-For": address},
+            )
+            return answer.status_code
+
+        assert [join_from("203.0.113.5", wrong) for _ in range(3)] == [404, 404, 429]
+        assert join_from("203.0.113.6", code) == 200
+
+
+# --- tokens ---------------------------------------------------------------------------
+
+
+def test_tokens_are_256_random_bits(client: TestClient) -> None:
+    tokens = {client.post("/api/sessions").json()["token"] for _ in range(20)}
+    assert len(tokens) == 20
+    for token in tokens:
+        assert re.fullmatch(r"[A-Za-z0-9_-]{43}", token)
+        assert len(base64.urlsafe_b64decode(token + "=")) == 32
+
+
+def test_a_token_is_checked_in_constant_time(
+    client: TestClient, seeker: Phone, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The row found by the token's hash is compared again with hmac.compare_digest."""
+    compared: list[tuple[Any, Any]] = []
+    constant_time = hmac.compare_digest
+
+    def compare_digest(a: Any, b: Any) -> bool:
+        compared.append((a, b))
+        return constant_time(a, b)
+
+    monkeypatch.setattr(repository.hmac, "compare_digest", compare_digest)
+    assert client.get(seeker.url(), headers=seeker.auth).status_code == 200
+    digest = hashlib.sha256(seeker.token.encode()).hexdigest()
+    assert compared == [(digest, digest)]
+
+
+# --- headers --------------------------------------------------------------------------
+
+EVERYWHERE = {
+    "x-content-type-options": "nosniff",
+    "referrer-policy": "no-referrer",
+    "x-frame-options": "DENY",
+    "permissions-policy": "camera=(self), geolocation=(), microphone=()",
+    "cross-origin-opener-policy": "same-origin",
+    "cross-origin-resource-policy": "same-origin",
+}
+
+
+@pytest.mark.parametrize(
+    ("path", "status"),
+    [
+        ("/", 200),
+        ("/join/123456", 200),
+        ("/api/version", 200),
+        ("/healthz", 200),
+        ("/api/sessions/nope", 401),
+        ("/api/nothing", 404),
+        ("/openapi.json", 200),
+    ],
+)
+def test_every_answer_carries_the_security_headers(
+    client: TestClient, path: str, status: int
+) -> None:
+    answer = client.get(path)
+    assert answer.status_code == status
+    for name, value in EVERYWHERE.items():
+        assert answer.headers.get(name) == value, name
+    assert answer.headers["content-security-policy"] == APP_POLICY
+    assert "strict-transport-security" not in answer.headers  # plain HTTP
+    if path.startswith("/api/"):
+        assert answer.headers["cache-control"] == "no-store"
+
+
+def test_an_unexpected_error_carries_them_too(
+    client: TestClient, seeker: Phone, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A 500 is answered by Starlette's outermost middleware, outside the others."""
+
+    def bug(*_: object) -> None:
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(client.app.state.service, "state", bug)  # type: ignore[attr-defined]
+    answer = client.get(seeker.url(), headers=seeker.auth)
+    assert answer.status_code == 500
+    assert answer.json()["error"]["code"] == "internal_error"
+    for name, value in EVERYWHERE.items():
+        assert answer.headers.get(name) == value, name
+    assert answer.headers["cache-control"] == "no-store"
+
+
+def test_the_app_policy_allows_only_the_apps_own_files() -> None:
+    directives = dict(part.split(" ", 1) for part in APP_POLICY.split("; "))
+    assert directives["script-src"] == "'self'"
+    assert directives["style-src"] == "'self'"
+    assert directives["connect-src"] == "'self'"
+    assert directives["frame-ancestors"] == "'none'"
+    assert directives["object-src"] == "'none'"
+    assert "unsafe" not in APP_POLICY
+
+
+def test_state_and_pictures_are_not_kept_by_caches(
+    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The state holds the join code: no cache keeps it. Pictures may stay in the phone's
+    own cache, never in a shared one."""
+    assert client.get(seeker.url(), headers=seeker.auth).headers["cache-control"] == "no-store"
+    assert buddy.upload(temple_photos[1], "photo.png").status_code == 200
+    picture = client.get(seeker.url("/photo/buddy"), params={"token": seeker.token})
+    assert picture.headers["cache-control"] == "private"
+
+
+def test_https_answers_say_to_stay_on_https(app: FastAPI) -> None:
+    """Directly over HTTPS, or through a trusted proxy's X-Forwarded-Proto (uvicorn's
+    --proxy-headers turns that into the request's scheme)."""
+    with TestClient(app, base_url="https://buddy.example") as secure:
+        answer = secure.get("/api/version")
+    assert answer.headers["strict-transport-security"] == "max-age=31536000"
+
+
+def test_the_docs_allow_their_one_inline_script_by_its_hash(client: TestClient) -> None:
+    page = client.get("/docs")
+    assert page.status_code == 200
+    policy = page.headers["content-security-policy"]
+    scripts = re.findall(r"<script>(.*?)</script>", page.text, re.S)
+    assert len(scripts) == 1
+    digest = base64.b64encode(hashlib.sha256(scripts[0].encode()).digest()).decode()
+    script_src = re.search(r"script-src ([^;]*)", policy)
+    assert script_src is not None
+    assert script_src.group(1).split() == ["'self'", f"'sha256-{digest}'"]
+    assert "frame-ancestors 'none'" in policy
+    assert "validator.swagger.io" not in page.text
+    # Every other answer keeps the strict policy.
+    assert client.get("/docs-assets/swagger-ui.css").headers["content-security-policy"] == (
+        APP_POLICY
+    )
+
+
+# --- CORS -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", ["POST", "GET", "PUT", "DELETE"])
+def test_no_other_origin_is_let_in(client: TestClient, seeker: Phone, method: str) -> None:
+    origin = {"Origin": "https://evil.example"}
+    preflight = client.options(
+        seeker.url(),
+        headers={
+            **origin,
+            "Access-Control-Request-Method": method,
+            "Access-Control-Request-Headers": "authorization, content-type",
+        },
+    )
+    assert preflight.status_code >= 400
+    assert not any(name.startswith("access-control-") for name in preflight.headers)
+    simple = client.post("/api/sessions", headers=origin)
+    assert simple.status_code == 201  # a browser would not let the other origin read it:
+    assert not any(name.startswith("access-control-") for name in simple.headers)
+    state = client.get(seeker.url(), headers={**origin, **seeker.auth})
+    assert not any(name.startswith("access-control-") for name in state.headers)
