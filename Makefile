@@ -52,7 +52,7 @@ bench-api: $(INSTALLED)
 	$(BIN)/python benchmarks/api.py
 
 bench-load: $(INSTALLED)
-	$(BIN)/python benchmarks/load.py
+	$(BIN)/python benchmarks/load.py --workers 2
 
 demo: $(INSTALLED)
 	$(BIN)/python -m shared_solver

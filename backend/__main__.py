@@ -28,7 +28,8 @@ def main() -> None:
     if settings.host in ("0.0.0.0", "::") and (address := lan_address()):
         print(f"  on the phones:     http://{address}:{port}  (same Wi-Fi)")
     print(f"  API docs:          http://127.0.0.1:{port}/docs")
-    print(f"  data:              {settings.database_url}", flush=True)
+    print(f"  data:              {settings.database_url}")
+    print(f"  processes:         {settings.workers}", flush=True)
     # No access log: event streams and pictures carry the session token in their URL.
     uvicorn.run(
         "backend.main:app",
@@ -39,6 +40,7 @@ def main() -> None:
         # Event streams never end by themselves: do not wait for them on Ctrl+C or SIGTERM.
         timeout_graceful_shutdown=3,
         log_level="info",
+        workers=settings.workers,
     )
 
 

@@ -3,8 +3,10 @@
 Events live in the database (the store writes each one with its change), so a phone that
 reconnects with ``Last-Event-ID`` gets what it missed, whichever replica it reaches. The
 :class:`Notifier` wakes this process's streams as soon as a change is committed here, and,
-with PostgreSQL, when another replica commits one (the store's LISTEN/NOTIFY). Streams also
-re-read the event table every ``event_poll_seconds``, in case a wake-up was lost.
+with PostgreSQL, when another replica commits one (the store's LISTEN/NOTIFY); with SQLite,
+when another worker process on the same file does (the service's event watcher, a few times
+a second). Streams also re-read the event table every ``event_poll_seconds``, in case a
+wake-up was lost.
 """
 
 from __future__ import annotations
@@ -58,6 +60,11 @@ class Notifier:
             wakeups = list(self._wakeups.get(session_id, ()))
         for wakeup in wakeups:
             wakeup.set()
+
+    def watched(self) -> list[str]:
+        """The sessions some stream of this process listens to."""
+        with self._lock:
+            return list(self._wakeups)
 
     def notify_all(self) -> None:
         """Wake every stream (after an outage, when some changes may have gone unheard)."""

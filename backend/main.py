@@ -27,9 +27,18 @@ from backend.sessions.service import SessionService
 from backend.settings import Settings, get_settings
 from backend.storage.database import make_engine
 from backend.storage.repository import Store
-from backend.sweeper import sweep_forever
+from backend.sweeper import (
+    erase_forever,
+    keep_online_forever,
+    sweep_forever,
+    watch_events_forever,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
+# How often a process on SQLite looks for other processes' changes: their latency at most.
+WATCH_SECONDS = 0.25
+# How soon after a deletion its bytes are erased from the database's files (off the request).
+ERASE_SECONDS = 2.0
 DESCRIPTION = """Find a friend across a venue from two phone photos.
 
 Stateless: `POST /api/solve` and `POST /api/overlay` for scripts.
@@ -50,11 +59,18 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
         store, notifier = Store(engine, settings.erase_interval_seconds), Notifier()
         service = SessionService(store, settings, notifier, clock)
         app.state.service = service
-        tasks = [asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds))]
-        # PostgreSQL: other replicas' changes wake this one's streams too.
+        tasks = [
+            asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds)),
+            asyncio.create_task(keep_online_forever(service, settings.online_seconds / 3)),
+            asyncio.create_task(erase_forever(service, ERASE_SECONDS)),
+        ]
+        # Other processes' changes wake this one's streams too: on PostgreSQL they notify,
+        # on SQLite (several worker processes on one file) the watcher looks.
         if listener := store.change_listener(notifier.notify, notifier.notify_all):
             tasks.append(asyncio.create_task(listener.run()))
             await listener.started(timeout=10)  # else /healthz says 503 until it is
+        else:
+            tasks.append(asyncio.create_task(watch_events_forever(service, WATCH_SECONDS)))
         try:
             yield
         finally:

@@ -10,8 +10,6 @@ from functools import lru_cache
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
-from backend.storage.database import is_postgresql
-
 
 class Settings(BaseSettings):
     """Documented in the README's settings table; each field's description is the reference."""
@@ -22,13 +20,21 @@ class Settings(BaseSettings):
         "0.0.0.0", description="Address make run listens on (all: phones on the network reach it)."
     )
     port: int = Field(8000, gt=0, lt=65536, description="Port make run listens on.")
+    workers: int = Field(
+        1,
+        ge=1,
+        le=64,
+        description="Server processes make run starts: one per core serves the most phones "
+        "(each process runs Python on one core).",
+    )
     frontend_dir: str = Field(
         "frontend/dist", description="The built phone app, served at / (make run builds it)."
     )
     database_url: str = Field(
         "sqlite:///var/buddy.db",
-        description="SQLAlchemy URL: SQLite (WAL mode) for one process, PostgreSQL "
-        "(`postgresql+psycopg://user:password@host:5432/buddy`) for several replicas.",
+        description="SQLAlchemy URL: SQLite (WAL mode) for the processes of one machine, "
+        "PostgreSQL (`postgresql+psycopg://user:password@host:5432/buddy`) for replicas on "
+        "several.",
     )
     public_url: str | None = Field(
         None,
@@ -100,8 +106,9 @@ class Settings(BaseSettings):
         None,
         gt=0,
         description="How often an event stream re-reads the event table, in case a wake-up "
-        "was lost (default: 1 s on SQLite; 10 s on PostgreSQL, whose notifications wake the "
-        "streams of every replica at once).",
+        "was lost (default: 10 s; changes wake the streams at once, in every process: on "
+        "PostgreSQL by notifications, on SQLite by each process's watcher, 4 times a "
+        "second).",
     )
 
     @property
@@ -109,7 +116,7 @@ class Settings(BaseSettings):
         """``event_poll_seconds``, or its default for the database in use."""
         if self.event_poll_seconds is not None:
             return self.event_poll_seconds
-        return 10.0 if is_postgresql(self.database_url) else 1.0
+        return 10.0
 
 
 @lru_cache

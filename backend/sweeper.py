@@ -1,9 +1,12 @@
-"""The background task that deletes expired sessions (and with them their photos)."""
+"""The background tasks: deleting expired sessions (and with them their photos), erasing
+what deletions leave in the database's files, keeping the phones that listen here online,
+and (SQLite) watching for other processes' changes."""
 
 from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Callable
 
 import anyio
 
@@ -15,13 +18,43 @@ log = logging.getLogger(__name__)
 
 async def sweep_forever(service: SessionService, interval_seconds: float) -> None:
     """Every ``interval_seconds``: delete what has expired. Never dies of an error."""
+
+    def sweep() -> None:
+        if gone := service.sweep():
+            log.info("deleted %d expired session(s)", len(gone))
+
+    await _forever(sweep, interval_seconds, "sweeping expired sessions")
+
+
+async def keep_online_forever(service: SessionService, interval_seconds: float) -> None:
+    """Every ``interval_seconds``: the phones listening here are seen (one write)."""
+    await _forever(service.keep_online, interval_seconds, "marking listening phones online")
+
+
+async def erase_forever(service: SessionService, interval_seconds: float) -> None:
+    """Every ``interval_seconds``: erase what deletions left in the database's files (at
+    once on SQLite; on PostgreSQL at most every ``erase_interval_seconds``)."""
+    await _forever(service.erase_deleted, interval_seconds, "erasing deleted rows")
+
+
+async def watch_events_forever(service: SessionService, interval_seconds: float) -> None:
+    """Every ``interval_seconds``: wake the streams of sessions other processes changed."""
+    after: int | None = None
+
+    def watch() -> None:
+        nonlocal after
+        after = service.watch(after)
+
+    await _forever(watch, interval_seconds, "watching for other processes' changes")
+
+
+async def _forever(work: Callable[[], None], interval_seconds: float, what: str) -> None:
+    """``work`` in a worker thread, then a pause, for ever; an error is logged, not fatal."""
     while True:
         try:
-            gone = await anyio.to_thread.run_sync(service.sweep)
-            if gone:
-                log.info("deleted %d expired session(s)", len(gone))
+            await anyio.to_thread.run_sync(work)
         except DatabaseUnavailableError as error:
-            log.warning("sweeping expired sessions waits for the database: %s", error)
+            log.warning("%s waits for the database: %s", what, error)
         except Exception:
-            log.exception("sweeping expired sessions failed; trying again later")
+            log.exception("%s failed; trying again later", what)
         await asyncio.sleep(interval_seconds)

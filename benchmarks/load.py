@@ -23,7 +23,7 @@ session as the phone app does, each phone with its own ``httpx.AsyncClient`` (ke
 Run from the repository root:
 
     .venv/bin/python benchmarks/load.py [--concurrency N] [--duration S] [--sessions K]
-        [--pause-ms MIN MAX] [--workers W] [--database sqlite|postgresql]
+        [--speed X] [--workers W] [--database sqlite|postgresql]
         [--event-poll-seconds S] [--out PATH]                          (``make bench-load``)
 
 The report is printed and written as Markdown to ``docs/load-benchmark.md``.
@@ -74,18 +74,31 @@ PAIR = ("templeSR0003", "templeSR0006")  # the seeker's photo, the buddy's
 # --- what is measured, and the targets ---------------------------------------------------
 
 DEFAULT_CONCURRENCY = 200
-DEFAULT_DURATION = 60.0
-DEFAULT_RAMP = 5.0  # slot i starts its first session at i / N of this: no thundering herd
+DEFAULT_DURATION = 120.0
+DEFAULT_RAMP = 30.0  # slot i starts its first session at i / N of this: no thundering herd
 DEFAULT_IDLE_SECONDS = 10.0
-DEFAULT_PAUSE_MS = (50.0, 300.0)  # a person between two steps: uniform in this range
+# A person's pauses, seconds, uniform in each range (``--speed`` divides them): the buddy
+# scans the QR code or types the code; each takes a photo; the seeker picks a landmark and
+# places it with the loupe; the buddy finds the seeker's landmark #n in their own photo from
+# its crop; both read the answer before "Delete now". A session then lasts about 1.5 min.
+PAUSES = {
+    "join": (5.0, 15.0),
+    "photo": (5.0, 15.0),
+    "tap": (3.0, 8.0),
+    "find": (5.0, 15.0),
+    "read": (3.0, 10.0),
+}
+DEFAULT_SPEED = 1.0
+QUIET_SPEED = 20.0  # the quiet phase: one session at a time, pauses are only waiting
 SOLO_SESSIONS = 5
 COST_CALLS = 20  # of each kind, for the server CPU per call
-DRAIN_SECONDS = 90.0  # sessions still running at the end of the duration get this long
+DRAIN_SECONDS = 180.0  # sessions still running at the end of the duration get this long
 SETTLE_SECONDS = 2.0  # after the idle streams are open, before their CPU is measured
 PAIRING_CONCURRENCY = 20  # sessions paired at once for the idle phase
 OVERALL_SLACK_SECONDS = 600.0  # the whole measurement: idle + duration + this, at most
 MAX_SESSIONS_PER_SLOT = 100_000  # a bound, far above what a slot can run
 PHONE_CONNECTIONS = 6  # a browser's limit per host over HTTP/1.1
+KEEPALIVE_SECONDS = 4.0  # below uvicorn's 5 s
 MAX_REFETCHES = 1000  # per burst of events: a bound for one phone's refetch loop
 
 LANDMARKS = 6
@@ -109,12 +122,13 @@ CREATE = "POST /api/sessions"
 JOIN = "POST /api/sessions/join"
 EVENTS = "GET /events (first byte)"
 PHOTO = "PUT /photo"
+STORED = "GET /photo/{own role}"
 TAPS = "PUT /taps"
 STATE = "GET /api/sessions/{id}"
 CROP = "GET /landmarks/seeker/{n}/crop"
-OVERLAY = "GET /overlay/buddy"
+OVERLAY = "GET /overlay/{own role}"
 DELETE = "DELETE /api/sessions/{id}"
-ENDPOINTS = (CREATE, JOIN, EVENTS, PHOTO, TAPS, STATE, CROP, OVERLAY, DELETE)
+ENDPOINTS = (CREATE, JOIN, EVENTS, PHOTO, STORED, TAPS, STATE, CROP, OVERLAY, DELETE)
 EXEMPT = {PHOTO}  # not held to the p99 target
 EXPECTED_EVENTS = ("joined", "photo", "taps", "result", "expired")  # on both streams
 STREAMS_HELD = 0.9  # of the 2N streams open (steady median), for the concurrency target
@@ -338,6 +352,27 @@ def error_kind(response: httpx.Response) -> str:
 # --- one phone -------------------------------------------------------------------------------
 
 
+@dataclass(frozen=True)
+class Change:
+    """What an event said changed, and the session version it made (None: no version)."""
+
+    type: str
+    version: int | None
+
+
+def already_shown(change: Change, shown: dict[str, Any] | None) -> bool:
+    """Whether the state shown holds ``change`` already: the phone app's ``alreadyShown``
+    (frontend/src/reconnect.ts), which spares a phone fetching its own changes."""
+    if change.version is None or shown is None:
+        return False
+    if change.type == "result":
+        answered = shown.get("result") is not None or shown.get("result_error") is not None
+        return shown["version"] > change.version or (
+            shown["version"] == change.version and answered
+        )
+    return bool(shown["version"] >= change.version)
+
+
 class Phone:
     """One participant: its own HTTP client (keep-alive, a browser's few connections), its
     calls, its event stream, the state it shows."""
@@ -351,7 +386,7 @@ class Phone:
         self.token = ""
         self.auth: dict[str, str] = {}
         self.state: dict[str, Any] | None = None
-        self.changed = asyncio.Condition()
+        self.shown = asyncio.Condition()
         self.events: Counter[str] = Counter()
         self.live = asyncio.Event()  # its stream has announced this phone (own 'joined')
         self.expired = asyncio.Event()
@@ -360,6 +395,10 @@ class Phone:
         self.again = False
         self.ending = False  # no new state fetches: the session is being deleted
         self.fetches = 0
+        self.sending = False  # a PUT /taps on its way: its reply will be the newest state
+        self.held: list[Change] = []  # changes told meanwhile, judged when the reply is in
+        self.drawing: asyncio.Task[None] | None = None  # the overlay <img> loading
+        self.drawn: int | None = None  # the answer version of the overlay last loaded
 
     def enter(self, session_id: str, token: str) -> None:
         self.session_id, self.token = session_id, token
@@ -391,8 +430,29 @@ class Phone:
         rec.ok(endpoint, (time.perf_counter() - started) * 1000, response)
         return response
 
-    # The state, fetched after every event; at most one fetch in flight, one more after it
-    # when events came meanwhile (the phone app's Refetcher).
+    # The state, fetched after every event that tells something it does not show (the phone
+    # app's alreadyShown); at most one fetch in flight, one more after it when events came
+    # meanwhile (its Refetcher); changes told while its own PUT is on its way are judged
+    # when the reply is in (its held changes).
+
+    def changed(self, *changes: Change) -> None:
+        if self.sending:
+            self.held.extend(changes)
+        elif any(not already_shown(change, self.state) for change in changes):
+            self.refetch()
+
+    async def put_taps(self, body: dict[str, Any]) -> bool:
+        """Its taps, as the app's TapSaver sends them; the reply is shown."""
+        self.sending = True
+        try:
+            answered = await self.call(TAPS, "PUT", self.url("/taps"), json=body)
+        finally:
+            self.sending = False
+        if answered is not None:
+            await self.show(answered.json())
+        held, self.held = self.held, []
+        self.changed(*held)
+        return answered is not None
 
     def refetch(self) -> None:
         if self.ending:
@@ -415,16 +475,30 @@ class Phone:
     async def settled(self) -> None:
         """Until the state fetch in flight (if any) is done; no new ones after this."""
         self.ending = True
-        if self.fetching is not None:
-            with suppress(TimeoutError):
-                await asyncio.wait_for(asyncio.shield(self.fetching), REQUEST_SECONDS)
+        for task in (self.fetching, self.drawing):
+            if task is not None:
+                with suppress(TimeoutError):
+                    await asyncio.wait_for(asyncio.shield(task), REQUEST_SECONDS)
 
     async def show(self, state: dict[str, Any]) -> None:
-        """Keep the newest state (an older one that arrives late is dropped)."""
+        """Keep the newest state (an older one that arrives late is dropped); an answer not
+        drawn yet loads its overlay (the app's <img>, one at a time, the newest)."""
         if self.state is None or state["version"] >= self.state["version"]:
             self.state = state
-            async with self.changed:
-                self.changed.notify_all()
+            async with self.shown:
+                self.shown.notify_all()
+            new_answer = state.get("result") is not None and state["result_version"] != self.drawn
+            if new_answer and (self.drawing is None or self.drawing.done()):
+                self.drawing = asyncio.create_task(self._draw())
+
+    async def _draw(self) -> None:
+        while not self.ending and self.state is not None and self.state.get("result"):
+            version = self.state["result_version"]
+            if version == self.drawn:
+                return
+            self.drawn = version
+            params = {"token": self.token, "v": str(version)}
+            await self.call(OVERLAY, "GET", self.url(f"/overlay/{self.role}"), params=params)
 
     async def wait_for(self, seen: Callable[[dict[str, Any]], bool], what: str) -> bool:
         """Until the state shows ``seen``; False (and counted) after WAIT_SECONDS."""
@@ -432,9 +506,9 @@ class Phone:
         def shown() -> bool:
             return self.state is not None and seen(self.state)
 
-        async with self.changed:
+        async with self.shown:
             try:
-                await asyncio.wait_for(self.changed.wait_for(shown), WAIT_SECONDS)
+                await asyncio.wait_for(self.shown.wait_for(shown), WAIT_SECONDS)
             except TimeoutError:
                 self.rec.flow(f"the {self.role} waited {WAIT_SECONDS:g} s for {what}")
                 return False
@@ -494,11 +568,13 @@ class Phone:
                 if kind == "expired":
                     self.expired.set()
                     return
-                self.refetch()
-            elif line.startswith("data: ") and kind == "joined" and not self.live.is_set():
+            elif line.startswith("data: ") and kind is not None:
                 data = json.loads(line[6:])
-                if data.get("role") == self.role and data.get("online"):
+                if kind == "joined" and data.get("role") == self.role and data.get("online"):
                     self.live.set()
+                version = data.get("version")
+                self.changed(Change(kind, version if isinstance(version, int) else None))
+                kind = None
         self.rec.flow("stream ended without 'expired'")
 
     async def discard(self) -> None:
@@ -510,7 +586,7 @@ class Phone:
 
     async def close(self) -> None:
         """Stop its tasks (a failed session: the stream may still be open), close its client."""
-        for task in (self.stream, self.fetching):
+        for task in (self.stream, self.fetching, self.drawing):
             if task is not None and not task.done():
                 task.cancel()
                 with suppress(asyncio.CancelledError, Exception):
@@ -529,13 +605,13 @@ class Driver:
         base_url: str,
         photos: tuple[bytes, bytes],
         scenes: list[Scene],
-        pause_ms: tuple[float, float],
+        speed: float,
         seed: int,
     ) -> None:
         self.base_url = base_url
         self.photos = photos
         self.scenes = scenes
-        self.pause_ms = pause_ms
+        self.speed = speed
         self.seed = seed
         self.rec = Recorder()
         # Never used (plain HTTP on loopback), but httpx builds one per client unless given
@@ -545,15 +621,21 @@ class Driver:
     def client(self) -> httpx.AsyncClient:
         """A phone's own client. One client shared by all phones would hold hundreds of
         connections, and httpcore's pool does work quadratic in that number per request."""
+        # Idle connections closed before uvicorn closes them (after 5 s): a request sent on
+        # a connection the server is closing fails. A browser sends it again on a new one;
+        # httpx does not, so it must not reuse a connection that old.
         limits = httpx.Limits(
-            max_connections=PHONE_CONNECTIONS, max_keepalive_connections=PHONE_CONNECTIONS
+            max_connections=PHONE_CONNECTIONS,
+            max_keepalive_connections=PHONE_CONNECTIONS,
+            keepalive_expiry=KEEPALIVE_SECONDS,
         )
         return httpx.AsyncClient(
             base_url=self.base_url, limits=limits, timeout=REQUEST_SECONDS, verify=self.tls
         )
 
-    async def pause(self, rng: np.random.Generator) -> None:
-        await asyncio.sleep(rng.uniform(*self.pause_ms) / 1000)
+    async def pause(self, rng: np.random.Generator, step: str) -> None:
+        """A person doing ``step`` (one of PAUSES)."""
+        await asyncio.sleep(rng.uniform(*PAUSES[step]) / self.speed)
 
     async def create(self) -> tuple[Phone, str] | None:
         """The seeker's phone with a new session, and the join code; None if refused."""
@@ -577,15 +659,17 @@ class Driver:
         buddy.enter(body["session_id"], body["token"])
         return buddy
 
-    async def pair(self) -> tuple[Phone, Phone] | None:
-        """The seeker creates a session and listens; the buddy joins with the code and
-        listens. None if any of it failed."""
+    async def pair(self, rng: np.random.Generator | None = None) -> tuple[Phone, Phone] | None:
+        """The seeker creates a session and listens; the buddy joins with the code (after
+        a person's pause, given ``rng``) and listens. None if any of it failed."""
         created = await self.create()
         if created is None:
             return None
         seeker, code = created
         seeker.listen()
         seeker.refetch()  # the phone shows the state (the QR code) at once
+        if rng is not None:
+            await self.pause(rng, "join")
         buddy = await self.join(code)
         if buddy is None:
             await seeker.discard()
@@ -601,7 +685,7 @@ class Driver:
         taps = session_taps(self.scenes[int(rng.integers(len(self.scenes)))], rng)
         started = time.monotonic()
         self.rec.sessions_started += 1
-        paired = await self.pair()
+        paired = await self.pair(rng)
         if paired is None:
             return False
         seeker, buddy = paired
@@ -613,7 +697,7 @@ class Driver:
             if not all(sides):
                 return False
             answer = [await phone.wait_for(has_answer, "the answer") for phone in paired]
-            await self.pause(rng)  # they read the answer, wave, find each other
+            await self.pause(rng, "read")  # they read the answer, wave, find each other
             deleted = await self.delete(seeker, buddy)
             if not deleted:
                 return False
@@ -645,32 +729,28 @@ class Driver:
         """Its photo, then the buddy mark and one more landmark per PUT."""
         if not await phone.wait_event(phone.live, "own 'joined'"):
             return False
-        await self.pause(rng)  # taking the photo
+        await self.pause(rng, "photo")
         if not await self.upload(phone, self.photos[0]):
             return False
         for n in range(1, LANDMARKS + 1):
-            await self.pause(rng)
+            await self.pause(rng, "tap")
             body = {"landmarks": taps.seeker[:n], "epipole1": taps.buddy_mark}
-            answered = await phone.call(TAPS, "PUT", phone.url("/taps"), json=body)
-            if answered is None:
+            if not await phone.put_taps(body):
                 return False
-            await phone.show(answered.json())
         return True
 
     async def buddy_side(self, phone: Phone, taps: SessionTaps, rng: np.random.Generator) -> bool:
         """Its photo; then, for each landmark the seeker taps, "find #n" (its crop) and the
-        tap; then the overlay with the answer."""
+        tap. (Each phone loads its overlay whenever its state shows a new answer.)"""
         if not await phone.wait_event(phone.live, "own 'joined'"):
             return False
-        await self.pause(rng)
+        await self.pause(rng, "photo")
         if not await self.upload(phone, self.photos[1]):
             return False
         for n in range(1, LANDMARKS + 1):
             if not await self.find_and_tap(phone, n, taps.buddy[:n], rng):
                 return False
-        if not await phone.wait_for(has_answer, "the answer"):
-            return False
-        return await self.overlay(phone) is not None
+        return True
 
     async def find_and_tap(
         self, phone: Phone, n: int, landmarks: list[dict[str, float]], rng: np.random.Generator
@@ -680,12 +760,8 @@ class Driver:
             return False
         if await self.crop(phone, n) is None:
             return False
-        await self.pause(rng)
-        answered = await phone.call(TAPS, "PUT", phone.url("/taps"), json={"landmarks": landmarks})
-        if answered is None:
-            return False
-        await phone.show(answered.json())
-        return True
+        await self.pause(rng, "find")
+        return await phone.put_taps({"landmarks": landmarks})
 
     async def crop(self, phone: Phone, n: int) -> httpx.Response | None:
         """The seeker's landmark #n as the buddy's <img> gets it (``?token=``, a cache key)."""
@@ -699,11 +775,21 @@ class Driver:
     async def overlay(self, phone: Phone) -> httpx.Response | None:
         assert phone.state is not None
         params = {"token": phone.token, "v": str(phone.state["result_version"])}
-        return await phone.call(OVERLAY, "GET", phone.url("/overlay/buddy"), params=params)
+        return await phone.call(OVERLAY, "GET", phone.url(f"/overlay/{phone.role}"), params=params)
 
     async def upload(self, phone: Phone, photo: bytes) -> bool:
+        """The photo, then the stored one as the app loads it to tap on."""
+        return await self.put_photo(phone, photo) and await self.stored(phone)
+
+    async def put_photo(self, phone: Phone, photo: bytes) -> bool:
         files = {"photo": ("photo.jpg", photo, "image/jpeg")}
         return await phone.call(PHOTO, "PUT", phone.url("/photo"), files=files) is not None
+
+    async def stored(self, phone: Phone) -> bool:
+        """Its stored photo, as the app's <img> loads it (``?token=``, a cache key)."""
+        params = {"token": phone.token, "v": "1"}
+        stored = await phone.call(STORED, "GET", phone.url(f"/photo/{phone.role}"), params=params)
+        return stored is not None
 
 
 def has_answer(state: dict[str, Any]) -> bool:
@@ -821,12 +907,13 @@ async def call_costs(driver: Driver, server_pids: Sequence[int], poll: float) ->
 
     await each(CREATE, [create] * COST_CALLS)
     await each(JOIN, [partial(join, code) for code in codes])
-    await each(PHOTO, [partial(driver.upload, seeker, driver.photos[0]) for seeker in seekers])
+    await each(PHOTO, [partial(driver.put_photo, seeker, driver.photos[0]) for seeker in seekers])
+    await each(STORED, [partial(driver.stored, seeker) for seeker in seekers])
     if not buddies:
         return Costs(spent, COST_CALLS, failed + COST_CALLS)
     seeker, buddy = seekers[0], buddies[0]
     taps = session_taps(driver.scenes[0], np.random.default_rng([driver.seed, 2]))
-    await driver.upload(buddy, driver.photos[1])
+    await driver.put_photo(buddy, driver.photos[1])
     mark = {"landmarks": taps.seeker, "epipole1": taps.buddy_mark}
     await seeker.call(TAPS, "PUT", seeker.url("/taps"), json=mark)
     landmarks = [dict(t) for t in taps.buddy]
@@ -1082,7 +1169,7 @@ class Setup:
     budget: int | None
     ramp: float
     idle_seconds: float
-    pause_ms: tuple[float, float]
+    speed: float
     workers: int
     database_kind: str
     event_poll_seconds: float | None  # BUDDY_EVENT_POLL_SECONDS for the server; None: default
@@ -1115,7 +1202,10 @@ def header(results: Results) -> str:
         else f"{setup.workers} worker processes (`WEB_CONCURRENCY={setup.workers}`)"
     )
     seeker_kb, buddy_kb = (size / 1000 for size in results.photo_bytes)
-    pause = f"{setup.pause_ms[0]:g}-{setup.pause_ms[1]:g} ms"
+    pauses = ", ".join(
+        f"{step} {low / setup.speed:g}-{high / setup.speed:g}"
+        for step, (low, high) in PAUSES.items()
+    )
     stop = f"for {setup.duration:g} s" + (
         f" or until {setup.budget} sessions have started" if setup.budget else ""
     )
@@ -1161,8 +1251,11 @@ def header(results: Results) -> str:
             "tap noise drawn per session; the seeker also marks the buddy (e1). Answers: "
             "`conic` from 4 landmarks, a position from 5 and 6.",
             f"- Load: {setup.concurrency} slots running sessions back to back {stop}, their "
-            f"first starts spread over {setup.ramp:g} s; pauses of {pause} (uniform, seeded "
-            f"{setup.seed}) before each photo, tap, find and the delete; sessions still "
+            f"first starts spread over {setup.ramp:g} s. People pause (seconds, uniform, "
+            f"seeded {setup.seed}; a person"
+            + ("" if setup.speed == 1 else f" sped up {setup.speed:g} times")
+            + f"): {pauses}: before joining, each photo, each of the seeker's taps, each of "
+            "the buddy's (after its crop) and the delete; sessions still "
             f"running at the end get {DRAIN_SECONDS:g} s. Each phone has its own "
             f"`httpx.AsyncClient` (keep-alive, at most {PHONE_CONNECTIONS} connections, as a "
             f"browser); every call times out after {REQUEST_SECONDS:g} s, a silent stream "
@@ -1177,14 +1270,18 @@ def flow_text() -> str:
         "Each session, as the phone app does it: the seeker `POST /api/sessions` and opens "
         "its event stream (`GET /events?token=`, open until the end, read continuously); "
         "the buddy joins with the code and opens its stream; each phone fetches the state "
-        "after every event (at most one fetch in flight per phone, one more if events came "
-        "meanwhile) and shows the newest. Once its stream is live, each phone uploads its "
-        f"photo. The seeker sends `PUT /taps` {LANDMARKS} times: the buddy mark and one more "
-        "landmark each time. For each landmark #n the buddy waits until its state shows the "
-        'seeker\'s #n, gets its crop (`GET /landmarks/seeker/n/crop`: "find #n"), pauses '
-        "and sends its own landmarks #1..#n (`PUT /taps`: the answer is recomputed in the "
-        "request). The buddy gets its overlay (`GET /overlay/buddy`, JPEG) once its state "
-        "has the answer; both phones wait until their state shows it; the seeker sends "
+        "after every event that tells it something its screen does not show yet (the app's "
+        "`alreadyShown`: a phone's own taps come back with the answer in the reply to its "
+        "PUT; news told while that PUT is on its way waits for the reply), at most one "
+        "fetch in flight per phone, one more if events came meanwhile, and shows the "
+        "newest. Once its stream is live, each phone uploads its photo and loads the stored "
+        f"one (`GET /photo/<own role>`). The seeker sends `PUT /taps` {LANDMARKS} times: "
+        "the buddy mark and one more landmark each time. For each landmark #n the buddy "
+        "waits until its state shows the seeker's #n, gets its crop (`GET "
+        '/landmarks/seeker/n/crop`: "find #n"), pauses and sends its own landmarks #1..#n '
+        "(`PUT /taps`: the answer is recomputed in the request). Each phone loads its "
+        "overlay (`GET /overlay/<own role>`, JPEG) whenever its state shows a new answer; "
+        "both phones wait until their state shows it; the seeker sends "
         "`DELETE`, and both streams must end with `expired`. Errors: any call that is not "
         "the expected 2xx or times out; a stream that drops, goes silent, or ends without "
         f"`expired`; a stream that never saw one of {', '.join(EXPECTED_EVENTS)}; a phone "
@@ -1348,14 +1445,19 @@ def load_section(results: Results) -> list[str]:
         endpoint_table(rec),
         markdown_table(["measured", "value"], rows),
     ]
-    if rec.errors:
-        kinds = [
-            [f"`{name}`", kind, str(count)]
-            for name in ENDPOINTS
-            for kind, count in rec.calls[name].errors.most_common()
-        ] + [["(flow)", kind, str(count)] for kind, count in rec.flow_errors.most_common()]
-        lines += ["Errors by kind:", markdown_table(["call", "error", "count"], kinds)]
-    return lines
+    return lines + error_kinds(rec)
+
+
+def error_kinds(rec: Recorder) -> list[str]:
+    """The table of what failed, if anything did."""
+    if not rec.errors:
+        return []
+    kinds = [
+        [f"`{name}`", kind, str(count)]
+        for name in ENDPOINTS
+        for kind, count in rec.calls[name].errors.most_common()
+    ] + [["(flow)", kind, str(count)] for kind, count in rec.flow_errors.most_common()]
+    return ["Errors by kind:", markdown_table(["call", "error", "count"], kinds)]
 
 
 @dataclass(frozen=True)
@@ -1383,7 +1485,8 @@ def budget(results: Results) -> Budget:
     costs = results.costs.cpu_ms
     rows = [(name, costs[name], counts[name]) for name in ENDPOINTS if name in costs]
     rows.append((STREAM, costs.get(STREAM, float("nan")), 2.0))
-    seconds = percentile(solo_.rec.session_seconds, 50)
+    # A session's streams stay open as long as it lasts at the load's pace.
+    seconds = percentile(results.load.rec.session_seconds or solo_.rec.session_seconds, 50)
     per_stream_second = 0.0
     if results.idle is not None and results.idle.streams:
         per_stream_second = 1000 * results.idle.cpu.server / results.idle.streams
@@ -1412,7 +1515,8 @@ def cost_section(results: Results) -> list[str]:
         f"Server CPU per call, each call alone ({results.costs.calls} of each, one at a time, "
         "from /proc: the HTTP layer included), times the calls one session makes on a quiet "
         f"server ({results.solo.sessions} sessions, below); event-stream polling from the "
-        f"idle streams, over a quiet session's {model.session_seconds:.1f} s. Failed calls "
+        f"idle streams, over a session's median length under load, "
+        f"{model.session_seconds:.1f} s. Failed calls "
         f"while measuring: {results.costs.failed}.",
         markdown_table(
             ["call", "server CPU per call (ms)", "calls per session", "CPU per session (ms)"],
@@ -1438,11 +1542,13 @@ def quiet_section(results: Results) -> list[str]:
     rec = solo_.rec
     return [
         "## Quiet server",
-        f"{solo_.sessions} sessions one at a time (the same flow and pauses): each call's "
+        f"{solo_.sessions} sessions one at a time (the same flow, pauses {QUIET_SPEED:g} "
+        "times shorter): each call's "
         f"time without queueing. Sessions completed: {rec.sessions_completed}; errors: "
         f"{rec.errors}; CPU meanwhile, cores: server {solo_.cpu.server:.2f}, load generator "
         f"{solo_.cpu.client:.2f}, anything else {solo_.cpu.others:.2f}.",
         endpoint_table(rec),
+        *error_kinds(rec),
     ]
 
 
@@ -1492,18 +1598,25 @@ def notes(results: Results) -> list[str]:
     idle_cores = 0.0
     if results.idle is not None and results.idle.streams:
         idle_cores = results.idle.cpu.server * 2 * load_.concurrency / results.idle.streams
-    capacity = 1000 * max(1.0 - idle_cores, 0.0) / per_session if per_session > 0 else 0.0
+    workers = results.setup.workers
+    # Each process runs Python on one core at most (the GIL), and no more than there are.
+    cores = min(workers, CORES)
+    capacity = 1000 * max(cores - idle_cores, 0.0) / per_session if per_session > 0 else 0.0
     demand = load_.concurrency / model.session_seconds
     loaded_cpu = 1000 * whole_cpu.server * whole_cpu.seconds / max(rec.sessions_completed, 1)
     lines = [
         f"Demand: {load_.concurrency} sessions at once, each {model.session_seconds:.1f} s "
-        f"long when nothing waits (the quiet median: mostly the pauses), would complete "
+        f"long (the median under load: mostly people's pauses), complete "
         f"{demand:.1f} sessions/s. Supply: a quiet session costs the server "
         f"{model.measured_ms:.0f} ms of CPU ({model.polling_ms:.0f} ms of it its streams' "
         f"polling); {2 * load_.concurrency} open streams cost {idle_cores:.2f} cores by "
-        f"themselves (scaled from the idle phase). One server process runs Python on at "
-        f"most one core (the GIL), so it can complete at most about {capacity:.1f} "
-        f"sessions/s with {2 * load_.concurrency} streams open: "
+        f"themselves (scaled from the idle phase). {workers} server process"
+        + ("" if workers == 1 else "es")
+        + f" run Python on at most {cores} core"
+        + ("" if cores == 1 else "s")
+        + " (one each: the GIL), shared with the load generator here, so they can complete "
+        f"at most about {capacity:.1f} sessions/s with {2 * load_.concurrency} streams "
+        "open: "
         + (
             f"**{demand / capacity:.0f} times less than asked**; the rest waits in queues, "
             "which is the latency above."
@@ -1595,8 +1708,8 @@ async def measure(
     pids = process_tree(server.pid)
     timings: dict[str, float] = {}
 
-    def driver() -> Driver:
-        return Driver(server.base_url, photos, scenes, setup.pause_ms, setup.seed)
+    def driver(speed: float = setup.speed) -> Driver:
+        return Driver(server.base_url, photos, scenes, speed, setup.seed)
 
     log(f"[costs] {COST_CALLS} calls of each kind, one at a time ...")
     began = time.perf_counter()
@@ -1604,7 +1717,7 @@ async def measure(
     timings["costs"] = time.perf_counter() - began
     log(f"[quiet] {SOLO_SESSIONS} sessions one at a time ...")
     began = time.perf_counter()
-    quiet = await solo(driver(), pids)
+    quiet = await solo(driver(QUIET_SPEED), pids)
     timings["quiet"] = time.perf_counter() - began
     idle: Idle | None = None
     if setup.idle_seconds > 0:
@@ -1685,8 +1798,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument(
         "--ramp",
         type=float,
-        default=DEFAULT_RAMP,
-        help="seconds over which the slots start (default %(default)s)",
+        default=None,
+        help=f"seconds over which the slots start (default {DEFAULT_RAMP:g}, at most a "
+        "quarter of the duration)",
     )
     parser.add_argument(
         "--idle-seconds",
@@ -1695,12 +1809,10 @@ def main(argv: Sequence[str] | None = None) -> None:
         help="how long to measure idle open streams (0: skip; default %(default)s)",
     )
     parser.add_argument(
-        "--pause-ms",
+        "--speed",
         type=float,
-        nargs=2,
-        default=DEFAULT_PAUSE_MS,
-        metavar=("MIN", "MAX"),
-        help="a person's pause between steps, uniform (default %(default)s)",
+        default=DEFAULT_SPEED,
+        help="people this many times quicker than a brisk person (default %(default)s)",
     )
     parser.add_argument(
         "--workers", type=int, default=1, help="uvicorn worker processes (default 1)"
@@ -1726,10 +1838,12 @@ def main(argv: Sequence[str] | None = None) -> None:
         parser.error("--duration must be in (0, 3600]")
     if args.sessions is not None and args.sessions < 1:
         parser.error("--sessions must be at least 1")
+    if args.ramp is None:
+        args.ramp = min(DEFAULT_RAMP, args.duration / 4)
     if not 0 <= args.ramp <= args.duration or not 0 <= args.idle_seconds <= 600:
         parser.error("--ramp must be in [0, duration], --idle-seconds in [0, 600]")
-    if not 0 <= args.pause_ms[0] <= args.pause_ms[1] <= 60_000:
-        parser.error("--pause-ms: 0 <= MIN <= MAX <= 60000")
+    if not 0.1 <= args.speed <= 1000:
+        parser.error("--speed must be in [0.1, 1000]")
     if not 1 <= args.workers <= 16:
         parser.error("--workers must be in [1, 16]")
     if args.event_poll_seconds is not None and not 0 < args.event_poll_seconds <= 60:
@@ -1741,7 +1855,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         budget=args.sessions,
         ramp=args.ramp,
         idle_seconds=args.idle_seconds,
-        pause_ms=(args.pause_ms[0], args.pause_ms[1]),
+        speed=args.speed,
         workers=args.workers,
         database_kind=args.database,
         event_poll_seconds=args.event_poll_seconds,

@@ -430,10 +430,12 @@ def _draw_arrow(canvas: Image, tail: Array, tip: Array, style: _Style) -> None:
 def _draw_curve(canvas: Image, samples: Array, thickness: int, style: _Style) -> None:
     """A friend-coloured stroke through ``samples`` (at most ~1.4 px apart along the curve)."""
 
+    centres = [(int(x), int(y)) for x, y in _fixed_points(samples)]  # once for both passes
+
     def dots(colour: Bgr, grow: int) -> None:
         radius = round((thickness + grow) / 2 * _ONE)
-        for point in samples:
-            cv2.circle(canvas, _fixed(point), radius, colour, -1, _AA, _SHIFT)
+        for centre in centres:
+            cv2.circle(canvas, centre, radius, colour, -1, _AA, _SHIFT)
 
     _outlined(dots, FRIEND_COLOUR_BGR, style)
 

@@ -1,4 +1,9 @@
-"""Typed dependencies, defined once: every route reuses them."""
+"""Typed dependencies, defined once: every route reuses them.
+
+The ones that only read the request are ``async``: FastAPI runs a plain ``def`` dependency in
+a worker thread, a hop that costs more than the work. The ones that query the database stay
+plain functions, off the event loop.
+"""
 
 from __future__ import annotations
 
@@ -16,22 +21,22 @@ _bearer = HTTPBearer(
 )
 
 
-def get_service(request: Request) -> SessionService:
+async def get_service(request: Request) -> SessionService:
     service: SessionService = request.app.state.service
     return service
 
 
-def get_settings(request: Request) -> Settings:
+async def get_settings(request: Request) -> Settings:
     settings: Settings = request.app.state.settings
     return settings
 
 
-def base_url(request: Request) -> str:
+async def base_url(request: Request) -> str:
     """This app's URL as the caller reached it (for join links)."""
     return str(request.base_url)
 
 
-def client_address(request: Request) -> str:
+async def client_address(request: Request) -> str:
     """The caller's address: the direct peer, or, through a trusted proxy, the address
     the proxy says it serves (uvicorn's ``--proxy-headers`` rewrites ``request.client``)."""
     return request.client.host if request.client else ""

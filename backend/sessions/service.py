@@ -7,10 +7,12 @@ a worker thread, except :meth:`SessionService.events`, the async event stream.
 from __future__ import annotations
 
 import time
+from collections import Counter
 from collections.abc import AsyncIterator, Awaitable, Callable
 from contextlib import suppress
+from dataclasses import replace
 from datetime import timedelta
-from typing import Literal, TypeVar
+from typing import Any, Literal, TypeVar
 
 import anyio
 
@@ -50,6 +52,9 @@ class SessionService:
         self.settings = settings
         self.notifier = notifier
         self.clock = clock
+        # The phones whose event streams this process holds (a phone may hold two for a
+        # moment, reconnecting): kept online by :meth:`keep_online`, one write for all.
+        self._listening: Counter[Participant] = Counter()
 
     # --- pairing -------------------------------------------------------------------------
 
@@ -116,8 +121,11 @@ class SessionService:
 
     # --- what the phones see -------------------------------------------------------------
 
-    def state(self, participant: Participant, base_url: str) -> SessionState:
-        snapshot = self._snapshot(participant.session_id)
+    def state(
+        self, participant: Participant, base_url: str, snapshot: Snapshot | None = None
+    ) -> SessionState:
+        """What ``participant``'s phone shows, from ``snapshot`` if it was just read."""
+        snapshot = snapshot or self._snapshot(participant.session_id)
         now = self.clock()
         online_after = now - timedelta(seconds=self.settings.online_seconds)
         taps = {
@@ -193,10 +201,26 @@ class SessionService:
         if photo is None:
             raise ApiError(409, "photo_missing", "Upload your photo before tapping on it.")
         self._check_taps(participant.role, taps, (photo.width, photo.height))
-        version = self.store.put_taps(participant, taps.model_dump(mode="json"), self.clock())
+        # Answered before writing, so that the taps and their answer are one write; unless
+        # another change comes in between, which makes that answer stale.
+        tapped = taps.model_dump(mode="json")
+        member = snapshot.members[participant.role]
+        after = replace(
+            snapshot, members=snapshot.members | {member.role: replace(member, taps=tapped)}
+        )
+        found = self._solve(after)
+        answer = None if found is None else (snapshot.version, found)
+        version, answered = self.store.put_taps(participant, tapped, self.clock(), answer)
         self.notifier.notify(participant.session_id)
-        self._answer(participant.session_id, version)
-        return self.state(participant, base_url)
+        if version != snapshot.version + 1:  # overtaken: answer the session as it now is
+            return self.state(participant, base_url, self._answer(participant.session_id, version))
+        shown = replace(
+            after,
+            version=version,
+            result=found if answered else None,
+            result_version=version if answered else None,
+        )
+        return self.state(participant, base_url, shown)
 
     def _check_taps(self, role: str, taps: Taps, size: tuple[int, int]) -> None:
         if len(taps.landmarks) > self.settings.max_landmarks:
@@ -246,44 +270,51 @@ class SessionService:
                     f"({width} x {height} px).",
                 )
 
-    def _answer(self, session_id: str, version: int) -> None:
-        """Solve for this version if there is enough; record it unless overtaken."""
+    def _answer(self, session_id: str, version: int) -> Snapshot | None:
+        """Solve for this version if there is enough; record it unless overtaken. The
+        session as it then is (None: overtaken by a newer change)."""
         snapshot = self._snapshot(session_id)
         if snapshot.version != version:
-            return  # a newer change is being answered
+            return None  # a newer change is being answered
+        found = self._solve(snapshot)
+        if found is None:
+            return snapshot
+        if not self.store.put_result(session_id, version, found, self.clock()):
+            return None
+        self.notifier.notify(session_id)
+        return replace(snapshot, result=found, result_version=version)
+
+    def _solve(self, snapshot: Snapshot) -> dict[str, Any] | None:
+        """The answer for the session as ``snapshot`` has it; None when there is not enough
+        to answer (a photo missing, too few taps)."""
         seeker, buddy = (snapshot.members.get(role) for role in ("seeker", "buddy"))
         photo1, photo2 = snapshot.photos.get("seeker"), snapshot.photos.get("buddy")
         if seeker is None or buddy is None or photo1 is None or photo2 is None:
-            return
+            return None
         task = answers.problem(
             None if seeker.taps is None else Taps.model_validate(seeker.taps),
             None if buddy.taps is None else Taps.model_validate(buddy.taps),
         )
         if not task.solvable:
-            return
-        found = answers.answer(
+            return None
+        return answers.answer(
             task,
             tap_sigma=self.settings.tap_sigma,
             image_size1=(photo1.width, photo1.height),
             image_size2=(photo2.width, photo2.height),
         )
-        if self.store.put_result(session_id, version, found, self.clock()):
-            self.notifier.notify(session_id)
 
     # --- pictures ------------------------------------------------------------------------
 
     def overlay(self, participant: Participant, role: Role, fmt: ImageFormat) -> bytes:
-        """``role``'s photo with the answer drawn for that phone, cached per answer version."""
+        """``role``'s photo with the answer drawn for that phone, drawn for each request and
+        never kept (a phone loads each answer's overlay once; its own cache keeps it)."""
         snapshot = self._snapshot(participant.session_id)
         stored = snapshot.result or {}
         if "result" not in stored or snapshot.result_version is None:
             raise ApiError(
                 409, "no_result", "There is no answer yet; tap more landmarks in both photos."
             )
-        version = snapshot.result_version
-        cached = self.store.overlay(snapshot.id, role, fmt, version)
-        if cached is not None:
-            return cached
         photo = self.store.photo(snapshot.id, role)
         member = snapshot.members.get(role)
         if photo is None or member is None or member.taps is None:
@@ -297,9 +328,7 @@ class SessionService:
             points=[taps[i] for i in ids],
             labels=ids,
         )
-        data = encode_image(drawn, format=fmt)
-        self.store.put_overlay(snapshot.id, role, fmt, version, data)
-        return data
+        return encode_image(drawn, format=fmt)
 
     def photo(self, participant: Participant, role: Role) -> bytes:
         """``role``'s photo as stored (upright JPEG): what that phone taps on."""
@@ -338,6 +367,26 @@ class SessionService:
         self.store.erase_deleted()  # deleted bytes out of the database's files
         return gone
 
+    def erase_deleted(self) -> None:
+        """Erase what deletions left in the database's files (see the store)."""
+        self.store.erase_deleted()
+
+    def keep_online(self) -> None:
+        """Mark every phone listening here as seen now (every ``online_seconds / 3``: a
+        listening phone stays online; one that stops being heard goes offline)."""
+        if listening := list(self._listening):
+            self.store.seen_all(listening, self.clock())
+
+    def watch(self, after: int | None) -> int:
+        """Wake the streams of sessions that another process changed or deleted since event
+        ``after`` (None: start watching now); the newest event id. For several worker
+        processes on one SQLite file, which have no LISTEN/NOTIFY; a change made here wakes
+        its streams once more, which then find nothing new."""
+        newest, changed = self.store.changes_since(after, self.notifier.watched())
+        for session_id in changed:
+            self.notifier.notify(session_id)
+        return newest
+
     def healthy(self) -> bool:
         return self.store.healthy()
 
@@ -359,19 +408,24 @@ class SessionService:
         """
         session_id, role = participant.session_id, participant.role
         keepalive, poll = self.settings.keepalive_seconds, self.settings.poll_seconds
-        yield RETRY
         # Subscribed before reading anything: a change committed after that read wakes it.
+        # The first bytes (the headers: EventSource's "open", when the phone fetches the
+        # state) go out after it, so every change the phone's fetch may miss is streamed.
         with self.notifier.subscribe(session_id) as changed:
             try:
                 await self._in_thread(self.store.seen, participant, self.clock())
+                if last_event_id is None:
+                    last_event_id = await self._in_thread(self.store.last_event_id, session_id)
                 snapshot = await self._in_thread(self.store.snapshot, session_id)
             except DatabaseUnavailableError:
                 return  # gone since this request was authenticated: the phone retries
+            yield RETRY
             if snapshot is None:
                 yield frame(None, "expired", {"reason": "The session ended."})
                 return
-            after = snapshot.last_event_id if last_event_id is None else last_event_id
+            after = last_event_id
             await self._presence(session_id, "joined", {"role": role, "online": True})
+            self._listening[participant] += 1
             try:
                 pinged = time.monotonic()
                 while True:
@@ -393,17 +447,27 @@ class SessionService:
                         if now - pinged >= keepalive:
                             yield PING
                             pinged = now
-                            with suppress(DatabaseUnavailableError):
-                                await self._in_thread(self.store.seen, participant, self.clock())
                         if now - polled >= poll or self.clock() >= snapshot.expires_at:
                             break
                         if await changed.wait(min(pinged + keepalive, polled + poll) - now):
                             break
             finally:
                 # Shielded: the client is gone and the stream is being cancelled.
-                with anyio.CancelScope(shield=True), suppress(DatabaseUnavailableError):
-                    await self._in_thread(self.store.seen, participant, None)
-                    await self._presence(session_id, "left", {"role": role, "online": False})
+                with anyio.CancelScope(shield=True):
+                    await self._hang_up(participant)
+
+    async def _hang_up(self, participant: Participant) -> None:
+        """A stream of ``participant`` ended: offline, and the other phone told, unless
+        another stream of it is still open here (a phone that reconnected)."""
+        self._listening[participant] -= 1
+        if self._listening[participant] > 0:
+            return
+        del self._listening[participant]
+        with suppress(DatabaseUnavailableError):
+            await self._in_thread(self.store.seen, participant, None)
+            await self._presence(
+                participant.session_id, "left", {"role": participant.role, "online": False}
+            )
 
     async def _events_after(self, session_id: str, after: int) -> list[Event] | None:
         """The session's events after ``after`` (None: it is gone); none while the database

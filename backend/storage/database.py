@@ -3,6 +3,10 @@
 
 from __future__ import annotations
 
+import fcntl
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +23,7 @@ INITIAL_REVISION = "0001"
 MIGRATION_LOCK = 0x42554459
 # How long a SQLite statement waits for the writer's lock before it fails.
 SQLITE_BUSY_TIMEOUT_MS = 30_000
+SQLITE_CONNECTIONS = 40
 
 
 class DatabaseUnavailableError(Exception):
@@ -65,13 +70,17 @@ def connect(url: str) -> Engine:
     """
     parsed = database_url(url)
     if parsed.get_backend_name() == "sqlite":
+        pool: dict[str, Any] = {}
         if parsed.database and parsed.database != ":memory:":
             Path(parsed.database).parent.mkdir(parents=True, exist_ok=True)
+            # A file never drops a connection: no pre-ping (a query per checkout). As many
+            # connections as worker threads (anyio's default 40), so none waits for one.
+            pool = {"pool_size": SQLITE_CONNECTIONS, "max_overflow": 0}
         engine = create_engine(
             parsed,
             connect_args={"check_same_thread": False, "timeout": 30},
-            pool_pre_ping=True,
             hide_parameters=True,
+            **pool,
         )
         event.listen(engine, "connect", _sqlite_pragmas)
         return engine
@@ -88,13 +97,14 @@ def connect(url: str) -> Engine:
 
 
 def migrate(engine: Engine) -> None:
-    """``alembic upgrade head``, in one transaction. On PostgreSQL under an advisory lock,
-    so replicas starting at once migrate one after the other (the later ones find nothing
-    to do). A database made before there were migrations (by ``create_all``: the schema
-    of the initial revision) is marked as at that revision first."""
+    """``alembic upgrade head``, in one transaction. Under a lock (PostgreSQL: advisory; a
+    SQLite file: a lock file beside it), so replicas or worker processes starting at once
+    migrate one after the other (the later ones find nothing to do). A database made
+    before there were migrations (by ``create_all``: the schema of the initial revision) is
+    marked as at that revision first."""
     config = Config()
     config.set_main_option("script_location", str(MIGRATIONS))
-    with engine.begin() as connection:
+    with _one_at_a_time(engine), engine.begin() as connection:
         if connection.dialect.name == "postgresql":
             connection.execute(text("SELECT pg_advisory_xact_lock(:key)"), {"key": MIGRATION_LOCK})
         config.attributes["connection"] = connection
@@ -102,6 +112,58 @@ def migrate(engine: Engine) -> None:
         if "sessions" in tables and "alembic_version" not in tables:
             command.stamp(config, INITIAL_REVISION)
         command.upgrade(config, "head")
+
+
+@contextmanager
+def _one_at_a_time(engine: Engine) -> Iterator[None]:
+    """On a SQLite file, worker processes starting at once migrate one after the other (a
+    lock on a file beside it); PostgreSQL takes its advisory lock in the transaction."""
+    path = sqlite_file(engine)
+    if path is None:
+        yield
+        return
+    with file_lock(Path(f"{path}.migrating")):
+        yield
+
+
+def sqlite_file(engine: Engine) -> str | None:
+    """The path of the engine's SQLite file; None for PostgreSQL or an in-memory SQLite."""
+    path = engine.url.database
+    if engine.dialect.name != "sqlite" or not path or path == ":memory:":
+        return None
+    return path
+
+
+@contextmanager
+def file_lock(path: Path) -> Iterator[None]:
+    """An exclusive lock on ``path`` (created if missing) while in the block: between
+    processes, and between threads (each opens the file itself). Waiting for it releases
+    the GIL."""
+    with path.open("a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+class WriterLock:
+    """One writer at a time on a SQLite file, across the threads and processes using it.
+
+    SQLite itself takes one writer at a time, and a writer that finds the file locked
+    sleeps and tries again (1 ms, then longer, up to 100 ms a time): under load, the
+    writers of one process keep the file while another's sleep, for seconds. Here they
+    wait in the kernel for a lock file instead, and get it as soon as it is free.
+    """
+
+    def __init__(self, path: str) -> None:
+        self._path = Path(f"{path}.writing")
+        self._threads = threading.Lock()  # this process's threads, one at a time
+
+    @contextmanager
+    def held(self) -> Iterator[None]:
+        with self._threads, file_lock(self._path):
+            yield
 
 
 def unavailable(error: SQLAlchemyError) -> bool:

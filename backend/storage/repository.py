@@ -13,29 +13,89 @@ import hmac
 import json
 import math
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import Engine, delete, func, select, update
+from sqlalchemy import Connection, Engine, bindparam, delete, func, select, tuple_, update
 from sqlalchemy.exc import DBAPIError, IntegrityError, SQLAlchemyError
 from sqlalchemy.orm import Session, sessionmaker
 
 from backend.photos import StoredPhoto
 
-from .database import SQLITE_BUSY_TIMEOUT_MS, DatabaseUnavailableError, unavailable
+from .database import (
+    SQLITE_BUSY_TIMEOUT_MS,
+    DatabaseUnavailableError,
+    WriterLock,
+    sqlite_file,
+    unavailable,
+)
 from .notifications import CHANNEL, ChangeListener
-from .tables import EventRow, JoinFailureRow, OverlayRow, ParticipantRow, PhotoRow, SessionRow
+from .tables import EventRow, JoinFailureRow, ParticipantRow, PhotoRow, SessionRow
 
 ROLES = ("seeker", "buddy")
 # What VACUUM FULL rewrites: everything of a session, and the failed joins' addresses.
-_ERASED_TABLES = ("sessions", "participants", "photos", "overlays", "events", "join_failures")
+_ERASED_TABLES = ("sessions", "participants", "photos", "events", "join_failures")
 _CHECKPOINT_WAIT_MS = 1000
 # VACUUM FULL waits this long for each table's lock (queueing requests behind it), then gives
 # up until the next sweep.
 _ERASE_LOCK_TIMEOUT = "5s"
+_SEEN_BATCH = 500  # participants per statement (SQLite binds at most 32766 values)
+
+# The hot reads, built once (building a statement costs more than running it on SQLite).
+_sessions, _participants, _photos, _events = (
+    row.__table__ for row in (SessionRow, ParticipantRow, PhotoRow, EventRow)
+)
+_SNAPSHOT = (
+    select(
+        _sessions.c.id,
+        _sessions.c.created_at,
+        _sessions.c.expires_at,
+        _sessions.c.join_code,
+        _sessions.c.join_code_expires_at,
+        _sessions.c.version,
+        _sessions.c.result,
+        _sessions.c.result_version,
+        _participants.c.role,
+        _participants.c.joined_at,
+        _participants.c.last_seen_at,
+        _participants.c.taps,
+        _photos.c.width,
+        _photos.c.height,
+        _photos.c.scale,
+    )
+    .join(_participants, _participants.c.session_id == _sessions.c.id)
+    .outerjoin(
+        _photos,
+        (_photos.c.session_id == _participants.c.session_id)
+        & (_photos.c.role == _participants.c.role),
+    )
+    .where(_sessions.c.id == bindparam("session_id"))
+)
+_PARTICIPANT = (
+    select(_participants.c.session_id, _participants.c.role, _participants.c.token_hash)
+    .join(_sessions, _sessions.c.id == _participants.c.session_id)
+    .where(
+        _participants.c.token_hash == bindparam("token_hash"),
+        _sessions.c.expires_at > bindparam("now"),
+    )
+)
+_ALIVE = select(_sessions.c.id).where(_sessions.c.id == bindparam("session_id"))
+_EXISTING = select(_sessions.c.id).where(_sessions.c.id.in_(bindparam("ids", expanding=True)))
+_NEWEST_EVENT = select(func.max(_events.c.id))
+_NEW_EVENTS = (
+    select(_events.c.session_id, func.max(_events.c.id).label("newest"))
+    .where(_events.c.id > bindparam("after"))
+    .group_by(_events.c.session_id)
+)
+_LAST_EVENT = select(func.max(_events.c.id)).where(_events.c.session_id == bindparam("session_id"))
+_EVENTS_AFTER = (
+    select(_events.c.id, _events.c.type, _events.c.data)
+    .where(_events.c.session_id == bindparam("session_id"), _events.c.id > bindparam("after"))
+    .order_by(_events.c.id)
+)
 
 
 @dataclass(frozen=True)
@@ -75,7 +135,6 @@ class Snapshot:
     result_version: int | None
     members: dict[str, Member]
     photos: dict[str, PhotoInfo]
-    last_event_id: int
 
 
 @dataclass(frozen=True)
@@ -103,6 +162,8 @@ class Store:
         self.engine = engine
         self._sessions = sessionmaker(engine, expire_on_commit=False)
         self._listener: ChangeListener | None = None
+        path = sqlite_file(engine)
+        self._writer = None if path is None else WriterLock(path)
         self._erase_pending = False
         self._erase_interval = erase_interval_seconds
         self._erased_at = -math.inf  # time.monotonic() of the last VACUUM FULL
@@ -124,10 +185,21 @@ class Store:
             yield tx
 
     @contextmanager
+    def _query(self) -> Iterator[Connection]:
+        """A plain connection for the hot reads, which run prepared Core statements: no ORM
+        work per call."""
+        with _translated(), self.engine.connect() as connection:
+            yield connection
+
+    @contextmanager
     def _write(self) -> Iterator[Session]:
         """A transaction, committed at the end of the block (rolled back on an error)."""
-        with _translated(), self._sessions.begin() as tx:
+        with self._writing(), _translated(), self._sessions.begin() as tx:
             yield tx
+
+    def _writing(self) -> AbstractContextManager[None]:
+        """Holds the writer lock of a SQLite file (PostgreSQL takes row locks itself)."""
+        return nullcontext() if self._writer is None else self._writer.held()
 
     # --- sessions ------------------------------------------------------------------------
 
@@ -202,56 +274,49 @@ class Store:
         it); the row found is then compared again in constant time, so that no comparison
         of this code depends on where two values first differ.
         """
-        with self._read() as tx:
-            row = tx.execute(
-                select(ParticipantRow.session_id, ParticipantRow.role, ParticipantRow.token_hash)
-                .join(SessionRow, SessionRow.id == ParticipantRow.session_id)
-                .where(ParticipantRow.token_hash == token_hash, SessionRow.expires_at > now)
-            ).first()
+        with self._query() as connection:
+            row = connection.execute(_PARTICIPANT, {"token_hash": token_hash, "now": now}).first()
         if row is None or not hmac.compare_digest(row.token_hash, token_hash):
             return None
         return Participant(row.session_id, row.role)
 
     def snapshot(self, session_id: str) -> Snapshot | None:
-        with self._read() as tx:
-            session = tx.get(SessionRow, session_id)
-            if session is None:
-                return None
-            members = {
-                p.role: Member(
-                    p.role,
-                    p.joined_at,
-                    p.last_seen_at,
-                    None if p.taps is None else json.loads(p.taps),
+        """The session as the phones see it, in one statement (the hottest read: every state
+        fetch and change reads it)."""
+        with self._query() as connection:
+            rows = connection.execute(_SNAPSHOT, {"session_id": session_id}).all()
+        if not rows:
+            return None
+        first = rows[0]
+        return Snapshot(
+            id=first.id,
+            created_at=first.created_at,
+            expires_at=first.expires_at,
+            join_code=first.join_code,
+            join_code_expires_at=first.join_code_expires_at,
+            version=first.version,
+            result=None if first.result is None else json.loads(first.result),
+            result_version=first.result_version,
+            members={
+                row.role: Member(
+                    row.role,
+                    row.joined_at,
+                    row.last_seen_at,
+                    None if row.taps is None else json.loads(row.taps),
                 )
-                for p in tx.scalars(
-                    select(ParticipantRow).where(ParticipantRow.session_id == session_id)
-                )
-            }
-            photos = {
+                for row in rows
+            },
+            photos={
                 row.role: PhotoInfo(row.width, row.height, row.scale)
-                for row in tx.execute(
-                    select(PhotoRow.role, PhotoRow.width, PhotoRow.height, PhotoRow.scale).where(
-                        PhotoRow.session_id == session_id
-                    )
-                )
-            }
-            last_event = tx.scalar(
-                select(func.max(EventRow.id)).where(EventRow.session_id == session_id)
-            )
-            return Snapshot(
-                id=session.id,
-                created_at=session.created_at,
-                expires_at=session.expires_at,
-                join_code=session.join_code,
-                join_code_expires_at=session.join_code_expires_at,
-                version=session.version,
-                result=None if session.result is None else json.loads(session.result),
-                result_version=session.result_version,
-                members=members,
-                photos=photos,
-                last_event_id=last_event or 0,
-            )
+                for row in rows
+                if row.width is not None
+            },
+        )
+
+    def last_event_id(self, session_id: str) -> int:
+        """The id of the session's newest event (0: none yet): where a new stream starts."""
+        with self._query() as connection:
+            return int(connection.scalar(_LAST_EVENT, {"session_id": session_id}) or 0)
 
     def delete(self, session_id: str) -> bool:
         """Delete the session and everything of it at once (photos, taps, events)."""
@@ -278,16 +343,13 @@ class Store:
     # --- erasing what deleted rows leave behind ------------------------------------------
 
     def _deleted(self) -> None:
+        """Something was deleted: its bytes are for :meth:`erase_deleted` to erase (the
+        eraser does, within seconds, off the request)."""
         self._erase_pending = True
-        if self.engine.dialect.name == "sqlite":
-            # Cheap with one process: at once. The deletion is done whatever happens here;
-            # an erase that fails is the sweeper's to do again.
-            with suppress(DatabaseUnavailableError):
-                self.erase_deleted()
 
     def erase_deleted(self) -> bool:
         """Erase from the database's files the bytes of rows deleted since the last call
-        (photos, overlays, taps, answers): True when nothing is left to erase, False when
+        (photos, taps, answers): True when nothing is left to erase, False when
         it must be tried again (the sweeper does, at its next round).
 
         SQLite overwrites deleted content with zeros as it deletes (``secure_delete``), but
@@ -321,7 +383,8 @@ class Store:
         return done
 
     def _checkpoint(self) -> bool:
-        with _translated(), self.engine.connect() as connection:
+        # As a writer: the checkpoint blocks writers anyway, who wait in line meanwhile.
+        with self._writing(), _translated(), self.engine.connect() as connection:
             autocommit = connection.execution_options(isolation_level="AUTOCOMMIT")
             # Waits for readers 1 s, not the usual 30: "Delete now" answers at once, and a
             # checkpoint that could not finish is done by the next sweep.
@@ -411,8 +474,21 @@ class Store:
                 return None
             return StoredPhoto(data=row.data, width=row.width, height=row.height, scale=row.scale)
 
-    def put_taps(self, participant: Participant, taps: dict[str, Any], now: datetime) -> int:
-        """Replace a participant's taps (the answer goes with the old ones); the new version."""
+    def put_taps(
+        self,
+        participant: Participant,
+        taps: dict[str, Any],
+        now: datetime,
+        answer: tuple[int, dict[str, Any]] | None = None,
+    ) -> tuple[int, bool]:
+        """Replace a participant's taps (the answer goes with the old ones): the new
+        version, and whether ``answer`` was recorded with them.
+
+        ``answer``: (the version it was computed after, the answer), computed from the
+        session at that version with these taps. It is recorded in the same transaction,
+        so with one write, unless another change came in between (then it is stale, and the
+        caller answers the new version afresh).
+        """
         sid, role = participant.session_id, participant.role
         with self._write() as tx:
             tx.execute(
@@ -422,7 +498,10 @@ class Store:
             )
             version = _bump(tx, sid)
             _event(tx, sid, "taps", {"role": role, "version": version}, now)
-        return version
+            answered = answer is not None and answer[0] + 1 == version
+            if answer is not None and answered:
+                _record_result(tx, sid, version, answer[1], now)
+        return version, answered
 
     def put_result(
         self, session_id: str, version: int, result: dict[str, Any] | None, now: datetime
@@ -430,37 +509,24 @@ class Store:
         """Record the answer computed for ``version``, unless the session has moved on since
         (then a newer computation records its own)."""
         with self._write() as tx:
-            done = tx.execute(
-                update(SessionRow)
-                .where(SessionRow.id == session_id, SessionRow.version == version)
-                .values(
-                    result=None if result is None else json.dumps(result), result_version=version
-                )
-            )
-            if not done.rowcount:  # type: ignore[attr-defined]
-                return False
-            _event(tx, session_id, "result", {"version": version}, now)
-        return True
-
-    # --- overlays ------------------------------------------------------------------------
-
-    def overlay(self, session_id: str, role: str, fmt: str, version: int) -> bytes | None:
-        with self._read() as tx:
-            row = tx.get(OverlayRow, (session_id, role, fmt))
-            return row.data if row is not None and row.version == version else None
-
-    def put_overlay(self, session_id: str, role: str, fmt: str, version: int, data: bytes) -> None:
-        try:
-            with self._write() as tx:
-                tx.merge(
-                    OverlayRow(
-                        session_id=session_id, role=role, format=fmt, version=version, data=data
-                    )
-                )
-        except IntegrityError:
-            pass  # the session was deleted meanwhile: nothing to keep
+            return _record_result(tx, session_id, version, result, now)
 
     # --- presence and events -------------------------------------------------------------
+
+    def seen_all(self, participants: Sequence[Participant], when: datetime) -> None:
+        """Mark all these participants' event streams alive at ``when``, in one write."""
+        keys = [(p.session_id, p.role) for p in participants]
+        with self._write() as tx:
+            for start in range(0, len(keys), _SEEN_BATCH):
+                tx.execute(
+                    update(ParticipantRow)
+                    .where(
+                        tuple_(ParticipantRow.session_id, ParticipantRow.role).in_(
+                            keys[start : start + _SEEN_BATCH]
+                        )
+                    )
+                    .values(last_seen_at=when)
+                )
 
     def seen(self, participant: Participant, when: datetime | None) -> None:
         """Mark a participant's event stream alive at ``when`` (None: gone offline)."""
@@ -484,21 +550,46 @@ class Store:
 
     def events_after(self, session_id: str, after: int) -> list[Event] | None:
         """Events of a session newer than ``after``; None when the session is gone."""
-        with self._read() as tx:
-            if tx.get(SessionRow, session_id) is None:
+        with self._query() as connection:
+            if connection.scalar(_ALIVE, {"session_id": session_id}) is None:
                 return None
-            rows = tx.execute(
-                select(EventRow.id, EventRow.type, EventRow.data)
-                .where(EventRow.session_id == session_id, EventRow.id > after)
-                .order_by(EventRow.id)
-            )
+            rows = connection.execute(_EVENTS_AFTER, {"session_id": session_id, "after": after})
             return [Event(row.id, row.type, json.loads(row.data)) for row in rows]
+
+    def changes_since(self, after: int | None, watched: Sequence[str]) -> tuple[int, set[str]]:
+        """What other processes may have changed: the newest event id, and the sessions
+        with an event newer than ``after`` (None: the first look, nothing is new) or, of
+        ``watched``, deleted."""
+        with self._query() as connection:
+            if after is None:
+                return int(connection.scalar(_NEWEST_EVENT) or 0), set()
+            changed = {
+                row.session_id: row.newest
+                for row in connection.execute(_NEW_EVENTS, {"after": after})
+            }
+            gone = set(watched) - set(connection.scalars(_EXISTING, {"ids": list(watched)}))
+        return max(changed.values(), default=after), set(changed) | gone
 
     def healthy(self) -> bool:
         """The database answers, and changes from other replicas are being heard."""
         listening = self._listener is None or self._listener.listening
         with self._read() as tx:
             return tx.scalar(select(1)) == 1 and listening
+
+
+def _record_result(
+    tx: Session, session_id: str, version: int, result: dict[str, Any] | None, now: datetime
+) -> bool:
+    """The answer for ``version`` and its event, if the session is still at that version."""
+    done = tx.execute(
+        update(SessionRow)
+        .where(SessionRow.id == session_id, SessionRow.version == version)
+        .values(result=None if result is None else json.dumps(result), result_version=version)
+    )
+    if not done.rowcount:  # type: ignore[attr-defined]
+        return False
+    _event(tx, session_id, "result", {"version": version}, now)
+    return True
 
 
 def _bump(tx: Session, session_id: str) -> int:

@@ -72,20 +72,6 @@ class PhotoRow(Base):
     uploaded_at: Mapped[datetime] = mapped_column(DateTime())
 
 
-class OverlayRow(Base):
-    """A drawn overlay, kept for the answer version it shows."""
-
-    __tablename__ = "overlays"
-
-    session_id: Mapped[str] = mapped_column(
-        ForeignKey("sessions.id", ondelete="CASCADE"), primary_key=True
-    )
-    role: Mapped[str] = mapped_column(String(6), primary_key=True)
-    format: Mapped[str] = mapped_column(String(4), primary_key=True)
-    version: Mapped[int] = mapped_column(Integer)
-    data: Mapped[bytes] = mapped_column(LargeBinary)
-
-
 class EventRow(Base):
     """'This changed' for the phones' event streams; ids are the streams' event ids."""
 

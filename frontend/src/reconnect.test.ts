@@ -3,8 +3,10 @@ import { ApiError, isRetryable } from "./api";
 import {
   LiveStream,
   Refetcher,
+  alreadyShown,
   backoffDelay,
   withRetry,
+  type Change,
   type EventSourceLike,
   type StreamStatus,
 } from "./reconnect";
@@ -155,13 +157,16 @@ class FakeSource implements EventSourceLike {
     this.onerror?.(new Event("error"));
   }
 
-  emit(type: string): void {
-    for (const listener of this.listeners.get(type) ?? []) listener(new Event(type));
+  emit(type: string, data = "{}"): void {
+    for (const listener of this.listeners.get(type) ?? []) {
+      listener(new MessageEvent(type, { data }));
+    }
   }
 }
 
 describe("the event stream", () => {
   let changes: number;
+  let told: Array<Change | undefined>;
   let ended: number;
   let statuses: StreamStatus[];
 
@@ -169,6 +174,7 @@ describe("the event stream", () => {
     vi.useFakeTimers();
     FakeSource.opened = [];
     changes = 0;
+    told = [];
     ended = 0;
     statuses = [];
   });
@@ -180,7 +186,10 @@ describe("the event stream", () => {
   function stream(): LiveStream {
     const live = new LiveStream({
       url: "/events",
-      onChange: () => changes++,
+      onChange: (change) => {
+        changes++;
+        told.push(change);
+      },
       onEnded: () => ended++,
       onStatus: (status) => statuses.push(status),
       open: (url) => new FakeSource(url),
@@ -203,6 +212,22 @@ describe("the event stream", () => {
     expect(changes).toBe(1);
     for (const type of ["joined", "photo", "taps", "result", "left"]) latest().emit(type);
     expect(changes).toBe(6);
+  });
+
+  it("tells what changed and the version it made, when the event names one", () => {
+    stream();
+    latest().open();
+    latest().emit("taps", '{"role": "buddy", "version": 9}');
+    latest().emit("result", '{"version": 9}');
+    latest().emit("joined", '{"role": "buddy", "online": true}');
+    latest().emit("photo", "not json");
+    expect(told).toEqual([
+      undefined, // opened: anything may have changed
+      { type: "taps", version: 9 },
+      { type: "result", version: 9 },
+      { type: "joined", version: null },
+      { type: "photo", version: null },
+    ]);
   });
 
   it("shows the stream down while EventSource reconnects, and fetches when it is back", () => {
@@ -267,5 +292,33 @@ describe("the event stream", () => {
     live.wake();
     expect(changes).toBe(0);
     expect(FakeSource.opened).toHaveLength(1);
+  });
+});
+
+describe("a change the screen already shows", () => {
+  const at = (version: number, answered = false) => ({
+    version,
+    result: answered ? {} : null,
+    result_error: null,
+  });
+
+  it("is a change up to the version shown", () => {
+    expect(alreadyShown({ type: "taps", version: 7 }, at(7))).toBe(true);
+    expect(alreadyShown({ type: "photo", version: 6 }, at(7))).toBe(true);
+    expect(alreadyShown({ type: "taps", version: 8 }, at(7))).toBe(false);
+  });
+
+  it("is an answer only when the state shown holds that version's answer, or is newer", () => {
+    expect(alreadyShown({ type: "result", version: 7 }, at(7, true))).toBe(true);
+    expect(alreadyShown({ type: "result", version: 7 }, at(7))).toBe(false);
+    expect(alreadyShown({ type: "result", version: 7 }, at(8))).toBe(true);
+    const refused = { version: 7, result: null, result_error: { code: "degenerate" } };
+    expect(alreadyShown({ type: "result", version: 7 }, refused)).toBe(true);
+  });
+
+  it("is never a change without a version, or when nothing is shown yet", () => {
+    expect(alreadyShown({ type: "joined", version: null }, at(7))).toBe(false);
+    expect(alreadyShown(undefined, at(7))).toBe(false);
+    expect(alreadyShown({ type: "taps", version: 1 }, null)).toBe(false);
   });
 });

@@ -101,10 +101,55 @@ export interface EventSourceLike {
   close(): void;
 }
 
+/** What an event said changed: its type, and the session version it made (when it did). */
+export interface Change {
+  type: string;
+  version: number | null;
+}
+
+/** The parts of the state that tell which changes it already shows. */
+export interface ShownVersion {
+  version: number;
+  result: unknown;
+  result_error: unknown;
+}
+
+/**
+ * Whether the state on screen already shows `change`, so that there is nothing to fetch: a
+ * phone's own taps come back with their answer in the reply to its PUT, and their events
+ * then tell it nothing new. Every change bumps the session's version and clears the answer,
+ * so a state at version v with an answer holds the answer for v. Presence events (no
+ * version) and anything unknown are always fetched.
+ */
+export function alreadyShown(change: Change | undefined, shown: ShownVersion | null): boolean {
+  if (!change || change.version === null || !shown) return false;
+  if (change.type === "result") {
+    const answered = shown.result !== null || shown.result_error !== null;
+    return shown.version > change.version || (shown.version === change.version && answered);
+  }
+  return shown.version >= change.version;
+}
+
+/** The version an event's data names, if any. */
+function changeOf(type: string, event: Event): Change {
+  let version: number | null = null;
+  try {
+    const data: unknown = JSON.parse((event as MessageEvent<string>).data);
+    if (typeof data === "object" && data !== null && "version" in data) {
+      const named = (data as { version: unknown }).version;
+      if (typeof named === "number" && Number.isInteger(named)) version = named;
+    }
+  } catch {
+    // no JSON: treat as a change without a version
+  }
+  return { type, version };
+}
+
 export interface LiveStreamOptions {
   url: string;
-  /** Something changed (or may have): fetch the state. */
-  onChange: () => void;
+  /** Something changed (`change`, from an event), or may have (none: the stream opened, the
+   * page came back): fetch the state unless it shows that already. */
+  onChange: (change?: Change) => void;
   /** The session ended (deleted by a phone, or timed out). */
   onEnded: () => void;
   onStatus: (status: StreamStatus) => void;
@@ -199,8 +244,8 @@ export class LiveStream {
       }
     };
     for (const type of CHANGE_EVENTS) {
-      source.addEventListener(type, () => {
-        if (this.source === source) this.options.onChange();
+      source.addEventListener(type, (event) => {
+        if (this.source === source) this.options.onChange(changeOf(type, event));
       });
     }
     source.addEventListener(ENDED_EVENT, () => {

@@ -30,7 +30,15 @@ import {
   undo,
   type TapEditor,
 } from "./landmarks";
-import { LiveStream, Refetcher, backoffDelay, withRetry, type StreamStatus } from "./reconnect";
+import {
+  LiveStream,
+  Refetcher,
+  alreadyShown,
+  backoffDelay,
+  withRetry,
+  type Change,
+  type StreamStatus,
+} from "./reconnect";
 import { forgetSession, loadDraft, saveDraft } from "./storage";
 import { TapSaver, type SaveState } from "./tapSaver";
 import { otherRole, type Credentials, type SessionState } from "./types";
@@ -86,6 +94,8 @@ export class SessionController {
   private prepared: PreparedPhoto | null = null;
   private holdTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly cleanups: Array<() => void> = [];
+  /** Changes told while this phone's own PUT was on its way: judged when its reply is in. */
+  private readonly heldChanges: Change[] = [];
 
   constructor(credentials: Credentials) {
     this.view = {
@@ -112,11 +122,12 @@ export class SessionController {
       },
       onStatus: (save) => this.set({ save }),
       onEnded: () => this.end("ended"),
+      onSettled: () => this.changed(...this.heldChanges.splice(0)),
     });
     this.refetcher = new Refetcher(() => this.load());
     this.stream = new LiveStream({
       url: eventsUrl(credentials),
-      onChange: () => this.refetcher.request(),
+      onChange: (change) => this.changed(change),
       onEnded: () => this.end("ended"),
       onStatus: (stream) => this.set({ stream }),
     });
@@ -168,6 +179,22 @@ export class SessionController {
     this.saver.stop();
     if (this.holdTimer) clearTimeout(this.holdTimer);
     for (const cleanup of this.cleanups.splice(0)) cleanup();
+  }
+
+  /**
+   * Something changed (or may have: no `change`): fetch the state, unless what is on screen
+   * already shows it. The phone's own change is told by the stream before the reply to its
+   * PUT brings it with its answer: such news waits for that reply.
+   */
+  private changed(...changes: Array<Change | undefined>): void {
+    if (changes.length === 0) return;
+    if (this.saver.sending && changes.every((change) => change !== undefined)) {
+      this.heldChanges.push(...(changes as Change[]));
+      return;
+    }
+    if (changes.some((change) => !alreadyShown(change, this.view.state))) {
+      this.refetcher.request();
+    }
   }
 
   private async load(): Promise<void> {

@@ -19,6 +19,7 @@ describe("saving taps", () => {
   let answers: Array<{ resolve: (s: SessionState) => void; reject: (e: unknown) => void }>;
   let statuses: SaveStatus[];
   let ended: number;
+  let settled: boolean[];
   let saver: TapSaver;
 
   beforeEach(() => {
@@ -27,6 +28,7 @@ describe("saving taps", () => {
     answers = [];
     statuses = [];
     ended = 0;
+    settled = [];
     saver = new TapSaver({
       send: (t) =>
         new Promise((resolve, reject) => {
@@ -36,6 +38,7 @@ describe("saving taps", () => {
       onSaved: () => undefined,
       onStatus: (s) => statuses.push(s.status),
       onEnded: () => ended++,
+      onSettled: () => settled.push(saver.sending),
       debounceMs: 100,
       delay: (attempt) => 1000 * 2 ** attempt,
     });
@@ -59,6 +62,20 @@ describe("saving taps", () => {
     expect(sent).toEqual([taps(1, 2, 3)]);
     await answer(STATE);
     expect(statuses).toEqual(["saving", "saved"]);
+  });
+
+  it("says while a PUT is on its way, and when its reply is in, saved or not", async () => {
+    expect(saver.sending).toBe(false);
+    saver.update(taps(1));
+    await vi.advanceTimersByTimeAsync(100);
+    expect(saver.sending).toBe(true);
+    await answer(new ApiError(0, "network", "offline"));
+    expect(settled).toEqual([false]);
+    await vi.advanceTimersByTimeAsync(1000);
+    expect(saver.sending).toBe(true);
+    await answer(STATE);
+    expect(settled).toEqual([false, false]);
+    expect(saver.sending).toBe(false);
   });
 
   it("sends one request at a time, then the newest taps", async () => {

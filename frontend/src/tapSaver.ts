@@ -23,6 +23,8 @@ export interface TapSaverOptions {
   onStatus: (state: SaveState) => void;
   /** The session is gone (401). */
   onEnded: () => void;
+  /** A PUT came back (saved or not): nothing is in flight now. */
+  onSettled?: () => void;
   /** Wait this long after a change before sending (a burst of changes sends once). */
   debounceMs?: number;
   delay?: (attempt: number) => number;
@@ -75,6 +77,11 @@ export class TapSaver {
     return this.wantedJson !== null && this.wantedJson !== this.sentJson;
   }
 
+  /** Whether a PUT is on its way: its reply will be the newest state. */
+  get sending(): boolean {
+    return this.inFlight;
+  }
+
   /** The network is back (or the person asked): try now. */
   retryNow(): void {
     if (this.pending && !this.inFlight) {
@@ -121,6 +128,7 @@ export class TapSaver {
       this.failures = 0;
       this.inFlight = false;
       this.options.onSaved(state);
+      this.options.onSettled?.();
       if (this.pending) this.schedule(0);
       else this.setState({ status: "saved", message: null });
     } catch (error) {
@@ -130,6 +138,7 @@ export class TapSaver {
         this.options.onEnded();
         return;
       }
+      this.options.onSettled?.();
       this.setState({ status: "error", message: refusal.message });
       if (refusal.retryable) {
         this.schedule(this.delay(this.failures++));

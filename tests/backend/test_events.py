@@ -103,6 +103,41 @@ async def test_a_phone_that_goes_away_is_shown_offline(
 
 
 @pytest.mark.anyio
+async def test_listening_phones_stay_online_with_one_write_for_all(
+    client: TestClient, seeker: Phone, buddy: Phone, clock: FakeClock
+) -> None:
+    """The phones listening here are marked seen together (``keep_online``, every
+    online_seconds / 3); a phone with a second stream open stays online when one closes."""
+    service = client.app.state.service  # type: ignore[attr-defined]
+    online_for = service.settings.online_seconds
+    closed = False
+
+    async def first_closed() -> bool:
+        return closed
+
+    first = service.events(Participant(buddy.session_id, "buddy"), None, first_closed)
+    second = service.events(Participant(buddy.session_id, "buddy"), None, connected)
+    for stream in (first, second):
+        await anext(stream)
+        await next_frames(stream, "joined")
+    writes = []
+    seen_all = service.store.seen_all
+    service.store.seen_all = lambda who, when: (writes.append(list(who)), seen_all(who, when))
+    for _ in range(3):  # longer than online_seconds, kept online all along
+        clock.advance(online_for / 3)
+        service.keep_online()
+        assert seeker.state()["participants"]["buddy"]["online"] is True
+    assert writes == [[Participant(buddy.session_id, "buddy")]] * 3
+    closed = True
+    _ = [chunk async for chunk in first]  # one of its two streams ends
+    assert seeker.state()["participants"]["buddy"]["online"] is True
+    await second.aclose()
+    assert seeker.state()["participants"]["buddy"]["online"] is False
+    service.keep_online()  # nobody listens here now: nothing to write
+    assert len(writes) == 3
+
+
+@pytest.mark.anyio
 async def test_a_stream_ends_when_its_session_runs_out_of_time(
     client: TestClient, seeker: Phone, clock: FakeClock
 ) -> None:

@@ -60,8 +60,8 @@ class LiveSearch:
     """A search in progress to send requests into: a session with both phones joined,
     both photos (the temple pair) and six landmarks tapped in each, and the answer."""
 
-    def __init__(self, app: FastAPI) -> None:
-        self.client = asgi.get_client(app)
+    def __init__(self, client: asgi.ASGIClient) -> None:
+        self.client = client
         self.session_id = ""
         self.tokens: dict[str, str] = {}
         self.stranger = ""  # the token of another session
@@ -128,8 +128,10 @@ def fuzzed_app(tmp_path_factory: pytest.TempPathFactory) -> Iterator[FastAPI]:
 
 
 @pytest.fixture(scope="module")
-def search(fuzzed_app: FastAPI) -> LiveSearch:
-    return LiveSearch(fuzzed_app)
+def search(fuzzed_app: FastAPI) -> Iterator[LiveSearch]:
+    # Entering the client starts the app's lifespan, whichever test runs first.
+    with asgi.get_client(fuzzed_app) as client:
+        yield LiveSearch(client)
 
 
 def call_and_validate(case: Any, who: str, search: LiveSearch, app: FastAPI) -> None:

@@ -15,6 +15,7 @@ import asyncio
 import contextlib
 import io
 import logging
+import time
 from collections.abc import Callable, Coroutine, Sequence
 from pathlib import Path
 
@@ -26,6 +27,7 @@ from PIL import ExifTags, Image
 from postgres import PostgresServer
 from sqlalchemy import Engine
 
+from backend.main import ERASE_SECONDS
 from backend.sessions.service import SessionService
 from backend.sweeper import sweep_forever
 
@@ -49,10 +51,12 @@ def answered(seeker: Phone, buddy: Phone, photos: tuple[bytes, bytes]) -> None:
     assert state.json()["result"] is not None
 
 
-def pictures(client: TestClient, phone: Phone) -> list[bytes]:
-    """Every picture of the session the server keeps: both stored photos, both overlays."""
+def pictures(client: TestClient, phone: Phone, *, drawn: bool = False) -> list[bytes]:
+    """The session's pictures: both stored photos (kept), or both overlays (``drawn``: made
+    for each request, never kept)."""
     found = []
-    for path in ("/photo/seeker", "/photo/buddy", "/overlay/seeker", "/overlay/buddy"):
+    paths = ("/overlay/seeker", "/overlay/buddy") if drawn else ("/photo/seeker", "/photo/buddy")
+    for path in paths:
         response = client.get(phone.url(path), headers=phone.auth)
         assert response.status_code == 200, (path, response.text)
         found.append(response.content)
@@ -146,10 +150,15 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
 
     for picture in [replaced, *kept, other]:
         assert disk.holds(picture) >= 12  # the search finds what is there
-    assert disk.holds(crop) == 0  # crops are cut from the photo for each request, never kept
+    # Crops and overlays are made from the photo for each request, and never kept.
+    for picture in [crop, *pictures(client, seeker, drawn=True)]:
+        assert disk.holds(picture) == 0
 
     assert client.delete(seeker.url(), headers=seeker.auth).status_code == 204
-    if "sqlite" in database_url:  # at once
+    if "sqlite" in database_url:  # within seconds, by the eraser (off the request)
+        deadline = time.monotonic() + 10 * ERASE_SECONDS
+        while any(disk.holds(p) for p in [replaced, *kept]) and time.monotonic() < deadline:
+            time.sleep(0.1)
         for picture in [replaced, *kept]:
             assert disk.holds(picture) == 0
     service.sweep()  # PostgreSQL: by the next sweep

@@ -1,6 +1,7 @@
 """Two replicas of the app, two uvicorn processes sharing nothing but a PostgreSQL server:
 the two phones on different replicas find each other, events cross between them, and the
-search survives a replica killed and PostgreSQL restarted."""
+search survives a replica killed and PostgreSQL restarted. Also two worker processes on
+one SQLite file, whose events cross by each process's watcher."""
 
 from __future__ import annotations
 
@@ -169,6 +170,35 @@ def test_phones_on_two_replicas_find_each_other(
     assert seeker_events.ids == sorted(seeker_events.ids)
     assert not seeker_events.dropped
     assert not buddy_events.dropped
+
+
+def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path) -> None:
+    """No LISTEN/NOTIFY on SQLite: each process's watcher (4 times a second) wakes its
+    streams for the other's changes, and ends them when the other deletes the session.
+    Streams poll every 30 s here, so delivery within CROSSING_SECONDS is the watcher's."""
+    environment = {"BUDDY_DATABASE_URL": f"sqlite:///{tmp_path / 'buddy.db'}", **REPLICA_ENV}
+    with ExitStack() as stack:
+        servers = []
+        for name in ("worker1", "worker2"):
+            (tmp_path / name).mkdir()
+            servers.append(stack.enter_context(serve(tmp_path / name, environment)))
+        seeker, buddy = pair(*servers)
+        seeker_events, buddy_events = follow(seeker, buddy)
+        seeker.upload(PAIR[0])
+        buddy_events.wait_for("photo", role="seeker", seconds=CROSSING_SECONDS)
+        buddy.upload(PAIR[1])
+        seeker_events.wait_for("photo", role="buddy", seconds=CROSSING_SECONDS)
+        _, taps = scene_taps()
+        seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
+        buddy_events.wait_for("taps", role="seeker", seconds=CROSSING_SECONDS)
+        state = buddy.tap(landmarks=landmarks(taps.landmarks2))
+        seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+        assert seeker.state()["result"] == state["result"]
+        assert seeker.call("DELETE").status_code == 204
+        assert buddy_events.ended.wait(CROSSING_SECONDS)
+        assert buddy_events.types[-1] == "expired"
+        assert not seeker_events.dropped
+        assert not buddy_events.dropped
 
 
 def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:

@@ -226,6 +226,50 @@ def test_the_answer_follows_the_taps(
     assert seeker.state()["result"] == result  # both phones see the same answer
 
 
+def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The taps and their answer are one write: the reply is what the other phone sees."""
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(6, seed=3)
+    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
+    for n in (3, 5, 6):  # no answer yet, then answers
+        reply = buddy.tap(landmarks=landmarks(s.landmarks2[:n])).json()
+        assert reply == buddy.state()
+        fetched = seeker.state()
+        for key in ("version", "result", "result_version", "result_error", "taps"):
+            assert fetched[key] == reply[key]
+    assert reply["result"]["method"] == "least_squares_epipole"  # 6 landmarks + e1
+
+
+def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
+    app: Any, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The other phone's taps land between reading the session and writing these: the
+    answer computed before that would be stale, so the new version is answered again."""
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(6, seed=4)
+    seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
+    buddy.tap(landmarks=landmarks(s.landmarks2[:4]))
+    store = app.state.service.store
+    write = store.put_taps
+    sneaked = []
+
+    def with_the_seeker_first(participant: Any, *args: Any) -> Any:
+        if not sneaked and participant.role == "buddy":
+            sneaked.append(seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1)))
+        return write(participant, *args)
+
+    store.put_taps = with_the_seeker_first
+    reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
+    assert sneaked[0].status_code == 200
+    # Answered with the seeker's 6 landmarks, which came in after the buddy's request did.
+    assert reply["result"]["method"] == "least_squares_epipole"
+    assert reply["result_landmark_ids"] == [1, 2, 3, 4, 5, 6]
+    assert reply["result_version"] == reply["version"] == sneaked[0].json()["version"] + 1
+    assert reply == buddy.state()
+
+
 def test_landmarks_tapped_in_one_photo_only_do_not_count(
     seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
@@ -323,7 +367,7 @@ def test_delete_now_removes_everything_for_both_phones(
         assert gone.status_code == 401
     engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
     with engine.connect() as connection:
-        for table in ("sessions", "participants", "photos", "events", "overlays"):
+        for table in ("sessions", "participants", "photos", "events"):
             assert connection.exec_driver_sql(f"SELECT COUNT(*) FROM {table}").scalar() == 0
 
 

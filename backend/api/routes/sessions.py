@@ -14,7 +14,7 @@ from backend.api.deps import (
     ServiceDep,
     ViewerDep,
 )
-from backend.api.responses import PICTURE, errors
+from backend.api.responses import PICTURE, errors, json_answer
 from backend.sessions.schemas import (
     CreatedSession,
     Joined,
@@ -32,47 +32,53 @@ RoleParam = Annotated[Role, Path(description="Whose photo: seeker (photo 1) or b
 FormatParam = Annotated[ImageFormat, Query(description="jpeg (photos: small, fast) or png")]
 
 
-@router.post("", status_code=201, responses=errors(503))
-def create_session(service: ServiceDep, base: BaseUrlDep) -> CreatedSession:
+@router.post("", status_code=201, response_model=CreatedSession, responses=errors(503))
+def create_session(service: ServiceDep, base: BaseUrlDep) -> Response:
     """The seeker starts a search: a session, a join code for the buddy, the seeker's token."""
-    return service.create(base)
+    return json_answer(service.create(base), status_code=201)
 
 
-@router.post("/join", responses=errors(400, 404, 413, 422, 429, 503))
-def join_session(request: JoinRequest, service: ServiceDep, client: ClientAddressDep) -> Joined:
+@router.post("/join", response_model=Joined, responses=errors(400, 404, 413, 422, 429, 503))
+def join_session(request: JoinRequest, service: ServiceDep, client: ClientAddressDep) -> Response:
     """The buddy joins with the six-digit code (single use, valid 10 minutes). Wrong codes
     are limited per client address and overall: 429 ``too_many_attempts`` with
     ``Retry-After`` (seconds)."""
-    return service.join(request.code, client)
+    return json_answer(service.join(request.code, client))
 
 
-@router.get("/{session_id}", responses=errors(401, 403, 404, 503))
-def session_state(
-    participant: ParticipantDep, service: ServiceDep, base: BaseUrlDep
-) -> SessionState:
+@router.get("/{session_id}", response_model=SessionState, responses=errors(401, 403, 404, 503))
+def session_state(participant: ParticipantDep, service: ServiceDep, base: BaseUrlDep) -> Response:
     """Everything a (re)connecting phone needs: who is online, photos, taps, the answer."""
-    return service.state(participant, base)
+    return json_answer(service.state(participant, base))
 
 
-@router.put("/{session_id}/photo", responses=errors(400, 401, 403, 404, 413, 415, 422, 503))
+@router.put(
+    "/{session_id}/photo",
+    response_model=PhotoStored,
+    responses=errors(400, 401, 403, 404, 413, 415, 422, 503),
+)
 def put_photo(
     participant: ParticipantDep,
     service: ServiceDep,
     photo: Annotated[UploadFile, File(description="JPEG, PNG, WebP or HEIC; any size.")],
-) -> PhotoStored:
+) -> Response:
     """Upload (or replace) your photo. It is stored upright, without metadata, downscaled to
     2560 px on the long side; taps are in the stored photo's pixels. Replacing it clears
     your taps."""
-    return service.put_photo(participant, photo.file.read())
+    return json_answer(service.put_photo(participant, photo.file.read()))
 
 
-@router.put("/{session_id}/taps", responses=errors(400, 401, 403, 404, 409, 413, 422, 503))
+@router.put(
+    "/{session_id}/taps",
+    response_model=SessionState,
+    responses=errors(400, 401, 403, 404, 409, 413, 422, 503),
+)
 def put_taps(
     taps: Taps, participant: ParticipantDep, service: ServiceDep, base: BaseUrlDep
-) -> SessionState:
+) -> Response:
     """Replace your landmarks (and, for the seeker, the buddy mark or line; for the buddy,
     optionally the seeker mark). The answer is recomputed and returned in the state."""
-    return service.put_taps(participant, taps, base)
+    return json_answer(service.put_taps(participant, taps, base))
 
 
 @router.get(

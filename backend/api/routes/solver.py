@@ -10,7 +10,7 @@ from fastapi.responses import Response
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
 
 from backend.api.deps import SettingsDep
-from backend.api.responses import PICTURE, errors
+from backend.api.responses import PICTURE, errors, json_answer
 from backend.errors import ApiError
 from backend.photos import decode_photo, encode_image, store_photo
 from backend.sessions.service import MEDIA_TYPES, ImageFormat
@@ -70,8 +70,7 @@ _EXAMPLE_ANSWER = SolveRequest.model_validate(_EXAMPLE).solve().model_dump(mode=
 )
 def solve_taps(request: SolveRequest) -> Response:
     """Where the seeker is in photo 2, from the taps: exactly ``shared_solver.solve``."""
-    # Serialised by the model itself: FastAPI would validate the fresh result a second time.
-    return Response(request.solve().model_dump_json(), media_type="application/json")
+    return json_answer(request.solve())
 
 
 @router.post(
