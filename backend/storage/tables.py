@@ -76,6 +76,9 @@ class EventRow(Base):
     """'This changed' for the phones' event streams; ids are the streams' event ids."""
 
     __tablename__ = "events"
+    # Ids are never reused, on SQLite too: a watcher that has looked past an id never
+    # needs to look there again (migration 0004).
+    __table_args__ = ({"sqlite_autoincrement": True},)
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
     session_id: Mapped[str] = mapped_column(

@@ -137,6 +137,26 @@ async def test_listening_phones_stay_online_with_one_write_for_all(
     assert len(writes) == 3
 
 
+def test_the_watcher_sees_every_change_after_the_newest_events_were_deleted(
+    client: TestClient, seeker: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """Another process's changes reach this one's streams through the watcher, which
+    remembers the newest event id it has looked at. Deleting the session with the newest
+    events must not let later events take ids at or below it (SQLite reuses the ids after
+    the largest left unless told not to)."""
+    store = client.app.state.service.store  # type: ignore[attr-defined]
+    newer = client.post("/api/sessions").json()
+    joined = client.post("/api/sessions/join", json={"code": newer["join_code"]})
+    assert joined.status_code == 200  # the newer session's 'joined' is the newest event
+    other = Phone(client, newer["session_id"], newer["token"], "seeker")
+    after, _ = store.changes_since(None, [])
+    assert client.delete(other.url(), headers=other.auth).status_code == 204
+    assert seeker.upload(temple_photos[0], "a.png").status_code == 200  # an event
+    newest, sessions = store.changes_since(after, [other.session_id])
+    assert newest > after
+    assert sessions == {seeker.session_id, other.session_id}  # changed; deleted
+
+
 @pytest.mark.anyio
 async def test_a_stream_ends_when_its_session_runs_out_of_time(
     client: TestClient, seeker: Phone, clock: FakeClock
