@@ -8,7 +8,7 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from alembic import command
 from alembic.config import Config
@@ -139,12 +139,17 @@ def file_lock(path: Path) -> Iterator[None]:
     """An exclusive lock on ``path`` (created if missing) while in the block: between
     processes, and between threads (each opens the file itself). Waiting for it releases
     the GIL."""
-    with path.open("a") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(lock, fcntl.LOCK_UN)
+    with path.open("a") as handle, _locked(handle):
+        yield
+
+
+@contextmanager
+def _locked(handle: IO[str]) -> Iterator[None]:
+    fcntl.flock(handle, fcntl.LOCK_EX)
+    try:
+        yield
+    finally:
+        fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 class WriterLock:
@@ -162,8 +167,13 @@ class WriterLock:
 
     @contextmanager
     def held(self) -> Iterator[None]:
-        with self._threads, file_lock(self._path):
-            yield
+        with self._threads:
+            try:
+                handle = self._path.open("a")
+            except OSError as error:  # the database's folder is gone or unreadable
+                raise DatabaseUnavailableError(f"{self._path.name}: {error.strerror}") from error
+            with handle, _locked(handle):
+                yield
 
 
 def unavailable(error: SQLAlchemyError) -> bool:
