@@ -102,21 +102,13 @@ class Settings(BaseSettings):
     keepalive_seconds: float = Field(
         15.0, gt=0, description="Interval of keepalive pings on the event stream."
     )
-    event_poll_seconds: float | None = Field(
-        None,
+    event_poll_seconds: float = Field(
+        10.0,
         gt=0,
         description="How often an event stream re-reads the event table, in case a wake-up "
-        "was lost (default: 10 s; changes wake the streams at once, in every process: on "
-        "PostgreSQL by notifications, on SQLite by each process's watcher, 4 times a "
-        "second).",
+        "was lost (changes wake the streams at once, in every process: on PostgreSQL by "
+        "notifications, on SQLite by each process's watcher, 4 times a second).",
     )
-
-    @property
-    def poll_seconds(self) -> float:
-        """``event_poll_seconds``, or its default for the database in use."""
-        if self.event_poll_seconds is not None:
-            return self.event_poll_seconds
-        return 10.0
 
 
 @lru_cache

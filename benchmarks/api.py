@@ -27,7 +27,6 @@ The report is printed and written as Markdown to ``docs/api-benchmark.md``.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import os
 import platform
@@ -49,6 +48,14 @@ from typing import Any, TypeVar
 import cv2
 import httpx
 import numpy as np
+from report import (
+    CLOCK_TICKS,
+    machine_cpu_seconds,
+    markdown_table,
+    percent,
+    uvicorn_stack,
+    verdict,
+)
 
 from backend.loopback import Server, serve
 from backend.settings import Settings
@@ -93,7 +100,6 @@ TAP_NUDGE_PX = 0.5
 RENDER_BUDGET_MS = 50.0
 
 DATABASE_NAME = "bench.db"
-CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 T = TypeVar("T")
 
@@ -128,14 +134,6 @@ def process_cpu_seconds(pid: int) -> float:
     """utime + stime of every thread of ``pid`` (fields 14 and 15 of /proc/<pid>/stat)."""
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
-
-
-def machine_cpu_seconds() -> tuple[float, float]:
-    """(busy, total) CPU seconds of all cores since boot; idle and iowait are not busy."""
-    values = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
-    # user nice system idle iowait irq softirq steal guest guest_nice; guests are in user.
-    total = sum(values[:8])
-    return (total - values[3] - values[4]) / CLOCK_TICKS, total / CLOCK_TICKS
 
 
 def cpu_snapshot(server: Server) -> CpuSnapshot:
@@ -503,20 +501,6 @@ def percentile(values: Sequence[float], q: float) -> float:
     return float(np.percentile(np.asarray(values, dtype=np.float64), q))
 
 
-def percent(fraction: float) -> str:
-    return f"{100 * fraction:.0f} %"
-
-
-def verdict(passed: bool) -> str:
-    return "PASS" if passed else "FAIL"
-
-
-def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
-
-
 def ms(value: float) -> str:
     return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
 
@@ -676,13 +660,6 @@ def filesystem_type(path: Path) -> str:
         if inside and len(mount) >= len(best):
             best, kind = mount, fs_type
     return kind
-
-
-def uvicorn_stack() -> str:
-    """What uvicorn's defaults (``--loop auto --http auto``) pick in this environment."""
-    loop = "uvloop" if importlib.util.find_spec("uvloop") else "asyncio (uvloop not installed)"
-    http = "httptools" if importlib.util.find_spec("httptools") else "h11 (httptools not installed)"
-    return f"event loop {loop}, HTTP parser {http}"
 
 
 def header(settings: Settings, database: str) -> str:

@@ -60,10 +60,18 @@ import anyio.to_thread
 import cv2
 import httpx
 import numpy as np
+from report import (
+    CLOCK_TICKS,
+    machine_cpu_seconds,
+    markdown_table,
+    percent,
+    uvicorn_stack,
+    verdict,
+)
 
 from backend.loopback import Server, serve
 from backend.settings import Settings
-from backend.storage.database import connect, make_engine
+from backend.storage.database import connect
 from shared_solver.scenes import Scene, tap, temple_scene
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -133,7 +141,6 @@ EXEMPT = {PHOTO}  # not held to the p99 target
 EXPECTED_EVENTS = ("joined", "photo", "taps", "result", "expired")  # on both streams
 STREAMS_HELD = 0.9  # of the 2N streams open (steady median), for the concurrency target
 
-CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 CORES = os.cpu_count() or 1
 BUSY_MACHINE_CORES = 0.1  # other programs using more than this spoil the comparison
 
@@ -162,13 +169,6 @@ def process_cpu_seconds(pid: int) -> float:
     except OSError:
         return 0.0
     return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
-
-
-def machine_cpu_seconds() -> tuple[float, float]:
-    """(busy, total) CPU seconds of all cores since boot; idle and iowait are not busy."""
-    values = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
-    total = sum(values[:8])  # user nice system idle iowait irq softirq steal
-    return (total - values[3] - values[4]) / CLOCK_TICKS, total / CLOCK_TICKS
 
 
 def peak_memory_mb(pid: int) -> float:
@@ -1117,20 +1117,6 @@ def ms(value: float) -> str:
     return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
 
 
-def percent(fraction: float) -> str:
-    return f"{100 * fraction:.0f} %"
-
-
-def verdict(passed: bool) -> str:
-    return "PASS" if passed else "FAIL"
-
-
-def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
-
-
 def git(*args: str) -> str:
     return subprocess.run(
         ["git", *args], cwd=ROOT, capture_output=True, text=True, check=True, timeout=30
@@ -1148,13 +1134,6 @@ def source_state() -> str:
     return f"commit {commit}" + (
         f", uncommitted changes in {', '.join(files)}" if files else ", no uncommitted changes"
     )
-
-
-def uvicorn_stack() -> str:
-    """What uvicorn's defaults (``--loop auto --http auto``) pick in this environment."""
-    loop = "uvloop" if importlib.util.find_spec("uvloop") else "asyncio (uvloop not installed)"
-    http = "httptools" if importlib.util.find_spec("httptools") else "h11 (httptools not installed)"
-    return f"event loop {loop}, HTTP parser {http}"
 
 
 async def default_threads() -> int:
@@ -1212,7 +1191,7 @@ def header(results: Results) -> str:
     poll = (
         f"`BUDDY_EVENT_POLL_SECONDS={setup.event_poll_seconds:g}`"
         if setup.event_poll_seconds is not None
-        else "the default for this database"
+        else "the default"
     )
     return "\n".join(
         [
@@ -1239,7 +1218,7 @@ def header(results: Results) -> str:
                 else ""
             )
             + ". Event streams "
-            f"re-read the event table every {settings.poll_seconds:g} s ({poll}) and when "
+            f"re-read the event table every {settings.event_poll_seconds:g} s ({poll}) and when "
             f"woken; pings every {settings.keepalive_seconds:g} s; the other settings are "
             "the defaults.",
             f"- Photos: `{PAIR[0]}.png` (seeker) and `{PAIR[1]}.png` (buddy) upscaled to "
@@ -1741,22 +1720,21 @@ def run(setup: Setup) -> Results:
         log(f"[server start] {setup.database_kind}, {setup.workers} worker(s) ...")
         began = time.perf_counter()
         with database(setup.database_kind, folder) as url:
-            # Migrated here first: several workers starting at once on a new SQLite file
-            # would each try to create the schema.
-            make_engine(url).dispose()
             env = {"BUDDY_DATABASE_URL": url, "WEB_CONCURRENCY": str(setup.workers)}
+            settings = Settings(_env_file=None, database_url=url)
             if setup.event_poll_seconds is not None:
                 env["BUDDY_EVENT_POLL_SECONDS"] = str(setup.event_poll_seconds)
-            settings = Settings(
-                _env_file=None, database_url=url, event_poll_seconds=setup.event_poll_seconds
-            )
+                settings = settings.model_copy(
+                    update={"event_poll_seconds": setup.event_poll_seconds}
+                )
             with serve(folder, env=env) as server:
                 timings["server start"] = time.perf_counter() - began
                 log(f"[server] pid {server.pid}, {server.base_url}")
                 # Every call, wait and phase is bounded; this bounds them all together.
                 limit = OVERALL_SLACK_SECONDS + setup.idle_seconds + setup.duration
+                poll_seconds = settings.event_poll_seconds
                 measured = asyncio.run(
-                    asyncio.wait_for(measure(server, setup, photos, settings.poll_seconds), limit)
+                    asyncio.wait_for(measure(server, setup, photos, poll_seconds), limit)
                 )
                 timings |= measured.timings
                 pids = process_tree(server.pid)

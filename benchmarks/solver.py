@@ -44,6 +44,7 @@ from typing import Literal, TypeVar
 
 import cv2
 import numpy as np
+from report import markdown_table, verdict
 
 from shared_solver import SolverError, SolveResult, epipole_from_five, epipoles_from_six, solve
 from shared_solver.projective import Array, to_pixel
@@ -472,10 +473,6 @@ def speed_targets(timings: dict[str, Timing]) -> list[tuple[bool, str]]:
 # --- the report ---------------------------------------------------------------------------
 
 
-def verdict(passed: bool) -> str:
-    return "PASS" if passed else "FAIL"
-
-
 def fmt(value: float) -> str:
     """An error in px: 3 significant figures is all 500 trials support."""
     if math.isinf(value):
@@ -504,12 +501,6 @@ def coverage_cell(summary: Summary) -> str:
 
 def methods_cell(summary: Summary) -> str:
     return ", ".join(f"{name} {count}" for name, count in summary.methods.most_common()) or "-"
-
-
-def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
 
 
 def accuracy_tables(table: dict[float, dict[str, Summary]]) -> str:

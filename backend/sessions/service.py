@@ -403,11 +403,11 @@ class SessionService:
         Replays what came after ``last_event_id`` (a reconnecting phone). Marks the phone
         online while connected, offline (and tells the other phone) when it goes. Reads the
         events when woken by a change (here or, on PostgreSQL, on any replica) and every
-        ``poll_seconds`` in case a wake-up was lost; pings in between. Outlives an outage of
+        ``event_poll_seconds`` in case a wake-up was lost; pings in between. Outlives an outage of
         the database: it keeps pinging and reads again when woken after it.
         """
         session_id, role = participant.session_id, participant.role
-        keepalive, poll = self.settings.keepalive_seconds, self.settings.poll_seconds
+        keepalive, poll = self.settings.keepalive_seconds, self.settings.event_poll_seconds
         # Subscribed before reading anything: a change committed after that read wakes it.
         # The first bytes (the headers: EventSource's "open", when the phone fetches the
         # state) go out after it, so every change the phone's fetch may miss is streamed.

@@ -43,10 +43,6 @@ def database_url(url: str) -> URL:
     return parsed
 
 
-def is_postgresql(url: str) -> bool:
-    return database_url(url).get_backend_name() == "postgresql"
-
-
 def make_engine(url: str) -> Engine:
     """An engine for ``url`` with the schema migrated to the newest revision."""
     engine = connect(url)

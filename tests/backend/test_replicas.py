@@ -121,6 +121,25 @@ def landmarks(points: np.ndarray) -> list[dict[str, float]]:
     return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
 
 
+def photos_and_taps_cross(
+    seeker: HttpPhone, buddy: HttpPhone, seeker_events: Listener, buddy_events: Listener
+) -> tuple[Scene, dict[str, Any]]:
+    """Both photos and both tap sets, each phone on its own process: each change reaches
+    the other phone's stream within CROSSING_SECONDS. The scene, and the buddy's state with
+    the answer (computed in the buddy's process)."""
+    seeker.upload(PAIR[0])
+    buddy_events.wait_for("photo", role="seeker", seconds=CROSSING_SECONDS)
+    buddy.upload(PAIR[1])
+    seeker_events.wait_for("photo", role="buddy", seconds=CROSSING_SECONDS)
+    scene, taps = scene_taps()
+    seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
+    buddy_events.wait_for("taps", role="seeker", seconds=CROSSING_SECONDS)
+    state = buddy.tap(landmarks=landmarks(taps.landmarks2))
+    seeker_events.wait_for("taps", role="buddy", seconds=CROSSING_SECONDS)
+    seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+    return scene, state
+
+
 def test_phones_on_two_replicas_find_each_other(
     replicas: tuple[Server, Server], postgres: PostgresServer, fresh_postgres_url: str
 ) -> None:
@@ -128,17 +147,7 @@ def test_phones_on_two_replicas_find_each_other(
     seeker, buddy = pair(one, two)
     seeker_events, buddy_events = follow(seeker, buddy)
 
-    seeker.upload(PAIR[0])
-    buddy_events.wait_for("photo", role="seeker", seconds=CROSSING_SECONDS)
-    buddy.upload(PAIR[1])
-    seeker_events.wait_for("photo", role="buddy", seconds=CROSSING_SECONDS)
-
-    scene, taps = scene_taps()
-    seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
-    buddy_events.wait_for("taps", role="seeker", seconds=CROSSING_SECONDS)
-    state = buddy.tap(landmarks=landmarks(taps.landmarks2))  # answered on replica 2
-    seeker_events.wait_for("taps", role="buddy", seconds=CROSSING_SECONDS)
-    seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+    scene, state = photos_and_taps_cross(seeker, buddy, seeker_events, buddy_events)
 
     # Both replicas tell the same state, drawn from the same photos.
     result = state["result"]
@@ -184,15 +193,7 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
         seeker, buddy = pair(*servers)
         seeker_events, buddy_events = follow(seeker, buddy)
-        seeker.upload(PAIR[0])
-        buddy_events.wait_for("photo", role="seeker", seconds=CROSSING_SECONDS)
-        buddy.upload(PAIR[1])
-        seeker_events.wait_for("photo", role="buddy", seconds=CROSSING_SECONDS)
-        _, taps = scene_taps()
-        seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
-        buddy_events.wait_for("taps", role="seeker", seconds=CROSSING_SECONDS)
-        state = buddy.tap(landmarks=landmarks(taps.landmarks2))
-        seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+        _, state = photos_and_taps_cross(seeker, buddy, seeker_events, buddy_events)
         assert seeker.state()["result"] == state["result"]
         assert seeker.call("DELETE").status_code == 204
         assert buddy_events.ended.wait(CROSSING_SECONDS)
