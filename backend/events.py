@@ -20,7 +20,7 @@ from contextlib import contextmanager, suppress
 from typing import Any
 
 # The types the phones react to.
-EVENT_TYPES = ("joined", "photo", "taps", "result", "left", "expired")
+EVENT_TYPES = ("joined", "code", "photo", "taps", "result", "left", "expired")
 
 
 class Wakeup:

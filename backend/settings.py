@@ -61,6 +61,12 @@ class Settings(BaseSettings):
         "per window; then it gets 429 `too_many_attempts` until the oldest leaves the window. "
         "Successful joins are not counted.",
     )
+    join_failures_per_code: int = Field(
+        5,
+        gt=0,
+        description="Wrong codes naming a search's number (the first four digits) after "
+        "which its join code is renewed: a new number and secret, shown on the seeker's phone.",
+    )
     join_failures_overall: int = Field(
         600,
         gt=0,

@@ -1,10 +1,13 @@
-"""Limits on guessing join codes: failed joins are counted per client address and overall.
+"""Limits on guessing join codes: failed joins are counted per code, per client address
+and overall.
 
-A join code is six digits (10^6 codes) valid 10 minutes. A wrong code names no code (a
-guess is as likely to be aimed at one live code as at any other), so a failure cannot be
-charged to the code being guessed; it is charged to the address it came from, and to
-everyone together. Counted in the database, which replicas share:
+A join code is eight digits valid 10 minutes: a search number (four digits) and a secret
+(four more). Every wrong code gets the same answer, so a guesser cannot tell which numbers
+are live. Counted in the database, which replicas share:
 
+- a wrong code that names a live search's number counts against that search's code; after
+  ``join_failures_per_code`` such failures the code is renewed (a new number and secret,
+  shown on the seeker's phone), so one code is never tried more than that many times;
 - one address may fail ``join_failures_per_client`` times per window (sliding), then it
   waits until its oldest failure leaves the window;
 - once everyone together has failed ``join_failures_overall`` times in the window, guessing
@@ -24,7 +27,9 @@ from datetime import datetime, timedelta
 
 from backend.errors import ApiError
 from backend.settings import Settings
-from backend.storage.repository import Store
+from backend.storage.repository import CodeRenewal, Store
+
+from .tokens import codes_of_search, new_join_code
 
 
 def client_key(host: str) -> str:
@@ -63,5 +68,14 @@ def refuse_guessing(store: Store, client: str, now: datetime, settings: Settings
     )
 
 
-def record_failure(store: Store, client: str, now: datetime) -> None:
-    store.record_join_failure(client_key(client), now)
+def record_failure(
+    store: Store, client: str, code: str, now: datetime, settings: Settings
+) -> list[str]:
+    """Count a failed join with ``code``, against ``client`` and against the live code of
+    the search it names; returns the sessions whose code this renewed."""
+    renewal = CodeRenewal(
+        after_failures=settings.join_failures_per_code,
+        new_code=new_join_code,
+        valid_for=timedelta(seconds=settings.join_code_ttl_seconds),
+    )
+    return store.record_join_failure(client_key(client), codes_of_search(code), now, renewal)

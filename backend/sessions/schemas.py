@@ -15,7 +15,10 @@ Coordinate = Annotated[float, Strict()]
 
 class CreatedSession(BaseModel):
     session_id: str = Field(examples=["3f2a9c0e5b7d41a8b6c2d9e4f1a07b35"])
-    join_code: str = Field(description="Six digits, single use.", examples=["482913"])
+    join_code: str = Field(
+        description="Eight digits (the search's number, then its secret), single use.",
+        examples=["48291375"],
+    )
     join_code_expires_at: datetime
     join_url: str = Field(
         description="Opening it on the buddy's phone joins directly.",
@@ -27,7 +30,11 @@ class CreatedSession(BaseModel):
 
 
 class JoinRequest(BaseModel):
-    code: str = Field(pattern=r"^\d{6}$", examples=["482913"])
+    code: str = Field(
+        pattern=r"^[0-9]{8}$",
+        description="The seeker's eight digits: the search's number, then its secret.",
+        examples=["48291375"],
+    )
 
 
 class Joined(BaseModel):
@@ -109,6 +116,11 @@ class SessionState(BaseModel):
         None, description="When that code stops working (time for a new session)."
     )
     join_url: str | None = None
+    join_code_renewals: int = Field(
+        0,
+        description="How many times the join code was renewed because wrong codes named this "
+        "search (the seeker's phone says so: a code read out before no longer works).",
+    )
     participants: dict[Role, ParticipantState]
     photos: dict[Role, PhotoStored | None]
     taps: dict[Role, Taps | None]

@@ -94,7 +94,8 @@ class SessionService:
         token = new_token()
         session_id = self.store.join(code, buddy_token_hash=token_hash(token), now=now)
         if session_id is None:
-            guessing.record_failure(self.store, client, now)
+            for renewed in guessing.record_failure(self.store, client, code, now, self.settings):
+                self.notifier.notify(renewed)
             raise ApiError(
                 404,
                 "invalid_join_code",
@@ -156,6 +157,7 @@ class SessionService:
                 if code_valid and snapshot.join_code
                 else None
             ),
+            join_code_renewals=snapshot.join_code_renewals if participant.role == "seeker" else 0,
             participants={
                 role: ParticipantState(
                     joined=role in snapshot.members,

@@ -21,7 +21,21 @@ def token_hash(token: str) -> str:
     return hashlib.sha256(token.encode()).hexdigest()
 
 
+# A join code is a search number and a secret, four digits each: "4829 1375". A wrong code
+# still names a search (by its number), so failures can be counted against that search's
+# code, and a code is renewed after a few (:mod:`.guessing`).
+NUMBER_DIGITS = 4
+SECRET_DIGITS = 4
+CODE_DIGITS = NUMBER_DIGITS + SECRET_DIGITS
+
+
 def new_join_code() -> str:
-    """Six digits, easy to read out across a venue: only 10^6 codes, so guessing them is
-    limited (:mod:`.guessing`)."""
-    return f"{secrets.randbelow(1_000_000):06d}"
+    """Eight random digits, easy to read out across a venue: 10^8 codes, of which a
+    guesser cannot tell the live ones (every wrong code gets the same answer)."""
+    return f"{secrets.randbelow(10**CODE_DIGITS):0{CODE_DIGITS}d}"
+
+
+def codes_of_search(code: str) -> tuple[str, str]:
+    """The first and the last code with ``code``'s search number (its first four digits)."""
+    number = code[:NUMBER_DIGITS]
+    return number + "0" * SECRET_DIGITS, number + "9" * SECRET_DIGITS

@@ -16,7 +16,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from dataclasses import dataclass
-from datetime import datetime
+from datetime import datetime, timedelta
 from typing import Any
 
 from sqlalchemy import Connection, Engine, bindparam, delete, func, select, tuple_, update
@@ -55,6 +55,7 @@ _SNAPSHOT = (
         _sessions.c.expires_at,
         _sessions.c.join_code,
         _sessions.c.join_code_expires_at,
+        _sessions.c.join_code_renewals,
         _sessions.c.version,
         _sessions.c.result,
         _sessions.c.result_version,
@@ -130,6 +131,7 @@ class Snapshot:
     expires_at: datetime
     join_code: str | None
     join_code_expires_at: datetime | None
+    join_code_renewals: int
     version: int
     result: dict[str, Any] | None
     result_version: int | None
@@ -146,6 +148,16 @@ class JoinFailures:
     client_oldest: datetime | None
     client_newest: datetime | None
     overall: int
+
+
+@dataclass(frozen=True)
+class CodeRenewal:
+    """When and how a join code is renewed: after this many failures naming it, by a code
+    from ``new_code``, valid ``valid_for`` (at most until its session ends)."""
+
+    after_failures: int
+    new_code: Callable[[], str]
+    valid_for: timedelta
 
 
 @dataclass(frozen=True)
@@ -294,6 +306,7 @@ class Store:
             expires_at=first.expires_at,
             join_code=first.join_code,
             join_code_expires_at=first.join_code_expires_at,
+            join_code_renewals=first.join_code_renewals,
             version=first.version,
             result=None if first.result is None else json.loads(first.result),
             result_version=first.result_version,
@@ -428,9 +441,40 @@ class Store:
             )
         return JoinFailures(int(mine[0]), mine[1], mine[2], int(overall or 0))
 
-    def record_join_failure(self, client: str, now: datetime) -> None:
+    def record_join_failure(
+        self, client: str, code_range: tuple[str, str], now: datetime, renewal: CodeRenewal
+    ) -> list[str]:
+        """Count a failed join against ``client``, and against the live code whose search
+        number it named (the codes in ``code_range``, both ends included: normally one, or
+        none); a code that reaches ``renewal.after_failures`` is renewed. Returns the
+        sessions whose code was renewed, whose seekers' phones must show the new one."""
         with self._write() as tx:
             tx.add(JoinFailureRow(client=client, failed_at=now))
+            charged = tx.execute(
+                update(SessionRow)
+                .where(
+                    SessionRow.join_code.between(*code_range),
+                    SessionRow.join_code_expires_at > now,
+                    SessionRow.expires_at > now,
+                )
+                .values(join_code_failures=SessionRow.join_code_failures + 1)
+                .returning(SessionRow.id, SessionRow.join_code_failures, SessionRow.expires_at)
+            ).all()
+            renewed = [row for row in charged if row.join_code_failures >= renewal.after_failures]
+            for row in renewed:
+                tx.execute(
+                    update(SessionRow)
+                    .where(SessionRow.id == row.id)
+                    .values(
+                        join_code=_unused_code(tx, renewal.new_code),
+                        join_code_expires_at=min(now + renewal.valid_for, row.expires_at),
+                        join_code_failures=0,
+                        join_code_renewals=SessionRow.join_code_renewals + 1,
+                        version=SessionRow.version + 1,
+                    )
+                )
+                _event(tx, row.id, "code", {"renewed": True}, now)
+        return [row.id for row in renewed]
 
     def forget_join_failures(self, before: datetime) -> None:
         """Delete failed joins at or before ``before`` (out of every window: client
@@ -590,6 +634,15 @@ def _record_result(
         return False
     _event(tx, session_id, "result", {"version": version}, now)
     return True
+
+
+def _unused_code(tx: Session, new_code: Callable[[], str]) -> str:
+    """A code from ``new_code`` that no session holds (10^8 codes: the first, nearly
+    always)."""
+    while True:
+        code = new_code()
+        if tx.scalar(select(SessionRow.id).where(SessionRow.join_code == code)) is None:
+            return code
 
 
 def _bump(tx: Session, session_id: str) -> int:

@@ -30,9 +30,15 @@ class SessionRow(Base):
     id: Mapped[str] = mapped_column(String(32), primary_key=True)
     created_at: Mapped[datetime] = mapped_column(DateTime())
     expires_at: Mapped[datetime] = mapped_column(DateTime(), index=True)
-    # Single use: cleared when the buddy joins.
-    join_code: Mapped[str | None] = mapped_column(String(6), unique=True)
+    # Single use: cleared when the buddy joins. Eight digits: the search's number, then
+    # its secret.
+    join_code: Mapped[str | None] = mapped_column(String(8), unique=True)
     join_code_expires_at: Mapped[datetime | None] = mapped_column(DateTime())
+    # Wrong codes that named this code's search number; at the limit the code is renewed
+    # (a new number and secret) and this starts again from 0.
+    join_code_failures: Mapped[int] = mapped_column(Integer, default=0, server_default="0")
+    # How many times the code was renewed so (the seeker's phone says why it changed).
+    join_code_renewals: Mapped[int] = mapped_column(Integer, default=0, server_default="0")
     # Bumped by every change a phone should see; the answer records the version it is for.
     version: Mapped[int] = mapped_column(Integer, default=1)
     result: Mapped[str | None] = mapped_column(Text)  # JSON: SolveResult, or an error

@@ -9,6 +9,7 @@ function state(result: Partial<SolveResult> | null, extra: Partial<SessionState>
     version: 9,
     expires_at: "",
     join_code: null,
+    join_code_renewals: 0,
     join_url: null,
     participants: { seeker: { joined: true, online: true }, buddy: { joined: true, online: true } },
     photos: { seeker: { width: 640, height: 480, scale: 1 }, buddy: { width: 640, height: 480, scale: 1 } },

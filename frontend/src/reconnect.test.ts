@@ -210,8 +210,8 @@ describe("the event stream", () => {
     latest().open();
     expect(statuses).toEqual(["up"]);
     expect(changes).toBe(1);
-    for (const type of ["joined", "photo", "taps", "result", "left"]) latest().emit(type);
-    expect(changes).toBe(6);
+    for (const type of ["joined", "code", "photo", "taps", "result", "left"]) latest().emit(type);
+    expect(changes).toBe(7);
   });
 
   it("tells what changed and the version it made, when the event names one", () => {

@@ -87,7 +87,7 @@ export class Refetcher {
 }
 
 /** The event types the server sends (backend/events.py). */
-export const CHANGE_EVENTS = ["joined", "photo", "taps", "result", "left"] as const;
+export const CHANGE_EVENTS = ["joined", "code", "photo", "taps", "result", "left"] as const;
 export const ENDED_EVENT = "expired";
 
 export type StreamStatus = "connecting" | "up" | "down";

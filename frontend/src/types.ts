@@ -88,6 +88,8 @@ export interface SessionState {
   expires_at: string;
   join_code: string | null;
   join_url: string | null;
+  /** How many times the code was renewed after wrong codes named this search. */
+  join_code_renewals: number;
   participants: Record<Role, ParticipantState>;
   photos: Record<Role, PhotoStored | null>;
   taps: Record<Role, Taps | null>;

@@ -5,6 +5,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from alembic import command
@@ -13,7 +14,8 @@ from alembic.config import Config
 from alembic.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from postgres import PostgresServer
-from sqlalchemy import Engine, inspect, text
+from sqlalchemy import Column, Connection, Engine, String, inspect, text
+from sqlalchemy.types import TypeEngine
 
 from backend.storage.database import (
     MIGRATIONS,
@@ -40,9 +42,36 @@ def empty_database(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[s
 
 
 def differences(engine: Engine) -> list[object]:
-    """What autogenerate would change to make the database match the models."""
+    """What autogenerate would change to make the database match the models. SQLite does
+    not enforce a VARCHAR's length (and changing it there means copying the table), so
+    lengths are compared on PostgreSQL only (migration 0005)."""
     with engine.connect() as connection:
-        return list(compare_metadata(MigrationContext.configure(connection), Base.metadata))
+        sqlite = connection.dialect.name == "sqlite"
+        context = MigrationContext.configure(
+            connection, opts={"compare_type": _types_but_lengths if sqlite else True}
+        )
+        return list(compare_metadata(context, Base.metadata))
+
+
+def _types_but_lengths(
+    context: MigrationContext,
+    inspected_column: Column[Any],
+    metadata_column: Column[Any],
+    inspected_type: TypeEngine[Any],
+    metadata_type: TypeEngine[Any],
+) -> bool | None:
+    """Alembic's type comparison, except that two VARCHARs of any lengths are the same."""
+    if isinstance(inspected_type, String) and isinstance(metadata_type, String):
+        return type(inspected_type.as_generic()) is not type(metadata_type.as_generic())
+    return None  # the default comparison
+
+
+def alembic_config(connection: Connection) -> Config:
+    """Alembic's commands on ``connection``, in its transaction."""
+    config = Config()
+    config.set_main_option("script_location", str(MIGRATIONS))
+    config.attributes["connection"] = connection
+    return config
 
 
 def revision(engine: Engine) -> str | None:
@@ -68,13 +97,48 @@ def test_a_downgrade_removes_the_schema_and_an_upgrade_brings_it_back(
 ) -> None:
     engine = make_engine(empty_database)
     try:
-        config = Config()
-        config.set_main_option("script_location", str(MIGRATIONS))
         with engine.begin() as connection:
-            config.attributes["connection"] = connection
-            command.downgrade(config, "base")
+            command.downgrade(alembic_config(connection), "base")
         assert inspect(engine).get_table_names() == ["alembic_version"]
         migrate(engine)
+        assert differences(engine) == []
+    finally:
+        engine.dispose()
+
+
+def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(
+    empty_database: str,
+) -> None:
+    """Migration 0005: the sessions and all their rows stay (SQLite's table is not copied,
+    which would delete them through the foreign keys); a six-digit code, which the API no
+    longer takes, is cleared."""
+    engine = make_engine(empty_database)
+    try:
+        with engine.begin() as connection:
+            config = alembic_config(connection)
+            command.downgrade(config, "0004")
+            connection.execute(
+                text(
+                    "INSERT INTO sessions (id, created_at, expires_at, join_code, "
+                    "join_code_expires_at, version) VALUES ('s1', '2026-11-21 20:00', "
+                    "'2026-11-21 22:00', '482913', '2026-11-21 20:10', 1)"
+                )
+            )
+            connection.execute(
+                text(
+                    "INSERT INTO participants (session_id, role, token_hash, joined_at) "
+                    "VALUES ('s1', 'seeker', 'h1', '2026-11-21 20:00')"
+                )
+            )
+            command.upgrade(config, "head")
+        with engine.connect() as connection:
+            row = connection.execute(
+                text(
+                    "SELECT s.join_code, s.join_code_failures, s.join_code_renewals, p.role "
+                    "FROM sessions s JOIN participants p ON p.session_id = s.id"
+                )
+            ).one()
+        assert tuple(row) == (None, 0, 0, "seeker")
         assert differences(engine) == []
     finally:
         engine.dispose()
@@ -84,13 +148,15 @@ def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: s
     """``make run`` created its SQLite file with ``create_all`` before there were
     migrations: its sessions stay, and it is marked as migrated."""
     engine = connect(empty_database)
-    # The tables of those days: all but those added by later revisions, and the overlays
-    # that a later revision dropped.
+    # The tables of those days: all but those and the columns added by later revisions,
+    # and the overlays that a later revision dropped.
     Base.metadata.create_all(
         engine, tables=[t for t in Base.metadata.sorted_tables if t.name != "join_failures"]
     )
     blob = "BLOB" if "sqlite" in empty_database else "BYTEA"
     with engine.begin() as connection:
+        for added in ("join_code_failures", "join_code_renewals"):
+            connection.execute(text(f"ALTER TABLE sessions DROP COLUMN {added}"))
         connection.execute(
             text(
                 "CREATE TABLE overlays (session_id VARCHAR(32) NOT NULL REFERENCES sessions(id) "

@@ -267,7 +267,7 @@ def test_logs_hold_no_token_code_or_position(
 ) -> None:
     created = client.post("/api/sessions").json()
     code = created["join_code"]
-    wrong = f"{(int(code) + 1) % 1_000_000:06d}"
+    wrong = f"{(int(code) + 1) % 10**8:08d}"
     assert client.post("/api/sessions/join", json={"code": wrong}).status_code == 404
     joined = client.post("/api/sessions/join", json={"code": code}).json()
     seeker = Phone(client, created["session_id"], created["token"], "seeker")

@@ -53,8 +53,9 @@ def new_code(client: TestClient) -> str:
 
 
 def wrong_code(*right: str) -> str:
-    """A code no session has (the codes in play are few, and all known)."""
-    return next(f"{n:06d}" for n in range(1_000_000) if f"{n:06d}" not in right)
+    """A code that names no session's search (the codes in play are few, and all known)."""
+    numbers = {code[:4] for code in right}
+    return next(f"{n:04d}0000" for n in range(10_000) if f"{n:04d}" not in numbers)
 
 
 def error_of(response: httpx.Response) -> str:
@@ -110,6 +111,76 @@ def test_a_used_or_expired_code_counts_as_a_failure(client: TestClient, clock: F
     clock.advance(601)
     replayed = [join(client, code).status_code for code in [used, expired] * PER_CLIENT]
     assert replayed[: PER_CLIENT + 1] == [404] * PER_CLIENT + [429]
+
+
+def same_search(code: str, n: int) -> str:
+    """A wrong code with ``code``'s search number (its first four digits)."""
+    return code[:4] + f"{(int(code[4:]) + 1 + n) % 10_000:04d}"
+
+
+def seeker_state(client: TestClient, created: dict[str, Any]) -> dict[str, Any]:
+    seeker = Phone(client, created["session_id"], created["token"], "seeker")
+    state = client.get(seeker.url(), headers=seeker.auth)
+    assert state.status_code == 200
+    return dict(state.json())
+
+
+def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
+    client: TestClient, app: FastAPI
+) -> None:
+    """A guesser who knows (or hit) a search's number gets five tries at its secret, from
+    however many addresses: then the code is a new one, shown on the seeker's phone."""
+    created = client.post("/api/sessions").json()
+    code = created["join_code"]
+    for n in range(5):  # each from its own address: no address reaches its own limit
+        guesser = from_address(app, f"198.51.100.{n}")
+        assert error_of(join(guesser, same_search(code, n))) == "invalid_join_code"
+    assert error_of(join(from_address(app, "192.0.2.1"), code)) == "invalid_join_code"
+    state = seeker_state(client, created)
+    renewed = state["join_code"]
+    assert re.fullmatch(r"[0-9]{8}", renewed)
+    assert renewed != code
+    assert state["join_code_renewals"] == 1
+    assert state["join_url"].endswith(f"/join/{renewed}")
+    assert state["version"] == 2  # a change the phone is told of, with its own event
+    service = client.app.state.service  # type: ignore[attr-defined]
+    assert [e.type for e in service.store.events_after(created["session_id"], 0)] == ["code"]
+    joined = join(from_address(app, "192.0.2.2"), renewed)
+    assert joined.status_code == 200, joined.text
+
+
+def test_fewer_wrong_codes_leave_the_code_as_it_is(client: TestClient, app: FastAPI) -> None:
+    """A buddy's typos (four, in the secret) do not cost them the code."""
+    created = client.post("/api/sessions").json()
+    code = created["join_code"]
+    for n in range(4):
+        assert join(from_address(app, f"198.51.100.{n}"), same_search(code, n)).status_code == 404
+    state = seeker_state(client, created)
+    assert (state["join_code"], state["join_code_renewals"]) == (code, 0)
+    assert join(client, code).status_code == 200
+
+
+def test_wrong_codes_of_other_searches_do_not_count_against_a_code(
+    client: TestClient, app: FastAPI
+) -> None:
+    created = client.post("/api/sessions").json()
+    code = created["join_code"]
+    wrong = wrong_code(code)
+    for n in range(6):
+        assert join(from_address(app, f"198.51.100.{n}"), wrong).status_code == 404
+    state = seeker_state(client, created)
+    assert (state["join_code"], state["join_code_renewals"]) == (code, 0)
+
+
+def test_the_buddy_never_sees_the_code_or_its_renewals(client: TestClient, app: FastAPI) -> None:
+    created = client.post("/api/sessions").json()
+    for n in range(5):
+        join(from_address(app, f"198.51.100.{n}"), same_search(created["join_code"], n))
+    renewed = seeker_state(client, created)["join_code"]
+    joined = join(client, renewed).json()
+    buddy = Phone(client, joined["session_id"], joined["token"], "buddy")
+    state = client.get(buddy.url(), headers=buddy.auth).json()
+    assert (state["join_code"], state["join_code_renewals"]) == (None, 0)
 
 
 def test_each_address_has_its_own_limit_and_ipv6_counts_by_64(
@@ -255,7 +326,7 @@ EVERYWHERE = {
     ("path", "status"),
     [
         ("/", 200),
-        ("/join/123456", 200),
+        ("/join/48291375", 200),
         ("/api/version", 200),
         ("/healthz", 200),
         ("/api/sessions/nope", 401),

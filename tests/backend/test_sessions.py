@@ -57,7 +57,7 @@ def test_a_session_starts_with_a_code_and_a_link(client: TestClient) -> None:
     assert created.status_code == 201
     body = created.json()
     assert body["role"] == "seeker"
-    assert len(body["join_code"]) == 6
+    assert len(body["join_code"]) == 8
     assert body["join_code"].isdigit()
     assert body["join_url"].endswith(f"/join/{body['join_code']}")
     assert len(body["token"]) >= 40
@@ -91,7 +91,12 @@ def test_join_codes_expire(client: TestClient, seeker: Phone, clock: FakeClock) 
     assert error_of(late) == "invalid_join_code"
 
 
-@pytest.mark.parametrize("code", ["12345", "abcdef", "1234567", ""])
+FULL_WIDTH_DIGITS = "".join(chr(0xFF10 + int(d)) for d in "12345678")  # \d matches them
+
+
+@pytest.mark.parametrize(
+    "code", ["123456", "1234567", "123456789", "abcdefgh", "1234 5678", FULL_WIDTH_DIGITS, ""]
+)
 def test_malformed_join_codes_are_refused(client: TestClient, code: str) -> None:
     response = client.post("/api/sessions/join", json={"code": code})
     assert response.status_code == 422

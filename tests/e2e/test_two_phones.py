@@ -42,7 +42,7 @@ def start_and_join(
         seeker.screenshot(path=screenshots / "1-start.png")
     seeker.get_by_test_id("start").tap()
     code = seeker.get_by_test_id("code")
-    expect(code).to_have_text(re.compile(r"^\s*\d{3}\s?\d{3}\s*$"))
+    expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
     expect(seeker.get_by_test_id("qr")).to_be_visible()
     expect(seeker.get_by_test_id("waiting")).to_be_visible()
     if screenshots:
@@ -150,6 +150,34 @@ def test_a_reload_returns_to_the_same_session(
     # The buddy's phone carries on and sees the seeker's landmarks to find.
     upload(buddy, PAIR[1])
     expect(buddy.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
+
+
+@pytest.mark.expected_console_errors(r"status of 404 \(Not Found\)")
+def test_a_code_typed_wrong_five_times_is_renewed_on_the_seekers_phone(
+    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+) -> None:
+    seeker = pixel.new_page()
+    seeker.goto(f"{server}/")
+    seeker.get_by_test_id("start").tap()
+    code = seeker.get_by_test_id("code")
+    expect(code).to_have_text(re.compile(r"\d{4}\s?\d{4}"))
+    given = re.sub(r"\D", "", code.inner_text())
+    buddy = iphone.new_page()
+    buddy.goto(f"{server}/")
+    for n in range(5):  # the right search number, a wrong secret
+        secret = (int(given[4:]) + 1 + n) % 10_000
+        buddy.get_by_test_id("join-code").fill(f"{given[:4]} {secret:04d}")
+        buddy.get_by_test_id("join").tap()
+        expect(buddy.get_by_role("alert")).to_contain_text("unknown, already used or expired")
+        expect(buddy.get_by_test_id("join")).to_be_enabled()
+    expect(seeker.get_by_test_id("code-renewed")).to_be_visible()
+    expect(code).not_to_have_text(re.compile(rf"{given[:4]}\s?{given[4:]}"))
+    seeker.screenshot(path=screenshots / "2b-code-renewed.png")
+    renewed = re.sub(r"\D", "", code.inner_text())
+    buddy.get_by_test_id("join-code").fill(f"{renewed[:4]} {renewed[4:]}")
+    buddy.get_by_test_id("join").tap()
+    expect(seeker.get_by_test_id("waiting")).to_be_hidden()
+    expect(buddy.get_by_test_id("photo-input")).to_be_attached()
 
 
 def test_four_landmarks_show_the_curve(

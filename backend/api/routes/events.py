@@ -17,8 +17,8 @@ router = APIRouter(prefix="/api/sessions", tags=["sessions"])
     "/{session_id}/events",
     responses={
         200: {
-            "description": "text/event-stream: events joined, photo, taps, result, left, "
-            "expired; ': ping' comments keep it alive.",
+            "description": "text/event-stream: events joined, code (renewed), photo, taps, "
+            "result, left, expired; ': ping' comments keep it alive.",
             "content": {
                 "text/event-stream": {
                     "example": 'retry: 3000\n\nid: 41\nevent: taps\ndata: {"role": "buddy", '

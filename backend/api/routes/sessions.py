@@ -40,9 +40,9 @@ def create_session(service: ServiceDep, base: BaseUrlDep) -> Response:
 
 @router.post("/join", response_model=Joined, responses=errors(400, 404, 413, 422, 429, 503))
 def join_session(request: JoinRequest, service: ServiceDep, client: ClientAddressDep) -> Response:
-    """The buddy joins with the six-digit code (single use, valid 10 minutes). Wrong codes
-    are limited per client address and overall: 429 ``too_many_attempts`` with
-    ``Retry-After`` (seconds)."""
+    """The buddy joins with the eight-digit code (single use, valid 10 minutes). Wrong codes
+    are limited per client address and overall (429 ``too_many_attempts`` with
+    ``Retry-After``, seconds), and a code that wrong codes named five times is renewed."""
     return json_answer(service.join(request.code, client))
 
 

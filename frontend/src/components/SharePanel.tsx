@@ -2,6 +2,7 @@
 
 import type { ComponentChildren } from "preact";
 import { useMemo, useState } from "preact/hooks";
+import { codeGroups } from "../joinCode";
 import { makeQr } from "../qr";
 import type { SessionController, SessionView } from "../session";
 import type { SessionState } from "../types";
@@ -72,9 +73,16 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
           <>
             <p class="label">Your buddy types this code, or scans it</p>
             <p class="code" data-testid="code" aria-label={`Code ${code.split("").join(" ")}`}>
-              <span>{code.slice(0, 3)}</span>
-              <span>{code.slice(3)}</span>
+              {codeGroups(code).map((group, index) => (
+                <span key={index}>{group}</span>
+              ))}
             </p>
+            {state.join_code_renewals > 0 && (
+              <p class="note" data-testid="code-renewed" role="status">
+                New code: someone typed wrong codes for your search, so the last one no longer
+                works. Give your buddy this one.
+              </p>
+            )}
             {qr && (
               <svg
                 class="qr"

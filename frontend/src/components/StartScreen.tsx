@@ -2,6 +2,7 @@
 
 import { useState } from "preact/hooks";
 import { createSession, joinSession } from "../api";
+import { CODE_DIGITS, codeFrom } from "../joinCode";
 import type { Credentials } from "../types";
 
 interface Props {
@@ -31,9 +32,9 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
 
   const join = async (event: Event): Promise<void> => {
     event.preventDefault();
-    const digits = code.replace(/\D/g, "");
-    if (digits.length !== 6) {
-      setError("The code has 6 digits.");
+    const digits = codeFrom(code);
+    if (digits === null) {
+      setError(`The code has ${CODE_DIGITS} digits.`);
       return;
     }
     setBusy("join");
@@ -74,8 +75,8 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
             inputMode="numeric"
             autoComplete="one-time-code"
             pattern="[0-9 ]*"
-            maxLength={7}
-            placeholder="123456"
+            maxLength={CODE_DIGITS + 2}
+            placeholder="1234 5678"
             value={code}
             onInput={(event) => setCode((event.target as HTMLInputElement).value)}
           />
