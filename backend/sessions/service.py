@@ -312,6 +312,11 @@ class SessionService:
         """``role``'s photo with the answer drawn for that phone, drawn for each request and
         never kept (a phone loads each answer's overlay once; its own cache keeps it)."""
         snapshot = self._snapshot(participant.session_id)
+        if snapshot.result is None:
+            # An answer may be due but not yet recorded: a change overtook the write that
+            # carried it, and its writer is answering again. Answer here rather than send
+            # a phone that just read "answered" away empty.
+            snapshot = self._answer(snapshot.id, snapshot.version) or snapshot
         stored = snapshot.result or {}
         if "result" not in stored or snapshot.result_version is None:
             raise ApiError(

@@ -342,6 +342,37 @@ def test_overlays_show_the_answer_on_each_photo(
     assert by_query.status_code == 200
 
 
+def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
+    app: Any, client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The buddy's taps are overtaken by the seeker's: they are written without their
+    (stale) answer, and the answer for the session as it now is comes a moment later. An
+    overlay asked for in that moment is answered then and there, not refused."""
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(6, seed=4)
+    seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
+    buddy.tap(landmarks=landmarks(s.landmarks2[:5]))
+    store = app.state.service.store
+    write = store.put_taps
+    overlays = []
+
+    def overtaken(participant: Any, *args: Any) -> Any:
+        if overlays or participant.role != "buddy":
+            return write(participant, *args)
+        seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
+        written = write(participant, *args)
+        overlays.append(client.get(seeker.url("/overlay/buddy"), headers=seeker.auth))
+        return written
+
+    store.put_taps = overtaken
+    reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
+    assert overlays[0].status_code == 200, overlays[0].text
+    image = cv2.imdecode(np.frombuffer(overlays[0].content, np.uint8), cv2.IMREAD_COLOR)
+    assert image.shape == (480, 640, 3)
+    assert reply["result_landmark_ids"] == [1, 2, 3, 4, 5, 6]
+    assert reply == buddy.state()
+
+
 def test_the_other_phone_gets_a_crop_of_each_landmark(
     client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
