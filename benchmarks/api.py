@@ -32,7 +32,6 @@ import os
 import platform
 import shlex
 import sqlite3
-import subprocess
 import sys
 import tempfile
 import time
@@ -43,16 +42,23 @@ from dataclasses import dataclass, field
 from datetime import datetime
 from importlib.metadata import version
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import cv2
 import httpx
 import numpy as np
 from report import (
-    CLOCK_TICKS,
-    machine_cpu_seconds,
+    ROOT,
+    cpu_snapshot,
+    log,
     markdown_table,
+    ms,
     percent,
+    percentile,
+    publish,
+    server_timing_ms,
+    source_state,
+    timed,
     uvicorn_stack,
     verdict,
 )
@@ -62,7 +68,6 @@ from backend.settings import Settings
 from shared_solver import solve
 from shared_solver.scenes import facing_scene, tap
 
-ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
 TEMPLE = ROOT / "tests" / "data" / "temple"
 
@@ -101,8 +106,6 @@ RENDER_BUDGET_MS = 50.0
 
 DATABASE_NAME = "bench.db"
 
-T = TypeVar("T")
-
 
 # --- the server ------------------------------------------------------------------------------
 
@@ -115,30 +118,6 @@ def journal_mode(folder: Path) -> str:
     """The journal mode the app left in the database file (WAL persists in the file)."""
     with closing(sqlite3.connect(folder / DATABASE_NAME)) as database:
         return str(database.execute("PRAGMA journal_mode").fetchone()[0])
-
-
-# --- CPU accounting (/proc, so no psutil) ---------------------------------------------------
-
-
-@dataclass(frozen=True)
-class CpuSnapshot:
-    """Cumulative CPU seconds at one instant: the server process, this process, the machine."""
-
-    server: float
-    client: float
-    machine_busy: float
-    machine_total: float
-
-
-def process_cpu_seconds(pid: int) -> float:
-    """utime + stime of every thread of ``pid`` (fields 14 and 15 of /proc/<pid>/stat)."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
-
-
-def cpu_snapshot(server: Server) -> CpuSnapshot:
-    busy, total = machine_cpu_seconds()
-    return CpuSnapshot(process_cpu_seconds(server.pid), time.process_time(), busy, total)
 
 
 # --- 1. /api/solve against /api/version under load ------------------------------------------
@@ -187,12 +166,6 @@ class Load:
 Call = Callable[[httpx.Client], httpx.Response]
 
 
-def server_timing_ms(response: httpx.Response) -> float:
-    """The ``app;dur=<ms>`` of the response's Server-Timing header."""
-    header = response.headers["server-timing"]
-    return float(header.split("dur=", 1)[1].split(";", 1)[0].split(",", 1)[0])
-
-
 def hammer(client: httpx.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
     """One worker: requests back to back on its keep-alive connection until ``deadline``."""
     samples: list[Sample] = []
@@ -214,12 +187,12 @@ def load_slice(
     server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx.Client], call: Call, s: float
 ) -> Load:
     """All workers on one endpoint for ``s`` seconds; the CPU spent meanwhile."""
-    before = cpu_snapshot(server)
+    before = cpu_snapshot([server.pid])
     started = time.perf_counter()
     futures = [pool.submit(hammer, client, call, started + s) for client in clients]
     results = [future.result() for future in futures]
     elapsed = time.perf_counter() - started
-    after = cpu_snapshot(server)
+    after = cpu_snapshot([server.pid])
     return Load(
         samples=[sample for samples, _ in results for sample in samples],
         errors=sum(errors for _, errors in results),
@@ -497,14 +470,6 @@ def session(server: Server) -> SessionFigures:
 # --- the report ----------------------------------------------------------------------------
 
 
-def percentile(values: Sequence[float], q: float) -> float:
-    return float(np.percentile(np.asarray(values, dtype=np.float64), q))
-
-
-def ms(value: float) -> str:
-    return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
-
-
 def load_row(name: str, workers: int, load: Load) -> list[str]:
     return [
         f"`{name}`",
@@ -632,25 +597,6 @@ def session_targets(figures: SessionFigures) -> list[str]:
     ]
 
 
-def git(*args: str) -> str:
-    return subprocess.run(
-        ["git", *args], cwd=ROOT, capture_output=True, text=True, check=True
-    ).stdout
-
-
-def source_state() -> str:
-    """The commit, and any uncommitted changes to the code under test."""
-    try:
-        commit = git("rev-parse", "--short", "HEAD").strip()
-        changed = git("status", "--porcelain", "--", "backend", "shared_solver").splitlines()
-    except (OSError, subprocess.CalledProcessError):
-        return "not a git checkout"
-    files = [line[3:] for line in changed if line.strip()]
-    return f"commit {commit}" + (
-        f", uncommitted changes in {', '.join(files)}" if files else ", no uncommitted changes"
-    )
-
-
 def filesystem_type(path: Path) -> str:
     """The type of the file system holding ``path`` (its longest mount point in /proc/mounts)."""
     best, kind = "", "unknown"
@@ -668,6 +614,7 @@ def header(settings: Settings, database: str) -> str:
         f"{name} {version(name)}"
         for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx", "numpy", "pillow")
     )
+    code = source_state("backend", "shared_solver")
     return "\n".join(
         [
             "# API benchmark",
@@ -680,7 +627,7 @@ def header(settings: Settings, database: str) -> str:
             f"os.cpu_count() = {os.cpu_count()}. **The load generator runs on the same "
             "machine as the server**: both share these cores.",
             f"- Python {platform.python_version()}, {versions}, OpenCV {cv2.__version__}",
-            f"- Code under test (backend, shared_solver): {source_state()}",
+            f"- Code under test (backend, shared_solver): {code}",
             "- Server: `python -m uvicorn backend.main:app --host 127.0.0.1 --port <free> "
             f"--no-access-log`, one worker process, {uvicorn_stack()}; loopback only.",
             f"- Settings: SQLite in a new temporary folder ({database}; the app sets "
@@ -769,20 +716,12 @@ def report(results: Results) -> str:
 # --- running it ----------------------------------------------------------------------------
 
 
-def timed(seconds: dict[str, float], name: str, work: Callable[[], T]) -> T:
-    start = time.perf_counter()
-    print(f"[{name}] ...", file=sys.stderr, flush=True)
-    value = work()
-    seconds[name] = time.perf_counter() - start
-    return value
-
-
 def run(seconds: float) -> Results:
     timings: dict[str, float] = {}
     with tempfile.TemporaryDirectory(prefix="buddy-bench-") as temporary:
         folder = Path(temporary)
         settings = Settings(_env_file=ROOT / ".env", database_url=database_url(folder))
-        print("[server start] ...", file=sys.stderr, flush=True)
+        log("[server start] ...")
         starting = time.perf_counter()
         with serve(folder, env={"BUDDY_DATABASE_URL": database_url(folder)}) as server:
             timings["server start"] = time.perf_counter() - starting
@@ -804,10 +743,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if not 0 < args.seconds <= 120:
         parser.error("--seconds must be in (0, 120]")
-    text = report(run(args.seconds))
-    print(text, end="")
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text)
+    publish(report(run(args.seconds)), args.out)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,30 @@
-"""What the benchmarks share: their Markdown, and what they say of the machine and server."""
+"""What the benchmarks share: their Markdown and figures, what they say of the machine, the
+server and the code under test, and how they time and publish a run."""
 
 from __future__ import annotations
 
 import importlib.util
+import math
 import os
-from collections.abc import Sequence
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeVar
 
+import httpx
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
+
+T = TypeVar("T")
+
+
+# --- Markdown and figures ----------------------------------------------------------------------
 
 
 def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
@@ -24,6 +41,23 @@ def percent(fraction: float) -> str:
     return f"{100 * fraction:.0f} %"
 
 
+def percentile(values: Sequence[float], q: float) -> float:
+    """numpy's percentile (linear interpolation) of ``values``; NaN when there are none."""
+    if not values:
+        return float("nan")
+    return float(np.percentile(np.asarray(values, dtype=np.float64), q))
+
+
+def ms(value: float) -> str:
+    """A time in ms to about 3 significant figures; "-" when nothing was measured (NaN)."""
+    if math.isnan(value):
+        return "-"
+    return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
+
+
+# --- the machine and the server (/proc, so no psutil) ------------------------------------------
+
+
 def machine_cpu_seconds() -> tuple[float, float]:
     """(busy, total) CPU seconds of all cores since boot; idle and iowait are not busy."""
     values = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
@@ -32,8 +66,93 @@ def machine_cpu_seconds() -> tuple[float, float]:
     return (total - values[3] - values[4]) / CLOCK_TICKS, total / CLOCK_TICKS
 
 
+def process_cpu_seconds(pid: int) -> float:
+    """utime + stime of every thread of ``pid`` (fields 14 and 15 of /proc/<pid>/stat); 0
+    once it is gone."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
+
+
+@dataclass(frozen=True)
+class CpuSnapshot:
+    """Cumulative CPU seconds at one instant: the server (all its processes), this process,
+    the machine."""
+
+    at: float  # time.monotonic()
+    server: float
+    client: float
+    machine_busy: float
+    machine_total: float
+
+
+def cpu_snapshot(server_pids: Sequence[int]) -> CpuSnapshot:
+    busy, total = machine_cpu_seconds()
+    server = sum(process_cpu_seconds(pid) for pid in server_pids)
+    return CpuSnapshot(time.monotonic(), server, time.process_time(), busy, total)
+
+
+def server_timing_ms(response: httpx.Response) -> float:
+    """The ``app;dur=<ms>`` of the response's Server-Timing header."""
+    header = response.headers["server-timing"]
+    return float(header.split("dur=", 1)[1].split(";", 1)[0].split(",", 1)[0])
+
+
 def uvicorn_stack() -> str:
     """What uvicorn's defaults (``--loop auto --http auto``) pick in this environment."""
     loop = "uvloop" if importlib.util.find_spec("uvloop") else "asyncio (uvloop not installed)"
     http = "httptools" if importlib.util.find_spec("httptools") else "h11 (httptools not installed)"
     return f"event loop {loop}, HTTP parser {http}"
+
+
+# --- the code under test -------------------------------------------------------------------
+
+
+def git(*args: str) -> str:
+    return subprocess.run(
+        ["git", *args], cwd=ROOT, capture_output=True, text=True, check=True, timeout=30
+    ).stdout
+
+
+def source_state(*paths: str) -> str:
+    """The commit, and any uncommitted changes under ``paths``: the code under test."""
+    try:
+        commit = git("rev-parse", "--short", "HEAD").strip()
+        changed = git("status", "--porcelain", "--", *paths).splitlines()
+    except (OSError, subprocess.CalledProcessError, subprocess.TimeoutExpired):
+        return "not a git checkout"
+    files = [line[3:] for line in changed if line.strip()]
+    return f"commit {commit}" + (
+        f", uncommitted changes in {', '.join(files)}" if files else ", no uncommitted changes"
+    )
+
+
+# --- running a benchmark ---------------------------------------------------------------------
+
+
+def log(message: str) -> None:
+    """Progress, on stderr: stdout is the report."""
+    print(message, file=sys.stderr, flush=True)
+
+
+@contextmanager
+def stopwatch(seconds: dict[str, float], name: str) -> Iterator[None]:
+    """The wall time of the block, kept as ``seconds[name]``."""
+    start = time.perf_counter()
+    yield
+    seconds[name] = time.perf_counter() - start
+
+
+def timed(seconds: dict[str, float], name: str, work: Callable[[], T]) -> T:
+    log(f"[{name}] ...")
+    with stopwatch(seconds, name):
+        return work()
+
+
+def publish(text: str, out: Path) -> None:
+    """The report, printed and written to ``out``."""
+    print(text, end="")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text)

@@ -31,26 +31,23 @@ import os
 import platform
 import shlex
 import statistics
-import subprocess
 import sys
-import time
 import timeit
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
-from typing import Literal, TypeVar
+from typing import Literal
 
 import cv2
 import numpy as np
-from report import markdown_table, verdict
+from report import ROOT, markdown_table, publish, source_state, timed, verdict
 
 from shared_solver import SolverError, SolveResult, epipole_from_five, epipoles_from_six, solve
 from shared_solver.projective import Array, to_pixel
 from shared_solver.scenes import Scene, Taps, facing_scene, tap
 
-ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_OUT = ROOT / "docs" / "solver-benchmark.md"
 DEFAULT_TRIALS = 500
 
@@ -77,7 +74,6 @@ EPIPOLE_SPEED_FACTOR = 2.0
 SOLVE_BUDGET_US = 2000.0
 
 Given = Literal["e1", "line", "both", "none"]
-T = TypeVar("T")
 
 
 # --- what one trial gives ---------------------------------------------------------------
@@ -589,31 +585,6 @@ def speed_table(timings: dict[str, Timing]) -> str:
     )
 
 
-def source_state() -> str:
-    """The commit and any uncommitted changes to shared_solver: what was measured."""
-    try:
-        commit = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"],
-            cwd=ROOT,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-        changed = subprocess.run(
-            ["git", "status", "--porcelain", "--", "shared_solver"],
-            cwd=ROOT,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.split("\n")
-    except (OSError, subprocess.CalledProcessError):
-        return "not a git checkout"
-    files = [line[3:] for line in changed if line.strip()]
-    return f"commit {commit}" + (
-        f", uncommitted changes in {', '.join(files)}" if files else ", no uncommitted changes"
-    )
-
-
 def header(trials: int) -> str:
     now = datetime.now().astimezone().isoformat(timespec="seconds")
     return "\n".join(
@@ -628,7 +599,7 @@ def header(trials: int) -> str:
             f"os.cpu_count() = {os.cpu_count()}",
             f"- Python {platform.python_version()}, numpy {np.__version__}, "
             f"OpenCV {cv2.__version__}",
-            f"- shared_solver: {source_state()}",
+            f"- shared_solver: {source_state('shared_solver')}",
             f"- Trials per cell: {trials} (six_point_line rank check: {RANK_SCENES} scenes)",
             f"- Seeds: numpy default_rng((SEED={SEED}, stream, ...)); scenes "
             f"(SEED, stream, trial), taps (SEED, stream, round(1000 sigma), trial); "
@@ -694,14 +665,6 @@ def report(results: Results) -> str:
     return "\n\n".join(sections) + "\n"
 
 
-def timed(seconds: dict[str, float], name: str, work: Callable[[], T]) -> T:
-    start = time.perf_counter()
-    print(f"[{name}] ...", file=sys.stderr, flush=True)
-    value = work()
-    seconds[name] = time.perf_counter() - start
-    return value
-
-
 def run(trials: int) -> Results:
     seconds: dict[str, float] = {}
     table = timed(seconds, "accuracy", lambda: accuracy(trials))
@@ -718,10 +681,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if args.trials < 1:
         parser.error("--trials must be at least 1")
-    text = report(run(args.trials))
-    print(text, end="")
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text)
+    publish(report(run(args.trials)), args.out)
 
 
 if __name__ == "__main__":
