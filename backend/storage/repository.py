@@ -42,6 +42,7 @@ _CHECKPOINT_WAIT_MS = 1000
 # VACUUM FULL waits this long for each table's lock (queueing requests behind it), then gives
 # up until the next sweep.
 _ERASE_LOCK_TIMEOUT = "5s"
+_CODE_DRAWS = 20  # codes drawn for a renewal before giving up
 _SEEN_BATCH = 500  # participants per statement (SQLite binds at most 32766 values)
 
 # The hot reads, built once (building a statement costs more than running it on SQLite).
@@ -636,13 +637,14 @@ def _record_result(
     return True
 
 
-def _unused_code(tx: Session, new_code: Callable[[], str]) -> str:
+def _unused_code(tx: Session, new_code: Callable[[], str]) -> str | None:
     """A code from ``new_code`` that no session holds (10^8 codes: the first, nearly
-    always)."""
-    while True:
+    always); None if a few draws all are (the seeker's phone then offers a new search)."""
+    for _ in range(_CODE_DRAWS):
         code = new_code()
         if tx.scalar(select(SessionRow.id).where(SessionRow.join_code == code)) is None:
             return code
+    return None
 
 
 def _bump(tx: Session, session_id: str) -> int:

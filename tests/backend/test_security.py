@@ -22,6 +22,7 @@ from phones import FakeClock, Phone
 from backend.loopback import serve
 from backend.main import create_app
 from backend.security import APP_POLICY
+from backend.sessions import guessing
 from backend.sessions.guessing import client_key
 from backend.settings import Settings
 from backend.storage import repository
@@ -147,6 +148,21 @@ def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
     assert [e.type for e in service.store.events_after(created["session_id"], 0)] == ["code"]
     joined = join(from_address(app, "192.0.2.2"), renewed)
     assert joined.status_code == 200, joined.text
+
+
+def test_a_renewal_that_draws_only_taken_codes_ends_the_code(
+    client: TestClient, app: FastAPI, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Never two sessions with one code: if every code drawn is taken (impossible but for
+    a broken generator), the code ends, and the seeker's phone offers a new search."""
+    taken = new_code(client)
+    created = client.post("/api/sessions").json()
+    monkeypatch.setattr(guessing, "new_join_code", lambda: taken)
+    for n in range(5):
+        join(from_address(app, f"198.51.100.{n}"), same_search(created["join_code"], n))
+    state = seeker_state(client, created)
+    assert (state["join_code"], state["join_code_renewals"]) == (None, 1)
+    assert join(client, taken).status_code == 200  # still the other session's
 
 
 def test_fewer_wrong_codes_leave_the_code_as_it_is(client: TestClient, app: FastAPI) -> None:
