@@ -120,10 +120,7 @@ def same_search(code: str, n: int) -> str:
 
 
 def seeker_state(client: TestClient, created: dict[str, Any]) -> dict[str, Any]:
-    seeker = Phone(client, created["session_id"], created["token"], "seeker")
-    state = client.get(seeker.url(), headers=seeker.auth)
-    assert state.status_code == 200
-    return dict(state.json())
+    return Phone(client, created["session_id"], created["token"], "seeker").state()
 
 
 def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
@@ -195,7 +192,7 @@ def test_the_buddy_never_sees_the_code_or_its_renewals(client: TestClient, app: 
     renewed = seeker_state(client, created)["join_code"]
     joined = join(client, renewed).json()
     buddy = Phone(client, joined["session_id"], joined["token"], "buddy")
-    state = client.get(buddy.url(), headers=buddy.auth).json()
+    state = buddy.state()
     assert (state["join_code"], state["join_code_renewals"]) == (None, 0)
 
 

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import zlib
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
 import cv2
+import httpx
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
@@ -247,6 +249,30 @@ def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(
     assert reply["result"]["method"] == "least_squares_epipole"  # 6 landmarks + e1
 
 
+def overtake_the_buddy(
+    app: Any, seeker: Phone, s: Scene, then: Callable[[], httpx.Response] | None = None
+) -> list[httpx.Response]:
+    """Make the buddy's next taps overtaken: the seeker's taps of all ``s``'s landmarks land
+    between the buddy's request reading the session and writing its own. Filled in as it
+    happens: the seeker's reply, then (if given) what ``then`` got right after the buddy's
+    write, before its request answered the session again."""
+    store = app.state.service.store
+    write = store.put_taps
+    got: list[httpx.Response] = []
+
+    def overtaken(participant: Any, *args: Any) -> Any:
+        if got or participant.role != "buddy":
+            return write(participant, *args)
+        got.append(seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1)))
+        written = write(participant, *args)
+        if then is not None:
+            got.append(then())
+        return written
+
+    store.put_taps = overtaken
+    return got
+
+
 def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
     app: Any, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
@@ -256,16 +282,7 @@ def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
     s = scene(6, seed=4)
     seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
     buddy.tap(landmarks=landmarks(s.landmarks2[:4]))
-    store = app.state.service.store
-    write = store.put_taps
-    sneaked = []
-
-    def with_the_seeker_first(participant: Any, *args: Any) -> Any:
-        if not sneaked and participant.role == "buddy":
-            sneaked.append(seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1)))
-        return write(participant, *args)
-
-    store.put_taps = with_the_seeker_first
+    sneaked = overtake_the_buddy(app, seeker, s)
     reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
     assert sneaked[0].status_code == 200
     # Answered with the seeker's 6 landmarks, which came in after the buddy's request did.
@@ -352,22 +369,13 @@ def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     s = scene(6, seed=4)
     seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
     buddy.tap(landmarks=landmarks(s.landmarks2[:5]))
-    store = app.state.service.store
-    write = store.put_taps
-    overlays = []
-
-    def overtaken(participant: Any, *args: Any) -> Any:
-        if overlays or participant.role != "buddy":
-            return write(participant, *args)
-        seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
-        written = write(participant, *args)
-        overlays.append(client.get(seeker.url("/overlay/buddy"), headers=seeker.auth))
-        return written
-
-    store.put_taps = overtaken
+    got = overtake_the_buddy(
+        app, seeker, s, then=lambda: client.get(seeker.url("/overlay/buddy"), headers=seeker.auth)
+    )
     reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
-    assert overlays[0].status_code == 200, overlays[0].text
-    image = cv2.imdecode(np.frombuffer(overlays[0].content, np.uint8), cv2.IMREAD_COLOR)
+    overlay = got[1]
+    assert overlay.status_code == 200, overlay.text
+    image = cv2.imdecode(np.frombuffer(overlay.content, np.uint8), cv2.IMREAD_COLOR)
     assert image.shape == (480, 640, 3)
     assert reply["result_landmark_ids"] == [1, 2, 3, 4, 5, 6]
     assert reply == buddy.state()
