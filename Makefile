@@ -55,12 +55,15 @@ bench-load: $(INSTALLED)
 	$(BIN)/python benchmarks/load.py --workers 2
 
 demo: $(INSTALLED)
-	$(BIN)/python -m shared_solver
+	$(BIN)/python -m testbed.demo
 
+# The .pth file puts the repository root on the virtualenv's path, for what runs here but
+# never ships: testbed/, the scenes the tests, benchmarks and demo share.
 $(INSTALLED): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -c "import pathlib, site; pathlib.Path(site.getsitepackages()[0], 'buddy-search-root.pth').write_text(str(pathlib.Path.cwd()) + '\\n')"
 	touch $(INSTALLED)
 
 $(NODE_MODULES): $(FRONTEND)/package.json $(FRONTEND)/package-lock.json

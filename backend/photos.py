@@ -10,7 +10,7 @@ browser shows and the participants' taps are in the stored photo's pixels.
 Every failure is an :class:`~backend.errors.ApiError` with a stable code; nothing an upload
 holds can make these functions raise anything else.
 
-Pixel coordinates are OpenCV's, as in :mod:`shared_solver.overlay`: pixel ``(i, j)`` is
+Pixel coordinates are OpenCV's, as in :mod:`shared_solver.drawing.overlay`: pixel ``(i, j)`` is
 centred on ``x = i, y = j``, and a point is on a ``width x height`` photo when
 ``0 <= x <= width`` and ``0 <= y <= height``.
 """
@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from PIL import ExifTags, Image, JpegImagePlugin
 
 from backend.errors import ApiError
-from shared_solver.palette import OUTLINE_COLOUR_BGR, Bgr
+from shared_solver.drawing.palette import OUTLINE_COLOUR_BGR, Bgr
 
 # Registers the "HEIF" format with PIL (a global registry, so once, at import).
 pillow_heif.register_heif_opener()

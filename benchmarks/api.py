@@ -66,7 +66,7 @@ from report import (
 from backend.loopback import Server, serve
 from backend.settings import Settings
 from shared_solver import solve
-from shared_solver.scenes import facing_scene, tap
+from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
 TEMPLE = ROOT / "tests" / "data" / "temple"

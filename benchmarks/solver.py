@@ -1,7 +1,7 @@
 """Buddy Search solver benchmark: accuracy, honesty of the 95 % ellipse, and speed, in one run.
 
 What is measured, all in one process, on synthetic facing scenes
-(:func:`shared_solver.scenes.facing_scene`: 1600x1200 photos, f = 1400 px, phones 40 m
+(:func:`testbed.scenes.facing_scene`: 1600x1200 photos, f = 1400 px, phones 40 m
 apart aimed at each other) with Gaussian tap noise on every tap, both epipoles included:
 
 1. Accuracy of the seeker's position ``e2`` (px from the truth) at tap noise 0.5, 1, 2 and
@@ -46,7 +46,7 @@ from report import ROOT, markdown_table, publish, source_state, timed, verdict
 
 from shared_solver import SolverError, SolveResult, epipole_from_five, epipoles_from_six, solve
 from shared_solver.projective import Array, to_pixel
-from shared_solver.scenes import Scene, Taps, facing_scene, tap
+from testbed.scenes import Scene, Taps, facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "solver-benchmark.md"
 DEFAULT_TRIALS = 500

@@ -13,15 +13,15 @@ answer on a photo. Pure numpy and OpenCV: no web, no database.
 Pixels everywhere: x right, y down, origin at the top-left (OpenCV's convention).
 """
 
-from .conic import epipole_conic
+from .drawing.overlay import draw_overlay
+from .drawing.palette import landmark_colour, landmark_colour_hex
 from .errors import ErrorCode, SolverError
-from .five_point import epipole_from_five
-from .overlay import draw_overlay
-from .palette import landmark_colour, landmark_colour_hex
+from .estimation.ranking import EpipoleCandidate, epipoles_from_six
+from .minimal.conic import epipole_conic
+from .minimal.five_point import epipole_from_five
+from .minimal.two_epipoles import fundamental_from_epipoles
 from .result import Candidate, Ellipse, SolveResult, Uncertainty
-from .six_point import EpipoleCandidate, epipoles_from_six
 from .solve import solve
-from .two_epipoles import fundamental_from_epipoles
 
 __all__ = [
     "Candidate",

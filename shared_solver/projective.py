@@ -6,10 +6,11 @@ y down (OpenCV's convention). Nothing here divides by ``w`` without checking it.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 Array = NDArray[np.floating[Any]]
 Mask = NDArray[np.bool_]
@@ -66,3 +67,29 @@ def skew(vector: Array) -> Array:
     """The cross-product matrix [v]x, so that skew(a) @ b == cross(a, b)."""
     x, y, z = vector
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def canonical(vector: ArrayLike) -> Array:
+    """Unit norm, sign fixed (w > 0, or the largest entry positive) so results compare."""
+    x, y, w = (float(v) for v in np.ravel(vector))
+    pivot = w if w != 0 else max((x, y), key=abs)
+    scale = math.copysign(1.0 / math.sqrt(x * x + y * y + w * w), pivot)
+    return np.array((x * scale, y * scale, w * scale))
+
+
+def canonical_matrix(matrix: Array) -> Array:
+    """Unit Frobenius norm with the largest-magnitude entry positive."""
+    matrix = matrix / np.linalg.norm(matrix)
+    return matrix if matrix.flat[np.argmax(np.abs(matrix))] > 0 else -matrix
+
+
+def left_epipole(fundamental: Array) -> Array:
+    """(3,) unit ``e2`` with ``F^T e2 = 0`` (the epipole in photo 2)."""
+    u, _, _ = np.linalg.svd(fundamental)
+    return u[:, 2]
+
+
+def right_epipole(fundamental: Array) -> Array:
+    """(3,) unit ``e1`` with ``F e1 = 0`` (the epipole in photo 1)."""
+    _, _, vt = np.linalg.svd(fundamental)
+    return vt[2]

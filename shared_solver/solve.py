@@ -22,23 +22,38 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import bootstrap, validation
-from .conic import conic_from_cross_ratio
-from .epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles, sampson_distances
+from . import validation, words
 from .errors import ErrorCode, SolverError
-from .five_point import canonical, fundamental_with_epipole, left_epipole, right_epipole
-from .mistaps import consistent, find_mistaps, refit
-from .planar import PlanarFit, coplanar_fit
-from .plausibility import assess, orient_seeker
-from .projective import Array, hartley_normaliser, homogeneous, skew, to_pixel, transform
+from .estimation import bootstrap
+from .estimation.epipolar_fit import (
+    EpipolarFit,
+    fit_epipolar,
+    fit_two_epipoles,
+    sampson_distances,
+)
+from .estimation.mistaps import consistent, find_mistaps, refit
+from .estimation.planar import PlanarFit, coplanar_fit
+from .estimation.plausibility import assess, orient_seeker
+from .estimation.uncertainty import ellipse, quality
+from .minimal.conic import conic_from_cross_ratio
+from .minimal.five_point_linear import fundamental_with_epipole
+from .minimal.seven_point import seven_point_roots
+from .minimal.six_point_line import six_point_line_roots
+from .minimal.two_epipoles import fundamental_between
+from .projective import (
+    Array,
+    canonical,
+    canonical_matrix,
+    hartley_normaliser,
+    homogeneous,
+    skew,
+    to_pixel,
+    transform,
+)
 from .result import Candidate, Ellipse, Matrix, Method, SolveResult, Uncertainty
-from .six_point import canonical_matrix, epipoles_from_six
-from .two_epipoles import fundamental_between
-from .uncertainty import ellipse, quality
 
 # Two taps closer than this many tap sigmas are the same place; landmarks within it of one
 # line are collinear: degenerate at the precision of a finger.
@@ -84,7 +99,7 @@ def solve(
     The method follows from the input (module docstring): ``conic`` is paper 3.1,
     ``five_point_epipole`` 3.2, ``six_point_line`` 3.3, ``two_epipoles`` the introduction's
     pencil homography; with more landmarks, maximum likelihood over every tap (Sampson
-    distances, Hartley & Zisserman 11.4.3), and ``planar`` is ``e2 = H e1`` (MATH.md).
+    distances, Hartley & Zisserman 11.4.3), and ``planar`` is ``e2 = H e1`` (docs/geometry.md).
 
     Args:
         points1: (N, 2) landmarks in photo 1 (the seeker's), pixels, x right, y down.
@@ -143,16 +158,9 @@ def _parse(
     e2 = None if epipole2 is None else validation.pixel(epipole2, "epipole2")
     line1 = None if epipolar_line1 is None else validation.line(epipolar_line1, "epipolar_line1")
     if e1 is not None and line1 is not None:
-        raise SolverError(
-            ErrorCode.CONFLICTING_INPUTS,
-            "Give either the buddy's position or a line through the buddy in photo 1, not both.",
-        )
+        raise SolverError(ErrorCode.CONFLICTING_INPUTS, words.POINT_AND_LINE)
     if e2 is not None and e1 is None:
-        raise SolverError(
-            ErrorCode.MISSING_EPIPOLE1,
-            "The seeker's mark in photo 2 is used together with the buddy's mark in photo 1; "
-            "tap the buddy in photo 1 too.",
-        )
+        raise SolverError(ErrorCode.MISSING_EPIPOLE1, words.SEEKER_WITHOUT_BUDDY)
     if e1 is not None:
         minimum, purpose = (
             (3, "when both friends are marked") if e2 is not None else (4, "with the buddy marked")
@@ -173,9 +181,7 @@ def _parse(
         epipole2=None if e2 is None else np.append(e2, 1.0),
     )
     if labels is not None and len(labels) != len(p):
-        raise SolverError(
-            ErrorCode.MISMATCHED_LENGTHS, "Give one number in landmark_ids per landmark."
-        )
+        raise SolverError(ErrorCode.MISMATCHED_LENGTHS, words.ONE_ID_PER_LANDMARK)
     return _Taps(
         p,
         q,
@@ -211,10 +217,7 @@ def _conic(taps: _Taps) -> SolveResult:
         conic2=_matrix(canonical_matrix(t2.T @ conic @ t2)),
         residuals=[0.0] * len(taps.p),
         quality="fair",
-        warnings=[
-            "Your friend is somewhere on the curve. Mark one more landmark in both photos "
-            "to pin down the spot."
-        ],
+        warnings=[words.ON_THE_CURVE],
     )
 
 
@@ -291,31 +294,20 @@ def _both_epipoles(taps: _Taps) -> SolveResult:
 def _line_through_buddy(taps: _Taps) -> SolveResult:
     """Paper 3.3: the cubic's real roots on the first six landmarks, refined over all."""
     assert taps.line1 is not None
-    candidates = epipoles_from_six(
-        taps.line1, taps.p[:6], taps.q[:6], image_size1=taps.size1, image_size2=taps.size2
-    )
-    geometries = [(c.epipole1, c.epipole2, c.fundamental) for c in candidates]
+    geometries = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
+    if not geometries:
+        raise SolverError(ErrorCode.NO_SOLUTION, words.LINE_FITS_NOTHING)
     return _likeliest(taps, "six_point_line", geometries, minimal=len(taps.p) == 6)
 
 
 def _landmarks_only(taps: _Taps) -> SolveResult:
     """No buddy tap: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
     if coplanar_fit(taps.p, taps.q, sigma=taps.sigma) is not None:
-        raise SolverError(
-            ErrorCode.DEGENERATE_CONFIGURATION,
-            "The landmarks all lie on one surface, which cannot locate your friend on its "
-            "own; mark the buddy in photo 1.",
-        )
+        raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.ONE_SURFACE_WITHOUT_BUDDY)
     if len(taps.p) == 7:
-        stacked, _ = cv2.findFundamentalMat(taps.p, taps.q, cv2.FM_7POINT)
-        if stacked is None:
-            raise SolverError(
-                ErrorCode.NO_SOLUTION, "No geometry fits these 7 landmarks; re-check them."
-            )
-        roots = [
-            canonical_matrix(f) for f in np.asarray(stacked, dtype=np.float64).reshape(-1, 3, 3)
-        ]
-        geometries = [(right_epipole(f), left_epipole(f), f) for f in roots]
+        geometries = seven_point_roots(taps.p, taps.q)
+        if not geometries:
+            raise SolverError(ErrorCode.NO_SOLUTION, words.SEVEN_FIT_NOTHING)
         return _likeliest(taps, "seven_point", geometries, minimal=True)
     suspects: list[int] = []
     warnings: list[str] = []
@@ -376,14 +368,9 @@ def _likeliest(
         fit = fits[top]
     else:
         fit = fit_epipolar(taps.p, taps.q, geometries[top][2], sigma=taps.sigma, line1=taps.line1)
-    decide = "mark the buddy as a point" if taps.line1 is not None else "mark the buddy in photo 1"
     ambiguous = sum(cues[i].hard_cues() == cues[top].hard_cues() and fit_ok[i] for i in order) > 1
-    warnings = [
-        "More than one position fits these landmarks; the likeliest is marked and the others "
-        f"are listed. To decide, {decide} or add a landmark."
-        if ambiguous
-        else f"This position has no reliable error margin; {decide} for one."
-    ]
+    line = taps.line1 is not None
+    warnings = [words.ambiguous(line=line) if ambiguous else words.no_margin(line=line)]
     _, inconsistent = _widen_if_inconsistent(fit, None, taps.sigma, warnings)
     return _result(
         method,
@@ -431,10 +418,7 @@ def _widen_if_inconsistent(
     """
     if consistent(fit, sigma):
         return covariance, False
-    warnings.append(
-        "The marks disagree more than tapping error explains: re-check the buddy mark and "
-        "each landmark (same spot, same number in both photos). The uncertainty is widened."
-    )
+    warnings.append(words.MARKS_DISAGREE)
     if covariance is not None:
         covariance = covariance * (fit.cost / sigma**2 / fit.dof)
     return covariance, True
@@ -442,11 +426,7 @@ def _widen_if_inconsistent(
 
 def _suspect_warnings(taps: _Taps, suspects: list[int], fit: EpipolarFit) -> list[str]:
     off = np.abs(sampson_distances(fit.fundamental, taps.p, taps.q))
-    return [
-        f"Landmark #{taps.labels[i]} looks mis-tapped (about {off[i]:.0f} px from where the "
-        f"others put it), so the answer leaves it out. Re-check #{taps.labels[i]} in both photos."
-        for i in suspects
-    ]
+    return [words.mistapped(taps.labels[i], off[i]) for i in suspects]
 
 
 def _where_warnings(taps: _Taps, e2: Array, *, behind: str, loose: bool) -> list[str]:
@@ -458,46 +438,26 @@ def _where_warnings(taps: _Taps, e2: Array, *, behind: str, loose: bool) -> list
     warnings = []
     position = to_pixel(e2)
     if position is None:
-        warnings.append(
-            "The landmarks put your friend very far off to the side; re-check the marks "
-            "or add landmarks."
-        )
+        warnings.append(words.FAR_TO_THE_SIDE)
     elif behind != "no":
         if behind == "unsure":
-            warnings.append(
-                "These marks do not pin down where your friend is; re-check each landmark "
-                "and the buddy mark, or add landmarks."
-            )
+            warnings.append(words.NOT_PINNED_DOWN)
         else:
-            warnings.append(
-                "Your friend is behind you: turn around, and photograph the side where they are."
-            )
+            warnings.append(words.BEHIND_YOU)
         return warnings
     elif taps.size2 is not None:
         width, height = taps.size2
         x, y = position
         beyond = max(-x, x - width, -y, y - height)
         if beyond > 0:
-            side = (
+            side: words.Side = (
                 ("left" if x < 0 else "right")
                 if max(-x, x - width) >= max(-y, y - height)
                 else ("up" if y < 0 else "down")
             )
-            turn = {
-                "left": "turn left",
-                "right": "turn right",
-                "up": "look up",
-                "down": "look down",
-            }[side]
-            warnings.append(
-                f"Your friend is outside this photo, about {beyond:.0f} px beyond its {side} "
-                f"edge: {turn}."
-            )
+            warnings.append(words.outside_photo(beyond, side))
     if loose:
-        warnings.append(
-            "The position is uncertain. Add landmarks spread across both photos, near and far, "
-            "to narrow it down."
-        )
+        warnings.append(words.UNCERTAIN)
     return warnings
 
 

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import words
 from .errors import ErrorCode, SolverError
 from .projective import Array
 
@@ -24,13 +25,9 @@ def _array(value: ArrayLike, name: str) -> Array:
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
-        raise SolverError(
-            ErrorCode.INVALID_SHAPE, f"Every value of {name} must be a number."
-        ) from error
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_number(name)) from error
     if not np.all(np.isfinite(array)):
-        raise SolverError(
-            ErrorCode.NOT_FINITE, f"A value of {name} is not a finite number (NaN or infinity)."
-        )
+        raise SolverError(ErrorCode.NOT_FINITE, words.not_finite(name))
     return array
 
 
@@ -38,11 +35,7 @@ def points(value: ArrayLike, name: str) -> Array:
     """(N, 2) float array of pixel points, finite."""
     array = _array(value, name)
     if array.ndim != 2 or array.shape[1] != 2:
-        raise SolverError(
-            ErrorCode.INVALID_SHAPE,
-            f"The value of {name} must be a list of [x, y] pairs, "
-            f"not an array of shape {array.shape}.",
-        )
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_points(name, array.shape))
     return array
 
 
@@ -53,16 +46,14 @@ def point(value: ArrayLike, name: str) -> Array:
         return np.append(array, 1.0)
     if array.shape == (3,) and np.any(array != 0):
         return array
-    raise SolverError(
-        ErrorCode.INVALID_SHAPE, f"The value of {name} must be [x, y] or a nonzero [x, y, w]."
-    )
+    raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_point(name))
 
 
 def pixel(value: ArrayLike, name: str) -> Array:
     """(2,) pixel position of a tap, finite."""
     array = _array(value, name)
     if array.shape != (2,):
-        raise SolverError(ErrorCode.INVALID_SHAPE, f"The value of {name} must be [x, y] in pixels.")
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_pixel(name))
     return array
 
 
@@ -70,20 +61,14 @@ def line(value: ArrayLike, name: str) -> Array:
     """(3,) line (a, b, c) meaning a x + b y + c = 0, with (a, b) not both zero."""
     array = _array(value, name)
     if array.shape != (3,) or not np.any(array[:2] != 0):
-        raise SolverError(
-            ErrorCode.INVALID_SHAPE,
-            f"The value of {name} must be [a, b, c] for the line a*x + b*y + c = 0, "
-            "with a or b nonzero.",
-        )
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_line(name))
     return array
 
 
 def positive(value: float, name: str) -> float:
     """A finite, strictly positive number."""
     if not np.isfinite(value) or value <= 0:
-        raise SolverError(
-            ErrorCode.INVALID_PARAMETER, f"The value of {name} must be a positive number."
-        )
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name))
     return float(value)
 
 
@@ -93,10 +78,7 @@ def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None
         return None
     array = _array(value, name)
     if array.shape != (2,) or np.any(array <= 0):
-        raise SolverError(
-            ErrorCode.INVALID_SHAPE,
-            f"The value of {name} must be [width, height] in pixels, both positive.",
-        )
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_size(name))
     return float(array[0]), float(array[1])
 
 
@@ -131,19 +113,11 @@ def landmark_pairs(
     """
     p, q = points(points1, "points1"), points(points2, "points2")
     if len(p) != len(q):
-        raise SolverError(
-            ErrorCode.MISMATCHED_LENGTHS,
-            f"Photo 1 has {len(p)} landmarks and photo 2 has {len(q)}; mark the same ones in both.",
-        )
+        raise SolverError(ErrorCode.MISMATCHED_LENGTHS, words.mismatched(len(p), len(q)))
     if len(p) < minimum:
-        raise SolverError(
-            ErrorCode.TOO_FEW_LANDMARKS,
-            f"{len(p)} landmarks marked; at least {minimum} are needed {purpose}.",
-        )
+        raise SolverError(ErrorCode.TOO_FEW_LANDMARKS, words.too_few(len(p), minimum, purpose))
     if len(p) > maximum:
-        raise SolverError(
-            ErrorCode.TOO_MANY_LANDMARKS, f"{len(p)} landmarks; at most {maximum} are taken here."
-        )
+        raise SolverError(ErrorCode.TOO_MANY_LANDMARKS, words.too_many(len(p), maximum))
     names = list(labels) if labels is not None else list(range(1, len(p) + 1))
     for photo, pts, epipole in (("photo 1", p, epipole1), ("photo 2", q, epipole2)):
         tol = tolerance if tolerance is not None else EXACT_TOLERANCE * spread(pts)
@@ -151,10 +125,7 @@ def landmark_pairs(
         if epipole is not None:
             _refuse_epipole(epipole, pts, tol, photo, names)
         if len(pts) >= 3 and _off_line_spread(pts) <= tol:
-            raise SolverError(
-                ErrorCode.COLLINEAR_LANDMARKS,
-                f"All landmarks in {photo} lie on one straight line; add landmarks off that line.",
-            )
+            raise SolverError(ErrorCode.COLLINEAR_LANDMARKS, words.collinear(photo))
     return p, q
 
 
@@ -165,9 +136,7 @@ def _refuse_repeats(pts: Array, tol: float, photo: str, names: Sequence[int]) ->
     if gaps[i, j] <= tol:
         first, second = sorted((int(i), int(j)))
         raise SolverError(
-            ErrorCode.REPEATED_LANDMARKS,
-            f"Landmarks #{names[first]} and #{names[second]} are at the same place in {photo}; "
-            "each landmark must be a different spot.",
+            ErrorCode.REPEATED_LANDMARKS, words.repeated(names[first], names[second], photo)
         )
 
 
@@ -190,9 +159,7 @@ def _refuse_epipole(
         closest = int(np.argmin(distances))
         if distances[closest] <= tolerance:
             raise SolverError(
-                ErrorCode.EPIPOLE_ON_LANDMARK,
-                f"The {who}'s mark is on landmark #{names[closest]} in {photo}; "
-                f"mark the {who} and the landmarks at different spots.",
+                ErrorCode.EPIPOLE_ON_LANDMARK, words.mark_on_landmark(who, names[closest], photo)
             )
         # Each landmark's distance from the line through the epipole and the farthest landmark.
         far = int(np.argmax(distances))
@@ -203,7 +170,5 @@ def _refuse_epipole(
         off_line = float(np.ptp(pts @ normal))
     if off_line <= tolerance:
         raise SolverError(
-            ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE,
-            f"All landmarks lie on one line through the {who} in {photo}, so they say nothing "
-            "about direction; add landmarks to the side of that line.",
+            ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE, words.landmarks_on_line_through(who, photo)
         )

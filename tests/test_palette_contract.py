@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from shared_solver.palette import (
+from shared_solver.drawing.palette import (
     FRIEND_COLOUR_HEX,
     LANDMARK_COLOURS_HEX,
     SUSPECT_COLOUR_HEX,

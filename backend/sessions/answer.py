@@ -13,7 +13,7 @@ from shared_solver import SolverError, solve
 
 from .schemas import Taps
 
-# Fewest common landmarks for a position, by what the friends marked (MATH.md, the paper).
+# Fewest common landmarks for a position, by what the friends marked (docs/geometry.md).
 _FOR_A_POSITION = {"both": 3, "buddy": 5, "line": 6, "none": 7}
 # Fewest for any answer at all: with the buddy marked, 4 give the curve the seeker is on.
 _FOR_AN_ANSWER = {"both": 3, "buddy": 4, "line": 6, "none": 7}

@@ -11,7 +11,7 @@ from typing import Any
 import httpx
 import numpy as np
 
-from shared_solver.scenes import Scene
+from testbed.scenes import Scene
 
 from .people import LANDMARKS, PAUSES, SessionTaps, session_taps
 from .phone import Phone, http_client

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 from report import ROOT
 
-from shared_solver.scenes import Scene, tap, temple_scene
+from testbed.scenes import Scene, tap, temple_scene
 
 TEMPLE = ROOT / "tests" / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")  # the seeker's photo, the buddy's

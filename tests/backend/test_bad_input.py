@@ -23,7 +23,7 @@ from phones import TEMPLE, FakeClock, Phone
 from PIL import ExifTags, Image
 
 from backend.settings import Settings
-from shared_solver.scenes import temple_scene
+from testbed.scenes import temple_scene
 
 pillow_heif.register_heif_opener()
 

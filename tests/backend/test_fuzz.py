@@ -35,7 +35,7 @@ from schemathesis.specs.openapi.checks import (
 
 from backend.main import create_app
 from backend.settings import Settings
-from shared_solver.scenes import temple_scene
+from testbed.scenes import temple_scene
 
 CHECKS = [
     not_a_server_error,

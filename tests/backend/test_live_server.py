@@ -13,8 +13,8 @@ import pytest
 from phones import TEMPLE, Listener
 
 from backend.loopback import serve
-from shared_solver.scenes import tap, temple_scene
-from shared_solver.uncertainty import contains
+from shared_solver.estimation.uncertainty import contains
+from testbed.scenes import tap, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
 

@@ -23,8 +23,8 @@ from postgres import PostgresServer
 
 from backend.loopback import Server, serve
 from backend.storage.database import database_url
-from shared_solver.scenes import Scene, Taps, tap, temple_scene
-from shared_solver.uncertainty import contains
+from shared_solver.estimation.uncertainty import contains
+from testbed.scenes import Scene, Taps, tap, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
 # Streams read the event table only when woken or every 30 s, and ping every 20 s: an

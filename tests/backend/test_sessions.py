@@ -18,7 +18,7 @@ from sqlalchemy import text
 
 from backend.sessions.tokens import token_hash
 from backend.storage.tables import Base
-from shared_solver.scenes import Scene, temple_scene
+from testbed.scenes import Scene, temple_scene
 
 
 def error_of(response: Any) -> str:

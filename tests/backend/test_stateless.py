@@ -11,7 +11,7 @@ from fastapi.testclient import TestClient
 from phones import TEMPLE
 
 from shared_solver import solve
-from shared_solver.scenes import facing_scene, temple_scene
+from testbed.scenes import facing_scene, temple_scene
 
 
 def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:

@@ -15,7 +15,7 @@ import pytest
 from fingers import TIMEOUT_MS, photo_to_screen, pinch, tap_photo
 from playwright.sync_api import BrowserContext, Page, expect
 
-from shared_solver.scenes import Scene, temple_scene
+from testbed.scenes import Scene, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")

@@ -12,7 +12,7 @@ from shared_solver import (
     fundamental_from_epipoles,
     solve,
 )
-from shared_solver.scenes import Scene, facing_scene
+from testbed.scenes import Scene, facing_scene
 
 EXACT_PX = 1e-6
 SEEDS = range(40)

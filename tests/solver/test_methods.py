@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from shared_solver import solve
-from shared_solver.scenes import facing_scene, tap
+from testbed.scenes import facing_scene, tap
 
 
 def test_seven_landmarks_without_the_buddy_claim_no_region() -> None:

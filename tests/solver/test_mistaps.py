@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from shared_solver import solve
-from shared_solver.scenes import Scene, Taps, facing_scene, tap
+from testbed.scenes import Scene, Taps, facing_scene, tap
 
 TRIALS = 200
 SIGMA = 1.0

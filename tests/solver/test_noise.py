@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from shared_solver import epipole_from_five, solve
-from shared_solver.scenes import facing_scene, tap
+from testbed.scenes import facing_scene, tap
 
 
 def pixel(h: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from shared_solver import draw_overlay, solve
-from shared_solver.scenes import Camera, Scene, facing_scene, look_at, tap
+from testbed.scenes import Camera, Scene, facing_scene, look_at, tap
 
 INTRINSICS = np.array([[1400.0, 0.0, 800.0], [0.0, 1400.0, 600.0], [0.0, 0.0, 1.0]])
 SIZE = (1600, 1200)

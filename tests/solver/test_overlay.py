@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from shared_solver import ErrorCode, SolverError, SolveResult, solve
-from shared_solver.overlay import draw_overlay
-from shared_solver.palette import (
+from shared_solver.drawing.overlay import draw_overlay
+from shared_solver.drawing.palette import (
     FRIEND_COLOUR_BGR,
     LANDMARK_COLOURS_BGR,
     LANDMARK_COLOURS_HEX,
@@ -20,7 +20,7 @@ from shared_solver.palette import (
     landmark_colour_hex,
 )
 from shared_solver.result import Ellipse, Uncertainty
-from shared_solver.scenes import Scene, facing_scene, temple_scene
+from testbed.scenes import Scene, facing_scene, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 GREY = 128

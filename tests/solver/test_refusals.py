@@ -16,7 +16,7 @@ from shared_solver import (
     fundamental_from_epipoles,
     solve,
 )
-from shared_solver.scenes import Scene, facing_scene
+from testbed.scenes import Scene, facing_scene
 
 
 @pytest.fixture

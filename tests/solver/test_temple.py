@@ -8,8 +8,8 @@ import cv2
 import numpy as np
 
 from shared_solver import solve
-from shared_solver.scenes import TEMPLE_IMAGE_SIZE, tap, temple_cameras, temple_scene
-from shared_solver.uncertainty import contains
+from shared_solver.estimation.uncertainty import contains
+from testbed.scenes import TEMPLE_IMAGE_SIZE, tap, temple_cameras, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
 

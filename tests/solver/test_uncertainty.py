@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from shared_solver import solve
-from shared_solver.scenes import facing_scene, tap
-from shared_solver.uncertainty import CHI2_2D, contains
+from shared_solver.estimation.uncertainty import CHI2_2D, contains
+from testbed.scenes import facing_scene, tap
 
 TRIALS = 500
 

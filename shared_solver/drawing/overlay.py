@@ -24,8 +24,10 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import validation
-from .errors import ErrorCode, SolverError
+from .. import validation, words
+from ..errors import ErrorCode, SolverError
+from ..projective import Array, to_pixel
+from ..result import Ellipse, Homogeneous, Pixel, SolveResult
 from .palette import (
     FRIEND_COLOUR_BGR,
     OUTLINE_COLOUR_BGR,
@@ -33,8 +35,6 @@ from .palette import (
     Bgr,
     landmark_colour,
 )
-from .projective import Array, to_pixel
-from .result import Ellipse, Homogeneous, Pixel, SolveResult
 
 Image = NDArray[np.uint8]
 View = Literal["buddy", "seeker"]
@@ -160,9 +160,7 @@ def draw_overlay(
     canvas = _bgr_copy(image)
     landmarks, names = _landmarks(points, labels)
     if view not in ("buddy", "seeker"):
-        raise SolverError(
-            ErrorCode.INVALID_PARAMETER, f'view must be "buddy" or "seeker", got {view!r}.'
-        )
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.bad_view(view))
     style = _Style.of(canvas.shape[1], canvas.shape[0])
     if view == "buddy":
         friend, friend_h = result.epipole2, result.epipole2_h
@@ -183,7 +181,7 @@ def draw_overlay(
     if friend is None and friend_h is not None and _behind(friend_h):
         # Behind the camera: no point of this photo is right. Say so, as solve's warning does.
         pinned = result.quality != "poor"
-        text = "friend is behind you" if pinned else "position unclear: re-check marks"
+        text = words.DRAWN_BEHIND if pinned else words.DRAWN_UNCLEAR
         _centred_text(
             canvas, text, np.array([style.width / 2, style.margin]), FRIEND_COLOUR_BGR, style
         )
@@ -203,9 +201,7 @@ def _behind(homogeneous: Homogeneous) -> bool:
 def _bgr_copy(image: Any) -> Image:
     """A contiguous (H, W, 3) uint8 copy of the photo to draw on."""
     if not isinstance(image, np.ndarray) or image.dtype != np.uint8:
-        raise SolverError(
-            ErrorCode.INVALID_SHAPE, "The photo must be an 8-bit image (a uint8 numpy array)."
-        )
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.NOT_8_BIT)
     photo: Image = image
     if photo.ndim == 3 and photo.shape[2] == 1:
         photo = photo[:, :, 0]
@@ -215,14 +211,14 @@ def _bgr_copy(image: Any) -> Image:
         return photo.copy(order="C")
     raise SolverError(
         ErrorCode.INVALID_SHAPE,
-        f"The photo must be (height, width, 3) BGR or (height, width) grey; got {image.shape}.",
+        words.not_a_photo(image.shape),
     )
 
 
 def _landmarks(points: ArrayLike | None, labels: Sequence[int] | None) -> tuple[Array, list[int]]:
     if points is None:
         if labels is not None and len(labels) > 0:
-            raise SolverError(ErrorCode.MISMATCHED_LENGTHS, "labels were given without points.")
+            raise SolverError(ErrorCode.MISMATCHED_LENGTHS, words.LABELS_WITHOUT_POINTS)
         return np.zeros((0, 2)), []
     landmarks = validation.points(points, "points")
     if labels is None:
@@ -230,11 +226,11 @@ def _landmarks(points: ArrayLike | None, labels: Sequence[int] | None) -> tuple[
     try:
         names = [int(label) for label in labels]
     except (TypeError, ValueError) as error:
-        raise SolverError(ErrorCode.INVALID_SHAPE, "labels must be whole numbers.") from error
+        raise SolverError(ErrorCode.INVALID_SHAPE, words.LABELS_NOT_WHOLE) from error
     if len(names) != len(landmarks):
         raise SolverError(
             ErrorCode.MISMATCHED_LENGTHS,
-            f"{len(names)} labels for {len(landmarks)} landmarks; give one label per landmark.",
+            words.labels_mismatch(len(names), len(landmarks)),
         )
     return landmarks, names
 
@@ -259,7 +255,7 @@ def _draw_friend(
         # The same "beyond the edge" distance as solve's warning, so the two numbers agree.
         beyond = max(-x, x - style.width, -y, y - style.height)
         far = beyond > _FAR_OFF_DIAGONALS * math.hypot(style.width, style.height)
-        text = "friend far off this way" if far else f"friend {beyond:,.0f} px off"
+        text = words.DRAWN_FAR_OFF if far else words.drawn_off_photo(beyond)
         _draw_border_arrow(canvas, at - style.centre, text, style)
     elif homogeneous is not None and all(map(math.isfinite, homogeneous)):
         # At infinity: solve orients epipoles, so (x, y) points to the friend's side.

@@ -18,10 +18,10 @@ from itertools import combinations
 import cv2
 import numpy as np
 
-from .epipolar_fit import EpipolarFit, fit_epipolar, sampson_distances
-from .errors import ErrorCode, SolverError
-from .five_point import fundamental_with_epipole
-from .projective import (
+from .. import words
+from ..errors import ErrorCode, SolverError
+from ..minimal.five_point_linear import fundamental_with_epipole
+from ..projective import (
     Array,
     hartley_normaliser,
     homogeneous,
@@ -29,6 +29,7 @@ from .projective import (
     transform,
     unit,
 )
+from .epipolar_fit import EpipolarFit, fit_epipolar, sampson_distances
 from .uncertainty import chi2_quantile
 
 MAX_HYPOTHESES = 126
@@ -90,7 +91,7 @@ def refit(p: Array, q: Array, sigma: float, epipole1_tap: Array | None) -> Epipo
         if found is None or start.shape != (3, 3):
             raise SolverError(
                 ErrorCode.DEGENERATE_CONFIGURATION,
-                "These landmarks do not fix the geometry; add landmarks in other directions.",
+                words.GEOMETRY_UNDETERMINED,
             )
     return fit_epipolar(p, q, start, sigma=sigma, epipole1_tap=epipole1_tap)
 

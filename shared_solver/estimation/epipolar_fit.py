@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ErrorCode, SolverError
-from .five_point import right_epipole
+from .. import words
+from ..errors import ErrorCode, SolverError
+from ..projective import Array, hartley_normaliser, homogeneous, right_epipole, skew
 from .least_squares import gauge_free_covariance, levenberg_marquardt
-from .projective import Array, hartley_normaliser, homogeneous, skew
 
 # Beyond this the first-order ellipse of e2 says nothing useful: e2 is effectively at infinity.
 _FAR_W = 1e-9
@@ -141,7 +141,7 @@ def fit_epipolar(
     if abs(e1[2]) < _FAR_W * np.linalg.norm(e1):
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
-            "The landmarks put the buddy at infinity in photo 1; re-check the landmarks.",
+            words.BUDDY_AT_INFINITY,
         )
     x0, y0 = e1[:2] / e1[2]
     prior_rows, prior_target = _prior(frame, epipole1_tap, line1)

@@ -5,7 +5,7 @@ Used to rank the several real solutions of the 6-landmark cubic and of the 7-poi
 * the oriented epipolar constraint (Chum, Werner & Pajdla 2004): every landmark lies in front
   of both cameras only if ``(e2 x q_i) . (F p_i)`` has the same sign for all ``i``;
 * the focal lengths a candidate ``F`` implies when each principal point is the image centre
-  (Bougnoux, ICCV 1998; restated in MATH.md): they
+  (Bougnoux, ICCV 1998; docs/geometry.md): they
   must be real and phone-like;
 * phones photographing each other see each other: epipoles inside the photos are likelier.
 """
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .projective import Array, homogeneous, skew
+from ..projective import Array, homogeneous, skew
 
 # A phone's focal length in pixels relative to the long side of the photo: ultra-wide
 # (13 mm equivalent, about 0.36) to 3x tele (77 mm, about 2.1), with margin.

@@ -1,4 +1,4 @@
-"""The solver on the real temple photos: ``python -m shared_solver [--out DIR]``.
+"""The solver on the real temple photos: ``python -m testbed.demo [--out DIR]`` (``make demo``).
 
 Two calibrated Middlebury temple views that face each other (templeSR0003 / templeSR0006)
 stand in for the two phones: landmarks are drawn inside the model's bounding box, projected
@@ -15,7 +15,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from . import draw_overlay, solve
+from shared_solver import draw_overlay, solve
+
 from .scenes import tap, temple_scene
 
 TEMPLE = Path(__file__).resolve().parents[1] / "tests" / "data" / "temple"

@@ -7,10 +7,7 @@ Two routes to the same point, each a test oracle for the other:
   those three are the basis points a conic through them has no square terms, and the
   reciprocal Cremona map ``(x, y, z) -> (yz, zx, xy)`` turns it into a line; the two lines
   meet in the image of ``e2``. Plain float arithmetic, no allocation.
-* ``linear``: ``F e1 = 0`` and ``q^T F p = 0``: writing ``F = A B^T`` with ``B`` spanning the
-  plane orthogonal to ``e1`` leaves 6 unknowns (the columns of ``A``) and one linear equation
-  per landmark; ``e2 = a1 x a2``. This is the 8x9 null-space system of Ito et al. with the
-  epipole constraint eliminated, and it is least squares for more than five landmarks.
+* ``linear``: the null space of the linear system of :mod:`.five_point_linear`.
 
 Because the problem is minimal, both give the same ``e2`` on exact and on noisy taps.
 """
@@ -24,16 +21,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import validation
-from .errors import ErrorCode, SolverError
-from .projective import (
-    Array,
-    hartley_normaliser,
-    homogeneous,
-    orthogonal_complement,
-    transform,
-    unit,
-)
+from .. import validation, words
+from ..errors import ErrorCode, SolverError
+from ..projective import Array, canonical, left_epipole
+from .five_point_linear import fundamental_with_epipole
 
 FiveMethod = Literal["cremona", "linear"]
 
@@ -56,14 +47,6 @@ _NEAR_ZERO = validation.EXACT_TOLERANCE
 # Below this a line intersection or a reciprocal is a removable singularity of the chosen
 # frame, not an answer: another choice of basis landmarks is tried.
 _SINGULAR = 1e-10
-
-
-def canonical(vector: ArrayLike) -> Array:
-    """Unit norm, sign fixed (w > 0, or the largest entry positive) so results compare."""
-    x, y, w = (float(v) for v in np.ravel(vector))
-    pivot = w if w != 0 else max((x, y), key=abs)
-    scale = math.copysign(1.0 / math.sqrt(x * x + y * y + w * w), pivot)
-    return np.array((x * scale, y * scale, w * scale))
 
 
 def epipole_from_five(
@@ -94,17 +77,13 @@ def epipole_from_five(
         e1h, p, q = _checked_five(e1, pts1, pts2)
         e2 = cremona_epipole(e1h.tolist(), p.tolist(), q.tolist(), checked=True)
         if e2 is None:
-            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, _UNDETERMINED)
+            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.SEEKER_UNDETERMINED)
         return canonical(e2)
     if method == "linear":
         e1h, p, q = _checked_five(e1, pts1, pts2)
         return canonical(left_epipole(fundamental_with_epipole(e1h, p, q)))
-    raise SolverError(ErrorCode.INVALID_PARAMETER, "The method must be 'cremona' or 'linear'.")
+    raise SolverError(ErrorCode.INVALID_PARAMETER, words.FIVE_METHOD)
 
-
-_UNDETERMINED = (
-    "These landmarks do not fix the seeker's position; add landmarks in other directions."
-)
 
 Floats = list[float]
 
@@ -251,44 +230,3 @@ def _extent(points: list[Floats]) -> float:
     """Bounding-box diagonal of the points, at least 1 (px)."""
     xs, ys = [x for x, _ in points], [y for _, y in points]
     return max(math.hypot(max(xs) - min(xs), max(ys) - min(ys)), 1.0)
-
-
-def fundamental_with_epipole(e1: Array, p: Array, q: Array) -> Array:
-    """Least-squares F with ``F e1 = 0`` from N >= 5 landmarks, in pixel coordinates.
-
-    Hartley-normalised; the linear route of paper 3.2 (exact for N = 5).
-
-    Args:
-        e1: (3,) homogeneous buddy position in photo 1.
-        p, q: (N, 2) landmarks of photo 1 and photo 2.
-
-    Returns:
-        (3, 3) F, unit Frobenius norm, ``q^T F p = 0`` and ``F e1 = 0``.
-    """
-    t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
-    basis = orthogonal_complement(unit(t1 @ e1))
-    along = transform(t1, homogeneous(p)) @ basis  # (N, 2): each landmark in that plane
-    q_n = transform(t2, homogeneous(q))
-    design = np.hstack([along[:, :1] * q_n, along[:, 1:] * q_n])
-    _, singular, vt = np.linalg.svd(design)
-    # Six unknowns up to scale: the geometry is fixed iff the design has rank 5.
-    if singular[4] <= _SINGULAR * singular[0]:
-        raise SolverError(
-            ErrorCode.DEGENERATE_CONFIGURATION,
-            "These landmarks do not fix the seeker's position; add landmarks in other directions.",
-        )
-    columns = vt[-1].reshape(2, 3).T
-    fundamental = t2.T @ (columns @ basis.T) @ t1
-    return fundamental / np.linalg.norm(fundamental)
-
-
-def left_epipole(fundamental: Array) -> Array:
-    """(3,) unit ``e2`` with ``F^T e2 = 0`` (the epipole in photo 2)."""
-    u, _, _ = np.linalg.svd(fundamental)
-    return u[:, 2]
-
-
-def right_epipole(fundamental: Array) -> Array:
-    """(3,) unit ``e1`` with ``F e1 = 0`` (the epipole in photo 1)."""
-    _, _, vt = np.linalg.svd(fundamental)
-    return vt[2]

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .projective import Array, Mask, skew
+from shared_solver.projective import Array, Mask, skew
 
 # Tight bounding box of the templeSparseRing model (metres), from the dataset's README.
 TEMPLE_BOX = (np.array([-0.073568, 0.021728, -0.012445]), np.array([0.028855, 0.181892, 0.062736]))

@@ -13,8 +13,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .five_point import cremona_batch
-from .projective import Array
+from ..minimal.five_point import cremona_batch
+from ..projective import Array
 from .uncertainty import CHI2_2D, LEVEL
 
 SAMPLES = 200  # closed form, vectorised

@@ -16,9 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ErrorCode, SolverError
+from .. import words
+from ..errors import ErrorCode, SolverError
+from ..projective import Array, hartley_normaliser, homogeneous
 from .least_squares import gauge_free_covariance, levenberg_marquardt
-from .projective import Array, hartley_normaliser, homogeneous
 from .uncertainty import chi2_quantile
 
 _REWEIGHTINGS = 2
@@ -157,7 +158,7 @@ class _PlaneFrame:
         rows[1::2] = np.column_stack([zero, zero, zero, x, y, one, -v * x, -v * y, -v])
         _, singular, vt = np.linalg.svd(rows)
         if len(singular) >= 8 and singular[7] <= 1e-10 * singular[0]:
-            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, "No plane fits these landmarks.")
+            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.NO_PLANE)
         return vt[-1].reshape(3, 3)
 
 

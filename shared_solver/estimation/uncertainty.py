@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from .projective import Array
-from .result import Quality
+from ..projective import Array
+from ..result import Quality
 
 LEVEL = 0.95
 # Chi-square quantile with 2 degrees of freedom at LEVEL: -2 ln(1 - LEVEL).

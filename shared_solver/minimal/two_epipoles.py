@@ -11,17 +11,17 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import validation
-from .errors import ErrorCode, SolverError
-from .projective import (
+from .. import validation, words
+from ..errors import ErrorCode, SolverError
+from ..projective import (
     Array,
+    canonical_matrix,
     hartley_normaliser,
     homogeneous,
     orthogonal_complement,
     transform,
     unit,
 )
-from .six_point import canonical_matrix
 
 
 def fundamental_from_epipoles(
@@ -62,8 +62,7 @@ def fundamental_between(e1: Array, e2: Array, p: Array, q: Array) -> Array:
     if singular[2] <= 1e-10 * singular[0]:
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
-            "These landmarks lie on too few epipolar lines to link the two photos; "
-            "add landmarks in other directions.",
+            words.TOO_FEW_EPIPOLAR_LINES,
         )
     homography = vt[-1].reshape(2, 2)
     return t2.T @ (basis2 @ homography @ basis1.T) @ t1

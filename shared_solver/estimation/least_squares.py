@@ -11,7 +11,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .projective import Array
+from ..projective import Array
 
 Residuals = Callable[[Array], tuple[Array, Array]]
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import validation
-from .projective import Array, hartley_normaliser, homogeneous, transform
+from .. import validation
+from ..projective import Array, hartley_normaliser, homogeneous, transform
 
 
 def bracket(a: Array, b: Array, c: Array) -> Array:

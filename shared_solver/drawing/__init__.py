@@ -1,0 +1,1 @@
+"""Drawing the answer on a photo (OpenCV), in the colours both phones share."""

@@ -1,0 +1,97 @@
+"""Six landmarks and a line through the buddy: both epipoles (paper 3.3).
+
+With ``e1 = s a + t b`` on the given line, the 9x9 system of six landmark equations
+``q^T F p = 0`` and the three equations ``F e1 = 0`` is singular exactly when its
+determinant, a homogeneous cubic in ``(s, t)``, vanishes. Every real root gives a geometry
+that fits the six landmarks exactly; the true one is among them. Ranking them is not this
+solver's job (:mod:`shared_solver.estimation.ranking`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import words
+from ..errors import ErrorCode, SolverError
+from ..projective import (
+    Array,
+    canonical,
+    canonical_matrix,
+    hartley_normaliser,
+    homogeneous,
+    left_epipole,
+    transform,
+)
+
+# Sample angles for the cubic: (cos, sin) pairs spread over half a turn.
+_ANGLES = np.pi * np.arange(4) / 4
+
+
+def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, Array, Array]]:
+    """Every geometry with the buddy on ``line`` that fits 6 landmarks, unranked.
+
+    Args:
+        line: (3,) checked line ``(a, b, c)``, ``a x + b y + c = 0`` in photo-1 pixels.
+        p, q: (6, 2) checked landmarks of photo 1 and photo 2, pixels.
+
+    Returns:
+        ``(e1, e2, F)`` per real root: (3,) canonical epipoles and (3, 3) F (unit norm,
+        largest entry positive), in the order of the roots. Empty when no root fixes F.
+
+    Raises:
+        SolverError: every point of the line fits (degenerate).
+    """
+    t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
+    p_n, q_n = transform(t1, homogeneous(p)), transform(t2, homogeneous(q))
+    line_n = np.linalg.solve(t1.T, line)  # lines map by the inverse transpose
+    # a: the line's point nearest the (normalised) origin; b: its point at infinity.
+    a = np.array([-line_n[0] * line_n[2], -line_n[1] * line_n[2], line_n[0] ** 2 + line_n[1] ** 2])
+    b = np.array([line_n[1], -line_n[0], 0.0])
+    a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
+    landmark_rows = np.einsum("ni,nj->nij", q_n, p_n).reshape(6, 9)
+
+    def system(e1: Array) -> Array:
+        epipole_rows = np.kron(np.eye(3), e1)  # row r: (F e1)_r as a function of vec(F)
+        return np.vstack([landmark_rows, epipole_rows])
+
+    roots = _real_roots([np.linalg.det(system(np.cos(t) * a + np.sin(t) * b)) for t in _ANGLES])
+    found = []
+    for s, t in roots:
+        e1_n = s * a + t * b
+        _, singular, vt = np.linalg.svd(system(e1_n))
+        if singular[-2] <= 1e-9 * singular[0]:
+            continue  # more than one F: this root does not fix the geometry
+        fundamental = t2.T @ vt[-1].reshape(3, 3) @ t1
+        if np.linalg.matrix_rank(fundamental / np.linalg.norm(fundamental), tol=1e-9) < 2:
+            continue
+        found.append(
+            (
+                canonical(np.linalg.solve(t1, e1_n)),
+                canonical(left_epipole(fundamental)),
+                canonical_matrix(fundamental),
+            )
+        )
+    return found
+
+
+def _real_roots(samples: list[float]) -> list[tuple[float, float]]:
+    """Real roots (s, t), unit norm, of the homogeneous cubic sampled at ``_ANGLES``."""
+    c, s = np.cos(_ANGLES), np.sin(_ANGLES)
+    # det(s a + t b) = k0 s^3 + k1 s^2 t + k2 s t^2 + k3 t^3
+    basis = np.column_stack([c**3, c**2 * s, c * s**2, s**3])
+    k0, k1, k2, k3 = np.linalg.solve(basis, samples)
+    scale = max(abs(k0), abs(k1), abs(k2), abs(k3))
+    if scale == 0:
+        raise SolverError(
+            ErrorCode.DEGENERATE_CONFIGURATION,
+            words.LINE_FITS_EVERYWHERE,
+        )
+    roots: list[tuple[float, float]] = []
+    # In tau = t / s; a vanishing leading coefficient is a root at s = 0.
+    for tau in np.roots([k3, k2, k1, k0] if abs(k3) > 1e-12 * scale else [k2, k1, k0]):
+        if abs(tau.imag) <= 1e-7 * (1 + abs(tau)):
+            norm = np.hypot(1.0, tau.real)
+            roots.append((1.0 / norm, tau.real / norm))
+    if abs(k3) <= 1e-12 * scale:
+        roots.append((0.0, 1.0))
+    return roots

@@ -1,0 +1,215 @@
+"""Every sentence the solver says to a person: warnings on an answer and reasons for a refusal.
+
+They reach a phone's screen unchanged, so they are written for the two friends: "your
+friend", "the buddy mark", "landmark #3", and a next step to take. Kept in one place so the
+voice stays one, and so a change of wording never hides in the geometry.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+Side = Literal["left", "right", "up", "down"]
+
+# --- warnings on an answer -----------------------------------------------------------------
+
+ON_THE_CURVE = (
+    "Your friend is somewhere on the curve. Mark one more landmark in both photos to pin "
+    "down the spot."
+)
+MARKS_DISAGREE = (
+    "The marks disagree more than tapping error explains: re-check the buddy mark and each "
+    "landmark (same spot, same number in both photos). The uncertainty is widened."
+)
+FAR_TO_THE_SIDE = (
+    "The landmarks put your friend very far off to the side; re-check the marks or add landmarks."
+)
+NOT_PINNED_DOWN = (
+    "These marks do not pin down where your friend is; re-check each landmark and the buddy "
+    "mark, or add landmarks."
+)
+BEHIND_YOU = "Your friend is behind you: turn around, and photograph the side where they are."
+UNCERTAIN = (
+    "The position is uncertain. Add landmarks spread across both photos, near and far, to "
+    "narrow it down."
+)
+_TURN: dict[Side, str] = {
+    "left": "turn left",
+    "right": "turn right",
+    "up": "look up",
+    "down": "look down",
+}
+
+
+def mistapped(label: int, off_px: float) -> str:
+    """A landmark left out of the answer because it does not fit the others."""
+    return (
+        f"Landmark #{label} looks mis-tapped (about {off_px:.0f} px from where the others put "
+        f"it), so the answer leaves it out. Re-check #{label} in both photos."
+    )
+
+
+def outside_photo(beyond_px: float, side: Side) -> str:
+    """The friend is beyond one edge of the photo."""
+    return (
+        f"Your friend is outside this photo, about {beyond_px:.0f} px beyond its {side} edge: "
+        f"{_TURN[side]}."
+    )
+
+
+def ambiguous(*, line: bool) -> str:
+    """Several geometries fit the landmarks equally well."""
+    return (
+        "More than one position fits these landmarks; the likeliest is marked and the others "
+        f"are listed. To decide, {_decide(line=line)} or add a landmark."
+    )
+
+
+def no_margin(*, line: bool) -> str:
+    """An answer ranked first among several, with no region claimed."""
+    return f"This position has no reliable error margin; {_decide(line=line)} for one."
+
+
+def _decide(*, line: bool) -> str:
+    return "mark the buddy as a point" if line else "mark the buddy in photo 1"
+
+
+# --- refusals: input that cannot be answered honestly ----------------------------------------
+
+POINT_AND_LINE = (
+    "Give either the buddy's position or a line through the buddy in photo 1, not both."
+)
+SEEKER_WITHOUT_BUDDY = (
+    "The seeker's mark in photo 2 is used together with the buddy's mark in photo 1; tap the "
+    "buddy in photo 1 too."
+)
+ONE_ID_PER_LANDMARK = "Give one number in landmark_ids per landmark."
+LINE_FITS_NOTHING = (
+    "No position along the line fits these 6 landmarks; re-check the landmarks and the line."
+)
+LINE_FITS_EVERYWHERE = (
+    "Every point of the line fits these landmarks; add landmarks in other directions."
+)
+SEVEN_FIT_NOTHING = "No geometry fits these 7 landmarks; re-check them."
+ONE_SURFACE_WITHOUT_BUDDY = (
+    "The landmarks all lie on one surface, which cannot locate your friend on its own; mark "
+    "the buddy in photo 1."
+)
+SEEKER_UNDETERMINED = (
+    "These landmarks do not fix the seeker's position; add landmarks in other directions."
+)
+GEOMETRY_UNDETERMINED = (
+    "These landmarks do not fix the geometry; add landmarks in other directions."
+)
+TOO_FEW_EPIPOLAR_LINES = (
+    "These landmarks lie on too few epipolar lines to link the two photos; add landmarks in "
+    "other directions."
+)
+BUDDY_AT_INFINITY = "The landmarks put the buddy at infinity in photo 1; re-check the landmarks."
+NO_PLANE = "No plane fits these landmarks."
+FIVE_METHOD = "The method must be 'cremona' or 'linear'."
+
+
+def too_few(count: int, minimum: int, purpose: str) -> str:
+    return f"{count} landmarks marked; at least {minimum} are needed {purpose}."
+
+
+def too_many(count: int, maximum: int) -> str:
+    return f"{count} landmarks; at most {maximum} are taken here."
+
+
+def mismatched(count1: int, count2: int) -> str:
+    return f"Photo 1 has {count1} landmarks and photo 2 has {count2}; mark the same ones in both."
+
+
+def collinear(photo: str) -> str:
+    return f"All landmarks in {photo} lie on one straight line; add landmarks off that line."
+
+
+def repeated(first: int, second: int, photo: str) -> str:
+    return (
+        f"Landmarks #{first} and #{second} are at the same place in {photo}; each landmark "
+        "must be a different spot."
+    )
+
+
+def mark_on_landmark(who: str, label: int, photo: str) -> str:
+    return (
+        f"The {who}'s mark is on landmark #{label} in {photo}; mark the {who} and the "
+        "landmarks at different spots."
+    )
+
+
+def landmarks_on_line_through(who: str, photo: str) -> str:
+    return (
+        f"All landmarks lie on one line through the {who} in {photo}, so they say nothing "
+        "about direction; add landmarks to the side of that line."
+    )
+
+
+# --- refusals: malformed values (read by whoever calls the API) -------------------------------
+
+
+def not_a_number(name: str) -> str:
+    return f"Every value of {name} must be a number."
+
+
+def not_finite(name: str) -> str:
+    return f"A value of {name} is not a finite number (NaN or infinity)."
+
+
+def not_points(name: str, shape: tuple[int, ...]) -> str:
+    return f"The value of {name} must be a list of [x, y] pairs, not an array of shape {shape}."
+
+
+def not_a_point(name: str) -> str:
+    return f"The value of {name} must be [x, y] or a nonzero [x, y, w]."
+
+
+def not_a_pixel(name: str) -> str:
+    return f"The value of {name} must be [x, y] in pixels."
+
+
+def not_a_line(name: str) -> str:
+    return (
+        f"The value of {name} must be [a, b, c] for the line a*x + b*y + c = 0, with a or b "
+        "nonzero."
+    )
+
+
+def not_positive(name: str) -> str:
+    return f"The value of {name} must be a positive number."
+
+
+def not_a_size(name: str) -> str:
+    return f"The value of {name} must be [width, height] in pixels, both positive."
+
+
+# --- drawn on the photo (short: they share the picture with the answer) -------------------------
+
+DRAWN_BEHIND = "friend is behind you"
+DRAWN_UNCLEAR = "position unclear: re-check marks"
+DRAWN_FAR_OFF = "friend far off this way"
+
+
+def drawn_off_photo(beyond_px: float) -> str:
+    return f"friend {beyond_px:,.0f} px off"
+
+
+# --- refusals of the drawing's input -----------------------------------------------------------
+
+NOT_8_BIT = "The photo must be an 8-bit image (a uint8 numpy array)."
+LABELS_WITHOUT_POINTS = "labels were given without points."
+LABELS_NOT_WHOLE = "labels must be whole numbers."
+
+
+def bad_view(view: object) -> str:
+    return f'view must be "buddy" or "seeker", got {view!r}.'
+
+
+def not_a_photo(shape: tuple[int, ...]) -> str:
+    return f"The photo must be (height, width, 3) BGR or (height, width) grey; got {shape}."
+
+
+def labels_mismatch(labels: int, landmarks: int) -> str:
+    return f"{labels} labels for {landmarks} landmarks; give one label per landmark."
