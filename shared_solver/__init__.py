@@ -16,14 +16,17 @@ Pixels everywhere: x right, y down, origin at the top-left (OpenCV's convention)
 from .drawing.overlay import draw_overlay
 from .drawing.palette import landmark_colour, landmark_colour_hex
 from .errors import ErrorCode, SolverError
+from .estimation.camera import Camera
 from .estimation.ranking import EpipoleCandidate, epipoles_from_six
 from .minimal.conic import epipole_conic
 from .minimal.five_point import epipole_from_five
 from .minimal.two_epipoles import fundamental_from_epipoles
-from .result import Candidate, Ellipse, SolveResult, Uncertainty
+from .result import CameraEstimate, Candidate, Ellipse, SolveResult, Uncertainty
 from .solve import solve
 
 __all__ = [
+    "Camera",
+    "CameraEstimate",
     "Candidate",
     "Ellipse",
     "EpipoleCandidate",

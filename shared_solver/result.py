@@ -19,7 +19,12 @@ Method = Literal[
     "two_epipoles",
     "seven_point",
     "eight_point",
+    "pinhole_epipole",
+    "pinhole_two_epipoles",
+    "pinhole_line",
+    "pinhole_landmarks",
 ]
+CameraModel = Literal["projective", "pinhole"]
 Quality = Literal["good", "fair", "poor"]
 Pixel = tuple[float, float]
 Homogeneous = tuple[float, float, float]
@@ -68,12 +73,38 @@ class Candidate(_Frozen):
     phone_like: bool
 
 
+class CameraEstimate(_Frozen):
+    """One photo's camera: what was known about it, and the focal length the answer used."""
+
+    known: Literal["unknown", "phone", "known_focal"] = Field(
+        description="What the caller said about this camera (Camera.kind)."
+    )
+    focal_px: float | None = Field(
+        description="Focal length in px the answer used or estimated; None for the "
+        "projective model, which has none."
+    )
+    focal_35mm: float | None = Field(description="The same as a 35 mm-equivalent, mm.")
+    focal_35mm_sd: float | None = Field(
+        description="Its standard deviation after the fit, mm (how well the taps and the "
+        "prior pin it down)."
+    )
+
+
 class SolveResult(_Frozen):
     """Where the seeker stands in the buddy's photo, how sure that is, and why."""
 
     method: Method
+    camera_model: CameraModel = Field(
+        "projective",
+        description="'pinhole': solved with what a phone camera is (square pixels, centred, "
+        "a focal length prior); 'projective': any two cameras, as in the paper.",
+    )
+    cameras: list[CameraEstimate] = Field(
+        default_factory=list,
+        description="Photo 1's and photo 2's camera, when cameras were given.",
+    )
     landmark_count: int
-    tap_sigma: float
+    tap_sigma: float = Field(description="The typical tap's standard deviation, px (rms).")
     epipole2: Pixel | None = Field(
         description="The seeker in photo 2 (the answer), px; None at infinity or for a conic."
     )

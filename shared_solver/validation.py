@@ -98,6 +98,7 @@ def landmark_pairs(
     labels: Sequence[int] | None = None,
     epipole1: Array | None = None,
     epipole2: Array | None = None,
+    directions: bool = True,
 ) -> tuple[Array, Array]:
     """Both photos' landmarks as (N, 2) arrays, refused when they cannot determine anything.
 
@@ -110,6 +111,9 @@ def landmark_pairs(
         labels: the landmark numbers a person sees, for messages (default 1..N).
         epipole1, epipole2: (3,) homogeneous epipoles when known, checked against the
             landmarks of their photo.
+        directions: whether the landmarks must spread around each epipole (not all on one
+            line through it). Two calibrated cameras that see each other need no more than
+            one landmark, which is always on such a line.
     """
     p, q = points(points1, "points1"), points(points2, "points2")
     if len(p) != len(q):
@@ -123,7 +127,7 @@ def landmark_pairs(
         tol = tolerance if tolerance is not None else EXACT_TOLERANCE * spread(pts)
         _refuse_repeats(pts, tol, photo, names)
         if epipole is not None:
-            _refuse_epipole(epipole, pts, tol, photo, names)
+            _refuse_epipole(epipole, pts, tol, photo, names, spread_needed=directions)
         if len(pts) >= 3 and _off_line_spread(pts) <= tol:
             raise SolverError(ErrorCode.COLLINEAR_LANDMARKS, words.collinear(photo))
     return p, q
@@ -148,9 +152,16 @@ def _off_line_spread(pts: Array) -> float:
 
 
 def _refuse_epipole(
-    epipole: Array, pts: Array, tolerance: float, photo: str, names: Sequence[int]
+    epipole: Array,
+    pts: Array,
+    tolerance: float,
+    photo: str,
+    names: Sequence[int],
+    *,
+    spread_needed: bool,
 ) -> None:
-    """Refuse an epipole tapped on a landmark, or landmarks all on one line through it."""
+    """Refuse an epipole tapped on a landmark, or (``spread_needed``) landmarks all on one
+    line through it."""
     who = "buddy" if photo == "photo 1" else "seeker"
     if abs(epipole[2]) > 0:
         at = epipole[:2] / epipole[2]
@@ -161,10 +172,14 @@ def _refuse_epipole(
             raise SolverError(
                 ErrorCode.EPIPOLE_ON_LANDMARK, words.mark_on_landmark(who, names[closest], photo)
             )
+        if not spread_needed:
+            return
         # Each landmark's distance from the line through the epipole and the farthest landmark.
         far = int(np.argmax(distances))
         normal = np.array([-directions[far, 1], directions[far, 0]]) / distances[far]
         off_line = float(np.max(np.abs(directions @ normal)))
+    elif not spread_needed:
+        return
     else:  # epipole at infinity: the epipolar lines are parallel to its direction
         normal = np.array([-epipole[1], epipole[0]]) / np.hypot(epipole[0], epipole[1])
         off_line = float(np.ptp(pts @ normal))
@@ -172,3 +187,39 @@ def _refuse_epipole(
         raise SolverError(
             ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE, words.landmarks_on_line_through(who, photo)
         )
+
+
+def covariances(value: ArrayLike | None, count: int, default: float, name: str) -> Array:
+    """(count, 2, 2) tap covariances, px^2, from one sigma per tap (count,) or one 2x2
+    covariance per tap (count, 2, 2); ``default`` px for every tap when None."""
+    if value is None:
+        return np.broadcast_to(default**2 * np.eye(2), (count, 2, 2)).copy()
+    array = _array(value, name)
+    if array.shape == (count,):
+        if np.any(array <= 0):
+            raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name))
+        return array[:, None, None] ** 2 * np.eye(2)
+    if array.shape == (count, 2, 2):
+        return _positive_definite(array, name)
+    raise SolverError(ErrorCode.INVALID_SHAPE, words.not_precisions(name, count))
+
+
+def covariance(value: ArrayLike | None, default: float, name: str) -> Array:
+    """(2, 2) covariance of one tap, px^2, from a sigma or a 2x2 covariance."""
+    if value is None:
+        return default**2 * np.eye(2)
+    array = _array(value, name)
+    if array.shape == ():
+        return positive(float(array), name) ** 2 * np.eye(2)
+    if array.shape == (2, 2):
+        return _positive_definite(array[None], name)[0]
+    raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_precision(name))
+
+
+def _positive_definite(array: Array, name: str) -> Array:
+    """(N, 2, 2) symmetric positive-definite covariances, or a refusal."""
+    symmetric = np.allclose(array, array.transpose(0, 2, 1), rtol=1e-9, atol=0.0)
+    determinant = array[:, 0, 0] * array[:, 1, 1] - array[:, 0, 1] * array[:, 1, 0]
+    if not symmetric or np.any(array[:, 0, 0] <= 0) or np.any(determinant <= 0):
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_a_covariance(name))
+    return (array + array.transpose(0, 2, 1)) / 2.0

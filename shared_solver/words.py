@@ -13,6 +13,10 @@ Side = Literal["left", "right", "up", "down"]
 
 # --- warnings on an answer -----------------------------------------------------------------
 
+CAMERA_MODEL_DISAGREES = (
+    "These marks do not fit two ordinary phone photos (a cropped or edited photo, or a "
+    "mis-tapped landmark), so the answer does not assume the camera's shape."
+)
 ON_THE_CURVE = (
     "Your friend is somewhere on the curve. Mark one more landmark in both photos to pin "
     "down the spot."
@@ -179,6 +183,29 @@ def not_a_line(name: str) -> str:
 
 def not_positive(name: str) -> str:
     return f"The value of {name} must be a positive number."
+
+
+def not_precisions(name: str, count: int) -> str:
+    return (
+        f"The value of {name} must be one sigma in px per tap ({count} numbers) or one 2x2 "
+        "covariance in px^2 per tap."
+    )
+
+
+def not_a_precision(name: str) -> str:
+    return f"The value of {name} must be a sigma in px or a 2x2 covariance in px^2."
+
+
+def not_a_covariance(name: str) -> str:
+    return f"Each covariance in {name} must be symmetric and positive definite (px^2)."
+
+
+def camera_without_size(name: str) -> str:
+    return f"A camera model needs the photo's size: give {name} as [width, height]."
+
+
+def not_a_camera(name: str, reason: str) -> str:
+    return f"The value of {name} is not a camera description: {reason}"
 
 
 def not_a_size(name: str) -> str:

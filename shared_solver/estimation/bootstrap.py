@@ -3,8 +3,8 @@
 First-order propagation is too optimistic where the answer depends strongly on the taps
 (a minimal set of landmarks, no redundancy to average noise out, near a degenerate layout).
 There the ellipse keeps its first-order shape but its size is set so that it holds LEVEL of
-the answers re-solved from the taps with fresh noise of the same sigma, and never shrinks
-below first order. The seed is fixed: the same taps always give the same ellipse.
+the answers re-solved from the taps with fresh noise of each tap's own covariance, and
+never shrinks below first order. The seed is fixed: the same taps always give the same ellipse.
 """
 
 from __future__ import annotations
@@ -15,9 +15,13 @@ import numpy as np
 
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
+from .camera import FocalPrior
+from .pinhole_fit import PinholeFit, PinholeModel, gauss_newton, seeker_pixels
+from .taps import Taps
 from .uncertainty import CHI2_2D, LEVEL
 
 SAMPLES = 200  # closed form, vectorised
+PINHOLE_SAMPLES = 64  # one batched Gauss-Newton step each
 RESOLVES = 100  # one full solve each
 _SEED = 2017
 
@@ -36,18 +40,51 @@ def scale(answer: Array, covariance: Array, samples: Array) -> float:
     return max(1.0, float(np.quantile(distances, LEVEL)) / CHI2_2D)
 
 
-def five_point_samples(e1: Array, p: Array, q: Array, sigma: float) -> Array:
-    """(SAMPLES, 2) answers of the paper's closed form for re-made taps (e1 (2,), p, q (5, 2))."""
+def five_point_samples(taps: Taps) -> Array:
+    """(SAMPLES, 2) answers of the paper's closed form for re-made taps (5 landmarks + e1)."""
+    assert taps.epipole1 is not None
+    assert taps.cov_e1 is not None
     rng = np.random.default_rng(_SEED)
-    e1s = np.column_stack([e1 + rng.normal(0.0, sigma, (SAMPLES, 2)), np.ones(SAMPLES)])
-    p_s = p + rng.normal(0.0, sigma, (SAMPLES, *p.shape))
-    q_s = q + rng.normal(0.0, sigma, (SAMPLES, *q.shape))
-    homogeneous = cremona_batch(e1s, p_s, q_s)
+    e1s = np.column_stack([_remade(taps.epipole1, taps.cov_e1, rng), np.ones(SAMPLES)])
+    homogeneous = cremona_batch(
+        e1s, _remade(taps.p, taps.cov_p, rng), _remade(taps.q, taps.cov_q, rng)
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         return homogeneous[:, :2] / homogeneous[:, 2:]
 
 
-def resolved_samples(resolve: Callable[[np.random.Generator], Array]) -> Array:
+def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> Array:
+    """(PINHOLE_SAMPLES, 2) answers of the pinhole model for re-made taps.
+
+    Each is one Gauss-Newton step from the fit on its own taps, all at once: measured on
+    three landmarks and the buddy, as calibrating as a full re-solve (docs/geometry.md).
+    """
+    rng = np.random.default_rng(_SEED)
+    count = PINHOLE_SAMPLES
+    model = PinholeModel(
+        taps,
+        priors,
+        p=_remade(taps.p, taps.cov_p, rng, count),
+        q=_remade(taps.q, taps.cov_q, rng, count),
+        epipole1=None if taps.epipole1 is None else _remade(taps.epipole1, taps.cov_e1, rng, count),
+        epipole2=None if taps.epipole2 is None else _remade(taps.epipole2, taps.cov_e2, rng, count),
+    )
+    poses = gauss_newton(model, fit.pose.repeated(count), iterations=1)
+    pixels, _, _ = seeker_pixels(poses, fit.centres[1])
+    return pixels
+
+
+def resolved_samples(taps: Taps, resolve: Callable[[Taps], Array]) -> Array:
     """(RESOLVES, 2) answers of ``resolve`` (re-made taps -> answer in pixels, NaN if none)."""
     rng = np.random.default_rng(_SEED)
-    return np.array([resolve(rng) for _ in range(RESOLVES)])
+    return np.array([resolve(taps.retapped(rng)) for _ in range(RESOLVES)])
+
+
+def _remade(
+    points: Array, covariance: Array | None, rng: np.random.Generator, count: int = SAMPLES
+) -> Array:
+    """(count, *points.shape) the points with fresh noise of their covariances
+    ((2, 2) for one point, (N, 2, 2) for N)."""
+    assert covariance is not None
+    noise = rng.normal(size=(count, *points.shape))
+    return points + np.einsum("...ij,k...j->k...i", np.linalg.cholesky(covariance), noise)

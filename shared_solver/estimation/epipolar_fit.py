@@ -1,11 +1,11 @@
 """Maximum-likelihood epipolar geometry over every tap, with its first-order uncertainty.
 
-Each landmark contributes its Sampson distance (the first-order distance, in pixels, from
-the taps to the nearest pair of points that fit F exactly; Hartley & Zisserman 11.4.3), and
-the buddy's tap contributes its own offset: the tap on the buddy is as noisy as any other.
-With isotropic tap noise ``sigma`` every residual has standard deviation ``sigma``, so the
-least-squares minimum is the maximum-likelihood estimate to first order and
-``sigma^2 (J^T J)^-1`` its covariance.
+Each landmark contributes its Sampson distance (the first-order distance from the taps to
+the nearest pair of points that fit F exactly; Hartley & Zisserman 11.4.3) whitened by the
+covariances of its two taps, and the buddy's tap contributes its own whitened offset: the
+tap on the buddy is as noisy as any other. Every residual then has unit variance, so the
+least-squares minimum is the maximum-likelihood estimate to first order, its cost a
+chi-square, and ``(J^T J)^-1`` its covariance.
 
 Parametrisation (normalised coordinates): ``F = [a1 | a2 | -(x a1 + y a2)]`` keeps
 ``F (x, y, 1)^T = 0`` for any columns ``a1, a2`` and buddy position ``(x, y)``: seven degrees
@@ -23,6 +23,7 @@ from .. import words
 from ..errors import ErrorCode, SolverError
 from ..projective import Array, hartley_normaliser, homogeneous, right_epipole, skew
 from .least_squares import gauge_free_covariance, levenberg_marquardt
+from .taps import Taps, whitener
 
 # Beyond this the first-order ellipse of e2 says nothing useful: e2 is effectively at infinity.
 _FAR_W = 1e-9
@@ -35,8 +36,8 @@ class EpipolarFit:
     Attributes:
         fundamental: (3, 3) F, unit Frobenius norm, ``q^T F p = 0``.
         epipole1, epipole2: (3,) homogeneous epipoles (``F e1 = 0``, ``F^T e2 = 0``).
-        distances: (N,) signed Sampson distance of each landmark, px.
-        cost: sum of squared residuals of landmarks and epipole taps, px^2.
+        distances: (N,) signed whitened Sampson distance of each landmark (in its sigmas).
+        cost: sum of squared whitened residuals of landmarks and epipole taps (chi-square).
         dof: residual degrees of freedom (observations minus 7).
         covariance1, covariance2: (2, 2) px^2 covariance of each epipole's pixel position,
             None when that epipole is at infinity.
@@ -62,16 +63,19 @@ class _Frame:
     q: Array  # (N, 3) normalised photo-2 landmarks, homogeneous
     s1: float  # normalised units per pixel, photo 1
     s2: float
+    cov_p: Array  # (N, 2, 2) tap covariances in normalised units^2
+    cov_q: Array
 
     @classmethod
-    def of(cls, p: Array, q: Array) -> _Frame:
+    def of(cls, taps: Taps) -> _Frame:
+        p, q = taps.p, taps.q
         t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
         s1, s2 = float(t1[0, 0]), float(t2[0, 0])
         p_n = p * s1 + t1[:2, 2]
         q_n = np.empty((len(q), 3))
         q_n[:, :2] = q * s2 + t2[:2, 2]
         q_n[:, 2] = 1.0
-        return cls(t1, t2, p_n, q_n, s1, s2)
+        return cls(t1, t2, p_n, q_n, s1, s2, taps.cov_p * s1 * s1, taps.cov_q * s2 * s2)
 
     def normalised_f(self, fundamental: Array) -> Array:
         return np.linalg.solve(self.t2.T, fundamental) @ np.linalg.inv(self.t1)
@@ -82,29 +86,34 @@ class _Frame:
 
 
 def _sampson(frame: _Frame, a1: Array, a2: Array, x: float, y: float) -> tuple[Array, Array]:
-    """Sampson distances (px) and their Jacobian w.r.t. (a1, a2, x, y): (N,), (N, 8)."""
-    q, s1, s2 = frame.q, frame.s1 * frame.s1, frame.s2 * frame.s2
+    """Whitened Sampson distances and their Jacobian w.r.t. (a1, a2, x, y): (N,), (N, 8)."""
+    q = frame.q
     u, v = frame.p[:, 0] - x, frame.p[:, 1] - y
-    qa1, qa2 = q @ a1, q @ a2
-    fx = u * a1[0] + v * a2[0]  # (F p)_x
+    qa1, qa2 = q @ a1, q @ a2  # d eps / d p (normalised)
+    fx = u * a1[0] + v * a2[0]  # (F p)_x = d eps / d q_x
     fy = u * a1[1] + v * a2[1]  # (F p)_y
     eps = qa1 * u + qa2 * v  # q^T F p
-    g2 = s1 * (qa1 * qa1 + qa2 * qa2) + s2 * (fx * fx + fy * fy)
+    # Each tap's covariance times the gradient: the variance of eps is g^T C g.
+    cp, cq = frame.cov_p, frame.cov_q
+    wp0 = cp[:, 0, 0] * qa1 + cp[:, 0, 1] * qa2
+    wp1 = cp[:, 1, 0] * qa1 + cp[:, 1, 1] * qa2
+    wq0 = cq[:, 0, 0] * fx + cq[:, 0, 1] * fy
+    wq1 = cq[:, 1, 0] * fx + cq[:, 1, 1] * fy
+    g2 = qa1 * wp0 + qa2 * wp1 + fx * wq0 + fy * wq1
     # d(eps) and d(g2)/2 w.r.t. (a1, a2, x, y), side by side.
     d_eps = np.empty((len(u), 8))
     d_eps[:, 0:3] = u[:, None] * q
     d_eps[:, 3:6] = v[:, None] * q
     d_eps[:, 6], d_eps[:, 7] = -qa1, -qa2
     half_d_g2 = np.empty((len(u), 8))
-    half_d_g2[:, 0:3] = (s1 * qa1)[:, None] * q
-    half_d_g2[:, 3:6] = (s1 * qa2)[:, None] * q
-    su, sv = s2 * u, s2 * v
-    half_d_g2[:, 0] += su * fx
-    half_d_g2[:, 1] += su * fy
-    half_d_g2[:, 3] += sv * fx
-    half_d_g2[:, 4] += sv * fy
-    half_d_g2[:, 6] = -s2 * (fx * a1[0] + fy * a1[1])
-    half_d_g2[:, 7] = -s2 * (fx * a2[0] + fy * a2[1])
+    half_d_g2[:, 0:3] = wp0[:, None] * q
+    half_d_g2[:, 3:6] = wp1[:, None] * q
+    half_d_g2[:, 0] += wq0 * u
+    half_d_g2[:, 1] += wq1 * u
+    half_d_g2[:, 3] += wq0 * v
+    half_d_g2[:, 4] += wq1 * v
+    half_d_g2[:, 6] = -(wq0 * a1[0] + wq1 * a1[1])
+    half_d_g2[:, 7] = -(wq0 * a2[0] + wq1 * a2[1])
     inv_g = 1.0 / np.sqrt(g2)
     distance = eps * inv_g
     jacobian = (d_eps - (distance * inv_g)[:, None] * half_d_g2) * inv_g[:, None]
@@ -117,25 +126,17 @@ def _unit_block(theta: Array, size: int) -> Array:
     return theta
 
 
-def fit_epipolar(
-    p: Array,
-    q: Array,
-    start: Array,
-    *,
-    sigma: float,
-    epipole1_tap: Array | None = None,
-    line1: Array | None = None,
-) -> EpipolarFit:
+def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> EpipolarFit:
     """Refine F over all taps, the buddy's tap (or line) included, and its uncertainty.
 
     Args:
-        p, q: (N, 2) landmarks of photo 1 and 2, pixels, N >= 7 - (taps' equations).
+        taps: landmarks (N >= 7 - the friends' equations) with their covariances, and the
+            buddy's tap or a line through the buddy in photo 1 (the seeker's tap in photo 2
+            is not used here: :func:`fit_two_epipoles`).
         start: (3, 3) initial F in pixels (a linear or minimal solution), with a finite e1.
-        sigma: tap noise, px (standard deviation of each coordinate).
-        epipole1_tap: (2,) where the seeker tapped the buddy in photo 1, or None.
-        line1: (3,) line through the buddy in photo 1, or None.
+        use_buddy: whether the buddy's tap or line takes part (False: landmarks only).
     """
-    frame = _Frame.of(p, q)
+    frame = _Frame.of(taps)
     f0 = frame.normalised_f(start)
     e1 = right_epipole(f0)
     if abs(e1[2]) < _FAR_W * np.linalg.norm(e1):
@@ -144,7 +145,7 @@ def fit_epipolar(
             words.BUDDY_AT_INFINITY,
         )
     x0, y0 = e1[:2] / e1[2]
-    prior_rows, prior_target = _prior(frame, epipole1_tap, line1)
+    prior_rows, prior_target = _prior(frame, taps) if use_buddy else (None, np.zeros(0))
 
     def residuals(theta: Array) -> tuple[Array, Array]:
         r, jacobian = _sampson(frame, theta[0:3], theta[3:6], theta[6], theta[7])
@@ -171,37 +172,42 @@ def fit_epipolar(
         buddy=theta[6:8],
         seeker=np.cross(a1, a2),
         derivatives=(d_e1, d_e2),
-        residuals=(r, jacobian, len(p)),
+        residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([a1, a2, [0.0, 0.0]]),
-        sigma=sigma,
     )
 
 
-def fit_two_epipoles(
-    p: Array, q: Array, start: Array, *, sigma: float, epipole1_tap: Array, epipole2_tap: Array
-) -> EpipolarFit:
+def fit_two_epipoles(taps: Taps, start: Array) -> EpipolarFit:
     """Refine F when both friends tapped each other: both taps are refined with the landmarks.
 
     Args:
-        p, q: (N, 2) landmarks, N >= 3.
+        taps: landmarks (N >= 3), the taps on the buddy (photo 1) and on the seeker
+            (photo 2), all with their covariances.
         start: (3, 3) initial F with finite epipoles (e.g. from both taps).
-        sigma: tap noise, px.
-        epipole1_tap, epipole2_tap: (2,) the taps on the buddy (photo 1) and seeker (photo 2).
     """
-    frame = _Frame.of(p, q)
+    assert taps.epipole1 is not None
+    assert taps.cov_e1 is not None
+    assert taps.epipole2 is not None
+    assert taps.cov_e2 is not None
+    frame = _Frame.of(taps)
     f0 = frame.normalised_f(start)
     e1, e2 = right_epipole(f0), right_epipole(f0.T)
     x1, y1 = e1[:2] / e1[2]
     x2, y2 = e2[:2] / e2[2]
     # F = B2 M B1^T with B = [[1, 0], [0, 1], [-x, -y]]: the top-left 2x2 block of F is M.
     start_theta = np.array([f0[0, 0], f0[0, 1], f0[1, 0], f0[1, 1], x1, y1, x2, y2])
-    taps = np.concatenate(
-        [frame.t1 @ np.append(epipole1_tap, 1.0), frame.t2 @ np.append(epipole2_tap, 1.0)]
+    # The friends' marks in pixels are (normalised - offset) / s: whitened, a linear map of
+    # (x1, y1, x2, y2).
+    whiten = np.zeros((4, 4))
+    whiten[:2, :2] = whitener(taps.cov_e1) / frame.s1
+    whiten[2:, 2:] = whitener(taps.cov_e2) / frame.s2
+    marks = np.concatenate(
+        [
+            (frame.t1 @ np.append(taps.epipole1, 1.0))[:2],
+            (frame.t2 @ np.append(taps.epipole2, 1.0))[:2],
+        ]
     )
-    tap_target = np.array(
-        [taps[0] / frame.s1, taps[1] / frame.s1, taps[3] / frame.s2, taps[4] / frame.s2]
-    )
-    tap_scale = np.array([1 / frame.s1, 1 / frame.s1, 1 / frame.s2, 1 / frame.s2])
+    tap_target = whiten @ marks
 
     def columns(theta: Array) -> tuple[Array, Array]:
         m11, m12, m21, m22, _, _, x2_, y2_ = theta
@@ -223,9 +229,9 @@ def fit_two_epipoles(
         jacobian[:, 4:6] = j_a[:, 6:8]
         jacobian[:, 6] = -m11 * j_a[:, 2] - m12 * j_a[:, 5]
         jacobian[:, 7] = -m21 * j_a[:, 2] - m22 * j_a[:, 5]
-        r_taps = theta[4:8] * tap_scale - tap_target
+        r_taps = whiten @ theta[4:8] - tap_target
         return np.concatenate([r, r_taps]), np.vstack(
-            [jacobian, np.hstack([np.zeros((4, 4)), np.diag(tap_scale)])]
+            [jacobian, np.hstack([np.zeros((4, 4)), whiten])]
         )
 
     theta, r, jacobian = levenberg_marquardt(
@@ -241,9 +247,8 @@ def fit_two_epipoles(
         buddy=theta[4:6],
         seeker=np.append(theta[6:8], 1.0),
         derivatives=(d_e1, d_e2),
-        residuals=(r, jacobian, len(p)),
+        residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([theta[:4], np.zeros(4)]),
-        sigma=sigma,
     )
 
 
@@ -257,7 +262,6 @@ def _fit(
     derivatives: tuple[Array, Array],
     residuals: tuple[Array, Array, int],
     gauge: Array,
-    sigma: float,
 ) -> EpipolarFit:
     """The fit in pixels from its normalised parameters at the minimum.
 
@@ -267,7 +271,7 @@ def _fit(
         residuals: (r, J, number of landmarks) at the minimum; gauge: theta's null direction.
     """
     r, jacobian, landmarks = residuals
-    covariance = gauge_free_covariance(jacobian, gauge, sigma)
+    covariance = gauge_free_covariance(jacobian, gauge, 1.0)
     e1_n = np.append(buddy, 1.0)
     x, y = buddy
     return EpipolarFit(
@@ -282,17 +286,17 @@ def _fit(
     )
 
 
-def _prior(
-    frame: _Frame, epipole1_tap: Array | None, line1: Array | None
-) -> tuple[Array | None, Array]:
-    """Rows R and target b so that ``R @ (x, y, 1) - b`` are the buddy-tap residuals in px."""
-    if epipole1_tap is not None:
-        tap = frame.t1 @ np.append(epipole1_tap, 1.0)
-        rows = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) / frame.s1
-        return rows, tap[:2] / frame.s1
-    if line1 is not None:
-        line = np.linalg.solve(frame.t1.T, line1)  # lines map by the inverse transpose
-        return (line / (np.hypot(line[0], line[1]) * frame.s1))[None, :], np.zeros(1)
+def _prior(frame: _Frame, taps: Taps) -> tuple[Array | None, Array]:
+    """Rows R and target b so that ``R @ (x, y, 1) - b`` are the buddy-tap residuals,
+    whitened by the tap's covariance (a line: by its sigma across the line)."""
+    if taps.epipole1 is not None and taps.cov_e1 is not None:
+        tap = frame.t1 @ np.append(taps.epipole1, 1.0)
+        rows = whitener(taps.cov_e1) @ np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) / frame.s1
+        return rows, rows[:, :2] @ tap[:2]
+    if taps.line1 is not None:
+        line = np.linalg.solve(frame.t1.T, taps.line1)  # lines map by the inverse transpose
+        scale = np.hypot(line[0], line[1]) * frame.s1 * taps.line_sigma
+        return (line / scale)[None, :], np.zeros(1)
     return None, np.zeros(0)
 
 
@@ -325,5 +329,26 @@ def sampson_distances(fundamental: Array, p: Array, q: Array) -> Array:
     ftq = np.einsum("...ji,nj->...ni", fundamental, qh)
     eps = np.einsum("...ni,ni->...n", fp, qh)
     g2 = fp[..., 0] ** 2 + fp[..., 1] ** 2 + ftq[..., 0] ** 2 + ftq[..., 1] ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return eps / np.sqrt(g2)
+
+
+def whitened_distances(fundamental: Array, taps: Taps) -> Array:
+    """Sampson distances in each landmark's own sigmas, for one or many geometries.
+
+    Args:
+        fundamental: (3, 3) or (K, 3, 3) F in pixels.
+        taps: the landmarks and their covariances.
+
+    Returns:
+        (N,) or (K, N) signed distances (unit variance under tap noise).
+    """
+    ph, qh = homogeneous(taps.p), homogeneous(taps.q)
+    fp = np.einsum("...ij,nj->...ni", fundamental, ph)
+    ftq = np.einsum("...ji,nj->...ni", fundamental, qh)
+    eps = np.einsum("...ni,ni->...n", fp, qh)
+    g2 = np.einsum("...ni,nij,...nj->...n", ftq[..., :2], taps.cov_p, ftq[..., :2]) + np.einsum(
+        "...ni,nij,...nj->...n", fp[..., :2], taps.cov_q, fp[..., :2]
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         return eps / np.sqrt(g2)

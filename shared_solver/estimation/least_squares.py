@@ -1,8 +1,10 @@
 """Levenberg-Marquardt for small models, and first-order covariance with a scale gauge.
 
-Models here are homogeneous (a matrix up to scale), so one direction of the parameters
-changes nothing: the gauge. Steps are damped so that direction costs nothing to leave
-alone, and covariances are taken in the complement of it.
+Projective models are homogeneous (a matrix up to scale), so one direction of the
+parameters changes nothing: the gauge. Steps are damped so that direction costs nothing to
+leave alone, and covariances are taken in the complement of it. Models on a manifold (a
+rotation, a unit vector) take their steps in the tangent space and map them back with a
+``retract`` of their own.
 """
 
 from __future__ import annotations
@@ -21,45 +23,65 @@ def levenberg_marquardt(
     start: Array,
     *,
     renormalise: Callable[[Array], Array] = lambda theta: theta,
+    retract: Callable[[Array, Array], Array] | None = None,
     max_iterations: int = 50,
+    gain_tolerance: tuple[float, float] = (1e-10, 0.0),
 ) -> tuple[Array, Array, Array]:
     """Minimise ``|r(theta)|^2``.
 
     Args:
-        residuals: theta (P,) -> (r (M,), J (M, P)), J the Jacobian of r.
-        start: (P,) initial parameters, of order one (normalised coordinates).
+        residuals: theta -> (r (M,), J (M, P)), J the Jacobian of r w.r.t. a step.
+        start: initial parameters, of order one (normalised coordinates).
         renormalise: puts theta back on its gauge (e.g. unit norm) after each step.
+        retract: (theta, step (P,)) -> the parameters moved by a step, for parameters on a
+            manifold whose steps live in the tangent space; by default
+            ``renormalise(theta + step)``.
         max_iterations: a bound; well-started problems converge in a handful.
+        gain_tolerance: (relative, absolute): stop once a step lowers the cost by no more
+            than ``relative * cost + absolute``.
 
     Returns:
         (theta, r, J) at the minimum found.
     """
+    move = retract or (lambda theta, step: renormalise(theta + step))
     theta = renormalise(start)
     r, jacobian = residuals(theta)
     cost = float(r @ r)
     damping = 1e-6  # start close to Gauss-Newton: starts come from a linear solution
+    growth = 2.0
     for _ in range(max_iterations):
         normal = jacobian.T @ jacobian
         gradient = jacobian.T @ r
-        damped = normal + damping * np.diag(np.maximum(np.diag(normal), 1e-12))
+        scaling = np.maximum(np.diag(normal), 1e-12)
         try:
-            step = np.linalg.solve(damped, -gradient)
+            step = np.linalg.solve(normal + damping * np.diag(scaling), -gradient)
         except np.linalg.LinAlgError:
-            damping *= 10
+            damping *= growth
+            growth *= 2.0
             continue
-        trial = renormalise(theta + step)
+        # The reduction the linear model predicts; when even that is below the tolerance,
+        # the minimum is reached without trying the step.
+        predicted = float(damping * step @ (scaling * step) - step @ gradient)
+        if predicted <= gain_tolerance[0] * cost + gain_tolerance[1]:
+            break
+        trial = move(theta, step)
         r_trial, jacobian_trial = residuals(trial)
         cost_trial = float(r_trial @ r_trial)
+        # The gain ratio: the reduction achieved over the predicted one (Nielsen's damping
+        # update: no zig-zag between too much and too little damping).
+        ratio = (cost - cost_trial) / predicted if predicted > 0 else -1.0
         if cost_trial <= cost:
             theta, r, jacobian = trial, r_trial, jacobian_trial
             small_step = float(step @ step) <= 1e-20 * float(theta @ theta)
-            small_gain = cost - cost_trial <= 1e-10 * cost
+            small_gain = cost - cost_trial <= gain_tolerance[0] * cost + gain_tolerance[1]
             cost = cost_trial
-            damping = max(damping / 10, 1e-12)
+            damping = max(damping * max(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3), 1e-12)
+            growth = 2.0
             if small_step or small_gain or cost == 0.0:
                 break
         else:
-            damping *= 10
+            damping *= growth
+            growth *= 2.0
             if damping > 1e8:
                 break
     return theta, r, jacobian

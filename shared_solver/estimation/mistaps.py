@@ -29,81 +29,69 @@ from ..projective import (
     transform,
     unit,
 )
-from .epipolar_fit import EpipolarFit, fit_epipolar, sampson_distances
-from .uncertainty import chi2_quantile
+from .epipolar_fit import EpipolarFit, fit_epipolar, whitened_distances
+from .taps import Taps
+from .uncertainty import chi2_quantile, consistent
 
 MAX_HYPOTHESES = 126
 # Hypotheses come from noisy minimal sets, so inliers sit further from them than from the
-# final fit: a loose threshold to form the consensus, a tight one to name suspects.
+# final fit: a loose threshold (in sigmas) to form the consensus, a tight one to name suspects.
 CONSENSUS_SIGMAS = 4.0
 _SEED = 5
 
 
-def consistent(fit: EpipolarFit, sigma: float, probability: float = 0.99) -> bool:
-    """Whether the fit's residuals are what tap noise of ``sigma`` explains."""
-    return fit.dof <= 0 or fit.cost / sigma**2 <= chi2_quantile(probability, fit.dof)
-
-
-def find_mistaps(
-    p: Array, q: Array, sigma: float, *, epipole1_tap: Array | None = None
-) -> tuple[list[int], EpipolarFit] | None:
+def find_mistaps(taps: Taps, *, use_buddy: bool) -> tuple[list[int], EpipolarFit] | None:
     """Suspect landmarks and the fit without them, or None if no subset explains the taps.
 
     Args:
-        p, q: (N, 2) landmarks; N >= 7 with the buddy's tap, N >= 9 without.
-        sigma: tap noise, px.
-        epipole1_tap: (2,) the buddy's tap in photo 1, or None (then OpenCV's USAC finds
-            the consensus over 7-landmark sets).
+        taps: landmarks (N >= 7 with the buddy's tap, N >= 9 without) with covariances.
+        use_buddy: whether the buddy's tap takes part (False: OpenCV's USAC finds the
+            consensus over 7-landmark sets, with a threshold of the typical tap's sigma).
     """
-    threshold = CONSENSUS_SIGMAS * sigma
-    if epipole1_tap is not None:
-        hypotheses = _hypotheses(np.append(epipole1_tap, 1.0), p, q, _subsets(len(p)))
-        distances = np.abs(sampson_distances(hypotheses, p, q))
+    if use_buddy:
+        assert taps.epipole1 is not None
+        hypotheses = _hypotheses(np.append(taps.epipole1, 1.0), taps.p, taps.q, _subsets(len(taps)))
+        distances = np.abs(whitened_distances(hypotheses, taps))
         distances[~np.isfinite(distances)] = np.inf
-        scores = np.minimum(distances, threshold) ** 2
-        inliers = distances[int(np.argmin(scores.sum(axis=1)))] <= threshold
+        scores = np.minimum(distances, CONSENSUS_SIGMAS) ** 2
+        inliers = distances[int(np.argmin(scores.sum(axis=1)))] <= CONSENSUS_SIGMAS
     else:
-        _, mask = cv2.findFundamentalMat(p, q, cv2.USAC_ACCURATE, threshold, 0.999, 10_000)
+        threshold = CONSENSUS_SIGMAS * taps.typical_sigma
+        _, mask = cv2.findFundamentalMat(
+            taps.p, taps.q, cv2.USAC_ACCURATE, threshold, 0.999, 10_000
+        )
         if mask is None:
             return None
         inliers = mask.ravel().astype(bool)
+    minimum = _MIN_INLIERS[use_buddy]
     for _ in range(2):  # refit, then re-sort landmarks against the refit once
-        if inliers.sum() < _MIN_INLIERS[epipole1_tap is None]:
+        if inliers.sum() < minimum:
             return None
-        fit = refit(p[inliers], q[inliers], sigma, epipole1_tap)
-        inliers = np.abs(sampson_distances(fit.fundamental, p, q)) <= _suspect_threshold(sigma)
-    if (
-        inliers.sum() < _MIN_INLIERS[epipole1_tap is None]
-        or inliers.all()
-        or not consistent(fit, sigma)
-    ):
+        fit = refit(taps.subset(np.flatnonzero(inliers)), use_buddy=use_buddy)
+        inliers = np.abs(whitened_distances(fit.fundamental, taps)) <= _SUSPECT_SIGMAS
+    if inliers.sum() < minimum or inliers.all() or not consistent(fit):
         return None
     return [int(i) for i in np.flatnonzero(~inliers)], fit
 
 
-def refit(p: Array, q: Array, sigma: float, epipole1_tap: Array | None) -> EpipolarFit:
+def refit(taps: Taps, *, use_buddy: bool) -> EpipolarFit:
     """Linear start (five-point route with the tap, eight-point without) and ML refinement."""
-    if epipole1_tap is not None:
-        start = fundamental_with_epipole(np.append(epipole1_tap, 1.0), p, q)
+    if use_buddy:
+        assert taps.epipole1 is not None
+        start = fundamental_with_epipole(np.append(taps.epipole1, 1.0), taps.p, taps.q)
     else:
-        found, _ = cv2.findFundamentalMat(p, q, cv2.FM_8POINT)
+        found, _ = cv2.findFundamentalMat(taps.p, taps.q, cv2.FM_8POINT)
         start = np.asarray(found, dtype=np.float64)
         if found is None or start.shape != (3, 3):
-            raise SolverError(
-                ErrorCode.DEGENERATE_CONFIGURATION,
-                words.GEOMETRY_UNDETERMINED,
-            )
-    return fit_epipolar(p, q, start, sigma=sigma, epipole1_tap=epipole1_tap)
+            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.GEOMETRY_UNDETERMINED)
+    return fit_epipolar(taps, start, use_buddy=use_buddy)
 
 
 # With the buddy's tap five landmarks fix the geometry, without it seven (eight for a
 # unique linear start): one more is needed to check a consensus.
-_MIN_INLIERS = {False: 6, True: 9}
-
-
-def _suspect_threshold(sigma: float) -> float:
-    """A landmark this far (px) from the refit is not tap noise (two-sided p < 0.001)."""
-    return math.sqrt(chi2_quantile(0.999, 1)) * sigma
+_MIN_INLIERS = {True: 6, False: 9}
+# A landmark this far (in its sigmas) from the refit is not tap noise (two-sided p < 0.001).
+_SUSPECT_SIGMAS = math.sqrt(chi2_quantile(0.999, 1))
 
 
 def _subsets(n: int) -> Array:

@@ -20,6 +20,7 @@ from .. import words
 from ..errors import ErrorCode, SolverError
 from ..projective import Array, hartley_normaliser, homogeneous
 from .least_squares import gauge_free_covariance, levenberg_marquardt
+from .taps import Taps
 from .uncertainty import chi2_quantile
 
 _REWEIGHTINGS = 2
@@ -47,10 +48,10 @@ class PlanarFit:
     t1: Array
     t2: Array
 
-    def seeker(self, epipole1_tap: Array, sigma: float) -> tuple[Array, Array | None]:
+    def seeker(self, epipole1_tap: Array, tap_covariance: Array) -> tuple[Array, Array | None]:
         """``e2 = H e1`` (3,) and its (2, 2) px^2 covariance (None at infinity).
 
-        The covariance combines H's and the buddy tap's (``sigma`` px per axis).
+        The covariance combines H's and the buddy tap's (``tap_covariance``, (2, 2) px^2).
         """
         e1 = np.append(epipole1_tap, 1.0)
         e1_n = self.t1 @ e1
@@ -61,10 +62,10 @@ class PlanarFit:
         lead = dehomogenise @ np.linalg.inv(self.t2)
         d_h = lead @ np.kron(np.eye(3), e1_n)  # d e2 / d vec(H), row-major vec
         d_e1 = lead @ self.normalised @ self.t1[:, :2]  # d e2 / d (pixel e1)
-        return e2, d_h @ self.covariance @ d_h.T + sigma**2 * d_e1 @ d_e1.T
+        return e2, d_h @ self.covariance @ d_h.T + d_e1 @ tap_covariance @ d_e1.T
 
 
-def coplanar_fit(p: Array, q: Array, *, sigma: float) -> PlanarFit | None:
+def coplanar_fit(taps: Taps) -> PlanarFit | None:
     """The landmarks' homography if one plane explains them within tap noise, else None.
 
     The maximum-likelihood fit must pass a chi-square test at 0.99 (measured on exactly
@@ -73,42 +74,41 @@ def coplanar_fit(p: Array, q: Array, *, sigma: float) -> PlanarFit | None:
     saves the ML fit on almost every solve.
 
     Args:
-        p, q: (N, 2) landmarks of photo 1 and 2, pixels; N <= 4 never tells (None).
-        sigma: tap noise, px.
+        taps: landmarks (N <= 4 never tells: None) with their covariances.
     """
-    dof = 2 * len(p) - 8
+    dof = 2 * len(taps) - 8
     if dof <= 0:
         return None
     threshold = chi2_quantile(0.99, dof)
-    if float(plane_cost(p, q, sigma=sigma).sum()) > _SCREEN * threshold:
+    if float(plane_cost(taps).sum()) > _SCREEN * threshold:
         return None
-    fit = fit_planar(p, q, sigma=sigma)
-    return fit if fit.cost / sigma**2 <= threshold else None
+    fit = fit_planar(taps)
+    return fit if fit.cost <= threshold else None
 
 
-def plane_cost(p: Array, q: Array, *, sigma: float) -> Array:
-    """(N,) squared whitened transfer errors (in units of ``sigma^2``) of the linear homography."""
-    frame = _PlaneFrame.of(p, q)
+def plane_cost(taps: Taps) -> Array:
+    """(N,) squared whitened transfer errors (unit variance) of the linear homography."""
+    frame = _PlaneFrame.of(taps.p, taps.q)
     h_n = frame.start()
     transfer, _ = _transfer(h_n, frame.p, frame.q)
-    white = np.einsum("nij,nj->ni", _whitening(h_n, frame.p, frame.s1 / frame.s2), transfer)
-    return np.einsum("ni,ni->n", white, white) / (frame.s2 * sigma) ** 2
+    white = np.einsum("nij,nj->ni", _whitening(h_n, frame, taps), transfer)
+    return np.einsum("ni,ni->n", white, white) / frame.s2**2
 
 
-def fit_planar(p: Array, q: Array, *, sigma: float) -> PlanarFit:
+def fit_planar(taps: Taps) -> PlanarFit:
     """Maximum-likelihood homography from N >= 4 landmarks, with its covariance.
 
     Each landmark's transfer error ``H p - q`` is whitened by its first-order covariance
-    ``sigma^2 (I + J J^T)`` (``J`` = d(Hp)/dp), so noise in both photos counts.
+    ``C_q + J C_p J^T`` (``J`` = d(Hp)/dp, ``C`` each tap's covariance), so noise in both
+    photos counts.
 
     Args:
-        p, q: (N, 2) landmarks of photo 1 and photo 2, pixels.
-        sigma: tap noise, px.
+        taps: landmarks of photo 1 and photo 2 with their covariances.
     """
-    frame = _PlaneFrame.of(p, q)
+    frame = _PlaneFrame.of(taps.p, taps.q)
     theta = frame.start().ravel()
     for _ in range(_REWEIGHTINGS):
-        whitening = _whitening(theta.reshape(3, 3), frame.p, frame.s1 / frame.s2)
+        whitening = _whitening(theta.reshape(3, 3), frame, taps)
 
         def residuals(theta: Array, whitening: Array = whitening) -> tuple[Array, Array]:
             transfer, d_transfer = _transfer(theta.reshape(3, 3), frame.p, frame.q)
@@ -125,9 +125,9 @@ def fit_planar(p: Array, q: Array, *, sigma: float) -> PlanarFit:
         homography=homography / np.linalg.norm(homography),
         errors=np.linalg.norm(r.reshape(-1, 2), axis=1),
         cost=float(r @ r),
-        dof=2 * len(p) - 8,
+        dof=2 * len(taps) - 8,
         normalised=h_n,
-        covariance=gauge_free_covariance(jacobian, theta, sigma),
+        covariance=gauge_free_covariance(jacobian, theta, 1.0),
         t1=frame.t1,
         t2=frame.t2,
     )
@@ -174,13 +174,13 @@ def _transfer(h: Array, p_n: Array, q_n: Array) -> tuple[Array, Array]:
     return projected - q_n, jacobian
 
 
-def _whitening(h: Array, p_n: Array, pixel_ratio: float) -> Array:
-    """(N, 2, 2) inverse Cholesky factors of ``I + J J^T`` (J in pixels per pixel)."""
-    mapped = p_n @ h.T
+def _whitening(h: Array, frame: _PlaneFrame, taps: Taps) -> Array:
+    """(N, 2, 2) inverse Cholesky factors of ``C_q + J C_p J^T`` (px^2, J in px per px)."""
+    mapped = frame.p @ h.T
     w = mapped[:, 2]
     projected = mapped[:, :2] / w[:, None]
     # d pi(H p) / d p, in normalised units, then in pixels per pixel
     jacobian = (h[None, :2, :2] - projected[:, :, None] * h[None, 2:3, :2]) / w[:, None, None]
-    jacobian *= pixel_ratio
-    covariance = np.eye(2) + jacobian @ jacobian.transpose(0, 2, 1)
+    jacobian *= frame.s1 / frame.s2
+    covariance = taps.cov_q + jacobian @ taps.cov_p @ jacobian.transpose(0, 2, 1)
     return np.linalg.inv(np.linalg.cholesky(covariance))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Protocol
 
 import numpy as np
 
@@ -22,6 +23,21 @@ CHI2_2D = -2.0 * math.log(1.0 - LEVEL)  # = chi2_quantile(LEVEL, 2)
 # Quality bands: the 95 % ellipse's longer semi-axis as a fraction of photo 2's diagonal.
 GOOD_FRACTION = 0.03
 FAIR_FRACTION = 0.10
+
+
+class Fitted(Protocol):
+    """A fit with a chi-square cost (squared whitened residuals) and its degrees of freedom."""
+
+    @property
+    def cost(self) -> float: ...
+
+    @property
+    def dof(self) -> int: ...
+
+
+def consistent(fit: Fitted, probability: float = 0.99) -> bool:
+    """Whether the fit's whitened residuals are what tap noise explains (chi-square test)."""
+    return fit.dof <= 0 or fit.cost <= chi2_quantile(probability, fit.dof)
 
 
 @functools.cache

@@ -10,12 +10,16 @@ Two routes to the same point, each a test oracle for the other:
 * ``linear``: the null space of the linear system of :mod:`.five_point_linear`.
 
 Because the problem is minimal, both give the same ``e2`` on exact and on noisy taps.
+
+The closed form costs less than validating its input with numpy, so well-spread input skips
+:mod:`..validation`: a cheap test on numbers the closed form needs anyway (brackets and
+triangle areas) fires on everything the full checks would refuse, and only then do they run.
 """
 
 from __future__ import annotations
 
 import math
-from itertools import chain, combinations
+from itertools import combinations
 from typing import Any, Literal
 
 import numpy as np
@@ -41,9 +45,12 @@ def _frames() -> tuple[Frame, ...]:
 
 
 _TRIPLES = _frames()
-# A bracket or triangle area this small relative to the image extent squared means the input
-# may sit on a degeneracy: the full validation decides.
+# The full validation's tolerance, relative to a photo's spread: a bracket or triangle area
+# near the bounds it implies (see _may_be_degenerate) may sit on a degeneracy.
 _NEAR_ZERO = validation.EXACT_TOLERANCE
+# Those bounds are exact; this factor keeps the cheap test on the safe side of rounding.
+_MARGIN = 2.0
+_COLLINEAR = 4.0 * _MARGIN * _NEAR_ZERO  # twice-area bound over spread squared
 # Below this a line intersection or a reciprocal is a removable singularity of the chosen
 # frame, not an answer: another choice of basis landmarks is tried.
 _SINGULAR = 1e-10
@@ -72,13 +79,13 @@ def epipole_from_five(
         if floats is not None:
             e2 = cremona_epipole(*floats)
             if e2 is not None:
-                return canonical(e2)
+                return _canonical(*e2)
         # Malformed or near-degenerate: the full checks say exactly what is wrong.
         e1h, p, q = _checked_five(e1, pts1, pts2)
-        e2 = cremona_epipole(e1h.tolist(), p.tolist(), q.tolist(), checked=True)
+        e2 = cremona_epipole(e1h.tolist(), p.T.tolist(), q.T.tolist(), checked=True)
         if e2 is None:
             raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.SEEKER_UNDETERMINED)
-        return canonical(e2)
+        return _canonical(*e2)
     if method == "linear":
         e1h, p, q = _checked_five(e1, pts1, pts2)
         return canonical(left_epipole(fundamental_with_epipole(e1h, p, q)))
@@ -86,6 +93,7 @@ def epipole_from_five(
 
 
 Floats = list[float]
+Columns = list[Floats]  # [xs, ys] of the 5 landmarks of one photo
 
 
 def _checked_five(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> tuple[Array, Array, Array]:
@@ -96,42 +104,64 @@ def _checked_five(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> tuple[Arra
 
 def _plain_floats(
     e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike
-) -> tuple[Floats, list[Floats], list[Floats]] | None:
+) -> tuple[Floats, Columns, Columns] | None:
     """Well-formed finite input as Python floats, or None for the full checks to explain."""
     try:
-        e, p, q = (np.asarray(v, dtype=np.float64) for v in (e1, pts1, pts2))
+        e = np.asarray(e1, dtype=np.float64)
+        p = np.asarray(pts1, dtype=np.float64)
+        q = np.asarray(pts2, dtype=np.float64)
     except (TypeError, ValueError):
         return None
     if e.shape not in ((2,), (3,)) or p.shape != (5, 2) or q.shape != (5, 2):
         return None
-    el, pl, ql = e.tolist(), p.tolist(), q.tolist()
+    el, (x1, y1), (x2, y2) = e.tolist(), p.T.tolist(), q.T.tolist()
     if len(el) == 2:
         el.append(1.0)
-    if not all(map(math.isfinite, chain(el, *pl, *ql))) or not any(el):
+    # A sum is finite only if every term is (one that overflows merely takes the slow path).
+    if not math.isfinite(sum(el) + sum(x1) + sum(y1) + sum(x2) + sum(y2)) or not any(el):
         return None
-    return el, pl, ql
+    return el, [x1, y1], [x2, y2]
+
+
+def _canonical(x: float, y: float, w: float) -> Array:
+    """``projective.canonical`` of three floats (the same numbers, without its array trip)."""
+    pivot = w if w != 0 else max((x, y), key=abs)
+    scale = math.copysign(1.0 / math.sqrt(x * x + y * y + w * w), pivot)
+    return np.array((x * scale, y * scale, w * scale))
 
 
 def cremona_epipole(
-    e1: Floats, p: list[Floats], q: list[Floats], *, checked: bool = False
+    e1: Floats, p: Columns, q: Columns, *, checked: bool = False
 ) -> tuple[float, float, float] | None:
-    """The paper's closed form in plain floats: e1 (3,), p and q (5, 2) -> homogeneous e2.
+    """The paper's closed form in plain floats: e1 (3,), p and q [xs, ys] -> homogeneous e2.
 
-    Returns None when the input sits on a degeneracy (a landmark on the buddy, repeated or
-    collinear landmarks, two landmarks on one epipolar line) unless ``checked`` says the
-    full validation has already accepted it; then every frame is tried.
+    Returns None when the input may sit on a degeneracy (a landmark on the buddy, repeated
+    or collinear landmarks, all landmarks on one line through the buddy) unless ``checked``
+    says the full validation has already accepted it, and when every frame is singular.
     """
-    pencil = _pencil(e1, p)
+    brackets = _brackets(e1, p)
     area2 = _twice_areas(q)
-    if not checked and _may_be_degenerate(p, q, e1[2], pencil, area2):
+    if not checked and _may_be_degenerate(e1, p, q, brackets, area2):
         return None
-    best = max(range(len(_TRIPLES)), key=area2.__getitem__)
+    pencil = _antisymmetric(brackets)
     # The best-spread triple of photo-2 landmarks makes the best-conditioned frame; the others
     # are only needed when that frame hits a removable singularity.
-    for choice in (best, *sorted(range(len(_TRIPLES)), key=lambda c: -area2[c])):
-        e2, meet, lines, reciprocal = _in_frame(pencil, q, *_TRIPLES[choice])
-        if meet > _SINGULAR**2 * lines and reciprocal > _SINGULAR**2 * meet * meet:
+    best = area2.index(max(area2))
+    e2 = _regular_in_frame(pencil, q, best)
+    if e2 is not None:
+        return e2
+    for choice in sorted(range(len(_TRIPLES)), key=lambda c: -area2[c]):
+        e2 = _regular_in_frame(pencil, q, choice)
+        if e2 is not None:
             return e2
+    return None
+
+
+def _regular_in_frame(pencil: Any, q: Columns, choice: int) -> tuple[float, float, float] | None:
+    """e2 in frame ``_TRIPLES[choice]``, or None where that frame is singular."""
+    e2, meet, lines, reciprocal = _in_frame(pencil, q, *_TRIPLES[choice])
+    if meet > _SINGULAR**2 * lines and reciprocal > _SINGULAR**2 * meet * meet:
+        return e2
     return None
 
 
@@ -141,11 +171,12 @@ def cremona_batch(e1: Array, p: Array, q: Array) -> Array:
     Used for Monte Carlo and for hypotheses over subsets of landmarks; rows whose best frame
     is singular come back as NaN (callers treat them as no answer).
     """
-    areas = np.stack(_twice_areas(q.transpose(1, 2, 0)), axis=1)
+    areas = np.stack(_twice_areas(q.transpose(2, 1, 0)), axis=1)
     order = np.array([triple + extras for triple, extras in _TRIPLES])[np.argmax(areas, axis=1)]
     rows = np.arange(len(q))[:, None]
-    p_cols, q_cols = p[rows, order].transpose(1, 2, 0), q[rows, order].transpose(1, 2, 0)
-    e2, meet, lines, reciprocal = _in_frame(_pencil(e1.T, p_cols), q_cols, (0, 1, 2), (3, 4))
+    p_cols, q_cols = p[rows, order].transpose(2, 1, 0), q[rows, order].transpose(2, 1, 0)
+    pencil = _antisymmetric(_brackets(e1.T, p_cols))
+    e2, meet, lines, reciprocal = _in_frame(pencil, q_cols, (0, 1, 2), (3, 4))
     result = np.stack(e2, axis=1)
     singular = (meet <= _SINGULAR**2 * lines) | (reciprocal <= _SINGULAR**2 * meet * meet)
     result[singular] = np.nan
@@ -153,28 +184,60 @@ def cremona_batch(e1: Array, p: Array, q: Array) -> Array:
 
 
 # The closed form below runs unchanged on Python floats (one problem, fast) and on numpy
-# arrays of shape (K,) (K problems): it uses nothing but arithmetic.
+# arrays of shape (K,) (K problems): it uses nothing but arithmetic. Landmarks come as
+# columns [xs, ys], so that landmark a is at (xs[a], ys[a]).
 
 
-def _pencil(e1: Any, p: Any) -> list[list[Any]]:
-    """|e1 p_a p_b| for all pairs: the brackets of the epipolar lines through e1."""
+def _brackets(e1: Any, p: Any) -> list[Any]:
+    """|e1 p_a p_b| for the pairs of ``_PAIRS``: the brackets of the epipolar lines through e1.
+
+    Written out pair by pair: with Python floats, indexing costs as much as the arithmetic.
+    """
     ex, ey, ew = e1
-    pencil: list[list[Any]] = [[0.0] * 5 for _ in range(5)]
-    for a, b in _PAIRS:
-        (ax, ay), (bx, by) = p[a], p[b]
-        pencil[a][b] = bracket = ex * (ay - by) + ey * (bx - ax) + ew * (ax * by - ay * bx)
-        pencil[b][a] = -bracket
-    return pencil
+    (x0, x1, x2, x3, x4), (y0, y1, y2, y3, y4) = p
+    return [
+        ex * (y0 - y1) + ey * (x1 - x0) + ew * (x0 * y1 - y0 * x1),
+        ex * (y0 - y2) + ey * (x2 - x0) + ew * (x0 * y2 - y0 * x2),
+        ex * (y0 - y3) + ey * (x3 - x0) + ew * (x0 * y3 - y0 * x3),
+        ex * (y0 - y4) + ey * (x4 - x0) + ew * (x0 * y4 - y0 * x4),
+        ex * (y1 - y2) + ey * (x2 - x1) + ew * (x1 * y2 - y1 * x2),
+        ex * (y1 - y3) + ey * (x3 - x1) + ew * (x1 * y3 - y1 * x3),
+        ex * (y1 - y4) + ey * (x4 - x1) + ew * (x1 * y4 - y1 * x4),
+        ex * (y2 - y3) + ey * (x3 - x2) + ew * (x2 * y3 - y2 * x3),
+        ex * (y2 - y4) + ey * (x4 - x2) + ew * (x2 * y4 - y2 * x4),
+        ex * (y3 - y4) + ey * (x4 - x3) + ew * (x3 * y4 - y3 * x4),
+    ]
+
+
+def _antisymmetric(brackets: list[Any]) -> list[list[Any]]:
+    """The pencil as a matrix, ``pencil[a][b] = |e1 p_a p_b| = -pencil[b][a]``."""
+    b01, b02, b03, b04, b12, b13, b14, b23, b24, b34 = brackets
+    return [
+        [0.0, b01, b02, b03, b04],
+        [-b01, 0.0, b12, b13, b14],
+        [-b02, -b12, 0.0, b23, b24],
+        [-b03, -b13, -b23, 0.0, b34],
+        [-b04, -b14, -b24, -b34, 0.0],
+    ]
 
 
 def _twice_areas(points: Any) -> list[Any]:
-    """Twice the area of each triangle of ``_TRIPLES`` (zero: three collinear landmarks)."""
+    """Twice the area of each triangle of ``_TRIPLES`` (zero: three collinear landmarks).
+
+    Written out triangle by triangle, in the order of ``_TRIPLES``, as ``_brackets``.
+    """
+    (x0, x1, x2, x3, x4), (y0, y1, y2, y3, y4) = points
     return [
-        abs(
-            (points[j][0] - points[i][0]) * (points[k][1] - points[i][1])
-            - (points[j][1] - points[i][1]) * (points[k][0] - points[i][0])
-        )
-        for (i, j, k), _ in _TRIPLES
+        abs((x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)),
+        abs((x1 - x0) * (y3 - y0) - (y1 - y0) * (x3 - x0)),
+        abs((x1 - x0) * (y4 - y0) - (y1 - y0) * (x4 - x0)),
+        abs((x2 - x0) * (y3 - y0) - (y2 - y0) * (x3 - x0)),
+        abs((x2 - x0) * (y4 - y0) - (y2 - y0) * (x4 - x0)),
+        abs((x3 - x0) * (y4 - y0) - (y3 - y0) * (x4 - x0)),
+        abs((x2 - x1) * (y3 - y1) - (y2 - y1) * (x3 - x1)),
+        abs((x2 - x1) * (y4 - y1) - (y2 - y1) * (x4 - x1)),
+        abs((x3 - x1) * (y4 - y1) - (y3 - y1) * (x4 - x1)),
+        abs((x3 - x2) * (y4 - y2) - (y3 - y2) * (x4 - x2)),
     ]
 
 
@@ -186,25 +249,27 @@ def _in_frame(pencil: Any, q: Any, basis: tuple[int, int, int], extras: tuple[in
     of their squared norms), or ``reciprocal`` against ``meet**2``.
     """
     i, j, k = basis
-    (ix, iy), (jx, jy), (kx, ky) = q[i], q[j], q[k]
+    xs, ys = q
+    ix, iy, jx, jy, kx, ky = xs[i], ys[i], xs[j], ys[j], xs[k], ys[k]
     # Rows of adj([q_i q_j q_k]): coordinates in the frame where q_i, q_j, q_k are the basis.
     r1x, r1y, r1w = jy - ky, kx - jx, jx * ky - jy * kx
     r2x, r2y, r2w = ky - iy, ix - kx, kx * iy - ky * ix
     r3x, r3y, r3w = iy - jy, jx - ix, ix * jy - iy * jx
-    lines = []
-    for extra in extras:
-        x, y = q[extra]
-        # The conic -A c xy + B b xz + (A - B) a yz = 0 through the basis points, with
-        # A = [ij][k extra], B = [ik][j extra] and A - B = -[i extra][jk] (Pluecker), maps
-        # under the reciprocal (x, y, z) -> (yz, zx, xy) to this line:
-        lines.append(
-            (
-                -pencil[i][extra] * pencil[j][k] * (r1x * x + r1y * y + r1w),
-                pencil[i][k] * pencil[j][extra] * (r2x * x + r2y * y + r2w),
-                -pencil[i][j] * pencil[k][extra] * (r3x * x + r3y * y + r3w),
-            )
-        )
-    (u1, u2, u3), (v1, v2, v3) = lines
+    # The conic -A c xy + B b xz + (A - B) a yz = 0 through the basis points and q_extra, with
+    # A = [ij][k extra], B = [ik][j extra] and A - B = -[i extra][jk] (Pluecker), maps under
+    # the reciprocal (x, y, z) -> (yz, zx, xy) to the line (u1, u2, u3) for extra = l and
+    # (v1, v2, v3) for extra = m (written out twice: a loop costs more than the arithmetic).
+    pi, pj, pk = pencil[i], pencil[j], pencil[k]
+    jk, ik, ij = pj[k], pi[k], pi[j]
+    l, m = extras  # noqa: E741
+    x, y = xs[l], ys[l]
+    u1 = -pi[l] * jk * (r1x * x + r1y * y + r1w)
+    u2 = ik * pj[l] * (r2x * x + r2y * y + r2w)
+    u3 = -ij * pk[l] * (r3x * x + r3y * y + r3w)
+    x, y = xs[m], ys[m]
+    v1 = -pi[m] * jk * (r1x * x + r1y * y + r1w)
+    v2 = ik * pj[m] * (r2x * x + r2y * y + r2w)
+    v3 = -ij * pk[m] * (r3x * x + r3y * y + r3w)
     x, y, z = u2 * v3 - u3 * v2, u3 * v1 - u1 * v3, u1 * v2 - u2 * v1
     s, t, w = y * z, z * x, x * y  # the reciprocal again: back to the frame of the conics
     e2 = (s * ix + t * jx + w * kx, s * iy + t * jy + w * ky, s + t + w)
@@ -213,20 +278,36 @@ def _in_frame(pencil: Any, q: Any, basis: tuple[int, int, int], extras: tuple[in
     return e2, meet, norms, s * s + t * t + w * w
 
 
-def _may_be_degenerate(
-    p: list[Floats], q: list[Floats], ew: float, pencil: list[Floats], area2: Floats
-) -> bool:
-    """Cheap trigger for the full validation: some bracket or triangle is (near) zero."""
-    size1, size2 = _extent(p), _extent(q)
-    tol1, tol2 = _NEAR_ZERO * size1 * size1, _NEAR_ZERO * size2 * size2
-    if min(area2) <= tol2 or min(abs(pencil[a][b]) for a, b in _PAIRS) <= tol1 * abs(ew):
+def _may_be_degenerate(e1: Floats, p: Columns, q: Columns, brackets: Floats, area2: Floats) -> bool:
+    """Cheap test that fires on all input ``validation.landmark_pairs`` would refuse.
+
+    With ``s`` a photo's spread and ``t = _NEAR_ZERO * s`` its tolerance (as there), twice the
+    area of a triangle is at most ``t s`` when two of its corners are repeated (within ``t``),
+    and at most ``4 t s`` when all landmarks are collinear (within ``t`` of one line: sides
+    across it of at most ``2 t``, along it of at most ``s``). So:
+
+    * photo 2, repeated or collinear landmarks: the smallest of ``area2``;
+    * photo 1, collinear landmarks: the triangle p_0 p_1 p_2 (every triangle is small);
+    * photo 1, repeated landmarks, one on the buddy ``e = (x, y) / w``, or all on one line
+      through it (also at infinity): some bracket ``|e1 p_a p_b|``, which is
+      ``|w| |(p_a - e) x (p_b - e)|``, is at most ``t`` times ``|w| |p_a - e|`` or ``|w| s``
+      (``|(x, y)|`` at infinity), all at most ``r_0 + |w| s`` with ``r_0 = |w p_0 - (x, y)|``.
+
+    ``_size`` bounds ``s`` from above, so the test errs towards the full checks.
+    """
+    ex, ey, ew = e1
+    (x1, y1), (x2, y2) = p, q
+    size1, size2 = _size(x1, y1), _size(x2, y2)
+    if min(area2) <= _COLLINEAR * size2 * size2:
         return True
-    # p_0 != p_1 (their bracket is not zero), so all are collinear iff each p_k is on p_0 p_1.
-    (x0, y0), (x1, y1) = p[0], p[1]
-    return max(abs((x1 - x0) * (y - y0) - (y1 - y0) * (x - x0)) for x, y in p[2:]) <= tol1
+    p012 = (x1[1] - x1[0]) * (y1[2] - y1[0]) - (y1[1] - y1[0]) * (x1[2] - x1[0])
+    if abs(p012) <= _COLLINEAR * size1 * size1:
+        return True
+    reach = math.hypot(ew * x1[0] - ex, ew * y1[0] - ey) + abs(ew) * size1
+    return min(map(abs, brackets)) <= _MARGIN * _NEAR_ZERO * size1 * reach
 
 
-def _extent(points: list[Floats]) -> float:
-    """Bounding-box diagonal of the points, at least 1 (px)."""
-    xs, ys = [x for x, _ in points], [y for _, y in points]
-    return max(math.hypot(max(xs) - min(xs), max(ys) - min(ys)), 1.0)
+def _size(xs: Floats, ys: Floats) -> float:
+    """Width plus height of the bounding box plus 1 px: at least ``validation.spread``."""
+    xs, ys = sorted(xs), sorted(ys)  # one call each instead of min and max
+    return xs[-1] - xs[0] + ys[-1] - ys[0] + 1.0

@@ -1,0 +1,326 @@
+"""From a fitted model to the :class:`..result.SolveResult` a person reads.
+
+Every route ends here: the seeker's oriented position, the 95 % region (as fitted, calibrated
+or widened), the residuals, the quality grade and the sentences that go with them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import words
+from ..estimation import bootstrap
+from ..estimation.camera import focal_35mm
+from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
+from ..estimation.pinhole_fit import PinholeFit
+from ..estimation.pinhole_starts import behind
+from ..estimation.planar import PlanarFit
+from ..estimation.plausibility import assess, orient_seeker
+from ..estimation.uncertainty import Fitted, consistent, ellipse, quality
+from ..projective import Array, canonical, canonical_matrix, homogeneous, skew, to_pixel
+from ..result import (
+    CameraEstimate,
+    CameraModel,
+    Candidate,
+    Ellipse,
+    Matrix,
+    Method,
+    SolveResult,
+    Uncertainty,
+)
+from .request import Request
+
+Geometry = tuple[Array, Array, Array]  # (e1, e2, F)
+
+
+@dataclass(frozen=True)
+class Answer:
+    """What a fitted model says, before it becomes a :class:`SolveResult`."""
+
+    epipole1: Array  # (3,) the buddy in photo 1
+    epipole2: Array  # (3,) the seeker in photo 2; any sign unless ``oriented``
+    covariance: Array | None  # (2, 2) px^2 of epipole2, None: no region claimed
+    residuals: Array  # (N,) px
+    fundamental: Array  # (3, 3); for the plane model the one it induces, [e2]x H
+    homography: Array | None = None
+    oriented: bool = False  # the signs of both epipoles come from the model itself
+    orientable: bool = True  # ... and every landmark is in front of both cameras
+    camera_model: CameraModel = "projective"
+    cameras: tuple[CameraEstimate, ...] = ()
+    conic: Array | None = None  # (3, 3) the curve of four landmarks, drawn alongside
+
+    @classmethod
+    def of_fit(cls, request: Request, fit: EpipolarFit, covariance: Array | None) -> Answer:
+        distances = np.abs(sampson_distances(fit.fundamental, request.taps.p, request.taps.q))
+        return cls(
+            fit.epipole1,
+            fit.epipole2,
+            covariance,
+            distances,
+            fit.fundamental,
+            cameras=unknown_cameras(request),
+        )
+
+    @classmethod
+    def of_plane(cls, request: Request, plane: PlanarFit) -> Answer:
+        taps = request.taps
+        assert taps.epipole1 is not None
+        assert taps.cov_e1 is not None
+        seeker, covariance = plane.seeker(taps.epipole1, taps.cov_e1)
+        mapped = homogeneous(taps.p) @ plane.homography.T
+        transfer = np.linalg.norm(mapped[:, :2] / mapped[:, 2:] - taps.q, axis=1)
+        induced = skew(seeker) @ plane.homography
+        return cls(
+            np.append(taps.epipole1, 1.0),
+            seeker,
+            covariance,
+            transfer,
+            induced,
+            plane.homography,
+            cameras=unknown_cameras(request),
+        )
+
+    @classmethod
+    def of_pinhole(cls, request: Request, fit: PinholeFit, covariance: Array | None) -> Answer:
+        priors = request.priors
+        assert priors is not None
+        distances = np.abs(sampson_distances(fit.fundamental, request.taps.p, request.taps.q))
+        return cls(
+            fit.epipole1,
+            fit.epipole2,
+            covariance,
+            distances,
+            fit.fundamental,
+            oriented=True,
+            orientable=int(behind(fit.pose, request.taps, priors)[0]) == 0,
+            camera_model="pinhole",
+            cameras=pinhole_cameras(request, fit),
+        )
+
+
+def unknown_cameras(request: Request) -> tuple[CameraEstimate, ...]:
+    """The cameras as given, with no focal length: the projective model has none."""
+    if all(camera.kind == "unknown" for camera in request.cameras):
+        return ()
+    return tuple(
+        CameraEstimate(known=camera.kind, focal_px=None, focal_35mm=None, focal_35mm_sd=None)
+        for camera in request.cameras
+    )
+
+
+def pinhole_cameras(request: Request, fit: PinholeFit) -> tuple[CameraEstimate, ...]:
+    """Both cameras' fitted focal lengths, in px and as 35 mm equivalents with their sd."""
+    sizes = (request.size1, request.size2)
+    estimates = []
+    for index, (camera, focal, size) in enumerate(
+        zip(request.cameras, fit.focals, sizes, strict=True)
+    ):
+        assert size is not None
+        sd = focal * math.sqrt(max(float(fit.covariance[5 + index, 5 + index]), 0.0))
+        estimates.append(
+            CameraEstimate(
+                known=camera.kind,
+                focal_px=focal,
+                focal_35mm=focal_35mm(focal, size),
+                focal_35mm_sd=focal_35mm(sd, size),
+            )
+        )
+    return tuple(estimates)
+
+
+def result(
+    method: Method,
+    request: Request,
+    answer: Answer,
+    *,
+    suspects: list[int],
+    warnings: list[str],
+    inconsistent: bool = False,
+    candidates: list[Candidate] | None = None,
+) -> SolveResult:
+    """The answer as the person reads it: oriented position, region, grade, sentences."""
+    taps = request.taps
+    e1 = canonical(answer.epipole1)
+    if answer.oriented:
+        e2, orientable = answer.epipole2, answer.orientable
+    else:
+        # The buddy is seen in photo 1, so in front of the seeker's camera: that orients e1,
+        # and through the landmarks e2 (in front of the buddy's camera, behind it, or
+        # sideways).
+        e2, orientable = orient_seeker(answer.fundamental, e1, answer.epipole2, taps.p, taps.q)
+    position = pixel(e2)
+    uncertainty, semi_major = _uncertainty(position, answer.covariance)
+    region = quality(semi_major, request.diagonal2)
+    behind_you = "no"
+    if position is not None and e2[2] < 0:
+        # Behind the buddy: nothing to mark in the photo. Only a pinned-down, physical answer
+        # may say "behind you": a loose one may have crossed infinity, and a fit that breaks
+        # the oriented constraint has no reliable side (both measured on 5-landmark taps).
+        behind_you = "yes" if orientable and region != "poor" else "unsure"
+        position, uncertainty = None, Uncertainty(ellipse=None)
+    grade = region
+    if inconsistent or (position is None and behind_you != "yes"):
+        grade = "poor"
+    return SolveResult(
+        method=method,
+        camera_model=answer.camera_model,
+        cameras=list(answer.cameras),
+        landmark_count=len(taps),
+        tap_sigma=request.sigma,
+        epipole2=position,
+        epipole2_h=unit(e2),
+        epipole1=pixel(e1),
+        epipole1_h=unit(e1),
+        fundamental=None if answer.homography is not None else matrix(answer.fundamental),
+        homography=None if answer.homography is None else matrix(answer.homography),
+        conic2=None if answer.conic is None else matrix(answer.conic),
+        candidates=candidates or [],
+        uncertainty=uncertainty,
+        suspect_landmarks=suspects,
+        residuals=[float(r) for r in answer.residuals],
+        quality=grade,
+        warnings=warnings
+        + where_warnings(
+            request, e2, behind=behind_you, loose=semi_major is not None and region == "poor"
+        ),
+    )
+
+
+def candidates(request: Request, geometries: list[Geometry]) -> list[Candidate]:
+    """Every geometry that fits, in rank order, with the cues that ranked it."""
+    taps = request.taps
+    listed = []
+    for rank, (buddy, seeker, f) in enumerate(geometries, 1):
+        cue = assess(
+            f, buddy, seeker, taps.p, taps.q, image_size1=request.size1, image_size2=request.size2
+        )
+        e1 = canonical(buddy)
+        e2, _ = orient_seeker(f, e1, seeker, taps.p, taps.q)
+        listed.append(
+            Candidate(
+                rank=rank,
+                epipole1=pixel(e1),
+                epipole1_h=unit(e1),
+                epipole2=pixel(e2),
+                epipole2_h=unit(e2),
+                fundamental=matrix(canonical_matrix(f)),
+                oriented_violations=cue.oriented_violations,
+                focal_lengths=cue.focal_lengths,
+                phone_like=cue.phone_like,
+            )
+        )
+    return listed
+
+
+# --- consistency and warnings -----------------------------------------------------------
+
+
+def widen_if_inconsistent(
+    fit: Fitted, covariance: Array | None, warnings: list[str]
+) -> tuple[Array | None, bool]:
+    """Taps noisier than their precisions say (and no culprit found): widen the ellipse by
+    the reduced chi-square and add a warning.
+
+    Returns the covariance to report and whether the taps were inconsistent.
+    """
+    if consistent(fit):
+        return covariance, False
+    warnings.append(words.MARKS_DISAGREE)
+    if covariance is not None:
+        covariance = covariance * (fit.cost / fit.dof)
+    return covariance, True
+
+
+def calibrated(
+    answer: Array, covariance: Array | None, samples: Callable[[], Array]
+) -> Array | None:
+    """The covariance grown until its ellipse holds the bootstrap's answers (see bootstrap).
+
+    Args:
+        answer: (3,) the homogeneous seeker position the covariance belongs to.
+    """
+    position = to_pixel(answer)
+    if covariance is None or position is None:
+        return covariance
+    return covariance * bootstrap.scale(position, covariance, samples())
+
+
+def suspect_warnings(request: Request, suspects: list[int], fundamental: Array) -> list[str]:
+    off = np.abs(sampson_distances(fundamental, request.taps.p, request.taps.q))
+    return [words.mistapped(request.labels[i], off[i]) for i in suspects]
+
+
+def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> list[str]:
+    """Sentences about where the seeker is relative to the buddy's photo (oriented e2).
+
+    ``behind``: "no", "yes" (pinned down behind the buddy's camera) or "unsure"; ``loose``:
+    the 95 % region is wider than a tenth of the photo.
+    """
+    warnings = []
+    position = to_pixel(e2)
+    if position is None:
+        warnings.append(words.FAR_TO_THE_SIDE)
+    elif behind != "no":
+        warnings.append(words.NOT_PINNED_DOWN if behind == "unsure" else words.BEHIND_YOU)
+        return warnings
+    elif request.size2 is not None:
+        width, height = request.size2
+        x, y = position
+        beyond = max(-x, x - width, -y, y - height)
+        if beyond > 0:
+            side: words.Side = (
+                ("left" if x < 0 else "right")
+                if max(-x, x - width) >= max(-y, y - height)
+                else ("up" if y < 0 else "down")
+            )
+            warnings.append(words.outside_photo(beyond, side))
+    if loose:
+        warnings.append(words.UNCERTAIN)
+    return warnings
+
+
+# --- small conversions ------------------------------------------------------------------
+
+
+def _uncertainty(
+    e2: tuple[float, float] | None, covariance: Array | None
+) -> tuple[Uncertainty, float | None]:
+    if e2 is None or covariance is None or not np.all(np.isfinite(covariance)):
+        return Uncertainty(ellipse=None), None
+    centre, axes, angle = ellipse(np.array(e2), covariance)
+    cov = (
+        (float(covariance[0, 0]), float(covariance[0, 1])),
+        (float(covariance[1, 0]), float(covariance[1, 1])),
+    )
+    return Uncertainty(
+        ellipse=Ellipse(center=centre, axes=axes, angle_deg=angle), covariance=cov
+    ), axes[0]
+
+
+def pixel(point: Array) -> tuple[float, float] | None:
+    position = to_pixel(point)
+    return None if position is None else (float(position[0]), float(position[1]))
+
+
+def pixel_or_nan(point: Array) -> Array:
+    position = to_pixel(point)
+    return np.full(2, np.nan) if position is None else position
+
+
+def unit(point: Array) -> tuple[float, float, float]:
+    """A homogeneous point at unit norm, its sign (orientation) kept."""
+    x, y, w = point / np.linalg.norm(point)
+    return float(x), float(y), float(w)
+
+
+def matrix(values: Array) -> Matrix:
+    first, second, third = (_row(row) for row in values)
+    return first, second, third
+
+
+def _row(row: Array) -> tuple[float, float, float]:
+    return float(row[0]), float(row[1]), float(row[2])

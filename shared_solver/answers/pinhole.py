@@ -1,0 +1,205 @@
+"""Answers that use what a phone camera is: square pixels, a centred principal point, and a
+prior on the focal length (:mod:`..estimation.camera`).
+
+| given                      | landmarks | method                 | starts from                  |
+|----------------------------|-----------|------------------------|------------------------------|
+| buddy (e1) and seeker (e2) | >= 1      | ``pinhole_two_epipoles`` | one landmark and both marks  |
+| buddy (e1)                 | >= 3      | ``pinhole_epipole``    | three landmarks and buddy    |
+| a line through the buddy   | >= 6      | ``pinhole_line``       | the cubic's roots (paper 3.3) |
+| nothing                    | >= 7      | ``pinhole_landmarks``  | the 7- or 8-point solutions  |
+
+Each is the maximum a posteriori fit over every tap (:mod:`..estimation.pinhole_fit`),
+started from every pose the exact solvers allow and kept where the taps fit best. The
+answer is used only where the taps agree with the model (a chi-square test on its
+residuals); otherwise these functions return None and ``solve`` answers with the
+projective geometry instead, saying so.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from .. import words
+from ..estimation import bootstrap
+from ..estimation.camera import FocalPrior
+from ..estimation.mistaps import find_mistaps, refit
+from ..estimation.pinhole_fit import PinholeFit, Poses, fit_pinhole
+from ..estimation.pinhole_starts import buddy_starts, fundamental_starts
+from ..estimation.taps import Taps
+from ..estimation.uncertainty import consistent
+from ..minimal.seven_point import seven_point_roots
+from ..minimal.six_point_line import six_point_line_roots
+from ..projective import Array, canonical
+from ..result import Method, SolveResult
+from .building import (
+    Answer,
+    Geometry,
+    calibrated,
+    candidates,
+    result,
+    suspect_warnings,
+    widen_if_inconsistent,
+)
+from .projective import conic_through
+from .request import Request
+
+# Starts whose score is within this of the best are refined too (chi-square units: a
+# start this much worse can still be the right pose once refined).
+_REFINE_MARGIN = 9.0
+# Refined fits within this cost of the best, with a seeker elsewhere, make the answer
+# ambiguous (a difference of 4 is two sigmas of evidence).
+_AMBIGUOUS_COST = 4.0
+# Seekers closer than this many of their own sigmas are the same answer.
+_SAME_ANSWER_SIGMAS = 3.0
+
+
+def buddy_marked(request: Request) -> SolveResult | None:
+    """The buddy marked as a point (and maybe the seeker too), one or more landmarks."""
+    taps, priors = request.taps, request.priors
+    assert priors is not None
+    assert taps.epipole1 is not None
+    fits = _refined(taps, priors, buddy_starts(taps, priors))
+    if not fits:
+        return None
+    fit = fits[0]
+    suspects: list[int] = []
+    warnings: list[str] = []
+    if not consistent(fit) and len(taps) >= 7:
+        found = find_mistaps(taps, use_buddy=True)
+        if found is not None:
+            kept = np.setdiff1d(np.arange(len(taps)), found[0])
+            again = fit_pinhole(taps.subset(kept), priors, fit.pose)
+            if consistent(again):
+                suspects, fit = found[0], again
+                warnings += suspect_warnings(request, suspects, fit.fundamental)
+    both = taps.epipole2 is not None
+    if not consistent(fit) and len(taps) >= (3 if both else 5):
+        return None  # the projective geometry can answer without the camera model
+    others = _rivals(fit, fits[1:])
+    covariance = fit.covariance2()
+    if fit.dof <= 1:  # little redundancy: first order was measured too optimistic
+        used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
+        covariance = calibrated(
+            fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)
+        )
+    covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
+    method: Method = "pinhole_two_epipoles" if both else "pinhole_epipole"
+    answer = Answer.of_pinhole(request, fit, covariance)
+    if len(taps) == 4 and not both:
+        answer = _with_conic(answer, conic_through(request))
+    if not others:
+        return result(
+            method,
+            request,
+            answer,
+            suspects=suspects,
+            warnings=warnings,
+            inconsistent=inconsistent,
+        )
+    return _ambiguous(request, method, fit, others, warnings)
+
+
+def line_through_buddy(request: Request) -> SolveResult | None:
+    """A line through the buddy and six or more landmarks: the cubic's roots, ranked by how
+    well each fits a pair of phone cameras once refined over every tap."""
+    taps, priors = request.taps, request.priors
+    assert priors is not None
+    assert taps.line1 is not None
+    roots = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
+    return _from_fundamentals(request, priors, "pinhole_line", [f for _, _, f in roots])
+
+
+def landmarks_only(request: Request) -> SolveResult | None:
+    """No mark of the buddy: seven or more landmarks, the 7- or 8-point solutions ranked by
+    how well each fits a pair of phone cameras once refined."""
+    taps, priors = request.taps, request.priors
+    assert priors is not None
+    if len(taps) == 7:
+        fundamentals = [f for _, _, f in seven_point_roots(taps.p, taps.q)]
+    else:
+        fundamentals = [refit(taps, use_buddy=False).fundamental]
+    return _from_fundamentals(request, priors, "pinhole_landmarks", fundamentals)
+
+
+def _from_fundamentals(
+    request: Request,
+    priors: tuple[FocalPrior, FocalPrior],
+    method: Method,
+    fundamentals: list[Array],
+) -> SolveResult | None:
+    taps = request.taps
+    fits = _refined(taps, priors, fundamental_starts(taps, priors, fundamentals))
+    if not fits or not consistent(fits[0]):
+        return None
+    fit = fits[0]
+    others = _rivals(fit, fits[1:])
+    warnings: list[str] = []
+    if others:
+        return _ambiguous(request, method, fit, others, warnings)
+    covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2(), warnings)
+    return result(
+        method,
+        request,
+        Answer.of_pinhole(request, fit, covariance),
+        suspects=[],
+        warnings=warnings,
+        inconsistent=inconsistent,
+    )
+
+
+def _refined(
+    taps: Taps, priors: tuple[FocalPrior, FocalPrior], starts: list[tuple[float, Poses]]
+) -> list[PinholeFit]:
+    """The best start refined, and any other start close enough to it; best fit first."""
+    if not starts:
+        return []
+    best = starts[0][0]
+    fits = [
+        fit_pinhole(taps, priors, pose) for score, pose in starts if score <= best + _REFINE_MARGIN
+    ]
+    return sorted(fits, key=lambda fit: fit.cost)
+
+
+def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
+    """Refined fits that explain the taps about as well but put the seeker elsewhere."""
+    covariance = fit.covariance2()
+    position = fit.epipole2
+    rivals = []
+    for other in others:
+        if other.cost > fit.cost + _AMBIGUOUS_COST:
+            continue
+        if covariance is not None and position[2] > 0 and other.epipole2[2] > 0:
+            offset = other.epipole2[:2] / other.epipole2[2] - position[:2] / position[2]
+            try:
+                distance = float(offset @ np.linalg.solve(covariance, offset))
+            except np.linalg.LinAlgError:
+                distance = np.inf
+            if distance <= _SAME_ANSWER_SIGMAS**2:
+                continue
+        rivals.append(other)
+    return rivals
+
+
+def _ambiguous(
+    request: Request, method: Method, fit: PinholeFit, others: list[PinholeFit], warnings: list[str]
+) -> SolveResult:
+    """Several poses fit: the likeliest is marked, every one is listed, no region claimed."""
+    geometries: list[Geometry] = [
+        (canonical(f.epipole1), f.epipole2, f.fundamental) for f in (fit, *others)
+    ]
+    line = request.taps.line1 is not None or request.taps.epipole1 is None
+    return result(
+        method,
+        request,
+        Answer.of_pinhole(request, fit, None),
+        suspects=[],
+        warnings=[*warnings, words.ambiguous(line=line)],
+        inconsistent=True,
+        candidates=candidates(request, geometries),
+    )
+
+
+def _with_conic(answer: Answer, conic: Array) -> Answer:
+    return replace(answer, conic=conic)

@@ -1,0 +1,232 @@
+"""Answers from the paper's projective geometry: any two cameras, nothing known about them.
+
+| given                          | landmarks | method                                         |
+|--------------------------------|-----------|------------------------------------------------|
+| buddy (e1) and seeker (e2)     | >= 3      | ``two_epipoles``                               |
+| buddy (e1)                     | 4         | ``conic`` (a curve, not a point)               |
+| buddy (e1)                     | 5         | ``five_point_epipole`` or ``planar``           |
+| buddy (e1)                     | >= 6      | ``least_squares_epipole`` or ``planar``        |
+| a line through the buddy       | >= 6      | ``six_point_line`` (ranked candidates)         |
+| nothing                        | 7 / >= 8  | ``seven_point`` / ``eight_point`` (OpenCV)     |
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import words
+from ..errors import ErrorCode, SolverError
+from ..estimation import bootstrap
+from ..estimation.epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles
+from ..estimation.mistaps import find_mistaps, refit
+from ..estimation.planar import coplanar_fit
+from ..estimation.plausibility import assess
+from ..estimation.uncertainty import consistent
+from ..minimal.conic import conic_from_cross_ratio
+from ..minimal.five_point_linear import fundamental_with_epipole
+from ..minimal.seven_point import seven_point_roots
+from ..minimal.six_point_line import six_point_line_roots
+from ..minimal.two_epipoles import fundamental_between
+from ..projective import Array, canonical_matrix, hartley_normaliser, homogeneous, transform
+from ..result import Method, SolveResult
+from .building import (
+    Answer,
+    Geometry,
+    calibrated,
+    candidates,
+    matrix,
+    pixel,
+    pixel_or_nan,
+    result,
+    suspect_warnings,
+    unit,
+    unknown_cameras,
+    widen_if_inconsistent,
+)
+from .request import Request
+
+
+def conic(request: Request) -> SolveResult:
+    """Paper 3.1: four landmarks and the buddy put the seeker on a curve."""
+    taps = request.taps
+    assert taps.epipole1 is not None
+    return SolveResult(
+        method="conic",
+        cameras=list(unknown_cameras(request)),
+        landmark_count=len(taps),
+        tap_sigma=request.sigma,
+        epipole2=None,
+        epipole2_h=None,
+        epipole1=pixel(np.append(taps.epipole1, 1.0)),
+        epipole1_h=unit(np.append(taps.epipole1, 1.0)),
+        conic2=matrix(conic_through(request)),
+        residuals=[0.0] * len(taps),
+        quality="fair",
+        warnings=[words.ON_THE_CURVE],
+    )
+
+
+def conic_through(request: Request) -> Array:
+    """(3, 3) the curve of paper 3.1 through the first four landmarks, in photo-2 pixels."""
+    taps = request.taps
+    assert taps.epipole1 is not None
+    p, q = taps.p[:4], taps.q[:4]
+    t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
+    curve = conic_from_cross_ratio(
+        t1 @ np.append(taps.epipole1, 1.0),
+        transform(t1, homogeneous(p)),
+        transform(t2, homogeneous(q)),
+    )
+    return canonical_matrix(t2.T @ curve @ t2)
+
+
+def buddy_tapped(request: Request) -> SolveResult:
+    """The paper's case: the buddy tapped in photo 1, five or more landmarks."""
+    taps = request.taps
+    assert taps.epipole1 is not None
+    fit = fit_epipolar(
+        taps, fundamental_with_epipole(np.append(taps.epipole1, 1.0), taps.p, taps.q)
+    )
+    suspects: list[int] = []
+    warnings: list[str] = []
+    if not consistent(fit):
+        found = find_mistaps(taps, use_buddy=True) if len(taps) >= 7 else None
+        if found is not None:
+            suspects, fit = found
+            warnings += suspect_warnings(request, suspects, fit.fundamental)
+    used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
+    plane = coplanar_fit(used)
+    if plane is not None:
+        return result(
+            "planar", request, Answer.of_plane(request, plane), suspects=suspects, warnings=warnings
+        )
+    covariance = fit.covariance2
+    if len(used) == 5:  # minimal: first order is too optimistic near degenerate layouts
+        covariance = calibrated(
+            fit.epipole2, covariance, lambda: bootstrap.five_point_samples(used)
+        )
+    covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
+    method: Method = "five_point_epipole" if len(used) == 5 else "least_squares_epipole"
+    return result(
+        method,
+        request,
+        Answer.of_fit(request, fit, covariance),
+        suspects=suspects,
+        warnings=warnings,
+        inconsistent=inconsistent,
+    )
+
+
+def both_epipoles(request: Request) -> SolveResult:
+    """Both friends marked each other: F from both marks and three or more landmarks."""
+    taps = request.taps
+    assert taps.epipole1 is not None
+    assert taps.epipole2 is not None
+    e1h, e2h = np.append(taps.epipole1, 1.0), np.append(taps.epipole2, 1.0)
+    fit = fit_two_epipoles(taps, fundamental_between(e1h, e2h, taps.p, taps.q))
+    warnings: list[str] = []
+    covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
+    return result(
+        "two_epipoles",
+        request,
+        Answer.of_fit(request, fit, covariance),
+        suspects=[],
+        warnings=warnings,
+        inconsistent=inconsistent,
+    )
+
+
+def line_through_buddy(request: Request) -> SolveResult:
+    """Paper 3.3: the cubic's real roots on the first six landmarks, refined over all."""
+    taps = request.taps
+    assert taps.line1 is not None
+    geometries = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
+    if not geometries:
+        raise SolverError(ErrorCode.NO_SOLUTION, words.LINE_FITS_NOTHING)
+    return _likeliest(request, "six_point_line", geometries, minimal=len(taps) == 6)
+
+
+def landmarks_only(request: Request) -> SolveResult:
+    """No buddy tap: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
+    taps = request.taps
+    if coplanar_fit(taps) is not None:
+        raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.ONE_SURFACE_WITHOUT_BUDDY)
+    if len(taps) == 7:
+        geometries = seven_point_roots(taps.p, taps.q)
+        if not geometries:
+            raise SolverError(ErrorCode.NO_SOLUTION, words.SEVEN_FIT_NOTHING)
+        return _likeliest(request, "seven_point", geometries, minimal=True)
+    suspects: list[int] = []
+    warnings: list[str] = []
+    fit = refit(taps, use_buddy=False)
+    if not consistent(fit) and len(taps) >= 9:
+        found = find_mistaps(taps, use_buddy=False)
+        if found is not None:
+            suspects, fit = found
+            warnings += suspect_warnings(request, suspects, fit.fundamental)
+    covariance = fit.covariance2
+    if len(taps) - len(suspects) == 8:  # one more than minimal: first order measured optimistic
+        used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
+        covariance = calibrated(
+            fit.epipole2,
+            covariance,
+            lambda: bootstrap.resolved_samples(
+                used, lambda again: pixel_or_nan(refit(again, use_buddy=False).epipole2)
+            ),
+        )
+    covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
+    return result(
+        "eight_point",
+        request,
+        Answer.of_fit(request, fit, covariance),
+        suspects=suspects,
+        warnings=warnings,
+        inconsistent=inconsistent,
+    )
+
+
+def _likeliest(
+    request: Request, method: Method, geometries: list[Geometry], *, minimal: bool
+) -> SolveResult:
+    """Several geometries fit: rank them by plausibility, answer with the first, list all.
+
+    With more landmarks than the minimum each candidate is first refined over all of them,
+    and a spurious root stops fitting. No 95 % region is claimed for these methods: measured
+    on facing scenes, neither first order nor a bootstrap held the truth often enough (the
+    noise can carry the answer into another root's basin), so the answer is graded 'poor'
+    and says what would make it reliable.
+    """
+    taps = request.taps
+    use_buddy = taps.line1 is not None
+    fits: list[EpipolarFit] | None = None
+    if not minimal:
+        fits = [fit_epipolar(taps, f, use_buddy=use_buddy) for _, _, f in geometries]
+        geometries = [(f.epipole1, f.epipole2, f.fundamental) for f in fits]
+    fit_ok = [True] * len(geometries) if fits is None else [consistent(f) for f in fits]
+    cues = [
+        assess(f, e1, e2, taps.p, taps.q, image_size1=request.size1, image_size2=request.size2)
+        for e1, e2, f in geometries
+    ]
+    order = sorted(
+        range(len(geometries)),
+        key=lambda i: (cues[i].hard_cues(), not fit_ok[i], cues[i].focal_deviation),
+    )
+    top = order[0]
+    fit = (
+        fits[top]
+        if fits is not None
+        else fit_epipolar(taps, geometries[top][2], use_buddy=use_buddy)
+    )
+    ambiguous = sum(cues[i].hard_cues() == cues[top].hard_cues() and fit_ok[i] for i in order) > 1
+    line = taps.line1 is not None
+    warnings = [words.ambiguous(line=line) if ambiguous else words.no_margin(line=line)]
+    _, inconsistent = widen_if_inconsistent(fit, None, warnings)
+    return result(
+        method,
+        request,
+        Answer.of_fit(request, fit, None),
+        suspects=[],
+        warnings=warnings,
+        inconsistent=inconsistent,
+        candidates=candidates(request, [geometries[i] for i in order]),
+    )

@@ -1,0 +1,500 @@
+"""Maximum a posteriori two-view geometry of two pinhole cameras (square pixels, centred).
+
+The model: camera 1 (the seeker's) sees the buddy in the direction ``b1`` (unit, frame 1);
+frame 2 is ``X2 = R X1 + t`` with ``t`` along ``-R b1``; each camera has its own focal
+length ``f_k`` (px) and its principal point at the photo's centre ``c_k``. Then
+
+    F = K2^-T R [b1]x K1^-1,   e1 ~ K1 b1,   e2 ~ -K2 R b1   (oriented: w > 0 in front),
+
+and a landmark with rays ``p^ = K1^-1 p``, ``q^ = K2^-1 q`` fits when ``q^ . R (b1 x p^) = 0``
+(Hartley & Zisserman 9.6). Seven parameters: the rotation (3), the buddy's direction (2)
+and the two log focal lengths (2), the last with the cameras' priors (:mod:`.camera`).
+
+The buddy's direction is kept as a camera of a fixed reference focal length would see it,
+``u``, and ``b1 ~ diag(r, r, 1) u`` with ``r = f_reference / f1``: the buddy's pixel then
+does not move when the focal length does. Measured on phone scenes, this halves the
+iterations over keeping ``b1`` itself, whose pixel slid with every change of ``f1``.
+
+Every tap counts with its own covariance: a landmark by its Sampson distance (H & Z 11.4.3)
+whitened by the covariances of its two taps, the friends' marks by their offset from the
+model's epipoles. The minimum of the sum of squares is the maximum a posteriori estimate to
+first order, and the inverse of ``J^T J`` its covariance (the Laplace approximation).
+
+Everything runs on a batch of K poses and K sets of taps at once: K = 1 for a fit, K in the
+hundreds for the bootstrap (:mod:`.bootstrap`), so both use the same code.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from ..projective import Array
+from .camera import FocalPrior
+from .least_squares import levenberg_marquardt
+from .taps import Taps, whitener
+
+# Parameters: rotation step (3), buddy direction step in its tangent plane (2), log focal
+# steps (2).
+PARAMETERS = 7
+_ROTATION, _BASELINE, _FOCAL1, _FOCAL2 = slice(0, 3), slice(3, 5), 5, 6
+# The cost is a chi-square: stop when a step gains less than 1e-8 of it (the estimate then
+# moves by 1e-4 of its own sigma), or 1e-16 on exact taps (1e-8 sigma).
+_GAIN_TOLERANCE = (1e-8, 1e-16)
+# Below this |w| of the direction the seeker is seen in, they are at infinity in photo 2.
+_AT_INFINITY = 1e-12
+
+
+@dataclass(frozen=True)
+class Poses:
+    """K relative poses with focal lengths: points of the model's parameter space.
+
+    Attributes:
+        rotation: (K, 3, 3) R from frame 1 to frame 2.
+        buddy: (K, 3) unit u: the buddy's direction as seen with photo 1's reference focal
+            length (module docstring).
+        log_focals: (K, 2) ln(f1), ln(f2), f in px.
+        reference: ln of photo 1's reference focal length, px.
+    """
+
+    rotation: Array
+    buddy: Array
+    log_focals: Array
+    reference: float
+
+    @classmethod
+    def one(cls, rotation: Array, baseline: Array, log_focals: Array) -> Poses:
+        """A batch of one: R (3, 3), b1 (3,) (any length), (ln f1, ln f2); the reference is
+        this f1, so the buddy's direction is b1 itself."""
+        baseline = np.asarray(baseline, dtype=np.float64)
+        log_focals = np.asarray(log_focals, dtype=np.float64)
+        return cls(
+            np.asarray(rotation, dtype=np.float64)[None],
+            (baseline / np.linalg.norm(baseline))[None],
+            log_focals[None],
+            float(log_focals[0]),
+        )
+
+    def __len__(self) -> int:
+        return len(self.rotation)
+
+    @property
+    def ratio(self) -> Array:
+        """(K,) f_reference / f1."""
+        return np.exp(self.reference - self.log_focals[:, 0])
+
+    @property
+    def baseline(self) -> Array:
+        """(K, 3) b1 up to a positive scale: from camera 1 towards camera 2, frame 1."""
+        baseline = self.buddy.copy()
+        baseline[:, :2] *= self.ratio[:, None]
+        return baseline
+
+    def member(self, k: int) -> Poses:
+        """The k-th pose as a batch of one."""
+        return Poses(
+            self.rotation[k : k + 1],
+            self.buddy[k : k + 1],
+            self.log_focals[k : k + 1],
+            self.reference,
+        )
+
+    def repeated(self, count: int) -> Poses:
+        """A batch of ``count`` copies of a single pose."""
+        return Poses(
+            np.repeat(self.rotation, count, axis=0),
+            np.repeat(self.buddy, count, axis=0),
+            np.repeat(self.log_focals, count, axis=0),
+            self.reference,
+        )
+
+    def moved(self, steps: Array) -> Poses:
+        """The poses after tangent steps (K, 7): ``exp([w]x) R``, buddy, log focals."""
+        tangent = _tangents(self.buddy)
+        buddy = self.buddy + np.einsum("kij,kj->ki", tangent, steps[:, _BASELINE])
+        buddy /= np.linalg.norm(buddy, axis=1, keepdims=True)
+        return Poses(
+            _exp_rotations(steps[:, _ROTATION]) @ self.rotation,
+            buddy,
+            self.log_focals + steps[:, 5:7],
+            self.reference,
+        )
+
+    def as_vector(self) -> Array:
+        """A single pose as a flat vector (14,), for the least-squares driver."""
+        return np.concatenate([self.rotation[0].ravel(), self.buddy[0], self.log_focals[0]])
+
+    def of_vector(self, theta: Array) -> Poses:
+        """A single pose from :meth:`as_vector`'s layout, with this pose's reference."""
+        return Poses(
+            theta[None, :9].reshape(1, 3, 3), theta[None, 9:12], theta[None, 12:14], self.reference
+        )
+
+
+@dataclass(frozen=True)
+class PinholeFit:
+    """A fitted pinhole geometry, its cost and its covariance.
+
+    Attributes:
+        pose: the estimate (a batch of one).
+        centres: (2, 2) principal points of photo 1 and 2, px.
+        cost: sum of squared whitened residuals, priors included (a chi-square).
+        dof: residuals minus parameters.
+        covariance: (7, 7) of the tangent parameters.
+        distances: (N,) whitened Sampson distance of each landmark (in its own sigmas).
+    """
+
+    pose: Poses
+    centres: Array
+    cost: float
+    dof: int
+    covariance: Array
+    distances: Array
+
+    @property
+    def focals(self) -> tuple[float, float]:
+        """Focal lengths of photo 1 and photo 2, px."""
+        f1, f2 = np.exp(self.pose.log_focals[0])
+        return float(f1), float(f2)
+
+    @property
+    def intrinsics(self) -> tuple[Array, Array]:
+        return _k(self.focals[0], self.centres[0]), _k(self.focals[1], self.centres[1])
+
+    @property
+    def fundamental(self) -> Array:
+        """(3, 3) F in pixels, unit Frobenius norm."""
+        k1, k2 = self.intrinsics
+        essential = self.pose.rotation[0] @ _skews(self.pose.baseline)[0]
+        f = np.linalg.solve(k2.T, essential) @ np.linalg.inv(k1)
+        return f / np.linalg.norm(f)
+
+    @property
+    def epipole1(self) -> Array:
+        """(3,) the buddy in photo 1, oriented (w > 0: in front of the seeker's camera)."""
+        return self.intrinsics[0] @ self.pose.baseline[0]
+
+    @property
+    def epipole2(self) -> Array:
+        """(3,) the seeker in photo 2, oriented (w > 0: in front of the buddy's camera)."""
+        return self.intrinsics[1] @ (-self.pose.rotation[0] @ self.pose.baseline[0])
+
+    def covariance2(self) -> Array | None:
+        """(2, 2) px^2 covariance of the seeker's pixel position, None if it is at infinity."""
+        _, jacobian, finite = seeker_pixels(self.pose, self.centres[1])
+        if not finite[0]:
+            return None
+        return jacobian[0] @ self.covariance @ jacobian[0].T
+
+
+class PinholeModel:
+    """Whitened residuals and their Jacobian for K sets of taps under one pair of priors.
+
+    Args:
+        taps: the taps; their covariances are shared by the whole batch.
+        priors: the focal priors of photo 1 and photo 2 (centres = principal points).
+        p, q: (K, N, 2) landmark positions per batch member (default: the taps', K = 1).
+        epipole1, epipole2: (K, 2) the friends' marks per member (default: the taps').
+    """
+
+    def __init__(
+        self,
+        taps: Taps,
+        priors: tuple[FocalPrior, FocalPrior],
+        *,
+        p: Array | None = None,
+        q: Array | None = None,
+        epipole1: Array | None = None,
+        epipole2: Array | None = None,
+    ) -> None:
+        p = taps.p[None] if p is None else p
+        q = taps.q[None] if q is None else q
+        count = len(p)
+        self.p_t = np.concatenate([p.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
+        self.q_t = np.concatenate([q.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
+        self.cov_p_t = taps.cov_p.transpose(1, 2, 0)  # (2, 2, N)
+        self.cov_q_t = taps.cov_q.transpose(1, 2, 0)
+        self.centres = np.array([priors[0].centre, priors[1].centre])
+        self.prior_mean = np.array([priors[0].log_focal, priors[1].log_focal])
+        self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
+        self.prior_jacobian = np.zeros((1, 2, PARAMETERS))
+        self.prior_jacobian[0, 0, _FOCAL1], self.prior_jacobian[0, 1, _FOCAL2] = (
+            1.0 / self.prior_sigma
+        )
+        self.buddy = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
+        self.seeker = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
+        self.line = None
+        if taps.line1 is not None:
+            self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
+        self.landmarks = len(taps)
+
+    def residuals(self, poses: Poses) -> tuple[Array, Array]:
+        """(r (K, M), J (K, M, 7)): landmarks first, then the friends' marks and the priors."""
+        tangent = _tangents(poses.buddy)
+        blocks = [_landmarks(poses, self, tangent)]
+        if self.buddy is not None or self.line is not None:
+            position, jacobian = _buddy_pixels(poses, self.centres[0], tangent)
+            if self.buddy is not None:
+                blocks.append(self.buddy.residuals(position, jacobian))
+            if self.line is not None:
+                distance = position @ self.line[:2] + self.line[2]
+                blocks.append((distance[:, None], (self.line[:2] @ jacobian)[:, None, :]))
+        if self.seeker is not None:
+            position, jacobian, _ = seeker_pixels(poses, self.centres[1], tangent)
+            blocks.append(self.seeker.residuals(position, jacobian))
+        blocks.append(
+            (
+                (poses.log_focals - self.prior_mean) / self.prior_sigma,
+                np.broadcast_to(self.prior_jacobian, (len(poses), 2, PARAMETERS)),
+            )
+        )
+        return np.concatenate([r for r, _ in blocks], axis=1), np.concatenate(
+            [j for _, j in blocks], axis=1
+        )
+
+
+@dataclass(frozen=True)
+class _Mark:
+    """A friend's mark: where it was tapped (per batch member) and its whitener."""
+
+    position: Array  # (K, 2)
+    whiten: Array  # (2, 2)
+
+    @classmethod
+    def of(cls, tap: Array | None, covariance: Array | None, batch: Array | None) -> _Mark | None:
+        if tap is None or covariance is None:
+            return None
+        return cls(tap[None] if batch is None else batch, whitener(covariance))
+
+    def residuals(self, model: Array, jacobian: Array) -> tuple[Array, Array]:
+        return (model - self.position) @ self.whiten.T, self.whiten @ jacobian
+
+
+def fit_pinhole(
+    taps: Taps, priors: tuple[FocalPrior, FocalPrior], start: Poses, *, max_iterations: int = 50
+) -> PinholeFit:
+    """Refine a pose over every tap and both focal priors.
+
+    Args:
+        taps: landmarks (N >= 1) and whichever friends' marks were made, with covariances.
+        priors: the focal priors of photo 1 and photo 2 (their centres are the principal
+            points).
+        start: an initial pose (a batch of one), e.g. from :mod:`..minimal.buddy_and_three`.
+        max_iterations: bound for Levenberg-Marquardt.
+    """
+    model = PinholeModel(taps, priors)
+
+    def residuals(theta: Array) -> tuple[Array, Array]:
+        r, jacobian = model.residuals(start.of_vector(theta))
+        return r[0], jacobian[0]
+
+    theta, r, jacobian = levenberg_marquardt(
+        residuals,
+        start.as_vector(),
+        retract=lambda t, step: start.of_vector(t).moved(step[None]).as_vector(),
+        max_iterations=max_iterations,
+        gain_tolerance=_GAIN_TOLERANCE,
+    )
+    information = jacobian.T @ jacobian
+    try:
+        covariance = np.linalg.inv(information)
+    except np.linalg.LinAlgError:
+        covariance = np.linalg.pinv(information, hermitian=True)
+    return PinholeFit(
+        pose=start.of_vector(theta),
+        centres=model.centres,
+        cost=float(r @ r),
+        dof=len(r) - PARAMETERS,
+        covariance=covariance,
+        distances=r[: len(taps)],
+    )
+
+
+def gauss_newton(model: PinholeModel, poses: Poses, iterations: int) -> Poses:
+    """A few undamped Gauss-Newton steps for every member of a batch at once.
+
+    For re-solving many slightly changed problems from a nearby start (the bootstrap). A
+    whisper of damping keeps every normal matrix invertible; it changes no step that matters.
+    """
+    for _ in range(iterations):
+        r, jacobian = model.residuals(poses)
+        normal = jacobian.transpose(0, 2, 1) @ jacobian
+        normal += 1e-12 * np.trace(normal, axis1=1, axis2=2)[:, None, None] * np.eye(PARAMETERS)
+        gradient = (r[:, None, :] @ jacobian)[:, 0]
+        poses = poses.moved(-np.linalg.solve(normal, gradient[..., None])[..., 0])
+    return poses
+
+
+def seeker_pixels(
+    poses: Poses, centre: Array, tangent: Array | None = None
+) -> tuple[Array, Array, Array]:
+    """The seeker in photo 2, ``pi(-K2 R b1)``: pixels (K, 2), Jacobians (K, 2, 7), and
+    which are finite (K,) (the others, in the buddy's image plane, are NaN)."""
+    f2 = np.exp(poses.log_focals[:, 1])
+    v = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
+    finite = np.abs(v[:, 2]) > _AT_INFINITY * np.linalg.norm(v, axis=1)
+    v[~finite, 2] = np.nan
+    d_baseline, d_focal = _baseline_derivatives(
+        poses, _tangents(poses.buddy) if tangent is None else tangent
+    )
+    d_project = f2[:, None, None] * _d_project(v)
+    jacobian = np.zeros((len(poses), 2, PARAMETERS))
+    jacobian[:, :, _ROTATION] = -d_project @ _skews(v)  # dv = dw x v = -[v]x dw
+    jacobian[:, :, _BASELINE] = -d_project @ poses.rotation @ d_baseline
+    jacobian[:, :, _FOCAL1] = -(d_project @ (poses.rotation @ d_focal[:, :, None]))[:, :, 0]
+    pixel = v[:, :2] / v[:, 2:]
+    jacobian[:, :, _FOCAL2] = f2[:, None] * pixel
+    return centre + f2[:, None] * pixel, jacobian, finite
+
+
+def _buddy_pixels(poses: Poses, centre: Array, tangent: Array) -> tuple[Array, Array]:
+    """The buddy in photo 1, ``pi(K1 b1)``: pixels (K, 2) and Jacobians (K, 2, 7).
+
+    ``K1 b1 = K_reference u``: the pixel depends on the buddy's direction alone."""
+    reference = math.exp(poses.reference)
+    u = poses.buddy
+    jacobian = np.zeros((len(poses), 2, PARAMETERS))
+    jacobian[:, :, _BASELINE] = reference * _d_project(u) @ tangent
+    return centre + reference * u[:, :2] / u[:, 2:], jacobian
+
+
+def _baseline_derivatives(poses: Poses, tangent: Array) -> tuple[Array, Array]:
+    """d b1 / d(buddy step) (K, 3, 2) and d b1 / d ln f1 (K, 3), for the unnormalised
+    ``b1 = diag(r, r, 1) u``."""
+    ratio = poses.ratio
+    d_baseline = tangent.copy()
+    d_baseline[:, :2] *= ratio[:, None, None]
+    d_focal = np.zeros_like(poses.buddy)
+    d_focal[:, :2] = -ratio[:, None] * poses.buddy[:, :2]
+    return d_baseline, d_focal
+
+
+def _landmarks(poses: Poses, model: PinholeModel, tangent: Array) -> tuple[Array, Array]:
+    """Whitened Sampson distances (K, N) and their exact Jacobian (K, N, 7).
+
+    F and its derivatives along the 7 parameters are stacked as eight pixel matrices
+    ``L_k S_k R_k``, so each landmark's residual and gradient come from a few batched
+    products (this runs at every iteration of every fit).
+    """
+    count = len(poses)
+    f = np.exp(poses.log_focals)  # (K, 2)
+    inverse = _inverse_k(f.ravel(), np.tile(model.centres, (count, 1))).reshape(count, 2, 3, 3)
+    inverse1, inverse2_t = inverse[:, 0], inverse[:, 1].transpose(0, 2, 1)
+    d_baseline, d_focal = _baseline_derivatives(poses, tangent)
+    # One call for every cross-product matrix: b1, its two steps, and its focal derivative.
+    vectors = np.concatenate(
+        [poses.baseline[:, None], d_baseline.transpose(0, 2, 1), d_focal[:, None]], axis=1
+    )
+    skews = _skews(vectors.reshape(-1, 3)).reshape(count, 4, 3, 3)
+    essential = poses.rotation @ skews[:, 0]
+    middle = np.empty((count, 8, 3, 3))
+    middle[:, 0] = middle[:, 6] = middle[:, 7] = essential
+    middle[:, 1:4] = _BASIS_SKEWS @ essential[:, None]  # d exp([w]x) R = [e_k]x R
+    middle[:, 4:6] = poses.rotation[:, None] @ skews[:, 1:3]
+    right = np.repeat(inverse1[:, None], 8, axis=1)
+    right[:, 6, :2], right[:, 6, 2] = -inverse1[:, :2], 0.0  # d K1^-1 / d ln f1
+    left = np.repeat(inverse2_t[:, None], 8, axis=1)
+    left[:, 7, :, :2], left[:, 7, :, 2] = -inverse2_t[:, :, :2], 0.0  # d K2^-T / d ln f2
+    stacked = left @ middle @ right  # (K, 8, 3, 3): F, then dF along each parameter
+    # ln f1 also moves b1 (the buddy's pixel stays): R [d b1]x K1^-1, seen through K2^-T.
+    stacked[:, 6] += inverse2_t @ poses.rotation @ skews[:, 3] @ inverse1
+    lines2 = stacked @ model.p_t[:, None]  # (K, 8, 3, N): F p and its derivatives
+    lines1 = stacked.transpose(0, 1, 3, 2) @ model.q_t[:, None]  # F^T q
+    eps = (lines2 * model.q_t[:, None]).sum(axis=2)  # (K, 8, N): q^T F p and derivatives
+    # Sampson: eps over its standard deviation, from both taps' covariances.
+    grad1, grad2 = lines1[:, :, :2], lines2[:, :, :2]  # (K, 8, 2, N)
+    weighted1 = (model.cov_p_t * grad1[:, :1]).sum(axis=2)  # (K, 2, N)
+    weighted2 = (model.cov_q_t * grad2[:, :1]).sum(axis=2)
+    variance = (grad1[:, 0] * weighted1).sum(axis=1) + (grad2[:, 0] * weighted2).sum(axis=1)
+    d_variance = 2.0 * (
+        (grad1[:, 1:] * weighted1[:, None]).sum(axis=2)
+        + (grad2[:, 1:] * weighted2[:, None]).sum(axis=2)
+    )  # (K, 7, N)
+    scale = 1.0 / np.sqrt(variance)  # (K, N)
+    r = eps[:, 0] * scale
+    jacobian = eps[:, 1:] * scale[:, None] - (0.5 * r * scale * scale)[:, None] * d_variance
+    return r, jacobian.transpose(0, 2, 1)
+
+
+def _inverse_k(focal: Array, centres: Array) -> Array:
+    """(K, 3, 3) K^-1 for focal lengths (K,) and principal points (K, 2)."""
+    inverse = np.zeros((len(focal), 3, 3))
+    inverse[:, 0, 0] = inverse[:, 1, 1] = 1.0 / focal
+    inverse[:, :2, 2] = -centres / focal[:, None]
+    inverse[:, 2, 2] = 1.0
+    return inverse
+
+
+def _d_project(v: Array) -> Array:
+    """(K, 2, 3) derivative of ``v[:, :2] / v[:, 2]`` for (K, 3) vectors."""
+    x, y, z = v[:, 0], v[:, 1], v[:, 2]
+    d = np.zeros((len(v), 2, 3))
+    d[:, 0, 0] = d[:, 1, 1] = 1.0 / z
+    d[:, 0, 2] = -x / (z * z)
+    d[:, 1, 2] = -y / (z * z)
+    return d
+
+
+def _tangents(units: Array) -> Array:
+    """(K, 3, 2) orthonormal bases of the planes orthogonal to unit vectors (K, 3).
+
+    Written out by components: numpy's cross product costs more than all of this, and a
+    single vector (every fit's step) goes faster still in plain floats.
+    """
+    if len(units) == 1:
+        return np.array(_tangent(*(float(v) for v in units[0])))[None]
+    x, y, z = units[:, 0], units[:, 1], units[:, 2]
+    zero = np.zeros_like(x)
+    near_x = np.abs(x) >= 0.9  # then cross with (0, 1, 0), else with (1, 0, 0)
+    fx, fy, fz = np.where(near_x, -z, zero), np.where(near_x, zero, z), np.where(near_x, x, -y)
+    norm = np.sqrt(fx * fx + fy * fy + fz * fz)
+    fx, fy, fz = fx / norm, fy / norm, fz / norm
+    basis = np.empty((len(units), 3, 2))
+    basis[:, 0, 0], basis[:, 1, 0], basis[:, 2, 0] = fx, fy, fz
+    basis[:, 0, 1], basis[:, 1, 1], basis[:, 2, 1] = (
+        y * fz - z * fy,
+        z * fx - x * fz,
+        x * fy - y * fx,
+    )
+    return basis
+
+
+def _tangent(x: float, y: float, z: float) -> list[list[float]]:
+    """The rows of :func:`_tangents` for one unit vector, in plain floats."""
+    fx, fy, fz = (-z, 0.0, x) if abs(x) >= 0.9 else (0.0, z, -y)
+    norm = math.sqrt(fx * fx + fy * fy + fz * fz)
+    fx, fy, fz = fx / norm, fy / norm, fz / norm
+    return [[fx, y * fz - z * fy], [fy, z * fx - x * fz], [fz, x * fy - y * fx]]
+
+
+def _skews(v: Array) -> Array:
+    """(K, 3, 3) cross-product matrices of (K, 3) vectors."""
+    s = np.zeros((len(v), 3, 3))
+    s[:, 0, 1], s[:, 0, 2] = -v[:, 2], v[:, 1]
+    s[:, 1, 0], s[:, 1, 2] = v[:, 2], -v[:, 0]
+    s[:, 2, 0], s[:, 2, 1] = -v[:, 1], v[:, 0]
+    return s
+
+
+_BASIS_SKEWS = _skews(np.eye(3))  # [e_k]x
+
+
+def _exp_rotations(w: Array) -> Array:
+    """Rodrigues' formula for (K, 3) rotation vectors: (K, 3, 3) rotations (OpenCV's for one)."""
+    if len(w) == 1:
+        rotation, _ = cv2.Rodrigues(w[0])
+        return np.asarray(rotation)[None]
+    angle = np.linalg.norm(w, axis=1)
+    k = _skews(w)
+    small = angle < 1e-8
+    safe = np.where(small, 1.0, angle)
+    first = np.where(small, 1.0, np.sin(safe) / safe)
+    second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))
+    return np.eye(3) + first[:, None, None] * k + second[:, None, None] * (k @ k)
+
+
+def _k(focal: float, centre: Array) -> Array:
+    return np.array([[focal, 0.0, centre[0]], [0.0, focal, centre[1]], [0.0, 0.0, 1.0]])

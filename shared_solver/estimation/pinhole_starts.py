@@ -1,0 +1,192 @@
+"""Where the pinhole fit starts: every pose the exact solvers allow, ranked by the taps.
+
+The fit (:mod:`.pinhole_fit`) is local, so it starts from the exact solutions of a few
+minimal subsets at the priors' focal lengths: three landmarks and the buddy
+(:mod:`..minimal.buddy_and_three`), one landmark and both friends
+(:mod:`..minimal.both_and_one`), or, when the buddy was not marked as a point, the
+projective solutions turned into poses (the essential matrix of OpenCV's decomposition).
+Each candidate is scored on every tap: squared whitened residuals (each capped, so one
+mis-tap cannot veto the right pose) and the landmarks it would put behind a camera.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from itertools import combinations
+
+import cv2
+import numpy as np
+
+from ..minimal.both_and_one import rotations_from_both
+from ..minimal.buddy_and_three import rotations_from_three
+from ..projective import Array, Indices
+from .camera import FocalPrior
+from .pinhole_fit import PinholeModel, Poses
+from .taps import Taps
+
+# A residual beyond this many sigmas counts as this many: an outlier, not a veto.
+_CAP_SIGMAS = 6.0
+# Each landmark behind a camera costs as much as a capped residual.
+_BEHIND_PENALTY = _CAP_SIGMAS**2
+# Minimal subsets tried: the best-spread two (each gives up to 8 rotations); a second one
+# in case the first holds a mis-tap.
+_SUBSETS = 2
+# Two candidates whose seekers are closer than this (radians apart, about 60 px at a phone's
+# focal length) are the same start: different subsets of noisy taps give slightly different
+# poses of one basin.
+_SAME_DIRECTION = 0.02
+
+
+def buddy_starts(taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> list[tuple[float, Poses]]:
+    """Scored candidate poses when the buddy is marked as a point (and maybe the seeker).
+
+    Returns:
+        ``(score, pose)`` pairs, best (lowest) first, one per distinct seeker direction.
+    """
+    assert taps.epipole1 is not None
+    log_focals = np.array([priors[0].log_focal, priors[1].log_focal])
+    rays1, rays2 = _rays(taps.p, priors[0]), _rays(taps.q, priors[1])
+    buddy = _unit(_rays(taps.epipole1[None], priors[0])[0])
+    rotations: list[Array] = []
+    if taps.epipole2 is not None:
+        seeker = _unit(_rays(taps.epipole2[None], priors[1])[0])
+        for i in _spread_indices(taps, 1):
+            rotations += rotations_from_both(buddy, seeker, rays1[i[0]], rays2[i[0]])
+    if len(taps) >= 3:
+        for triple in _spread_indices(taps, 3):
+            index = list(triple)
+            rotations += rotations_from_three(buddy, rays1[index], rays2[index])
+    return _ranked(taps, priors, [(r, buddy) for r in rotations], log_focals)
+
+
+def fundamental_starts(
+    taps: Taps, priors: tuple[FocalPrior, FocalPrior], fundamentals: list[Array]
+) -> list[tuple[float, Poses]]:
+    """Scored candidate poses from projective solutions (3, 3) F in pixels.
+
+    Each F is read at the priors' focal lengths as an essential matrix, and each of its
+    four decompositions (Hartley & Zisserman 9.6.2) becomes a candidate.
+    """
+    log_focals = np.array([priors[0].log_focal, priors[1].log_focal])
+    k1, k2 = (_intrinsics(prior) for prior in priors)
+    candidates: list[tuple[Array, Array]] = []
+    for fundamental in fundamentals:
+        essential = k2.T @ fundamental @ k1
+        first, second, translation = cv2.decomposeEssentialMat(essential)
+        for rotation in (np.asarray(first, dtype=np.float64), np.asarray(second, dtype=np.float64)):
+            for sign in (1.0, -1.0):
+                # t is the seeker's centre in frame 2, along -R b1: b1 = -R^T t.
+                baseline: Array = -sign * rotation.T @ np.ravel(translation)
+                candidates.append((rotation, baseline))
+    return _ranked(taps, priors, candidates, log_focals)
+
+
+def _ranked(
+    taps: Taps,
+    priors: tuple[FocalPrior, FocalPrior],
+    candidates: list[tuple[Array, Array]],
+    log_focals: Array,
+) -> list[tuple[float, Poses]]:
+    if not candidates:
+        return []
+    poses = Poses(
+        np.array([r for r, _ in candidates]),
+        np.array([_unit(b) for _, b in candidates]),
+        np.repeat(log_focals[None], len(candidates), axis=0),
+        float(log_focals[0]),
+    )
+    model = PinholeModel(taps, priors)
+    r, _ = model.residuals(poses)
+    scores = np.minimum(r * r, _CAP_SIGMAS**2).sum(axis=1)
+    scores += _BEHIND_PENALTY * behind(poses, taps, priors)
+    seekers = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
+    kept: list[tuple[float, Poses]] = []
+    for k in np.argsort(scores, kind="stable"):
+        if all(
+            float(seekers[k] @ other.rotation[0] @ -other.baseline[0]) < math.cos(_SAME_DIRECTION)
+            for _, other in kept
+        ):
+            kept.append((float(scores[k]), poses.member(int(k))))
+    return kept
+
+
+def behind(poses: Poses, taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> Array:
+    """(K,) how many landmarks each pose puts behind the seeker's or the buddy's camera.
+
+    The landmark is where the two rays pass closest (midpoint triangulation, with the
+    cameras a unit apart); a landmark beyond the buddy along the baseline has no sign.
+    """
+    focals = np.exp(poses.log_focals)
+    rays1 = _rays_at(taps.p, priors[0].centre, focals[:, 0])  # (K, N, 3) frame 1
+    rays2 = _rays_at(taps.q, priors[1].centre, focals[:, 1])  # frame 2
+    back2 = np.einsum("kji,knj->kni", poses.rotation, rays2)  # in frame 1
+    baseline = poses.baseline[:, None, :]  # camera 2 at b1 in frame 1
+    # Solve a r1 - b r2' = b1 in least squares: the depths along each ray.
+    a11 = np.einsum("kni,kni->kn", rays1, rays1)
+    a12 = -np.einsum("kni,kni->kn", rays1, back2)
+    a22 = np.einsum("kni,kni->kn", back2, back2)
+    c1 = np.einsum("kni,kni->kn", rays1, baseline)
+    c2 = -np.einsum("kni,kni->kn", back2, baseline)
+    det = a11 * a22 - a12 * a12
+    with np.errstate(divide="ignore", invalid="ignore"):
+        depth1 = (a22 * c1 - a12 * c2) / det
+        depth2 = (a11 * c2 - a12 * c1) / det
+    return np.count_nonzero((depth1 <= 0) | (depth2 <= 0), axis=1)
+
+
+def _spread_indices(taps: Taps, size: int) -> list[tuple[int, ...]]:
+    """Up to ``_SUBSETS`` subsets of ``size`` landmarks, the best spread in both photos first.
+
+    Spread: the smaller of the two photos' triangle areas (for one landmark, its distance
+    from the friends' marks), so no subset is chosen for one good photo alone.
+    """
+    subsets = _combinations(len(taps), size)
+    if len(subsets) <= _SUBSETS:
+        return [tuple(int(i) for i in subset) for subset in subsets]
+    if size == 1:
+        assert taps.epipole1 is not None
+        assert taps.epipole2 is not None
+        spread = np.minimum(
+            np.linalg.norm(taps.p - taps.epipole1, axis=1),
+            np.linalg.norm(taps.q - taps.epipole2, axis=1),
+        )
+    else:
+        spread = np.minimum(_areas(taps.p[subsets]), _areas(taps.q[subsets]))
+    best = np.argsort(-spread, kind="stable")[:_SUBSETS]
+    return [tuple(int(i) for i in subsets[k]) for k in best]
+
+
+@functools.cache
+def _combinations(count: int, size: int) -> Indices:
+    """(C, size) every subset of ``size`` of ``count`` landmarks, in lexicographic order."""
+    return np.array(list(combinations(range(count), size)), dtype=np.intp).reshape(-1, size)
+
+
+def _areas(triangles: Array) -> Array:
+    """(C,) twice the area of triangles (C, 3, 2)."""
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    return np.abs(
+        (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    )
+
+
+def _rays(points: Array, prior: FocalPrior) -> Array:
+    """(N, 3) rays of pixels (N, 2) at the prior's median focal length."""
+    return _rays_at(points, prior.centre, np.array([prior.focal_px]))[0]
+
+
+def _rays_at(points: Array, centre: tuple[float, float], focals: Array) -> Array:
+    """(K, N, 3) rays of pixels (N, 2) for K focal lengths."""
+    rays = np.ones((len(focals), len(points), 3))
+    rays[:, :, :2] = (points - np.asarray(centre))[None] / focals[:, None, None]
+    return rays
+
+
+def _intrinsics(prior: FocalPrior) -> Array:
+    (x, y), f = prior.centre, prior.focal_px
+    return np.array([[f, 0.0, x], [0.0, f, y], [0.0, 0.0, 1.0]])
+
+
+def _unit(vector: Array) -> Array:
+    return vector / np.linalg.norm(vector)

@@ -1,0 +1,100 @@
+"""The taps as the estimators see them: positions and how precise each one is.
+
+A person taps at whatever zoom they happen to use, so each tap has its own precision: a
+(2, 2) covariance in photo pixels squared (``sigma^2 I`` for a round finger). Every fit
+weighs each residual by it, so a tap made zoomed in counts for more than one made on the
+whole photo.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..projective import Array, Indices
+
+
+@dataclass(frozen=True)
+class Taps:
+    """Landmarks in both photos and the friends' marks, each with its covariance.
+
+    Attributes:
+        p, q: (N, 2) landmarks in photo 1 (the seeker's) and photo 2 (the buddy's), px.
+        cov_p, cov_q: (N, 2, 2) their covariances, px^2.
+        epipole1: (2,) the buddy tapped in photo 1, or None; cov_e1: (2, 2) px^2.
+        epipole2: (2,) the seeker tapped in photo 2, or None; cov_e2: (2, 2) px^2.
+        line1: (3,) a line through the buddy in photo 1 (a x + b y + c = 0), or None;
+            line_sigma: its standard deviation across the line, px.
+    """
+
+    p: Array
+    q: Array
+    cov_p: Array
+    cov_q: Array
+    epipole1: Array | None = None
+    cov_e1: Array | None = None
+    epipole2: Array | None = None
+    cov_e2: Array | None = None
+    line1: Array | None = None
+    line_sigma: float = 1.0
+
+    @classmethod
+    def isotropic(
+        cls,
+        p: Array,
+        q: Array,
+        sigma: float,
+        *,
+        epipole1: Array | None = None,
+        epipole2: Array | None = None,
+        line1: Array | None = None,
+    ) -> Taps:
+        """Every tap with the same round precision ``sigma`` px per axis."""
+        round_ = sigma**2 * np.eye(2)
+        return cls(
+            p,
+            q,
+            np.broadcast_to(round_, (len(p), 2, 2)).copy(),
+            np.broadcast_to(round_, (len(q), 2, 2)).copy(),
+            epipole1,
+            None if epipole1 is None else round_,
+            epipole2,
+            None if epipole2 is None else round_,
+            line1,
+            sigma,
+        )
+
+    def __len__(self) -> int:
+        return len(self.p)
+
+    def subset(self, keep: Indices) -> Taps:
+        """The same marks with only the landmarks ``keep`` (indices)."""
+        return replace(
+            self, p=self.p[keep], q=self.q[keep], cov_p=self.cov_p[keep], cov_q=self.cov_q[keep]
+        )
+
+    def retapped(self, rng: np.random.Generator) -> Taps:
+        """The landmarks as the same fingers might tap them again: fresh noise of each
+        tap's own covariance (the friends' marks are left as they are)."""
+        return replace(
+            self, p=_jittered(self.p, self.cov_p, rng), q=_jittered(self.q, self.cov_q, rng)
+        )
+
+    @property
+    def typical_sigma(self) -> float:
+        """A single px figure for the landmarks' precision: the root-mean-square sigma."""
+        variances = np.concatenate(
+            [np.trace(self.cov_p, axis1=1, axis2=2), np.trace(self.cov_q, axis1=1, axis2=2)]
+        )
+        return float(np.sqrt(variances.mean() / 2.0))
+
+
+def _jittered(points: Array, covariances: Array, rng: np.random.Generator) -> Array:
+    factors = np.linalg.cholesky(covariances)
+    return points + np.einsum("nij,nj->ni", factors, rng.normal(size=points.shape))
+
+
+def whitener(covariance: Array) -> Array:
+    """(2, 2) or (N, 2, 2) W with ``W^T W = covariance^-1``: W (x - mean) has unit variance."""
+    return np.linalg.inv(np.linalg.cholesky(covariance))

@@ -1,0 +1,293 @@
+"""Exact minimal solvers for calibrated cameras: every root fits, the true rotation is a root.
+
+Scenes are built here: two phone cameras (focal ~3000 px, 4032x3024 landscape or 3024x4032
+portrait) facing each other across a venue, landmarks between them in front of both.
+Convention: ``X2 = R X1 + t``; ``b1`` points from the seeker to the buddy (frame 1), ``b2``
+from the buddy to the seeker (frame 2), ``b2 = -R b1``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from shared_solver.minimal.both_and_one import rotations_from_both
+from shared_solver.minimal.buddy_and_three import rotations_from_three
+
+SCENES = 200
+ROOT = 1e-9  # Frobenius distance of the true rotation from the nearest root
+ORTHONORMAL = 1e-12
+CONSTRAINT = 1e-10  # |q . R (b1 x p)| for unit rays
+EXACT_PX = 1e-6
+
+
+@dataclass(frozen=True)
+class Scene:
+    k1: np.ndarray  # (3, 3) intrinsics
+    k2: np.ndarray
+    rotation: np.ndarray  # (3, 3) relative rotation, X2 = R X1 + t
+    b1: np.ndarray  # (3,) unit, from the seeker's pixel of the buddy (e1)
+    b2: np.ndarray  # (3,) unit, from the buddy's pixel of the seeker (e2)
+    rays1: np.ndarray  # (n, 3) rays K1^-1 (x, 1) of the landmarks' pixels
+    rays2: np.ndarray
+    e2: np.ndarray  # (2,) the seeker's pixel in photo 2
+
+
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    return q if np.linalg.det(q) > 0 else -q
+
+
+def axis_angle(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rodrigues: the rotation by ``angle`` about the unit ``axis``."""
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
+
+
+def half_turn(axis: np.ndarray) -> np.ndarray:
+    return 2.0 * np.outer(axis, axis) - np.eye(3)
+
+
+def intrinsics(rng: np.random.Generator, portrait: bool) -> tuple[np.ndarray, tuple[int, int]]:
+    width, height = (3024, 4032) if portrait else (4032, 3024)
+    focal = rng.uniform(2800.0, 3200.0)
+    k = np.array([[focal, 0.0, width / 2], [0.0, focal, height / 2], [0.0, 0.0, 1.0]])
+    return k, (width, height)
+
+
+def looking_at(rng: np.random.Generator, centre: np.ndarray, target: np.ndarray, portrait: bool):
+    """World-to-camera rotation: optical axis towards ``target``, y down, a little roll."""
+    forward = (target - centre) / np.linalg.norm(target - centre)
+    right = np.cross(forward, [0.0, 0.0, 1.0])  # world z is up
+    right /= np.linalg.norm(right)
+    down = np.cross(forward, right)
+    camera = np.array([right, down, forward])
+    roll = rng.uniform(-0.15, 0.15) + (np.pi / 2 if portrait else 0.0)
+    return axis_angle(np.array([0.0, 0.0, 1.0]), roll) @ camera
+
+
+def pixel(k: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    h = k @ direction
+    return h[:2] / h[2]
+
+
+def ray(k: np.ndarray, px: np.ndarray) -> np.ndarray:
+    return np.linalg.solve(k, np.append(px, 1.0))
+
+
+def make_scene(rng: np.random.Generator, n: int = 3) -> Scene:
+    """Friends 10-80 m apart, each photographing the other; landmarks in both photos."""
+    c1 = rng.uniform(-5.0, 5.0, size=3)
+    heading = rng.uniform(0.0, 2 * np.pi)
+    distance = rng.uniform(10.0, 80.0)
+    c2 = c1 + distance * np.array([np.cos(heading), np.sin(heading), rng.uniform(-0.1, 0.1)])
+    portrait1, portrait2 = (bool(flag) for flag in rng.integers(0, 2, size=2))
+    k1, size1 = intrinsics(rng, portrait1)
+    k2, size2 = intrinsics(rng, portrait2)
+    aim = 0.2 * distance
+    r1 = looking_at(rng, c1, c2 + rng.uniform(-aim, aim, size=3), portrait1)
+    r2 = looking_at(rng, c2, c1 + rng.uniform(-aim, aim, size=3), portrait2)
+    rays1, rays2 = [], []
+    while len(rays1) < n:
+        point = c1 + rng.uniform(0.15, 0.85) * (c2 - c1) + rng.uniform(-0.3, 0.3, 3) * distance
+        in1, in2 = r1 @ (point - c1), r2 @ (point - c2)
+        if min(in1[2], in2[2]) < 1.0:
+            continue  # behind a camera
+        x1, x2 = pixel(k1, in1), pixel(k2, in2)
+        if not (np.all((x1 >= 0) & (x1 <= size1)) and np.all((x2 >= 0) & (x2 <= size2))):
+            continue
+        rays1.append(ray(k1, x1))
+        rays2.append(ray(k2, x2))
+    e1, e2 = pixel(k1, r1 @ (c2 - c1)), pixel(k2, r2 @ (c1 - c2))
+    b1, b2 = ray(k1, e1), ray(k2, e2)
+    return Scene(
+        k1=k1,
+        k2=k2,
+        rotation=r2 @ r1.T,
+        b1=b1 / np.linalg.norm(b1),
+        b2=b2 / np.linalg.norm(b2),
+        rays1=np.array(rays1),
+        rays2=np.array(rays2),
+        e2=e2,
+    )
+
+
+def scenes(seed: int, count: int = SCENES, n: int = 3) -> list[Scene]:
+    rng = np.random.default_rng(seed)
+    return [make_scene(rng, n) for _ in range(count)]
+
+
+def unit_rows(rays: np.ndarray) -> np.ndarray:
+    return rays / np.linalg.norm(rays, axis=-1, keepdims=True)
+
+
+def residuals(rotation: np.ndarray, b1: np.ndarray, rays1: np.ndarray, rays2: np.ndarray):
+    """|q . R (b1 x p)| per landmark, for unit rays."""
+    normals = np.cross(b1, unit_rows(rays1)) @ rotation.T
+    return np.abs(np.einsum("ni,ni->n", unit_rows(rays2), normals))
+
+
+def nearest(roots: list[np.ndarray], rotation: np.ndarray) -> tuple[float, np.ndarray]:
+    errors = [float(np.linalg.norm(root - rotation)) for root in roots]
+    best = int(np.argmin(errors))
+    return errors[best], roots[best]
+
+
+def assert_rotation(r: np.ndarray) -> None:
+    assert np.abs(r.T @ r - np.eye(3)).max() <= ORTHONORMAL
+    assert abs(np.linalg.det(r) - 1.0) <= ORTHONORMAL
+
+
+def assert_same_roots(found: list[np.ndarray], expected: list[np.ndarray]) -> None:
+    assert len(found) == len(expected)
+    for r in expected:
+        assert nearest(found, r)[0] <= ROOT
+    for r in found:
+        assert nearest(expected, r)[0] <= ROOT
+
+
+def test_scenes_follow_the_convention():
+    for s in scenes(1, count=20):
+        assert np.allclose(s.b2, -s.rotation @ s.b1, atol=1e-12)
+        assert residuals(s.rotation, s.b1, s.rays1, s.rays2).max() <= 1e-12
+
+
+# --- the buddy's direction and three landmarks -------------------------------------------
+
+
+def test_three_true_rotation_is_a_root_and_every_root_fits():
+    counts = []
+    for s in scenes(0):
+        roots = rotations_from_three(s.b1, s.rays1, s.rays2)
+        counts.append(len(roots))
+        assert 2 <= len(roots) <= 8
+        assert len(roots) % 2 == 0
+        for r in roots:
+            assert_rotation(r)
+            assert residuals(r, s.b1, s.rays1, s.rays2).max() <= CONSTRAINT
+        error, best = nearest(roots, s.rotation)
+        assert error <= ROOT
+        assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+    # Both real line pairs of the conic pencil occur: two and four intersection points.
+    assert {4, 8} <= set(counts)
+
+
+@pytest.mark.parametrize("axis", range(3))
+@pytest.mark.parametrize("kind", ["identity", "about b1", "half turn", "random"])
+def test_three_special_coordinates(axis, kind):
+    """Axis-aligned baselines and special rotations: no division by a vanishing coordinate."""
+    rng = np.random.default_rng(20 + axis)
+    b1 = np.eye(3)[axis] * (-1.0) ** axis
+    for _ in range(10):
+        rotation = {
+            "identity": np.eye(3),
+            "about b1": axis_angle(b1, rng.uniform(0.0, 2 * np.pi)),
+            "half turn": half_turn(np.eye(3)[(axis + 1) % 3]),
+            "random": random_rotation(rng),
+        }[kind]
+        t = -rotation @ b1 * rng.uniform(1.0, 10.0)
+        points = rng.normal(size=(3, 3)) * 3.0
+        roots = rotations_from_three(b1, points, points @ rotation.T + t)
+        assert nearest(roots, rotation)[0] <= ROOT
+        for r in roots:
+            assert_rotation(r)
+            assert residuals(r, b1, points, points @ rotation.T + t).max() <= CONSTRAINT
+
+
+def test_three_roots_come_in_half_turn_pairs_about_b1():
+    for s in scenes(2, count=50):
+        roots = rotations_from_three(s.b1, s.rays1, s.rays2)
+        flip = half_turn(s.b1)
+        for first, second in zip(roots[::2], roots[1::2], strict=True):
+            assert np.abs(first @ flip - second).max() <= 1e-12
+            # Same b2 = -R b1 for both members of a pair.
+            assert np.abs(first @ s.b1 - second @ s.b1).max() <= 1e-12
+
+
+def test_three_ignores_the_scale_of_rays():
+    rng = np.random.default_rng(3)
+    for s in scenes(3, count=20):
+        scaled1 = s.rays1 * rng.uniform(0.01, 100.0, size=(3, 1))
+        scaled2 = s.rays2 * rng.uniform(0.01, 100.0, size=(3, 1))
+        assert_same_roots(
+            rotations_from_three(s.b1, scaled1, scaled2),
+            rotations_from_three(s.b1, s.rays1, s.rays2),
+        )
+
+
+def test_three_invariant_under_rotating_either_frame():
+    rng = np.random.default_rng(4)
+    for s in scenes(4, count=30):
+        roots = rotations_from_three(s.b1, s.rays1, s.rays2)
+        q = random_rotation(rng)
+        turned1 = rotations_from_three(q @ s.b1, s.rays1 @ q.T, s.rays2)
+        assert_same_roots(turned1, [r @ q.T for r in roots])
+        turned2 = rotations_from_three(s.b1, s.rays1, s.rays2 @ q.T)
+        assert_same_roots(turned2, [q @ r for r in roots])
+
+
+def test_three_landmark_on_the_baseline_gives_no_roots():
+    for s in scenes(5, count=10):
+        rays1 = s.rays1.copy()
+        rays1[1] = 2.5 * s.b1  # the landmark is in line with the buddy
+        assert rotations_from_three(s.b1, rays1, s.rays2) == []
+
+
+def test_three_landmarks_on_one_epipolar_plane_give_no_roots():
+    rng = np.random.default_rng(6)
+    for _ in range(10):
+        r, t_dir = random_rotation(rng), rng.normal(size=3)
+        b1 = t_dir / np.linalg.norm(t_dir)
+        t = -r @ b1 * rng.uniform(10.0, 50.0)  # camera 2 at 10-50 m along b1
+        side = np.cross(b1, rng.normal(size=3))  # the plane through the baseline and `side`
+        points = np.array([s * b1 * 30.0 + w * side for s, w in rng.uniform(0.2, 0.8, (3, 2))])
+        assert rotations_from_three(b1, points, points @ r.T + t) == []
+
+
+def test_three_degenerate_inputs_do_not_raise():
+    s = scenes(7, count=1)[0]
+    zero = s.rays1.copy()
+    zero[0] = 0.0
+    assert rotations_from_three(s.b1, zero, s.rays2) == []
+    assert rotations_from_three(np.zeros(3), s.rays1, s.rays2) == []
+    same = np.repeat(s.rays1[:1], 3, axis=0)
+    assert rotations_from_three(s.b1, same, np.repeat(s.rays2[:1], 3, axis=0)) == []
+
+
+# --- both directions and one landmark ----------------------------------------------------
+
+
+def test_both_true_rotation_is_one_of_exactly_two():
+    for s in scenes(10):
+        roots = rotations_from_both(s.b1, s.b2, s.rays1[0], s.rays2[0])
+        assert len(roots) == 2
+        for r in roots:
+            assert_rotation(r)
+            assert np.abs(r @ s.b1 + s.b2).max() <= 1e-12
+            assert residuals(r, s.b1, s.rays1[:1], s.rays2[:1]).max() <= CONSTRAINT
+        # The two differ by a half turn about b2.
+        assert np.abs(half_turn(s.b2) @ roots[0] - roots[1]).max() <= 1e-12
+        error, best = nearest(roots, s.rotation)
+        assert error <= ROOT
+        assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+
+
+def test_both_invariant_under_rotating_frame_one():
+    rng = np.random.default_rng(11)
+    for s in scenes(11, count=30):
+        roots = rotations_from_both(s.b1, s.b2, s.rays1[0], s.rays2[0])
+        q = random_rotation(rng)
+        turned = rotations_from_both(q @ s.b1, s.b2, q @ s.rays1[0], 7.0 * s.rays2[0])
+        assert_same_roots(turned, [r @ q.T for r in roots])
+
+
+@pytest.mark.parametrize("which", [1, 2])
+def test_both_ray_along_its_baseline_gives_no_roots(which):
+    s = scenes(12, count=1)[0]
+    ray1 = 3.0 * s.b1 if which == 1 else s.rays1[0]
+    ray2 = 0.5 * s.b2 if which == 2 else s.rays2[0]
+    assert rotations_from_both(s.b1, s.b2, ray1, ray2) == []
+    assert rotations_from_both(s.b1, s.b2, np.zeros(3), s.rays2[0]) == []

@@ -1,0 +1,207 @@
+"""The camera-aware route: exact on exact taps, the fewer-landmark cases, what it reports, and
+when it steps aside for the projective geometry."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from shared_solver import Camera, ErrorCode, SolverError, solve, words
+from testbed.phones import PhoneScene, phone_scene
+from testbed.scenes import tap
+
+EXACT_PX = 1e-6
+SEEDS = range(25)
+
+
+def exact_scene(seed: int, landmarks: int) -> PhoneScene:
+    """Phones with their principal points exactly at the centres: the model holds exactly."""
+    return phone_scene(np.random.default_rng(seed), landmarks, centre_sd=0.0)
+
+
+def known(scene: PhoneScene) -> dict[str, object]:
+    """Both cameras' true focal lengths, as EXIF would give them without rounding."""
+    return {
+        "camera1": Camera.with_focal(scene.focal_35mm1),
+        "camera2": Camera.with_focal(scene.focal_35mm2),
+        "image_size1": scene.image_size1,
+        "image_size2": scene.image_size2,
+    }
+
+
+def phones(scene: PhoneScene) -> dict[str, object]:
+    return {
+        "camera1": "phone",
+        "camera2": "phone",
+        "image_size1": scene.image_size1,
+        "image_size2": scene.image_size2,
+    }
+
+
+def line_through(point: np.ndarray, angle: float) -> np.ndarray:
+    ahead = point + np.array([np.cos(angle), np.sin(angle)])
+    return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("landmarks", [3, 4, 5, 8])
+def test_exact_taps_and_known_focal_give_the_exact_seeker(seed: int, landmarks: int) -> None:
+    s = exact_scene(seed, landmarks)
+    result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, tap_sigma=1.0, **known(s))
+    assert result.camera_model == "pinhole"
+    assert result.method == "pinhole_epipole"
+    if result.candidates:  # three landmarks can fit two poses exactly; the truth is listed
+        listed = [c.epipole2 for c in result.candidates if c.epipole2 is not None]
+        assert min(np.linalg.norm(np.array(e) - s.epipole2) for e in listed) < EXACT_PX
+        return
+    assert result.epipole2 is not None
+    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("landmarks", [1, 2, 4])
+def test_both_friends_marked_need_one_landmark(seed: int, landmarks: int) -> None:
+    s = exact_scene(seed, landmarks)
+    result = solve(
+        s.landmarks1,
+        s.landmarks2,
+        epipole1=s.epipole1,
+        epipole2=s.epipole2,
+        tap_sigma=1.0,
+        **known(s),
+    )
+    assert result.method == "pinhole_two_epipoles"
+    assert result.epipole2 is not None
+    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
+    assert result.epipole1 is not None
+    assert np.linalg.norm(np.array(result.epipole1) - s.epipole1) < EXACT_PX
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_line_and_six_landmarks_give_the_exact_seeker(seed: int) -> None:
+    s = exact_scene(seed, 6)
+    line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
+    result = solve(s.landmarks1, s.landmarks2, epipolar_line1=line, tap_sigma=1.0, **known(s))
+    assert result.method == "pinhole_line"
+    assert result.epipole2 is not None
+    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("landmarks", [7, 9])
+def test_landmarks_alone_give_the_exact_seeker(seed: int, landmarks: int) -> None:
+    s = exact_scene(seed, landmarks)
+    result = solve(s.landmarks1, s.landmarks2, tap_sigma=1.0, **known(s))
+    assert result.method == "pinhole_landmarks"
+    assert result.epipole2 is not None
+    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
+
+
+def test_the_result_names_its_model_and_the_focal_lengths() -> None:
+    rng = np.random.default_rng(7)
+    s = phone_scene(rng, 6)
+    taps = tap(s, 3.0, rng)
+    result = solve(
+        taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=3.0, **phones(s)
+    )
+    assert result.camera_model == "pinhole"
+    assert [c.known for c in result.cameras] == ["phone", "phone"]
+    for camera, size, truth in zip(
+        result.cameras,
+        (s.image_size1, s.image_size2),
+        (s.focal_35mm1, s.focal_35mm2),
+        strict=True,
+    ):
+        assert camera.focal_px is not None
+        assert camera.focal_35mm is not None
+        assert camera.focal_35mm_sd is not None
+        assert camera.focal_35mm_sd > 0
+        assert camera.focal_35mm == pytest.approx(camera.focal_px * 43.2666 / math.hypot(*size))
+        # A phone's main camera, estimated within its stated uncertainty (3 sd).
+        assert abs(camera.focal_35mm - truth) < 3 * camera.focal_35mm_sd + 1.0
+    plain = solve(taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=3.0)
+    assert plain.camera_model == "projective"
+    assert plain.cameras == []
+
+
+def test_three_landmarks_and_the_buddy_give_a_point_with_phones_and_refuse_without() -> None:
+    rng = np.random.default_rng(3)
+    s = phone_scene(rng, 3)
+    taps = tap(s, 3.0, rng)
+    args = (taps.landmarks1, taps.landmarks2)
+    result = solve(*args, epipole1=taps.epipole1, tap_sigma=3.0, **phones(s))
+    assert result.epipole2 is not None
+    with pytest.raises(SolverError) as refused:
+        solve(*args, epipole1=taps.epipole1, tap_sigma=3.0)
+    assert refused.value.code is ErrorCode.TOO_FEW_LANDMARKS
+
+
+def test_four_landmarks_give_a_point_and_keep_the_curve() -> None:
+    rng = np.random.default_rng(4)
+    s = phone_scene(rng, 4)
+    taps = tap(s, 2.0, rng)
+    result = solve(
+        taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=2.0, **phones(s)
+    )
+    assert result.method == "pinhole_epipole"
+    assert result.epipole2 is not None
+    assert result.conic2 is not None
+    assert result.uncertainty is not None
+    assert result.uncertainty.ellipse is not None
+    # The curve of paper 3.1 goes through the landmarks of photo 2.
+    conic = np.array(result.conic2)
+    for point in taps.landmarks2:
+        x = np.append(point, 1.0)
+        assert abs(x @ conic @ x) / np.linalg.norm(2 * (conic @ x)[:2]) < 1e-6
+
+
+def test_a_stretched_photo_falls_back_to_the_projective_answer() -> None:
+    """A photo squeezed or stretched by an editor has no square pixels: no phone camera
+    gives it. The taps show it, and the answer says it does not assume the camera's shape."""
+    fell_back = 0
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        s = phone_scene(rng, 8)
+        taps = tap(s, 1.0, rng)
+        width, height = s.image_size2
+        stretch = np.array([1.3, 1.0])
+        result = solve(
+            taps.landmarks1,
+            taps.landmarks2 * stretch,
+            epipole1=taps.epipole1,
+            tap_sigma=1.0,
+            camera1="phone",
+            camera2="phone",
+            image_size1=s.image_size1,
+            image_size2=(width * 1.3, height),
+        )
+        if result.camera_model == "projective":
+            fell_back += 1
+            assert result.warnings[0] == words.CAMERA_MODEL_DISAGREES
+            assert result.epipole2 is not None
+            assert np.linalg.norm(np.array(result.epipole2) - s.epipole2 * stretch) < 60
+    assert fell_back >= 18
+
+
+def test_camera_input_is_checked() -> None:
+    rng = np.random.default_rng(1)
+    s = phone_scene(rng, 5)
+    args = (s.landmarks1, s.landmarks2)
+    with pytest.raises(SolverError) as no_size:
+        solve(*args, epipole1=s.epipole1, camera1="phone", camera2="phone")
+    assert no_size.value.code is ErrorCode.INVALID_PARAMETER
+    assert "image_size1" in no_size.value.message
+    for bad in ("tripod", {"kind": "known_focal"}, {"kind": "phone", "focal_35mm": -3}):
+        with pytest.raises(SolverError) as refused:
+            solve(*args, epipole1=s.epipole1, camera1=bad, camera2="phone", **_sizes(s))
+        assert refused.value.code is ErrorCode.INVALID_PARAMETER
+    # One camera unknown: the projective geometry, and the cameras as given.
+    result = solve(*args, epipole1=s.epipole1, camera1="phone", **_sizes(s))
+    assert result.camera_model == "projective"
+    assert [c.known for c in result.cameras] == ["phone", "unknown"]
+
+
+def _sizes(s: PhoneScene) -> dict[str, object]:
+    return {"image_size1": s.image_size1, "image_size2": s.image_size2}
