@@ -22,7 +22,7 @@ from .minimal.conic import epipole_conic
 from .minimal.five_point import epipole_from_five
 from .minimal.two_epipoles import fundamental_from_epipoles
 from .result import CameraEstimate, Candidate, Ellipse, SolveResult, Uncertainty
-from .solve import solve
+from .solve import fewest_landmarks, solve
 
 __all__ = [
     "Camera",
@@ -38,6 +38,7 @@ __all__ = [
     "epipole_conic",
     "epipole_from_five",
     "epipoles_from_six",
+    "fewest_landmarks",
     "fundamental_from_epipoles",
     "landmark_colour",
     "landmark_colour_hex",

@@ -210,17 +210,35 @@ def _parse(
     return Request(taps, size1, size2, labels or list(range(1, len(p) + 1)), camera_pair)
 
 
+def fewest_landmarks(
+    *, buddy: bool, seeker: bool = False, line: bool = False, cameras: bool, position: bool = True
+) -> int:
+    """How many landmarks (common to both photos) ``solve`` needs.
+
+    Args:
+        buddy: the buddy is marked as a point in photo 1; seeker: the seeker in photo 2 too.
+        line: a line through the buddy is drawn instead.
+        cameras: both photos' cameras have a model (``camera1``, ``camera2`` not unknown).
+        position: for a position; False: for any answer (four landmarks and the buddy
+            already give the curve the seeker is on, without a camera model).
+    """
+    if buddy and seeker:
+        return 1 if cameras else 3
+    if buddy:
+        return 3 if cameras else (5 if position else 4)
+    return 6 if line else 7
+
+
 def _minimum(buddy: bool, seeker: bool, line: bool, modelled: bool) -> tuple[int, str]:
     """Fewest landmarks for any answer, and the end of the sentence refusing fewer."""
-    if buddy and seeker:
-        return (
-            (1, "when both friends are marked") if modelled else (3, "when both friends are marked")
-        )
+    count = fewest_landmarks(
+        buddy=buddy, seeker=seeker, line=line, cameras=modelled, position=False
+    )
     if buddy:
-        return (3, "with the buddy marked") if modelled else (4, "with the buddy marked")
+        return count, "when both friends are marked" if seeker else "with the buddy marked"
     if line:
-        return 6, "with a line through the buddy"
-    return 7, "without marking the buddy (mark the buddy to need fewer)"
+        return count, "with a line through the buddy"
+    return count, "without marking the buddy (mark the buddy to need fewer)"
 
 
 def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> Camera:

@@ -17,7 +17,6 @@ from ..estimation import bootstrap
 from ..estimation.camera import focal_35mm
 from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
 from ..estimation.pinhole_fit import PinholeFit
-from ..estimation.pinhole_starts import behind
 from ..estimation.planar import PlanarFit
 from ..estimation.plausibility import assess, orient_seeker
 from ..estimation.uncertainty import Fitted, consistent, ellipse, quality
@@ -85,9 +84,9 @@ class Answer:
         )
 
     @classmethod
-    def of_pinhole(cls, request: Request, fit: PinholeFit, covariance: Array | None) -> Answer:
-        priors = request.priors
-        assert priors is not None
+    def of_pinhole(
+        cls, request: Request, fit: PinholeFit, covariance: Array | None, *, orientable: bool
+    ) -> Answer:
         distances = np.abs(sampson_distances(fit.fundamental, request.taps.p, request.taps.q))
         return cls(
             fit.epipole1,
@@ -96,7 +95,7 @@ class Answer:
             distances,
             fit.fundamental,
             oriented=True,
-            orientable=int(behind(fit.pose, request.taps, priors)[0]) == 0,
+            orientable=orientable,
             camera_model="pinhole",
             cameras=pinhole_cameras(request, fit),
         )

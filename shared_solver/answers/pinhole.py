@@ -25,9 +25,8 @@ from .. import words
 from ..estimation import bootstrap
 from ..estimation.camera import FocalPrior
 from ..estimation.mistaps import find_mistaps, refit
-from ..estimation.pinhole_fit import PinholeFit, Poses, fit_pinhole
-from ..estimation.pinhole_starts import buddy_starts, fundamental_starts
-from ..estimation.taps import Taps
+from ..estimation.pinhole_fit import PinholeFit, PinholeModel, Poses, fit_pinhole
+from ..estimation.pinhole_starts import behind, buddy_starts, fundamental_starts
 from ..estimation.uncertainty import consistent
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
@@ -60,7 +59,8 @@ def buddy_marked(request: Request) -> SolveResult | None:
     taps, priors = request.taps, request.priors
     assert priors is not None
     assert taps.epipole1 is not None
-    fits = _refined(taps, priors, buddy_starts(taps, priors))
+    model = PinholeModel(taps, priors)
+    fits = _refined(model, buddy_starts(model))
     if not fits:
         return None
     fit = fits[0]
@@ -70,7 +70,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
         found = find_mistaps(taps, use_buddy=True)
         if found is not None:
             kept = np.setdiff1d(np.arange(len(taps)), found[0])
-            again = fit_pinhole(taps.subset(kept), priors, fit.pose)
+            again = fit_pinhole(PinholeModel(taps.subset(kept), priors), fit.pose)
             if consistent(again):
                 suspects, fit = found[0], again
                 warnings += suspect_warnings(request, suspects, fit.fundamental)
@@ -86,7 +86,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
         )
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
     method: Method = "pinhole_two_epipoles" if both else "pinhole_epipole"
-    answer = Answer.of_pinhole(request, fit, covariance)
+    answer = Answer.of_pinhole(request, fit, covariance, orientable=_orientable(model, fit))
     if len(taps) == 4 and not both:
         answer = _with_conic(answer, conic_through(request))
     if not others:
@@ -98,7 +98,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
             warnings=warnings,
             inconsistent=inconsistent,
         )
-    return _ambiguous(request, method, fit, others, warnings)
+    return _ambiguous(request, model, method, fit, others, warnings=warnings)
 
 
 def line_through_buddy(request: Request) -> SolveResult | None:
@@ -129,37 +129,38 @@ def _from_fundamentals(
     method: Method,
     fundamentals: list[Array],
 ) -> SolveResult | None:
-    taps = request.taps
-    fits = _refined(taps, priors, fundamental_starts(taps, priors, fundamentals))
+    model = PinholeModel(request.taps, priors)
+    fits = _refined(model, fundamental_starts(model, fundamentals))
     if not fits or not consistent(fits[0]):
         return None
     fit = fits[0]
     others = _rivals(fit, fits[1:])
     warnings: list[str] = []
     if others:
-        return _ambiguous(request, method, fit, others, warnings)
+        return _ambiguous(request, model, method, fit, others, warnings=warnings)
     covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2(), warnings)
     return result(
         method,
         request,
-        Answer.of_pinhole(request, fit, covariance),
+        Answer.of_pinhole(request, fit, covariance, orientable=_orientable(model, fit)),
         suspects=[],
         warnings=warnings,
         inconsistent=inconsistent,
     )
 
 
-def _refined(
-    taps: Taps, priors: tuple[FocalPrior, FocalPrior], starts: list[tuple[float, Poses]]
-) -> list[PinholeFit]:
+def _refined(model: PinholeModel, starts: list[tuple[float, Poses]]) -> list[PinholeFit]:
     """The best start refined, and any other start close enough to it; best fit first."""
     if not starts:
         return []
     best = starts[0][0]
-    fits = [
-        fit_pinhole(taps, priors, pose) for score, pose in starts if score <= best + _REFINE_MARGIN
-    ]
+    fits = [fit_pinhole(model, pose) for score, pose in starts if score <= best + _REFINE_MARGIN]
     return sorted(fits, key=lambda fit: fit.cost)
+
+
+def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:
+    """Whether every landmark is in front of both cameras (a physical geometry)."""
+    return int(behind(fit.pose, model)[0]) == 0
 
 
 def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
@@ -183,7 +184,13 @@ def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
 
 
 def _ambiguous(
-    request: Request, method: Method, fit: PinholeFit, others: list[PinholeFit], warnings: list[str]
+    request: Request,
+    model: PinholeModel,
+    method: Method,
+    fit: PinholeFit,
+    others: list[PinholeFit],
+    *,
+    warnings: list[str],
 ) -> SolveResult:
     """Several poses fit: the likeliest is marked, every one is listed, no region claimed."""
     geometries: list[Geometry] = [
@@ -193,7 +200,7 @@ def _ambiguous(
     return result(
         method,
         request,
-        Answer.of_pinhole(request, fit, None),
+        Answer.of_pinhole(request, fit, None, orientable=_orientable(model, fit)),
         suspects=[],
         warnings=[*warnings, words.ambiguous(line=line)],
         inconsistent=True,

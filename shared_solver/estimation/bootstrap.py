@@ -16,12 +16,12 @@ import numpy as np
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
 from .camera import FocalPrior
-from .pinhole_fit import PinholeFit, PinholeModel, gauss_newton, seeker_pixels
+from .pinhole_fit import PinholeFit, PinholeModel, seeker_positions
 from .taps import Taps
 from .uncertainty import CHI2_2D, LEVEL
 
 SAMPLES = 200  # closed form, vectorised
-PINHOLE_SAMPLES = 64  # one batched Gauss-Newton step each
+PINHOLE_SAMPLES = 32  # one Gauss-Newton step each, all at once
 RESOLVES = 100  # one full solve each
 _SEED = 2017
 
@@ -56,8 +56,9 @@ def five_point_samples(taps: Taps) -> Array:
 def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> Array:
     """(PINHOLE_SAMPLES, 2) answers of the pinhole model for re-made taps.
 
-    Each is one Gauss-Newton step from the fit on its own taps, all at once: measured on
-    three landmarks and the buddy, as calibrating as a full re-solve (docs/geometry.md).
+    Each is one Gauss-Newton step from the fit on its own taps, with the fit's Jacobian:
+    the taps' and the seeker's nonlinearity are kept, and measured on three landmarks and
+    the buddy it calibrates as well as a full re-solve (docs/geometry.md).
     """
     rng = np.random.default_rng(_SEED)
     count = PINHOLE_SAMPLES
@@ -69,9 +70,8 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
         epipole1=None if taps.epipole1 is None else _remade(taps.epipole1, taps.cov_e1, rng, count),
         epipole2=None if taps.epipole2 is None else _remade(taps.epipole2, taps.cov_e2, rng, count),
     )
-    poses = gauss_newton(model, fit.pose.repeated(count), iterations=1)
-    pixels, _, _ = seeker_pixels(poses, fit.centres[1])
-    return pixels
+    steps = -model.offsets(fit.pose) @ np.linalg.pinv(fit.jacobian).T
+    return seeker_positions(fit.pose.repeated(count).moved(steps), fit.centres[1])
 
 
 def resolved_samples(taps: Taps, resolve: Callable[[Taps], Array]) -> Array:

@@ -10,32 +10,35 @@ rotation, a unit vector) take their steps in the tangent space and map them back
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 
 from ..projective import Array
 
 Residuals = Callable[[Array], tuple[Array, Array]]
+State = TypeVar("State")
 
 
 def levenberg_marquardt(
-    residuals: Residuals,
-    start: Array,
+    residuals: Callable[[State], tuple[Array, Array]],
+    start: State,
     *,
-    renormalise: Callable[[Array], Array] = lambda theta: theta,
-    retract: Callable[[Array, Array], Array] | None = None,
+    renormalise: Callable[[State], State] = lambda theta: theta,
+    retract: Callable[[State, Array], State] | None = None,
     max_iterations: int = 50,
     gain_tolerance: tuple[float, float] = (1e-10, 0.0),
-) -> tuple[Array, Array, Array]:
+) -> tuple[State, Array, Array]:
     """Minimise ``|r(theta)|^2``.
 
     Args:
         residuals: theta -> (r (M,), J (M, P)), J the Jacobian of r w.r.t. a step.
-        start: initial parameters, of order one (normalised coordinates).
+        start: initial parameters, of order one (normalised coordinates): a vector (P,),
+            or with ``retract`` any state, e.g. a rotation and unit vectors.
         renormalise: puts theta back on its gauge (e.g. unit norm) after each step.
-        retract: (theta, step (P,)) -> the parameters moved by a step, for parameters on a
+        retract: (theta, step (P,)) -> the state moved by a step, for parameters on a
             manifold whose steps live in the tangent space; by default
-            ``renormalise(theta + step)``.
+            ``renormalise(theta + step)`` on a vector.
         max_iterations: a bound; well-started problems converge in a handful.
         gain_tolerance: (relative, absolute): stop once a step lowers the cost by no more
             than ``relative * cost + absolute``.
@@ -43,7 +46,9 @@ def levenberg_marquardt(
     Returns:
         (theta, r, J) at the minimum found.
     """
-    move = retract or (lambda theta, step: renormalise(theta + step))
+    move: Callable[[State, Array], State] = retract or (
+        lambda theta, step: renormalise(theta + step)  # type: ignore[operator]
+    )
     theta = renormalise(start)
     r, jacobian = residuals(theta)
     cost = float(r @ r)
@@ -52,9 +57,11 @@ def levenberg_marquardt(
     for _ in range(max_iterations):
         normal = jacobian.T @ jacobian
         gradient = jacobian.T @ r
-        scaling = np.maximum(np.diag(normal), 1e-12)
+        scaling = np.maximum(normal.diagonal(), 1e-12)
+        damped = normal.copy()
+        damped.flat[:: len(scaling) + 1] += damping * scaling
         try:
-            step = np.linalg.solve(normal + damping * np.diag(scaling), -gradient)
+            step = np.linalg.solve(damped, -gradient)
         except np.linalg.LinAlgError:
             damping *= growth
             growth *= 2.0
@@ -72,7 +79,8 @@ def levenberg_marquardt(
         ratio = (cost - cost_trial) / predicted if predicted > 0 else -1.0
         if cost_trial <= cost:
             theta, r, jacobian = trial, r_trial, jacobian_trial
-            small_step = float(step @ step) <= 1e-20 * float(theta @ theta)
+            size = float(theta @ theta) if isinstance(theta, np.ndarray) else 1.0
+            small_step = float(step @ step) <= 1e-20 * size
             small_gain = cost - cost_trial <= gain_tolerance[0] * cost + gain_tolerance[1]
             cost = cost_trial
             damping = max(damping * max(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3), 1e-12)

@@ -20,8 +20,9 @@ whitened by the covariances of its two taps, the friends' marks by their offset 
 model's epipoles. The minimum of the sum of squares is the maximum a posteriori estimate to
 first order, and the inverse of ``J^T J`` its covariance (the Laplace approximation).
 
-Everything runs on a batch of K poses and K sets of taps at once: K = 1 for a fit, K in the
-hundreds for the bootstrap (:mod:`.bootstrap`), so both use the same code.
+Everything runs on a batch of K poses and K sets of taps at once: K = 1 for a fit, several
+for scoring the exact solvers' poses (:mod:`.pinhole_starts`), and K sets of re-made taps
+for the bootstrap (:mod:`.bootstrap`), so all use the same code.
 """
 
 from __future__ import annotations
@@ -81,6 +82,21 @@ class Poses:
     def __len__(self) -> int:
         return len(self.rotation)
 
+    def _moved_one(self, step: Array) -> Poses:
+        """:meth:`moved` for a batch of one (every fit's step), in plain floats and OpenCV."""
+        x, y, z = (float(v) for v in self.buddy[0])
+        (fx, sx), (fy, sy), (fz, sz) = _tangent(x, y, z)
+        a, b = float(step[3]), float(step[4])
+        x, y, z = x + fx * a + sx * b, y + fy * a + sy * b, z + fz * a + sz * b
+        norm = math.sqrt(x * x + y * y + z * z)
+        turn, _ = cv2.Rodrigues(step[:3])
+        return Poses(
+            (turn @ self.rotation[0])[None],
+            np.array([[x / norm, y / norm, z / norm]]),
+            self.log_focals + step[5:7],
+            self.reference,
+        )
+
     @property
     def ratio(self) -> Array:
         """(K,) f_reference / f1."""
@@ -113,6 +129,8 @@ class Poses:
 
     def moved(self, steps: Array) -> Poses:
         """The poses after tangent steps (K, 7): ``exp([w]x) R``, buddy, log focals."""
+        if len(self.rotation) == 1:
+            return self._moved_one(steps[0])
         tangent = _tangents(self.buddy)
         buddy = self.buddy + np.einsum("kij,kj->ki", tangent, steps[:, _BASELINE])
         buddy /= np.linalg.norm(buddy, axis=1, keepdims=True)
@@ -121,16 +139,6 @@ class Poses:
             buddy,
             self.log_focals + steps[:, 5:7],
             self.reference,
-        )
-
-    def as_vector(self) -> Array:
-        """A single pose as a flat vector (14,), for the least-squares driver."""
-        return np.concatenate([self.rotation[0].ravel(), self.buddy[0], self.log_focals[0]])
-
-    def of_vector(self, theta: Array) -> Poses:
-        """A single pose from :meth:`as_vector`'s layout, with this pose's reference."""
-        return Poses(
-            theta[None, :9].reshape(1, 3, 3), theta[None, 9:12], theta[None, 12:14], self.reference
         )
 
 
@@ -145,6 +153,7 @@ class PinholeFit:
         dof: residuals minus parameters.
         covariance: (7, 7) of the tangent parameters.
         distances: (N,) whitened Sampson distance of each landmark (in its own sigmas).
+        jacobian: (M, 7) of all whitened residuals at the estimate.
     """
 
     pose: Poses
@@ -153,6 +162,7 @@ class PinholeFit:
     dof: int
     covariance: Array
     distances: Array
+    jacobian: Array
 
     @property
     def focals(self) -> tuple[float, float]:
@@ -210,6 +220,7 @@ class PinholeModel:
         epipole1: Array | None = None,
         epipole2: Array | None = None,
     ) -> None:
+        self.taps, self.priors = taps, priors
         p = taps.p[None] if p is None else p
         q = taps.q[None] if q is None else q
         count = len(p)
@@ -220,10 +231,8 @@ class PinholeModel:
         self.centres = np.array([priors[0].centre, priors[1].centre])
         self.prior_mean = np.array([priors[0].log_focal, priors[1].log_focal])
         self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
-        self.prior_jacobian = np.zeros((1, 2, PARAMETERS))
-        self.prior_jacobian[0, 0, _FOCAL1], self.prior_jacobian[0, 1, _FOCAL2] = (
-            1.0 / self.prior_sigma
-        )
+        self.prior_jacobian = np.zeros((2, PARAMETERS))
+        self.prior_jacobian[0, _FOCAL1], self.prior_jacobian[1, _FOCAL2] = 1.0 / self.prior_sigma
         self.buddy = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
         self.seeker = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
         self.line = None
@@ -231,29 +240,57 @@ class PinholeModel:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
         self.landmarks = len(taps)
 
-    def residuals(self, poses: Poses) -> tuple[Array, Array]:
-        """(r (K, M), J (K, M, 7)): landmarks first, then the friends' marks and the priors."""
-        tangent = _tangents(poses.buddy)
-        blocks = [_landmarks(poses, self, tangent)]
+    def residuals(self, pose: Poses) -> tuple[Array, Array]:
+        """(r (M,), J (M, 7)) at one pose: landmarks first, then the friends' marks and the
+        priors."""
+        tangent = _tangents(pose.buddy)
+        blocks = [_landmarks(pose, self, tangent[0])]
         if self.buddy is not None or self.line is not None:
-            position, jacobian = _buddy_pixels(poses, self.centres[0], tangent)
+            position, jacobian = _buddy_pixel(pose, self.centres[0], tangent[0])
             if self.buddy is not None:
                 blocks.append(self.buddy.residuals(position, jacobian))
             if self.line is not None:
                 distance = position @ self.line[:2] + self.line[2]
-                blocks.append((distance[:, None], (self.line[:2] @ jacobian)[:, None, :]))
+                blocks.append((np.array([distance]), (self.line[:2] @ jacobian)[None]))
         if self.seeker is not None:
-            position, jacobian, _ = seeker_pixels(poses, self.centres[1], tangent)
-            blocks.append(self.seeker.residuals(position, jacobian))
+            position, jacobian, _ = seeker_pixels(pose, self.centres[1], tangent)
+            blocks.append(self.seeker.residuals(position[0], jacobian[0]))
         blocks.append(
-            (
-                (poses.log_focals - self.prior_mean) / self.prior_sigma,
-                np.broadcast_to(self.prior_jacobian, (len(poses), 2, PARAMETERS)),
-            )
+            ((pose.log_focals[0] - self.prior_mean) / self.prior_sigma, self.prior_jacobian)
         )
-        return np.concatenate([r for r, _ in blocks], axis=1), np.concatenate(
-            [j for _, j in blocks], axis=1
-        )
+        return np.concatenate([r for r, _ in blocks]), np.concatenate([j for _, j in blocks])
+
+    def offsets(self, poses: Poses) -> Array:
+        """(K, M) whitened residuals, without the Jacobian: K poses against one set of taps
+        (scoring candidate poses), or one pose against K sets of taps (the bootstrap)."""
+        count = max(len(poses), len(self.p_t))
+        f = np.exp(poses.log_focals)
+        inverse = _inverse_k(f.ravel(), np.tile(self.centres, (len(poses), 1)))
+        inverse = inverse.reshape(len(poses), 2, 3, 3)
+        essential = poses.rotation @ _skews(poses.baseline)
+        fundamental = inverse[:, 1].transpose(0, 2, 1) @ essential @ inverse[:, 0]
+        lines2 = fundamental @ self.p_t  # (K, 3, N)
+        lines1 = fundamental.transpose(0, 2, 1) @ self.q_t
+        eps = (lines2 * self.q_t).sum(axis=1)
+        grad1, grad2 = lines1[:, :2], lines2[:, :2]
+        variance = (grad1 * (self.cov_p_t * grad1[:, None]).sum(axis=2)).sum(axis=1) + (
+            grad2 * (self.cov_q_t * grad2[:, None]).sum(axis=2)
+        ).sum(axis=1)
+        blocks = [eps / np.sqrt(variance)]
+        tangent = _tangents(poses.buddy)
+        if self.buddy is not None or self.line is not None:
+            position, _ = _buddy_pixels(poses, self.centres[0], tangent)
+            if self.buddy is not None:
+                blocks.append((position - self.buddy.position) @ self.buddy.whiten.T)
+            if self.line is not None:
+                distance = position @ self.line[:2] + self.line[2]
+                blocks.append(np.broadcast_to(distance[:, None], (count, 1)))
+        if self.seeker is not None:
+            position, _, _ = seeker_pixels(poses, self.centres[1], tangent)
+            blocks.append((position - self.seeker.position) @ self.seeker.whiten.T)
+        prior = (poses.log_focals - self.prior_mean) / self.prior_sigma
+        blocks.append(np.broadcast_to(prior, (count, 2)))
+        return np.concatenate([np.broadcast_to(b, (count, b.shape[1])) for b in blocks], axis=1)
 
 
 @dataclass(frozen=True)
@@ -270,31 +307,25 @@ class _Mark:
         return cls(tap[None] if batch is None else batch, whitener(covariance))
 
     def residuals(self, model: Array, jacobian: Array) -> tuple[Array, Array]:
-        return (model - self.position) @ self.whiten.T, self.whiten @ jacobian
+        """Whitened offset (2,) of the model's pixel (2,) from the mark, and its Jacobian."""
+        return self.whiten @ (model - self.position[0]), self.whiten @ jacobian
 
 
-def fit_pinhole(
-    taps: Taps, priors: tuple[FocalPrior, FocalPrior], start: Poses, *, max_iterations: int = 50
-) -> PinholeFit:
+def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) -> PinholeFit:
     """Refine a pose over every tap and both focal priors.
 
     Args:
-        taps: landmarks (N >= 1) and whichever friends' marks were made, with covariances.
-        priors: the focal priors of photo 1 and photo 2 (their centres are the principal
-            points).
+        model: the taps (landmarks, N >= 1, and whichever friends' marks were made, with
+            covariances) and the focal priors of photo 1 and photo 2 (their centres are the
+            principal points).
         start: an initial pose (a batch of one), e.g. from :mod:`..minimal.buddy_and_three`.
         max_iterations: bound for Levenberg-Marquardt.
     """
-    model = PinholeModel(taps, priors)
 
-    def residuals(theta: Array) -> tuple[Array, Array]:
-        r, jacobian = model.residuals(start.of_vector(theta))
-        return r[0], jacobian[0]
-
-    theta, r, jacobian = levenberg_marquardt(
-        residuals,
-        start.as_vector(),
-        retract=lambda t, step: start.of_vector(t).moved(step[None]).as_vector(),
+    pose, r, jacobian = levenberg_marquardt(
+        model.residuals,
+        start,
+        retract=lambda pose, step: pose.moved(step[None]),
         max_iterations=max_iterations,
         gain_tolerance=_GAIN_TOLERANCE,
     )
@@ -304,28 +335,14 @@ def fit_pinhole(
     except np.linalg.LinAlgError:
         covariance = np.linalg.pinv(information, hermitian=True)
     return PinholeFit(
-        pose=start.of_vector(theta),
+        pose=pose,
         centres=model.centres,
         cost=float(r @ r),
         dof=len(r) - PARAMETERS,
         covariance=covariance,
-        distances=r[: len(taps)],
+        distances=r[: model.landmarks],
+        jacobian=jacobian,
     )
-
-
-def gauss_newton(model: PinholeModel, poses: Poses, iterations: int) -> Poses:
-    """A few undamped Gauss-Newton steps for every member of a batch at once.
-
-    For re-solving many slightly changed problems from a nearby start (the bootstrap). A
-    whisper of damping keeps every normal matrix invertible; it changes no step that matters.
-    """
-    for _ in range(iterations):
-        r, jacobian = model.residuals(poses)
-        normal = jacobian.transpose(0, 2, 1) @ jacobian
-        normal += 1e-12 * np.trace(normal, axis1=1, axis2=2)[:, None, None] * np.eye(PARAMETERS)
-        gradient = (r[:, None, :] @ jacobian)[:, 0]
-        poses = poses.moved(-np.linalg.solve(normal, gradient[..., None])[..., 0])
-    return poses
 
 
 def seeker_pixels(
@@ -350,6 +367,15 @@ def seeker_pixels(
     return centre + f2[:, None] * pixel, jacobian, finite
 
 
+def seeker_positions(poses: Poses, centre: Array) -> Array:
+    """(K, 2) the seeker in photo 2, ``pi(-K2 R b1)``, without derivatives (not finite, or
+    very far off, at infinity)."""
+    f2 = np.exp(poses.log_focals[:, 1])
+    v = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return centre + f2[:, None] * v[:, :2] / v[:, 2:]
+
+
 def _buddy_pixels(poses: Poses, centre: Array, tangent: Array) -> tuple[Array, Array]:
     """The buddy in photo 1, ``pi(K1 b1)``: pixels (K, 2) and Jacobians (K, 2, 7).
 
@@ -359,6 +385,16 @@ def _buddy_pixels(poses: Poses, centre: Array, tangent: Array) -> tuple[Array, A
     jacobian = np.zeros((len(poses), 2, PARAMETERS))
     jacobian[:, :, _BASELINE] = reference * _d_project(u) @ tangent
     return centre + reference * u[:, :2] / u[:, 2:], jacobian
+
+
+def _buddy_pixel(pose: Poses, centre: Array, tangent: Array) -> tuple[Array, Array]:
+    """:func:`_buddy_pixels` for one pose, (2,) and (2, 7), in plain floats where it pays."""
+    reference = math.exp(pose.reference)
+    x, y, z = (float(v) for v in pose.buddy[0])
+    d_project = np.array([[1.0 / z, 0.0, -x / (z * z)], [0.0, 1.0 / z, -y / (z * z)]])
+    jacobian = np.zeros((2, PARAMETERS))
+    jacobian[:, _BASELINE] = reference * d_project @ tangent
+    return np.array([centre[0] + reference * x / z, centre[1] + reference * y / z]), jacobian
 
 
 def _baseline_derivatives(poses: Poses, tangent: Array) -> tuple[Array, Array]:
@@ -372,51 +408,46 @@ def _baseline_derivatives(poses: Poses, tangent: Array) -> tuple[Array, Array]:
     return d_baseline, d_focal
 
 
-def _landmarks(poses: Poses, model: PinholeModel, tangent: Array) -> tuple[Array, Array]:
-    """Whitened Sampson distances (K, N) and their exact Jacobian (K, N, 7).
+def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array, Array]:
+    """Whitened Sampson distances (N,) and their exact Jacobian (N, 7) at one pose.
 
-    F and its derivatives along the 7 parameters are stacked as eight pixel matrices
-    ``L_k S_k R_k``, so each landmark's residual and gradient come from a few batched
-    products (this runs at every iteration of every fit).
+    F and its derivatives along the 7 parameters are stacked as eight pixel matrices, so
+    every landmark's residual and gradient come from a few products (this runs at every
+    iteration of every fit). ``tangent``: (3, 2) the buddy direction's tangent basis.
     """
-    count = len(poses)
-    f = np.exp(poses.log_focals)  # (K, 2)
-    inverse = _inverse_k(f.ravel(), np.tile(model.centres, (count, 1))).reshape(count, 2, 3, 3)
-    inverse1, inverse2_t = inverse[:, 0], inverse[:, 1].transpose(0, 2, 1)
-    d_baseline, d_focal = _baseline_derivatives(poses, tangent)
+    f1, f2 = np.exp(pose.log_focals[0])
+    (x1, y1), (x2, y2) = model.centres
+    inverse1 = np.array([[1.0 / f1, 0.0, -x1 / f1], [0.0, 1.0 / f1, -y1 / f1], [0.0, 0.0, 1.0]])
+    inverse2_t = np.array([[1.0 / f2, 0.0, 0.0], [0.0, 1.0 / f2, 0.0], [-x2 / f2, -y2 / f2, 1.0]])
+    d_baseline, d_focal = _baseline_derivatives(pose, tangent[None])
     # One call for every cross-product matrix: b1, its two steps, and its focal derivative.
-    vectors = np.concatenate(
-        [poses.baseline[:, None], d_baseline.transpose(0, 2, 1), d_focal[:, None]], axis=1
-    )
-    skews = _skews(vectors.reshape(-1, 3)).reshape(count, 4, 3, 3)
-    essential = poses.rotation @ skews[:, 0]
-    middle = np.empty((count, 8, 3, 3))
-    middle[:, 0] = middle[:, 6] = middle[:, 7] = essential
-    middle[:, 1:4] = _BASIS_SKEWS @ essential[:, None]  # d exp([w]x) R = [e_k]x R
-    middle[:, 4:6] = poses.rotation[:, None] @ skews[:, 1:3]
-    right = np.repeat(inverse1[:, None], 8, axis=1)
-    right[:, 6, :2], right[:, 6, 2] = -inverse1[:, :2], 0.0  # d K1^-1 / d ln f1
-    left = np.repeat(inverse2_t[:, None], 8, axis=1)
-    left[:, 7, :, :2], left[:, 7, :, 2] = -inverse2_t[:, :, :2], 0.0  # d K2^-T / d ln f2
-    stacked = left @ middle @ right  # (K, 8, 3, 3): F, then dF along each parameter
-    # ln f1 also moves b1 (the buddy's pixel stays): R [d b1]x K1^-1, seen through K2^-T.
-    stacked[:, 6] += inverse2_t @ poses.rotation @ skews[:, 3] @ inverse1
-    lines2 = stacked @ model.p_t[:, None]  # (K, 8, 3, N): F p and its derivatives
-    lines1 = stacked.transpose(0, 1, 3, 2) @ model.q_t[:, None]  # F^T q
-    eps = (lines2 * model.q_t[:, None]).sum(axis=2)  # (K, 8, N): q^T F p and derivatives
+    skews = _skews(np.vstack([pose.baseline, d_baseline[0].T, d_focal]))
+    rotation = pose.rotation[0]
+    essential = rotation @ skews[0]
+    middle = np.empty((8, 3, 3))
+    middle[0] = middle[6] = middle[7] = essential
+    middle[1:4] = _BASIS_SKEWS @ essential  # d exp([w]x) R = [e_k]x R
+    middle[4:6] = rotation @ skews[1:3]
+    stacked = inverse2_t @ middle @ inverse1  # F, then dF along each parameter
+    d_inverse1 = np.zeros((3, 3))
+    d_inverse1[:2] = -inverse1[:2]  # d K1^-1 / d ln f1
+    # ln f1 changes K1^-1 and moves b1 (the buddy's pixel stays).
+    stacked[6] = inverse2_t @ (essential @ d_inverse1 + rotation @ skews[3] @ inverse1)
+    d_inverse2_t = np.zeros((3, 3))
+    d_inverse2_t[:, :2] = -inverse2_t[:, :2]  # d K2^-T / d ln f2
+    stacked[7] = d_inverse2_t @ essential @ inverse1
+    lines2 = stacked @ model.p_t[0]  # (8, 3, N): F p and its derivatives
+    lines1 = stacked.transpose(0, 2, 1) @ model.q_t[0]  # F^T q
+    eps = (lines2 * model.q_t[0]).sum(axis=1)  # (8, N): q^T F p and its derivatives
     # Sampson: eps over its standard deviation, from both taps' covariances.
-    grad1, grad2 = lines1[:, :, :2], lines2[:, :, :2]  # (K, 8, 2, N)
-    weighted1 = (model.cov_p_t * grad1[:, :1]).sum(axis=2)  # (K, 2, N)
-    weighted2 = (model.cov_q_t * grad2[:, :1]).sum(axis=2)
-    variance = (grad1[:, 0] * weighted1).sum(axis=1) + (grad2[:, 0] * weighted2).sum(axis=1)
-    d_variance = 2.0 * (
-        (grad1[:, 1:] * weighted1[:, None]).sum(axis=2)
-        + (grad2[:, 1:] * weighted2[:, None]).sum(axis=2)
-    )  # (K, 7, N)
-    scale = 1.0 / np.sqrt(variance)  # (K, N)
-    r = eps[:, 0] * scale
-    jacobian = eps[:, 1:] * scale[:, None] - (0.5 * r * scale * scale)[:, None] * d_variance
-    return r, jacobian.transpose(0, 2, 1)
+    grad1, grad2 = lines1[:, :2], lines2[:, :2]  # (8, 2, N)
+    weighted1 = (model.cov_p_t * grad1[0]).sum(axis=1)  # (2, N)
+    weighted2 = (model.cov_q_t * grad2[0]).sum(axis=1)
+    variance = (grad1[0] * weighted1).sum(axis=0) + (grad2[0] * weighted2).sum(axis=0)
+    d_variance = 2.0 * ((grad1[1:] * weighted1).sum(axis=1) + (grad2[1:] * weighted2).sum(axis=1))
+    scale = 1.0 / np.sqrt(variance)  # (N,)
+    r = eps[0] * scale
+    return r, (eps[1:] * scale - (0.5 * r * scale * scale) * d_variance).T
 
 
 def _inverse_k(focal: Array, centres: Array) -> Array:

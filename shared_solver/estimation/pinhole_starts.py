@@ -38,14 +38,14 @@ _SUBSETS = 2
 _SAME_DIRECTION = 0.02
 
 
-def buddy_starts(taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> list[tuple[float, Poses]]:
+def buddy_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     """Scored candidate poses when the buddy is marked as a point (and maybe the seeker).
 
     Returns:
         ``(score, pose)`` pairs, best (lowest) first, one per distinct seeker direction.
     """
+    taps, priors = model.taps, model.priors
     assert taps.epipole1 is not None
-    log_focals = np.array([priors[0].log_focal, priors[1].log_focal])
     rays1, rays2 = _rays(taps.p, priors[0]), _rays(taps.q, priors[1])
     buddy = _unit(_rays(taps.epipole1[None], priors[0])[0])
     rotations: list[Array] = []
@@ -57,66 +57,63 @@ def buddy_starts(taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> list[tupl
         for triple in _spread_indices(taps, 3):
             index = list(triple)
             rotations += rotations_from_three(buddy, rays1[index], rays2[index])
-    return _ranked(taps, priors, [(r, buddy) for r in rotations], log_focals)
+    if not rotations:
+        return []
+    return _ranked(model, np.array(rotations), np.broadcast_to(buddy, (len(rotations), 3)))
 
 
-def fundamental_starts(
-    taps: Taps, priors: tuple[FocalPrior, FocalPrior], fundamentals: list[Array]
-) -> list[tuple[float, Poses]]:
+def fundamental_starts(model: PinholeModel, fundamentals: list[Array]) -> list[tuple[float, Poses]]:
     """Scored candidate poses from projective solutions (3, 3) F in pixels.
 
     Each F is read at the priors' focal lengths as an essential matrix, and each of its
     four decompositions (Hartley & Zisserman 9.6.2) becomes a candidate.
     """
-    log_focals = np.array([priors[0].log_focal, priors[1].log_focal])
-    k1, k2 = (_intrinsics(prior) for prior in priors)
-    candidates: list[tuple[Array, Array]] = []
+    k1, k2 = (_intrinsics(prior) for prior in model.priors)
+    rotations: list[Array] = []
+    baselines: list[Array] = []
     for fundamental in fundamentals:
-        essential = k2.T @ fundamental @ k1
-        first, second, translation = cv2.decomposeEssentialMat(essential)
+        first, second, translation = cv2.decomposeEssentialMat(k2.T @ fundamental @ k1)
         for rotation in (np.asarray(first, dtype=np.float64), np.asarray(second, dtype=np.float64)):
-            for sign in (1.0, -1.0):
-                # t is the seeker's centre in frame 2, along -R b1: b1 = -R^T t.
-                baseline: Array = -sign * rotation.T @ np.ravel(translation)
-                candidates.append((rotation, baseline))
-    return _ranked(taps, priors, candidates, log_focals)
-
-
-def _ranked(
-    taps: Taps,
-    priors: tuple[FocalPrior, FocalPrior],
-    candidates: list[tuple[Array, Array]],
-    log_focals: Array,
-) -> list[tuple[float, Poses]]:
-    if not candidates:
+            # t is the seeker's centre in frame 2, along -R b1: b1 = -R^T t, either sign.
+            along = rotation.T @ np.ravel(translation)
+            rotations += [rotation, rotation]
+            baselines += [-along, along]
+    if not rotations:
         return []
+    units = np.array(baselines)
+    return _ranked(model, np.array(rotations), units / np.linalg.norm(units, axis=1, keepdims=True))
+
+
+def _ranked(model: PinholeModel, rotations: Array, baselines: Array) -> list[tuple[float, Poses]]:
+    """Candidates (K, 3, 3) rotations and (K, 3) unit baselines at the priors' focal lengths,
+    scored on every tap, best first, one per distinct seeker direction."""
+    log_focals = np.array([model.priors[0].log_focal, model.priors[1].log_focal])
     poses = Poses(
-        np.array([r for r, _ in candidates]),
-        np.array([_unit(b) for _, b in candidates]),
-        np.repeat(log_focals[None], len(candidates), axis=0),
+        rotations,
+        np.ascontiguousarray(baselines),
+        np.broadcast_to(log_focals, (len(rotations), 2)),
         float(log_focals[0]),
     )
-    model = PinholeModel(taps, priors)
-    r, _ = model.residuals(poses)
+    r = model.offsets(poses)
     scores = np.minimum(r * r, _CAP_SIGMAS**2).sum(axis=1)
-    scores += _BEHIND_PENALTY * behind(poses, taps, priors)
+    scores += _BEHIND_PENALTY * behind(poses, model)
     seekers = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
-    kept: list[tuple[float, Poses]] = []
-    for k in np.argsort(scores, kind="stable"):
-        if all(
-            float(seekers[k] @ other.rotation[0] @ -other.baseline[0]) < math.cos(_SAME_DIRECTION)
-            for _, other in kept
-        ):
-            kept.append((float(scores[k]), poses.member(int(k))))
-    return kept
+    seekers /= np.linalg.norm(seekers, axis=1, keepdims=True)
+    same = (seekers @ seekers.T >= math.cos(_SAME_DIRECTION)).tolist()
+    kept: list[int] = []
+    for k in np.argsort(scores, kind="stable").tolist():
+        if not any(same[k][other] for other in kept):
+            kept.append(k)
+    return [(float(scores[k]), poses.member(k)) for k in kept]
 
 
-def behind(poses: Poses, taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> Array:
+def behind(poses: Poses, model: PinholeModel) -> Array:
     """(K,) how many landmarks each pose puts behind the seeker's or the buddy's camera.
 
     The landmark is where the two rays pass closest (midpoint triangulation, with the
     cameras a unit apart); a landmark beyond the buddy along the baseline has no sign.
     """
+    taps, priors = model.taps, model.priors
     focals = np.exp(poses.log_focals)
     rays1 = _rays_at(taps.p, priors[0].centre, focals[:, 0])  # (K, N, 3) frame 1
     rays2 = _rays_at(taps.q, priors[1].centre, focals[:, 1])  # frame 2

@@ -7,7 +7,10 @@ Used to rank the several real solutions of the 6-landmark cubic and of the 7-poi
 * the focal lengths a candidate ``F`` implies when each principal point is the image centre
   (Bougnoux, ICCV 1998; docs/geometry.md): they
   must be real and phone-like;
-* phones photographing each other see each other: epipoles inside the photos are likelier.
+* whether the epipoles fall inside the photos is reported, but it does not rank: two
+  phones facing each other see each other, but a room's cameras, a turntable or two people
+  walking one behind the other do not, and ranking by it chose the wrong root more often
+  than leaving it out (measured on those scenes, exact taps; docs/geometry.md).
 """
 
 from __future__ import annotations
@@ -38,8 +41,10 @@ class Plausibility:
     focal_deviation: float  # sum of |log(f / typical phone f)|, inf if imaginary
 
     def hard_cues(self) -> tuple[int, int, int]:
-        """What a real scene must satisfy; candidates equal here are genuinely ambiguous."""
-        return (self.oriented_violations, 0 if self.phone_like else 1, -self.epipoles_inside)
+        """What a real scene must satisfy (every landmark in front of both cameras, real
+        focal lengths, and camera-like ones); candidates equal here are genuinely ambiguous."""
+        imaginary = sum(focal is None for focal in self.focal_lengths)
+        return (self.oriented_violations, imaginary, 0 if self.phone_like else 1)
 
     def sort_key(self) -> tuple[int, int, int, float]:
         return (*self.hard_cues(), self.focal_deviation)

@@ -2,8 +2,8 @@
 
 The six-landmark line solver and the 7-point method return up to three geometries that fit
 their landmarks exactly. They are ranked by physical plausibility
-(:mod:`.plausibility`): the oriented epipolar constraint first, then phone-like focal
-lengths, then epipoles inside the photos.
+(:mod:`.plausibility`): the oriented epipolar constraint first, then real focal lengths,
+then camera-like ones, then how close they are to a phone's.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def epipoles_from_six(
 
     Returns:
         Candidates ordered by ``rank`` (1 first): the oriented epipolar constraint, then
-        phone-like implied focal lengths, then epipoles inside the photos. Each has
+        real, camera-like, phone-like implied focal lengths. Each has
         ``epipole1``, ``epipole2`` (3,) homogeneous unit vectors, ``fundamental`` (3, 3).
 
     Raises:

@@ -50,20 +50,28 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
     a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
     landmark_rows = np.einsum("ni,nj->nij", q_n, p_n).reshape(6, 9)
 
-    def system(e1: Array) -> Array:
-        epipole_rows = np.kron(np.eye(3), e1)  # row r: (F e1)_r as a function of vec(F)
-        return np.vstack([landmark_rows, epipole_rows])
+    def systems(e1: Array) -> Array:
+        """(K, 9, 9): the six landmark rows, then (F e1)_r for each (K, 3) buddy position."""
+        stacked = np.zeros((len(e1), 9, 9))
+        stacked[:, :6] = landmark_rows
+        for row in range(3):  # row r of F e1 = 0 involves F's r-th row only
+            stacked[:, 6 + row, 3 * row : 3 * row + 3] = e1
+        return stacked
 
-    roots = _real_roots([np.linalg.det(system(np.cos(t) * a + np.sin(t) * b)) for t in _ANGLES])
+    samples = np.outer(np.cos(_ANGLES), a) + np.outer(np.sin(_ANGLES), b)
+    roots = _real_roots(list(np.linalg.det(systems(samples))))
+    if not roots:
+        return []
+    positions = np.array([s * a + t * b for s, t in roots])
+    _, singular, vt = np.linalg.svd(systems(positions))
     found = []
-    for s, t in roots:
-        e1_n = s * a + t * b
-        _, singular, vt = np.linalg.svd(system(e1_n))
-        if singular[-2] <= 1e-9 * singular[0]:
+    for e1_n, values, null in zip(positions, singular, vt[:, -1], strict=True):
+        if values[-2] <= 1e-9 * values[0]:
             continue  # more than one F: this root does not fix the geometry
-        fundamental = t2.T @ vt[-1].reshape(3, 3) @ t1
-        if np.linalg.matrix_rank(fundamental / np.linalg.norm(fundamental), tol=1e-9) < 2:
-            continue
+        fundamental = t2.T @ null.reshape(3, 3) @ t1
+        values_f = np.linalg.svd(fundamental / np.linalg.norm(fundamental), compute_uv=False)
+        if values_f[1] <= 1e-9:
+            continue  # rank below 2: no epipoles
         found.append(
             (
                 canonical(np.linalg.solve(t1, e1_n)),
