@@ -16,7 +16,7 @@ APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/nu
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-load demo clean
+.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load demo clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -50,6 +50,9 @@ bench: $(INSTALLED)
 
 bench-api: $(INSTALLED)
 	$(BIN)/python benchmarks/api.py
+
+bench-camera: $(INSTALLED)
+	$(BIN)/python benchmarks/camera_checks.py
 
 bench-load: $(INSTALLED)
 	$(BIN)/python benchmarks/load.py --workers 2

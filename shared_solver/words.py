@@ -61,21 +61,28 @@ def outside_photo(beyond_px: float, side: Side) -> str:
     )
 
 
-def ambiguous(*, line: bool) -> str:
+Marked = Literal["point", "line", "none"]  # how the buddy was marked in photo 1
+
+
+def ambiguous(*, marked: Marked) -> str:
     """Several geometries fit the landmarks equally well."""
     return (
         "More than one position fits these landmarks; the likeliest is marked and the others "
-        f"are listed. To decide, {_decide(line=line)} or add a landmark."
+        f"are listed. To decide, {_decide(marked)}."
     )
 
 
-def no_margin(*, line: bool) -> str:
+def no_margin(*, marked: Marked) -> str:
     """An answer ranked first among several, with no region claimed."""
-    return f"This position has no reliable error margin; {_decide(line=line)} for one."
+    return f"This position has no reliable error margin; {_decide(marked)} for one."
 
 
-def _decide(*, line: bool) -> str:
-    return "mark the buddy as a point" if line else "mark the buddy in photo 1"
+def _decide(marked: Marked) -> str:
+    return {
+        "point": "add a landmark",
+        "line": "mark the buddy as a point or add a landmark",
+        "none": "mark the buddy in photo 1 or add a landmark",
+    }[marked]
 
 
 # --- refusals: input that cannot be answered honestly ----------------------------------------

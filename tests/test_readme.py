@@ -28,7 +28,7 @@ def test_readme_example_prints_what_it_promises() -> None:
     output = io.StringIO()
     with contextlib.redirect_stdout(output):
         exec(compile(example(), "README.md", "exec"), {})  # our own README
-    first, second = output.getvalue().splitlines()
+    first, second, third = output.getvalue().splitlines()
     printed = re.match(r"(\w+) \(([\d.]+), ([\d.]+)\) (\w+)", first)
     assert printed is not None, first
     method, x, y, quality = printed.groups()
@@ -39,6 +39,11 @@ def test_readme_example_prints_what_it_promises() -> None:
     axes = [float(v) for v in re.findall(r"[\d.]+", second)]
     assert abs(axes[0] - 4.4) < 0.2
     assert abs(axes[1] - 2.9) < 0.2
+    phone = re.match(r"(\w+) \(([\d.]+), ([\d.]+)\)", third)
+    assert phone is not None, third
+    assert phone.group(1) == "pinhole_epipole"
+    assert abs(float(phone.group(2)) - 538.8) < 0.1
+    assert abs(float(phone.group(3)) - 600.8) < 0.1
 
 
 def test_readme_session_script_finds_the_buddy(

@@ -215,6 +215,36 @@ def candidates(request: Request, geometries: list[Geometry]) -> list[Candidate]:
     return listed
 
 
+def pinhole_candidates(request: Request, fits: list[PinholeFit]) -> list[Candidate]:
+    """Every pose that fits about as well, best first, oriented by the model itself."""
+    taps = request.taps
+    listed = []
+    for rank, fit in enumerate(fits, 1):
+        cue = assess(
+            fit.fundamental,
+            fit.epipole1,
+            fit.epipole2,
+            taps.p,
+            taps.q,
+            image_size1=request.size1,
+            image_size2=request.size2,
+        )
+        listed.append(
+            Candidate(
+                rank=rank,
+                epipole1=pixel(fit.epipole1),
+                epipole1_h=unit(fit.epipole1),
+                epipole2=pixel(fit.epipole2) if fit.epipole2[2] > 0 else None,
+                epipole2_h=unit(fit.epipole2),
+                fundamental=matrix(canonical_matrix(fit.fundamental)),
+                oriented_violations=cue.oriented_violations,
+                focal_lengths=fit.focals,
+                phone_like=cue.phone_like,
+            )
+        )
+    return listed
+
+
 # --- consistency and warnings -----------------------------------------------------------
 
 

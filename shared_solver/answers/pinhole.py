@@ -30,13 +30,12 @@ from ..estimation.pinhole_starts import behind, buddy_starts, fundamental_starts
 from ..estimation.uncertainty import consistent
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
-from ..projective import Array, canonical
+from ..projective import Array
 from ..result import Method, SolveResult
 from .building import (
     Answer,
-    Geometry,
     calibrated,
-    candidates,
+    pinhole_candidates,
     result,
     suspect_warnings,
     widen_if_inconsistent,
@@ -50,6 +49,9 @@ _REFINE_MARGIN = 9.0
 # Refined fits within this cost of the best, with a seeker elsewhere, make the answer
 # ambiguous (a difference of 4 is two sigmas of evidence).
 _AMBIGUOUS_COST = 4.0
+# At most this many degrees of freedom to spare, first order was measured too optimistic
+# (three or four landmarks and the buddy): the region is calibrated by a bootstrap.
+BOOTSTRAP_DOF = 1
 # Seekers closer than this many of their own sigmas are the same answer.
 _SAME_ANSWER_SIGMAS = 3.0
 
@@ -79,7 +81,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
         return None  # the projective geometry can answer without the camera model
     others = _rivals(fit, fits[1:])
     covariance = fit.covariance2()
-    if fit.dof <= 1:  # little redundancy: first order was measured too optimistic
+    if fit.dof <= BOOTSTRAP_DOF:
         used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
         covariance = calibrated(
             fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)
@@ -193,18 +195,21 @@ def _ambiguous(
     warnings: list[str],
 ) -> SolveResult:
     """Several poses fit: the likeliest is marked, every one is listed, no region claimed."""
-    geometries: list[Geometry] = [
-        (canonical(f.epipole1), f.epipole2, f.fundamental) for f in (fit, *others)
-    ]
-    line = request.taps.line1 is not None or request.taps.epipole1 is None
+    marked: words.Marked = (
+        "point"
+        if request.taps.epipole1 is not None
+        else "line"
+        if request.taps.line1 is not None
+        else "none"
+    )
     return result(
         method,
         request,
         Answer.of_pinhole(request, fit, None, orientable=_orientable(model, fit)),
         suspects=[],
-        warnings=[*warnings, words.ambiguous(line=line)],
+        warnings=[*warnings, words.ambiguous(marked=marked)],
         inconsistent=True,
-        candidates=candidates(request, geometries),
+        candidates=pinhole_candidates(request, [fit, *others]),
     )
 
 

@@ -218,8 +218,8 @@ def _likeliest(
         else fit_epipolar(taps, geometries[top][2], use_buddy=use_buddy)
     )
     ambiguous = sum(cues[i].hard_cues() == cues[top].hard_cues() and fit_ok[i] for i in order) > 1
-    line = taps.line1 is not None
-    warnings = [words.ambiguous(line=line) if ambiguous else words.no_margin(line=line)]
+    marked: words.Marked = "line" if taps.line1 is not None else "none"
+    warnings = [words.ambiguous(marked=marked) if ambiguous else words.no_margin(marked=marked)]
     _, inconsistent = widen_if_inconsistent(fit, None, warnings)
     return result(
         method,

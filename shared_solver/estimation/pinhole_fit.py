@@ -12,8 +12,8 @@ and the two log focal lengths (2), the last with the cameras' priors (:mod:`.cam
 
 The buddy's direction is kept as a camera of a fixed reference focal length would see it,
 ``u``, and ``b1 ~ diag(r, r, 1) u`` with ``r = f_reference / f1``: the buddy's pixel then
-does not move when the focal length does. Measured on phone scenes, this halves the
-iterations over keeping ``b1`` itself, whose pixel slid with every change of ``f1``.
+does not move when the focal length does, and a step in ``f1`` does not fight the
+buddy's tap.
 
 Every tap counts with its own covariance: a landmark by its Sampson distance (H & Z 11.4.3)
 whitened by the covariances of its two taps, the friends' marks by their offset from the

@@ -205,3 +205,33 @@ def test_camera_input_is_checked() -> None:
 
 def _sizes(s: PhoneScene) -> dict[str, object]:
     return {"image_size1": s.image_size1, "image_size2": s.image_size2}
+
+
+def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:
+    """Three landmarks and the buddy fit every pose of the exact solver: when two put the
+    landmarks in front of both cameras and the seeker in different places, the answer is the
+    likeliest, graded poor, with no region, both listed, and a sentence saying what decides."""
+    seen = 0
+    for seed in range(120):
+        rng = np.random.default_rng(seed)
+        s = phone_scene(rng, 3)
+        taps = tap(s, 3.0, rng)
+        try:
+            result = solve(
+                taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=3.0, **phones(s)
+            )
+        except SolverError:
+            continue
+        if not result.candidates:
+            assert result.uncertainty is not None
+            assert result.uncertainty.ellipse is not None
+            continue
+        seen += 1
+        assert result.quality == "poor"
+        assert result.uncertainty is not None
+        assert result.uncertainty.ellipse is None
+        assert len(result.candidates) >= 2
+        assert result.candidates[0].epipole2_h == pytest.approx(result.epipole2_h)
+        assert words.ambiguous(marked="point") in result.warnings
+        assert words.ambiguous(marked="point").endswith("To decide, add a landmark.")
+    assert seen >= 3  # about one search in twenty
