@@ -24,10 +24,14 @@ import numpy as np
 from .. import words
 from ..estimation import bootstrap
 from ..estimation.camera import FocalPrior
-from ..estimation.mistaps import find_mistaps, refit
+from ..estimation.epipolar_fit import fit_epipolar
+from ..estimation.mistaps import refit
 from ..estimation.pinhole_fit import PinholeFit, PinholeModel, Poses, fit_pinhole
+from ..estimation.pinhole_mistaps import find_pinhole_mistaps
 from ..estimation.pinhole_starts import behind, buddy_starts, fundamental_starts
+from ..estimation.taps import Taps
 from ..estimation.uncertainty import consistent
+from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
 from ..projective import Array
@@ -49,6 +53,10 @@ _REFINE_MARGIN = 9.0
 # Refined fits within this cost of the best, with a seeker elsewhere, make the answer
 # ambiguous (a difference of 4 is two sigmas of evidence).
 _AMBIGUOUS_COST = 4.0
+# Mis-taps are looked for from this many landmarks: six give the projective check that the
+# camera model is not what disagrees one degree of freedom, and the camera model's own
+# consensus two to spare.
+_MISTAPS_FROM = 6
 # At most this many degrees of freedom to spare, first order was measured too optimistic
 # (three or four landmarks and the buddy): the region is calibrated by a bootstrap.
 BOOTSTRAP_DOF = 1
@@ -68,14 +76,12 @@ def buddy_marked(request: Request) -> SolveResult | None:
     fit = fits[0]
     suspects: list[int] = []
     warnings: list[str] = []
-    if not consistent(fit) and len(taps) >= 7:
-        found = find_mistaps(taps, use_buddy=True)
+    if not consistent(fit) and len(taps) >= _MISTAPS_FROM and _projective_disagrees(taps):
+        # The taps disagree whatever the cameras: look for the landmark to blame.
+        found = find_pinhole_mistaps(model)
         if found is not None:
-            kept = np.setdiff1d(np.arange(len(taps)), found[0])
-            again = fit_pinhole(PinholeModel(taps.subset(kept), priors), fit.pose)
-            if consistent(again):
-                suspects, fit = found[0], again
-                warnings += suspect_warnings(request, suspects, fit.fundamental)
+            suspects, fit = found
+            warnings += suspect_warnings(request, suspects, fit.fundamental)
     both = taps.epipole2 is not None
     if not consistent(fit) and len(taps) >= (3 if both else 5):
         return None  # the projective geometry can answer without the camera model
@@ -149,6 +155,14 @@ def _from_fundamentals(
         warnings=warnings,
         inconsistent=inconsistent,
     )
+
+
+def _projective_disagrees(taps: Taps) -> bool:
+    """Whether the taps also disagree with any two projective cameras (chi-square test on
+    the projective fit): then a landmark is to blame, not the camera model."""
+    assert taps.epipole1 is not None
+    start = fundamental_with_epipole(np.append(taps.epipole1, 1.0), taps.p, taps.q)
+    return not consistent(fit_epipolar(taps, start))
 
 
 def _refined(model: PinholeModel, starts: list[tuple[float, Poses]]) -> list[PinholeFit]:

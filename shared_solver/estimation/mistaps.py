@@ -68,7 +68,7 @@ def find_mistaps(taps: Taps, *, use_buddy: bool) -> tuple[list[int], EpipolarFit
         if inliers.sum() < minimum:
             return None
         fit = refit(taps.subset(np.flatnonzero(inliers)), use_buddy=use_buddy)
-        inliers = np.abs(whitened_distances(fit.fundamental, taps)) <= _SUSPECT_SIGMAS
+        inliers = np.abs(whitened_distances(fit.fundamental, taps)) <= SUSPECT_SIGMAS
     if inliers.sum() < minimum or inliers.all() or not consistent(fit):
         return None
     return [int(i) for i in np.flatnonzero(~inliers)], fit
@@ -91,7 +91,7 @@ def refit(taps: Taps, *, use_buddy: bool) -> EpipolarFit:
 # unique linear start): one more is needed to check a consensus.
 _MIN_INLIERS = {True: 6, False: 9}
 # A landmark this far (in its sigmas) from the refit is not tap noise (two-sided p < 0.001).
-_SUSPECT_SIGMAS = math.sqrt(chi2_quantile(0.999, 1))
+SUSPECT_SIGMAS = math.sqrt(chi2_quantile(0.999, 1))
 
 
 def _subsets(n: int) -> Array:

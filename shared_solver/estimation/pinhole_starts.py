@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 from itertools import combinations
 
 import cv2
@@ -29,9 +30,9 @@ from .taps import Taps
 _CAP_SIGMAS = 6.0
 # Each landmark behind a camera costs as much as a capped residual.
 _BEHIND_PENALTY = _CAP_SIGMAS**2
-# Minimal subsets tried: the best-spread two (each gives up to 8 rotations); a second one
-# in case the first holds a mis-tap.
-_SUBSETS = 2
+# Minimal subsets tried: the best-spread one (up to 8 rotations). A second changed no answer
+# on phone scenes; a mis-tap in it is the mis-tap search's to find (pinhole_mistaps).
+_SUBSETS = 1
 # Two candidates whose seekers are closer than this (radians apart, about 60 px at a phone's
 # focal length) are the same start: different subsets of noisy taps give slightly different
 # poses of one basin.
@@ -44,6 +45,21 @@ def buddy_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     Returns:
         ``(score, pose)`` pairs, best (lowest) first, one per distinct seeker direction.
     """
+    taps = model.taps
+    triples = _spread_indices(taps, 3) if len(taps) >= 3 else []
+    singles = _spread_indices(taps, 1) if taps.epipole2 is not None else []
+    poses = exact_poses(model, triples, singles)
+    return [] if poses is None else _ranked(model, poses)
+
+
+def exact_poses(
+    model: PinholeModel,
+    triples: Sequence[Sequence[int]],
+    singles: Sequence[Sequence[int]] = (),
+) -> Poses | None:
+    """Every pose the minimal solvers give at the priors' focal lengths: three landmarks and
+    the buddy for each of ``triples``, one landmark and both friends for each of
+    ``singles`` (landmark indices). None when they give none."""
     taps, priors = model.taps, model.priors
     assert taps.epipole1 is not None
     rays1, rays2 = _rays(taps.p, priors[0]), _rays(taps.q, priors[1])
@@ -51,15 +67,14 @@ def buddy_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     rotations: list[Array] = []
     if taps.epipole2 is not None:
         seeker = _unit(_rays(taps.epipole2[None], priors[1])[0])
-        for i in _spread_indices(taps, 1):
-            rotations += rotations_from_both(buddy, seeker, rays1[i[0]], rays2[i[0]])
-    if len(taps) >= 3:
-        for triple in _spread_indices(taps, 3):
-            index = list(triple)
-            rotations += rotations_from_three(buddy, rays1[index], rays2[index])
+        for (i,) in singles:
+            rotations += rotations_from_both(buddy, seeker, rays1[i], rays2[i])
+    for triple in triples:
+        index = list(triple)
+        rotations += rotations_from_three(buddy, rays1[index], rays2[index])
     if not rotations:
-        return []
-    return _ranked(model, np.array(rotations), np.broadcast_to(buddy, (len(rotations), 3)))
+        return None
+    return _poses(model, np.array(rotations), np.broadcast_to(buddy, (len(rotations), 3)))
 
 
 def fundamental_starts(model: PinholeModel, fundamentals: list[Array]) -> list[tuple[float, Poses]]:
@@ -81,22 +96,34 @@ def fundamental_starts(model: PinholeModel, fundamentals: list[Array]) -> list[t
     if not rotations:
         return []
     units = np.array(baselines)
-    return _ranked(model, np.array(rotations), units / np.linalg.norm(units, axis=1, keepdims=True))
+    return _ranked(
+        model,
+        _poses(model, np.array(rotations), units / np.linalg.norm(units, axis=1, keepdims=True)),
+    )
 
 
-def _ranked(model: PinholeModel, rotations: Array, baselines: Array) -> list[tuple[float, Poses]]:
-    """Candidates (K, 3, 3) rotations and (K, 3) unit baselines at the priors' focal lengths,
-    scored on every tap, best first, one per distinct seeker direction."""
+def _poses(model: PinholeModel, rotations: Array, baselines: Array) -> Poses:
+    """(K, 3, 3) rotations and (K, 3) unit baselines as poses at the priors' focal lengths."""
     log_focals = np.array([model.priors[0].log_focal, model.priors[1].log_focal])
-    poses = Poses(
+    return Poses(
         rotations,
         np.ascontiguousarray(baselines),
         np.broadcast_to(log_focals, (len(rotations), 2)),
         float(log_focals[0]),
     )
+
+
+def score(model: PinholeModel, poses: Poses) -> Array:
+    """(K,) how badly each pose fits every tap: squared whitened residuals, each capped so one
+    mis-tap cannot veto the right pose, plus a capped residual per landmark it puts behind
+    a camera."""
     r = model.offsets(poses)
-    scores = np.minimum(r * r, _CAP_SIGMAS**2).sum(axis=1)
-    scores += _BEHIND_PENALTY * behind(poses, model)
+    return np.minimum(r * r, _CAP_SIGMAS**2).sum(axis=1) + _BEHIND_PENALTY * behind(poses, model)
+
+
+def _ranked(model: PinholeModel, poses: Poses) -> list[tuple[float, Poses]]:
+    """Candidate poses scored on every tap, best first, one per distinct seeker direction."""
+    scores = score(model, poses)
     seekers = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
     seekers /= np.linalg.norm(seekers, axis=1, keepdims=True)
     same = (seekers @ seekers.T >= math.cos(_SAME_DIRECTION)).tolist()
@@ -138,7 +165,7 @@ def _spread_indices(taps: Taps, size: int) -> list[tuple[int, ...]]:
     Spread: the smaller of the two photos' triangle areas (for one landmark, its distance
     from the friends' marks), so no subset is chosen for one good photo alone.
     """
-    subsets = _combinations(len(taps), size)
+    subsets = combinations_of(len(taps), size)
     if len(subsets) <= _SUBSETS:
         return [tuple(int(i) for i in subset) for subset in subsets]
     if size == 1:
@@ -155,7 +182,7 @@ def _spread_indices(taps: Taps, size: int) -> list[tuple[int, ...]]:
 
 
 @functools.cache
-def _combinations(count: int, size: int) -> Indices:
+def combinations_of(count: int, size: int) -> Indices:
     """(C, size) every subset of ``size`` of ``count`` landmarks, in lexicographic order."""
     return np.array(list(combinations(range(count), size)), dtype=np.intp).reshape(-1, size)
 

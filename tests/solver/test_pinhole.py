@@ -235,3 +235,29 @@ def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:
         assert words.ambiguous(marked="point") in result.warnings
         assert words.ambiguous(marked="point").endswith("To decide, add a landmark.")
     assert seen >= 3  # about one search in twenty
+
+
+def test_a_mistapped_landmark_is_named_and_left_out() -> None:
+    """One of eight landmarks tapped 60 px off in photo 2: the camera-aware answer names it
+    and leaves it out, unless the slip ran along its epipolar line, where no geometry can
+    see it (and it does no harm), or so slight that only the camera model notices (then the
+    projective answer replaces it); either way the friend is within the answer's region."""
+    named = 0
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        s = phone_scene(rng, 8)
+        taps = tap(s, 2.0, rng)
+        wrong = int(rng.integers(8))
+        q = taps.landmarks2.copy()
+        q[wrong] += 60.0 * np.array([np.cos(seed), np.sin(seed)])
+        result = solve(taps.landmarks1, q, epipole1=taps.epipole1, tap_sigma=2.0, **phones(s))
+        assert result.suspect_landmarks in ([], [wrong])
+        if result.suspect_landmarks:
+            named += 1
+            assert f"#{wrong + 1} looks mis-tapped" in result.warnings[0]
+        assert result.uncertainty is not None
+        assert result.uncertainty.covariance is not None
+        assert result.epipole2 is not None
+        offset = np.array(result.epipole2) - s.epipole2
+        assert offset @ np.linalg.solve(np.array(result.uncertainty.covariance), offset) < 13.8
+    assert named >= 15
