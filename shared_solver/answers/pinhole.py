@@ -86,7 +86,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
     if not consistent(fit) and len(taps) >= (3 if both else 5):
         return None  # the projective geometry can answer without the camera model
     others = _rivals(fit, fits[1:])
-    covariance = fit.covariance2()
+    covariance = fit.covariance2
     if fit.dof <= BOOTSTRAP_DOF:
         used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
         covariance = calibrated(
@@ -146,7 +146,7 @@ def _from_fundamentals(
     warnings: list[str] = []
     if others:
         return _ambiguous(request, model, method, fit, others, warnings=warnings)
-    covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2(), warnings)
+    covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
     return result(
         method,
         request,
@@ -181,7 +181,7 @@ def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:
 
 def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
     """Refined fits that explain the taps about as well but put the seeker elsewhere."""
-    covariance = fit.covariance2()
+    covariance = fit.covariance2
     position = fit.epipole2
     rivals = []
     for other in others:

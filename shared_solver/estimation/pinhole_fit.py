@@ -27,6 +27,7 @@ for the bootstrap (:mod:`.bootstrap`), so all use the same code.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -192,6 +193,7 @@ class PinholeFit:
         """(3,) the seeker in photo 2, oriented (w > 0: in front of the buddy's camera)."""
         return self.intrinsics[1] @ (-self.pose.rotation[0] @ self.pose.baseline[0])
 
+    @functools.cached_property
     def covariance2(self) -> Array | None:
         """(2, 2) px^2 covariance of the seeker's pixel position, None if it is at infinity."""
         _, jacobian, finite = seeker_pixels(self.pose, self.centres[1])
