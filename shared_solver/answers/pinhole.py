@@ -23,12 +23,11 @@ import numpy as np
 
 from .. import words
 from ..estimation import bootstrap
-from ..estimation.camera import FocalPrior
 from ..estimation.epipolar_fit import fit_epipolar
 from ..estimation.mistaps import refit
 from ..estimation.pinhole_fit import PinholeFit, PinholeModel, Poses, fit_pinhole
 from ..estimation.pinhole_mistaps import find_pinhole_mistaps
-from ..estimation.pinhole_starts import behind, buddy_starts, fundamental_starts
+from ..estimation.pinhole_starts import behind, buddy_starts, unmarked_starts
 from ..estimation.taps import Taps
 from ..estimation.uncertainty import consistent
 from ..minimal.five_point_linear import fundamental_with_epipole
@@ -53,6 +52,8 @@ _REFINE_MARGIN = 9.0
 # Refined fits within this cost of the best, with a seeker elsewhere, make the answer
 # ambiguous (a difference of 4 is two sigmas of evidence).
 _AMBIGUOUS_COST = 4.0
+# Where along a drawn line (its part inside photo 1) the buddy is tried, as fractions.
+_ALONG = (0.1, 0.3, 0.5, 0.7, 0.9)
 # Mis-taps are looked for from this many landmarks: six give the projective check that the
 # camera model is not what disagrees one degree of freedom, and the camera model's own
 # consensus two to spare.
@@ -73,7 +74,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
     fits = _refined(model, buddy_starts(model))
     if not fits:
         return None
-    fit = fits[0]
+    fit = _likeliest(fits)
     suspects: list[int] = []
     warnings: list[str] = []
     if not consistent(fit) and len(taps) >= _MISTAPS_FROM and _projective_disagrees(taps):
@@ -85,7 +86,7 @@ def buddy_marked(request: Request) -> SolveResult | None:
     both = taps.epipole2 is not None
     if not consistent(fit) and len(taps) >= (3 if both else 5):
         return None  # the projective geometry can answer without the camera model
-    others = _rivals(fit, fits[1:])
+    others = _rivals(fit, [other for other in fits if other is not fit])
     covariance = fit.covariance2
     if fit.dof <= BOOTSTRAP_DOF:
         used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
@@ -116,7 +117,11 @@ def line_through_buddy(request: Request) -> SolveResult | None:
     assert priors is not None
     assert taps.line1 is not None
     roots = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
-    return _from_fundamentals(request, priors, "pinhole_line", [f for _, _, f in roots])
+    model = PinholeModel(taps, priors)
+    assert request.size1 is not None
+    buddies = [*_buddies(roots), *_along(taps.line1, request.size1)]
+    starts = unmarked_starts(model, [f for _, _, f in roots], np.array(buddies))
+    return _from_starts(request, model, "pinhole_line", starts)
 
 
 def landmarks_only(request: Request) -> SolveResult | None:
@@ -125,24 +130,25 @@ def landmarks_only(request: Request) -> SolveResult | None:
     taps, priors = request.taps, request.priors
     assert priors is not None
     if len(taps) == 7:
-        fundamentals = [f for _, _, f in seven_point_roots(taps.p, taps.q)]
+        roots = seven_point_roots(taps.p, taps.q)
     else:
-        fundamentals = [refit(taps, use_buddy=False).fundamental]
-    return _from_fundamentals(request, priors, "pinhole_landmarks", fundamentals)
+        fit = refit(taps, use_buddy=False)
+        roots = [(fit.epipole1, fit.epipole2, fit.fundamental)]
+    model = PinholeModel(taps, priors)
+    starts = unmarked_starts(model, [f for _, _, f in roots], np.array(_buddies(roots)))
+    return _from_starts(request, model, "pinhole_landmarks", starts)
 
 
-def _from_fundamentals(
-    request: Request,
-    priors: tuple[FocalPrior, FocalPrior],
-    method: Method,
-    fundamentals: list[Array],
+def _from_starts(
+    request: Request, model: PinholeModel, method: Method, starts: list[tuple[float, Poses]]
 ) -> SolveResult | None:
-    model = PinholeModel(request.taps, priors)
-    fits = _refined(model, fundamental_starts(model, fundamentals))
+    """The best of ``starts`` refined (a line or nothing marked) as the answer, or None when
+    no fit agrees with the taps."""
+    fits = _refined(model, starts)
     if not fits or not consistent(fits[0]):
         return None
-    fit = fits[0]
-    others = _rivals(fit, fits[1:])
+    fit = _likeliest(fits)
+    others = _rivals(fit, [other for other in fits if other is not fit])
     warnings: list[str] = []
     if others:
         return _ambiguous(request, model, method, fit, others, warnings=warnings)
@@ -157,6 +163,29 @@ def _from_fundamentals(
     )
 
 
+def _buddies(roots: list[tuple[Array, Array, Array]]) -> list[Array]:
+    """The buddy's pixel in photo 1 of each projective solution (e1, e2, F) that has one."""
+    return [e1[:2] / e1[2] for e1, _, _ in roots if abs(e1[2]) > 1e-12 * np.linalg.norm(e1)]
+
+
+def _along(line: Array, size: tuple[float, float]) -> list[Array]:
+    """Pixels spread along the part of ``line`` (a x + b y + c = 0) inside a photo of
+    ``size``: where the buddy may be, to start from."""
+    a, b, c = line
+    width, height = size
+    ends = []
+    for x in (0.0, width):  # where the line crosses the left and right edges
+        if b != 0 and 0 <= (y := -(a * x + c) / b) <= height:
+            ends.append((x, y))
+    for y in (0.0, height):  # ... the top and bottom edges
+        if a != 0 and 0 <= (x := -(b * y + c) / a) <= width:
+            ends.append((x, y))
+    if len(ends) < 2:
+        return []
+    start, end = np.array(ends[0]), np.array(ends[-1])
+    return [start + fraction * (end - start) for fraction in _ALONG]
+
+
 def _projective_disagrees(taps: Taps) -> bool:
     """Whether the taps also disagree with any two projective cameras (chi-square test on
     the projective fit): then a landmark is to blame, not the camera model."""
@@ -166,17 +195,30 @@ def _projective_disagrees(taps: Taps) -> bool:
 
 
 def _refined(model: PinholeModel, starts: list[tuple[float, Poses]]) -> list[PinholeFit]:
-    """The best start refined, and any other start close enough to it; best fit first."""
+    """The best start refined, and any other start close enough to it; all of them when
+    those do not fit the taps (a start's score is read at the priors' focal lengths, and a
+    poor-looking start may be the right basin). Best fit first."""
     if not starts:
         return []
     best = starts[0][0]
-    fits = [fit_pinhole(model, pose) for score, pose in starts if score <= best + _REFINE_MARGIN]
+    near = [pose for score, pose in starts if score <= best + _REFINE_MARGIN]
+    fits = [fit_pinhole(model, pose) for pose in near]
+    if not any(consistent(fit) for fit in fits):
+        fits += [fit_pinhole(model, pose) for _, pose in starts[len(near) :]]
     return sorted(fits, key=lambda fit: fit.cost)
 
 
 def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:
     """Whether every landmark is in front of both cameras (a physical geometry)."""
     return int(behind(fit.pose, model)[0]) == 0
+
+
+def _likeliest(fits: list[PinholeFit]) -> PinholeFit:
+    """The best fit, or among those about as good (ambiguous ones) the best that puts the
+    seeker in front of the buddy's camera: the buddy photographs the seeker's side."""
+    near = [fit for fit in fits if fit.cost <= fits[0].cost + _AMBIGUOUS_COST]
+    in_front = [fit for fit in near if fit.epipole2[2] > 0]
+    return (in_front or near)[0]
 
 
 def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:

@@ -30,9 +30,11 @@ from .taps import Taps
 _CAP_SIGMAS = 6.0
 # Each landmark behind a camera costs as much as a capped residual.
 _BEHIND_PENALTY = _CAP_SIGMAS**2
-# Minimal subsets tried: the best-spread one (up to 8 rotations). A second changed no answer
-# on phone scenes; a mis-tap in it is the mis-tap search's to find (pinhole_mistaps).
+# Minimal subsets used: the best-spread one (up to 8 rotations). A second changed no answer
+# on phone scenes; a mis-tap in it is the mis-tap search's to find (pinhole_mistaps). When
+# tap noise leaves a set of three with no real pose, the next is tried, up to this many.
 _SUBSETS = 1
+_SUBSETS_TRIED = 4
 # Two candidates whose seekers are closer than this (radians apart, about 60 px at a phone's
 # focal length) are the same start: different subsets of noisy taps give slightly different
 # poses of one basin.
@@ -46,43 +48,79 @@ def buddy_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
         ``(score, pose)`` pairs, best (lowest) first, one per distinct seeker direction.
     """
     taps = model.taps
-    triples = _spread_indices(taps, 3) if len(taps) >= 3 else []
-    singles = _spread_indices(taps, 1) if taps.epipole2 is not None else []
-    poses = exact_poses(model, triples, singles)
-    return [] if poses is None else _ranked(model, poses)
+    singles = _spread_indices(taps, 1, _SUBSETS) if taps.epipole2 is not None else []
+    triples = _spread_indices(taps, 3, _SUBSETS_TRIED) if len(taps) >= 3 else []
+    # The best-spread set of three, or the next when noise leaves it no real pose.
+    for triple in triples:
+        poses = exact_poses(model, [triple], singles)
+        if poses is not None:
+            return _ranked(model, poses)
+    return _ranked(model, exact_poses(model, [], singles))
 
 
 def exact_poses(
     model: PinholeModel,
     triples: Sequence[Sequence[int]],
     singles: Sequence[Sequence[int]] = (),
+    *,
+    buddies: Array | None = None,
 ) -> Poses | None:
     """Every pose the minimal solvers give at the priors' focal lengths: three landmarks and
     the buddy for each of ``triples``, one landmark and both friends for each of
-    ``singles`` (landmark indices). None when they give none."""
+    ``singles`` (landmark indices). None when they give none.
+
+    ``buddies``: (B, 2) pixels of photo 1 to try as the buddy (a line through the buddy
+    gives candidates); by default the buddy's tap.
+    """
     taps, priors = model.taps, model.priors
-    assert taps.epipole1 is not None
+    if buddies is None:
+        assert taps.epipole1 is not None
+        buddies = taps.epipole1[None]
     rays1, rays2 = _rays(taps.p, priors[0]), _rays(taps.q, priors[1])
-    buddy = _unit(_rays(taps.epipole1[None], priors[0])[0])
     rotations: list[Array] = []
-    if taps.epipole2 is not None:
-        seeker = _unit(_rays(taps.epipole2[None], priors[1])[0])
-        for (i,) in singles:
-            rotations += rotations_from_both(buddy, seeker, rays1[i], rays2[i])
-    for triple in triples:
-        index = list(triple)
-        rotations += rotations_from_three(buddy, rays1[index], rays2[index])
+    directions: list[Array] = []
+    for ray in _rays(buddies, priors[0]):
+        buddy = _unit(ray)
+        found: list[Array] = []
+        if taps.epipole2 is not None:
+            seeker = _unit(_rays(taps.epipole2[None], priors[1])[0])
+            for (i,) in singles:
+                found += rotations_from_both(buddy, seeker, rays1[i], rays2[i])
+        for triple in triples:
+            index = list(triple)
+            found += rotations_from_three(buddy, rays1[index], rays2[index])
+        rotations += found
+        directions += [buddy] * len(found)
     if not rotations:
         return None
-    return _poses(model, np.array(rotations), np.broadcast_to(buddy, (len(rotations), 3)))
+    return _poses(model, np.array(rotations), np.array(directions))
+
+
+def unmarked_starts(
+    model: PinholeModel, fundamentals: list[Array], buddies: Array
+) -> list[tuple[float, Poses]]:
+    """Scored candidate poses when the buddy was not marked as a point: the poses of the
+    projective solutions ``fundamentals``, and the three-landmark solver with the buddy at
+    each of ``buddies`` (B, 2) pixels (the solutions' own, and places along a line through
+    the buddy if one was drawn). With noisy taps a projective solution can be far from any
+    pair of phone cameras while its buddy is near the right place."""
+    found = [fundamental_poses(model, fundamentals)]
+    for triple in _spread_indices(model.taps, 3, _SUBSETS_TRIED):
+        poses = exact_poses(model, [triple], buddies=buddies)
+        if poses is not None:
+            found.append(poses)
+            break
+    return _ranked(model, *found)
 
 
 def fundamental_starts(model: PinholeModel, fundamentals: list[Array]) -> list[tuple[float, Poses]]:
-    """Scored candidate poses from projective solutions (3, 3) F in pixels.
+    """Scored candidate poses from projective solutions (3, 3) F in pixels."""
+    return _ranked(model, fundamental_poses(model, fundamentals))
 
-    Each F is read at the priors' focal lengths as an essential matrix, and each of its
-    four decompositions (Hartley & Zisserman 9.6.2) becomes a candidate.
-    """
+
+def fundamental_poses(model: PinholeModel, fundamentals: list[Array]) -> Poses | None:
+    """Each F read at the priors' focal lengths as an essential matrix, and each of its four
+    decompositions (Hartley & Zisserman 9.6.2) as a pose; None when there is no F."""
     k1, k2 = (_intrinsics(prior) for prior in model.priors)
     rotations: list[Array] = []
     baselines: list[Array] = []
@@ -94,12 +132,9 @@ def fundamental_starts(model: PinholeModel, fundamentals: list[Array]) -> list[t
             rotations += [rotation, rotation]
             baselines += [-along, along]
     if not rotations:
-        return []
+        return None
     units = np.array(baselines)
-    return _ranked(
-        model,
-        _poses(model, np.array(rotations), units / np.linalg.norm(units, axis=1, keepdims=True)),
-    )
+    return _poses(model, np.array(rotations), units / np.linalg.norm(units, axis=1, keepdims=True))
 
 
 def _poses(model: PinholeModel, rotations: Array, baselines: Array) -> Poses:
@@ -121,8 +156,17 @@ def score(model: PinholeModel, poses: Poses) -> Array:
     return np.minimum(r * r, _CAP_SIGMAS**2).sum(axis=1) + _BEHIND_PENALTY * behind(poses, model)
 
 
-def _ranked(model: PinholeModel, poses: Poses) -> list[tuple[float, Poses]]:
+def _ranked(model: PinholeModel, *batches: Poses | None) -> list[tuple[float, Poses]]:
     """Candidate poses scored on every tap, best first, one per distinct seeker direction."""
+    present = [batch for batch in batches if batch is not None]
+    if not present:
+        return []
+    poses = Poses(
+        np.concatenate([batch.rotation for batch in present]),
+        np.concatenate([batch.buddy for batch in present]),
+        np.concatenate([batch.log_focals for batch in present]),
+        present[0].reference,
+    )
     scores = score(model, poses)
     seekers = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
     seekers /= np.linalg.norm(seekers, axis=1, keepdims=True)
@@ -159,14 +203,14 @@ def behind(poses: Poses, model: PinholeModel) -> Array:
     return np.count_nonzero((depth1 <= 0) | (depth2 <= 0), axis=1)
 
 
-def _spread_indices(taps: Taps, size: int) -> list[tuple[int, ...]]:
-    """Up to ``_SUBSETS`` subsets of ``size`` landmarks, the best spread in both photos first.
+def _spread_indices(taps: Taps, size: int, count: int) -> list[tuple[int, ...]]:
+    """Up to ``count`` subsets of ``size`` landmarks, the best spread in both photos first.
 
     Spread: the smaller of the two photos' triangle areas (for one landmark, its distance
     from the friends' marks), so no subset is chosen for one good photo alone.
     """
     subsets = combinations_of(len(taps), size)
-    if len(subsets) <= _SUBSETS:
+    if len(subsets) <= 1:
         return [tuple(int(i) for i in subset) for subset in subsets]
     if size == 1:
         assert taps.epipole1 is not None
@@ -177,7 +221,7 @@ def _spread_indices(taps: Taps, size: int) -> list[tuple[int, ...]]:
         )
     else:
         spread = np.minimum(_areas(taps.p[subsets]), _areas(taps.q[subsets]))
-    best = np.argsort(-spread, kind="stable")[:_SUBSETS]
+    best = np.argsort(-spread, kind="stable")[:count]
     return [tuple(int(i) for i in subsets[k]) for k in best]
 
 
