@@ -118,10 +118,16 @@ def line_through_buddy(request: Request) -> SolveResult | None:
     assert taps.line1 is not None
     roots = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
     model = PinholeModel(taps, priors)
-    assert request.size1 is not None
-    buddies = [*_buddies(roots), *_along(taps.line1, request.size1)]
-    starts = unmarked_starts(model, [f for _, _, f in roots], np.array(buddies))
-    return _from_starts(request, model, "pinhole_line", starts)
+    fundamentals = [f for _, _, f in roots]
+    starts = unmarked_starts(model, fundamentals, np.array(_buddies(roots)))
+    answer = _from_starts(request, model, "pinhole_line", starts)
+    if answer is None and request.size1 is not None:
+        # No pose near the roots fits: try the buddy spread along the line too.
+        along = np.array(_along(taps.line1, request.size1))
+        if len(along):
+            starts = unmarked_starts(model, fundamentals, along)
+            answer = _from_starts(request, model, "pinhole_line", starts)
+    return answer
 
 
 def landmarks_only(request: Request) -> SolveResult | None:

@@ -105,7 +105,7 @@ def unmarked_starts(
     the buddy if one was drawn). With noisy taps a projective solution can be far from any
     pair of phone cameras while its buddy is near the right place."""
     found = [fundamental_poses(model, fundamentals)]
-    for triple in _spread_indices(model.taps, 3, _SUBSETS_TRIED):
+    for triple in _spread_indices(model.taps, 3, _SUBSETS_TRIED) if len(buddies) else []:
         poses = exact_poses(model, [triple], buddies=buddies)
         if poses is not None:
             found.append(poses)
