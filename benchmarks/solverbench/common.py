@@ -1,0 +1,313 @@
+"""What every section shares: seeds, one trial of one method (:class:`Outcome`), many
+trials (:class:`Summary`), one call of ``solve`` on noisy taps, and the cells of the tables."""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from shared_solver import Camera, SolverError, SolveResult, solve
+from shared_solver.projective import Array, to_pixel
+from testbed.phones import PhoneScene
+from testbed.scenes import Scene, Taps
+
+# Chi-square quantile, 2 degrees of freedom, 95 %: -2 ln(0.05) = 5.991.
+CHI2_2DOF_95 = -2.0 * math.log(0.05)
+
+# Every random draw is seeded from (SEED, stream, ...): trial i of a stream is reproducible
+# on its own, so a quick run with --trials N measures the first N trials of the full run.
+SEED = 20240601
+SCENE_STREAM = {
+    "accuracy": 1,
+    "coverage": 2,
+    "planar": 3,
+    "rank": 4,
+    "speed": 5,
+    "phone": 6,
+    "zoom2": 7,
+    "zoom3": 8,
+    "kinds": 9,
+    "speed phone": 10,
+}
+TAP_STREAM = {
+    "accuracy": 11,
+    "coverage": 12,
+    "planar": 13,
+    "speed": 15,
+    "phone": 16,
+    "zoom2": 17,
+    "zoom3": 18,
+    "mixed": 19,
+    "speed phone": 20,
+}
+
+Given = Literal["e1", "line", "both", "none"]
+# What solve is told about both cameras: nothing (projective), the phone prior, EXIF focal.
+Cameras = Literal["unknown", "phone", "exif"]
+
+
+def scene_rng(stream: str, trial: int, *extra: int) -> np.random.Generator:
+    return np.random.default_rng((SEED, SCENE_STREAM[stream], *extra, trial))
+
+
+def tap_rng(stream: str, sigma: float, trial: int) -> np.random.Generator:
+    return np.random.default_rng((SEED, TAP_STREAM[stream], round(1000 * sigma), trial))
+
+
+# --- what one trial gives ---------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One method on one trial: error of e2 (inf if none), why there is none, the region,
+    the method and camera model that answered."""
+
+    error_px: float
+    failure: str | None = None  # a refusal's code, or why the answer has no point
+    covered: bool = False
+    has_ellipse: bool = False
+    method: str = ""
+    camera_model: str = ""
+
+
+@dataclass(frozen=True)
+class Summary:
+    """Many trials of one method in one cell of a table."""
+
+    trials: int
+    median: float
+    p90: float
+    failures: Counter[str]
+    claims: int  # answers with a 95 % region
+    coverage: float  # of those claims, the fraction that hold the truth
+    methods: Counter[str] = field(default_factory=Counter)
+    camera_models: Counter[str] = field(default_factory=Counter)
+
+    @classmethod
+    def of(cls, outcomes: Sequence[Outcome]) -> Summary:
+        errors = [o.error_px for o in outcomes]
+        claims = sum(o.has_ellipse for o in outcomes)
+        return cls(
+            trials=len(outcomes),
+            median=percentile(errors, 50),
+            p90=percentile(errors, 90),
+            failures=Counter(o.failure for o in outcomes if o.failure is not None),
+            claims=claims,
+            coverage=sum(o.covered for o in outcomes) / max(1, claims),
+            methods=Counter(o.method for o in outcomes if o.method),
+            camera_models=Counter(o.camera_model for o in outcomes if o.camera_model),
+        )
+
+    @property
+    def points(self) -> int:
+        """Answers that put the seeker at a point of photo 2."""
+        return self.trials - sum(self.failures.values())
+
+
+def percentile(values: Sequence[float], q: float) -> float:
+    """numpy's linear-interpolation percentile, made safe for infinite errors."""
+    ordered = np.sort(np.asarray(values, dtype=np.float64))
+    position = q / 100.0 * (len(ordered) - 1)
+    low, high = math.floor(position), math.ceil(position)
+    if low == high:
+        return float(ordered[low])
+    if math.isinf(ordered[high]):
+        return math.inf
+    return float(ordered[low] + (position - low) * (ordered[high] - ordered[low]))
+
+
+def pixel_error(estimate_h: Sequence[float] | Array | None, truth: Array) -> float:
+    """Distance (px) of a homogeneous estimate from the true pixel; inf at infinity or none."""
+    if estimate_h is None:
+        return math.inf
+    pixel = to_pixel(np.asarray(estimate_h, dtype=np.float64))
+    return math.inf if pixel is None else float(np.linalg.norm(pixel - truth))
+
+
+def ellipse_covers(result: SolveResult, truth: Array) -> bool | None:
+    """Whether the truth is inside the 95 % ellipse (chi-square, 2 dof); None: no ellipse."""
+    uncertainty = result.uncertainty
+    if uncertainty is None or uncertainty.ellipse is None or uncertainty.covariance is None:
+        return None
+    offset = truth - np.asarray(uncertainty.ellipse.center)
+    try:
+        distance = offset @ np.linalg.solve(np.asarray(uncertainty.covariance), offset)
+    except np.linalg.LinAlgError:
+        return False
+    return bool(distance <= CHI2_2DOF_95)
+
+
+def line_through(point: Array, angle: float) -> Array:
+    """(3,) line through a pixel point in direction ``angle`` (radians from x, y down)."""
+    x, y = point
+    return np.cross([x, y, 1.0], [x + math.cos(angle), y + math.sin(angle), 1.0])
+
+
+# --- one call of solve ------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Precisions:
+    """Each tap's own sigma (px), told to ``solve``: (N,) per landmark, one per friend."""
+
+    points1: Array
+    points2: Array
+    epipole1: float
+    epipole2: float
+
+
+def mixed_taps(
+    scene: Scene, rng: np.random.Generator, sigmas: tuple[float, float]
+) -> tuple[Taps, Precisions]:
+    """Taps of mixed precision: each tap (landmarks and both friends) at one of ``sigmas``
+    px, at even odds, with Gaussian noise of that sigma."""
+    n = len(scene.points)
+    low, high = sigmas
+    s1, s2 = (np.where(rng.random(n) < 0.5, high, low) for _ in range(2))
+    e1_sigma, e2_sigma = (float(high if rng.random() < 0.5 else low) for _ in range(2))
+    taps = Taps(
+        scene.landmarks1 + rng.normal(size=(n, 2)) * s1[:, None],
+        scene.landmarks2 + rng.normal(size=(n, 2)) * s2[:, None],
+        scene.epipole1 + rng.normal(0.0, e1_sigma, 2),
+        scene.epipole2 + rng.normal(0.0, e2_sigma, 2),
+    )
+    return taps, Precisions(s1, s2, e1_sigma, e2_sigma)
+
+
+def camera_pair(scene: Scene, cameras: Cameras) -> tuple[Camera | str | None, Camera | str | None]:
+    """What ``solve`` is told about the two cameras (EXIF needs a phone scene)."""
+    if cameras == "phone":
+        return "phone", "phone"
+    if cameras == "exif":
+        assert isinstance(scene, PhoneScene)
+        return Camera.with_focal(scene.exif_focal_35mm1), Camera.with_focal(scene.exif_focal_35mm2)
+    return None, None
+
+
+def solve_call(
+    scene: Scene,
+    taps: Taps,
+    sigma: float,
+    landmarks: int,
+    *,
+    given: Given,
+    line_angle: float = 0.0,
+    cameras: Cameras = "unknown",
+    precisions: Precisions | None = None,
+) -> SolveResult:
+    """``shared_solver.solve`` on the first ``landmarks`` taps and what else is given."""
+    line = line_through(taps.epipole1, line_angle)
+    camera1, camera2 = camera_pair(scene, cameras)
+    both = given == "both"
+    return solve(
+        taps.landmarks1[:landmarks],
+        taps.landmarks2[:landmarks],
+        epipole1=taps.epipole1 if given in ("e1", "both") else None,
+        epipole2=taps.epipole2 if both else None,
+        epipolar_line1=line if given == "line" else None,
+        tap_sigma=sigma,
+        image_size1=scene.image_size1,
+        image_size2=scene.image_size2,
+        camera1=camera1,
+        camera2=camera2,
+        points1_sigma=None if precisions is None else precisions.points1[:landmarks],
+        points2_sigma=None if precisions is None else precisions.points2[:landmarks],
+        epipole1_sigma=None if precisions is None else precisions.epipole1,
+        epipole2_sigma=None if precisions is None or not both else precisions.epipole2,
+    )
+
+
+def ours(
+    scene: Scene,
+    taps: Taps,
+    sigma: float,
+    landmarks: int,
+    *,
+    given: Given,
+    line_angle: float = 0.0,
+    cameras: Cameras = "unknown",
+    precisions: Precisions | None = None,
+) -> Outcome:
+    """:func:`solve_call` graded against the scene's true e2."""
+    try:
+        result = solve_call(
+            scene,
+            taps,
+            sigma,
+            landmarks,
+            given=given,
+            line_angle=line_angle,
+            cameras=cameras,
+            precisions=precisions,
+        )
+    except SolverError as error:
+        return Outcome(math.inf, failure=error.code.value)
+    truth = scene.epipole2
+    covered = ellipse_covers(result, truth)
+    return Outcome(
+        pixel_error(None if result.epipole2 is None else (*result.epipole2, 1.0), truth),
+        failure=no_point(result),
+        covered=bool(covered),
+        has_ellipse=covered is not None,
+        method=result.method,
+        camera_model=result.camera_model,
+    )
+
+
+def no_point(result: SolveResult) -> str | None:
+    """Why an answer puts the seeker at no point of photo 2; None when it does."""
+    if result.epipole2 is not None:
+        return None
+    if result.epipole2_h is None:
+        return "no point (a curve)" if result.conic2 is not None else "no point"
+    h = np.asarray(result.epipole2_h)
+    if to_pixel(h) is None:
+        return "at infinity"
+    # "Behind you": the seeker behind the buddy's camera. Never true in these scenes.
+    return "behind the buddy"
+
+
+# --- cells of the tables ------------------------------------------------------------------
+
+
+def fmt(value: float) -> str:
+    """An error in px: 3 significant figures is all 500 trials support."""
+    if math.isinf(value) or math.isnan(value):
+        return "inf"
+    return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
+
+
+def percent(fraction: float) -> str:
+    return f"{100 * fraction:.1f} %"
+
+
+def failures(summary: Summary) -> str:
+    """Refusals (by code) and answers without a point (at infinity, behind the buddy, a curve
+    only); all count as infinite error."""
+    parts = [f"{count} {code}" for code, count in summary.failures.most_common()]
+    return ", ".join(parts) if parts else "0"
+
+
+def coverage_cell(summary: Summary) -> str:
+    """Coverage of the regions claimed, and how many answers claimed one."""
+    if summary.claims == 0:
+        return "no region claimed"
+    return f"{percent(summary.coverage)} of {summary.claims}"
+
+
+def methods_cell(summary: Summary) -> str:
+    return ", ".join(f"{name} {count}" for name, count in summary.methods.most_common()) or "-"
+
+
+def fell_back(summary: Summary) -> int:
+    """Answers of the camera-aware route that came from the projective geometry."""
+    return summary.camera_models["projective"]
+
+
+def errors_cell(summary: Summary) -> str:
+    return f"{fmt(summary.median)} / {fmt(summary.p90)}"
