@@ -119,6 +119,10 @@ TOO_FEW_EPIPOLAR_LINES = (
 BUDDY_AT_INFINITY = "The landmarks put the buddy at infinity in photo 1; re-check the landmarks."
 NO_PLANE = "No plane fits these landmarks."
 FIVE_METHOD = "The method must be 'cremona' or 'linear'."
+UNUSABLE_FOCAL = (
+    "The camera's focal length in pixels is not a usable number for this photo size; give "
+    "the photo's real size and focal length, or leave the camera unknown."
+)
 
 
 def too_few(count: int, minimum: int, purpose: str) -> str:

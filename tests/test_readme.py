@@ -61,7 +61,7 @@ def test_readme_session_script_finds_the_buddy(
             compile(script.replace(opening, "http = client"), "README.md", "exec"),
             {"client": client},
         )
-    assert output.getvalue().strip() == "least_squares_epipole [522.8, 73.9] fair"
+    assert output.getvalue().strip() == "pinhole_epipole [521.9, 74.0] fair"
 
 
 def test_readme_lists_every_setting_with_its_default() -> None:

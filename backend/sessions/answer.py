@@ -1,22 +1,24 @@
 """From two participants' taps to the solver's input, and when there is enough to solve.
 
 Landmarks are matched by id: #3 in the seeker's photo is #3 in the buddy's. Only ids
-tapped in both photos count; they are solved in ascending id order.
+tapped in both photos count; they are solved in ascending id order. Every photo of a
+session is taken by a phone, so the solver is told so (``Camera.phone()``): it then needs
+fewer landmarks (docs/geometry.md), and the counts come from the solver itself
+(``fewest_landmarks``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from shared_solver import SolverError, solve
+from shared_solver import Camera, SolverError, fewest_landmarks, solve
 
 from .schemas import Taps
 
-# Fewest common landmarks for a position, by what the friends marked (docs/geometry.md).
-_FOR_A_POSITION = {"both": 3, "buddy": 5, "line": 6, "none": 7}
-# Fewest for any answer at all: with the buddy marked, 4 give the curve the seeker is on.
-_FOR_AN_ANSWER = {"both": 3, "buddy": 4, "line": 6, "none": 7}
+# Every photo of a session comes from a phone's camera.
+PHONE = Camera.phone()
 
 
 @dataclass(frozen=True)
@@ -30,19 +32,28 @@ class Problem:
     epipolar_line1: tuple[float, float, float] | None
     epipole2: tuple[float, float] | None
 
-    @property
-    def given(self) -> str:
-        if self.epipole1 is not None:
-            return "both" if self.epipole2 is not None else "buddy"
-        return "line" if self.epipolar_line1 is not None else "none"
+    def fewest(self, *, position: bool, cameras: bool = True) -> int:
+        """Landmarks (common to both photos) the solver needs, phone cameras given (or,
+        ``cameras=False``, without the camera model)."""
+        return fewest_landmarks(
+            buddy=self.epipole1 is not None,
+            seeker=self.epipole2 is not None,
+            line=self.epipolar_line1 is not None,
+            cameras=cameras,
+            position=position,
+        )
 
-    @property
-    def landmarks_needed(self) -> int:
-        return max(0, _FOR_A_POSITION[self.given] - len(self.ids))
+    def landmarks_needed(self, result: Mapping[str, Any] | None = None) -> int:
+        """How many more common landmarks until a position. Counted for phone cameras,
+        unless ``result`` (the answer so far) had to do without the camera model: taps
+        that fit no two phone photos are answered as the paper's projective geometry
+        counts (four landmarks and the buddy: the curve, and one more for a position)."""
+        projective = result is not None and result.get("camera_model") == "projective"
+        return max(0, self.fewest(position=True, cameras=not projective) - len(self.ids))
 
     @property
     def solvable(self) -> bool:
-        return len(self.ids) >= _FOR_AN_ANSWER[self.given]
+        return len(self.ids) >= self.fewest(position=False)
 
 
 def problem(seeker: Taps | None, buddy: Taps | None) -> Problem:
@@ -81,6 +92,8 @@ def answer(
             image_size1=image_size1,
             image_size2=image_size2,
             landmark_ids=task.ids,
+            camera1=PHONE,
+            camera2=PHONE,
         )
     except SolverError as error:
         return {"error": {"code": error.code.value, "message": error.message}}

@@ -176,7 +176,7 @@ class SessionService:
                 for role in ("seeker", "buddy")
             },
             taps={role: taps.get(role) for role in ("seeker", "buddy")},
-            landmarks_needed=task.landmarks_needed,
+            landmarks_needed=task.landmarks_needed(stored.get("result")),
             result=stored.get("result"),
             result_version=snapshot.result_version if "result" in stored else None,
             result_landmark_ids=stored.get("landmark_ids"),

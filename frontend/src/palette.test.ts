@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import python from "../../shared_solver/palette.py?raw";
+import python from "../../shared_solver/drawing/palette.py?raw";
 import {
   FRIEND_COLOUR,
   LANDMARK_COLOURS,

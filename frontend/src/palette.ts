@@ -1,6 +1,6 @@
 /**
  * The colours of the app's marks: the same table as the server's drawings
- * (shared_solver/palette.py, LANDMARK_COLOURS_HEX), so "the orange 3" is the same spot on
+ * (shared_solver/drawing/palette.py, LANDMARK_COLOURS_HEX), so "the orange 3" is the same spot on
  * both phones and in the answer's overlay. tests/test_palette_contract.py compares them.
  */
 

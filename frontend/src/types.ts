@@ -63,13 +63,19 @@ export type Method =
   | "six_point_line"
   | "two_epipoles"
   | "seven_point"
-  | "eight_point";
+  | "eight_point"
+  | "pinhole_epipole"
+  | "pinhole_two_epipoles"
+  | "pinhole_line"
+  | "pinhole_landmarks";
 
 export type Quality = "good" | "fair" | "poor";
 
 /** The solver's answer (the fields the app reads). */
 export interface SolveResult {
   method: Method;
+  /** "pinhole": solved as two phone cameras; "projective": any two cameras. */
+  camera_model?: "projective" | "pinhole";
   landmark_count: number;
   epipole2: Pixel | null;
   epipole2_h: Homogeneous | null;

@@ -211,7 +211,7 @@ def _refined(model: PinholeModel, starts: list[tuple[float, Poses]]) -> list[Pin
     fits = [fit_pinhole(model, pose) for pose in near]
     if not any(consistent(fit) for fit in fits):
         fits += [fit_pinhole(model, pose) for _, pose in starts[len(near) :]]
-    return sorted(fits, key=lambda fit: fit.cost)
+    return sorted((fit for fit in fits if fit.usable), key=lambda fit: fit.cost)
 
 
 def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:

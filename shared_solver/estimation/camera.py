@@ -27,6 +27,9 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from .. import words
+from ..errors import ErrorCode, SolverError
+
 # The diagonal of a 36 x 24 mm film frame: the reference of "35 mm equivalent".
 FILM_DIAGONAL_MM = math.hypot(36.0, 24.0)
 # A phone's main camera, 35 mm equivalent (iPhone 26 mm, Pixel 25-27 mm, Galaxy 23-24 mm).
@@ -115,18 +118,18 @@ def focal_35mm(focal: float, size: tuple[float, float]) -> float:
 
 
 def focal_prior(camera: Camera, size: tuple[float, float]) -> FocalPrior | None:
-    """The prior of a camera on a photo of ``size`` (width, height) px; None if ``unknown``."""
-    centre = (size[0] / 2.0, size[1] / 2.0)
-    if camera.kind == "known_focal":
-        assert camera.focal_35mm is not None
-        return FocalPrior(
-            math.log(focal_px(camera.focal_35mm, size)),
-            camera.focal_uncertainty,
-            centre,
-            camera.kind,
-        )
-    if camera.kind == "phone":
-        return FocalPrior(
-            math.log(focal_px(MAIN_CAMERA_MM, size)), PHONE_LOG_SIGMA, centre, camera.kind
-        )
-    return None
+    """The prior of a camera on a photo of ``size`` (width, height) px; None if ``unknown``.
+
+    Raises:
+        SolverError: the focal length in px is not a usable number (a photo size or focal
+            length so extreme that it under- or overflows).
+    """
+    if camera.kind == "unknown":
+        return None
+    focal = camera.focal_35mm if camera.kind == "known_focal" else MAIN_CAMERA_MM
+    assert focal is not None
+    pixels = focal_px(focal, size)
+    if not (math.isfinite(pixels) and pixels > 0.0 and math.isfinite(math.hypot(*size))):
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.UNUSABLE_FOCAL)
+    sigma = camera.focal_uncertainty if camera.kind == "known_focal" else PHONE_LOG_SIGMA
+    return FocalPrior(math.log(pixels), sigma, (size[0] / 2.0, size[1] / 2.0), camera.kind)

@@ -46,6 +46,8 @@ _ROTATION, _BASELINE, _FOCAL1, _FOCAL2 = slice(0, 3), slice(3, 5), 5, 6
 # The cost is a chi-square: stop when a step gains less than 1e-8 of it (the estimate then
 # moves by 1e-4 of its own sigma), or 1e-16 on exact taps (1e-8 sigma).
 _GAIN_TOLERANCE = (1e-8, 1e-16)
+# A fit whose focal lengths end this many prior sigmas away ran off (e^5 = 150 times).
+_FOCAL_RANGE_SIGMAS = 10.0
 # Below this |w| of the direction the seeker is seen in, they are at infinity in photo 2.
 _AT_INFINITY = 1e-12
 
@@ -155,6 +157,7 @@ class PinholeFit:
         covariance: (7, 7) of the tangent parameters.
         distances: (N,) whitened Sampson distance of each landmark (in its own sigmas).
         jacobian: (M, 7) of all whitened residuals at the estimate.
+        prior_offsets: (2,) each log focal length's distance from its prior, in sigmas.
     """
 
     pose: Poses
@@ -164,6 +167,20 @@ class PinholeFit:
     covariance: Array
     distances: Array
     jacobian: Array
+    prior_offsets: Array
+
+    @property
+    def usable(self) -> bool:
+        """Whether the fit is a number throughout, with focal lengths within ten prior
+        sigmas: a start far from any geometry can run off to absurd ones."""
+        return bool(
+            np.isfinite(self.cost)
+            and np.all(np.isfinite(self.covariance))
+            and np.all(np.isfinite(self.jacobian))
+            and np.all(np.isfinite(self.pose.rotation))
+            and np.all(np.abs(self.distances) < np.inf)
+            and np.all(np.abs(self.prior_offsets) <= _FOCAL_RANGE_SIGMAS)
+        )
 
     @property
     def focals(self) -> tuple[float, float]:
@@ -344,6 +361,7 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
         covariance=covariance,
         distances=r[: model.landmarks],
         jacobian=jacobian,
+        prior_offsets=r[-2:],
     )
 
 

@@ -58,6 +58,6 @@ def find_pinhole_mistaps(model: PinholeModel) -> tuple[list[int], PinholeFit] | 
         fit = fit_pinhole(PinholeModel(taps.subset(np.flatnonzero(inliers)), model.priors), start)
         start = fit.pose
         inliers = np.abs(model.offsets(fit.pose)[0, :count]) <= SUSPECT_SIGMAS
-    if inliers.sum() < _MIN_INLIERS or inliers.all() or not consistent(fit):
+    if inliers.sum() < _MIN_INLIERS or inliers.all() or not fit.usable or not consistent(fit):
         return None
     return [int(i) for i in np.flatnonzero(~inliers)], fit

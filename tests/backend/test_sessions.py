@@ -18,6 +18,7 @@ from sqlalchemy import text
 
 from backend.sessions.tokens import token_hash
 from backend.storage.tables import Base
+from shared_solver.estimation.uncertainty import contains
 from testbed.scenes import Scene, temple_scene
 
 
@@ -209,28 +210,117 @@ def test_too_many_landmarks_are_refused(
 def test_the_answer_follows_the_taps(
     seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
+    """Phone photos: three landmarks and the buddy give a position (the solver's camera
+    model); the counter counts down to it and the answer holds the truth in its region."""
     photos_uploaded(seeker, buddy, temple_photos)
     s = scene(6, seed=2)
+    seeker.tap(landmarks=landmarks(s.landmarks1[:2]), epipole1=list(s.epipole1))
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[:2])).json()
+    assert state["result"] is None
+    assert state["landmarks_needed"] == 1
+
     seeker.tap(landmarks=landmarks(s.landmarks1[:3]), epipole1=list(s.epipole1))
     state = buddy.tap(landmarks=landmarks(s.landmarks2[:3])).json()
-    assert state["result"] is None
-    assert state["landmarks_needed"] == 2
-
-    seeker.tap(landmarks=landmarks(s.landmarks1[:4]), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[:4])).json()
-    assert state["result"]["method"] == "conic"
-    assert state["landmarks_needed"] == 1
+    assert state["result"]["method"] == "pinhole_epipole"
+    assert state["result"]["camera_model"] == "pinhole"
+    assert [camera["known"] for camera in state["result"]["cameras"]] == ["phone", "phone"]
+    assert state["landmarks_needed"] == 0
 
     # Ids match across photos whatever the order they were tapped in.
     seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
     state = buddy.tap(landmarks=landmarks(s.landmarks2[4::-1], [5, 4, 3, 2, 1])).json()
     result = state["result"]
-    assert result["method"] == "five_point_epipole"
+    assert result["method"] == "pinhole_epipole"
     assert state["landmarks_needed"] == 0
     assert state["result_landmark_ids"] == [1, 2, 3, 4, 5]
-    assert np.linalg.norm(np.array(result["epipole2"]) - s.epipole2) < 1e-6
+    assert contains(
+        np.array(result["epipole2"]), np.array(result["uncertainty"]["covariance"]), s.epipole2
+    )
     assert state["result_version"] == state["version"]
     assert seeker.state()["result"] == result  # both phones see the same answer
+
+
+@pytest.mark.parametrize(
+    ("marks", "fewest"),
+    [
+        ({}, 7),  # nothing marked
+        ({"epipolar_line1": "line"}, 6),  # a line through the buddy
+        ({"epipole1": "buddy"}, 3),  # the buddy (5 without the phone cameras)
+    ],
+)
+def test_the_counter_counts_down_to_what_the_solver_needs_from_phones(
+    seeker: Phone,
+    buddy: Phone,
+    temple_photos: tuple[bytes, bytes],
+    marks: dict[str, str],
+    fewest: int,
+) -> None:
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(7, seed=5)
+    drawn = {
+        "epipole1": list(s.epipole1),
+        "epipolar_line1": [1.0, 0.0, -float(s.epipole1[0])],  # vertical, through the buddy
+    }
+    mark = {name: drawn[name] for name in marks}
+    seeker.tap(landmarks=landmarks(s.landmarks1), **mark)
+    for n in range(fewest):
+        state = buddy.tap(landmarks=landmarks(s.landmarks2[:n])).json()
+        assert state["landmarks_needed"] == fewest - n
+        assert state["result"] is None
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[:fewest])).json()
+    assert state["landmarks_needed"] == 0
+    assert state["result"]["camera_model"] == "pinhole"
+
+
+def test_both_friends_marked_one_landmark_is_enough(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """Each sees the other: with phone photos one common landmark fixes the seeker (three
+    for any two cameras)."""
+    photos_uploaded(seeker, buddy, temple_photos)
+    s = scene(3, seed=13)
+    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
+    state = buddy.tap(landmarks=[], epipole2=list(s.epipole2)).json()
+    assert state["landmarks_needed"] == 1
+    assert state["result"] is None
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[:1]), epipole2=list(s.epipole2)).json()
+    assert state["landmarks_needed"] == 0
+    result = state["result"]
+    assert result["method"] == "pinhole_two_epipoles"
+    assert result["camera_model"] == "pinhole"
+    assert np.linalg.norm(np.array(result["epipole2"]) - s.epipole2) < 3.0
+
+
+# Taps that fit no two phone photos (found by search: no pose of two phone cameras puts
+# these landmarks and the buddy where they were tapped); any two cameras can still answer.
+NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
+NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
+NO_PHONES_BUDDY = [397.0, 291.0]
+
+
+def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
+    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The solver falls back to the projective geometry, and says so: four landmarks give
+    the curve the seeker is on, and the counter asks for the fifth that fixes the spot."""
+    photos_uploaded(seeker, buddy, temple_photos)
+    seeker.tap(landmarks=landmarks(NO_PHONES_1), epipole1=NO_PHONES_BUDDY)
+    state = buddy.tap(landmarks=landmarks(NO_PHONES_2[:3])).json()
+    assert state["result"] is None
+    assert state["result_error"]["code"] == "degenerate_configuration"
+
+    state = buddy.tap(landmarks=landmarks(NO_PHONES_2[:4])).json()
+    result = state["result"]
+    assert result["method"] == "conic"
+    assert result["camera_model"] == "projective"
+    assert "do not fit two ordinary phone photos" in result["warnings"][0]
+    assert state["landmarks_needed"] == 1  # the curve: one more for a position
+    assert seeker.state()["landmarks_needed"] == 1
+
+    state = buddy.tap(landmarks=landmarks(NO_PHONES_2)).json()
+    assert state["result"]["method"] == "five_point_epipole"
+    assert state["result"]["camera_model"] == "projective"
+    assert state["landmarks_needed"] == 0
 
 
 def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(
@@ -240,13 +330,13 @@ def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(
     photos_uploaded(seeker, buddy, temple_photos)
     s = scene(6, seed=3)
     seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
-    for n in (3, 5, 6):  # no answer yet, then answers
+    for n in (2, 3, 6):  # no answer yet, then answers
         reply = buddy.tap(landmarks=landmarks(s.landmarks2[:n])).json()
         assert reply == buddy.state()
         fetched = seeker.state()
         for key in ("version", "result", "result_version", "result_error", "taps"):
             assert fetched[key] == reply[key]
-    assert reply["result"]["method"] == "least_squares_epipole"  # 6 landmarks + e1
+    assert reply["result"]["method"] == "pinhole_epipole"  # 6 landmarks + e1, phone cameras
 
 
 def overtake_the_buddy(
@@ -286,7 +376,7 @@ def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
     reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
     assert sneaked[0].status_code == 200
     # Answered with the seeker's 6 landmarks, which came in after the buddy's request did.
-    assert reply["result"]["method"] == "least_squares_epipole"
+    assert reply["result"]["method"] == "pinhole_epipole"
     assert reply["result_landmark_ids"] == [1, 2, 3, 4, 5, 6]
     assert reply["result_version"] == reply["version"] == sneaked[0].json()["version"] + 1
     assert reply == buddy.state()
@@ -298,9 +388,9 @@ def test_landmarks_tapped_in_one_photo_only_do_not_count(
     photos_uploaded(seeker, buddy, temple_photos)
     s = scene(7)
     seeker.tap(landmarks=landmarks(s.landmarks1, [1, 2, 3, 4, 5, 6, 7]), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[[0, 1, 2, 3, 6]], [1, 2, 3, 4, 9])).json()
-    assert state["result"]["method"] == "conic"
-    assert state["result_landmark_ids"] == [1, 2, 3, 4]
+    state = buddy.tap(landmarks=landmarks(s.landmarks2[[0, 1, 2, 6]], [1, 2, 3, 9])).json()
+    assert state["result"]["method"] == "pinhole_epipole"
+    assert state["result_landmark_ids"] == [1, 2, 3]
 
 
 def test_a_degenerate_tap_set_explains_itself(

@@ -5,12 +5,14 @@ from __future__ import annotations
 import json
 
 import cv2
+import httpx
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 from phones import TEMPLE
 
-from shared_solver import solve
+from shared_solver import Camera, solve
+from testbed.phones import phone_scene
 from testbed.scenes import facing_scene, temple_scene
 
 
@@ -40,6 +42,205 @@ def test_solve_returns_exactly_what_the_solver_returns(client: TestClient, seed:
         image_size2=body["image_size2"],  # type: ignore[arg-type]
     )
     assert response.json() == json.loads(json.dumps(expected.model_dump(mode="json")))
+
+
+def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> None:
+    """Unknown cameras by default (a script may send any image); told they are phones, the
+    solver answers from three landmarks with its camera model and says so."""
+    s = phone_scene(np.random.default_rng(5), 3)
+    body: dict[str, object] = {
+        "points1": s.landmarks1.tolist(),
+        "points2": s.landmarks2.tolist(),
+        "epipole1": s.epipole1.tolist(),
+        "image_size1": list(s.image_size1),
+        "image_size2": list(s.image_size2),
+    }
+    refused = client.post("/api/solve", json=body)
+    assert refused.status_code == 422
+    assert refused.json()["error"]["code"] == "too_few_landmarks"
+    phones = body | {
+        "camera1": {"kind": "phone"},
+        "camera2": {"kind": "known_focal", "focal_35mm": s.focal_35mm2},
+        "points1_sigma": [1.0, 2.0, 1.0],
+        "epipole1_sigma": [[2.0, 0.5], [0.5, 1.0]],
+    }
+    answer = client.post("/api/solve", json=phones)
+    assert answer.status_code == 200
+    result = answer.json()
+    assert result["method"] == "pinhole_epipole"
+    assert result["camera_model"] == "pinhole"
+    assert [c["known"] for c in result["cameras"]] == ["phone", "known_focal"]
+    assert result["cameras"][1]["focal_35mm"] == pytest.approx(s.focal_35mm2, rel=0.05)
+    expected = solve(
+        s.landmarks1,
+        s.landmarks2,
+        epipole1=s.epipole1,
+        image_size1=s.image_size1,
+        image_size2=s.image_size2,
+        camera1="phone",
+        camera2=Camera.with_focal(s.focal_35mm2),
+        points1_sigma=[1.0, 2.0, 1.0],
+        epipole1_sigma=[[2.0, 0.5], [0.5, 1.0]],
+    )
+    assert result == json.loads(json.dumps(expected.model_dump(mode="json")))
+
+
+def test_solve_with_both_friends_marked_needs_one_landmark_from_phones(
+    client: TestClient,
+) -> None:
+    s = phone_scene(np.random.default_rng(7), 1)
+    body: dict[str, object] = {
+        "points1": s.landmarks1.tolist(),
+        "points2": s.landmarks2.tolist(),
+        "epipole1": s.epipole1.tolist(),
+        "epipole2": s.epipole2.tolist(),
+        "tap_sigma": 1.0,
+        "image_size1": list(s.image_size1),
+        "image_size2": list(s.image_size2),
+    }
+    refused = client.post("/api/solve", json=body)
+    assert refused.status_code == 422
+    assert refused.json()["error"]["code"] == "too_few_landmarks"
+    answer = client.post("/api/solve", json=body | {"camera1": "phone", "camera2": "phone"})
+    assert answer.status_code == 200, answer.text
+    result = answer.json()
+    assert result["method"] == "pinhole_two_epipoles"
+    assert result["camera_model"] == "pinhole"
+    assert [c["known"] for c in result["cameras"]] == ["phone", "phone"]
+    assert result["landmark_count"] == 1
+
+
+def test_unknown_cameras_are_the_projective_model(client: TestClient) -> None:
+    """Null cameras (the default) and "unknown" are what scripts got before cameras."""
+    body = request_for(1)
+    plain = client.post("/api/solve", json=body).json()
+    assert plain["camera_model"] == "projective"
+    assert plain["cameras"] == []
+    for unknown in (None, "unknown", {"kind": "unknown"}):
+        said = client.post("/api/solve", json=body | {"camera1": unknown, "camera2": unknown})
+        assert said.status_code == 200
+        assert said.json()["camera_model"] == "projective"
+        assert said.json()["epipole2"] == plain["epipole2"]
+
+
+def test_each_taps_own_precision_weighs_in(client: TestClient) -> None:
+    """Per-tap sigmas and covariances reach the solver: the answer is the solver's for
+    them, and differs from the answer with every tap at tap_sigma."""
+    body = request_for(2, landmarks=8)
+    sharp = [0.5, 4.0, 0.5, 4.0, 0.5, 4.0, 0.5, 4.0]
+    precise = body | {
+        "points1_sigma": sharp,
+        "points2_sigma": [[[s**2, 0.0], [0.0, 1.0]] for s in sharp],
+        "epipole1_sigma": 0.5,
+    }
+    response = client.post("/api/solve", json=precise)
+    assert response.status_code == 200, response.text
+    expected = solve(
+        body["points1"],  # type: ignore[arg-type]
+        body["points2"],  # type: ignore[arg-type]
+        epipole1=body["epipole1"],  # type: ignore[arg-type]
+        tap_sigma=1.5,
+        image_size1=body["image_size1"],  # type: ignore[arg-type]
+        image_size2=body["image_size2"],  # type: ignore[arg-type]
+        points1_sigma=sharp,
+        points2_sigma=[[[s**2, 0.0], [0.0, 1.0]] for s in sharp],
+        epipole1_sigma=0.5,
+    )
+    assert response.json() == json.loads(json.dumps(expected.model_dump(mode="json")))
+    plain = client.post("/api/solve", json=body).json()
+    assert response.json()["uncertainty"]["covariance"] != plain["uncertainty"]["covariance"]
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"camera1": {"kind": "tripod"}}, "camera1"),
+        ({"camera1": "tripod"}, "camera1"),
+        ({"camera1": 26}, "camera1"),
+        ({"camera1": [{"kind": "phone"}]}, "camera1"),
+        ({"camera2": {"kind": "known_focal"}}, "camera2"),  # no focal length
+        ({"camera2": {"kind": "phone", "focal_35mm": 26}}, "camera2"),  # focal without kind
+        ({"camera2": {"kind": "known_focal", "focal_35mm": -26}}, "camera2"),
+        ({"camera1": {"kind": "phone", "lens": 2}}, "camera1"),
+        ({"camera1": {"kind": "phone"}, "image_size1": None}, "image_size1"),
+    ],
+)
+def test_a_malformed_camera_is_refused_with_the_solvers_code(
+    client: TestClient, change: dict[str, object], field: str
+) -> None:
+    response = client.post("/api/solve", json=request_for(0) | change)
+    assert response.status_code == 422
+    error = response.json()["error"]
+    assert error["code"] == "invalid_parameter"
+    assert field in error["message"]
+
+
+@pytest.mark.parametrize(
+    ("change", "code"),
+    [
+        ({"points1_sigma": [1.0, 2.0]}, "invalid_shape"),  # 2 sigmas for 6 landmarks
+        ({"points2_sigma": [1.0, -2.0, 1.0, 1.0, 1.0, 1.0]}, "invalid_parameter"),
+        ({"points2_sigma": [[[1.0, 2.0], [2.0, 1.0]]] * 6}, "invalid_parameter"),  # indefinite
+        ({"points1_sigma": "sharp"}, "invalid_shape"),
+        ({"epipole1_sigma": [[1.0, 2.0], [2.0, 1.0]]}, "invalid_parameter"),
+        ({"epipole1_sigma": 0}, "invalid_parameter"),
+        ({"epipole1_sigma": "wide"}, "invalid_shape"),
+        ({"epipole1_sigma": [1.0, 1.0]}, "invalid_shape"),
+        ({"epipole2": [5, 5], "epipole2_sigma": [[1.0, 0.0], [1.0, 1.0]]}, "invalid_parameter"),
+        ({"epipole1_sigma": [[1.0, float("nan")], [0.0, 1.0]]}, "not_finite"),
+    ],
+)
+def test_a_malformed_precision_is_refused_with_the_solvers_code(
+    client: TestClient, change: dict[str, object], code: str
+) -> None:
+    text = json.dumps(request_for(0) | change)  # NaN is sent as JSON's NaN
+    response = client.post("/api/solve", content=text, headers={"Content-Type": "application/json"})
+    assert response.status_code == 422
+    assert response.json()["error"]["code"] == code
+
+
+def test_cameras_and_precisions_are_documented(client: TestClient) -> None:
+    """Each new field has a description and a schema (the cameras: the solver's Camera),
+    and the documented camera-aware answer is the real solver's."""
+    spec = client.get("/openapi.json").json()
+    schemas = spec["components"]["schemas"]
+    fields = schemas["SolveRequest"]["properties"]
+    for name in (
+        "camera1",
+        "camera2",
+        "points1_sigma",
+        "points2_sigma",
+        "epipole1_sigma",
+        "epipole2_sigma",
+    ):
+        assert len(fields[name]["description"]) > 20, name
+        assert fields[name]["anyOf"], name
+    assert {"$ref": "#/components/schemas/Camera"} in fields["camera1"]["anyOf"]
+    assert set(schemas["Camera"]["properties"]["kind"]["enum"]) == {
+        "unknown",
+        "phone",
+        "known_focal",
+    }
+    requests = schemas["SolveRequest"]["examples"]
+    phones = next(r for r in requests if "camera1" in r)
+    answers = spec["paths"]["/api/solve"]["post"]["responses"]["200"]["content"][
+        "application/json"
+    ]["examples"]
+    documented = answers["phones"]["value"]
+    assert documented["camera_model"] == "pinhole"
+    assert documented["landmark_count"] == 3
+    # The schema leaves out nulls (FastAPI writes it without them).
+    assert without_nulls(client.post("/api/solve", json=phones).json()) == documented
+    projective = client.post("/api/solve", json=requests[0]).json()
+    assert without_nulls(projective) == answers["projective"]["value"]
+
+
+def without_nulls(value: object) -> object:
+    if isinstance(value, dict):
+        return {k: without_nulls(v) for k, v in value.items() if v is not None}
+    if isinstance(value, list):
+        return [without_nulls(v) for v in value]
+    return value
 
 
 @pytest.mark.parametrize(
@@ -123,3 +324,34 @@ def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> No
     assert bad.json()["error"]["code"] == "invalid_request"
     missing = client.post("/api/overlay", data={"request": json.dumps(temple_request())})
     assert missing.status_code == 422
+
+
+def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -> None:
+    """The temple photos as two phone photos: three landmarks and the buddy are enough for
+    a drawing; a malformed camera is refused with the solver's code, as by /api/solve."""
+    photo = (TEMPLE / "templeSR0006.png").read_bytes()
+    three = (
+        temple_request()
+        | {
+            "points1": temple_request()["points1"][:3],  # type: ignore[index]
+            "points2": temple_request()["points2"][:3],  # type: ignore[index]
+        }
+    )
+
+    def overlay(request: dict[str, object]) -> httpx.Response:
+        return client.post(
+            "/api/overlay",
+            files={"photo": ("buddy.png", photo, "image/png")},
+            data={"request": json.dumps(request)},
+        )
+
+    assert overlay(three).json()["error"]["code"] == "too_few_landmarks"
+    phones = three | {"camera1": {"kind": "phone"}, "camera2": "phone", "points1_sigma": [2, 3, 2]}
+    drawn = overlay(phones)
+    assert drawn.status_code == 200, drawn.text
+    image = cv2.imdecode(np.frombuffer(drawn.content, np.uint8), cv2.IMREAD_COLOR)
+    plain = cv2.imread(str(TEMPLE / "templeSR0006.png"))
+    assert np.mean(np.any(image != plain, axis=2)) > 0.005
+    bad = overlay(phones | {"camera2": {"kind": "known_focal"}})
+    assert bad.status_code == 422
+    assert bad.json()["error"]["code"] == "invalid_parameter"

@@ -74,7 +74,12 @@ def tap_landmarks(page: Page, points: np.ndarray, first_id: int = 1) -> None:
 
 def buddy_taps(page: Page, points: np.ndarray) -> None:
     """The buddy finds each landmark the seeker numbered, prompted with its crop."""
-    for number, (x, y) in enumerate(points, start=1):
+    buddy_taps_from(page, points, first_id=1)
+
+
+def buddy_taps_from(page: Page, points: np.ndarray, first_id: int) -> None:
+    """:func:`buddy_taps` from landmark ``first_id`` on."""
+    for number, (x, y) in enumerate(points, start=first_id):
         prompt = page.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(number))
         expect(prompt.locator("img")).to_be_visible()
@@ -180,21 +185,98 @@ def test_a_code_typed_wrong_five_times_is_renewed_on_the_seekers_phone(
     expect(buddy.get_by_test_id("photo-input")).to_be_attached()
 
 
-def test_four_landmarks_show_the_curve(
+def promised(text: str) -> int:
+    """The count in a hint such as "then 3 landmarks are enough"."""
+    found = re.search(r"then (\d+) landmarks? (?:are|is) enough", text)
+    assert found is not None, text
+    return int(found.group(1))
+
+
+def test_three_landmarks_and_the_buddy_give_a_position(
     server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
 ) -> None:
+    """Both photos come from phones, so the server solves with the camera model: three
+    landmarks and the buddy mark are enough for a position, as the seeker's hint promises
+    and the counters count down to."""
     seeker, buddy = start_and_join(server, pixel, iphone)
     upload(seeker, PAIR[0])
     upload(buddy, PAIR[1])
-    truth = scene(4, seed=13)
+    truth = scene(3, seed=13)
+    hint = seeker.locator(".status .hint")
+    expect(hint).to_contain_text("Mark your buddy first")
+    enough = promised(hint.inner_text())
+    tap_photo(seeker, *truth.epipole1)
+    tap_landmarks(seeker, truth.landmarks1[:2])
+    expect(seeker.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", str(enough))
+    assert enough == 3
+    tap_landmarks(seeker, truth.landmarks1[2:], first_id=3)
+    buddy_taps(buddy, truth.landmarks2[:2])
+    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "1")
+    expect(buddy.get_by_test_id("result-overlay")).to_have_count(0)
+    buddy_taps_from(buddy, truth.landmarks2[2:], first_id=3)
+    expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
+    centre, ellipse = reported_position(buddy)
+    assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
+    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
+    expect(seeker.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
+    buddy.screenshot(path=screenshots / "8-three-landmarks-buddy.png")
+
+
+def test_both_friends_marked_one_landmark_is_enough(
+    server: str, pixel: BrowserContext, iphone: BrowserContext
+) -> None:
+    """The buddy sees the seeker too and marks them: then one common landmark fixes the
+    spot, as the buddy's prompt promises."""
+    seeker, buddy = start_and_join(server, pixel, iphone)
+    upload(seeker, PAIR[0])
+    upload(buddy, PAIR[1])
+    truth = scene(1, seed=13)
     tap_photo(seeker, *truth.epipole1)
     tap_landmarks(seeker, truth.landmarks1)
+    buddy.get_by_test_id("mark-seeker").tap()
+    prompt = buddy.locator(".prompt-text").filter(has_text="Can you see your friend?")
+    expect(prompt).to_be_visible()
+    enough = promised(prompt.inner_text())
+    tap_photo(buddy, *truth.epipole2)
+    saved(buddy)
+    needed = buddy.get_by_test_id("landmarks-needed")
+    expect(needed).to_have_attribute("data-count", str(enough))
+    assert enough == 1
     buddy_taps(buddy, truth.landmarks2)
+    expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
+    centre, ellipse = reported_position(buddy)
+    assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
+    expect(needed).to_have_attribute("data-count", "0")
+
+
+# Taps that fit no two phone photos (tests/backend/test_sessions.py): the server answers
+# them without the camera model, as for any two cameras.
+NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
+NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
+NO_PHONES_BUDDY = (397.0, 291.0)
+
+
+def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
+    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+) -> None:
+    """The curve the seeker stands on is still shown when the taps fit no two phone
+    photos (a cropped or edited photo, landmarks mixed up): four landmarks give it, with a
+    warning, and the counter asks for one more, which gives a position."""
+    seeker, buddy = start_and_join(server, pixel, iphone)
+    upload(seeker, PAIR[0])
+    upload(buddy, PAIR[1])
+    tap_photo(seeker, *NO_PHONES_BUDDY)
+    tap_landmarks(seeker, NO_PHONES_1)
+    buddy_taps(buddy, NO_PHONES_2[:4])
     expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
     expect(buddy.get_by_test_id("result-text")).to_contain_text("curve")
     expect(buddy.get_by_test_id("result-position")).to_have_count(0)
+    expect(buddy.get_by_test_id("warning").first).to_contain_text("do not fit two ordinary phone")
     expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "1")
-    buddy.screenshot(path=screenshots / "8-curve-buddy.png")
+    buddy.screenshot(path=screenshots / "8b-curve-buddy.png")
+    buddy_taps_from(buddy, NO_PHONES_2[4:], first_id=5)
+    expect(buddy.get_by_test_id("result-position")).to_be_visible()
+    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
 
 
 def test_delete_now_ends_it_for_both(

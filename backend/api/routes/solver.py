@@ -3,18 +3,18 @@
 from __future__ import annotations
 
 import json
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, File, Form, Query, UploadFile
 from fastapi.responses import Response
-from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, JsonValue, PlainValidator, ValidationError
 
 from backend.api.deps import SettingsDep
 from backend.api.responses import PICTURE, errors, json_answer
 from backend.errors import ApiError
 from backend.photos import decode_photo, encode_image, store_photo
 from backend.sessions.service import MEDIA_TYPES, ImageFormat
-from shared_solver import SolveResult, draw_overlay, solve
+from shared_solver import Camera, SolveResult, draw_overlay, solve
 
 router = APIRouter(prefix="/api", tags=["solver"])
 
@@ -26,22 +26,98 @@ _EXAMPLE: dict[str, JsonValue] = {
     "image_size1": [1600, 1200],
     "image_size2": [1600, 1200],
 }
+# The same taps, three landmarks only, from two phones (one with its focal length from
+# EXIF), each tap with its own precision: the camera model answers from three.
+_PHONES_EXAMPLE: dict[str, JsonValue] = {
+    "points1": [[547, 598], [948, 824], [238, 1014]],
+    "points2": [[693, 551], [330, 688], [1000, 1003]],
+    "epipole1": [730, 690],
+    "points1_sigma": [1.0, 2.0, 1.0],
+    "points2_sigma": [1.0, 1.0, 3.0],
+    "epipole1_sigma": 1.5,
+    "image_size1": [1600, 1200],
+    "image_size2": [1600, 1200],
+    "camera1": {"kind": "phone"},
+    "camera2": {"kind": "known_focal", "focal_35mm": 30},
+}
+
+
+def _documented_as(shape: Any) -> PlainValidator:
+    """A field passed to the solver as sent, documented as ``shape``: the solver checks
+    it, so a malformed one gets the solver's own code like every other field."""
+    return PlainValidator(lambda value: value, json_schema_input_type=shape)
+
+
+# What is known about a photo's camera: the solver's Camera, or its kind alone.
+_CameraField = Annotated[Any, _documented_as(Camera | Literal["phone", "unknown"] | None)]
+# One sigma (px) or one 2x2 covariance (px^2) per landmark tap.
+_TapPrecisions = Annotated[Any, _documented_as(list[float] | list[list[list[float]]] | None)]
+# A sigma (px) or a 2x2 covariance (px^2) of one mark.
+_MarkPrecision = Annotated[Any, _documented_as(float | list[list[float]] | None)]
 
 
 class SolveRequest(BaseModel):
     """The arguments of ``shared_solver.solve``. Shapes are checked by the solver, so a
-    malformed point gets the solver's own error code (``invalid_shape``, ``not_finite``)."""
+    malformed point, camera or precision gets the solver's own error code
+    (``invalid_shape``, ``not_finite``, ``invalid_parameter``). The cameras are unknown
+    unless said: a script may send a cropped or edited photo, which is no phone camera."""
 
-    model_config = ConfigDict(json_schema_extra={"examples": [_EXAMPLE]})
+    model_config = ConfigDict(json_schema_extra={"examples": [_EXAMPLE, _PHONES_EXAMPLE]})
 
     points1: Any = Field(description="Landmarks in photo 1 (the seeker's): [[x, y], ...].")
     points2: Any = Field(description="The same landmarks, same order, in photo 2.")
     epipole1: Any = Field(None, description="[x, y] of the buddy in photo 1.")
     epipole2: Any = Field(None, description="[x, y] of the seeker in photo 2.")
     epipolar_line1: Any = Field(None, description="[a, b, c]: a line through the buddy in photo 1.")
-    tap_sigma: float = Field(2.0, description="Tap noise, px per axis.")
-    image_size1: Any = Field(None, description="[width, height] of photo 1.")
-    image_size2: Any = Field(None, description="[width, height] of photo 2.")
+    tap_sigma: float = Field(
+        2.0,
+        description="Tap noise, px per axis: the precision of every tap not given its own "
+        "(points1_sigma, points2_sigma, epipole1_sigma, epipole2_sigma).",
+    )
+    image_size1: Any = Field(None, description="[width, height] of photo 1; needed with camera1.")
+    image_size2: Any = Field(None, description="[width, height] of photo 2; needed with camera2.")
+    camera1: _CameraField = Field(
+        None,
+        description='What is known about photo 1\'s camera. {"kind": "phone"}: a phone '
+        "photo, focal length unknown (a broad prior around the main camera's 26 mm); "
+        '{"kind": "known_focal", "focal_35mm": 26}: its 35 mm-equivalent focal '
+        "length (EXIF FocalLengthIn35mmFilm), with focal_uncertainty (relative, 0.02 by "
+        'default); "phone" or "unknown" for short. Null or unknown (the default): any '
+        "camera, the projective geometry (for cropped, edited or non-phone photos). With "
+        "both cameras known the answer uses a pinhole model (method pinhole_*, "
+        "camera_model 'pinhole', cameras) and needs fewer landmarks: 3 with the buddy "
+        "marked instead of 5, 1 with both friends marked instead of 3. Needs image_size1; "
+        "a malformed camera is refused with invalid_parameter.",
+        examples=[{"kind": "phone"}, {"kind": "known_focal", "focal_35mm": 26}],
+    )
+    camera2: _CameraField = Field(
+        None,
+        description="The same for photo 2 (the buddy's); needs image_size2.",
+        examples=[{"kind": "phone"}],
+    )
+    points1_sigma: _TapPrecisions = Field(
+        None,
+        description="The precision of each landmark tap in photo 1, same order as points1: "
+        "[sigma, ...] in px, or [[[var_x, cov_xy], [cov_xy, var_y]], ...] in px^2 (symmetric, "
+        "positive definite). Null: tap_sigma for each.",
+        examples=[[1.0, 2.0, 1.0]],
+    )
+    points2_sigma: _TapPrecisions = Field(
+        None,
+        description="The same for points2 (photo 2).",
+        examples=[[[[4.0, 1.0], [1.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]], [[9.0, 0.0], [0.0, 9.0]]]],
+    )
+    epipole1_sigma: _MarkPrecision = Field(
+        None,
+        description="The precision of epipole1: a sigma in px or a 2x2 covariance in px^2; "
+        "with epipolar_line1 instead, the line's sigma across it. Null: tap_sigma.",
+        examples=[1.5],
+    )
+    epipole2_sigma: _MarkPrecision = Field(
+        None,
+        description="The precision of epipole2, as epipole1_sigma. Null: tap_sigma.",
+        examples=[[[4.0, 0.0], [0.0, 1.0]]],
+    )
 
     def solve(self) -> SolveResult:
         return solve(
@@ -53,23 +129,49 @@ class SolveRequest(BaseModel):
             tap_sigma=self.tap_sigma,
             image_size1=self.image_size1,
             image_size2=self.image_size2,
+            camera1=self.camera1,
+            camera2=self.camera2,
+            points1_sigma=self.points1_sigma,
+            points2_sigma=self.points2_sigma,
+            epipole1_sigma=self.epipole1_sigma,
+            epipole2_sigma=self.epipole2_sigma,
         )
 
 
-# The documented answer is the real solver's, so the example cannot drift from the code.
-_EXAMPLE_ANSWER = SolveRequest.model_validate(_EXAMPLE).solve().model_dump(mode="json")
+def _answer_of(example: dict[str, JsonValue]) -> JsonValue:
+    """The real solver's answer: the documented answers cannot drift from the code."""
+    answer: JsonValue = SolveRequest.model_validate(example).solve().model_dump(mode="json")
+    return answer
+
+
+_EXAMPLES: dict[str, dict[str, JsonValue]] = {
+    "projective": {
+        "summary": "Five landmarks and the buddy, cameras unknown",
+        "value": _answer_of(_EXAMPLE),
+    },
+    "phones": {
+        "summary": "Three landmarks and the buddy from two phones, taps of their own precision",
+        "value": _answer_of(_PHONES_EXAMPLE),
+    },
+}
 
 
 @router.post(
     "/solve",
     response_model=SolveResult,
     responses={
-        200: {"content": {"application/json": {"example": _EXAMPLE_ANSWER}}},
+        200: {"content": {"application/json": {"examples": _EXAMPLES}}},
         **errors(400, 413, 422),
     },
 )
 def solve_taps(request: SolveRequest) -> Response:
-    """Where the seeker is in photo 2, from the taps: exactly ``shared_solver.solve``."""
+    """Where the seeker is in photo 2, from the taps: exactly ``shared_solver.solve``.
+
+    The cameras are unknown unless ``camera1`` and ``camera2`` say otherwise (the paper's
+    projective geometry: 5 landmarks with the buddy marked); with both (two phone photos,
+    say) the answer uses a pinhole camera model and needs fewer landmarks (3 with the buddy
+    marked).
+    """
     return json_answer(request.solve())
 
 
@@ -83,7 +185,7 @@ def draw_on_photo(
         str,
         Form(
             description="The JSON of POST /api/solve, as a string.",
-            examples=[json.dumps(_EXAMPLE)],
+            examples=[json.dumps(_EXAMPLE), json.dumps(_PHONES_EXAMPLE)],
         ),
     ],
     format: Annotated[ImageFormat, Query(description="png or jpeg")] = "png",

@@ -100,7 +100,7 @@ function statusHint(state: SessionState, view: SessionView): string {
   const seeker = view.credentials.role === "seeker";
   const { taps } = view.editor;
   if (seeker && !taps.buddyMark && !taps.buddyLine) {
-    return "Mark your buddy first: then 5 landmarks are enough.";
+    return "Mark your buddy first: then 3 landmarks are enough.";
   }
   if (!state.photos[otherRole(view.credentials.role)]) {
     return seeker ? "Your buddy is taking their photo." : "Your friend is taking their photo.";
@@ -244,7 +244,7 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
       <section class="prompt">
         <div class="prompt-text">
           <strong>Can you see your friend?</strong>
-          <span>Tap them: then 3 landmarks are enough.</span>
+          <span>Tap them: then 1 landmark is enough.</span>
         </div>
         {editor.taps.seekerMark ? (
           <button type="button" class="button secondary small" onClick={() => controller.removeSeekerMark()}>
