@@ -170,7 +170,12 @@ def report(results: Results) -> str:
         "nearest the truth), which flatters OpenCV. On 8 landmarks RANSAC returns one E (its "
         "LMEDS was measured far worse here: every 5-landmark sample fits 5 of the 8 taps "
         "exactly, so the median error is 0 whatever the sample). OpenCV 8-point: "
-        "`findFundamentalMat(..., FM_8POINT)` in pixels, e2 the left null vector of F.",
+        "`findFundamentalMat(..., FM_8POINT)` in pixels, e2 the left null vector of F. "
+        "*Exact roots 3+e1, true K*: every rotation of our three-landmark solver "
+        "(`minimal/buddy_and_three.py`) on the same noisy taps at the **true** intrinsics, "
+        "principal points included, and the root nearest the truth (oracle): with no landmark "
+        "to spare every estimator answers with one of these roots, so this bounds what 3 + e1 "
+        "can give.",
         phones.accuracy_tables(results.phone_table),
         COVERAGE_NOTE,
         "## 2. Zoomed photos without EXIF",

@@ -267,7 +267,8 @@ def widen_if_inconsistent(
 def calibrated(
     answer: Array, covariance: Array | None, samples: Callable[[], Array]
 ) -> Array | None:
-    """The covariance grown until its ellipse holds the bootstrap's answers (see bootstrap).
+    """The covariance grown until its ellipse holds the bootstrap's answers (see bootstrap);
+    None when too many of them have no position for any ellipse to hold them.
 
     Args:
         answer: (3,) the homogeneous seeker position the covariance belongs to.
@@ -275,7 +276,9 @@ def calibrated(
     position = to_pixel(answer)
     if covariance is None or position is None:
         return covariance
-    return covariance * bootstrap.scale(position, covariance, samples())
+    factor = bootstrap.scale(position, covariance, samples())
+    # Re-made taps too often give no position at all: no region would hold the truth.
+    return covariance * factor if math.isfinite(factor) else None
 
 
 def suspect_warnings(request: Request, suspects: list[int], fundamental: Array) -> list[str]:

@@ -43,9 +43,9 @@ from .taps import Taps, whitener
 # steps (2).
 PARAMETERS = 7
 _ROTATION, _BASELINE, _FOCAL1, _FOCAL2 = slice(0, 3), slice(3, 5), 5, 6
-# The cost is a chi-square: stop when a step gains less than 1e-8 of it (the estimate then
-# moves by 1e-4 of its own sigma), or 1e-16 on exact taps (1e-8 sigma).
-_GAIN_TOLERANCE = (1e-8, 1e-16)
+# The cost is a chi-square: stop when a step gains less than 1e-6 of it (the estimate then
+# moves by about 1e-3 of its own sigma), or 1e-16 on exact taps (1e-8 sigma).
+_GAIN_TOLERANCE = (1e-6, 1e-16)
 # A fit whose focal lengths end this many prior sigmas away ran off (e^5 = 150 times).
 _FOCAL_RANGE_SIGMAS = 10.0
 # Below this |w| of the direction the seeker is seen in, they are at infinity in photo 2.
@@ -192,7 +192,7 @@ class PinholeFit:
     def intrinsics(self) -> tuple[Array, Array]:
         return _k(self.focals[0], self.centres[0]), _k(self.focals[1], self.centres[1])
 
-    @property
+    @functools.cached_property
     def fundamental(self) -> Array:
         """(3, 3) F in pixels, unit Frobenius norm."""
         k1, k2 = self.intrinsics

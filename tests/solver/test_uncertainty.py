@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from shared_solver import solve
+from shared_solver.answers.building import calibrated
+from shared_solver.estimation import bootstrap
 from shared_solver.estimation.uncertainty import CHI2_2D, contains
 from testbed.scenes import facing_scene, tap
 
@@ -91,3 +93,30 @@ def test_quality_follows_the_uncertainty() -> None:
     assert grades["precise"].count("good") > 80
     poor = [g for g in grades["sloppy"] if g == "poor"]
     assert poor, "a very uncertain answer must be graded poor"
+
+
+def test_bootstrap_scale_is_the_quantile_of_the_re_solved_answers() -> None:
+    rng = np.random.default_rng(5)
+    samples = rng.normal(size=(200, 2)) * [3.0, 1.0]
+    covariance = np.diag([9.0, 1.0])
+    distances = np.einsum("ki,ij,kj->k", samples, np.linalg.inv(covariance), samples)
+    expected = max(1.0, float(np.quantile(distances, 0.95)) / CHI2_2D)
+    assert bootstrap.scale(np.zeros(2), covariance, samples) == pytest.approx(expected, rel=1e-12)
+    # Twice as spread as claimed: the region grows to hold 95 % of them.
+    grown = float(np.quantile(4.0 * distances, 0.95)) / CHI2_2D
+    assert grown > 3.0
+    assert bootstrap.scale(np.zeros(2), covariance / 4.0, samples) == pytest.approx(
+        grown, rel=1e-12
+    )
+
+
+def test_no_region_when_re_made_taps_too_often_give_no_answer() -> None:
+    """More than 5 % of the bootstrap's answers missing: no ellipse could hold 95 % of them,
+    so the answer claims none (rather than a region of first-order size)."""
+    samples = np.zeros((100, 2))
+    samples[:10] = np.nan
+    assert bootstrap.scale(np.zeros(2), np.eye(2), samples) == np.inf
+    covariance = np.eye(2)
+    assert calibrated(np.array([0.0, 0.0, 1.0]), covariance, lambda: samples) is None
+    samples[3:10] = 0.0  # 3 % missing: still calibrated
+    assert calibrated(np.array([0.0, 0.0, 1.0]), covariance, lambda: samples) is not None
