@@ -191,7 +191,11 @@ def report(results: Results) -> str:
         f"each tap (landmarks and both friends) at {phones.MIXED_SIGMAS[1]:g} px or "
         f"{phones.MIXED_SIGMAS[0]:g} px at even odds, told to `solve` by `points1_sigma`, "
         "`points2_sigma` and `epipole1_sigma`. Zoomed: the scenes and taps of section 2. "
-        "Errors in px.",
+        "*Focal lengths drawn from the prior*: phone scenes (own stream) whose two photos are "
+        "zoomed by factors drawn from the phone prior itself (log-normal, sd 0.5: ultra-wide to "
+        "4x), the scenes on which the prior is exactly right; on main-camera scenes the same "
+        "prior is broader than the truth, so its regions there may hold the truth a little "
+        "more often than 95 %. Errors in px.",
         phones.coverage_table(results.coverage_table),
         "## 4. Ranking on exact input: is the answer the true root?",
         f"Noise-free taps, `tap_sigma={ranking.TAP_SIGMA:g}`, {options.rank_scenes} scenes "

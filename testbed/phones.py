@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shared_solver.estimation.camera import PHONE_LOG_SIGMA
 from shared_solver.projective import Array, Mask
 from testbed.scenes import Camera, Scene, look_at
 
@@ -161,6 +162,13 @@ def aim(
     yaw, pitch = np.tan(np.radians(rng.normal(0.0, jitter_deg, 2)))
     aimed = target + distance * (yaw * side + pitch * up)
     return look_at(centre, aimed, math.radians(rng.normal(0.0, roll_deg)))
+
+
+def zoom_from_prior(rng: np.random.Generator) -> float:
+    """A zoom factor over the main camera drawn from the solver's phone prior (log-normal,
+    ``PHONE_LOG_SIGMA``): scenes on which that prior is exactly right, to check that the
+    regions it gives hold the truth as often as they claim."""
+    return float(math.exp(rng.normal(0.0, PHONE_LOG_SIGMA)))
 
 
 def photo_size(rng: np.random.Generator) -> tuple[int, int]:

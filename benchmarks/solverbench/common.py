@@ -33,6 +33,7 @@ SCENE_STREAM = {
     "zoom3": 8,
     "kinds": 9,
     "speed phone": 10,
+    "prior": 21,
 }
 TAP_STREAM = {
     "accuracy": 11,
@@ -44,6 +45,7 @@ TAP_STREAM = {
     "zoom3": 18,
     "mixed": 19,
     "speed phone": 20,
+    "prior": 22,
 }
 
 Given = Literal["e1", "line", "both", "none"]

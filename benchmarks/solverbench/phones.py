@@ -15,7 +15,7 @@ from report import markdown_table, verdict
 
 from shared_solver.minimal.buddy_and_three import rotations_from_three
 from shared_solver.projective import Array
-from testbed.phones import PhoneScene, phone_scene
+from testbed.phones import PhoneScene, phone_scene, zoom_from_prior
 from testbed.scenes import Taps, tap
 
 from .common import (
@@ -52,11 +52,16 @@ PhoneMethod = Callable[[PhoneScene, Taps, float], Outcome]
 def phone_trial(stream: str, sigma: float, trial: int) -> tuple[PhoneScene, Taps, float]:
     """Scene, taps at ``sigma`` and the direction of a line through the e1 tap, of one trial.
 
-    ``stream`` is ``phone`` (main cameras) or ``zoom2``/``zoom3`` (photo 2 zoomed); the
-    scene of trial i is the same at every sigma.
+    ``stream`` is ``phone`` (main cameras), ``zoom2``/``zoom3`` (photo 2 zoomed) or
+    ``prior`` (both photos zoomed by factors drawn from the phone prior); the scene of trial
+    i is the same at every sigma.
     """
-    zoom2 = {"phone": 1.0, "zoom2": 2.0, "zoom3": 3.0}[stream]
-    scene = phone_scene(scene_rng(stream, trial), SCENE_LANDMARKS, zoom2=zoom2)
+    rng = scene_rng(stream, trial)
+    if stream == "prior":
+        zoom1, zoom2 = zoom_from_prior(rng), zoom_from_prior(rng)
+    else:
+        zoom1, zoom2 = 1.0, {"phone": 1.0, "zoom2": 2.0, "zoom3": 3.0}[stream]
+    scene = phone_scene(rng, SCENE_LANDMARKS, zoom1=zoom1, zoom2=zoom2)
     rng = tap_rng(stream, sigma, trial)
     taps = tap(scene, sigma, rng)
     return scene, taps, float(rng.uniform(0.0, math.pi))
@@ -251,7 +256,7 @@ def zoom_table(table: ZoomTable) -> str:
 
 # --- 3. coverage of the camera-aware route, case by case ----------------------------------------
 
-Source = Literal["phone", "mixed", "zoom2", "zoom3"]
+Source = Literal["phone", "mixed", "zoom2", "zoom3", "prior"]
 
 
 @dataclass(frozen=True)
@@ -279,6 +284,10 @@ COVERAGE_CASES = (
     Case("phone prior: 4 + e1, mixed precision", 4, "e1", source="mixed"),
     Case("phone prior: 5 + e1, mixed precision", 5, "e1", source="mixed"),
     Case("phone prior: 8 + e1, mixed precision", 8, "e1", source="mixed"),
+    Case("phone prior: 3 + e1, focal lengths drawn from the prior", 3, "e1", source="prior"),
+    Case("phone prior: 4 + e1, focal lengths drawn from the prior", 4, "e1", source="prior"),
+    Case("phone prior: 5 + e1, focal lengths drawn from the prior", 5, "e1", source="prior"),
+    Case("phone prior: 8 + e1, focal lengths drawn from the prior", 8, "e1", source="prior"),
     Case("phone prior: 5 + e1, photo 2 zoomed 2x", 5, "e1", source="zoom2"),
     Case("phone prior: 5 + e1, photo 2 zoomed 3x", 5, "e1", source="zoom3"),
 )
@@ -289,13 +298,15 @@ CoverageTable = dict[Case, Summary]
 def coverage(trials: int) -> CoverageTable:
     """Every case at TARGET_SIGMA on its trials' scenes and taps; the ``phone`` cases share
     the scenes and taps of section 1 (trial i is the same), ``mixed`` the same scenes with
-    taps of mixed precision, the zoomed ones the scenes and taps of section 2."""
+    taps of mixed precision, the zoomed ones the scenes and taps of section 2, ``prior``
+    scenes whose two focal lengths are drawn from the phone prior."""
     outcomes: dict[Case, list[Outcome]] = {case: [] for case in COVERAGE_CASES}
     for trial in range(trials):
         scene, taps, angle = phone_trial("phone", TARGET_SIGMA, trial)
         mixed, precisions = mixed_taps(scene, tap_rng("mixed", TARGET_SIGMA, trial), MIXED_SIGMAS)
-        zoomed_trials = {
-            f"zoom{z:g}": phone_trial(f"zoom{z:g}", TARGET_SIGMA, trial) for z in ZOOMS
+        other_trials = {
+            stream: phone_trial(stream, TARGET_SIGMA, trial)
+            for stream in (*(f"zoom{z:g}" for z in ZOOMS), "prior")
         }
         for case in COVERAGE_CASES:
             case_scene, case_taps, case_angle, sigma = scene, taps, angle, TARGET_SIGMA
@@ -303,7 +314,7 @@ def coverage(trials: int) -> CoverageTable:
             if case.source == "mixed":
                 case_taps, told, sigma = mixed, precisions, min(MIXED_SIGMAS)
             elif case.source != "phone":
-                case_scene, case_taps, case_angle = zoomed_trials[case.source]
+                case_scene, case_taps, case_angle = other_trials[case.source]
             outcomes[case].append(
                 ours(
                     case_scene,
