@@ -45,8 +45,12 @@ from backend.storage.database import connect
 
 SEARCHES = 4
 KILLS = 3
-# Each round's traffic runs this long at most; the kill comes at a random moment in it.
-TRAFFIC_SECONDS = (0.8, 2.0)
+# The kill comes at a random moment after every phone has had, on average, this many
+# changes acknowledged (waiting for a count, not a time, keeps a slow machine from
+# killing before the traffic is under way), and at most this long after it.
+ACKNOWLEDGED_BEFORE_KILL = 2
+KILL_DELAY_SECONDS = (0.0, 1.0)
+TRAFFIC_START_SECONDS = 60.0
 LANDMARKS = 6
 # Photos of different sizes (each recognisable from its stored size), all larger than the
 # area taps are drawn in, so every tap set fits every photo.
@@ -123,6 +127,8 @@ class Traffic:
 
     def start(self) -> list[threading.Thread]:
         seeds = self.rng.integers(0, 2**32, len(self.phones))
+        for phone in self.phones:
+            phone.acknowledged = 0
         threads = [
             threading.Thread(target=self._send, args=(phone, int(seed)), daemon=True)
             for phone, seed in zip(self.phones, seeds, strict=True)
@@ -133,7 +139,6 @@ class Traffic:
 
     def _send(self, phone: Phone, seed: int) -> None:
         rng = np.random.default_rng(seed)
-        phone.acknowledged = 0
         with httpx.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
             while True:
                 change = phone.in_flight = self._change(phone, rng)
@@ -182,14 +187,19 @@ def kill_mid_traffic(server: Server, phones: list[Phone], rng: np.random.Generat
     """Traffic from every phone, then SIGKILL at a random moment in it."""
     traffic = Traffic(server.base_url, phones, rng)
     threads = traffic.start()
-    time.sleep(float(rng.uniform(*TRAFFIC_SECONDS)))
+    started = time.monotonic() + TRAFFIC_START_SECONDS
+    while sum(phone.acknowledged for phone in phones) < ACKNOWLEDGED_BEFORE_KILL * len(phones):
+        assert time.monotonic() < started, "the traffic did not get under way"
+        assert not traffic.failures, traffic.failures
+        time.sleep(0.02)
+    time.sleep(float(rng.uniform(*KILL_DELAY_SECONDS)))
     os.kill(server.pid, signal.SIGKILL)
     for thread in threads:
         thread.join(timeout=30)
         assert not thread.is_alive()
     assert not traffic.failures, traffic.failures
     acknowledged = sum(phone.acknowledged for phone in phones)
-    assert acknowledged >= 2 * len(phones), f"{acknowledged} changes in all before the kill"
+    assert acknowledged >= ACKNOWLEDGED_BEFORE_KILL * len(phones), acknowledged
     assert any(phone.in_flight for phone in phones), "nothing was in flight at the kill"
 
 
