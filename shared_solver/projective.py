@@ -7,12 +7,31 @@ y down (OpenCV's convention). Nothing here divides by ``w`` without checking it.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-Array = NDArray[np.floating[Any]]
+from . import linalg
+from .linalg import Array
+
+__all__ = [
+    "FAR_AWAY_PX",
+    "Array",  # defined with the linear algebra, which this module builds on
+    "Indices",
+    "Mask",
+    "canonical",
+    "canonical_matrix",
+    "hartley_normaliser",
+    "homogeneous",
+    "left_epipole",
+    "orthogonal_complement",
+    "right_epipole",
+    "skew",
+    "to_pixel",
+    "transform",
+    "unit",
+]
+
 Mask = NDArray[np.bool_]
 Indices = NDArray[np.intp]
 
@@ -23,12 +42,14 @@ FAR_AWAY_PX = 1e7
 
 def homogeneous(points: Array) -> Array:
     """(N, 2) pixel points -> (N, 3) homogeneous points with w = 1."""
-    return np.hstack([points, np.ones((points.shape[0], 1))])
+    stacked = np.ones((len(points), 3))
+    stacked[:, :2] = points
+    return stacked
 
 
 def unit(vector: Array) -> Array:
     """The vector scaled to unit Euclidean norm (homogeneous quantities are up to scale)."""
-    return vector / np.linalg.norm(vector)
+    return vector / linalg.norm(vector)
 
 
 def to_pixel(point: Array) -> Array | None:
@@ -44,10 +65,10 @@ def hartley_normaliser(points: Array) -> Array:
 
     Hartley & Zisserman 4.4.4: every linear solve runs in these coordinates.
     """
-    centroid = points.mean(axis=0)
+    centroid = np.add.reduce(points, axis=0) / len(points)
     offsets = points - centroid
-    spread = float(np.sqrt((offsets * offsets).sum(axis=1)).mean())
-    scale = np.sqrt(2.0) / spread if spread > 0 else 1.0
+    spread = float(np.add.reduce(np.hypot(offsets[:, 0], offsets[:, 1]))) / len(points)
+    scale = math.sqrt(2.0) / spread if spread > 0 else 1.0
     cx, cy = centroid.tolist()
     return np.array([[scale, 0.0, -scale * cx], [0.0, scale, -scale * cy], [0.0, 0.0, 1.0]])
 
@@ -59,7 +80,7 @@ def transform(matrix: Array, points: Array) -> Array:
 
 def orthogonal_complement(vector: Array) -> Array:
     """(3, 2) orthonormal basis of the plane orthogonal to a (3,) vector."""
-    basis, _, _ = np.linalg.svd(vector.reshape(3, 1))
+    basis, _, _ = linalg.svd(vector.reshape(3, 1))
     return basis[:, 1:]
 
 
@@ -79,17 +100,16 @@ def canonical(vector: ArrayLike) -> Array:
 
 def canonical_matrix(matrix: Array) -> Array:
     """Unit Frobenius norm with the largest-magnitude entry positive."""
-    matrix = matrix / np.linalg.norm(matrix)
+    matrix = matrix / linalg.norm(matrix)
     return matrix if matrix.flat[np.argmax(np.abs(matrix))] > 0 else -matrix
 
 
 def left_epipole(fundamental: Array) -> Array:
     """(3,) unit ``e2`` with ``F^T e2 = 0`` (the epipole in photo 2)."""
-    u, _, _ = np.linalg.svd(fundamental)
+    u, _, _ = linalg.svd(fundamental)
     return u[:, 2]
 
 
 def right_epipole(fundamental: Array) -> Array:
     """(3,) unit ``e1`` with ``F e1 = 0`` (the epipole in photo 1)."""
-    _, _, vt = np.linalg.svd(fundamental)
-    return vt[2]
+    return linalg.null_vector(fundamental)

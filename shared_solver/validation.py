@@ -85,7 +85,8 @@ def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None
 
 def spread(pts: Array) -> float:
     """Typical size of a point set in pixels (its bounding-box diagonal, at least 1)."""
-    return max(float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))), 1.0)
+    width, height = (pts.max(axis=0) - pts.min(axis=0)).tolist()
+    return max(math.hypot(width, height), 1.0)
 
 
 def landmark_pairs(
@@ -173,7 +174,7 @@ def _refuse_epipole(
     if abs(epipole[2]) > 0:
         at = epipole[:2] / epipole[2]
         directions = pts - at
-        distances = np.linalg.norm(directions, axis=1)
+        distances = np.hypot(directions[:, 0], directions[:, 1])
         closest = int(np.argmin(distances))
         if distances[closest] <= tolerance:
             raise SolverError(

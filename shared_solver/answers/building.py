@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..estimation import bootstrap
 from ..estimation.camera import focal_35mm
 from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
@@ -345,7 +345,7 @@ def pixel_or_nan(point: Array) -> Array:
 
 def unit(point: Array) -> tuple[float, float, float]:
     """A homogeneous point at unit norm, its sign (orientation) kept."""
-    x, y, w = point / np.linalg.norm(point)
+    x, y, w = point / linalg.norm(point)
     return float(x), float(y), float(w)
 
 

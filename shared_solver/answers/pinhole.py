@@ -21,7 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..estimation import bootstrap
 from ..estimation.epipolar_fit import fit_epipolar
 from ..estimation.mistaps import refit
@@ -171,7 +171,7 @@ def _from_starts(
 
 def _buddies(roots: list[tuple[Array, Array, Array]]) -> list[Array]:
     """The buddy's pixel in photo 1 of each projective solution (e1, e2, F) that has one."""
-    return [e1[:2] / e1[2] for e1, _, _ in roots if abs(e1[2]) > 1e-12 * np.linalg.norm(e1)]
+    return [e1[:2] / e1[2] for e1, _, _ in roots if abs(e1[2]) > 1e-12 * linalg.norm(e1)]
 
 
 def _along(line: Array, size: tuple[float, float]) -> list[Array]:
@@ -238,8 +238,8 @@ def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
         if covariance is not None and position[2] > 0 and other.epipole2[2] > 0:
             offset = other.epipole2[:2] / other.epipole2[2] - position[:2] / position[2]
             try:
-                distance = float(offset @ np.linalg.solve(covariance, offset))
-            except np.linalg.LinAlgError:
+                distance = float(offset @ linalg.solve(covariance, offset))
+            except linalg.LinAlgError:
                 distance = np.inf
             if distance <= _SAME_ANSWER_SIGMAS**2:
                 continue

@@ -13,6 +13,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .. import linalg
+from ..linalg import cholesky2
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
 from .camera import FocalPrior
@@ -36,7 +38,7 @@ def scale(answer: Array, covariance: Array, samples: Array) -> float:
     """
     with np.errstate(invalid="ignore", over="ignore"):
         offsets = samples - answer
-        distances = np.einsum("ki,ij,kj->k", offsets, np.linalg.inv(covariance), offsets)
+        distances = np.einsum("ki,ij,kj->k", offsets, linalg.inv(covariance), offsets)
     distances[~np.isfinite(distances)] = np.inf
     return max(1.0, _quantile(distances, LEVEL) / CHI2_2D)
 
@@ -102,4 +104,4 @@ def _remade(
     ((2, 2) for one point, (N, 2, 2) for N)."""
     assert covariance is not None
     noise = rng.normal(size=(count, *points.shape))
-    return points + np.einsum("...ij,k...j->k...i", np.linalg.cholesky(covariance), noise)
+    return points + np.einsum("...ij,k...j->k...i", cholesky2(covariance), noise)

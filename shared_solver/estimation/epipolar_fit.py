@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..errors import ErrorCode, SolverError
 from ..projective import Array, hartley_normaliser, homogeneous, right_epipole, skew
 from .least_squares import gauge_free_covariance, levenberg_marquardt
@@ -78,11 +78,11 @@ class _Frame:
         return cls(t1, t2, p_n, q_n, s1, s2, taps.cov_p * s1 * s1, taps.cov_q * s2 * s2)
 
     def normalised_f(self, fundamental: Array) -> Array:
-        return np.linalg.solve(self.t2.T, fundamental) @ np.linalg.inv(self.t1)
+        return linalg.solve(self.t2.T, fundamental) @ linalg.inv(self.t1)
 
     def pixel_f(self, normalised: Array) -> Array:
         fundamental = self.t2.T @ normalised @ self.t1
-        return fundamental / np.linalg.norm(fundamental)
+        return fundamental / linalg.norm(fundamental)
 
 
 def _sampson(frame: _Frame, a1: Array, a2: Array, x: float, y: float) -> tuple[Array, Array]:
@@ -122,7 +122,7 @@ def _sampson(frame: _Frame, a1: Array, a2: Array, x: float, y: float) -> tuple[A
 
 def _unit_block(theta: Array, size: int) -> Array:
     theta = theta.copy()
-    theta[:size] /= np.linalg.norm(theta[:size])
+    theta[:size] /= linalg.norm(theta[:size])
     return theta
 
 
@@ -139,7 +139,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
     frame = _Frame.of(taps)
     f0 = frame.normalised_f(start)
     e1 = right_epipole(f0)
-    if abs(e1[2]) < _FAR_W * np.linalg.norm(e1):
+    if abs(e1[2]) < _FAR_W * linalg.norm(e1):
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
             words.BUDDY_AT_INFINITY,
@@ -170,7 +170,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
         a1,
         a2,
         buddy=theta[6:8],
-        seeker=np.cross(a1, a2),
+        seeker=linalg.cross(a1, a2),
         derivatives=(d_e1, d_e2),
         residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([a1, a2, [0.0, 0.0]]),
@@ -276,8 +276,8 @@ def _fit(
     x, y = buddy
     return EpipolarFit(
         fundamental=frame.pixel_f(np.column_stack([a1, a2, -(x * a1 + y * a2)])),
-        epipole1=np.linalg.solve(frame.t1, e1_n),
-        epipole2=np.linalg.solve(frame.t2, seeker),
+        epipole1=linalg.solve(frame.t1, e1_n),
+        epipole2=linalg.solve(frame.t2, seeker),
         distances=r[:landmarks],
         cost=float(r @ r),
         dof=len(r) - 7,
@@ -294,7 +294,7 @@ def _prior(frame: _Frame, taps: Taps) -> tuple[Array | None, Array]:
         rows = whitener(taps.cov_e1) @ np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) / frame.s1
         return rows, rows[:, :2] @ tap[:2]
     if taps.line1 is not None:
-        line = np.linalg.solve(frame.t1.T, taps.line1)  # lines map by the inverse transpose
+        line = linalg.solve(frame.t1.T, taps.line1)  # lines map by the inverse transpose
         scale = np.hypot(line[0], line[1]) * frame.s1 * taps.line_sigma
         return (line / scale)[None, :], np.zeros(1)
     return None, np.zeros(0)
@@ -304,9 +304,9 @@ def _pixel_covariance(
     to_pixels_from: Array, point_n: Array, d_point_n: Array, covariance: Array
 ) -> Array | None:
     """(2, 2) pixel covariance of a homogeneous normalised point with Jacobian (3, P)."""
-    point = np.linalg.solve(to_pixels_from, point_n)
-    d_point = np.linalg.solve(to_pixels_from, d_point_n)
-    if abs(point[2]) < _FAR_W * np.linalg.norm(point):
+    point = linalg.solve(to_pixels_from, point_n)
+    d_point = linalg.solve(to_pixels_from, d_point_n)
+    if abs(point[2]) < _FAR_W * linalg.norm(point):
         return None
     w = point[2]
     dehomogenise = np.array([[1.0, 0.0, -point[0] / w], [0.0, 1.0, -point[1] / w]]) / w

@@ -14,7 +14,8 @@ from typing import TypeVar
 
 import numpy as np
 
-from ..projective import Array
+from .. import linalg
+from ..linalg import Array
 
 Residuals = Callable[[Array], tuple[Array, Array]]
 State = TypeVar("State")
@@ -61,8 +62,8 @@ def levenberg_marquardt(
         damped = normal.copy()
         damped.flat[:: len(scaling) + 1] += damping * scaling
         try:
-            step = np.linalg.solve(damped, -gradient)
-        except np.linalg.LinAlgError:
+            step = linalg.solve(damped, -gradient)
+        except linalg.LinAlgError:
             damping *= growth
             growth *= 2.0
             continue
@@ -106,7 +107,7 @@ def gauge_free_covariance(jacobian: Array, gauge: Array, sigma: float) -> Array:
     Returns:
         (P, P) covariance, zero along ``gauge``.
     """
-    g = gauge / np.linalg.norm(gauge)
+    g = gauge / linalg.norm(gauge)
     # Orthonormal basis of the complement of g: a Householder reflection's last P-1 columns.
     v = g.copy()
     v[0] += np.copysign(1.0, g[0])
@@ -115,7 +116,7 @@ def gauge_free_covariance(jacobian: Array, gauge: Array, sigma: float) -> Array:
     reduced = jacobian @ complement
     information = reduced.T @ reduced
     try:
-        inverse = np.linalg.inv(information)
-    except np.linalg.LinAlgError:
+        inverse = linalg.inv(information)
+    except linalg.LinAlgError:
         inverse = np.linalg.pinv(information, hermitian=True)
     return sigma**2 * complement @ inverse @ complement.T

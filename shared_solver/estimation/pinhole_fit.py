@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from .. import linalg
 from ..projective import Array
 from .camera import FocalPrior
 from .least_squares import levenberg_marquardt
@@ -77,7 +78,7 @@ class Poses:
         log_focals = np.asarray(log_focals, dtype=np.float64)
         return cls(
             np.asarray(rotation, dtype=np.float64)[None],
-            (baseline / np.linalg.norm(baseline))[None],
+            (baseline / linalg.norm(baseline))[None],
             log_focals[None],
             float(log_focals[0]),
         )
@@ -197,8 +198,8 @@ class PinholeFit:
         """(3, 3) F in pixels, unit Frobenius norm."""
         k1, k2 = self.intrinsics
         essential = self.pose.rotation[0] @ _skews(self.pose.baseline)[0]
-        f = np.linalg.solve(k2.T, essential) @ np.linalg.inv(k1)
-        return f / np.linalg.norm(f)
+        f = linalg.solve(k2.T, essential) @ linalg.inv(k1)
+        return f / linalg.norm(f)
 
     @property
     def epipole1(self) -> Array:
@@ -350,8 +351,8 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
     )
     information = jacobian.T @ jacobian
     try:
-        covariance = np.linalg.inv(information)
-    except np.linalg.LinAlgError:
+        covariance = linalg.inv(information)
+    except linalg.LinAlgError:
         covariance = np.linalg.pinv(information, hermitian=True)
     return PinholeFit(
         pose=pose,

@@ -19,6 +19,7 @@ from itertools import combinations
 import cv2
 import numpy as np
 
+from .. import linalg
 from ..minimal.both_and_one import rotations_from_both
 from ..minimal.buddy_and_three import rotations_from_three
 from ..projective import Array, Indices
@@ -257,4 +258,4 @@ def _intrinsics(prior: FocalPrior) -> Array:
 
 
 def _unit(vector: Array) -> Array:
-    return vector / np.linalg.norm(vector)
+    return vector / linalg.norm(vector)

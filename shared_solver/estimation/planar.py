@@ -16,8 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..errors import ErrorCode, SolverError
+from ..linalg import whitener2
 from ..projective import Array, hartley_normaliser, homogeneous
 from .least_squares import gauge_free_covariance, levenberg_marquardt
 from .taps import Taps
@@ -55,11 +56,11 @@ class PlanarFit:
         """
         e1 = np.append(epipole1_tap, 1.0)
         e1_n = self.t1 @ e1
-        e2 = np.linalg.solve(self.t2, self.normalised @ e1_n)
-        if abs(e2[2]) < 1e-9 * np.linalg.norm(e2):
+        e2 = linalg.solve(self.t2, self.normalised @ e1_n)
+        if abs(e2[2]) < 1e-9 * linalg.norm(e2):
             return e2, None
         dehomogenise = np.array([[1.0, 0.0, -e2[0] / e2[2]], [0.0, 1.0, -e2[1] / e2[2]]]) / e2[2]
-        lead = dehomogenise @ np.linalg.inv(self.t2)
+        lead = dehomogenise @ linalg.inv(self.t2)
         d_h = lead @ np.kron(np.eye(3), e1_n)  # d e2 / d vec(H), row-major vec
         d_e1 = lead @ self.normalised @ self.t1[:, :2]  # d e2 / d (pixel e1)
         return e2, d_h @ self.covariance @ d_h.T + d_e1 @ tap_covariance @ d_e1.T
@@ -117,13 +118,13 @@ def fit_planar(taps: Taps) -> PlanarFit:
             return r.ravel(), jacobian.reshape(-1, 9)
 
         theta, r, jacobian = levenberg_marquardt(
-            residuals, theta, renormalise=lambda t: t / np.linalg.norm(t)
+            residuals, theta, renormalise=lambda t: t / linalg.norm(t)
         )
     h_n = theta.reshape(3, 3)
-    homography = np.linalg.solve(frame.t2, h_n) @ frame.t1
+    homography = linalg.solve(frame.t2, h_n) @ frame.t1
     return PlanarFit(
-        homography=homography / np.linalg.norm(homography),
-        errors=np.linalg.norm(r.reshape(-1, 2), axis=1),
+        homography=homography / linalg.norm(homography),
+        errors=np.hypot(r[0::2], r[1::2]),
         cost=float(r @ r),
         dof=2 * len(taps) - 8,
         normalised=h_n,
@@ -156,7 +157,7 @@ class _PlaneFrame:
         rows = np.empty((2 * len(x), 9))
         rows[0::2] = np.column_stack([x, y, one, zero, zero, zero, -u * x, -u * y, -u])
         rows[1::2] = np.column_stack([zero, zero, zero, x, y, one, -v * x, -v * y, -v])
-        _, singular, vt = np.linalg.svd(rows)
+        _, singular, vt = linalg.svd(rows)
         if len(singular) >= 8 and singular[7] <= 1e-10 * singular[0]:
             raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.NO_PLANE)
         return vt[-1].reshape(3, 3)
@@ -183,4 +184,4 @@ def _whitening(h: Array, frame: _PlaneFrame, taps: Taps) -> Array:
     jacobian = (h[None, :2, :2] - projected[:, :, None] * h[None, 2:3, :2]) / w[:, None, None]
     jacobian *= frame.s1 / frame.s2
     covariance = taps.cov_q + jacobian @ taps.cov_p @ jacobian.transpose(0, 2, 1)
-    return np.linalg.inv(np.linalg.cholesky(covariance))
+    return whitener2(covariance)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import linalg
 from ..projective import Array, homogeneous, skew
 
 # A phone's focal length in pixels relative to the long side of the photo: ultra-wide
@@ -165,7 +166,7 @@ def _frame(points: Array, size: tuple[float, float] | None) -> tuple[Array, floa
 
 
 def _inside(epipole: Array, box: Array) -> bool:
-    if abs(epipole[2]) < 1e-12 * np.linalg.norm(epipole):
+    if abs(epipole[2]) < 1e-12 * linalg.norm(epipole):
         return False
     x, y = epipole[:2] / epipole[2]
     return bool(box[0] <= x <= box[2] and box[1] <= y <= box[3])

@@ -12,6 +12,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..linalg import cholesky2, whitener2
 from ..projective import Array, Indices
 
 
@@ -91,10 +92,10 @@ class Taps:
 
 
 def _jittered(points: Array, covariances: Array, rng: np.random.Generator) -> Array:
-    factors = np.linalg.cholesky(covariances)
+    factors = cholesky2(covariances)
     return points + np.einsum("nij,nj->ni", factors, rng.normal(size=points.shape))
 
 
 def whitener(covariance: Array) -> Array:
     """(2, 2) or (N, 2, 2) W with ``W^T W = covariance^-1``: W (x - mean) has unit variance."""
-    return np.linalg.inv(np.linalg.cholesky(covariance))
+    return whitener2(covariance)

@@ -13,6 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
+from .. import linalg
 from ..projective import Array
 from ..result import Quality
 
@@ -79,7 +80,7 @@ def ellipse(
 def contains(centre: Array, covariance: Array, point: Array) -> bool:
     """Whether ``point`` lies inside the LEVEL ellipse of (centre, covariance)."""
     offset = point - centre
-    return bool(offset @ np.linalg.solve(covariance, offset) <= CHI2_2D)
+    return bool(offset @ linalg.solve(covariance, offset) <= CHI2_2D)
 
 
 def quality(semi_major: float | None, diagonal: float) -> Quality:

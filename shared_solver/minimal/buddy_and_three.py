@@ -34,6 +34,7 @@ import math
 
 import numpy as np
 
+from .. import linalg
 from ..projective import Array
 
 # The landmark equations have rank below 3 when their smallest singular value is this small
@@ -87,7 +88,7 @@ def rotations_from_three(b1: Array, rays1: Array, rays2: Array) -> list[Array]:
         c = (p[0] * u[0] + p[1] * u[1] + p[2] * u[2]) / p_size
         qx, qy, qz = q[0] / q_size, q[1] / q_size, q[2] / q_size
         rows.append([a * qx, a * qy, a * qz, c * qx, c * qy, c * qz])
-    _, singular, vt = np.linalg.svd(np.array(rows))  # acting on (m1, m2) = (R u, R v)
+    _, singular, vt = linalg.svd(np.array(rows))  # acting on (m1, m2) = (R u, R v)
     if not singular[2] > _DEGENERATE * singular[0]:
         return []
     null = vt[3:]  # (3, 6), orthonormal rows N_k = (top_k, bottom_k)

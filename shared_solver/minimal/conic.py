@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .. import validation
+from .. import linalg, validation
 from ..projective import Array, hartley_normaliser, homogeneous, transform
 
 
@@ -28,7 +28,7 @@ def conic_from_cross_ratio(e1: Array, p: Array, q: Array) -> Array:
     l_ij, l_kl, l_ik, l_jl = np.cross(q[first], q[second])
     c = a * np.outer(l_ik, l_jl) - b * np.outer(l_ij, l_kl)
     c = c + c.T
-    return c / np.linalg.norm(c)
+    return c / linalg.norm(c)
 
 
 def epipole_conic(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> Array:
@@ -56,4 +56,4 @@ def epipole_conic(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> Array:
         t1 @ e1h, transform(t1, homogeneous(p)), transform(t2, homogeneous(q))
     )
     pixel_conic = t2.T @ conic @ t2
-    return pixel_conic / np.linalg.norm(pixel_conic)
+    return pixel_conic / linalg.norm(pixel_conic)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..errors import ErrorCode, SolverError
 from ..projective import (
     Array,
@@ -43,7 +43,7 @@ def fundamental_with_epipole(e1: Array, p: Array, q: Array) -> Array:
     along = transform(t1, homogeneous(p)) @ basis  # (N, 2): each landmark in that plane
     q_n = transform(t2, homogeneous(q))
     design = np.hstack([along[:, :1] * q_n, along[:, 1:] * q_n])
-    _, singular, vt = np.linalg.svd(design)
+    _, singular, vt = linalg.svd(design)
     # Six unknowns up to scale: the geometry is fixed iff the design has rank 5.
     if singular[4] <= _SINGULAR * singular[0]:
         raise SolverError(
@@ -52,4 +52,4 @@ def fundamental_with_epipole(e1: Array, p: Array, q: Array) -> Array:
         )
     columns = vt[-1].reshape(2, 3).T
     fundamental = t2.T @ (columns @ basis.T) @ t1
-    return fundamental / np.linalg.norm(fundamental)
+    return fundamental / linalg.norm(fundamental)

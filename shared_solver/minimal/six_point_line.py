@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..errors import ErrorCode, SolverError
 from ..projective import (
     Array,
@@ -43,11 +43,11 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
     """
     t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
     p_n, q_n = transform(t1, homogeneous(p)), transform(t2, homogeneous(q))
-    line_n = np.linalg.solve(t1.T, line)  # lines map by the inverse transpose
+    line_n = linalg.solve(t1.T, line)  # lines map by the inverse transpose
     # a: the line's point nearest the (normalised) origin; b: its point at infinity.
     a = np.array([-line_n[0] * line_n[2], -line_n[1] * line_n[2], line_n[0] ** 2 + line_n[1] ** 2])
     b = np.array([line_n[1], -line_n[0], 0.0])
-    a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
+    a, b = a / linalg.norm(a), b / linalg.norm(b)
     landmark_rows = np.einsum("ni,nj->nij", q_n, p_n).reshape(6, 9)
 
     def systems(e1: Array) -> Array:
@@ -69,12 +69,12 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
         if values[-2] <= 1e-9 * values[0]:
             continue  # more than one F: this root does not fix the geometry
         fundamental = t2.T @ null.reshape(3, 3) @ t1
-        values_f = np.linalg.svd(fundamental / np.linalg.norm(fundamental), compute_uv=False)
+        values_f = linalg.singular_values(fundamental / linalg.norm(fundamental))
         if values_f[1] <= 1e-9:
             continue  # rank below 2: no epipoles
         found.append(
             (
-                canonical(np.linalg.solve(t1, e1_n)),
+                canonical(linalg.solve(t1, e1_n)),
                 canonical(left_epipole(fundamental)),
                 canonical_matrix(fundamental),
             )
@@ -87,7 +87,7 @@ def _real_roots(samples: list[float]) -> list[tuple[float, float]]:
     c, s = np.cos(_ANGLES), np.sin(_ANGLES)
     # det(s a + t b) = k0 s^3 + k1 s^2 t + k2 s t^2 + k3 t^3
     basis = np.column_stack([c**3, c**2 * s, c * s**2, s**3])
-    k0, k1, k2, k3 = np.linalg.solve(basis, samples)
+    k0, k1, k2, k3 = linalg.solve(basis, np.array(samples))
     scale = max(abs(k0), abs(k1), abs(k2), abs(k3))
     if scale == 0:
         raise SolverError(

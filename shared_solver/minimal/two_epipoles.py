@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .. import validation, words
+from .. import linalg, validation, words
 from ..errors import ErrorCode, SolverError
 from ..projective import (
     Array,
@@ -57,7 +57,7 @@ def fundamental_between(e1: Array, e2: Array, p: Array, q: Array) -> Array:
     along1 = transform(t1, homogeneous(p)) @ basis1  # (N, 2)
     along2 = transform(t2, homogeneous(q)) @ basis2  # (N, 2)
     design = np.einsum("ni,nj->nij", along2, along1).reshape(len(p), 4)
-    _, singular, vt = np.linalg.svd(design)
+    _, singular, vt = linalg.svd(design)
     # Unknowns: 4 entries of M up to scale. Fixed iff the design has rank 3.
     if singular[2] <= 1e-10 * singular[0]:
         raise SolverError(
