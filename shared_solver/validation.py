@@ -136,11 +136,12 @@ def landmark_pairs(
 
 
 def _refuse_repeats(pts: Array, tol: float, photo: str, names: Sequence[int]) -> None:
-    gaps = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=2)
-    gaps[np.diag_indices(len(pts))] = np.inf
-    i, j = np.unravel_index(np.argmin(gaps), gaps.shape)
+    offsets = pts[:, None, :] - pts[None, :, :]
+    gaps = np.hypot(offsets[..., 0], offsets[..., 1])
+    gaps.flat[:: len(pts) + 1] = np.inf
+    i, j = divmod(int(gaps.argmin()), len(pts))
     if gaps[i, j] <= tol:
-        first, second = sorted((int(i), int(j)))
+        first, second = sorted((i, j))
         raise SolverError(
             ErrorCode.REPEATED_LANDMARKS, words.repeated(names[first], names[second], photo)
         )
@@ -152,11 +153,11 @@ def _off_line_spread(pts: Array) -> float:
     The line is the scatter's major axis, at half the angle of ``(2 s_xy, s_xx - s_yy)``
     (the closed form of the 2x2 eigenvector, cheaper than an SVD on every solve).
     """
-    centred = pts - pts.mean(axis=0)
+    centred = pts - np.add.reduce(pts, axis=0) / len(pts)
     (s_xx, s_xy), (_, s_yy) = (centred.T @ centred).tolist()
     angle = 0.5 * math.atan2(2.0 * s_xy, s_xx - s_yy)
-    normal = np.array([-math.sin(angle), math.cos(angle)])
-    return float(np.max(np.abs(centred @ normal)))
+    off_line = centred[:, 1] * math.cos(angle) - centred[:, 0] * math.sin(angle)
+    return float(np.abs(off_line).max())
 
 
 def _refuse_epipole(
@@ -175,7 +176,7 @@ def _refuse_epipole(
         at = epipole[:2] / epipole[2]
         directions = pts - at
         distances = np.hypot(directions[:, 0], directions[:, 1])
-        closest = int(np.argmin(distances))
+        closest = int(distances.argmin())
         if distances[closest] <= tolerance:
             raise SolverError(
                 ErrorCode.EPIPOLE_ON_LANDMARK, words.mark_on_landmark(who, names[closest], photo)
@@ -183,9 +184,9 @@ def _refuse_epipole(
         if not spread_needed:
             return
         # Each landmark's distance from the line through the epipole and the farthest landmark.
-        far = int(np.argmax(distances))
-        normal = np.array([-directions[far, 1], directions[far, 0]]) / distances[far]
-        off_line = float(np.max(np.abs(directions @ normal)))
+        far = int(distances.argmax())
+        (x, y), length = directions[far].tolist(), float(distances[far])
+        off_line = float(np.abs(directions[:, 1] * x - directions[:, 0] * y).max()) / length
     elif not spread_needed:
         return
     else:  # epipole at infinity: the epipolar lines are parallel to its direction

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -27,7 +28,7 @@ class Request:
     labels: list[int]
     cameras: tuple[Camera, Camera]
 
-    @property
+    @functools.cached_property
     def sigma(self) -> float:
         """The typical landmark tap's standard deviation, px (reported with the answer)."""
         return self.taps.typical_sigma
@@ -39,7 +40,7 @@ class Request:
             return math.hypot(*self.size2)
         return validation.spread(self.taps.q)
 
-    @property
+    @functools.cached_property
     def priors(self) -> tuple[FocalPrior, FocalPrior] | None:
         """Both photos' focal priors, or None unless both cameras have a model (and sizes)."""
         if self.size1 is None or self.size2 is None:

@@ -9,6 +9,7 @@ never shrinks below first order. The seed is fixed: the same taps always give th
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import numpy as np
@@ -60,10 +61,10 @@ def five_point_samples(taps: Taps) -> Array:
     """(SAMPLES, 2) answers of the paper's closed form for re-made taps (5 landmarks + e1)."""
     assert taps.epipole1 is not None
     assert taps.cov_e1 is not None
-    rng = np.random.default_rng(_SEED)
-    e1s = np.column_stack([_remade(taps.epipole1, taps.cov_e1, rng), np.ones(SAMPLES)])
+    noise = _noise(((SAMPLES, 2), (SAMPLES, *taps.p.shape), (SAMPLES, *taps.q.shape)))
+    e1s = np.column_stack([_remade(taps.epipole1, taps.cov_e1, noise[0]), np.ones(SAMPLES)])
     homogeneous = cremona_batch(
-        e1s, _remade(taps.p, taps.cov_p, rng), _remade(taps.q, taps.cov_q, rng)
+        e1s, _remade(taps.p, taps.cov_p, noise[1]), _remade(taps.q, taps.cov_q, noise[2])
     )
     with np.errstate(divide="ignore", invalid="ignore"):
         return homogeneous[:, :2] / homogeneous[:, 2:]
@@ -76,15 +77,21 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
     the taps' and the seeker's nonlinearity are kept, and measured on three landmarks and
     the buddy it calibrates as well as a full re-solve (docs/geometry.md).
     """
-    rng = np.random.default_rng(_SEED)
     count = PINHOLE_SAMPLES
+    marks = [mark for mark in (taps.epipole1, taps.epipole2) if mark is not None]
+    shapes = [(count, *taps.p.shape), (count, *taps.q.shape)] + [(count, 2)] * len(marks)
+    noise = iter(_noise(tuple(shapes)))
     model = PinholeModel(
         taps,
         priors,
-        p=_remade(taps.p, taps.cov_p, rng, count),
-        q=_remade(taps.q, taps.cov_q, rng, count),
-        epipole1=None if taps.epipole1 is None else _remade(taps.epipole1, taps.cov_e1, rng, count),
-        epipole2=None if taps.epipole2 is None else _remade(taps.epipole2, taps.cov_e2, rng, count),
+        p=_remade(taps.p, taps.cov_p, next(noise)),
+        q=_remade(taps.q, taps.cov_q, next(noise)),
+        epipole1=None
+        if taps.epipole1 is None
+        else _remade(taps.epipole1, taps.cov_e1, next(noise)),
+        epipole2=None
+        if taps.epipole2 is None
+        else _remade(taps.epipole2, taps.cov_e2, next(noise)),
     )
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
     steps = -model.offsets(fit.pose) @ (fit.jacobian @ fit.covariance)
@@ -97,11 +104,19 @@ def resolved_samples(taps: Taps, resolve: Callable[[Taps], Array]) -> Array:
     return np.array([resolve(taps.retapped(rng)) for _ in range(RESOLVES)])
 
 
-def _remade(
-    points: Array, covariance: Array | None, rng: np.random.Generator, count: int = SAMPLES
-) -> Array:
-    """(count, *points.shape) the points with fresh noise of their covariances
-    ((2, 2) for one point, (N, 2, 2) for N)."""
+def _remade(points: Array, covariance: Array | None, noise: Array) -> Array:
+    """(count, *points.shape) the points with fresh noise of their covariances ((2, 2) for
+    one point, (N, 2, 2) for N), from standard normal ``noise`` (count, *points.shape)."""
     assert covariance is not None
-    noise = rng.normal(size=(count, *points.shape))
     return points + np.einsum("...ij,k...j->k...i", cholesky2(covariance), noise)
+
+
+@functools.lru_cache(maxsize=32)
+def _noise(shapes: tuple[tuple[int, ...], ...]) -> tuple[Array, ...]:
+    """Standard normal draws of these shapes, in order, from the fixed seed: the same every
+    call (so the same taps always give the same ellipse), drawn once per layout of taps."""
+    rng = np.random.default_rng(_SEED)
+    draws = tuple(rng.normal(size=shape) for shape in shapes)
+    for draw in draws:
+        draw.setflags(write=False)
+    return draws

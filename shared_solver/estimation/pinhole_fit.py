@@ -49,6 +49,9 @@ _ROTATION, _BASELINE, _FOCAL1, _FOCAL2 = slice(0, 3), slice(3, 5), 5, 6
 _GAIN_TOLERANCE = (1e-6, 1e-16)
 # A fit whose focal lengths end this many prior sigmas away ran off (e^5 = 150 times).
 _FOCAL_RANGE_SIGMAS = 10.0
+# Logarithms beyond this overflow (or underflow to zero) in math.exp: a fit that runs off to
+# such focal lengths gets non-finite residuals, and its step is rejected.
+_LOG_RANGE = 700.0
 # Below this |w| of the direction the seeker is seen in, they are at infinity in photo 2.
 _AT_INFINITY = 1e-12
 
@@ -101,12 +104,12 @@ class Poses:
             self.reference,
         )
 
-    @property
+    @functools.cached_property
     def ratio(self) -> Array:
         """(K,) f_reference / f1."""
         return np.exp(self.reference - self.log_focals[:, 0])
 
-    @property
+    @functools.cached_property
     def baseline(self) -> Array:
         """(K, 3) b1 up to a positive scale: from camera 1 towards camera 2, frame 1."""
         baseline = self.buddy.copy()
@@ -183,13 +186,13 @@ class PinholeFit:
             and np.all(np.abs(self.prior_offsets) <= _FOCAL_RANGE_SIGMAS)
         )
 
-    @property
+    @functools.cached_property
     def focals(self) -> tuple[float, float]:
         """Focal lengths of photo 1 and photo 2, px."""
-        f1, f2 = np.exp(self.pose.log_focals[0])
-        return float(f1), float(f2)
+        log_f1, log_f2 = self.pose.log_focals[0].tolist()
+        return _exp(log_f1), _exp(log_f2)
 
-    @property
+    @functools.cached_property
     def intrinsics(self) -> tuple[Array, Array]:
         return _k(self.focals[0], self.centres[0]), _k(self.focals[1], self.centres[1])
 
@@ -201,12 +204,12 @@ class PinholeFit:
         f = linalg.solve(k2.T, essential) @ linalg.inv(k1)
         return f / linalg.norm(f)
 
-    @property
+    @functools.cached_property
     def epipole1(self) -> Array:
         """(3,) the buddy in photo 1, oriented (w > 0: in front of the seeker's camera)."""
         return self.intrinsics[0] @ self.pose.baseline[0]
 
-    @property
+    @functools.cached_property
     def epipole2(self) -> Array:
         """(3,) the seeker in photo 2, oriented (w > 0: in front of the buddy's camera)."""
         return self.intrinsics[1] @ (-self.pose.rotation[0] @ self.pose.baseline[0])
@@ -248,7 +251,10 @@ class PinholeModel:
         self.q_t = np.concatenate([q.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
         self.cov_p_t = taps.cov_p.transpose(1, 2, 0)  # (2, 2, N)
         self.cov_q_t = taps.cov_q.transpose(1, 2, 0)
+        self.cov_t = np.zeros((4, 4, len(taps)))  # both taps' covariances, block diagonal
+        self.cov_t[:2, :2], self.cov_t[2:, 2:] = self.cov_p_t, self.cov_q_t
         self.centres = np.array([priors[0].centre, priors[1].centre])
+        self.centre_pixels = (priors[0].centre, priors[1].centre)
         self.prior_mean = np.array([priors[0].log_focal, priors[1].log_focal])
         self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
         self.prior_jacobian = np.zeros((2, PARAMETERS))
@@ -259,58 +265,74 @@ class PinholeModel:
         if taps.line1 is not None:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
         self.landmarks = len(taps)
+        marks = (
+            2 * (self.buddy is not None) + (self.line is not None) + 2 * (self.seeker is not None)
+        )
+        self.residual_count = self.landmarks + marks + 2  # landmarks, marks, focal priors
 
     def residuals(self, pose: Poses) -> tuple[Array, Array]:
         """(r (M,), J (M, 7)) at one pose: landmarks first, then the friends' marks and the
         priors."""
-        tangent = _tangents(pose.buddy)
-        blocks = [_landmarks(pose, self, tangent[0])]
+        r = np.empty(self.residual_count)
+        jacobian = np.empty((self.residual_count, PARAMETERS))
+        log_f1, log_f2 = pose.log_focals[0].tolist()
+        if not max(abs(log_f1), abs(log_f2), abs(pose.reference - log_f1)) < _LOG_RANGE:
+            r[:], jacobian[:] = np.nan, np.nan
+            return r, jacobian
+        tangent = np.array(_tangent(*pose.buddy[0].tolist()))
+        row = self.landmarks
+        r[:row], jacobian[:row] = _landmarks(pose, self, tangent)
         if self.buddy is not None or self.line is not None:
-            position, jacobian = _buddy_pixel(pose, self.centres[0], tangent[0])
+            position, d_position = _buddy_pixel(pose, self.centre_pixels[0], tangent)
             if self.buddy is not None:
-                blocks.append(self.buddy.residuals(position, jacobian))
+                r[row : row + 2], jacobian[row : row + 2] = self.buddy.residuals(
+                    position, d_position
+                )
+                row += 2
             if self.line is not None:
-                distance = position @ self.line[:2] + self.line[2]
-                blocks.append((np.array([distance]), (self.line[:2] @ jacobian)[None]))
+                r[row] = position @ self.line[:2] + self.line[2]
+                jacobian[row] = self.line[:2] @ d_position
+                row += 1
         if self.seeker is not None:
-            position, jacobian, _ = seeker_pixels(pose, self.centres[1], tangent)
-            blocks.append(self.seeker.residuals(position[0], jacobian[0]))
-        blocks.append(
-            ((pose.log_focals[0] - self.prior_mean) / self.prior_sigma, self.prior_jacobian)
-        )
-        return np.concatenate([r for r, _ in blocks]), np.concatenate([j for _, j in blocks])
+            position, d_position = _seeker_pixel(pose, self.centre_pixels[1], tangent)
+            r[row : row + 2], jacobian[row : row + 2] = self.seeker.residuals(position, d_position)
+            row += 2
+        r[row:] = (pose.log_focals[0] - self.prior_mean) / self.prior_sigma
+        jacobian[row:] = self.prior_jacobian
+        return r, jacobian
 
     def offsets(self, poses: Poses) -> Array:
         """(K, M) whitened residuals, without the Jacobian: K poses against one set of taps
         (scoring candidate poses), or one pose against K sets of taps (the bootstrap)."""
         count = max(len(poses), len(self.p_t))
-        f = np.exp(poses.log_focals)
-        inverse = _inverse_k(f.ravel(), np.tile(self.centres, (len(poses), 1)))
-        inverse = inverse.reshape(len(poses), 2, 3, 3)
-        essential = poses.rotation @ _skews(poses.baseline)
-        fundamental = inverse[:, 1].transpose(0, 2, 1) @ essential @ inverse[:, 0]
+        f = np.exp(poses.log_focals)  # (K, 2)
+        inverse1 = _inverse_k(f[:, 0], self.centres[0])
+        inverse2_t = _inverse_k(f[:, 1], self.centres[1]).transpose(0, 2, 1)
+        fundamental = inverse2_t @ poses.rotation @ _skews(poses.baseline) @ inverse1
         lines2 = fundamental @ self.p_t  # (K, 3, N)
         lines1 = fundamental.transpose(0, 2, 1) @ self.q_t
-        eps = (lines2 * self.q_t).sum(axis=1)
-        grad1, grad2 = lines1[:, :2], lines2[:, :2]
-        variance = (grad1 * (self.cov_p_t * grad1[:, None]).sum(axis=2)).sum(axis=1) + (
-            grad2 * (self.cov_q_t * grad2[:, None]).sum(axis=2)
-        ).sum(axis=1)
-        blocks = [eps / np.sqrt(variance)]
-        tangent = _tangents(poses.buddy)
+        eps = np.einsum("kin,kin->kn", lines2, self.q_t)
+        gradients = np.concatenate(
+            [np.broadcast_to(lines1[:, :2], (count, 2, self.landmarks)), lines2[:, :2]], axis=1
+        )  # (K, 4, N), as in _landmarks
+        weighted = np.einsum("ijn,kjn->kin", self.cov_t, gradients)
+        out = np.empty((count, self.residual_count))
+        out[:, : self.landmarks] = eps / np.sqrt(np.einsum("kin,kin->kn", gradients, weighted))
+        column = self.landmarks
         if self.buddy is not None or self.line is not None:
-            position, _ = _buddy_pixels(poses, self.centres[0], tangent)
+            position = _buddy_positions(poses, self.centres[0])
             if self.buddy is not None:
-                blocks.append((position - self.buddy.position) @ self.buddy.whiten.T)
+                out[:, column : column + 2] = (position - self.buddy.position) @ self.buddy.whiten.T
+                column += 2
             if self.line is not None:
-                distance = position @ self.line[:2] + self.line[2]
-                blocks.append(np.broadcast_to(distance[:, None], (count, 1)))
+                out[:, column] = position @ self.line[:2] + self.line[2]
+                column += 1
         if self.seeker is not None:
-            position, _, _ = seeker_pixels(poses, self.centres[1], tangent)
-            blocks.append((position - self.seeker.position) @ self.seeker.whiten.T)
-        prior = (poses.log_focals - self.prior_mean) / self.prior_sigma
-        blocks.append(np.broadcast_to(prior, (count, 2)))
-        return np.concatenate([np.broadcast_to(b, (count, b.shape[1])) for b in blocks], axis=1)
+            position = seeker_positions(poses, self.centres[1])
+            out[:, column : column + 2] = (position - self.seeker.position) @ self.seeker.whiten.T
+            column += 2
+        out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
+        return out
 
 
 @dataclass(frozen=True)
@@ -388,34 +410,55 @@ def seeker_pixels(
     return centre + f2[:, None] * pixel, jacobian, finite
 
 
+def _seeker_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
+    """:func:`seeker_pixels` for one pose, (2,) and (2, 7), with ``tangent`` (3, 2)."""
+    log_f1, log_f2 = pose.log_focals[0].tolist()
+    f2, ratio = math.exp(log_f2), math.exp(pose.reference - log_f1)
+    ux, uy, uz = pose.buddy[0].tolist()
+    (ax, bx), (ay, by), (az, bz) = tangent.tolist()
+    # b1, its steps along the tangent basis and d b1 / d ln f1, as columns; v = -R b1.
+    columns = [
+        [ratio * ux, ratio * ax, ratio * bx, -ratio * ux],
+        [ratio * uy, ratio * ay, ratio * by, -ratio * uy],
+        [uz, az, bz, 0.0],
+    ]
+    moved = -pose.rotation[0] @ np.array(columns)  # v, then its derivatives
+    x, y, z = moved[:, 0].tolist()
+    if abs(z) <= _AT_INFINITY * math.sqrt(x * x + y * y + z * z):
+        return np.full(2, np.nan), np.full((2, PARAMETERS), np.nan)
+    d_project = np.array([[f2 / z, 0.0, -f2 * x / (z * z)], [0.0, f2 / z, -f2 * y / (z * z)]])
+    jacobian = np.empty((2, PARAMETERS))
+    jacobian[:, _ROTATION] = d_project @ np.array(_skew(-x, -y, -z))  # dv = dw x v
+    jacobian[:, 3:6] = d_project @ moved[:, 1:]  # the buddy's steps, then ln f1
+    jacobian[:, _FOCAL2] = f2 * x / z, f2 * y / z
+    return np.array([centre[0] + f2 * x / z, centre[1] + f2 * y / z]), jacobian
+
+
 def seeker_positions(poses: Poses, centre: Array) -> Array:
-    """(K, 2) the seeker in photo 2, ``pi(-K2 R b1)``, without derivatives (not finite, or
-    very far off, at infinity)."""
+    """(K, 2) the seeker in photo 2, ``pi(-K2 R b1)``, without derivatives (NaN at infinity,
+    as :func:`seeker_pixels`)."""
     f2 = np.exp(poses.log_focals[:, 1])
     v = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return centre + f2[:, None] * v[:, :2] / v[:, 2:]
+    v[np.abs(v[:, 2]) <= _AT_INFINITY * np.sqrt(np.einsum("ki,ki->k", v, v)), 2] = np.nan
+    return centre + f2[:, None] * v[:, :2] / v[:, 2:]
 
 
-def _buddy_pixels(poses: Poses, centre: Array, tangent: Array) -> tuple[Array, Array]:
-    """The buddy in photo 1, ``pi(K1 b1)``: pixels (K, 2) and Jacobians (K, 2, 7).
-
-    ``K1 b1 = K_reference u``: the pixel depends on the buddy's direction alone."""
-    reference = math.exp(poses.reference)
+def _buddy_positions(poses: Poses, centre: Array) -> Array:
+    """(K, 2) the buddy in photo 1, ``pi(K1 b1) = pi(K_reference u)``, without derivatives."""
     u = poses.buddy
-    jacobian = np.zeros((len(poses), 2, PARAMETERS))
-    jacobian[:, :, _BASELINE] = reference * _d_project(u) @ tangent
-    return centre + reference * u[:, :2] / u[:, 2:], jacobian
+    return centre + math.exp(poses.reference) * u[:, :2] / u[:, 2:]
 
 
-def _buddy_pixel(pose: Poses, centre: Array, tangent: Array) -> tuple[Array, Array]:
-    """:func:`_buddy_pixels` for one pose, (2,) and (2, 7), in plain floats where it pays."""
+def _buddy_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
+    """The buddy in photo 1 at one pose, ``pi(K1 b1) = pi(K_reference u)``: pixel (2,) and
+    Jacobian (2, 7), which depends on the buddy's direction alone."""
     reference = math.exp(pose.reference)
-    x, y, z = (float(v) for v in pose.buddy[0])
-    d_project = np.array([[1.0 / z, 0.0, -x / (z * z)], [0.0, 1.0 / z, -y / (z * z)]])
+    x, y, z = pose.buddy[0].tolist()
+    scale = reference / z
+    d_project = np.array([[scale, 0.0, -scale * x / z], [0.0, scale, -scale * y / z]])
     jacobian = np.zeros((2, PARAMETERS))
-    jacobian[:, _BASELINE] = reference * d_project @ tangent
-    return np.array([centre[0] + reference * x / z, centre[1] + reference * y / z]), jacobian
+    jacobian[:, _BASELINE] = d_project @ tangent
+    return np.array([centre[0] + scale * x, centre[1] + scale * y]), jacobian
 
 
 def _baseline_derivatives(poses: Poses, tangent: Array) -> tuple[Array, Array]:
@@ -436,46 +479,55 @@ def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array,
     every landmark's residual and gradient come from a few products (this runs at every
     iteration of every fit). ``tangent``: (3, 2) the buddy direction's tangent basis.
     """
-    f1, f2 = np.exp(pose.log_focals[0])
-    (x1, y1), (x2, y2) = model.centres
+    log_f1, log_f2 = pose.log_focals[0].tolist()
+    f1, f2 = math.exp(log_f1), math.exp(log_f2)
+    (x1, y1), (x2, y2) = model.centre_pixels
     inverse1 = np.array([[1.0 / f1, 0.0, -x1 / f1], [0.0, 1.0 / f1, -y1 / f1], [0.0, 0.0, 1.0]])
     inverse2_t = np.array([[1.0 / f2, 0.0, 0.0], [0.0, 1.0 / f2, 0.0], [-x2 / f2, -y2 / f2, 1.0]])
-    d_baseline, d_focal = _baseline_derivatives(pose, tangent[None])
-    # One call for every cross-product matrix: b1, its two steps, and its focal derivative.
-    skews = _skews(np.vstack([pose.baseline, d_baseline[0].T, d_focal]))
-    rotation = pose.rotation[0]
-    essential = rotation @ skews[0]
+    # b1 = diag(r, r, 1) u, its steps along the tangent basis, and d b1 / d ln f1, as one
+    # call for all four cross-product matrices (plain floats: these are 3-vectors).
+    ratio = math.exp(pose.reference - log_f1)
+    ux, uy, uz = pose.buddy[0].tolist()
+    (ax, bx), (ay, by), (az, bz) = tangent.tolist()
+    skews = np.array(
+        [
+            _skew(ratio * ux, ratio * uy, uz),
+            _skew(ratio * ax, ratio * ay, az),
+            _skew(ratio * bx, ratio * by, bz),
+            _skew(-ratio * ux, -ratio * uy, 0.0),
+        ]
+    )
+    moved = pose.rotation[0] @ skews  # R [b1]x = E, then R [.]x of b1's three derivatives
+    essential = moved[0]
+    # K2^-T M K1^-1 for each M below is F, then dF along each parameter. d K1^-1 / d ln f1
+    # is -P K1^-1 and d K2^-T / d ln f2 is -K2^-T P, with P = diag(1, 1, 0); ln f1 also
+    # moves b1 (the buddy's pixel stays).
     middle = np.empty((8, 3, 3))
-    middle[0] = middle[6] = middle[7] = essential
+    middle[0] = essential
     middle[1:4] = _BASIS_SKEWS @ essential  # d exp([w]x) R = [e_k]x R
-    middle[4:6] = rotation @ skews[1:3]
-    stacked = inverse2_t @ middle @ inverse1  # F, then dF along each parameter
-    d_inverse1 = np.zeros((3, 3))
-    d_inverse1[:2] = -inverse1[:2]  # d K1^-1 / d ln f1
-    # ln f1 changes K1^-1 and moves b1 (the buddy's pixel stays).
-    stacked[6] = inverse2_t @ (essential @ d_inverse1 + rotation @ skews[3] @ inverse1)
-    d_inverse2_t = np.zeros((3, 3))
-    d_inverse2_t[:, :2] = -inverse2_t[:, :2]  # d K2^-T / d ln f2
-    stacked[7] = d_inverse2_t @ essential @ inverse1
+    middle[4:7] = moved[1:4]
+    middle[6, :, :2] -= essential[:, :2]  # - E P
+    middle[7, :2], middle[7, 2] = -essential[:2], 0.0  # - P E
+    stacked = inverse2_t @ middle @ inverse1
     lines2 = stacked @ model.p_t[0]  # (8, 3, N): F p and its derivatives
     lines1 = stacked.transpose(0, 2, 1) @ model.q_t[0]  # F^T q
-    eps = (lines2 * model.q_t[0]).sum(axis=1)  # (8, N): q^T F p and its derivatives
-    # Sampson: eps over its standard deviation, from both taps' covariances.
-    grad1, grad2 = lines1[:, :2], lines2[:, :2]  # (8, 2, N)
-    weighted1 = (model.cov_p_t * grad1[0]).sum(axis=1)  # (2, N)
-    weighted2 = (model.cov_q_t * grad2[0]).sum(axis=1)
-    variance = (grad1[0] * weighted1).sum(axis=0) + (grad2[0] * weighted2).sum(axis=0)
-    d_variance = 2.0 * ((grad1[1:] * weighted1).sum(axis=1) + (grad2[1:] * weighted2).sum(axis=1))
-    scale = 1.0 / np.sqrt(variance)  # (N,)
+    eps = np.einsum("kin,in->kn", lines2, model.q_t[0])  # (8, N): q^T F p and derivatives
+    # Sampson: eps over its standard deviation g^T C g, g = (F^T q, F p)_xy its gradient in
+    # the four tap coordinates and C both taps' covariances (block diagonal, (4, 4, N)).
+    gradients = np.concatenate([lines1[:, :2], lines2[:, :2]], axis=1)  # (8, 4, N)
+    weighted = np.einsum("ijn,jn->in", model.cov_t, gradients[0])  # C g, (4, N)
+    products = np.einsum("kin,in->kn", gradients, weighted)  # g^T C g, then g_k^T C g
+    scale = 1.0 / np.sqrt(products[0])  # (N,)
     r = eps[0] * scale
-    return r, (eps[1:] * scale - (0.5 * r * scale * scale) * d_variance).T
+    # d(eps / sqrt(v)) = d eps / sqrt(v) - eps d v / (2 v^1.5), with d v = 2 g_k^T C g.
+    return r, (eps[1:] * scale - (r * scale * scale) * products[1:]).T
 
 
-def _inverse_k(focal: Array, centres: Array) -> Array:
-    """(K, 3, 3) K^-1 for focal lengths (K,) and principal points (K, 2)."""
+def _inverse_k(focal: Array, centre: Array) -> Array:
+    """(K, 3, 3) K^-1 for focal lengths (K,) and one principal point (2,)."""
     inverse = np.zeros((len(focal), 3, 3))
     inverse[:, 0, 0] = inverse[:, 1, 1] = 1.0 / focal
-    inverse[:, :2, 2] = -centres / focal[:, None]
+    inverse[:, :2, 2] = -centre / focal[:, None]
     inverse[:, 2, 2] = 1.0
     return inverse
 
@@ -520,6 +572,16 @@ def _tangent(x: float, y: float, z: float) -> list[list[float]]:
     norm = math.sqrt(fx * fx + fy * fy + fz * fz)
     fx, fy, fz = fx / norm, fy / norm, fz / norm
     return [[fx, y * fz - z * fy], [fy, z * fx - x * fz], [fz, x * fy - y * fx]]
+
+
+def _exp(x: float) -> float:
+    """``math.exp`` that overflows to infinity as numpy's does."""
+    return math.exp(x) if x < _LOG_RANGE else math.inf
+
+
+def _skew(x: float, y: float, z: float) -> list[list[float]]:
+    """The cross-product matrix of one vector, as nested lists (for one ``np.array`` call)."""
+    return [[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]
 
 
 def _skews(v: Array) -> Array:
