@@ -18,7 +18,7 @@ from ..estimation.camera import focal_35mm
 from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
 from ..estimation.pinhole_fit import PinholeFit
 from ..estimation.planar import PlanarFit
-from ..estimation.plausibility import assess, orient_seeker
+from ..estimation.plausibility import Plausibility, assess, orient_seeker
 from ..estimation.uncertainty import Fitted, consistent, ellipse, quality
 from ..projective import Array, canonical, canonical_matrix, homogeneous, skew, to_pixel
 from ..result import (
@@ -189,14 +189,13 @@ def result(
     )
 
 
-def candidates(request: Request, geometries: list[Geometry]) -> list[Candidate]:
-    """Every geometry that fits, in rank order, with the cues that ranked it."""
+def candidates(
+    request: Request, geometries: list[Geometry], cues: list[Plausibility]
+) -> list[Candidate]:
+    """Every geometry that fits, in rank order, with the cues that ranked it (one each)."""
     taps = request.taps
     listed = []
-    for rank, (buddy, seeker, f) in enumerate(geometries, 1):
-        cue = assess(
-            f, buddy, seeker, taps.p, taps.q, image_size1=request.size1, image_size2=request.size2
-        )
+    for rank, ((buddy, seeker, f), cue) in enumerate(zip(geometries, cues, strict=True), 1):
         e1 = canonical(buddy)
         e2, _ = orient_seeker(f, e1, seeker, taps.p, taps.q)
         listed.append(

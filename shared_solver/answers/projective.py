@@ -228,5 +228,5 @@ def _likeliest(
         suspects=[],
         warnings=warnings,
         inconsistent=inconsistent,
-        candidates=candidates(request, [geometries[i] for i in order]),
+        candidates=candidates(request, [geometries[i] for i in order], [cues[i] for i in order]),
     )

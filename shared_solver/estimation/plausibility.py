@@ -59,8 +59,10 @@ def oriented_violations(fundamental: Array, e2: Array, p: Array, q: Array) -> in
         e2: (3,) epipole in photo 2 (``F^T e2 = 0``).
         p, q: (N, 2) landmarks in photo 1 and photo 2, pixels.
     """
-    signs = np.einsum("ij,ij->i", np.cross(e2, homogeneous(q)), homogeneous(p) @ fundamental.T)
-    positive = int(np.count_nonzero(signs > 0))
+    # (e2 x q_i) . (F p_i), with e2 x q_i = [e2]x q_i
+    lines = homogeneous(q) @ skew(e2).T
+    signs = np.einsum("ij,ij->i", lines, homogeneous(p) @ fundamental.T)
+    positive = int((signs > 0).sum())
     return min(positive, len(signs) - positive)
 
 
@@ -86,10 +88,11 @@ def orient_seeker(
         physical geometry) and its orientation must not be trusted.
     """
     ph, qh = homogeneous(p), homogeneous(q)
-    seeker = np.sign(np.einsum("ij,ij->i", np.cross(e2, qh), ph @ fundamental.T))
-    buddy = np.sign(np.einsum("ij,ij->i", np.cross(e1, ph), qh @ fundamental))
+    # e x r = [e]x r for every row r at once
+    seeker = np.sign(np.einsum("ij,ij->i", qh @ skew(e2).T, ph @ fundamental.T))
+    buddy = np.sign(np.einsum("ij,ij->i", ph @ skew(e1).T, qh @ fundamental))
     orientable = bool(abs(seeker.sum()) == len(seeker) and abs(buddy.sum()) == len(buddy))
-    return (e2 if np.sum(seeker * buddy) >= 0 else -e2), orientable
+    return (e2 if float(seeker @ buddy) >= 0 else -e2), orientable
 
 
 def implied_focal_lengths(
@@ -103,16 +106,18 @@ def implied_focal_lengths(
         fundamental: (3, 3) F; e1, e2: (3,) its epipoles in photo 1 and 2.
         centre1, centre2: (2,) principal points (image centres), pixels.
     """
-    flat = np.diag([1.0, 1.0, 0.0])
-    c1, c2 = np.append(centre1, 1.0), np.append(centre2, 1.0)
+    c1 = np.array([float(centre1[0]), float(centre1[1]), 1.0])
+    c2 = np.array([float(centre2[0]), float(centre2[1]), 1.0])
     f = fundamental
 
     def squared(f_: Array, e_other: Array, c: Array, c_other: Array) -> float:
-        lead = c_other @ skew(e_other) @ flat @ f_
-        denominator = lead @ flat @ f_.T @ c_other
+        # c'^T [e']x diag(1, 1, 0) F, with c'^T [e']x = (c' x e')^T
+        lead = linalg.cross(c_other, e_other)[:2] @ f_[:2]
+        back = f_.T @ c_other
+        denominator = float(lead[:2] @ back[:2])
         if denominator == 0:
             return -1.0
-        return float(-(lead @ c) * (c @ f_.T @ c_other) / denominator)
+        return -float(lead @ c) * float(c @ back) / denominator
 
     first, second = squared(f, e2, c1, c2), squared(f.T, e1, c2, c1)
     return (

@@ -35,13 +35,12 @@ import math
 import numpy as np
 
 from .. import linalg
+from ..polynomial import binary_cubic_roots
 from ..projective import Array
 
 # The landmark equations have rank below 3 when their smallest singular value is this small
 # against the largest: a ray along the baseline, or three landmarks on one epipolar plane.
 _DEGENERATE = 1e-10
-# Cubic coefficients this small against the largest are zero.
-_ZERO_COEFFICIENT = 1e-12
 # A degenerate conic whose line pair is this close (relative) to a double line is refused.
 _DOUBLE_LINE = 1e-12
 # A quadratic discriminant this far below zero (relative) is a tangency, not a complex pair.
@@ -150,57 +149,7 @@ def _degenerate_members(c1: Symmetric, c2: Symmetric) -> list[tuple[float, float
     k0, k3 = _det(c1), _det(c2)
     plus, minus = _det(_combine(1.0, c1, 1.0, c2)), _det(_combine(1.0, c1, -1.0, c2))
     # det(s c1 + t c2) = k0 s^3 + k1 s^2 t + k2 s t^2 + k3 t^3
-    k1 = 0.5 * (plus - minus) - k3
-    k2 = 0.5 * (plus + minus) - k0
-    scale = max(abs(k0), abs(k1), abs(k2), abs(k3))
-    if scale == 0.0:
-        return []
-    if max(abs(k0), abs(k3)) <= _ZERO_COEFFICIENT * scale:
-        # Both ends vanish: roots at s = 0, at t = 0 and where k1 s + k2 t = 0.
-        norm = math.hypot(k1, k2)
-        return [(1.0, 0.0), (0.0, 1.0), (k2 / norm, -k1 / norm)]
-    # Divide by the larger end coefficient: a monic cubic in s / t or in t / s.
-    if abs(k0) > abs(k3):
-        return [
-            (x / math.hypot(1.0, x), 1.0 / math.hypot(1.0, x))
-            for x in _cubic_roots(k1 / k0, k2 / k0, k3 / k0)
-        ]
-    return [
-        (1.0 / math.hypot(1.0, x), x / math.hypot(1.0, x))
-        for x in _cubic_roots(k2 / k3, k1 / k3, k0 / k3)
-    ]
-
-
-def _cubic_roots(a: float, b: float, c: float) -> list[float]:
-    """Real roots of ``x^3 + a x^2 + b x + c`` (Cardano or Viete), each Newton-polished."""
-    shift = a / 3.0
-    p = b - a * shift  # y^3 + p y + q with x = y - a / 3
-    q = c + shift * (2.0 * shift * shift - b)
-    half = 0.5 * q
-    discriminant = half * half + p * p * p / 27.0
-    if discriminant > 0.0:
-        # One real root; this cube root has no cancellation and is not zero.
-        cube = math.cbrt(-half - math.copysign(math.sqrt(discriminant), half))
-        depressed = [cube - p / (3.0 * cube)]
-    else:
-        radius = math.sqrt(max(-p / 3.0, 0.0))
-        if radius == 0.0:
-            depressed = [0.0]
-        else:
-            angle = math.acos(max(-1.0, min(1.0, -half / radius**3))) / 3.0
-            turn = 2.0 * math.pi / 3.0
-            depressed = [2.0 * radius * math.cos(angle - k * turn) for k in range(3)]
-    roots = []
-    for y in depressed:
-        x = y - shift
-        for _ in range(2):
-            slope = (3.0 * x + 2.0 * a) * x + b
-            value = ((x + a) * x + b) * x + c
-            if slope == 0.0:
-                break
-            x -= value / slope
-        roots.append(x)
-    return roots
+    return binary_cubic_roots(k0, 0.5 * (plus - minus) - k3, 0.5 * (plus + minus) - k0, k3)
 
 
 def _lines_meet(member: Symmetric, other: Symmetric) -> list[Vector]:

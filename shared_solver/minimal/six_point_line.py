@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import linalg, words
 from ..errors import ErrorCode, SolverError
+from ..polynomial import binary_cubic_roots
 from ..projective import (
     Array,
     canonical,
@@ -23,8 +24,11 @@ from ..projective import (
     transform,
 )
 
-# Sample angles for the cubic: (cos, sin) pairs spread over half a turn.
+# Sample angles for the cubic: (cos, sin) pairs spread over half a turn, and the matrix
+# taking the cubic's values there to its coefficients.
 _ANGLES = np.pi * np.arange(4) / 4
+_COS, _SIN = np.cos(_ANGLES), np.sin(_ANGLES)
+_FROM_SAMPLES = np.linalg.inv(np.column_stack([_COS**3, _COS**2 * _SIN, _COS * _SIN**2, _SIN**3]))
 
 
 def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, Array, Array]]:
@@ -58,8 +62,8 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
             stacked[:, 6 + row, 3 * row : 3 * row + 3] = e1
         return stacked
 
-    samples = np.outer(np.cos(_ANGLES), a) + np.outer(np.sin(_ANGLES), b)
-    roots = _real_roots(list(np.linalg.det(systems(samples))))
+    samples = np.outer(_COS, a) + np.outer(_SIN, b)
+    roots = _real_roots(np.linalg.det(systems(samples)))
     if not roots:
         return []
     positions = np.array([s * a + t * b for s, t in roots])
@@ -82,24 +86,13 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
     return found
 
 
-def _real_roots(samples: list[float]) -> list[tuple[float, float]]:
+def _real_roots(samples: Array) -> list[tuple[float, float]]:
     """Real roots (s, t), unit norm, of the homogeneous cubic sampled at ``_ANGLES``."""
-    c, s = np.cos(_ANGLES), np.sin(_ANGLES)
     # det(s a + t b) = k0 s^3 + k1 s^2 t + k2 s t^2 + k3 t^3
-    basis = np.column_stack([c**3, c**2 * s, c * s**2, s**3])
-    k0, k1, k2, k3 = linalg.solve(basis, np.array(samples))
-    scale = max(abs(k0), abs(k1), abs(k2), abs(k3))
-    if scale == 0:
+    k0, k1, k2, k3 = (_FROM_SAMPLES @ samples).tolist()
+    if max(abs(k0), abs(k1), abs(k2), abs(k3)) == 0:
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
             words.LINE_FITS_EVERYWHERE,
         )
-    roots: list[tuple[float, float]] = []
-    # In tau = t / s; a vanishing leading coefficient is a root at s = 0.
-    for tau in np.roots([k3, k2, k1, k0] if abs(k3) > 1e-12 * scale else [k2, k1, k0]):
-        if abs(tau.imag) <= 1e-7 * (1 + abs(tau)):
-            norm = np.hypot(1.0, tau.real)
-            roots.append((1.0 / norm, tau.real / norm))
-    if abs(k3) <= 1e-12 * scale:
-        roots.append((0.0, 1.0))
-    return roots
+    return binary_cubic_roots(k0, k1, k2, k3)
