@@ -217,10 +217,12 @@ class PinholeFit:
     @functools.cached_property
     def covariance2(self) -> Array | None:
         """(2, 2) px^2 covariance of the seeker's pixel position, None if it is at infinity."""
-        _, jacobian, finite = seeker_pixels(self.pose, self.centres[1])
-        if not finite[0]:
+        centre = (float(self.centres[1, 0]), float(self.centres[1, 1]))
+        tangent = np.array(_tangent(*self.pose.buddy[0].tolist()))
+        position, jacobian = _seeker_pixel(self.pose, centre, tangent)
+        if not np.isfinite(position[0]):
             return None
-        return jacobian[0] @ self.covariance @ jacobian[0].T
+        return jacobian @ self.covariance @ jacobian.T
 
 
 class PinholeModel:
@@ -388,30 +390,10 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
     )
 
 
-def seeker_pixels(
-    poses: Poses, centre: Array, tangent: Array | None = None
-) -> tuple[Array, Array, Array]:
-    """The seeker in photo 2, ``pi(-K2 R b1)``: pixels (K, 2), Jacobians (K, 2, 7), and
-    which are finite (K,) (the others, in the buddy's image plane, are NaN)."""
-    f2 = np.exp(poses.log_focals[:, 1])
-    v = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
-    finite = np.abs(v[:, 2]) > _AT_INFINITY * np.linalg.norm(v, axis=1)
-    v[~finite, 2] = np.nan
-    d_baseline, d_focal = _baseline_derivatives(
-        poses, _tangents(poses.buddy) if tangent is None else tangent
-    )
-    d_project = f2[:, None, None] * _d_project(v)
-    jacobian = np.zeros((len(poses), 2, PARAMETERS))
-    jacobian[:, :, _ROTATION] = -d_project @ _skews(v)  # dv = dw x v = -[v]x dw
-    jacobian[:, :, _BASELINE] = -d_project @ poses.rotation @ d_baseline
-    jacobian[:, :, _FOCAL1] = -(d_project @ (poses.rotation @ d_focal[:, :, None]))[:, :, 0]
-    pixel = v[:, :2] / v[:, 2:]
-    jacobian[:, :, _FOCAL2] = f2[:, None] * pixel
-    return centre + f2[:, None] * pixel, jacobian, finite
-
-
 def _seeker_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
-    """:func:`seeker_pixels` for one pose, (2,) and (2, 7), with ``tangent`` (3, 2)."""
+    """The seeker in photo 2 at one pose, ``pi(-K2 R b1)``: pixel (2,) and Jacobian (2, 7),
+    NaN when the seeker is at infinity (in the buddy's image plane); ``tangent``: (3, 2)
+    the buddy direction's tangent basis."""
     log_f1, log_f2 = pose.log_focals[0].tolist()
     f2, ratio = math.exp(log_f2), math.exp(pose.reference - log_f1)
     ux, uy, uz = pose.buddy[0].tolist()
@@ -436,7 +418,7 @@ def _seeker_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> t
 
 def seeker_positions(poses: Poses, centre: Array) -> Array:
     """(K, 2) the seeker in photo 2, ``pi(-K2 R b1)``, without derivatives (NaN at infinity,
-    as :func:`seeker_pixels`)."""
+    as :func:`_seeker_pixel`)."""
     f2 = np.exp(poses.log_focals[:, 1])
     v = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
     v[np.abs(v[:, 2]) <= _AT_INFINITY * np.sqrt(np.einsum("ki,ki->k", v, v)), 2] = np.nan
@@ -459,17 +441,6 @@ def _buddy_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tu
     jacobian = np.zeros((2, PARAMETERS))
     jacobian[:, _BASELINE] = d_project @ tangent
     return np.array([centre[0] + scale * x, centre[1] + scale * y]), jacobian
-
-
-def _baseline_derivatives(poses: Poses, tangent: Array) -> tuple[Array, Array]:
-    """d b1 / d(buddy step) (K, 3, 2) and d b1 / d ln f1 (K, 3), for the unnormalised
-    ``b1 = diag(r, r, 1) u``."""
-    ratio = poses.ratio
-    d_baseline = tangent.copy()
-    d_baseline[:, :2] *= ratio[:, None, None]
-    d_focal = np.zeros_like(poses.buddy)
-    d_focal[:, :2] = -ratio[:, None] * poses.buddy[:, :2]
-    return d_baseline, d_focal
 
 
 def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array, Array]:
@@ -530,16 +501,6 @@ def _inverse_k(focal: Array, centre: Array) -> Array:
     inverse[:, :2, 2] = -centre / focal[:, None]
     inverse[:, 2, 2] = 1.0
     return inverse
-
-
-def _d_project(v: Array) -> Array:
-    """(K, 2, 3) derivative of ``v[:, :2] / v[:, 2]`` for (K, 3) vectors."""
-    x, y, z = v[:, 0], v[:, 1], v[:, 2]
-    d = np.zeros((len(v), 2, 3))
-    d[:, 0, 0] = d[:, 1, 1] = 1.0 / z
-    d[:, 0, 2] = -x / (z * z)
-    d[:, 1, 2] = -y / (z * z)
-    return d
 
 
 def _tangents(units: Array) -> Array:

@@ -11,8 +11,6 @@ import functools
 import math
 from typing import Protocol
 
-import numpy as np
-
 from .. import linalg
 from ..projective import Array
 from ..result import Quality
@@ -69,10 +67,11 @@ def ellipse(
     centre: Array, covariance: Array
 ) -> tuple[tuple[float, float], tuple[float, float], float]:
     """(centre, (a, b) semi-axes in px, angle of axis a from the x axis in degrees, y down)."""
-    values, vectors = np.linalg.eigh(covariance)  # ascending
-    smaller, larger = np.maximum(values, 0.0)
-    major_axis = vectors[:, 1]
-    angle = math.degrees(math.atan2(major_axis[1], major_axis[0])) % 180.0
+    # The eigen-decomposition of a symmetric 2x2 matrix in closed form.
+    (xx, xy), (_, yy) = covariance.tolist()
+    mean, half_gap = 0.5 * (xx + yy), math.hypot(0.5 * (xx - yy), xy)
+    larger, smaller = max(mean + half_gap, 0.0), max(mean - half_gap, 0.0)
+    angle = math.degrees(0.5 * math.atan2(2.0 * xy, xx - yy)) % 180.0  # the major axis
     a, b = math.sqrt(CHI2_2D * larger), math.sqrt(CHI2_2D * smaller)
     return (float(centre[0]), float(centre[1])), (a, b), angle
 

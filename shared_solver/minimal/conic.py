@@ -22,10 +22,10 @@ def conic_from_cross_ratio(e1: Array, p: Array, q: Array) -> Array:
     # The pairs (ij, kl, ik, jl) of the paper's indices i, j, k, l = 0, 1, 2, 3, crossed in
     # one call each for photo 1 and photo 2.
     first, second = [0, 2, 0, 1], [1, 3, 2, 3]
-    ij, kl, ik, jl = np.cross(p[first], p[second]) @ e1  # the brackets |e1 p_a p_b|
+    ij, kl, ik, jl = linalg.cross_rows(p[first], p[second]) @ e1  # brackets |e1 p_a p_b|
     a, b = ij * kl, ik * jl
     # |e2 q_a q_b| = e2 . (q_a x q_b): each bracket is a linear form in e2.
-    l_ij, l_kl, l_ik, l_jl = np.cross(q[first], q[second])
+    l_ij, l_kl, l_ik, l_jl = linalg.cross_rows(q[first], q[second])
     c = a * np.outer(l_ik, l_jl) - b * np.outer(l_ij, l_kl)
     c = c + c.T
     return c / linalg.norm(c)
