@@ -42,6 +42,9 @@ from .result import SolveResult
 _SAME_PLACE_SIGMAS = 0.5
 
 CameraInput = Camera | Mapping[str, Any] | str | None
+# The cameras named by a word alone, built once (a Camera is immutable).
+_UNKNOWN = Camera()
+_BY_KIND = {"unknown": _UNKNOWN, "phone": Camera.phone()}
 
 
 def solve(
@@ -245,9 +248,11 @@ def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> 
     """A camera description from any of its accepted forms, refused when malformed."""
     parse: Callable[[], Camera]
     if value is None:
-        return Camera()
+        return _UNKNOWN
     if isinstance(value, Camera):
         camera = value
+    elif isinstance(value, str) and value in _BY_KIND:
+        camera = _BY_KIND[value]
     else:
         if isinstance(value, str):
             parse = lambda: Camera.model_validate({"kind": value})  # noqa: E731

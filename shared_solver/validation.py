@@ -27,7 +27,7 @@ def _array(value: ArrayLike, name: str) -> Array:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_number(name)) from error
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         raise SolverError(ErrorCode.NOT_FINITE, words.not_finite(name))
     return array
 
@@ -78,7 +78,7 @@ def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None
     if value is None:
         return None
     array = _array(value, name)
-    if array.shape != (2,) or np.any(array <= 0):
+    if array.shape != (2,) or (array <= 0).any():
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_size(name))
     return float(array[0]), float(array[1])
 
@@ -202,7 +202,9 @@ def covariances(value: ArrayLike | None, count: int, default: float, name: str) 
     """(count, 2, 2) tap covariances, px^2, from one sigma per tap (count,) or one 2x2
     covariance per tap (count, 2, 2); ``default`` px for every tap when None."""
     if value is None:
-        return np.broadcast_to(default**2 * np.eye(2), (count, 2, 2)).copy()
+        round_ = np.zeros((count, 2, 2))
+        round_[:, 0, 0] = round_[:, 1, 1] = default**2
+        return round_
     array = _array(value, name)
     if array.shape == (count,):
         if np.any(array <= 0):

@@ -325,9 +325,13 @@ def sampson_distances(fundamental: Array, p: Array, q: Array) -> Array:
         (N,) or (K, N) distances.
     """
     ph, qh = homogeneous(p), homogeneous(q)
-    fp = np.einsum("...ij,nj->...ni", fundamental, ph)
-    ftq = np.einsum("...ji,nj->...ni", fundamental, qh)
-    eps = np.einsum("...ni,ni->...n", fp, qh)
+    if fundamental.ndim == 2:  # one geometry: plain products (einsum's '...' costs more)
+        fp, ftq = ph @ fundamental.T, qh @ fundamental
+        eps = np.einsum("ni,ni->n", fp, qh)
+    else:
+        fp = np.einsum("kij,nj->kni", fundamental, ph)
+        ftq = np.einsum("kji,nj->kni", fundamental, qh)
+        eps = np.einsum("kni,ni->kn", fp, qh)
     g2 = fp[..., 0] ** 2 + fp[..., 1] ** 2 + ftq[..., 0] ** 2 + ftq[..., 1] ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
         return eps / np.sqrt(g2)

@@ -46,7 +46,7 @@ PARAMETERS = 7
 _ROTATION, _BASELINE, _FOCAL1, _FOCAL2 = slice(0, 3), slice(3, 5), 5, 6
 # The cost is a chi-square: stop when a step gains less than 1e-6 of it (the estimate then
 # moves by about 1e-3 of its own sigma), or 1e-16 on exact taps (1e-8 sigma).
-_GAIN_TOLERANCE = (1e-6, 1e-16)
+_GAIN_TOLERANCE = (1e-5, 1e-16)
 # A fit whose focal lengths end this many prior sigmas away ran off (e^5 = 150 times).
 _FOCAL_RANGE_SIGMAS = 10.0
 # Logarithms beyond this overflow (or underflow to zero) in math.exp: a fit that runs off to
