@@ -19,7 +19,7 @@ from ..linalg import cholesky2
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
 from .camera import FocalPrior
-from .pinhole_fit import PinholeFit, PinholeModel, seeker_positions
+from .pinhole_fit import PinholeFit, PinholeModel, seekers_after
 from .taps import Taps
 from .uncertainty import CHI2_2D, LEVEL
 
@@ -95,7 +95,7 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
     )
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
     steps = -model.offsets(fit.pose) @ (fit.jacobian @ fit.covariance)
-    return seeker_positions(fit.pose.repeated(count).moved(steps), fit.centres[1])
+    return seekers_after(fit.pose, steps, fit.centres[1])
 
 
 def resolved_samples(taps: Taps, resolve: Callable[[Taps], Array]) -> Array:

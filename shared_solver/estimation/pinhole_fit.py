@@ -89,8 +89,10 @@ class Poses:
     def __len__(self) -> int:
         return len(self.rotation)
 
-    def _moved_one(self, step: Array) -> Poses:
-        """:meth:`moved` for a batch of one (every fit's step), in plain floats and OpenCV."""
+    def moved(self, steps: Array) -> Poses:
+        """A batch of one after a tangent step (1, 7): ``exp([w]x) R``, buddy, log focals;
+        in plain floats and OpenCV (this runs at every step of every fit)."""
+        step = steps[0]
         x, y, z = (float(v) for v in self.buddy[0])
         (fx, sx), (fy, sy), (fz, sz) = _tangent(x, y, z)
         a, b = float(step[3]), float(step[4])
@@ -122,29 +124,6 @@ class Poses:
             self.rotation[k : k + 1],
             self.buddy[k : k + 1],
             self.log_focals[k : k + 1],
-            self.reference,
-        )
-
-    def repeated(self, count: int) -> Poses:
-        """A batch of ``count`` copies of a single pose."""
-        return Poses(
-            np.repeat(self.rotation, count, axis=0),
-            np.repeat(self.buddy, count, axis=0),
-            np.repeat(self.log_focals, count, axis=0),
-            self.reference,
-        )
-
-    def moved(self, steps: Array) -> Poses:
-        """The poses after tangent steps (K, 7): ``exp([w]x) R``, buddy, log focals."""
-        if len(self.rotation) == 1:
-            return self._moved_one(steps[0])
-        tangent = _tangents(self.buddy)
-        buddy = self.buddy + np.einsum("kij,kj->ki", tangent, steps[:, _BASELINE])
-        buddy /= np.linalg.norm(buddy, axis=1, keepdims=True)
-        return Poses(
-            _exp_rotations(steps[:, _ROTATION]) @ self.rotation,
-            buddy,
-            self.log_focals + steps[:, 5:7],
             self.reference,
         )
 
@@ -416,6 +395,28 @@ def _seeker_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> t
     return np.array([centre[0] + f2 * x / z, centre[1] + f2 * y / z]), jacobian
 
 
+def seekers_after(pose: Poses, steps: Array, centre: Array) -> Array:
+    """(K, 2) the seeker in photo 2 after each of K tangent steps (K, 7) from one pose, NaN
+    at infinity (as :meth:`Poses.moved` then :func:`seeker_positions`, without building the
+    K poses): ``-exp([w]x) R b1`` by Rodrigues' formula on the vector."""
+    tangent = np.array(_tangent(*pose.buddy[0].tolist()))
+    buddy = pose.buddy[0] + steps[:, _BASELINE] @ tangent.T
+    buddy /= np.sqrt(np.einsum("ki,ki->k", buddy, buddy))[:, None]
+    log_focals = pose.log_focals[0] + steps[:, 5:7]
+    buddy[:, :2] *= np.exp(pose.reference - log_focals[:, :1])  # b1 = diag(r, r, 1) u
+    turned = buddy @ pose.rotation[0].T  # R b1
+    w = steps[:, _ROTATION]
+    angle = np.sqrt(np.einsum("ki,ki->k", w, w))
+    small = angle < 1e-8
+    safe = np.where(small, 1.0, angle)
+    first = np.where(small, 1.0, np.sin(safe) / safe)[:, None]
+    second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))[:, None]
+    once = linalg.cross_rows(w, turned)
+    v = -(turned + first * once + second * linalg.cross_rows(w, once))
+    v[np.abs(v[:, 2]) <= _AT_INFINITY * np.sqrt(np.einsum("ki,ki->k", v, v)), 2] = np.nan
+    return centre + np.exp(log_focals[:, 1:]) * v[:, :2] / v[:, 2:]
+
+
 def seeker_positions(poses: Poses, centre: Array) -> Array:
     """(K, 2) the seeker in photo 2, ``pi(-K2 R b1)``, without derivatives (NaN at infinity,
     as :func:`_seeker_pixel`)."""
@@ -503,32 +504,9 @@ def _inverse_k(focal: Array, centre: Array) -> Array:
     return inverse
 
 
-def _tangents(units: Array) -> Array:
-    """(K, 3, 2) orthonormal bases of the planes orthogonal to unit vectors (K, 3).
-
-    Written out by components: numpy's cross product costs more than all of this, and a
-    single vector (every fit's step) goes faster still in plain floats.
-    """
-    if len(units) == 1:
-        return np.array(_tangent(*(float(v) for v in units[0])))[None]
-    x, y, z = units[:, 0], units[:, 1], units[:, 2]
-    zero = np.zeros_like(x)
-    near_x = np.abs(x) >= 0.9  # then cross with (0, 1, 0), else with (1, 0, 0)
-    fx, fy, fz = np.where(near_x, -z, zero), np.where(near_x, zero, z), np.where(near_x, x, -y)
-    norm = np.sqrt(fx * fx + fy * fy + fz * fz)
-    fx, fy, fz = fx / norm, fy / norm, fz / norm
-    basis = np.empty((len(units), 3, 2))
-    basis[:, 0, 0], basis[:, 1, 0], basis[:, 2, 0] = fx, fy, fz
-    basis[:, 0, 1], basis[:, 1, 1], basis[:, 2, 1] = (
-        y * fz - z * fy,
-        z * fx - x * fz,
-        x * fy - y * fx,
-    )
-    return basis
-
-
 def _tangent(x: float, y: float, z: float) -> list[list[float]]:
-    """The rows of :func:`_tangents` for one unit vector, in plain floats."""
+    """(3, 2) as rows: an orthonormal basis of the plane orthogonal to a unit vector, in
+    plain floats (numpy's cross product costs more than all of this)."""
     fx, fy, fz = (-z, 0.0, x) if abs(x) >= 0.9 else (0.0, z, -y)
     norm = math.sqrt(fx * fx + fy * fy + fz * fz)
     fx, fy, fz = fx / norm, fy / norm, fz / norm
@@ -555,20 +533,6 @@ def _skews(v: Array) -> Array:
 
 
 _BASIS_SKEWS = _skews(np.eye(3))  # [e_k]x
-
-
-def _exp_rotations(w: Array) -> Array:
-    """Rodrigues' formula for (K, 3) rotation vectors: (K, 3, 3) rotations (OpenCV's for one)."""
-    if len(w) == 1:
-        rotation, _ = cv2.Rodrigues(w[0])
-        return np.asarray(rotation)[None]
-    angle = np.linalg.norm(w, axis=1)
-    k = _skews(w)
-    small = angle < 1e-8
-    safe = np.where(small, 1.0, angle)
-    first = np.where(small, 1.0, np.sin(safe) / safe)
-    second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))
-    return np.eye(3) + first[:, None, None] * k + second[:, None, None] * (k @ k)
 
 
 def _k(focal: float, centre: Array) -> Array:

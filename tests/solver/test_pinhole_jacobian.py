@@ -4,7 +4,8 @@ The fit converges with any reasonable Jacobian, so a wrong one would only show a
 covariance (the 95 % region): it is checked here directly, against central differences
 along each tangent step (rotation, buddy direction, both log focal lengths), with each
 kind of mark, with round and with elongated tap covariances. The batched residuals
-(``offsets``, used to score poses and by the bootstrap) must equal the fit's.
+(``offsets``, used to score poses and by the bootstrap) must equal the fit's, and the
+bootstrap's seekers after many steps at once those of the poses each step makes.
 """
 
 from __future__ import annotations
@@ -13,7 +14,13 @@ import numpy as np
 import pytest
 
 from shared_solver.estimation.camera import Camera, focal_prior
-from shared_solver.estimation.pinhole_fit import PARAMETERS, PinholeModel, Poses
+from shared_solver.estimation.pinhole_fit import (
+    PARAMETERS,
+    PinholeModel,
+    Poses,
+    seeker_positions,
+    seekers_after,
+)
 from shared_solver.estimation.taps import Taps
 from testbed.phones import phone_scene
 
@@ -92,3 +99,11 @@ def test_batched_residuals_equal_the_fits(marks: str) -> None:
     model, pose = model_and_pose(7, marks, elongated=True)
     r, _ = model.residuals(pose)
     np.testing.assert_allclose(model.offsets(pose)[0], r, atol=1e-12, rtol=1e-10)
+
+
+def test_seekers_after_steps_are_those_of_the_moved_poses() -> None:
+    model, pose = model_and_pose(11, "buddy", elongated=False)
+    steps = np.random.default_rng(3).normal(0.0, 0.05, (20, PARAMETERS))
+    steps[0] = 0.0  # no turn at all takes the formula's small-angle branch
+    one_by_one = [seeker_positions(pose.moved(step[None]), model.centres[1])[0] for step in steps]
+    np.testing.assert_allclose(seekers_after(pose, steps, model.centres[1]), one_by_one, rtol=1e-12)
