@@ -135,7 +135,8 @@ def fundamental_poses(model: PinholeModel, fundamentals: list[Array]) -> Poses |
     if not rotations:
         return None
     units = np.array(baselines)
-    return _poses(model, np.array(rotations), units / np.linalg.norm(units, axis=1, keepdims=True))
+    units /= np.sqrt(np.einsum("ki,ki->k", units, units))[:, None]
+    return _poses(model, np.array(rotations), units)
 
 
 def _poses(model: PinholeModel, rotations: Array, baselines: Array) -> Poses:
@@ -144,7 +145,7 @@ def _poses(model: PinholeModel, rotations: Array, baselines: Array) -> Poses:
     return Poses(
         rotations,
         np.ascontiguousarray(baselines),
-        np.broadcast_to(log_focals, (len(rotations), 2)),
+        np.tile(log_focals, (len(rotations), 1)),
         float(log_focals[0]),
     )
 
@@ -170,7 +171,7 @@ def _ranked(model: PinholeModel, *batches: Poses | None) -> list[tuple[float, Po
     )
     scores = score(model, poses)
     seekers = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
-    seekers /= np.linalg.norm(seekers, axis=1, keepdims=True)
+    seekers /= np.sqrt(np.einsum("ki,ki->k", seekers, seekers))[:, None]
     same = (seekers @ seekers.T >= math.cos(_SAME_DIRECTION)).tolist()
     kept: list[int] = []
     for k in np.argsort(scores, kind="stable").tolist():
@@ -201,7 +202,7 @@ def behind(poses: Poses, model: PinholeModel) -> Array:
     with np.errstate(divide="ignore", invalid="ignore"):
         depth1 = (a22 * c1 - a12 * c2) / det
         depth2 = (a11 * c2 - a12 * c1) / det
-    return np.count_nonzero((depth1 <= 0) | (depth2 <= 0), axis=1)
+    return ((depth1 <= 0) | (depth2 <= 0)).sum(axis=1)
 
 
 def _spread_indices(taps: Taps, size: int, count: int) -> list[tuple[int, ...]]:

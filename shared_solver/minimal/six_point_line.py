@@ -20,7 +20,6 @@ from ..projective import (
     canonical_matrix,
     hartley_normaliser,
     homogeneous,
-    left_epipole,
     transform,
 )
 
@@ -73,13 +72,14 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
         if values[-2] <= 1e-9 * values[0]:
             continue  # more than one F: this root does not fix the geometry
         fundamental = t2.T @ null.reshape(3, 3) @ t1
-        values_f = linalg.singular_values(fundamental / linalg.norm(fundamental))
+        fundamental = fundamental / linalg.norm(fundamental)
+        left, values_f, _ = linalg.svd(fundamental)
         if values_f[1] <= 1e-9:
             continue  # rank below 2: no epipoles
         found.append(
             (
                 canonical(linalg.solve(t1, e1_n)),
-                canonical(left_epipole(fundamental)),
+                canonical(left[:, 2]),  # F^T e2 = 0
                 canonical_matrix(fundamental),
             )
         )
