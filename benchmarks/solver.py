@@ -47,7 +47,15 @@ import numpy as np
 from report import ROOT, publish, source_state, timed
 from solverbench import facing, phones, ranking
 from solverbench.common import SCENE_STREAM, SEED, TAP_STREAM
-from solverbench.speed import ROUND_SECONDS, SpeedResult, speed, speed_table, speed_targets
+from solverbench.speed import (
+    BATCH_SECONDS,
+    REFERENCE_SEVEN_US,
+    SOLVE_BUDGET_US,
+    SpeedResult,
+    speed,
+    speed_table,
+    speed_targets,
+)
 
 DEFAULT_OUT = ROOT / "docs" / "solver-benchmark.md"
 DEFAULT_TRIALS = 500
@@ -233,10 +241,16 @@ def report(results: Results) -> str:
         f"{phones.TARGET_SIGMA:g} px; the zoomed case on as many zoomed scenes, the mixed one "
         f"on taps of mixed precision) and on {results.speed_result.facing_scenes} facing scenes "
         "(1 px); `epipole_from_five` and OpenCV's 7-point call on the facing scenes (OpenCV "
-        "gets the same first 7 landmarks, no e1). Each timed batch calls the function once "
-        f"per scene. timeit (garbage collector off) in {results.speed_result.rounds} interleaved "
-        f"rounds of at least {ROUND_SECONDS * 1000:g} ms per function; per-call time in "
-        "microseconds, **median** over rounds (used for the targets) and minimum.",
+        "gets the same first 7 landmarks, no e1). Each call is timed on each scene "
+        f"separately, in {results.speed_result.rounds} interleaved rounds (a call shorter than "
+        f"{BATCH_SECONDS * 1000:g} ms repeated to fill that, garbage collector off; the "
+        "arguments are built beforehand); a scene's time is its median over rounds, and "
+        "the table gives the **median call** over scenes (used for the targets), the 90th "
+        "percentile over scenes (the slow tail: a start far from the answer costs the fit "
+        "more steps) and the mean, in microseconds. The budget of `solve` is "
+        f"{SOLVE_BUDGET_US / 1000:g} ms at the speed of the run it was set on, where OpenCV's "
+        f"7-point call took {REFERENCE_SEVEN_US:g} us, scaled by that call's time in this run "
+        "(this machine's speed changes by up to 2.3 times between runs).",
         speed_table(results.speed_result.timings),
         "## Targets",
         "\n".join(f"- {line}" for _, line in targets),

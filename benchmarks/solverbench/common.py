@@ -7,7 +7,7 @@ import math
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -191,6 +191,39 @@ def camera_pair(scene: Scene, cameras: Cameras) -> tuple[Camera | str | None, Ca
     return None, None
 
 
+def solve_arguments(
+    scene: Scene,
+    taps: Taps,
+    sigma: float,
+    landmarks: int,
+    *,
+    given: Given,
+    line_angle: float = 0.0,
+    cameras: Cameras = "unknown",
+    precisions: Precisions | None = None,
+) -> tuple[tuple[Array, Array], dict[str, Any]]:
+    """The arguments of ``shared_solver.solve`` for the first ``landmarks`` taps and what else
+    is given: built once, so that timing a call times ``solve`` alone."""
+    line = line_through(taps.epipole1, line_angle)
+    camera1, camera2 = camera_pair(scene, cameras)
+    both = given == "both"
+    options: dict[str, Any] = {
+        "epipole1": taps.epipole1 if given in ("e1", "both") else None,
+        "epipole2": taps.epipole2 if both else None,
+        "epipolar_line1": line if given == "line" else None,
+        "tap_sigma": sigma,
+        "image_size1": scene.image_size1,
+        "image_size2": scene.image_size2,
+        "camera1": camera1,
+        "camera2": camera2,
+        "points1_sigma": None if precisions is None else precisions.points1[:landmarks],
+        "points2_sigma": None if precisions is None else precisions.points2[:landmarks],
+        "epipole1_sigma": None if precisions is None else precisions.epipole1,
+        "epipole2_sigma": None if precisions is None or not both else precisions.epipole2,
+    }
+    return (taps.landmarks1[:landmarks], taps.landmarks2[:landmarks]), options
+
+
 def solve_call(
     scene: Scene,
     taps: Taps,
@@ -203,25 +236,17 @@ def solve_call(
     precisions: Precisions | None = None,
 ) -> SolveResult:
     """``shared_solver.solve`` on the first ``landmarks`` taps and what else is given."""
-    line = line_through(taps.epipole1, line_angle)
-    camera1, camera2 = camera_pair(scene, cameras)
-    both = given == "both"
-    return solve(
-        taps.landmarks1[:landmarks],
-        taps.landmarks2[:landmarks],
-        epipole1=taps.epipole1 if given in ("e1", "both") else None,
-        epipole2=taps.epipole2 if both else None,
-        epipolar_line1=line if given == "line" else None,
-        tap_sigma=sigma,
-        image_size1=scene.image_size1,
-        image_size2=scene.image_size2,
-        camera1=camera1,
-        camera2=camera2,
-        points1_sigma=None if precisions is None else precisions.points1[:landmarks],
-        points2_sigma=None if precisions is None else precisions.points2[:landmarks],
-        epipole1_sigma=None if precisions is None else precisions.epipole1,
-        epipole2_sigma=None if precisions is None or not both else precisions.epipole2,
+    points, options = solve_arguments(
+        scene,
+        taps,
+        sigma,
+        landmarks,
+        given=given,
+        line_angle=line_angle,
+        cameras=cameras,
+        precisions=precisions,
     )
+    return solve(*points, **options)
 
 
 def ours(

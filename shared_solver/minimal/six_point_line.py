@@ -1,10 +1,12 @@
 """Six landmarks and a line through the buddy: both epipoles (paper 3.3).
 
-With ``e1 = s a + t b`` on the given line, the 9x9 system of six landmark equations
-``q^T F p = 0`` and the three equations ``F e1 = 0`` is singular exactly when its
-determinant, a homogeneous cubic in ``(s, t)``, vanishes. Every real root gives a geometry
-that fits the six landmarks exactly; the true one is among them. Ranking them is not this
-solver's job (:mod:`shared_solver.estimation.ranking`).
+The six landmark equations ``q^T F p = 0`` leave a 3-dimensional family
+``F = x F1 + y F2 + z F3``. With ``e1 = s a + t b`` on the given line, ``F e1 = 0`` is the
+3x3 system ``(s A + t B) (x, y, z) = 0`` (the columns of A are ``F_k a``, those of B
+``F_k b``), which has a solution exactly when the homogeneous cubic ``det(s A + t B)``
+vanishes: the paper's 9x9 determinant, factored through the landmarks' null space. Every
+real root gives a geometry that fits the six landmarks exactly; the true one is among them.
+Ranking them is not this solver's job (:mod:`shared_solver.estimation.ranking`).
 """
 
 from __future__ import annotations
@@ -23,11 +25,9 @@ from ..projective import (
     transform,
 )
 
-# Sample angles for the cubic: (cos, sin) pairs spread over half a turn, and the matrix
-# taking the cubic's values there to its coefficients.
-_ANGLES = np.pi * np.arange(4) / 4
-_COS, _SIN = np.cos(_ANGLES), np.sin(_ANGLES)
-_FROM_SAMPLES = np.linalg.inv(np.column_stack([_COS**3, _COS**2 * _SIN, _COS * _SIN**2, _SIN**3]))
+# Singular values this small against the largest are zero: the landmarks' equations leave
+# more than a 3-dimensional family of F, or a root's 3x3 system leaves more than one F.
+_RANK_TOLERANCE = 1e-9
 
 
 def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, Array, Array]]:
@@ -51,34 +51,29 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
     a = np.array([-line_n[0] * line_n[2], -line_n[1] * line_n[2], line_n[0] ** 2 + line_n[1] ** 2])
     b = np.array([line_n[1], -line_n[0], 0.0])
     a, b = a / linalg.norm(a), b / linalg.norm(b)
-    landmark_rows = np.einsum("ni,nj->nij", q_n, p_n).reshape(6, 9)
-
-    def systems(e1: Array) -> Array:
-        """(K, 9, 9): the six landmark rows, then (F e1)_r for each (K, 3) buddy position."""
-        stacked = np.zeros((len(e1), 9, 9))
-        stacked[:, :6] = landmark_rows
-        for row in range(3):  # row r of F e1 = 0 involves F's r-th row only
-            stacked[:, 6 + row, 3 * row : 3 * row + 3] = e1
-        return stacked
-
-    samples = np.outer(_COS, a) + np.outer(_SIN, b)
-    roots = _real_roots(np.linalg.det(systems(samples)))
-    if not roots:
-        return []
-    positions = np.array([s * a + t * b for s, t in roots])
-    _, singular, vt = np.linalg.svd(systems(positions))
+    # The six landmark equations q^T F p = 0 leave F = x F1 + y F2 + z F3.
+    _, values, vt = linalg.svd(np.einsum("ni,nj->nij", q_n, p_n).reshape(6, 9))
+    if values[5] <= _RANK_TOLERANCE * values[0]:
+        return []  # the landmarks leave more than that family: no root can fix F
+    family = vt[6:].reshape(3, 3, 3)  # F1, F2, F3
+    flat_family = vt[6:]
+    to_pixels = linalg.inv(t1)
+    # F e1 = 0 with e1 = s a + t b: (s A + t B) (x, y, z) = 0, A's columns F_k a, B's F_k b.
+    along_a, along_b = (family @ a).T, (family @ b).T
+    roots = _real_roots(along_a, along_b)
     found = []
-    for e1_n, values, null in zip(positions, singular, vt[:, -1], strict=True):
-        if values[-2] <= 1e-9 * values[0]:
+    for s_, t_ in roots:
+        _, values_m, vt_m = linalg.svd(s_ * along_a + t_ * along_b)
+        if values_m[1] <= _RANK_TOLERANCE * values_m[0]:
             continue  # more than one F: this root does not fix the geometry
-        fundamental = t2.T @ null.reshape(3, 3) @ t1
+        fundamental = t2.T @ (vt_m[2] @ flat_family).reshape(3, 3) @ t1
         fundamental = fundamental / linalg.norm(fundamental)
         left, values_f, _ = linalg.svd(fundamental)
         if values_f[1] <= 1e-9:
             continue  # rank below 2: no epipoles
         found.append(
             (
-                canonical(linalg.solve(t1, e1_n)),
+                canonical(to_pixels @ (s_ * a + t_ * b)),
                 canonical(left[:, 2]),  # F^T e2 = 0
                 canonical_matrix(fundamental),
             )
@@ -86,13 +81,21 @@ def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, A
     return found
 
 
-def _real_roots(samples: Array) -> list[tuple[float, float]]:
-    """Real roots (s, t), unit norm, of the homogeneous cubic sampled at ``_ANGLES``."""
-    # det(s a + t b) = k0 s^3 + k1 s^2 t + k2 s t^2 + k3 t^3
-    k0, k1, k2, k3 = (_FROM_SAMPLES @ samples).tolist()
+def _real_roots(first: Array, second: Array) -> list[tuple[float, float]]:
+    """Real roots (s, t), unit norm, of the homogeneous cubic ``det(s A + t B)``."""
+    # det(s A + t B) = k0 s^3 + k1 s^2 t + k2 s t^2 + k3 t^3: the ends are det A and det B,
+    # and det(A + B), det(A - B) give the middle coefficients.
+    k0, k3 = _det(first), _det(second)
+    plus, minus = _det(first + second), _det(first - second)
+    k1, k2 = 0.5 * (plus - minus) - k3, 0.5 * (plus + minus) - k0
     if max(abs(k0), abs(k1), abs(k2), abs(k3)) == 0:
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
             words.LINE_FITS_EVERYWHERE,
         )
     return binary_cubic_roots(k0, k1, k2, k3)
+
+
+def _det(m: Array) -> float:
+    (a, b, c), (d, e, f), (g, h, i) = m.tolist()
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
