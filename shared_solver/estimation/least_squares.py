@@ -55,12 +55,10 @@ def levenberg_marquardt(
     cost = float(r @ r)
     damping = 1e-6  # start close to Gauss-Newton: starts come from a linear solution
     growth = 2.0
+    normal, gradient, scaling = _normal_equations(r, jacobian)
     for _ in range(max_iterations):
-        normal = jacobian.T @ jacobian
-        gradient = jacobian.T @ r
-        scaling = np.maximum(normal.diagonal(), 1e-12)
-        damped = normal.copy()
-        damped.flat[:: len(scaling) + 1] += damping * scaling
+        # A rejected step leaves the point, and so the normal equations, as they were.
+        damped = normal + np.diag(damping * scaling)
         try:
             step = linalg.solve(damped, -gradient)
         except linalg.LinAlgError:
@@ -80,6 +78,7 @@ def levenberg_marquardt(
         ratio = (cost - cost_trial) / predicted if predicted > 0 else -1.0
         if cost_trial <= cost:
             theta, r, jacobian = trial, r_trial, jacobian_trial
+            normal, gradient, scaling = _normal_equations(r, jacobian)
             size = float(theta @ theta) if isinstance(theta, np.ndarray) else 1.0
             small_step = float(step @ step) <= 1e-20 * size
             small_gain = cost - cost_trial <= gain_tolerance[0] * cost + gain_tolerance[1]
@@ -94,6 +93,12 @@ def levenberg_marquardt(
             if damping > 1e8:
                 break
     return theta, r, jacobian
+
+
+def _normal_equations(r: Array, jacobian: Array) -> tuple[Array, Array, Array]:
+    """``J^T J``, ``J^T r`` and the damping's scale, ``diag(J^T J)`` (Marquardt's)."""
+    normal = jacobian.T @ jacobian
+    return normal, jacobian.T @ r, np.maximum(normal.diagonal(), 1e-12)
 
 
 def gauge_free_covariance(jacobian: Array, gauge: Array, sigma: float) -> Array:

@@ -93,9 +93,9 @@ class Poses:
         """A batch of one after a tangent step (1, 7): ``exp([w]x) R``, buddy, log focals;
         in plain floats and OpenCV (this runs at every step of every fit)."""
         step = steps[0]
-        x, y, z = (float(v) for v in self.buddy[0])
+        x, y, z = self.buddy[0].tolist()
         (fx, sx), (fy, sy), (fz, sz) = _tangent(x, y, z)
-        a, b = float(step[3]), float(step[4])
+        a, b = step[3:5].tolist()
         x, y, z = x + fx * a + sx * b, y + fy * a + sy * b, z + fz * a + sz * b
         norm = math.sqrt(x * x + y * y + z * z)
         turn, _ = cv2.Rodrigues(step[:3])
