@@ -27,7 +27,12 @@ from ..estimation.epipolar_fit import fit_epipolar
 from ..estimation.mistaps import refit
 from ..estimation.pinhole_fit import PinholeFit, PinholeModel, Poses, fit_pinhole
 from ..estimation.pinhole_mistaps import find_pinhole_mistaps
-from ..estimation.pinhole_starts import behind, buddy_starts, unmarked_starts
+from ..estimation.pinhole_starts import (
+    behind,
+    buddy_starts,
+    fundamental_starts,
+    unmarked_starts,
+)
 from ..estimation.taps import Taps
 from ..estimation.uncertainty import consistent
 from ..minimal.five_point_linear import fundamental_with_epipole
@@ -119,8 +124,7 @@ def line_through_buddy(request: Request) -> SolveResult | None:
     roots = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
     model = PinholeModel(taps, priors)
     fundamentals = [f for _, _, f in roots]
-    starts = unmarked_starts(model, fundamentals, np.array(_buddies(roots)))
-    answer = _from_starts(request, model, "pinhole_line", starts)
+    answer = _from_roots(request, model, "pinhole_line", fundamentals, np.array(_buddies(roots)))
     if answer is None and request.size1 is not None:
         # No pose near the roots fits: try the buddy spread along the line too.
         along = np.array(_along(taps.line1, request.size1))
@@ -141,8 +145,26 @@ def landmarks_only(request: Request) -> SolveResult | None:
         fit = refit(taps, use_buddy=False)
         roots = [(fit.epipole1, fit.epipole2, fit.fundamental)]
     model = PinholeModel(taps, priors)
-    starts = unmarked_starts(model, [f for _, _, f in roots], np.array(_buddies(roots)))
-    return _from_starts(request, model, "pinhole_landmarks", starts)
+    fundamentals = [f for _, _, f in roots]
+    return _from_roots(request, model, "pinhole_landmarks", fundamentals, np.array(_buddies(roots)))
+
+
+def _from_roots(
+    request: Request, model: PinholeModel, method: Method, fundamentals: list[Array], buddies: Array
+) -> SolveResult | None:
+    """The answer from projective solutions ``fundamentals`` (3, 3), read as poses first.
+
+    Only when none of those refines to a fit that puts the seeker in front of the buddy
+    are the three-landmark solver's poses at each solution's buddy ``buddies`` (B, 2) added:
+    with noisy taps a projective solution can be far from any pair of phone cameras while
+    its buddy is near the right place. Most taps need only the first, cheaper, search
+    (measured: the same accuracy, coverage and ranking, docs/geometry.md).
+    """
+    first = _from_starts(request, model, method, fundamental_starts(model, fundamentals))
+    if first is not None and first.epipole2 is not None:
+        return first
+    wider = _from_starts(request, model, method, unmarked_starts(model, fundamentals, buddies))
+    return wider if wider is not None else first
 
 
 def _from_starts(
