@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import Any
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 from report import (
     ROOT,
@@ -63,9 +63,9 @@ from report import (
     verdict,
 )
 
-from backend.loopback import Server, serve
 from backend.settings import Settings
 from shared_solver import solve
+from testbed.loopback import Server, serve
 from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
@@ -163,10 +163,10 @@ class Load:
         return seconds / self.seconds
 
 
-Call = Callable[[httpx.Client], httpx.Response]
+Call = Callable[[httpx2.Client], httpx2.Response]
 
 
-def hammer(client: httpx.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
+def hammer(client: httpx2.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
     """One worker: requests back to back on its keep-alive connection until ``deadline``."""
     samples: list[Sample] = []
     errors = 0
@@ -184,7 +184,7 @@ def hammer(client: httpx.Client, call: Call, deadline: float) -> tuple[list[Samp
 
 
 def load_slice(
-    server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx.Client], call: Call, s: float
+    server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx2.Client], call: Call, s: float
 ) -> Load:
     """All workers on one endpoint for ``s`` seconds; the CPU spent meanwhile."""
     before = cpu_snapshot([server.pid])
@@ -250,7 +250,7 @@ class Throughput:
 def interleaved(
     server: Server,
     pool: ThreadPoolExecutor,
-    clients: Sequence[httpx.Client],
+    clients: Sequence[httpx2.Client],
     calls: dict[str, Call],
     slice_seconds: float,
 ) -> dict[str, Load]:
@@ -283,7 +283,7 @@ def throughput(server: Server, seconds: float) -> Throughput:
     request = solve_request()
     calls = endpoint_calls(json.dumps(request).encode())
     slice_seconds = seconds / ROUNDS
-    clients = [httpx.Client(base_url=server.base_url, timeout=30) for _ in range(CONCURRENCY)]
+    clients = [httpx2.Client(base_url=server.base_url, timeout=30) for _ in range(CONCURRENCY)]
     try:
         answer = calls[SOLVE](clients[0])
         answer.raise_for_status()
@@ -326,11 +326,11 @@ def photo_like_jpeg(name: str, rng: np.random.Generator) -> bytes:
 class Phone:
     """One participant: a client with its bearer token."""
 
-    http: httpx.Client
+    http: httpx2.Client
     session_id: str
     token: str
 
-    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx.Response, Sample]:
+    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx2.Response, Sample]:
         """A request to the session (``path`` after its id), timed; fails on an error."""
         started = time.perf_counter()
         response = self.http.request(
@@ -451,7 +451,7 @@ def session(server: Server) -> SessionFigures:
     rng = np.random.default_rng(PHOTO_NOISE_SEED)
     seeker_photo = photo_like_jpeg("templeSR0006", rng)
     buddy_photo = photo_like_jpeg("templeSR0003", rng)
-    with httpx.Client(base_url=server.base_url, timeout=60) as http:
+    with httpx2.Client(base_url=server.base_url, timeout=60) as http:
         created = http.post("/api/sessions")
         created.raise_for_status()
         seeker = Phone(http, created.json()["session_id"], created.json()["token"])
@@ -612,7 +612,7 @@ def header(settings: Settings, database: str) -> str:
     now = datetime.now().astimezone().isoformat(timespec="seconds")
     versions = ", ".join(
         f"{name} {version(name)}"
-        for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx", "numpy", "pillow")
+        for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx2", "numpy", "pillow")
     )
     code = source_state("backend", "shared_solver")
     return "\n".join(
@@ -644,7 +644,7 @@ def header(settings: Settings, database: str) -> str:
 def throughput_section(result: Throughput, seconds: float) -> list[str]:
     return [
         "## 1. `/api/solve` against `/api/version`, under load",
-        f"Load generator: this Python process, {CONCURRENCY} threads, each with its own httpx "
+        f"Load generator: this Python process, {CONCURRENCY} threads, each with its own httpx2 "
         "client and keep-alive connection, sending requests back to back, **on the same "
         f"2-core machine as the server**. After a {WARMUP_SECONDS:g} s warm-up of each "
         f"endpoint, {ROUNDS} interleaved rounds (order alternating) of "

@@ -3,7 +3,7 @@
 One real uvicorn (``backend.main:app``; one worker unless ``--workers``; a new SQLite
 database in a temporary folder unless ``--database postgresql``), started by this script on
 a free loopback port and stopped at the end. An asyncio driver plays both phones of every
-session as the phone app does, each phone with its own ``httpx.AsyncClient`` (keep-alive):
+session as the phone app does, each phone with its own ``httpx2.AsyncClient`` (keep-alive):
 
 1. Costs: each kind of call alone, one at a time, with the server's CPU read from /proc
    around it: what each call costs the server.

@@ -29,7 +29,7 @@ from packaging.requirements import Requirement
 from packaging.utils import canonicalize_name
 from sqlalchemy.engine import make_url
 
-from backend.api.routes import events, health, sessions
+from backend.api.routes import events, health, photos
 from backend.settings import Settings
 
 ROOT = Path(__file__).parents[1]
@@ -255,7 +255,7 @@ def route_path(router_module: ModuleType, ending: str) -> str:
 
 
 EVENTS_URI = sample_uri(route_path(events, "/events"))
-PHOTO_URI = sample_uri(route_path(sessions, "/photo"))
+PHOTO_URI = sample_uri(route_path(photos, "/photo"))
 HEALTH_PATH = route_path(health, "/healthz")
 APP_URIS = ["/", "/join/482913", "/api/solve", PHOTO_URI, EVENTS_URI, HEALTH_PATH]
 

@@ -49,9 +49,9 @@ def test_readme_example_prints_what_it_promises() -> None:
 def test_readme_session_script_finds_the_buddy(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The httpx script, run against the app in-process instead of a server on :8000."""
+    """The httpx2 script, run against the app in-process instead of a server on :8000."""
     script = example("session")
-    opening = 'http = httpx.Client(base_url="http://127.0.0.1:8000")'
+    opening = 'http = httpx2.Client(base_url="http://127.0.0.1:8000")'
     assert opening in script
     settings = Settings(database_url=f"sqlite:///{tmp_path / 'readme.db'}")
     monkeypatch.chdir(README.parent)

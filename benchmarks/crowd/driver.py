@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 
 from testbed.scenes import Scene
@@ -177,7 +177,7 @@ class Driver:
         await self.pause(rng, "find")
         return await phone.put_taps({"landmarks": landmarks})
 
-    async def crop(self, phone: Phone, n: int) -> httpx.Response | None:
+    async def crop(self, phone: Phone, n: int) -> httpx2.Response | None:
         """The seeker's landmark #n as the buddy's <img> gets it (``?token=``, a cache key)."""
         assert phone.state is not None
         seen = next(t for t in phone.state["taps"]["seeker"]["landmarks"] if t["id"] == n)
@@ -186,7 +186,7 @@ class Driver:
             CROP, "GET", phone.url(f"/landmarks/seeker/{n}/crop"), params=params
         )
 
-    async def overlay(self, phone: Phone) -> httpx.Response | None:
+    async def overlay(self, phone: Phone) -> httpx2.Response | None:
         assert phone.state is not None
         params = {"token": phone.token, "v": str(phone.state["result_version"])}
         return await phone.call(OVERLAY, "GET", phone.url(f"/overlay/{phone.role}"), params=params)

@@ -10,7 +10,7 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from functools import partial
 
-import httpx
+import httpx2
 import numpy as np
 from report import cpu_snapshot
 
@@ -154,7 +154,7 @@ async def call_costs(driver: Driver, server_pids: Sequence[int], poll: float) ->
     await seeker.call(TAPS, "PUT", seeker.url("/taps"), json=mark)
     landmarks = [dict(t) for t in taps.buddy]
 
-    async def move() -> httpx.Response | None:
+    async def move() -> httpx2.Response | None:
         landmarks[0]["x"] += 0.5 if landmarks[0]["x"] < PHOTO_SIZE[0] / 2 else -0.5
         answered = await buddy.call(TAPS, "PUT", buddy.url("/taps"), json={"landmarks": landmarks})
         if answered is not None:

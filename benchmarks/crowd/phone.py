@@ -13,7 +13,7 @@ from contextlib import suppress
 from dataclasses import dataclass
 from typing import Any
 
-import httpx
+import httpx2
 
 from .recorder import EVENTS, OVERLAY, STATE, TAPS, Recorder, error_kind
 
@@ -27,18 +27,18 @@ WAIT_SECONDS = 30.0  # the longest a phone waits for something it expects to see
 CLEANUP_SECONDS = 5.0  # deleting a failed session, not measured
 
 
-def http_client(base_url: str, tls: ssl.SSLContext) -> httpx.AsyncClient:
+def http_client(base_url: str, tls: ssl.SSLContext) -> httpx2.AsyncClient:
     """A phone's own client. One client shared by all phones would hold hundreds of
     connections, and httpcore's pool does work quadratic in that number per request."""
     # Idle connections closed before uvicorn closes them (after 5 s): a request sent on
     # a connection the server is closing fails. A browser sends it again on a new one;
     # httpx does not, so it must not reuse a connection that old.
-    limits = httpx.Limits(
+    limits = httpx2.Limits(
         max_connections=PHONE_CONNECTIONS,
         max_keepalive_connections=PHONE_CONNECTIONS,
         keepalive_expiry=KEEPALIVE_SECONDS,
     )
-    return httpx.AsyncClient(base_url=base_url, limits=limits, timeout=REQUEST_SECONDS, verify=tls)
+    return httpx2.AsyncClient(base_url=base_url, limits=limits, timeout=REQUEST_SECONDS, verify=tls)
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ class Phone:
     """One participant: its own HTTP client (keep-alive, a browser's few connections), its
     calls, its event stream, the state it shows."""
 
-    def __init__(self, rec: Recorder, http: httpx.AsyncClient, role: str) -> None:
+    def __init__(self, rec: Recorder, http: httpx2.AsyncClient, role: str) -> None:
         self.rec = rec
         self.role = role
         self.http = http
@@ -97,17 +97,17 @@ class Phone:
 
     async def call(
         self, endpoint: str, method: str, url: str, *, expect: int = 200, **options: Any
-    ) -> httpx.Response | None:
+    ) -> httpx2.Response | None:
         """One request, timed and recorded; None unless it answered ``expect``."""
         rec = self.rec
         rec.requests_in_flight += 1
         started = time.perf_counter()
         try:
             response = await self.http.request(method, url, headers=self.auth, **options)
-        except httpx.TimeoutException:
+        except httpx2.TimeoutException:
             rec.failed(endpoint, "timeout")
             return None
-        except httpx.TransportError as error:
+        except httpx2.TransportError as error:
             rec.failed(endpoint, type(error).__name__)
             return None
         finally:
@@ -216,7 +216,7 @@ class Phone:
         self.stream = asyncio.create_task(self._listen())
 
     async def _listen(self) -> None:
-        timeout = httpx.Timeout(REQUEST_SECONDS, read=STREAM_READ_SECONDS)
+        timeout = httpx2.Timeout(REQUEST_SECONDS, read=STREAM_READ_SECONDS)
         started = time.perf_counter()
         opened = False
         try:
@@ -232,12 +232,12 @@ class Phone:
                 self.rec.streams_open += 1
                 opened = True
                 await self._read(response)
-        except httpx.TimeoutException:
+        except httpx2.TimeoutException:
             if opened:
                 self.rec.flow("stream silent too long (read timeout)")
             else:
                 self.rec.failed(EVENTS, "timeout")
-        except httpx.TransportError as error:
+        except httpx2.TransportError as error:
             if opened:
                 self.rec.flow(f"stream dropped ({type(error).__name__})")
             else:
@@ -246,7 +246,7 @@ class Phone:
             if opened:
                 self.rec.streams_open -= 1
 
-    async def _read(self, response: httpx.Response) -> None:
+    async def _read(self, response: httpx2.Response) -> None:
         kind = None
         async for line in response.aiter_lines():
             if line.startswith("event: "):
@@ -269,7 +269,7 @@ class Phone:
         """Delete its session, not measured: the clean-up after a failure (it may have been
         deleted already, by a DELETE cut off by the time limit)."""
         self.ending = True
-        with suppress(httpx.HTTPError):
+        with suppress(httpx2.HTTPError):
             await self.http.delete(self.url(), headers=self.auth, timeout=CLEANUP_SECONDS)
 
     async def close(self) -> None:

@@ -34,7 +34,7 @@ def header(results: Results) -> str:
     """The title, the command and what it ran on: the set-up of the run."""
     setup, settings = results.setup, results.settings
     now = datetime.now().astimezone().isoformat(timespec="seconds")
-    names = ("uvicorn", "fastapi", "starlette", "anyio", "h11", "httpx", "sqlalchemy", "numpy")
+    names = ("uvicorn", "fastapi", "starlette", "anyio", "h11", "httpx2", "sqlalchemy", "numpy")
     versions = ", ".join(f"{name} {version(name)}" for name in names)
     threads = asyncio.run(default_threads())
     code = source_state("backend", "shared_solver")
@@ -99,7 +99,7 @@ def header(results: Results) -> str:
             + f"): {pauses}: before joining, each photo, each of the seeker's taps, each of "
             "the buddy's (after its crop) and the delete; sessions still "
             f"running at the end get {DRAIN_SECONDS:g} s. Each phone has its own "
-            f"`httpx.AsyncClient` (keep-alive, at most {PHONE_CONNECTIONS} connections, as a "
+            f"`httpx2.AsyncClient` (keep-alive, at most {PHONE_CONNECTIONS} connections, as a "
             f"browser); every call times out after {REQUEST_SECONDS:g} s, a silent stream "
             f"after {STREAM_READ_SECONDS:g} s, a phone waiting for what it expects after "
             f"{WAIT_SECONDS:g} s.",

@@ -7,7 +7,7 @@ from collections import Counter
 from contextlib import suppress
 from dataclasses import dataclass, field
 
-import httpx
+import httpx2
 from report import CpuSnapshot, server_timing_ms
 
 # The calls, as the report names them.
@@ -63,7 +63,7 @@ class Recorder:
     samples: list[Sample] = field(default_factory=list)
     loop_lag_ms: list[float] = field(default_factory=list)
 
-    def ok(self, endpoint: str, latency_ms: float, response: httpx.Response) -> None:
+    def ok(self, endpoint: str, latency_ms: float, response: httpx2.Response) -> None:
         calls = self.calls[endpoint]
         calls.latency_ms.append(latency_ms)
         with suppress(KeyError, IndexError, ValueError):
@@ -85,7 +85,7 @@ class Recorder:
         return self.http_errors + sum(self.flow_errors.values())
 
 
-def error_kind(response: httpx.Response) -> str:
+def error_kind(response: httpx2.Response) -> str:
     """``HTTP 503 busy``: the status and the API's error code, when it sent one."""
     code = ""
     with suppress(ValueError, KeyError, TypeError):

@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 from report import log, stopwatch
 
-from backend.loopback import Server, serve
 from backend.settings import Settings
+from testbed.loopback import Server, serve
 
 from .driver import Driver
 from .options import Setup

@@ -80,7 +80,7 @@ def database_outage(
                 postgres.start()
             return
         folder = Path(make_url(database_url).database or "").parent
-        app.state.service.store.engine.dispose()
+        app.state.services.database.engine.dispose()
         folder.rename(folder.with_name("away"))
         try:
             yield

@@ -11,7 +11,7 @@ from datetime import datetime, timedelta
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 from fastapi.testclient import TestClient
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
@@ -51,12 +51,12 @@ class Phone:
         assert response.status_code == 200, response.text
         return response.json()
 
-    def upload(self, photo: bytes, name: str = "photo.jpg") -> httpx.Response:
+    def upload(self, photo: bytes, name: str = "photo.jpg") -> httpx2.Response:
         return self.client.put(
             self.url("/photo"), headers=self.auth, files={"photo": (name, photo, "image/jpeg")}
         )
 
-    def tap(self, **taps: Any) -> httpx.Response:
+    def tap(self, **taps: Any) -> httpx2.Response:
         return self.client.put(self.url("/taps"), headers=self.auth, json=taps)
 
 
@@ -82,7 +82,7 @@ class Listener(threading.Thread):
 
     def run(self) -> None:
         try:
-            with httpx.stream(
+            with httpx2.stream(
                 "GET", self.url, params={"token": self.token}, headers=self.headers, timeout=30
             ) as answer:
                 assert answer.status_code == 200
@@ -98,7 +98,7 @@ class Listener(threading.Thread):
                         self.data.append(json.loads(line[6:]))
                     elif line == ": ping":
                         self.pings += 1
-        except httpx.TransportError:
+        except httpx2.TransportError:
             self.dropped = True  # the server went away (a phone's EventSource reconnects)
         self.ended.set()
 

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 import pillow_heif
 import pytest
@@ -60,7 +60,7 @@ class Search:
         assert created.status_code == 201, created.text
         return dict(created.json())
 
-    def raw_taps(self, phone: Phone, body: bytes) -> httpx.Response:
+    def raw_taps(self, phone: Phone, body: bytes) -> httpx2.Response:
         """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
         headers = {**phone.auth, "Content-Type": "application/json"}
         return self.client.put(phone.url("/taps"), headers=headers, content=body)
@@ -69,10 +69,10 @@ class Search:
 @dataclass(frozen=True)
 class Row:
     name: str
-    send: Callable[[Search], httpx.Response]
+    send: Callable[[Search], httpx2.Response]
     status: int
     code: str | None
-    then: Callable[[Search, httpx.Response], None] | None = None  # what was stored
+    then: Callable[[Search, httpx2.Response], None] | None = None  # what was stored
 
 
 # --- photos to send -------------------------------------------------------------------
@@ -116,12 +116,12 @@ def turned_by_exif() -> bytes:
     return encoded(noise(), "JPEG", exif=exif, quality=90)
 
 
-def upload(data: bytes, name: str = "photo.jpg") -> Callable[[Search], httpx.Response]:
+def upload(data: bytes, name: str = "photo.jpg") -> Callable[[Search], httpx2.Response]:
     return lambda search: search.seeker.upload(data, name)
 
 
-def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx.Response], None]:
-    def check(search: Search, _: httpx.Response) -> None:
+def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx2.Response], None]:
+    def check(search: Search, _: httpx2.Response) -> None:
         stored = search.seeker.state()["photos"]["seeker"]
         assert (stored["width"], stored["height"]) == size
         photo = search.stored_photo()
@@ -130,14 +130,14 @@ def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx.Respo
     return check
 
 
-def ramp_kept(search: Search, answer: httpx.Response) -> None:
+def ramp_kept(search: Search, answer: httpx2.Response) -> None:
     """16 bits scaled to 8, not clipped (which would turn it all white)."""
     grey = np.asarray(search.stored_photo().convert("L"), dtype=int)
     assert grey[:, :20].mean() < 30
     assert grey[:, -20:].mean() > 225
 
 
-def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx.Response:
+def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx2.Response:
     """y = 350 is on the photo as shown (300 x 400), not as coded (400 x 300)."""
     stored = search.seeker.upload(turned_by_exif())
     assert stored.json() == {"width": HEIGHT, "height": WIDTH, "scale": 1.0}
@@ -147,15 +147,15 @@ def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx.Response:
 # --- taps to send ---------------------------------------------------------------------
 
 
-def taps(**fields: Any) -> Callable[[Search], httpx.Response]:
+def taps(**fields: Any) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.with_photos().seeker.tap(**fields)
 
 
-def one_tap(x: Any, y: Any) -> Callable[[Search], httpx.Response]:
+def one_tap(x: Any, y: Any) -> Callable[[Search], httpx2.Response]:
     return taps(landmarks=[{"id": 1, "x": x, "y": y}])
 
 
-def raw_taps(body: bytes) -> Callable[[Search], httpx.Response]:
+def raw_taps(body: bytes) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.raw_taps(search.with_photos().seeker, body)
 
 
@@ -164,11 +164,11 @@ def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]
     return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
 
 
-def answer_to(seeker_taps: dict[str, Any]) -> Callable[[Search], httpx.Response]:
+def answer_to(seeker_taps: dict[str, Any]) -> Callable[[Search], httpx2.Response]:
     """The seeker taps ``seeker_taps``; the buddy taps five true landmarks: the state the
     buddy gets back says what came of it."""
 
-    def send(search: Search) -> httpx.Response:
+    def send(search: Search) -> httpx2.Response:
         search.with_photos()
         assert search.seeker.tap(**seeker_taps).status_code == 200
         return search.buddy.tap(landmarks=landmarks(SCENE.landmarks2))
@@ -187,8 +187,8 @@ COLLINEAR = [(100 + 50 * n, 100 + 30 * n) for n in range(5)]
 
 def get_state(
     token: str | None, session_id: str | None = None
-) -> Callable[[Search], httpx.Response]:
-    def send(search: Search) -> httpx.Response:
+) -> Callable[[Search], httpx2.Response]:
+    def send(search: Search) -> httpx2.Response:
         headers = {"Authorization": f"Bearer {token}"} if token else {}
         return search.client.get(
             f"/api/sessions/{session_id or search.seeker.session_id}", headers=headers
@@ -197,22 +197,22 @@ def get_state(
     return send
 
 
-def with_token(pick: Callable[[Search], str]) -> Callable[[Search], httpx.Response]:
+def with_token(pick: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
     return lambda search: get_state(pick(search))(search)
 
 
-def expired_token(search: Search) -> httpx.Response:
+def expired_token(search: Search) -> httpx2.Response:
     search.clock.advance(search.settings.session_ttl_seconds + 1)
     return search.client.get(search.seeker.url(), headers=search.seeker.auth)
 
 
-def as_seeker_at(path: str) -> Callable[[Search], httpx.Response]:
+def as_seeker_at(path: str) -> Callable[[Search], httpx2.Response]:
     """The seeker's valid token, at ``/api/sessions/<path>``: another session's id, or
     one that is none."""
     return lambda search: search.client.get(f"/api/sessions/{path}", headers=search.seeker.auth)
 
 
-def join(code: Callable[[Search], str]) -> Callable[[Search], httpx.Response]:
+def join(code: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.client.post("/api/sessions/join", json={"code": code(search)})
 
 
@@ -239,8 +239,8 @@ def deleted_sessions_code(search: Search) -> str:
     return str(created["join_code"])
 
 
-def events_after(last_event_id: str) -> Callable[[Search], httpx.Response]:
-    def send(search: Search) -> httpx.Response:
+def events_after(last_event_id: str) -> Callable[[Search], httpx2.Response]:
+    def send(search: Search) -> httpx2.Response:
         headers = {**search.seeker.auth, "Last-Event-ID": last_event_id}
         return search.client.get(search.seeker.url("/events"), headers=headers)
 
@@ -268,7 +268,7 @@ COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "epipole1": [500, 100]}
 ON_A_LANDMARK = {"landmarks": landmarks(SCENE.landmarks1), "epipole1": list(SCENE.landmarks1[2])}
 
 
-def too_large(search: Search) -> httpx.Response:
+def too_large(search: Search) -> httpx2.Response:
     return search.seeker.upload(b"\xff\xd8\xff" + bytes(search.settings.max_body_bytes))
 
 
@@ -276,7 +276,7 @@ def another_token(search: Search) -> str:
     return str(search.other_session()["token"])
 
 
-def another_session_id(search: Search) -> httpx.Response:
+def another_session_id(search: Search) -> httpx2.Response:
     return as_seeker_at(search.other_session()["session_id"])(search)
 
 
@@ -332,7 +332,7 @@ TABLE = [
 ]
 
 
-def code_of(answer: httpx.Response) -> str | None:
+def code_of(answer: httpx2.Response) -> str | None:
     """The refusal's code (in the one shape), or what the answer says about itself."""
     body = answer.json()
     if answer.status_code >= 400:

@@ -32,16 +32,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 from PIL import Image
 from sqlalchemy import text
 
-from backend.loopback import Server, serve
-from backend.photos import store_photo
-from backend.sessions.schemas import Taps
+from backend.photos.imaging import store_photo
 from backend.settings import Settings
 from backend.storage.database import connect
+from backend.taps.schemas import Taps
+from testbed.loopback import Server, serve
 
 SEARCHES = 4
 KILLS = 3
@@ -139,7 +139,7 @@ class Traffic:
 
     def _send(self, phone: Phone, seed: int) -> None:
         rng = np.random.default_rng(seed)
-        with httpx.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
+        with httpx2.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
             while True:
                 change = phone.in_flight = self._change(phone, rng)
                 try:
@@ -148,7 +148,7 @@ class Traffic:
                         answer = http.put(phone.path("/photo"), files=upload)
                     else:
                         answer = http.put(phone.path("/taps"), json=change.taps)
-                except httpx.TransportError:
+                except httpx2.TransportError:
                     return  # the server is gone: this change may or may not have been stored
                 if answer.status_code != 200:
                     self.failures.append(f"{phone.role} of {phone.session_id}: {answer.text}")
@@ -176,9 +176,9 @@ class Traffic:
 
 
 def pair(base: str) -> list[Phone]:
-    created = httpx.post(f"{base}/api/sessions", timeout=30).json()
+    created = httpx2.post(f"{base}/api/sessions", timeout=30).json()
     code = {"code": created["join_code"]}
-    joined = httpx.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
+    joined = httpx2.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
     sid = created["session_id"]
     return [Phone(sid, "seeker", created["token"]), Phone(sid, "buddy", joined["token"])]
 
@@ -207,7 +207,7 @@ def check_acknowledged_writes(server: Server, phones: list[Phone]) -> None:
     """Each phone's photo and taps are what it last had acknowledged, or what it had in
     flight (then that counts as stored from now on)."""
     for phone in phones:
-        with httpx.Client(base_url=server.base_url, headers=phone.auth, timeout=30) as http:
+        with httpx2.Client(base_url=server.base_url, headers=phone.auth, timeout=30) as http:
             state, stored = http.get(phone.path()), http.get(phone.path(f"/photo/{phone.role}"))
         assert state.status_code == 200, state.text
         assert stored.status_code == 200, stored.text

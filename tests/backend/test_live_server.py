@@ -7,13 +7,13 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 import pytest
 from phones import TEMPLE, Listener
 
-from backend.loopback import serve
 from shared_solver.estimation.uncertainty import contains
+from testbed.loopback import serve
 from testbed.scenes import tap, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
@@ -27,7 +27,7 @@ def server(tmp_path: Path, database_url: str) -> Iterator[str]:
 
 
 def test_two_phones_find_each_other(server: str) -> None:
-    http = httpx.Client(base_url=server, timeout=30)
+    http = httpx2.Client(base_url=server, timeout=30)
     created = http.post("/api/sessions").json()
     seeker = {"Authorization": f"Bearer {created['token']}"}
     sid = created["session_id"]
@@ -98,7 +98,7 @@ def test_the_server_stops_promptly_with_a_phone_listening(
     """Event streams never end by themselves: stopping (SIGTERM) must not wait for them
     (nor for the thread listening to PostgreSQL)."""
     with serve(tmp_path, {"BUDDY_DATABASE_URL": database_url}) as running:
-        created = httpx.post(f"{running.base_url}/api/sessions").json()
+        created = httpx2.post(f"{running.base_url}/api/sessions").json()
         listener = Listener(running.base_url, created["session_id"], created["token"])
         listener.start()
         listener.wait_for("joined")

@@ -27,9 +27,9 @@ from PIL import ExifTags, Image
 from postgres import PostgresServer
 from sqlalchemy import Engine
 
+from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
-from backend.sessions.service import SessionService
-from backend.sweeper import sweep_forever
+from backend.wiring import Services
 
 # The temple landmarks of the README's example, and where the buddy is in photo 1.
 IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]
@@ -111,13 +111,20 @@ class Disk:
 @pytest.fixture
 def disk(request: pytest.FixtureRequest, client: TestClient, database_url: str) -> Disk:
     postgres = request.getfixturevalue("postgres") if "postgresql" in database_url else None
-    return Disk(client.app.state.service.store.engine, postgres)  # type: ignore[attr-defined]
+    return Disk(client.app.state.services.database.engine, postgres)  # type: ignore[attr-defined]
 
 
 @pytest.fixture
-def service(client: TestClient) -> SessionService:
-    found: SessionService = client.app.state.service  # type: ignore[attr-defined]
+def services(client: TestClient) -> Services:
+    found: Services = client.app.state.services  # type: ignore[attr-defined]
     return found
+
+
+def sweep(services: Services) -> list[str]:
+    """One round of the sweeper: expired sessions deleted, deleted bytes erased."""
+    gone = services.pairing.sweep()
+    services.eraser.erase_deleted()
+    return gone
 
 
 def other_session(client: TestClient, photo: bytes) -> tuple[Phone, bytes]:
@@ -135,7 +142,7 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
     buddy: Phone,
     temple_photos: tuple[bytes, bytes],
     disk: Disk,
-    service: SessionService,
+    services: Services,
     database_url: str,
 ) -> None:
     # A photo replaced by another: the first one's bytes must go too.
@@ -161,7 +168,7 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
             time.sleep(0.1)
         for picture in [replaced, *kept]:
             assert disk.holds(picture) == 0
-    service.sweep()  # PostgreSQL: by the next sweep
+    sweep(services)  # PostgreSQL: by the next sweep
     for picture in [replaced, *kept]:
         assert disk.holds(picture) == 0
     assert disk.holds(other) >= 12
@@ -173,7 +180,7 @@ def test_an_expired_session_leaves_no_picture_in_the_database_files(
     buddy: Phone,
     temple_photos: tuple[bytes, bytes],
     disk: Disk,
-    service: SessionService,
+    services: Services,
     clock: FakeClock,
 ) -> None:
     answered(seeker, buddy, temple_photos)
@@ -183,7 +190,7 @@ def test_an_expired_session_leaves_no_picture_in_the_database_files(
     for picture in [*kept, other]:
         assert disk.holds(picture) >= 12
     clock.advance(3601)
-    assert service.sweep() == [seeker.session_id]
+    assert sweep(services) == [seeker.session_id]
     for picture in kept:
         assert disk.holds(picture) == 0
     assert disk.holds(other) >= 12
@@ -231,7 +238,7 @@ def test_no_exif_or_gps_reaches_the_stored_photo(
 
 # The test's own HTTP client (TestClient is httpx) logs the URLs it requests; the server
 # does not use it.
-CLIENT_LOGGERS = ("httpx", "httpcore")
+CLIENT_LOGGERS = ("httpx2", "httpcore2")
 
 
 @pytest.fixture
@@ -259,7 +266,7 @@ def logged(caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch) ->
 
 def test_logs_hold_no_token_code_or_position(
     client: TestClient,
-    service: SessionService,
+    services: Services,
     clock: FakeClock,
     logged: Callable[[], str],
     temple_photos: tuple[bytes, bytes],
@@ -285,12 +292,13 @@ def test_logs_hold_no_token_code_or_position(
         answer = client.get(buddy.url(path), params={"token": buddy.token})
         assert answer.status_code == 200
     # An unexpected error on a URL with ?token=: logged with the route, not the URL.
-    monkeypatch.setattr(service, "overlay", lambda *_: 1 / 0)
+    monkeypatch.setattr(services.taps, "overlay", lambda *_: 1 / 0)
     failed = client.get(seeker.url("/overlay/seeker"), params={"token": seeker.token})
     assert failed.status_code == 500
     monkeypatch.undo()
     clock.advance(7201)
-    asyncio.run(run_for(sweep_forever(service, 3600), seconds=1))  # logs what it deleted
+    sweeper = sweep_forever(services.pairing, services.eraser, 3600)
+    asyncio.run(run_for(sweeper, seconds=1))  # logs what it deleted
 
     written = logged()
     assert "ZeroDivisionError" in written  # records were captured, tracebacks included

@@ -14,16 +14,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 import psycopg
 import pytest
 from phones import TEMPLE, Listener
 from postgres import PostgresServer
 
-from backend.loopback import Server, serve
 from backend.storage.database import database_url
 from shared_solver.estimation.uncertainty import contains
+from testbed.loopback import Server, serve
 from testbed.scenes import Scene, Taps, tap, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
@@ -58,9 +58,9 @@ class HttpPhone:
     def auth(self) -> dict[str, str]:
         return {"Authorization": f"Bearer {self.token}"}
 
-    def call(self, method: str, rest: str = "", **options: Any) -> httpx.Response:
+    def call(self, method: str, rest: str = "", **options: Any) -> httpx2.Response:
         url = f"{self.base}/api/sessions/{self.session_id}{rest}"
-        return httpx.request(method, url, headers=self.auth, timeout=30, **options)
+        return httpx2.request(method, url, headers=self.auth, timeout=30, **options)
 
     def state(self) -> dict[str, Any]:
         answer = self.call("GET")
@@ -85,8 +85,8 @@ class HttpPhone:
 
 def pair(seeker_replica: Server, buddy_replica: Server) -> tuple[HttpPhone, HttpPhone]:
     """The seeker starts on one replica, the buddy joins with the code on the other."""
-    created = httpx.post(f"{seeker_replica.base_url}/api/sessions", timeout=30).json()
-    joined = httpx.post(
+    created = httpx2.post(f"{seeker_replica.base_url}/api/sessions", timeout=30).json()
+    joined = httpx2.post(
         f"{buddy_replica.base_url}/api/sessions/join",
         json={"code": created["join_code"]},
         timeout=30,
@@ -258,7 +258,7 @@ def test_postgresql_restarted_mid_search(
     postgres.stop()
     try:
         for replica, phone in ((one, seeker), (two, buddy)):
-            health = httpx.get(f"{replica.base_url}/healthz", timeout=10)
+            health = httpx2.get(f"{replica.base_url}/healthz", timeout=10)
             refused = phone.call("PUT", "/taps", json={"landmarks": []})
             for answer in (health, phone.call("GET"), refused):
                 assert answer.status_code == 503, answer.text
@@ -294,7 +294,7 @@ def end(phone: HttpPhone, *streams: Listener) -> None:
 
 def wait_until_healthy(replica: Server, seconds: float = 20) -> None:
     deadline = time.monotonic() + seconds
-    while httpx.get(f"{replica.base_url}/healthz", timeout=10).status_code != 200:
+    while httpx2.get(f"{replica.base_url}/healthz", timeout=10).status_code != 200:
         assert time.monotonic() < deadline, f"{replica.base_url} did not recover"
         time.sleep(0.1)
 

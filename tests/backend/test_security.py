@@ -8,24 +8,22 @@ from __future__ import annotations
 
 import base64
 import hashlib
-import hmac
 import re
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
 from phones import FakeClock, Phone
 
-from backend.loopback import serve
 from backend.main import create_app
+from backend.pairing import guessing
+from backend.pairing.guessing import client_key
 from backend.security import APP_POLICY
-from backend.sessions import guessing
-from backend.sessions.guessing import client_key
 from backend.settings import Settings
-from backend.storage import repository
+from testbed.loopback import serve
 
 PER_CLIENT = 5
 OVERALL = 12
@@ -59,11 +57,11 @@ def wrong_code(*right: str) -> str:
     return next(f"{n:04d}0000" for n in range(10_000) if f"{n:04d}" not in numbers)
 
 
-def error_of(response: httpx.Response) -> str:
+def error_of(response: httpx2.Response) -> str:
     return str(response.json()["error"]["code"])
 
 
-def join(client: TestClient, code: str) -> httpx.Response:
+def join(client: TestClient, code: str) -> httpx2.Response:
     return client.post("/api/sessions/join", json={"code": code})
 
 
@@ -141,8 +139,8 @@ def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
     assert state["join_code_renewals"] == 1
     assert state["join_url"].endswith(f"/join/{renewed}")
     assert state["version"] == 2  # a change the phone is told of, with its own event
-    service = client.app.state.service  # type: ignore[attr-defined]
-    assert [e.type for e in service.store.events_after(created["session_id"], 0)] == ["code"]
+    log = client.app.state.services.streams.log  # type: ignore[attr-defined]
+    assert [e.type for e in log.events_after(created["session_id"], 0)] == ["code"]
     joined = join(from_address(app, "192.0.2.2"), renewed)
     assert joined.status_code == 200, joined.text
 
@@ -259,18 +257,18 @@ def test_failures_are_forgotten_after_the_window(client: TestClient, clock: Fake
     wrong = wrong_code()
     for _ in range(3):
         join(client, wrong)
-    service = client.app.state.service  # type: ignore[attr-defined]
-    engine = service.store.engine
+    services = client.app.state.services  # type: ignore[attr-defined]
+    engine = services.database.engine
 
     def kept() -> int:
         with engine.connect() as connection:
             count = connection.exec_driver_sql("SELECT COUNT(*) FROM join_failures").scalar()
         return int(count)
 
-    service.sweep()
+    services.pairing.sweep()
     assert kept() == 3
     clock.advance(600)
-    service.sweep()
+    services.pairing.sweep()
     assert kept() == 0
 
 
@@ -279,7 +277,7 @@ def test_a_proxys_forwarded_address_is_the_one_counted(tmp_path: Path) -> None:
     the one the proxy forwards, not the proxy's own: else one guesser would stop everyone
     behind the proxy, and could not be told apart."""
     env = {"BUDDY_JOIN_FAILURES_PER_CLIENT": "2"}
-    with serve(tmp_path, env) as server, httpx.Client(base_url=server.base_url) as http:
+    with serve(tmp_path, env) as server, httpx2.Client(base_url=server.base_url) as http:
         code = http.post("/api/sessions").json()["join_code"]
         wrong = wrong_code(code)
 
@@ -306,21 +304,23 @@ def test_tokens_are_256_random_bits(client: TestClient) -> None:
         assert len(base64.urlsafe_b64decode(token + "=")) == 32
 
 
-def test_a_token_is_checked_in_constant_time(
-    client: TestClient, seeker: Phone, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """The row found by the token's hash is compared again with hmac.compare_digest."""
-    compared: list[tuple[Any, Any]] = []
-    constant_time = hmac.compare_digest
-
-    def compare_digest(a: Any, b: Any) -> bool:
-        compared.append((a, b))
-        return constant_time(a, b)
-
-    monkeypatch.setattr(repository.hmac, "compare_digest", compare_digest)
+def test_only_the_exact_token_opens_a_session(client: TestClient, seeker: Phone) -> None:
+    """A token one character off, a prefix of it, or the hash the database keeps opens
+    nothing: the token itself is the only key (compared as a whole, by its hash)."""
     assert client.get(seeker.url(), headers=seeker.auth).status_code == 200
-    digest = hashlib.sha256(seeker.token.encode()).hexdigest()
-    assert compared == [(digest, digest)]
+    token = seeker.token
+    flip = dict(zip("Aa0_-", "Bb1-_", strict=True))
+    near_misses = [
+        token[:i] + flip.get(token[i], "A") + token[i + 1 :]
+        for i in (0, len(token) // 2, len(token) - 1)
+    ]
+    stored = hashlib.sha256(token.encode()).hexdigest()
+    for wrong in [*near_misses, token[:-1], token + "A", stored, token.upper()]:
+        if wrong == token:
+            continue
+        answer = client.get(seeker.url(), headers={"Authorization": f"Bearer {wrong}"})
+        assert answer.status_code == 401, wrong
+        assert answer.json()["error"]["code"] == "unauthorized"
 
 
 # --- headers --------------------------------------------------------------------------
@@ -368,7 +368,7 @@ def test_an_unexpected_error_carries_them_too(
     def bug(*_: object) -> None:
         raise RuntimeError("a bug")
 
-    monkeypatch.setattr(client.app.state.service, "state", bug)  # type: ignore[attr-defined]
+    monkeypatch.setattr(client.app.state.services.state, "state", bug)  # type: ignore[attr-defined]
     answer = client.get(seeker.url(), headers=seeker.auth)
     assert answer.status_code == 500
     assert answer.json()["error"]["code"] == "internal_error"

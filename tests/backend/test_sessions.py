@@ -9,14 +9,14 @@ from pathlib import Path
 from typing import Any
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 from phones import TEMPLE, FakeClock, Phone
 from sqlalchemy import text
 
-from backend.sessions.tokens import token_hash
+from backend.pairing.tokens import token_hash
 from backend.storage.tables import Base
 from shared_solver.estimation.uncertainty import contains
 from testbed.scenes import Scene, temple_scene
@@ -122,7 +122,7 @@ def test_a_token_opens_only_its_own_session(client: TestClient, seeker: Phone) -
 
 
 def test_tokens_are_stored_hashed(client: TestClient, seeker: Phone) -> None:
-    engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
+    engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
     if engine.dialect.name == "sqlite":  # the file and its write-ahead log, byte for byte
         files = (Path(engine.url.database), Path(f"{engine.url.database}-wal"))
         stored = b"".join(file.read_bytes() for file in files if file.exists())
@@ -340,15 +340,15 @@ def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(
 
 
 def overtake_the_buddy(
-    app: Any, seeker: Phone, s: Scene, then: Callable[[], httpx.Response] | None = None
-) -> list[httpx.Response]:
+    app: Any, seeker: Phone, s: Scene, then: Callable[[], httpx2.Response] | None = None
+) -> list[httpx2.Response]:
     """Make the buddy's next taps overtaken: the seeker's taps of all ``s``'s landmarks land
     between the buddy's request reading the session and writing its own. Filled in as it
     happens: the seeker's reply, then (if given) what ``then`` got right after the buddy's
     write, before its request answered the session again."""
-    store = app.state.service.store
+    store = app.state.services.taps.taps
     write = store.put_taps
-    got: list[httpx.Response] = []
+    got: list[httpx2.Response] = []
 
     def overtaken(participant: Any, *args: Any) -> Any:
         if got or participant.role != "buddy":
@@ -499,7 +499,7 @@ def test_delete_now_removes_everything_for_both_phones(
     for phone in (seeker, buddy):
         gone = client.get(phone.url(), headers=phone.auth)
         assert gone.status_code == 401
-    engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
+    engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
     with engine.connect() as connection:
         for table in ("sessions", "participants", "photos", "events"):
             assert connection.exec_driver_sql(f"SELECT COUNT(*) FROM {table}").scalar() == 0
@@ -513,12 +513,12 @@ def test_expired_sessions_are_swept_away(
     clock: FakeClock,
 ) -> None:
     photos_uploaded(seeker, buddy, temple_photos)
-    service = client.app.state.service  # type: ignore[attr-defined]
-    assert service.sweep() == []
+    services = client.app.state.services  # type: ignore[attr-defined]
+    assert services.pairing.sweep() == []
     clock.advance(7201)
     assert client.get(seeker.url(), headers=seeker.auth).status_code == 401
-    assert service.sweep() == [seeker.session_id]
-    engine = service.store.engine
+    assert services.pairing.sweep() == [seeker.session_id]
+    engine = services.database.engine
     with engine.connect() as connection:
         assert connection.exec_driver_sql("SELECT COUNT(*) FROM photos").scalar() == 0
 
@@ -556,7 +556,7 @@ def test_each_phone_can_fetch_the_stored_photos(
     """The app shows the stored photo to tap on: exactly the pixels taps refer to."""
     missing = client.get(seeker.url("/photo/buddy"), headers=seeker.auth)
     assert missing.status_code == 404
-    assert error_of(missing) == "photo_missing"
+    assert error_of(missing) == "photo_not_found"
     photos_uploaded(seeker, buddy, temple_photos)
     for role in ("seeker", "buddy"):
         stored = client.get(seeker.url(f"/photo/{role}"), params={"token": seeker.token})

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, sync_playwright
 
-from backend.loopback import serve
+from testbed.loopback import serve
 
 ROOT = Path(__file__).parents[2]
 CHROMIUM = "/usr/bin/chromium"  # Debian's package; `make test` installs it when missing

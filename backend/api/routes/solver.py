@@ -11,9 +11,9 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue, PlainValidator, Va
 
 from backend.api.deps import SettingsDep
 from backend.api.responses import PICTURE, errors, json_answer
-from backend.errors import ApiError
-from backend.photos import decode_photo, encode_image, store_photo
-from backend.sessions.service import MEDIA_TYPES, ImageFormat
+from backend.errors import ErrorCode, RefusedError
+from backend.photos.imaging import decode_photo, encode_image, store_photo
+from backend.photos.schemas import MEDIA_TYPES, ImageFormat
 from shared_solver import Camera, SolveResult, draw_overlay, solve
 
 router = APIRouter(prefix="/api", tags=["solver"])
@@ -197,8 +197,8 @@ def draw_on_photo(
     try:
         parsed = SolveRequest.model_validate_json(request)
     except ValidationError as error:
-        raise ApiError(
-            422, "invalid_request", "The request field is not the JSON of /api/solve."
+        raise RefusedError(
+            ErrorCode.INVALID_REQUEST, "The request field is not the JSON of /api/solve."
         ) from error
     result = parsed.solve()
     stored = store_photo(photo.file.read(), max_pixels=settings.max_photo_pixels, max_side=2**16)

@@ -7,7 +7,7 @@ all: a phone photo's EXIF may hold where it was taken (GPS), and the stored phot
 the other participant. EXIF orientation is applied first, so the stored pixels are the ones a
 browser shows and the participants' taps are in the stored photo's pixels.
 
-Every failure is an :class:`~backend.errors.ApiError` with a stable code; nothing an upload
+Every failure is a :class:`~backend.errors.RefusedError` with a stable code; nothing an upload
 holds can make these functions raise anything else.
 
 Pixel coordinates are OpenCV's, as in :mod:`shared_solver.drawing.overlay`: pixel ``(i, j)`` is
@@ -30,7 +30,7 @@ import pillow_heif
 from numpy.typing import NDArray
 from PIL import ExifTags, Image, JpegImagePlugin
 
-from backend.errors import ApiError
+from backend.errors import ErrorCode, RefusedError
 from shared_solver.drawing.palette import OUTLINE_COLOUR_BGR, Bgr
 
 # Registers the "HEIF" format with PIL (a global registry, so once, at import).
@@ -98,7 +98,7 @@ class StoredPhoto:
 
 
 def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
-    """The uploaded ``data`` as the service stores it, or an :class:`ApiError`.
+    """The uploaded ``data`` as the service stores it, or a :class:`RefusedError`.
 
     Accepts JPEG, PNG, WebP and HEIC/HEIF, recognised by their magic numbers. Refuses photos
     of more than ``max_pixels`` pixels from their header, before decoding. The stored photo
@@ -106,9 +106,9 @@ def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
     enlarged), RGB without alpha (transparency shows white), the first frame of an
     animation, and carries no EXIF, GPS, XMP, ICC profile or comment.
 
-    Raises ApiError: 422 ``empty_photo``; 415 ``unsupported_media_type`` (not one of the
-    formats above); 415 ``heic_unsupported`` (a HEIC/HEIF that cannot be decoded here);
-    413 ``photo_too_large``; 422 ``invalid_photo`` (corrupt or truncated).
+    Raises RefusedError: ``empty_photo``; ``unsupported_media_type`` (not one of the formats
+    above); ``heic_unsupported`` (a HEIC/HEIF that cannot be decoded here);
+    ``photo_too_large``; ``invalid_photo`` (corrupt or truncated).
     """
     photo_format = _sniff(data)
     with _refusing_undecodable(photo_format, max_pixels):
@@ -130,7 +130,7 @@ def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
 def decode_photo(data: bytes) -> NDArray[np.uint8]:
     """(H, W, 3) uint8 BGR pixels of a stored photo, exactly as stored (for OpenCV drawing).
 
-    Raises ApiError 422 ``invalid_photo`` when ``data`` is not an image.
+    Raises RefusedError ``invalid_photo`` when ``data`` is not an image.
     """
     buffer = np.frombuffer(data, dtype=np.uint8)
     if buffer.size == 0:
@@ -173,17 +173,16 @@ def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
     sub-pixel positions included, also near the photo's edges, where the crop is padded with
     grey. A thin white ring with four ticks, open in the middle, marks the point.
 
-    Raises ApiError 422 ``outside_photo`` when the point is not on the photo (or not a
-    number), 422 ``invalid_photo`` when ``data`` is not an image; ValueError when ``size`` < 1.
+    Raises RefusedError ``outside_photo`` when the point is not on the photo (or not a number),
+    ``invalid_photo`` when ``data`` is not an image; ValueError when ``size`` < 1.
     """
     if size < 1:
         raise ValueError(f"A crop is at least 1 px wide, not {size}.")
     photo = decode_photo(data)
     height, width = photo.shape[:2]
     if not (math.isfinite(x) and math.isfinite(y) and 0 <= x <= width and 0 <= y <= height):
-        raise ApiError(
-            422,
-            "outside_photo",
+        raise RefusedError(
+            ErrorCode.OUTSIDE_PHOTO,
             f"The point ({x:g}, {y:g}) is not on the {width} x {height} px photo; "
             "tap a point on the photo.",
         )
@@ -210,7 +209,9 @@ def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
 def _sniff(data: bytes) -> _Format:
     """The format ``data`` starts like, by magic number; refuses empty and unknown data."""
     if not data:
-        raise ApiError(422, "empty_photo", "The photo is empty (0 bytes); take or pick it again.")
+        raise RefusedError(
+            ErrorCode.EMPTY_PHOTO, "The photo is empty (0 bytes); take or pick it again."
+        )
     if data.startswith(b"\xff\xd8\xff"):
         return "JPEG"
     if data.startswith(_PNG_MAGIC):
@@ -219,8 +220,8 @@ def _sniff(data: bytes) -> _Format:
         return "WEBP"
     if _is_heif(data):
         return "HEIF"
-    raise ApiError(
-        415, "unsupported_media_type", f"This file is not a photo we can read. {_ACCEPTED}"
+    raise RefusedError(
+        ErrorCode.UNSUPPORTED_MEDIA_TYPE, f"This file is not a photo we can read. {_ACCEPTED}"
     )
 
 
@@ -244,10 +245,10 @@ def _is_heif(data: bytes) -> bool:
 
 @contextmanager
 def _refusing_undecodable(photo_format: _Format, max_pixels: int) -> Iterator[None]:
-    """Turns whatever decoding ``photo_format`` raises into the ApiError a user can act on."""
+    """Turns whatever decoding ``photo_format`` raises into the refusal a user can act on."""
     try:
         yield
-    except ApiError:
+    except RefusedError:
         raise
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as error:
         # PIL's own guard runs in Image.open, before the size reaches _check_pixels: an error
@@ -257,17 +258,16 @@ def _refusing_undecodable(photo_format: _Format, max_pixels: int) -> Iterator[No
         if isinstance(error, Image.DecompressionBombError):
             pil_limit *= 2
         limit = min(max_pixels, pil_limit)
-        raise ApiError(
-            413, "photo_too_large", f"This photo has too many pixels. {_limit_sentence(limit)}"
+        raise RefusedError(
+            ErrorCode.PHOTO_TOO_LARGE, f"This photo has too many pixels. {_limit_sentence(limit)}"
         ) from error
     except Exception as error:
         # PIL, its plugins and libheif report broken data as OSError, SyntaxError, ValueError,
         # EOFError, struct.error, IndexError, ...: no list is complete, and every one of them
-        # means the same to the user. ApiError is re-raised above, so limits stay limits.
+        # means the same to the user. RefusedError is re-raised above, so limits stay limits.
         if photo_format == "HEIF":
-            raise ApiError(
-                415,
-                "heic_unsupported",
+            raise RefusedError(
+                ErrorCode.HEIC_UNSUPPORTED,
                 "This HEIC/HEIF photo cannot be read here. Send it as JPEG instead: on an "
                 'iPhone, set Settings > Camera > Formats to "Most Compatible", or share '
                 "the photo as JPEG.",
@@ -281,9 +281,8 @@ def _check_pixels(size: tuple[int, int], max_pixels: int) -> None:
     if width < 1 or height < 1:
         raise _invalid_photo()
     if width * height > max_pixels:
-        raise ApiError(
-            413,
-            "photo_too_large",
+        raise RefusedError(
+            ErrorCode.PHOTO_TOO_LARGE,
             f"This photo is {width} x {height} px ({_megapixels(width * height)} megapixels). "
             + _limit_sentence(max_pixels),
         )
@@ -383,9 +382,8 @@ def _limit_sentence(max_pixels: int) -> str:
     )
 
 
-def _invalid_photo() -> ApiError:
-    return ApiError(
-        422,
-        "invalid_photo",
+def _invalid_photo() -> RefusedError:
+    return RefusedError(
+        ErrorCode.INVALID_PHOTO,
         "This photo is damaged or incomplete and cannot be read; take or pick it again.",
     )

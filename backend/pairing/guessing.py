@@ -25,10 +25,10 @@ import ipaddress
 import math
 from datetime import datetime, timedelta
 
-from backend.errors import ApiError
+from backend.errors import ErrorCode, RefusedError
 from backend.settings import Settings
-from backend.storage.repository import CodeRenewal, Store
 
+from .repository import CodeRenewal, Pairings
 from .tokens import codes_of_search, new_join_code
 
 
@@ -47,8 +47,8 @@ def client_key(host: str) -> str:
     return str(address)
 
 
-def refuse_guessing(store: Store, client: str, now: datetime, settings: Settings) -> None:
-    """Raise 429 ``too_many_attempts`` (with ``Retry-After``) if ``client`` may not try a
+def refuse_guessing(store: Pairings, client: str, now: datetime, settings: Settings) -> None:
+    """Refuse with ``too_many_attempts`` (and the seconds to wait) if ``client`` may not try a
     join code now."""
     window = timedelta(seconds=settings.join_attempt_window_seconds)
     failures = store.join_failures(client_key(client), now - window)
@@ -60,16 +60,15 @@ def refuse_guessing(store: Store, client: str, now: datetime, settings: Settings
         return
     seconds = max(1, math.ceil((until - now).total_seconds()))
     minutes = max(1, round(seconds / 60))
-    raise ApiError(
-        429,
-        "too_many_attempts",
+    raise RefusedError(
+        ErrorCode.TOO_MANY_ATTEMPTS,
         f"{why}; try again in {minutes} minute{'s' if minutes > 1 else ''}.",
-        headers={"Retry-After": str(seconds)},
+        retry_after=seconds,
     )
 
 
 def record_failure(
-    store: Store, client: str, code: str, now: datetime, settings: Settings
+    store: Pairings, client: str, code: str, now: datetime, settings: Settings
 ) -> list[str]:
     """Count a failed join with ``code``, against ``client`` and against the live code of
     the search it names; returns the sessions whose code this renewed."""

@@ -13,7 +13,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-import httpx
+import httpx2
 
 ROOT = Path(__file__).resolve().parents[1]
 STARTUP_SECONDS = 30.0
@@ -62,9 +62,9 @@ def _wait_until_healthy(server: Server, process: subprocess.Popen[bytes], log: P
     deadline = time.monotonic() + STARTUP_SECONDS
     while time.monotonic() < deadline:
         try:
-            if httpx.get(f"{server.base_url}/healthz", timeout=1).status_code == 200:
+            if httpx2.get(f"{server.base_url}/healthz", timeout=1).status_code == 200:
                 return
-        except httpx.TransportError:
+        except httpx2.TransportError:
             pass
         if process.poll() is not None:
             raise RuntimeError(f"uvicorn exited at start:\n{log.read_text()}")

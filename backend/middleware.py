@@ -6,13 +6,19 @@ import time
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from backend.errors import error_response
+from backend.api.errors import error_response
+from backend.errors import ErrorCode
 
 
 class BodySizeLimit:
     """ASGI middleware: 413 for a declared Content-Length over ``max_bytes``. A body that
     turns out longer while streaming gets the same 413, sent from here; the app is handed
-    an end of body and whatever it answers is dropped."""
+    an end of body and whatever it answers is dropped.
+
+    Not FastAPI's own ``max_body_size``: measured with it, a photo upload over the limit
+    is answered by Starlette's middleware as a plain-text "Content Too Large", outside the
+    app's error handlers, where every refusal must be the one JSON shape
+    (tests/backend/test_bad_input.py)."""
 
     def __init__(self, app: ASGIApp, max_bytes: int) -> None:
         self.app = app
@@ -23,7 +29,8 @@ class BodySizeLimit:
             await self.app(scope, receive, send)
             return
         refusal = error_response(
-            413, "body_too_large", f"The request is larger than {self.max_bytes // 1_000_000} MB."
+            ErrorCode.BODY_TOO_LARGE,
+            f"The request is larger than {self.max_bytes // 1_000_000} MB.",
         )
         declared = dict(scope["headers"]).get(b"content-length")
         if declared is not None and (not declared.isdigit() or int(declared) > self.max_bytes):

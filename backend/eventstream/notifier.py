@@ -1,26 +1,18 @@
-"""Server-sent events: "this changed" for the phones, which then fetch the state again.
+"""Waking this process's event streams when a session changes, from any thread.
 
-Events live in the database (the store writes each one with its change), so a phone that
-reconnects with ``Last-Event-ID`` gets what it missed, whichever replica it reaches. The
-:class:`Notifier` wakes this process's streams as soon as a change is committed here, and,
-with PostgreSQL, when another replica commits one (the store's LISTEN/NOTIFY); with SQLite,
-when another worker process on the same file does (the service's event watcher, a few times
-a second). Streams also re-read the event table every ``event_poll_seconds``, in case a
-wake-up was lost.
+A change committed here wakes its streams at once; with PostgreSQL, the replicas' changes
+arrive by LISTEN/NOTIFY (:mod:`.listener`); with SQLite, other worker processes' changes
+are found by the watcher (:mod:`.watcher`). Streams also re-read the event table every
+``event_poll_seconds``, in case a wake-up was lost.
 """
 
 from __future__ import annotations
 
 import asyncio
-import json
 import threading
 from collections import defaultdict
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
-from typing import Any
-
-# The types the phones react to.
-EVENT_TYPES = ("joined", "code", "photo", "taps", "result", "left", "expired")
 
 
 class Wakeup:
@@ -86,14 +78,3 @@ class Notifier:
                 self._wakeups[session_id].discard(wakeup)
                 if not self._wakeups[session_id]:
                     del self._wakeups[session_id]
-
-
-def frame(event_id: int | None, type_: str, data: dict[str, Any]) -> str:
-    """One event in the text/event-stream format (without an id: not to be resumed from)."""
-    head = "" if event_id is None else f"id: {event_id}\n"
-    return f"{head}event: {type_}\ndata: {json.dumps(data)}\n\n"
-
-
-PING = ": ping\n\n"
-# Ask EventSource to reconnect after 3 s when the connection drops.
-RETRY = "retry: 3000\n\n"

@@ -1,0 +1,90 @@
+"""The session as one phone sees it: who is there and online, both photos and tap sets,
+the answer, and how many landmarks are still needed."""
+
+from __future__ import annotations
+
+from datetime import timedelta
+
+from backend.clock import Clock, aware
+from backend.pairing.service import PairingService
+from backend.participants import ROLES, Participant
+from backend.photos.schemas import PhotoStored
+from backend.settings import Settings
+from backend.storage.snapshot import Snapshot
+from backend.taps import problem as problems
+from backend.taps.schemas import Taps
+from backend.taps.service import TapService
+
+from .schemas import ParticipantState, SessionState
+
+
+class StateService:
+    def __init__(
+        self, taps: TapService, pairing: PairingService, settings: Settings, clock: Clock
+    ) -> None:
+        self.taps = taps
+        self.pairing = pairing
+        self.settings = settings
+        self.clock = clock
+
+    def state(
+        self, participant: Participant, base_url: str, snapshot: Snapshot | None = None
+    ) -> SessionState:
+        """What ``participant``'s phone shows, from ``snapshot`` if it was just read."""
+        snapshot = snapshot or self.taps.snapshot(participant.session_id)
+        now = self.clock()
+        online_after = now - timedelta(seconds=self.settings.online_seconds)
+        taps = {
+            role: None if member.taps is None else Taps.model_validate(member.taps)
+            for role, member in snapshot.members.items()
+        }
+        task = problems.problem(taps.get("seeker"), taps.get("buddy"))
+        stored = snapshot.result or {}
+        code = snapshot.join_code
+        code_valid = (
+            code is not None
+            and snapshot.join_code_expires_at is not None
+            and snapshot.join_code_expires_at > now
+            and participant.role == "seeker"
+        )
+        return SessionState(
+            session_id=snapshot.id,
+            you=participant.role,
+            version=snapshot.version,
+            expires_at=aware(snapshot.expires_at),
+            join_code=code if code_valid else None,
+            join_code_expires_at=(
+                aware(snapshot.join_code_expires_at)
+                if code_valid and snapshot.join_code_expires_at
+                else None
+            ),
+            join_url=self.pairing.join_url(base_url, code) if code_valid and code else None,
+            join_code_renewals=snapshot.join_code_renewals if participant.role == "seeker" else 0,
+            participants={
+                role: ParticipantState(
+                    joined=role in snapshot.members,
+                    online=role in snapshot.members
+                    and (seen := snapshot.members[role].last_seen_at) is not None
+                    and seen > online_after,
+                )
+                for role in ROLES
+            },
+            photos={
+                role: (
+                    PhotoStored(width=info.width, height=info.height, scale=info.scale)
+                    if (info := snapshot.photos.get(role)) is not None
+                    else None
+                )
+                for role in ROLES
+            },
+            taps={role: taps.get(role) for role in ROLES},
+            landmarks_needed=task.landmarks_needed(stored.get("result")),
+            result=stored.get("result"),
+            result_version=snapshot.result_version if "result" in stored else None,
+            result_landmark_ids=stored.get("landmark_ids"),
+            result_error=stored.get("error"),
+        )
+
+    def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:
+        """Replace the caller's taps; the state with the answer they give."""
+        return self.state(participant, base_url, self.taps.put(participant, taps))
