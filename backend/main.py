@@ -40,7 +40,7 @@ ERASE_SECONDS = 2.0
 DESCRIPTION = """Find a friend across a venue from two phone photos.
 
 Stateless: `POST /api/solve` and `POST /api/overlay` for scripts.
-Sessions: the seeker creates one, the buddy joins with its code; each uploads a photo and
+Sessions: one friend starts a search, the other joins with its code; each uploads a photo and
 taps landmarks; the answer is recomputed on every change and drawn on each photo. Every
 error is `{"error": {"code": "...", "message": "..."}}`.
 """

@@ -10,6 +10,8 @@ from functools import lru_cache
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from backend import limits
+
 
 class Settings(BaseSettings):
     """Documented in the README's settings table; each field's description is the reference."""
@@ -88,11 +90,13 @@ class Settings(BaseSettings):
         description="Largest photo (width x height, read from its header before decoding).",
     )
     stored_photo_side: int = Field(
-        2560,
+        limits.STORED_PHOTO_SIDE,
         gt=0,
         description="Photos are stored downscaled to at most this many px on the long side.",
     )
-    max_landmarks: int = Field(64, gt=0, description="Most landmarks one participant may tap.")
+    max_landmarks: int = Field(
+        limits.MAX_LANDMARKS, gt=0, description="Most landmarks one participant may tap."
+    )
     tap_sigma: float = Field(
         3.0,
         gt=0,

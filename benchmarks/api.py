@@ -13,7 +13,7 @@ in a temporary folder) that this script starts on a free loopback port and stops
    the same request, in this process, for what the HTTP layer adds.
 2. ``PUT /api/sessions/{id}/photo`` of a photo-like 4032x3024 JPEG (a temple photo upscaled,
    with sensor-like noise), repeated: the server time to accept and store it.
-3. ``GET /api/sessions/{id}/overlay/buddy`` of the stored 2560x1920 photo: JPEG renders
+3. ``GET /api/sessions/{id}/overlay/joiner`` of the stored 2560x1920 photo: JPEG renders
    (each after a 0.5 px change of one tap, which makes a new answer version; overlays are
    drawn for each request, never kept) and PNG renders.
 
@@ -407,13 +407,13 @@ def tap_both(
     seeker.put_taps(
         {
             "landmarks": landmark_taps(noisy.landmarks1, size),
-            "epipole1": noisy.epipole1.clip(0, size).tolist(),
+            "friend": dict(zip("xy", noisy.epipole1.clip(0, size).tolist(), strict=True)),
         }
     )
     buddy_landmarks = landmark_taps(noisy.landmarks2, size)
     state, _ = buddy.put_taps({"landmarks": buddy_landmarks})
-    if state.get("result") is None:
-        raise RuntimeError(f"no answer from the session's taps: {state.get('result_error')}")
+    if state.get("answer") is None:
+        raise RuntimeError(f"no answer from the session's taps: {state.get('answer_error')}")
     return state, buddy_landmarks
 
 
@@ -421,19 +421,19 @@ def renders(seeker: Phone, buddy: Phone, size: tuple[int, int]) -> Renders:
     """Renders of the buddy's overlay, each after a new answer version (the buddy's landmark
     #1 moved by 0.5 px)."""
     state, landmarks = tap_both(seeker, buddy, size)
-    method = str(state["result"]["method"])
+    method = str(state["answer"]["method"])
     drawn: dict[str, list[Sample]] = {"jpeg": [], "png": [], "taps": []}
     sizes = {"jpeg": 0, "png": 0}
     for render in range(RENDERS + PNG_RENDERS):
         nudge = TAP_NUDGE_PX if render % 2 == 0 else -TAP_NUDGE_PX
         landmarks[0]["x"] = float(np.clip(landmarks[0]["x"] + nudge, 0, size[0]))
-        before = state["result_version"]
+        before = state["answer_version"]
         state, sample = buddy.put_taps({"landmarks": landmarks})
         drawn["taps"].append(sample)
-        if state.get("result") is None or state["result_version"] == before:
-            raise RuntimeError(f"the move made no new answer: {state.get('result_error')}")
+        if state.get("answer") is None or state["answer_version"] == before:
+            raise RuntimeError(f"the move made no new answer: {state.get('answer_error')}")
         fmt = "jpeg" if render < RENDERS else "png"
-        first, sample = buddy.request("GET", "/overlay/buddy", params={"format": fmt})
+        first, sample = buddy.request("GET", "/overlay/joiner", params={"format": fmt})
         decoded_overlay(first.content, size)
         sizes[fmt] = len(first.content)
         drawn[fmt].append(sample)
@@ -578,8 +578,8 @@ def session_table(figures: SessionFigures) -> str:
         ["request", "n", "server time median / p90 / max (ms)", "client median / p90 / max (ms)"],
         [
             summary_row("`PUT /photo`, 12 MP JPEG (seeker, replacing)", figures.uploads.samples),
-            summary_row("`GET /overlay/buddy`, jpeg (render)", drawn.jpeg),
-            summary_row("`GET /overlay/buddy?format=png` (informative)", drawn.png),
+            summary_row("`GET /overlay/joiner`, jpeg (render)", drawn.jpeg),
+            summary_row("`GET /overlay/joiner?format=png` (informative)", drawn.png),
             summary_row("`PUT /taps` before each render: solve + state (informative)", drawn.taps),
         ],
     )

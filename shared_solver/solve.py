@@ -173,7 +173,7 @@ def _parse(
     if e1 is not None and line1 is not None:
         raise SolverError(ErrorCode.CONFLICTING_INPUTS, words.POINT_AND_LINE)
     if e2 is not None and e1 is None:
-        raise SolverError(ErrorCode.MISSING_EPIPOLE1, words.SEEKER_WITHOUT_BUDDY)
+        raise SolverError(ErrorCode.MISSING_EPIPOLE1, words.SECOND_MARK_ALONE)
     size1 = validation.image_size(image_size1, "image_size1")
     size2 = validation.image_size(image_size2, "image_size2")
     camera_pair = (_camera(cameras[0], "camera1", size1), _camera(cameras[1], "camera2", size2))
@@ -214,20 +214,25 @@ def _parse(
 
 
 def fewest_landmarks(
-    *, buddy: bool, seeker: bool = False, line: bool = False, cameras: bool, position: bool = True
+    *,
+    epipole1: bool,
+    epipole2: bool = False,
+    line: bool = False,
+    cameras: bool,
+    position: bool = True,
 ) -> int:
     """How many landmarks (common to both photos) ``solve`` needs.
 
     Args:
-        buddy: the buddy is marked as a point in photo 1; seeker: the seeker in photo 2 too.
-        line: a line through the buddy is drawn instead.
+        epipole1: the friend is marked as a point in photo 1; epipole2: in photo 2 too.
+        line: a line through the friend is drawn in photo 1 instead.
         cameras: both photos' cameras have a model (``camera1``, ``camera2`` not unknown).
-        position: for a position; False: for any answer (four landmarks and the buddy
-            already give the curve the seeker is on, without a camera model).
+        position: for a position; False: for any answer (four landmarks and the friend
+            mark already give the curve the friend is on, without a camera model).
     """
-    if buddy and seeker:
+    if epipole1 and epipole2:
         return 1 if cameras else 3
-    if buddy:
+    if epipole1:
         return 3 if cameras else (5 if position else 4)
     return 6 if line else 7
 
@@ -235,13 +240,13 @@ def fewest_landmarks(
 def _minimum(buddy: bool, seeker: bool, line: bool, modelled: bool) -> tuple[int, str]:
     """Fewest landmarks for any answer, and the end of the sentence refusing fewer."""
     count = fewest_landmarks(
-        buddy=buddy, seeker=seeker, line=line, cameras=modelled, position=False
+        epipole1=buddy, epipole2=seeker, line=line, cameras=modelled, position=False
     )
     if buddy:
-        return count, "when both friends are marked" if seeker else "with the buddy marked"
+        return count, "when both friends are marked" if seeker else "with your friend marked"
     if line:
-        return count, "with a line through the buddy"
-    return count, "without marking the buddy (mark the buddy to need fewer)"
+        return count, "with a line through your friend"
+    return count, "without marking your friend (tap your friend to need fewer)"
 
 
 def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> Camera:

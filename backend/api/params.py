@@ -9,5 +9,7 @@ from fastapi import Path, Query
 from backend.participants import Role
 from backend.photos.schemas import ImageFormat
 
-RoleParam = Annotated[Role, Path(description="Whose photo: seeker (photo 1) or buddy (photo 2).")]
+RoleParam = Annotated[
+    Role, Path(description="Whose photo: the friend who started the search, or who joined it.")
+]
 FormatParam = Annotated[ImageFormat, Query(description="jpeg (photos: small, fast) or png")]

@@ -32,7 +32,7 @@ class EventType(StrEnum):
     CODE = "code"  # the join code was renewed after wrong guesses
     PHOTO = "photo"
     TAPS = "taps"
-    ANSWER = "result"
+    ANSWER = "answer"
     LEFT = "left"  # a phone's stream closed
     EXPIRED = "expired"  # the session ended (deleted, or its time is up): sent, never stored
 

@@ -7,7 +7,7 @@ are live. Counted in the database, which replicas share:
 
 - a wrong code that names a live search's number counts against that search's code; after
   ``join_failures_per_code`` such failures the code is renewed (a new number and secret,
-  shown on the seeker's phone), so one code is never tried more than that many times;
+  shown on the starter's phone), so one code is never tried more than that many times;
 - one address may fail ``join_failures_per_client`` times per window (sliding), then it
   waits until its oldest failure leaves the window;
 - once everyone together has failed ``join_failures_overall`` times in the window, guessing

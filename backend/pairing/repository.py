@@ -62,13 +62,14 @@ class Pairings:
         self,
         session_id: str,
         *,
-        seeker_token_hash: str,
+        starter_token_hash: str,
         join_code: str,
         now: datetime,
         expires_at: datetime,
         join_code_expires_at: datetime,
     ) -> bool:
-        """A new session with its seeker; False if the join code is taken (draw another)."""
+        """A new session with the friend who started it; False if the join code is taken
+        (draw another)."""
         try:
             with self.database.write() as tx:
                 tx.add(
@@ -85,8 +86,8 @@ class Pairings:
                 tx.add(
                     ParticipantRow(
                         session_id=session_id,
-                        role="seeker",
-                        token_hash=seeker_token_hash,
+                        role="starter",
+                        token_hash=starter_token_hash,
                         joined_at=now,
                     )
                 )
@@ -94,8 +95,9 @@ class Pairings:
             return False
         return True
 
-    def join(self, join_code: str, *, buddy_token_hash: str, now: datetime) -> str | None:
-        """Claim a join code for the buddy: the session id, or None (unknown, used, expired).
+    def join(self, join_code: str, *, joiner_token_hash: str, now: datetime) -> str | None:
+        """Claim a join code for the friend who joins: the session id, or None (unknown,
+        used, expired).
 
         The code is cleared in the same statement that finds it, so it works once even when
         two phones race for it.
@@ -115,10 +117,13 @@ class Pairings:
                 return None
             tx.add(
                 ParticipantRow(
-                    session_id=session_id, role="buddy", token_hash=buddy_token_hash, joined_at=now
+                    session_id=session_id,
+                    role="joiner",
+                    token_hash=joiner_token_hash,
+                    joined_at=now,
                 )
             )
-            record(tx, session_id, EventType.JOINED, {"role": "buddy"}, now)
+            record(tx, session_id, EventType.JOINED, {"role": "joiner"}, now)
         return session_id
 
     def participant(self, token_hash: str, now: datetime) -> Participant | None:
@@ -183,7 +188,7 @@ class Pairings:
         """Count a failed join against ``client``, and against the live code whose search
         number it named (the codes in ``code_range``, both ends included: normally one, or
         none); a code that reaches ``renewal.after_failures`` is renewed. Returns the
-        sessions whose code was renewed, whose seekers' phones must show the new one."""
+        sessions whose code was renewed, whose starters' phones must show the new one."""
         with self.database.write() as tx:
             tx.add(JoinFailureRow(client=client, failed_at=now))
             charged = tx.execute(
@@ -221,7 +226,7 @@ class Pairings:
 
 def _unused_code(tx: Session, new_code: Callable[[], str]) -> str | None:
     """A code from ``new_code`` that no session holds (10^8 codes: the first, nearly
-    always); None if a few draws all are (the seeker's phone then offers a new search)."""
+    always); None if a few draws all are (the starter's phone then offers a new search)."""
     for _ in range(_CODE_DRAWS):
         code = new_code()
         if tx.scalar(select(SessionRow.id).where(SessionRow.join_code == code)) is None:

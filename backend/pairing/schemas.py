@@ -6,6 +6,7 @@ from datetime import datetime
 
 from pydantic import BaseModel, Field
 
+from backend.limits import JOIN_CODE_LENGTH
 from backend.participants import Role
 
 
@@ -17,18 +18,18 @@ class CreatedSession(BaseModel):
     )
     join_code_expires_at: datetime
     join_url: str = Field(
-        description="Opening it on the buddy's phone joins directly.",
+        description="Opening it on the friend's phone joins directly.",
         examples=["http://192.168.1.20:8000/join/48291375"],
     )
     token: str = Field(description="Send as 'Authorization: Bearer <token>'. Keep it secret.")
-    role: Role = "seeker"
+    role: Role = "starter"
     expires_at: datetime
 
 
 class JoinRequest(BaseModel):
     code: str = Field(
-        pattern=r"^[0-9]{8}$",
-        description="The seeker's eight digits: the search's number, then its secret.",
+        pattern=rf"^[0-9]{{{JOIN_CODE_LENGTH}}}$",
+        description="The starter's eight digits: the search's number, then its secret.",
         examples=["48291375"],
     )
 
@@ -39,5 +40,5 @@ class Joined(BaseModel):
         description="Send as 'Authorization: Bearer <token>'. Keep it secret.",
         examples=["kq3Vx0b3nUj0mB1Zy9fX2m8Lq5Wc7Rt4Hs6Dp1Ae0Io"],
     )
-    role: Role = "buddy"
+    role: Role = "joiner"
     expires_at: datetime

@@ -37,7 +37,7 @@ class PairingService:
         self.clock = clock
 
     def create(self, base_url: str) -> CreatedSession:
-        """A new session for the seeker, with a join code for the buddy."""
+        """A new search, with a join code for the friend."""
         now = self.clock()
         token = new_token()
         expires_at = now + timedelta(seconds=self.settings.session_ttl_seconds)
@@ -48,7 +48,7 @@ class PairingService:
             session_id, code = new_session_id(), new_join_code()
             if self.store.create(
                 session_id,
-                seeker_token_hash=token_hash(token),
+                starter_token_hash=token_hash(token),
                 join_code=code,
                 now=now,
                 expires_at=expires_at,
@@ -65,12 +65,12 @@ class PairingService:
         raise RefusedError(ErrorCode.BUSY, "Too many searches are starting at once; try again.")
 
     def join(self, code: str, client: str = "") -> Joined:
-        """The buddy joins with the seeker's code (once, while it is valid). ``client``:
+        """The friend joins with the starter's code (once, while it is valid). ``client``:
         the caller's address, whose failures are limited (:mod:`.guessing`)."""
         now = self.clock()
         guessing.refuse_guessing(self.store, client, now, self.settings)
         token = new_token()
-        session_id = self.store.join(code, buddy_token_hash=token_hash(token), now=now)
+        session_id = self.store.join(code, joiner_token_hash=token_hash(token), now=now)
         if session_id is None:
             for renewed in guessing.record_failure(self.store, client, code, now, self.settings):
                 self.notifier.notify(renewed)

@@ -5,6 +5,8 @@ from __future__ import annotations
 import hashlib
 import secrets
 
+from backend.limits import JOIN_CODE_LENGTH
+
 
 def new_session_id() -> str:
     return secrets.token_hex(16)
@@ -24,9 +26,9 @@ def token_hash(token: str) -> str:
 # A join code is a search number and a secret, four digits each: "4829 1375". A wrong code
 # still names a search (by its number), so failures can be counted against that search's
 # code, and a code is renewed after a few (:mod:`.guessing`).
-NUMBER_DIGITS = 4
-SECRET_DIGITS = 4
-CODE_DIGITS = NUMBER_DIGITS + SECRET_DIGITS
+CODE_DIGITS = JOIN_CODE_LENGTH
+NUMBER_DIGITS = CODE_DIGITS // 2
+SECRET_DIGITS = CODE_DIGITS - NUMBER_DIGITS
 
 
 def new_join_code() -> str:

@@ -21,7 +21,7 @@ import io
 import math
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Final, Literal
 
 import cv2
@@ -32,6 +32,8 @@ from PIL import ExifTags, Image, JpegImagePlugin
 
 from backend.errors import ErrorCode, RefusedError
 from shared_solver.drawing.palette import OUTLINE_COLOUR_BGR, Bgr
+
+from .lens import LensFacts
 
 # Registers the "HEIF" format with PIL (a global registry, so once, at import).
 pillow_heif.register_heif_opener()
@@ -95,6 +97,8 @@ class StoredPhoto:
     height: int
     scale: float
     media_type: str = "image/jpeg"
+    # What the upload's EXIF said of its lens (read, not stored with the pixels).
+    lens: LensFacts = field(default_factory=LensFacts)
 
 
 def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
@@ -115,6 +119,7 @@ def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
         image = Image.open(io.BytesIO(data), formats=[photo_format])
         _check_pixels(image.size, max_pixels)
         orientation = _orientation(image)
+        lens = _lens_facts(image)
         stored_size, scale = _stored_size(image.size, max_side)
         pixels = _decode_to_size(image, stored_size)
     upright = pixels.transpose(_UPRIGHT[orientation]) if orientation in _UPRIGHT else pixels
@@ -124,7 +129,7 @@ def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
     buffer = io.BytesIO()
     upright.save(buffer, format="JPEG", quality=_STORED_QUALITY, optimize=False)
     width, height = upright.size
-    return StoredPhoto(data=buffer.getvalue(), width=width, height=height, scale=scale)
+    return StoredPhoto(data=buffer.getvalue(), width=width, height=height, scale=scale, lens=lens)
 
 
 def decode_photo(data: bytes) -> NDArray[np.uint8]:
@@ -297,6 +302,36 @@ def _orientation(image: Image.Image) -> int:
     """
     value = image.getexif().get(ExifTags.Base.Orientation, 1)
     return value if isinstance(value, int) and 1 <= value <= 8 else 1
+
+
+def _lens_facts(image: Image.Image) -> LensFacts:
+    """The lens tags of ``image``'s EXIF (:mod:`.lens` decides what they mean); none when
+    absent or not numbers. A corrupt EXIF block reads as empty, as for the orientation."""
+    exif = image.getexif()
+    details = exif.get_ifd(ExifTags.IFD.Exif)
+    return LensFacts(
+        focal_35mm=_number(details.get(ExifTags.Base.FocalLengthIn35mmFilm)),
+        focal_mm=_number(details.get(ExifTags.Base.FocalLength)),
+        make=_text(exif.get(ExifTags.Base.Make)),
+        model=_text(exif.get(ExifTags.Base.Model)),
+        digital_zoom=_number(details.get(ExifTags.Base.DigitalZoomRatio)),
+    )
+
+
+def _number(value: object) -> float | None:
+    try:
+        number = float(value)  # type: ignore[arg-type]  # ints and IFDRationals
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
+    return number if math.isfinite(number) and number > 0 else None
+
+
+def _text(value: object) -> str | None:
+    if isinstance(value, bytes):
+        value = value.decode("ascii", "replace")
+    if not isinstance(value, str):
+        return None
+    return value.strip("\x00 ")[:64] or None
 
 
 def _stored_size(size: tuple[int, int], max_side: int) -> tuple[tuple[int, int], float]:

@@ -13,15 +13,19 @@ from backend.storage.tables import ParticipantRow, PhotoRow
 from backend.storage.versions import bump_version
 
 from .imaging import StoredPhoto
+from .lens import Lens
 
 
 class Photos:
     def __init__(self, database: Database) -> None:
         self.database = database
 
-    def put(self, participant: Participant, photo: StoredPhoto, now: datetime) -> int:
-        """Store (or replace) a participant's photo. Its old taps meant points of the old
-        photo, so they are cleared, and so is the answer. Returns the new version."""
+    def put(
+        self, participant: Participant, photo: StoredPhoto, lens: Lens | None, now: datetime
+    ) -> int:
+        """Store (or replace) a friend's photo, with its lens if known. Its old taps meant
+        points of the old photo, so they are cleared, and so is the answer. Returns the new
+        version."""
         sid, role = participant.session_id, participant.role
         with self.database.write() as tx:
             # The version first: it locks the session, so a second upload of the same photo
@@ -36,6 +40,9 @@ class Photos:
                     height=photo.height,
                     scale=photo.scale,
                     uploaded_at=now,
+                    lens_focal_35mm=None if lens is None else lens.focal_35mm,
+                    lens_uncertainty=None if lens is None else lens.uncertainty,
+                    lens_told_by=None if lens is None else lens.told_by,
                 )
             )
             tx.execute(

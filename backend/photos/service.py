@@ -9,8 +9,9 @@ from backend.participants import Participant, Role
 from backend.settings import Settings
 
 from .imaging import crop_around, store_photo
+from .lens import LensFacts, lens
 from .repository import Photos
-from .schemas import PhotoStored
+from .schemas import LensInfo, PhotoStored
 
 
 class PhotoService:
@@ -22,16 +23,27 @@ class PhotoService:
         self.notifier = notifier
         self.clock = clock
 
-    def put(self, participant: Participant, data: bytes) -> PhotoStored:
-        """Store the caller's photo (replacing any earlier one, whose taps go with it)."""
+    def put(
+        self, participant: Participant, data: bytes, told: LensFacts | None = None
+    ) -> PhotoStored:
+        """Store the caller's photo (replacing any earlier one, whose taps go with it), with
+        its lens: from the photo's own EXIF, else from what the phone ``told`` of it."""
         photo = store_photo(
             data,
             max_pixels=self.settings.max_photo_pixels,
             max_side=self.settings.stored_photo_side,
         )
-        self.photos.put(participant, photo, self.clock())
+        found = lens(photo.lens, "photo") or (None if told is None else lens(told, "phone"))
+        self.photos.put(participant, photo, found, self.clock())
         self.notifier.notify(participant.session_id)
-        return PhotoStored(width=photo.width, height=photo.height, scale=photo.scale)
+        return PhotoStored(
+            width=photo.width,
+            height=photo.height,
+            scale=photo.scale,
+            lens=None
+            if found is None
+            else LensInfo(focal_35mm=found.focal_35mm, told_by=found.told_by),
+        )
 
     def get(self, participant: Participant, role: Role) -> bytes:
         """``role``'s photo as stored (upright JPEG): what that phone taps on."""

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Any
 
 from pydantic import BaseModel, Field
 
 from backend.participants import Role
 from backend.photos.schemas import PhotoStored
-from backend.taps.schemas import Taps
+from backend.taps.schemas import Answer, Taps
 
 
 class ParticipantState(BaseModel):
@@ -18,13 +17,16 @@ class ParticipantState(BaseModel):
 
 
 class SessionState(BaseModel):
-    """All a (re)connecting phone needs."""
+    """All a (re)connecting phone needs. Maps are keyed by who: the friend who started the
+    search and the one who joined it; ``you`` says which one is asking."""
 
     session_id: str
     you: Role
     version: int = Field(description="Bumped by every change; events say 'this changed'.")
     expires_at: datetime
-    join_code: str | None = Field(None, description="Shown to the seeker until the buddy joins.")
+    join_code: str | None = Field(
+        None, description="Shown to the starter until their friend joins."
+    )
     join_code_expires_at: datetime | None = Field(
         None, description="When that code stops working (time for a new session)."
     )
@@ -32,22 +34,22 @@ class SessionState(BaseModel):
     join_code_renewals: int = Field(
         0,
         description="How many times the join code was renewed because wrong codes named this "
-        "search (the seeker's phone says so: a code read out before no longer works).",
+        "search (the starter's phone says so: a code read out before no longer works).",
     )
     participants: dict[Role, ParticipantState]
     photos: dict[Role, PhotoStored | None]
     taps: dict[Role, Taps | None]
     landmarks_needed: int = Field(
-        description="How many more landmarks, common to both photos, until a position."
+        description="How many more landmarks, tapped in both photos, until a position."
     )
-    result: dict[str, Any] | None = Field(
-        None, description="The solver's answer (as POST /api/solve returns it), when there is one."
-    )
-    result_version: int | None = None
-    result_landmark_ids: list[int] | None = Field(
+    answer: Answer | None = Field(
         None,
-        description="Landmark ids in the order the answer uses them (residuals, suspects).",
+        description="Where each friend is in the other's photo, from both phones' taps; "
+        "answer.in_photo[you] is yours.",
     )
-    result_error: dict[str, str] | None = Field(
-        None, description="Why there is no answer although enough landmarks are tapped."
+    answer_version: int | None = Field(None, description="The version the answer is for.")
+    answer_error: dict[str, str] | None = Field(
+        None,
+        description="Why there is no answer although enough landmarks are tapped "
+        "({code, message}).",
     )

@@ -8,12 +8,12 @@ from datetime import timedelta
 from backend.clock import Clock, aware
 from backend.pairing.service import PairingService
 from backend.participants import ROLES, Participant
-from backend.photos.schemas import PhotoStored
+from backend.photos.schemas import LensInfo, PhotoStored
 from backend.settings import Settings
-from backend.storage.snapshot import Snapshot
+from backend.storage.snapshot import PhotoInfo, Snapshot
 from backend.taps import problem as problems
-from backend.taps.schemas import Taps
-from backend.taps.service import TapService
+from backend.taps.schemas import Answer, Taps
+from backend.taps.service import TapService, tap_sets
 
 from .schemas import ParticipantState, SessionState
 
@@ -31,21 +31,23 @@ class StateService:
         self, participant: Participant, base_url: str, snapshot: Snapshot | None = None
     ) -> SessionState:
         """What ``participant``'s phone shows, from ``snapshot`` if it was just read."""
-        snapshot = snapshot or self.taps.snapshot(participant.session_id)
+        snapshot = self.taps.due(snapshot or self.taps.snapshot(participant.session_id))
         now = self.clock()
         online_after = now - timedelta(seconds=self.settings.online_seconds)
-        taps = {
-            role: None if member.taps is None else Taps.model_validate(member.taps)
-            for role, member in snapshot.members.items()
-        }
-        task = problems.problem(taps.get("seeker"), taps.get("buddy"))
-        stored = snapshot.result or {}
+        taps = tap_sets(snapshot)
+        task = problems.problem(taps, self.settings.tap_sigma)
+        stored = snapshot.answer or {}
+        answer = Answer.model_validate(stored["answer"]) if "answer" in stored else None
+        error = stored.get("error")
+        if error is not None:
+            reader = 1 if participant.role == stored.get("first", task.first) else 2
+            error = {**error, "message": problems.for_reader(error["message"], reader)}
         code = snapshot.join_code
         code_valid = (
             code is not None
             and snapshot.join_code_expires_at is not None
             and snapshot.join_code_expires_at > now
-            and participant.role == "seeker"
+            and participant.role == "starter"
         )
         return SessionState(
             session_id=snapshot.id,
@@ -59,7 +61,7 @@ class StateService:
                 else None
             ),
             join_url=self.pairing.join_url(base_url, code) if code_valid and code else None,
-            join_code_renewals=snapshot.join_code_renewals if participant.role == "seeker" else 0,
+            join_code_renewals=snapshot.join_code_renewals if participant.role == "starter" else 0,
             participants={
                 role: ParticipantState(
                     joined=role in snapshot.members,
@@ -69,22 +71,25 @@ class StateService:
                 )
                 for role in ROLES
             },
-            photos={
-                role: (
-                    PhotoStored(width=info.width, height=info.height, scale=info.scale)
-                    if (info := snapshot.photos.get(role)) is not None
-                    else None
-                )
-                for role in ROLES
-            },
-            taps={role: taps.get(role) for role in ROLES},
-            landmarks_needed=task.landmarks_needed(stored.get("result")),
-            result=stored.get("result"),
-            result_version=snapshot.result_version if "result" in stored else None,
-            result_landmark_ids=stored.get("landmark_ids"),
-            result_error=stored.get("error"),
+            photos={role: _photo(snapshot.photos.get(role)) for role in ROLES},
+            taps=taps,
+            landmarks_needed=task.landmarks_needed(answer),
+            answer=answer,
+            answer_version=snapshot.answer_version if answer is not None else None,
+            answer_error=error,
         )
 
     def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:
         """Replace the caller's taps; the state with the answer they give."""
         return self.state(participant, base_url, self.taps.put(participant, taps))
+
+
+def _photo(info: PhotoInfo | None) -> PhotoStored | None:
+    if info is None:
+        return None
+    lens = (
+        None
+        if info.lens_focal_35mm is None or info.lens_told_by not in ("photo", "phone")
+        else LensInfo(focal_35mm=info.lens_focal_35mm, told_by=info.lens_told_by)
+    )
+    return PhotoStored(width=info.width, height=info.height, scale=info.scale, lens=lens)

@@ -19,6 +19,9 @@ class PhotoInfo:
     width: int
     height: int
     scale: float
+    lens_focal_35mm: float | None = None
+    lens_uncertainty: float | None = None
+    lens_told_by: str | None = None
 
 
 @dataclass(frozen=True)
@@ -42,8 +45,8 @@ class Snapshot:
     join_code_expires_at: datetime | None
     join_code_renewals: int
     version: int
-    result: dict[str, Any] | None
-    result_version: int | None
+    answer: dict[str, Any] | None
+    answer_version: int | None
     members: dict[str, Member]
     photos: dict[str, PhotoInfo]
 
@@ -61,8 +64,8 @@ _SNAPSHOT = (
         _sessions.c.join_code_expires_at,
         _sessions.c.join_code_renewals,
         _sessions.c.version,
-        _sessions.c.result,
-        _sessions.c.result_version,
+        _sessions.c.answer,
+        _sessions.c.answer_version,
         _participants.c.role,
         _participants.c.joined_at,
         _participants.c.last_seen_at,
@@ -70,6 +73,9 @@ _SNAPSHOT = (
         _photos.c.width,
         _photos.c.height,
         _photos.c.scale,
+        _photos.c.lens_focal_35mm,
+        _photos.c.lens_uncertainty,
+        _photos.c.lens_told_by,
     )
     .join(_participants, _participants.c.session_id == _sessions.c.id)
     .outerjoin(
@@ -96,8 +102,8 @@ def read_snapshot(database: Database, session_id: str) -> Snapshot | None:
         join_code_expires_at=first.join_code_expires_at,
         join_code_renewals=first.join_code_renewals,
         version=first.version,
-        result=None if first.result is None else json.loads(first.result),
-        result_version=first.result_version,
+        answer=None if first.answer is None else json.loads(first.answer),
+        answer_version=first.answer_version,
         members={
             row.role: Member(
                 row.role,
@@ -108,7 +114,14 @@ def read_snapshot(database: Database, session_id: str) -> Snapshot | None:
             for row in rows
         },
         photos={
-            row.role: PhotoInfo(row.width, row.height, row.scale)
+            row.role: PhotoInfo(
+                row.width,
+                row.height,
+                row.scale,
+                row.lens_focal_35mm,
+                row.lens_uncertainty,
+                row.lens_told_by,
+            )
             for row in rows
             if row.width is not None
         },

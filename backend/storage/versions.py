@@ -14,7 +14,7 @@ def bump_version(tx: Session, session_id: str) -> int:
     version = tx.scalar(
         update(SessionRow)
         .where(SessionRow.id == session_id)
-        .values(version=SessionRow.version + 1, result=None, result_version=None)
+        .values(version=SessionRow.version + 1, answer=None, answer_version=None)
         .returning(SessionRow.version)
     )
     assert version is not None  # the caller holds a valid token of this session

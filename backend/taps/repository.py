@@ -65,7 +65,7 @@ def _record_answer(
     done = tx.execute(
         update(SessionRow)
         .where(SessionRow.id == session_id, SessionRow.version == version)
-        .values(result=None if answer is None else json.dumps(answer), result_version=version)
+        .values(answer=None if answer is None else json.dumps(answer), answer_version=version)
     )
     if not done.rowcount:  # type: ignore[attr-defined]
         return False

@@ -10,7 +10,7 @@ from typing import Any
 from backend.clock import Clock
 from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
-from backend.participants import Participant, Role
+from backend.participants import ROLES, Participant, Role
 from backend.photos.imaging import decode_photo, encode_image
 from backend.photos.repository import Photos
 from backend.photos.schemas import ImageFormat
@@ -58,7 +58,7 @@ class TapService:
         photo = snapshot.photos.get(participant.role)
         if photo is None:
             raise RefusedError(ErrorCode.PHOTO_MISSING, "Upload your photo before tapping on it.")
-        self._check(participant.role, taps, (photo.width, photo.height))
+        self._check(taps, (photo.width, photo.height))
         # Answered before writing, so that the taps and their answer are one write; unless
         # another change comes in between, which makes that answer stale.
         tapped = taps.model_dump(mode="json")
@@ -75,8 +75,8 @@ class TapService:
         return replace(
             after,
             version=version,
-            result=found if answered else None,
-            result_version=version if answered else None,
+            answer=found if answered else None,
+            answer_version=version if answered else None,
         )
 
     def answer(self, session_id: str, version: int) -> Snapshot | None:
@@ -91,19 +91,22 @@ class TapService:
         if not self.taps.put_answer(session_id, version, found, self.clock()):
             return None
         self.notifier.notify(session_id)
-        return replace(snapshot, result=found, result_version=version)
+        return replace(snapshot, answer=found, answer_version=version)
+
+    def due(self, snapshot: Snapshot) -> Snapshot:
+        """The session with its answer. One may be due but not recorded: a change overtook
+        the write that carried it and its writer is answering again, or a migration cleared
+        it. Answered here rather than sending a phone away empty."""
+        if snapshot.answer is not None:
+            return snapshot
+        return self.answer(snapshot.id, snapshot.version) or snapshot
 
     def overlay(self, participant: Participant, role: Role, fmt: ImageFormat) -> bytes:
         """``role``'s photo with the answer drawn for that phone, drawn for each request and
         never kept (a phone loads each answer's overlay once; its own cache keeps it)."""
-        snapshot = self.snapshot(participant.session_id)
-        if snapshot.result is None:
-            # An answer may be due but not yet recorded: a change overtook the write that
-            # carried it, and its writer is answering again. Answer here rather than send
-            # a phone that just read "answered" away empty.
-            snapshot = self.answer(snapshot.id, snapshot.version) or snapshot
-        stored = snapshot.result or {}
-        if "result" not in stored or snapshot.result_version is None:
+        snapshot = self.due(self.snapshot(participant.session_id))
+        stored = snapshot.answer or {}
+        if "solution" not in stored or snapshot.answer_version is None:
             raise RefusedError(
                 ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
             )
@@ -114,11 +117,12 @@ class TapService:
                 ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
             )
         taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
-        ids: list[int] = stored["landmark_ids"]
+        ids: list[int] = stored["answer"]["landmark_ids"]
         drawn = draw_overlay(
             decode_photo(photo.data),
-            SolveResult.model_validate(stored["result"]),
-            view="buddy" if role == "buddy" else "seeker",
+            SolveResult.model_validate(stored["solution"]),
+            # The solver's photo 2 is the one it found the friend in.
+            view="seeker" if role == stored["first"] else "buddy",
             points=[taps[i] for i in ids],
             labels=ids,
         )
@@ -126,9 +130,7 @@ class TapService:
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
         """A small picture around one landmark of ``role``'s photo: "find this"."""
-        snapshot = self.snapshot(participant.session_id)
-        member = snapshot.members.get(role)
-        taps = None if member is None or member.taps is None else Taps.model_validate(member.taps)
+        taps = tap_sets(self.snapshot(participant.session_id))[role]
         tap = next((t for t in taps.landmarks if t.id == landmark_id), None) if taps else None
         crop = None if tap is None else self.photo_service.crop(participant, role, tap.x, tap.y)
         if crop is None:
@@ -137,7 +139,7 @@ class TapService:
             )
         return crop
 
-    def _check(self, role: str, taps: Taps, size: tuple[int, int]) -> None:
+    def _check(self, taps: Taps, size: tuple[int, int]) -> None:
         if len(taps.landmarks) > self.settings.max_landmarks:
             raise RefusedError(
                 ErrorCode.TOO_MANY_LANDMARKS,
@@ -149,55 +151,64 @@ class TapService:
             raise RefusedError(
                 ErrorCode.DUPLICATE_LANDMARK, f"Landmark #{repeated[0]} is tapped twice; keep one."
             )
-        if role == "seeker" and taps.epipole2 is not None:
-            raise RefusedError(
-                ErrorCode.NOT_YOUR_MARK,
-                "Only the buddy marks the seeker (epipole2) in their photo.",
-            )
-        if role == "buddy" and (taps.epipole1 is not None or taps.epipolar_line1 is not None):
-            raise RefusedError(
-                ErrorCode.NOT_YOUR_MARK,
-                "Only the seeker marks the buddy (epipole1 or epipolar_line1) in their photo.",
-            )
-        if taps.epipole1 is not None and taps.epipolar_line1 is not None:
+        if taps.friend is not None and taps.friend_line is not None:
             raise RefusedError(
                 ErrorCode.CONFLICTING_INPUTS,
-                "Mark the buddy either as a point or as a line, not both.",
-            )
-        if taps.epipolar_line1 is not None and taps.epipolar_line1[:2] == (0.0, 0.0):
-            raise RefusedError(
-                ErrorCode.INVALID_LINE, "epipolar_line1 must be [a, b, c] with a or b nonzero."
+                "Mark your friend either as a point or as a line, not both.",
             )
         width, height = size
+        line = taps.friend_line
+        if line is not None and not _crosses(line.a, line.b, line.c, width, height):
+            raise RefusedError(
+                ErrorCode.INVALID_LINE,
+                "The line through your friend must cross your photo: friend_line is "
+                "{a, b, c} for a*x + b*y + c = 0, with a or b nonzero.",
+            )
         marks = [(f"landmark #{t.id}", t.x, t.y) for t in taps.landmarks]
-        for name, point in (("the buddy mark", taps.epipole1), ("the seeker mark", taps.epipole2)):
-            if point is not None:
-                marks.append((name, *point))
+        if taps.friend is not None:
+            marks.append(("the friend mark", taps.friend.x, taps.friend.y))
         for name, x, y in marks:
             if not (0 <= x <= width and 0 <= y <= height):
                 raise RefusedError(
                     ErrorCode.OUTSIDE_PHOTO,
                     # :g, not :.0f: 1e308 is shown as such, not as 309 digits.
-                    f"{name.capitalize()} at ({x:g}, {y:g}) is outside the photo "
+                    f"{name.capitalize()} at ({x:g}, {y:g}) is outside your photo "
                     f"({width} x {height} px).",
                 )
 
     def _solve(self, snapshot: Snapshot) -> dict[str, Any] | None:
         """The answer for the session as ``snapshot`` has it; None when there is not enough
-        to answer (a photo missing, too few taps)."""
-        seeker, buddy = (snapshot.members.get(role) for role in ("seeker", "buddy"))
-        photo1, photo2 = snapshot.photos.get("seeker"), snapshot.photos.get("buddy")
-        if seeker is None or buddy is None or photo1 is None or photo2 is None:
+        to answer (a friend or a photo missing, too few taps)."""
+        photos = snapshot.photos
+        if set(snapshot.members) != set(ROLES) or set(photos) != set(ROLES):
             return None
-        task = problems.problem(
-            None if seeker.taps is None else Taps.model_validate(seeker.taps),
-            None if buddy.taps is None else Taps.model_validate(buddy.taps),
-        )
+        task = problems.problem(tap_sets(snapshot), self.settings.tap_sigma)
         if not task.solvable:
             return None
-        return problems.answer(
+        return problems.solved(
             task,
-            tap_sigma=self.settings.tap_sigma,
-            image_size1=(photo1.width, photo1.height),
-            image_size2=(photo2.width, photo2.height),
+            sizes={role: (photos[role].width, photos[role].height) for role in ROLES},
+            cameras={
+                role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
+                for role in ROLES
+            },
         )
+
+
+def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:
+    """Each friend's taps as the snapshot holds them."""
+    members = snapshot.members
+    return {
+        role: Taps.model_validate(members[role].taps)
+        if role in members and members[role].taps is not None
+        else None
+        for role in ROLES
+    }
+
+
+def _crosses(a: float, b: float, c: float, width: int, height: int) -> bool:
+    """Whether a x + b y + c = 0 is a line (a or b nonzero) that crosses the photo."""
+    if a == 0.0 and b == 0.0:
+        return False
+    corners = [a * x + b * y + c for x in (0, width) for y in (0, height)]
+    return min(corners) <= 0.0 <= max(corners)

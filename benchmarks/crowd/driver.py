@@ -17,7 +17,7 @@ from .people import LANDMARKS, PAUSES, SessionTaps, session_taps
 from .phone import Phone, http_client
 from .recorder import CREATE, CROP, DELETE, JOIN, OVERLAY, PHOTO, STORED, Recorder
 
-EXPECTED_EVENTS = ("joined", "photo", "taps", "result", "expired")  # on both streams
+EXPECTED_EVENTS = ("joined", "photo", "taps", "answer", "expired")  # on both streams
 
 
 class Driver:
@@ -51,7 +51,7 @@ class Driver:
 
     async def create(self) -> tuple[Phone, str] | None:
         """The seeker's phone with a new session, and the join code; None if refused."""
-        seeker = self.phone("seeker")
+        seeker = self.phone("starter")
         created = await seeker.call(CREATE, "POST", "/api/sessions", expect=201)
         if created is None:
             await seeker.close()
@@ -62,7 +62,7 @@ class Driver:
 
     async def join(self, code: str) -> Phone | None:
         """The buddy's phone, joined with ``code``; None if refused."""
-        buddy = self.phone("buddy")
+        buddy = self.phone("joiner")
         joined = await buddy.call(JOIN, "POST", "/api/sessions/join", json={"code": code})
         if joined is None:
             await buddy.close()
@@ -151,7 +151,7 @@ class Driver:
             return False
         for n in range(1, LANDMARKS + 1):
             await self.pause(rng, "tap")
-            body = {"landmarks": taps.seeker[:n], "epipole1": taps.buddy_mark}
+            body = {"landmarks": taps.seeker[:n], "friend": taps.buddy_mark}
             if not await phone.put_taps(body):
                 return False
         return True
@@ -180,15 +180,15 @@ class Driver:
     async def crop(self, phone: Phone, n: int) -> httpx2.Response | None:
         """The seeker's landmark #n as the buddy's <img> gets it (``?token=``, a cache key)."""
         assert phone.state is not None
-        seen = next(t for t in phone.state["taps"]["seeker"]["landmarks"] if t["id"] == n)
+        seen = next(t for t in phone.state["taps"]["starter"]["landmarks"] if t["id"] == n)
         params = {"token": phone.token, "v": f"{seen['x']},{seen['y']}"}
         return await phone.call(
-            CROP, "GET", phone.url(f"/landmarks/seeker/{n}/crop"), params=params
+            CROP, "GET", phone.url(f"/landmarks/starter/{n}/crop"), params=params
         )
 
     async def overlay(self, phone: Phone) -> httpx2.Response | None:
         assert phone.state is not None
-        params = {"token": phone.token, "v": str(phone.state["result_version"])}
+        params = {"token": phone.token, "v": str(phone.state["answer_version"])}
         return await phone.call(OVERLAY, "GET", phone.url(f"/overlay/{phone.role}"), params=params)
 
     async def upload(self, phone: Phone, photo: bytes) -> bool:
@@ -207,12 +207,12 @@ class Driver:
 
 
 def has_answer(state: dict[str, Any]) -> bool:
-    return state.get("result") is not None
+    return state.get("answer") is not None
 
 
 def seeker_tapped(n: int) -> Callable[[dict[str, Any]], bool]:
     def tapped(state: dict[str, Any]) -> bool:
-        seeker = state["taps"].get("seeker")
+        seeker = state["taps"].get("starter")
         return seeker is not None and any(t["id"] == n for t in seeker["landmarks"])
 
     return tapped

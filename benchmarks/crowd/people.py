@@ -62,7 +62,7 @@ class SessionTaps:
 
     seeker: list[dict[str, float]]  # landmarks #1..#6
     buddy: list[dict[str, float]]
-    buddy_mark: list[float]  # e1: the buddy, in the seeker's photo
+    buddy_mark: dict[str, float]  # the joiner, marked in the starter's photo
 
 
 def session_taps(scene: Scene, rng: np.random.Generator) -> SessionTaps:
@@ -78,5 +78,7 @@ def session_taps(scene: Scene, rng: np.random.Generator) -> SessionTaps:
 
     buddy_mark = np.clip(noisy.epipole1 * scale, 0, PHOTO_SIZE)
     return SessionTaps(
-        marks(noisy.landmarks1), marks(noisy.landmarks2), [round(float(v), 1) for v in buddy_mark]
+        marks(noisy.landmarks1),
+        marks(noisy.landmarks2),
+        {"x": round(float(buddy_mark[0]), 1), "y": round(float(buddy_mark[1]), 1)},
     )

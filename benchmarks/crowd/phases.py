@@ -150,7 +150,7 @@ async def call_costs(driver: Driver, server_pids: Sequence[int], poll: float) ->
     seeker, buddy = seekers[0], buddies[0]
     taps = session_taps(driver.scenes[0], np.random.default_rng([driver.seed, 2]))
     await driver.put_photo(buddy, driver.photos[1])
-    mark = {"landmarks": taps.seeker, "epipole1": taps.buddy_mark}
+    mark = {"landmarks": taps.seeker, "friend": taps.buddy_mark}
     await seeker.call(TAPS, "PUT", seeker.url("/taps"), json=mark)
     landmarks = [dict(t) for t in taps.buddy]
 

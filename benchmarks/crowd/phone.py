@@ -54,8 +54,8 @@ def already_shown(change: Change, shown: dict[str, Any] | None) -> bool:
     (frontend/src/reconnect.ts), which spares a phone fetching its own changes."""
     if change.version is None or shown is None:
         return False
-    if change.type == "result":
-        answered = shown.get("result") is not None or shown.get("result_error") is not None
+    if change.type == "answer":
+        answered = shown.get("answer") is not None or shown.get("answer_error") is not None
         return shown["version"] > change.version or (
             shown["version"] == change.version and answered
         )
@@ -175,13 +175,13 @@ class Phone:
             self.state = state
             async with self.shown:
                 self.shown.notify_all()
-            new_answer = state.get("result") is not None and state["result_version"] != self.drawn
+            new_answer = state.get("answer") is not None and state["answer_version"] != self.drawn
             if new_answer and (self.drawing is None or self.drawing.done()):
                 self.drawing = asyncio.create_task(self._draw())
 
     async def _draw(self) -> None:
-        while not self.ending and self.state is not None and self.state.get("result"):
-            version = self.state["result_version"]
+        while not self.ending and self.state is not None and self.state.get("answer"):
+            version = self.state["answer_version"]
             if version == self.drawn:
                 return
             self.drawn = version

@@ -120,7 +120,7 @@ def flow_text() -> str:
         f"one (`GET /photo/<own role>`). The seeker sends `PUT /taps` {LANDMARKS} times: "
         "the buddy mark and one more landmark each time. For each landmark #n the buddy "
         "waits until its state shows the seeker's #n, gets its crop (`GET "
-        '/landmarks/seeker/n/crop`: "find #n"), pauses and sends its own landmarks #1..#n '
+        '/landmarks/starter/n/crop`: "find #n"), pauses and sends its own landmarks #1..#n '
         "(`PUT /taps`: the answer is recomputed in the request). Each phone loads its "
         "overlay (`GET /overlay/<own role>`, JPEG) whenever its state shows a new answer; "
         "both phones wait until their state shows it; the seeker sends "

@@ -142,7 +142,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
     if abs(e1[2]) < _FAR_W * linalg.norm(e1):
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
-            words.BUDDY_AT_INFINITY,
+            words.FRIEND_AT_INFINITY,
         )
     x0, y0 = e1[:2] / e1[2]
     prior_rows, prior_target = _prior(frame, taps) if use_buddy else (None, np.zeros(0))

@@ -107,20 +107,20 @@ def client(app: FastAPI) -> Iterator[TestClient]:
 
 
 @pytest.fixture
-def seeker(client: TestClient) -> Phone:
+def starter(client: TestClient) -> Phone:
     created = client.post("/api/sessions")
     assert created.status_code == 201, created.text
     body = created.json()
-    return Phone(client, body["session_id"], body["token"], "seeker")
+    return Phone(client, body["session_id"], body["token"], "starter")
 
 
 @pytest.fixture
-def buddy(client: TestClient, seeker: Phone) -> Phone:
-    code = seeker.state()["join_code"]
+def joiner(client: TestClient, starter: Phone) -> Phone:
+    code = starter.state()["join_code"]
     joined = client.post("/api/sessions/join", json={"code": code})
     assert joined.status_code == 200, joined.text
     body = joined.json()
-    return Phone(client, body["session_id"], body["token"], "buddy")
+    return Phone(client, body["session_id"], body["token"], "joiner")
 
 
 @pytest.fixture

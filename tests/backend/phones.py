@@ -4,6 +4,7 @@ a phone's event stream followed over HTTP."""
 from __future__ import annotations
 
 import json
+import math
 import threading
 import time
 from dataclasses import dataclass
@@ -57,7 +58,32 @@ class Phone:
         )
 
     def tap(self, **taps: Any) -> httpx2.Response:
+        """PUT these taps; a ``friend`` given as ``(x, y)`` is sent as ``{"x", "y"}``."""
+        friend = taps.get("friend")
+        if isinstance(friend, list | tuple):
+            taps["friend"] = {"x": friend[0], "y": friend[1]}
         return self.client.put(self.url("/taps"), headers=self.auth, json=taps)
+
+
+def in_region(region: dict[str, Any], point: Any) -> bool:
+    """Whether ``point`` (x, y) lies in an answer's 95 % ellipse."""
+    (cx, cy), (a, b) = region["center"], region["axes"]
+    angle = math.radians(region["angle_deg"])
+    dx, dy = point[0] - cx, point[1] - cy
+    u = dx * math.cos(angle) + dy * math.sin(angle)
+    v = -dx * math.sin(angle) + dy * math.cos(angle)
+    return (u / a) ** 2 + (v / b) ** 2 <= 1.0
+
+
+def mark(point: Any) -> dict[str, float]:
+    """A friend mark at ``point`` (x, y), as the API takes it."""
+    return {"x": float(point[0]), "y": float(point[1])}
+
+
+def friend_in(state: dict[str, Any], role: str) -> list[float] | None:
+    """Where the answer puts ``role``'s friend in ``role``'s photo."""
+    answer = state["answer"]
+    return None if answer is None else answer["in_photo"][role]["friend"]
 
 
 class Listener(threading.Thread):

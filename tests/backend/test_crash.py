@@ -170,8 +170,9 @@ class Traffic:
         taps: dict[str, Any] = {
             "landmarks": [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points.tolist(), 1)]
         }
-        if phone.role == "seeker":
-            taps["epipole1"] = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
+        if phone.role == "starter":
+            x, y = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
+            taps["friend"] = {"x": x, "y": y}
         return Change(taps=taps)
 
 
@@ -180,7 +181,7 @@ def pair(base: str) -> list[Phone]:
     code = {"code": created["join_code"]}
     joined = httpx2.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
     sid = created["session_id"]
-    return [Phone(sid, "seeker", created["token"]), Phone(sid, "buddy", joined["token"])]
+    return [Phone(sid, "starter", created["token"]), Phone(sid, "joiner", joined["token"])]
 
 
 def kill_mid_traffic(server: Server, phones: list[Phone], rng: np.random.Generator) -> None:
@@ -223,7 +224,12 @@ def check_acknowledged_writes(server: Server, phones: list[Phone]) -> None:
             allowed.append(phone.in_flight.applied_to(phone.known))
         assert found in allowed, (phone.role, phone.session_id, found, allowed)
         width, height = PHOTO_SIZES[found.photo]
-        assert body["photos"][phone.role] == {"width": width, "height": height, "scale": 1.0}
+        assert body["photos"][phone.role] == {
+            "width": width,
+            "height": height,
+            "scale": 1.0,
+            "lens": None,
+        }
         if found != phone.known:
             phone.stored += 1
         phone.known, phone.in_flight = found, None
@@ -249,7 +255,7 @@ def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
                     assert image.size == (row.width, row.height)
             for row in db.execute(text("SELECT taps FROM participants WHERE taps IS NOT NULL")):
                 Taps.model_validate_json(row.taps)
-            sessions = db.execute(text("SELECT id, version, result, result_version FROM sessions"))
+            sessions = db.execute(text("SELECT id, version, answer, answer_version FROM sessions"))
             for session in sessions:
                 events = db.execute(
                     text("SELECT type, data FROM events WHERE session_id = :id ORDER BY id"),
@@ -262,11 +268,11 @@ def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
                     if phone.session_id == session.id:
                         events_of_phone = sum(c["role"] == phone.role for c in changes)
                         assert events_of_phone == phone.stored, "a change without its event"
-                answered = [json.loads(e.data)["version"] for e in events if e.type == "result"]
+                answered = [json.loads(e.data)["version"] for e in events if e.type == "answer"]
                 assert answered == sorted(answered)
-                if session.result_version is not None:
-                    assert session.result_version in answered
-                    json.loads(session.result)
+                if session.answer_version is not None:
+                    assert session.answer_version in answered
+                    json.loads(session.answer)
     finally:
         engine.dispose()
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 from fastapi.testclient import TestClient
 
 from backend.errors import STATUS, ErrorCode
+from backend.eventstream.log import EventType
+from backend.limits import EVENTS
 from shared_solver import ErrorCode as SolverCode
 
 
@@ -31,3 +33,8 @@ def test_the_documented_examples_use_each_code_with_its_status(client: TestClien
                 assert int(status) == expected, (code, status)
                 seen += 1
     assert seen > 20
+
+
+def test_the_event_types_are_the_shared_list() -> None:
+    """The phone app reads the event names from backend/limits.json, as the server does."""
+    assert [event.value for event in EventType] == list(EVENTS)

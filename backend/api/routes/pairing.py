@@ -14,14 +14,14 @@ router = APIRouter(prefix="/api/sessions", tags=["sessions"])
 
 @router.post("", status_code=201, response_model=CreatedSession, responses=errors(503))
 def create_session(pairing: PairingDep, base: BaseUrlDep) -> Response:
-    """The seeker starts a search: a session, a join code for the buddy, the seeker's token."""
+    """Start a search: a session, a join code for your friend, and your token."""
     return json_answer(pairing.create(base), status_code=201)
 
 
 @router.post("/join", response_model=Joined, responses=errors(400, 404, 413, 422, 429, 503))
 def join_session(request: JoinRequest, pairing: PairingDep, client: ClientAddressDep) -> Response:
-    """The buddy joins with the eight-digit code (single use, valid 10 minutes). Wrong codes
-    are limited per client address and overall (429 ``too_many_attempts`` with
+    """Join your friend's search with its eight-digit code (single use, valid 10 minutes).
+    Wrong codes are limited per client address and overall (429 ``too_many_attempts`` with
     ``Retry-After``, seconds), and a code that wrong codes named five times is renewed."""
     return json_answer(pairing.join(request.code, client))
 

@@ -10,6 +10,7 @@ from fastapi.responses import Response
 from backend.api.deps import BaseUrlDep, ParticipantDep, StateDep, TapsDep, ViewerDep
 from backend.api.params import FormatParam, RoleParam
 from backend.api.responses import PICTURE, errors, json_answer
+from backend.limits import MAX_LANDMARK_ID
 from backend.photos.schemas import MEDIA_TYPES
 from backend.sessions.schemas import SessionState
 from backend.taps.schemas import Taps
@@ -25,8 +26,8 @@ router = APIRouter(prefix="/api/sessions", tags=["sessions"])
 def put_taps(
     taps: Taps, participant: ParticipantDep, state: StateDep, base: BaseUrlDep
 ) -> Response:
-    """Replace your landmarks (and, for the seeker, the buddy mark or line; for the buddy,
-    optionally the seeker mark). The answer is recomputed and returned in the state."""
+    """Replace your landmarks and, if you can see your friend, your friend mark (or a line
+    through them). The answer is recomputed and returned in the state."""
     return json_answer(state.put_taps(participant, taps, base))
 
 
@@ -53,7 +54,7 @@ def overlay(
 )
 def landmark_crop(
     role: RoleParam,
-    landmark_id: Annotated[int, Path(ge=1, le=999)],
+    landmark_id: Annotated[int, Path(ge=1, le=MAX_LANDMARK_ID)],
     participant: ViewerDep,
     taps: TapsDep,
 ) -> Response:
