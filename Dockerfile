@@ -15,13 +15,12 @@ ENV PYTHONUNBUFFERED=1 \
     PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
 WORKDIR /app
-# The pinned runtime dependencies of pyproject.toml (not its test extras), installed before
-# the code is copied so that a change to the code does not reinstall them. The app itself
-# is not pip-installed: it runs from /app, where it finds frontend/dist beside backend/.
-COPY pyproject.toml ./
-RUN python -c "import tomllib; project = tomllib.load(open('pyproject.toml', 'rb'))['project']; open('requirements.txt', 'w').write('\n'.join(project['dependencies']))" \
-    && pip install -r requirements.txt \
-    && rm requirements.txt
+# The locked runtime dependencies (every transitive package, with its hashes; not the test
+# extras), installed before the code is copied so that a change to the code does not
+# reinstall them. The app itself is not pip-installed: it runs from /app, where it finds
+# frontend/dist beside backend/.
+COPY requirements/runtime.txt requirements.txt
+RUN pip install --require-hashes --no-deps -r requirements.txt && rm requirements.txt
 COPY backend/ backend/
 COPY shared_solver/ shared_solver/
 COPY --from=frontend /frontend/dist frontend/dist

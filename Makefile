@@ -16,7 +16,7 @@ APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/nu
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load demo clean
+.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -60,12 +60,13 @@ bench-load: $(INSTALLED)
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo
 
-# The .pth file puts the repository root on the virtualenv's path, for what runs here but
-# never ships: testbed/, the scenes the tests, benchmarks and demo share.
-$(INSTALLED): pyproject.toml
+# Every package from the lock file, hashes checked. The app is not installed: the .pth file
+# puts the repository root on the virtualenv's path (backend/, shared_solver/, and testbed/,
+# the scenes the tests, benchmarks and demo share).
+$(INSTALLED): pyproject.toml requirements/test.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r requirements/test.txt
 	$(BIN)/python -c "import pathlib, site; pathlib.Path(site.getsitepackages()[0], 'buddy-search-root.pth').write_text(str(pathlib.Path.cwd()) + '\\n')"
 	touch $(INSTALLED)
 
@@ -75,6 +76,19 @@ $(NODE_MODULES): $(FRONTEND)/package.json $(FRONTEND)/package-lock.json
 
 $(APP): $(NODE_MODULES) $(APP_SOURCES)
 	cd $(FRONTEND) && $(NPM) run build
+
+# The Python lock files, from pyproject.toml: every transitive package with its hashes, for
+# every platform (requirements/test.txt for make, runtime.txt, its subset, for the image).
+# Run after changing a dependency; uv, pinned, lives in a throwaway virtualenv.
+UV_VERSION := 0.13.9
+lock:
+	rm -rf .venv-lock && $(PYTHON) -m venv .venv-lock
+	.venv-lock/bin/python -m pip install --quiet uv==$(UV_VERSION)
+	.venv-lock/bin/uv pip compile pyproject.toml --extra test --generate-hashes --universal \
+		--python-version 3.11 --quiet -o requirements/test.txt
+	.venv-lock/bin/uv pip compile pyproject.toml --generate-hashes --universal \
+		--python-version 3.11 --quiet -c requirements/test.txt -o requirements/runtime.txt
+	rm -rf .venv-lock
 
 clean:
 	rm -rf $(VENV) var artifacts .pytest_cache .ruff_cache .mypy_cache .hypothesis \

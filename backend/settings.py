@@ -67,7 +67,7 @@ class Settings(BaseSettings):
         5,
         gt=0,
         description="Wrong codes naming a search's number (the first four digits) after "
-        "which its join code is renewed: a new number and secret, shown on the seeker's phone.",
+        "which its join code is renewed: a new number and secret, shown on the starter's phone.",
     )
     join_failures_overall: int = Field(
         600,

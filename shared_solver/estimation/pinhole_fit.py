@@ -341,7 +341,7 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
         model: the taps (landmarks, N >= 1, and whichever friends' marks were made, with
             covariances) and the focal priors of photo 1 and photo 2 (their centres are the
             principal points).
-        start: an initial pose (a batch of one), e.g. from :mod:`..minimal.buddy_and_three`.
+        start: an initial pose (a batch of one), e.g. from :mod:`..minimal.epipole_and_three`.
         max_iterations: bound for Levenberg-Marquardt.
     """
 
