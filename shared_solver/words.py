@@ -235,6 +235,9 @@ def not_a_size(name: str) -> str:
 
 # --- drawn on the photo (short: they share the picture with the answer) -------------------------
 
+DRAWN_FRIEND = "friend"
+DRAWN_FRIEND_LIKELY = "friend?"
+DRAWN_ON_CURVE = "friend on this curve"
 DRAWN_BEHIND = "friend is behind you"
 DRAWN_UNCLEAR = "position unclear: re-check marks"
 DRAWN_FAR_OFF = "friend far off this way"
@@ -251,8 +254,8 @@ LABELS_WITHOUT_POINTS = "labels were given without points."
 LABELS_NOT_WHOLE = "labels must be whole numbers."
 
 
-def bad_view(view: object) -> str:
-    return f'view must be "buddy" or "seeker", got {view!r}.'
+def bad_photo(photo: object) -> str:
+    return f"photo must be 1 or 2, got {photo!r}."
 
 
 def not_a_photo(shape: tuple[int, ...]) -> str:

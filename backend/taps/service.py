@@ -122,7 +122,7 @@ class TapService:
             decode_photo(photo.data),
             SolveResult.model_validate(stored["solution"]),
             # The solver's photo 2 is the one it found the friend in.
-            view="seeker" if role == stored["first"] else "buddy",
+            photo=1 if role == stored["first"] else 2,
             points=[taps[i] for i in ids],
             labels=ids,
         )

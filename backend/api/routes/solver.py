@@ -208,5 +208,5 @@ def draw_on_photo(
         ) from error
     result = parsed.solve()
     stored = store_photo(photo.file.read(), max_pixels=settings.max_photo_pixels, max_side=2**16)
-    drawn = draw_overlay(decode_photo(stored.data), result, view="buddy", points=parsed.points2)
+    drawn = draw_overlay(decode_photo(stored.data), result, photo=2, points=parsed.points2)
     return Response(encode_image(drawn, format=format), media_type=MEDIA_TYPES[format])
