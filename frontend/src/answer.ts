@@ -69,8 +69,8 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     warnings: mine.warnings ?? [],
     suspects: answer.suspects ?? [],
     hasOverlay: state.answer_version !== null && state.answer_version !== undefined,
-    // Found where this phone's owner is, not only confirmed their own mark.
-    seen: theirs?.how === "solved" && (theirs.friend || theirs.curve) ? true : false,
+    // The other phone found where this phone's owner is (not only refined its own mark).
+    seen: theirs?.how === "solved" && (theirs.friend != null || theirs.curve != null),
   };
   const region = mine.region ?? null;
   const news = mine.how === "solved" || region !== null;

@@ -254,6 +254,17 @@ def test_the_joiner_marks_the_starter_and_the_phones_tell_their_lenses(
     assert state["answer"]["in_photo"]["starter"]["focal_35mm"] == pytest.approx(lens, rel=0.1)
 
 
+# The upload with a lens no phone has is refused (422) before it is sent again without it.
+@pytest.mark.expected_console_errors(r"status of 422 ")
+def test_a_lens_the_server_refuses_does_not_cost_the_photo(
+    server: str, pixel: BrowserContext, iphone: BrowserContext, tmp_path: Path
+) -> None:
+    starter, _ = start_and_join(server, pixel, iphone)
+    upload(starter, exif_photo(PAIR[0], tmp_path, 65535))  # beyond any lens: refused
+    expect(starter.get_by_test_id("lens-note")).to_contain_text("typical phone camera is assumed")
+    assert session_state(starter)["photos"]["starter"]["lens"] is None
+
+
 def test_both_mark_each_other_and_one_landmark_is_enough(
     server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
 ) -> None:
