@@ -13,7 +13,7 @@ from pathlib import Path
 
 import cv2
 
-QUALITY = 82  # JPEG quality: text stays sharp, a screen is 30-80 kB
+QUALITY = 82  # JPEG quality: text stays sharp, a screen 30-85 kB (`ls -l docs/screenshots`)
 
 
 def convert(source: Path, destination: Path) -> list[Path]:

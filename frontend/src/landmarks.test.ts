@@ -160,11 +160,13 @@ describe("the friend: a mark or a line", () => {
     expect(toServerTaps(editor.taps).friend_line).toEqual({ a: 0, b: 1, c: -5, sigma: 4 });
   });
 
-  it("a mark can be taken back", () => {
+  it("a mark, or a line, can be taken back", () => {
     let editor = setFriend(newEditor(), { x: 1, y: 2 }, 1.5);
     expect(toServerTaps(editor.taps).friend).toEqual({ x: 1, y: 2, sigma: 1.5 });
     editor = setFriend(editor, null);
     expect(toServerTaps(editor.taps).friend).toBeNull();
+    editor = setFriend(setFriendLine(editor, { ...FLAT, sigma: 2 }), null);
+    expect(toServerTaps(editor.taps)).toMatchObject({ friend: null, friend_line: null });
   });
 
   it("a line through two points holds both, and is normalised", () => {

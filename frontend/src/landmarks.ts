@@ -128,11 +128,13 @@ export function select(editor: TapEditor, id: number | null): TapEditor {
   return { ...editor, selected: id };
 }
 
-/** This phone marks its friend (null: takes the mark away); a line drawn before goes. */
+/**
+ * This phone marks its friend; a line drawn before goes. With null: the friend is no longer
+ * marked (neither mark nor line).
+ */
 export function setFriend(editor: TapEditor, at: Point | null, sigma: number | null = null): TapEditor {
   const friend = at === null ? null : { ...round(at), sigma };
-  const friend_line = friend ? null : editor.taps.friend_line;
-  return change(editor, { ...editor.taps, friend, friend_line }, editor.selected);
+  return change(editor, { ...editor.taps, friend, friend_line: null }, editor.selected);
 }
 
 /** "Somewhere along here": a line through the friend instead of a mark. */
