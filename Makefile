@@ -12,17 +12,26 @@ FRONTEND := frontend
 NODE_MODULES := $(FRONTEND)/node_modules/.installed
 APP := $(FRONTEND)/dist/index.html
 APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/null) \
-	$(wildcard $(FRONTEND)/index.html $(FRONTEND)/vite.config.ts $(FRONTEND)/tsconfig*.json)
+	$(wildcard $(FRONTEND)/index.html $(FRONTEND)/vite.config.ts $(FRONTEND)/tsconfig*.json) \
+	backend/limits.json shared_solver/drawing/palette.json
+# The API's TypeScript types, generated from the app's own OpenAPI schema (what it is made of:
+# the backend's and the solver's models). Committed; `make test` checks them before the build
+# renews them, so a stale committed copy fails (tests/test_api_types.py).
+API_TYPES := $(FRONTEND)/src/generated/openapi.ts
+API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json')
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load demo lock clean
+.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser postgres bench bench-api bench-camera bench-load demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
 
-test: $(INSTALLED) lint typecheck frontend-test $(APP) browser postgres
+test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser postgres
 	$(BIN)/python -m pytest
+
+api-types-check: $(INSTALLED) $(NODE_MODULES)
+	$(BIN)/python -m pytest -q tests/test_api_types.py
 
 lint: $(INSTALLED)
 	$(BIN)/ruff check .
@@ -44,6 +53,13 @@ browser:
 postgres:
 	@ls /usr/lib/postgresql/*/bin/postgres >/dev/null 2>&1 || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq postgresql )
+
+# The README's screenshots: the two-phone browser test takes them (artifacts/screenshots/),
+# then they are halved and saved as JPEG in docs/screenshots/.
+screenshots: $(INSTALLED) $(APP) browser
+	rm -rf artifacts/screenshots
+	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py
+	$(BIN)/python -m testbed.screenshots artifacts/screenshots docs/screenshots
 
 bench: $(INSTALLED)
 	$(BIN)/python benchmarks/solver.py
@@ -74,7 +90,10 @@ $(NODE_MODULES): $(FRONTEND)/package.json $(FRONTEND)/package-lock.json
 	cd $(FRONTEND) && $(NPM) ci --no-audit --no-fund
 	touch $(NODE_MODULES)
 
-$(APP): $(NODE_MODULES) $(APP_SOURCES)
+$(API_TYPES): $(API_SOURCES) | $(INSTALLED) $(NODE_MODULES)
+	$(BIN)/python -m backend.openapi | (cd $(FRONTEND) && $(NPM) run --silent api-types)
+
+$(APP): $(NODE_MODULES) $(APP_SOURCES) $(API_TYPES)
 	cd $(FRONTEND) && $(NPM) run build
 
 # The Python lock files, from pyproject.toml: every transitive package with its hashes, for

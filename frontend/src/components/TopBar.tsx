@@ -14,8 +14,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
   const other = otherRole(credentials.role);
   const peer = state?.participants[other];
   const online = peer?.online ?? false;
-  const name = credentials.role === "seeker" ? "Buddy" : "Friend";
-  const peerWords = !peer?.joined ? `${name} not here yet` : online ? `${name} online` : `${name} offline`;
+  const peerWords = !peer?.joined ? "Friend not here yet" : online ? "Friend online" : "Friend offline";
 
   return (
     <header class="top-bar">
