@@ -1,7 +1,8 @@
-"""Two people, two phones (Pixel 7 and iPhone 13 emulated in Chromium), one real server.
+"""Two people, two phones (Pixel 7 and iPhone 13 sized), one real server, in each engine:
+Chromium (emulated phones, touch input) and WebKit (WebKitGTK, mouse and wheel input).
 
 The real temple photos stand in for the venue: landmarks are projected from 3-D points
-with the calibrated cameras, and tapped with touch events where they appear on screen.
+with the calibrated cameras, and tapped where they appear on screen.
 """
 
 from __future__ import annotations
@@ -12,18 +13,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from fingers import TIMEOUT_MS, photo_to_screen, pinch, tap_photo
-from playwright.sync_api import BrowserContext, Page, expect
+from phone import Phone, expect
 
 from testbed.scenes import Scene, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")
 
-
-@pytest.fixture(autouse=True)
-def patient() -> None:
-    expect.set_options(timeout=TIMEOUT_MS)
+pytestmark = pytest.mark.engines("chromium", "webkit")
 
 
 def scene(landmarks: int, seed: int) -> Scene:
@@ -32,11 +29,10 @@ def scene(landmarks: int, seed: int) -> Scene:
 
 def start_and_join(
     server: str,
-    seeker_phone: BrowserContext,
-    buddy_phone: BrowserContext,
+    seeker: Phone,
+    buddy: Phone,
     screenshots: Path | None = None,
-) -> tuple[Page, Page]:
-    seeker = seeker_phone.new_page()
+) -> tuple[Phone, Phone]:
     seeker.goto(f"{server}/")
     if screenshots:
         seeker.screenshot(path=screenshots / "1-start.png")
@@ -48,47 +44,46 @@ def start_and_join(
     if screenshots:
         seeker.screenshot(path=screenshots / "2-share.png")
     digits = re.sub(r"\D", "", code.inner_text())
-    buddy = buddy_phone.new_page()
     buddy.goto(f"{server}/join/{digits}")  # the join link, opened on the buddy's phone
     expect(seeker.get_by_test_id("waiting")).to_be_hidden()
     return seeker, buddy
 
 
-def upload(page: Page, name: str) -> None:
+def upload(page: Phone, name: str) -> None:
     page.get_by_test_id("photo-input").set_input_files(TEMPLE / f"{name}.png")
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-height", "480")
 
 
-def saved(page: Page) -> None:
+def saved(page: Phone) -> None:
     expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
 
 
-def tap_landmarks(page: Page, points: np.ndarray, first_id: int = 1) -> None:
+def tap_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
     for offset, (x, y) in enumerate(points):
         number = first_id + offset
-        tap_photo(page, float(x), float(y))
+        page.tap_photo(float(x), float(y))
         expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     saved(page)
 
 
-def buddy_taps(page: Page, points: np.ndarray) -> None:
+def buddy_taps(page: Phone, points: np.ndarray) -> None:
     """The buddy finds each landmark the seeker numbered, prompted with its crop."""
     buddy_taps_from(page, points, first_id=1)
 
 
-def buddy_taps_from(page: Page, points: np.ndarray, first_id: int) -> None:
+def buddy_taps_from(page: Phone, points: np.ndarray, first_id: int) -> None:
     """:func:`buddy_taps` from landmark ``first_id`` on."""
     for number, (x, y) in enumerate(points, start=first_id):
         prompt = page.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(number))
         expect(prompt.locator("img")).to_be_visible()
-        tap_photo(page, float(x), float(y))
+        page.tap_photo(float(x), float(y))
         expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     saved(page)
 
 
-def reported_position(page: Page) -> tuple[np.ndarray, tuple[float, float, float]]:
+def reported_position(page: Phone) -> tuple[np.ndarray, tuple[float, float, float]]:
     position = page.get_by_test_id("result-position")
     expect(position).to_be_visible()
     x, y, a, b, angle = (
@@ -107,7 +102,7 @@ def inside(truth: np.ndarray, centre: np.ndarray, ellipse: tuple[float, float, f
 
 
 def test_two_phones_find_each_other(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
     seeker, buddy = start_and_join(server, pixel, iphone, screenshots)
     upload(seeker, PAIR[0])
@@ -115,11 +110,12 @@ def test_two_phones_find_each_other(
     buddy.screenshot(path=screenshots / "3-photo-buddy.png")
 
     truth = scene(5, seed=16)  # a layout that pins the seeker down (seed 11: +-3000 px)
-    tap_photo(seeker, *truth.epipole1)  # "Where is your buddy?"
+    seeker.tap_photo(*truth.epipole1)  # "Where is your buddy?"
     tap_landmarks(seeker, truth.landmarks1[:4])
-    # One pinch to zoom in, then the last landmark is tapped under the zoom.
+    # One pinch (the wheel where the engine has no touch) to zoom in, then the last
+    # landmark is tapped under the zoom.
     before = float(seeker.get_by_test_id("photo-view").get_attribute("data-scale") or "nan")
-    pinch(pixel, seeker, photo_to_screen(seeker, *truth.landmarks1[4]), 1.8)
+    seeker.zoom(seeker.photo_to_screen(*truth.landmarks1[4]), 1.8)
     after = float(seeker.get_by_test_id("photo-view").get_attribute("data-scale") or "nan")
     assert after > 1.3 * before
     tap_landmarks(seeker, truth.landmarks1[4:], first_id=5)
@@ -140,13 +136,11 @@ def test_two_phones_find_each_other(
     seeker.screenshot(path=screenshots / "7-result-seeker.png")
 
 
-def test_a_reload_returns_to_the_same_session(
-    server: str, pixel: BrowserContext, iphone: BrowserContext
-) -> None:
+def test_a_reload_returns_to_the_same_session(server: str, pixel: Phone, iphone: Phone) -> None:
     seeker, buddy = start_and_join(server, pixel, iphone)
     upload(seeker, PAIR[0])
     truth = scene(3, seed=12)
-    tap_photo(seeker, *truth.epipole1)
+    seeker.tap_photo(*truth.epipole1)
     tap_landmarks(seeker, truth.landmarks1)
     seeker.reload()
     expect(seeker.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
@@ -159,15 +153,15 @@ def test_a_reload_returns_to_the_same_session(
 
 @pytest.mark.expected_console_errors(r"status of 404 \(Not Found\)")
 def test_a_code_typed_wrong_five_times_is_renewed_on_the_seekers_phone(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    seeker = pixel.new_page()
+    seeker = pixel
     seeker.goto(f"{server}/")
     seeker.get_by_test_id("start").tap()
     code = seeker.get_by_test_id("code")
     expect(code).to_have_text(re.compile(r"\d{4}\s?\d{4}"))
     given = re.sub(r"\D", "", code.inner_text())
-    buddy = iphone.new_page()
+    buddy = iphone
     buddy.goto(f"{server}/")
     for n in range(5):  # the right search number, a wrong secret
         secret = (int(given[4:]) + 1 + n) % 10_000
@@ -193,7 +187,7 @@ def promised(text: str) -> int:
 
 
 def test_three_landmarks_and_the_buddy_give_a_position(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
     """Both photos come from phones, so the server solves with the camera model: three
     landmarks and the buddy mark are enough for a position, as the seeker's hint promises
@@ -205,7 +199,7 @@ def test_three_landmarks_and_the_buddy_give_a_position(
     hint = seeker.locator(".status .hint")
     expect(hint).to_contain_text("Mark your buddy first")
     enough = promised(hint.inner_text())
-    tap_photo(seeker, *truth.epipole1)
+    seeker.tap_photo(*truth.epipole1)
     tap_landmarks(seeker, truth.landmarks1[:2])
     expect(seeker.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", str(enough))
     assert enough == 3
@@ -223,7 +217,7 @@ def test_three_landmarks_and_the_buddy_give_a_position(
 
 
 def test_both_friends_marked_one_landmark_is_enough(
-    server: str, pixel: BrowserContext, iphone: BrowserContext
+    server: str, pixel: Phone, iphone: Phone
 ) -> None:
     """The buddy sees the seeker too and marks them: then one common landmark fixes the
     spot, as the buddy's prompt promises."""
@@ -231,13 +225,13 @@ def test_both_friends_marked_one_landmark_is_enough(
     upload(seeker, PAIR[0])
     upload(buddy, PAIR[1])
     truth = scene(1, seed=13)
-    tap_photo(seeker, *truth.epipole1)
+    seeker.tap_photo(*truth.epipole1)
     tap_landmarks(seeker, truth.landmarks1)
     buddy.get_by_test_id("mark-seeker").tap()
     prompt = buddy.locator(".prompt-text").filter(has_text="Can you see your friend?")
     expect(prompt).to_be_visible()
     enough = promised(prompt.inner_text())
-    tap_photo(buddy, *truth.epipole2)
+    buddy.tap_photo(*truth.epipole2)
     saved(buddy)
     needed = buddy.get_by_test_id("landmarks-needed")
     expect(needed).to_have_attribute("data-count", str(enough))
@@ -257,7 +251,7 @@ NO_PHONES_BUDDY = (397.0, 291.0)
 
 
 def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
     """The curve the seeker stands on is still shown when the taps fit no two phone
     photos (a cropped or edited photo, landmarks mixed up): four landmarks give it, with a
@@ -265,7 +259,7 @@ def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
     seeker, buddy = start_and_join(server, pixel, iphone)
     upload(seeker, PAIR[0])
     upload(buddy, PAIR[1])
-    tap_photo(seeker, *NO_PHONES_BUDDY)
+    seeker.tap_photo(*NO_PHONES_BUDDY)
     tap_landmarks(seeker, NO_PHONES_1)
     buddy_taps(buddy, NO_PHONES_2[:4])
     expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
@@ -280,7 +274,7 @@ def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
 
 
 def test_delete_now_ends_it_for_both(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
     seeker, buddy = start_and_join(server, pixel, iphone)
     upload(buddy, PAIR[1])
