@@ -367,6 +367,14 @@ class Expectation:
 
         self._until(holds, f"have {name}={value!r}")
 
+    def not_to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
+        def holds(state: dict[str, Any]) -> bool:
+            found = state.get("attributes", {}).get(name)
+            absent = found is None or not _matches(found, value, squash=False)
+            return state["count"] == 1 and absent
+
+        self._until(holds, f"not have {name}={value!r}")
+
 
 def _matches(text: str, expected: str | re.Pattern[str], squash: bool = True) -> bool:
     """Playwright's rule: a string matches the whole text (spaces squashed), a pattern
