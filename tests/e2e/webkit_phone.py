@@ -200,7 +200,7 @@ class WebKitPhone(Phone):
 
     def screenshot(self, path: Path) -> None:
         # WebKitGTK's screenshot is the last frame painted, which may not show the latest
-        # change yet: two animation frames first, as Playwright does before its own.
+        # change yet: two animation frames first.
         self._driver.execute_async_script(
             "const done = arguments[0]; requestAnimationFrame(() => requestAnimationFrame(done));"
         )
