@@ -10,6 +10,7 @@ from typing import Any
 from fingers import pinch
 from phone import RESOLVE, Phone, Step
 from playwright.sync_api import Browser, ElementHandle, Playwright
+from playwright.sync_api import Error as PlaywrightError
 
 NAVIGATION_TIMEOUT_MS = 30_000
 
@@ -30,6 +31,10 @@ class ChromiumPhone(Phone):
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
         self._page.on("pageerror", lambda error: self._errors.append(str(error)))
+
+    def navigating(self, error: Exception) -> bool:
+        destroyed = "Execution context was destroyed"
+        return isinstance(error, PlaywrightError) and destroyed in str(error)
 
     def goto(self, url: str) -> None:
         self._page.goto(url)

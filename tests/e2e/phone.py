@@ -180,12 +180,23 @@ class Phone(ABC):
         """Elements with this explicit ``role`` attribute (implicit roles are not derived)."""
         return self.locator(f'[role="{role}"]')
 
+    def navigating(self, error: Exception) -> bool:
+        """Whether ``error`` only says the page was being replaced while it was asked (the
+        question is then asked again)."""
+        return False
+
     def wait_for(
         self, condition: Callable[[], bool], what: str, timeout: float = TIMEOUT_S
     ) -> None:
         """Poll ``condition`` until it holds; fail naming ``what`` after ``timeout`` s."""
         deadline = time.monotonic() + timeout
-        while not condition():
+        while True:
+            try:
+                if condition():
+                    return
+            except Exception as error:
+                if not self.navigating(error):
+                    raise
             if time.monotonic() > deadline:
                 raise AssertionError(f"{self}: timed out after {timeout:g} s waiting for {what}")
             time.sleep(POLL_S)
