@@ -9,7 +9,7 @@ from typing import Any
 
 from fingers import pinch
 from phone import RESOLVE, Phone, Step
-from playwright.sync_api import Browser, ElementHandle, Playwright
+from playwright.sync_api import Browser, BrowserContext, ElementHandle, Page, Playwright
 from playwright.sync_api import Error as PlaywrightError
 
 NAVIGATION_TIMEOUT_MS = 30_000
@@ -31,6 +31,16 @@ class ChromiumPhone(Phone):
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
         self._page.on("pageerror", lambda error: self._errors.append(str(error)))
+
+    @property
+    def context(self) -> BrowserContext:
+        """Playwright's context, for what only Chromium has (the DevTools protocol's
+        network emulation, say); a test that uses it runs in Chromium only."""
+        return self._context
+
+    @property
+    def page(self) -> Page:
+        return self._page
 
     def navigating(self, error: Exception) -> bool:
         destroyed = "Execution context was destroyed"
