@@ -1,7 +1,7 @@
 # The two commands of the README: `make run` and `make test`. Each sets up what it needs
 # from nothing (a virtualenv in .venv, pinned Python and npm packages, the built phone app,
-# Debian's Chromium for the browser tests, Debian's PostgreSQL server for the replica
-# tests) and is safe to run again.
+# Debian's Chromium and WebKitGTK for the browser tests, Debian's PostgreSQL server for the
+# replica tests) and is safe to run again.
 
 PYTHON ?= python3
 NPM ?= npm
@@ -22,12 +22,12 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser postgres bench bench-api bench-camera bench-load demo lock clean
+.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-load demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
 
-test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser postgres
+test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres
 	$(BIN)/python -m pytest
 
 api-types-check: $(INSTALLED) $(NODE_MODULES)
@@ -47,6 +47,13 @@ frontend-test: $(NODE_MODULES)
 browser:
 	@command -v chromium >/dev/null || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium )
+
+# Debian's WebKitGTK for the WebKit end-to-end tests (tests/e2e/webkit_phone.py):
+# WebKitWebDriver (webkit2gtk-driver, which brings MiniBrowser) and the virtual X server
+# the browser draws on (xvfb).
+webkit:
+	@( command -v WebKitWebDriver && command -v Xvfb ) >/dev/null || ( $(SUDO) apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq webkit2gtk-driver xvfb )
 
 # Debian's PostgreSQL server binaries: the tests start their own throwaway server from them
 # on a loopback port (tests/postgres.py); the package's own cluster is not used.

@@ -20,7 +20,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
     <header class="top-bar">
       <span class={`peer ${online ? "on" : "off"}`} data-testid="peer-online" data-online={String(online)}>
         <span class="dot" aria-hidden="true" />
-        {peerWords}
+        <span class="peer-words">{peerWords}</span>
       </span>
       {view.stream === "down" && (
         <span class="reconnecting" data-testid="reconnecting" role="status">
