@@ -86,7 +86,7 @@ def nearest(colour: list[int]) -> str:
 def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     server: str, iphone: Phone, turned_photo: Path
 ) -> None:
-    # The search is started over the API; the iPhone joins it with the link, as the friend who joins.
+    # The search is started over the API; the iPhone joins it with the link.
     created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
     iphone.goto(f"{server}/join/{created['join_code']}")
     expect(iphone.get_by_test_id("photo-input")).to_be_attached()
