@@ -22,7 +22,7 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-load demo lock clean
+.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-taps bench-load demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -76,6 +76,10 @@ bench-api: $(INSTALLED)
 
 bench-camera: $(INSTALLED)
 	$(BIN)/python benchmarks/camera_checks.py
+
+# The taps' precision, held out: two phones in Chromium on a live server (docs/tap-precision.md).
+bench-taps: $(INSTALLED) $(APP) browser
+	$(BIN)/python benchmarks/taps.py
 
 bench-load: $(INSTALLED)
 	$(BIN)/python benchmarks/load.py --workers 2
