@@ -47,6 +47,9 @@ LANDMARKS = 5
 STORED_SIDE = 2560
 FINGER_CSS = (1.0, 2.0)  # a finger's miss: sd per axis, CSS px, uniform between these
 OLD_TAP_SIGMA = 3.0
+# Spots a person would tap on the whole photo are apart on the screen: no two of a photo's
+# taps closer than this fraction of its diagonal (about 30 CSS px on a phone).
+APART = 0.06
 LEVEL = 0.95
 CHROMIUM = "/usr/bin/chromium"
 FLAGS = [
@@ -231,10 +234,29 @@ def run(trials: int) -> list[Trial]:
         pixel, iphone = phones(playwright)
         pages = (pixel.new_page(), iphone.new_page())
         for trial in range(trials):
-            scene = phone_scene(np.random.default_rng([SEED, trial]), LANDMARKS)
+            scene = tappable_scene(np.random.default_rng([SEED, trial]))
             rng = np.random.default_rng([SEED, trial, 1])
             results.append(play(server.base_url, pages, scene, rng))
     return results
+
+
+def tappable_scene(rng: np.random.Generator) -> PhoneScene:
+    """A phone scene whose taps, in each photo, are far enough apart to be tapped without
+    zooming (:data:`APART`)."""
+    while True:
+        scene = phone_scene(rng, LANDMARKS)
+        taps1 = np.vstack([scene.landmarks1, scene.epipole1])
+        if all(
+            apart(points, size)
+            for points, size in ((taps1, scene.image_size1), (scene.landmarks2, scene.image_size2))
+        ):
+            return scene
+
+
+def apart(points: np.ndarray, size: tuple[int, int]) -> bool:
+    gaps = np.hypot(*(points[:, None] - points[None]).transpose(2, 0, 1))
+    np.fill_diagonal(gaps, np.inf)
+    return bool(gaps.min() > APART * np.hypot(*size))
 
 
 def rate(values: list[bool | None]) -> tuple[str, int]:
@@ -274,7 +296,9 @@ def report(results: list[Trial], seconds: float) -> str:
         f"stored at {STORED_SIDE} px. Photo 1's phone taps its friend and {LANDMARKS} landmarks; "
         f"photo 2's phone cannot see its friend and finds the {LANDMARKS} landmarks. Each tap "
         f"aims at the true spot and misses by a finger: sd per axis uniform in "
-        f"{FINGER_CSS[0]:g}-{FINGER_CSS[1]:g} CSS px, drawn per tap.",
+        f"{FINGER_CSS[0]:g}-{FINGER_CSS[1]:g} CSS px, drawn per tap. Scenes whose taps come "
+        f"closer than {APART:.0%} of the photo's diagonal (about 30 CSS px on the phone) are "
+        "drawn again: a person taps such spots zoomed in.",
         "",
         table,
         "",
