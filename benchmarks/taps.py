@@ -48,8 +48,9 @@ STORED_SIDE = 2560
 FINGER_CSS = (1.0, 2.0)  # a finger's miss: sd per axis, CSS px, uniform between these
 OLD_TAP_SIGMA = 3.0
 # Spots a person would tap on the whole photo are apart on the screen: no two of a photo's
-# taps closer than this fraction of its diagonal (about 30 CSS px on a phone).
-APART = 0.06
+# taps closer than this fraction of its diagonal (about 50 CSS px on a phone: closer, a tap
+# may land on another landmark's number, which selects that landmark instead).
+APART = 0.1
 LEVEL = 0.95
 CHROMIUM = "/usr/bin/chromium"
 FLAGS = [
@@ -297,7 +298,7 @@ def report(results: list[Trial], seconds: float) -> str:
         f"photo 2's phone cannot see its friend and finds the {LANDMARKS} landmarks. Each tap "
         f"aims at the true spot and misses by a finger: sd per axis uniform in "
         f"{FINGER_CSS[0]:g}-{FINGER_CSS[1]:g} CSS px, drawn per tap. Scenes whose taps come "
-        f"closer than {APART:.0%} of the photo's diagonal (about 30 CSS px on the phone) are "
+        f"closer than {APART:.0%} of the photo's diagonal (about 50 CSS px on the phone) are "
         "drawn again: a person taps such spots zoomed in.",
         "",
         table,
