@@ -16,7 +16,7 @@ APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/nu
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load demo clean
+.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load bench-suggest demo clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -56,6 +56,9 @@ bench-camera: $(INSTALLED)
 
 bench-load: $(INSTALLED)
 	$(BIN)/python benchmarks/load.py --workers 2
+
+bench-suggest: $(INSTALLED)
+	$(BIN)/python benchmarks/suggestions.py
 
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo
