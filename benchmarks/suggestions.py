@@ -75,7 +75,7 @@ def header(arguments: argparse.Namespace) -> str:
             "`default_rng((SEED, stream, index, 1))`.",
             f"- The answer: the buddy and {USED} landmarks at random, every tap with Gaussian "
             f"noise of {SIGMA:g} px per axis, `solve(..., tap_sigma={SIGMA:g}, "
-            'camera1="phone", camera2="phone")`. Searched: up to '
+            'camera1="phone", camera2="phone", fundamental_covariance=True)`. Searched: up to '
             f"{PER_KIND} other landmarks per kind of surface per scene, tapped with the same "
             f"noise, each looked for in the other photo in both directions; up to {ABSENT} "
             "spots per photo that the other does not show.",

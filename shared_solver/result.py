@@ -118,8 +118,9 @@ class SolveResult(_Frozen):
         default=None,
         description="9x9 first-order covariance of `fundamental` read row by row (F at unit "
         "norm), widened as the region is when the taps disagree; what an epipolar line's "
-        "uncertainty is computed from (shared_solver.matching). None for the plane model, "
-        "the curve of four landmarks, and answers that list several candidates.",
+        "uncertainty is computed from (shared_solver.matching). Only when asked "
+        "(solve(..., fundamental_covariance=True)); None for the plane model, the curve of "
+        "four landmarks, and answers that list several candidates.",
     )
     homography: Matrix | None = Field(default=None, description="Plane model: q ~ H p.")
     conic2: Matrix | None = Field(default=None, description="4 landmarks: e2^T C e2 = 0.")

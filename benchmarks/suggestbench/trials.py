@@ -228,6 +228,7 @@ def _answer(pair: RenderedPair, points1: Array, points2: Array, buddy: Array) ->
             image_size2=scene.image_size2,
             camera1="phone",
             camera2="phone",
+            fundamental_covariance=True,
         )
     except SolverError:
         return None

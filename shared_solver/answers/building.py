@@ -65,7 +65,9 @@ class Answer:
             distances,
             fit.fundamental,
             cameras=unknown_cameras(request),
-            fundamental_covariance=_widened(fit, fit.fundamental_covariance),
+            fundamental_covariance=_widened(fit, fit.fundamental_covariance)
+            if request.with_fundamental_covariance
+            else None,
         )
 
     @classmethod
@@ -102,7 +104,9 @@ class Answer:
             orientable=orientable,
             camera_model="pinhole",
             cameras=pinhole_cameras(request, fit),
-            fundamental_covariance=_widened(fit, fit.fundamental_covariance),
+            fundamental_covariance=_widened(fit, fit.fundamental_covariance)
+            if request.with_fundamental_covariance
+            else None,
         )
 
 
@@ -364,8 +368,8 @@ def unit(point: Array) -> tuple[float, float, float]:
 
 
 def covariance9(values: Array) -> Covariance9:
-    rows = tuple(tuple(float(v) for v in row) for row in values)
-    return cast(Covariance9, rows)
+    """A (9, 9) array as nested tuples of floats (``tolist`` converts in one call)."""
+    return cast(Covariance9, tuple(map(tuple, values.tolist())))
 
 
 def matrix(values: Array) -> Matrix:

@@ -15,7 +15,8 @@ each other, ``(a1, a2)`` is further tied to ``e2 = (x2, y2, 1)``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import functools
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -41,8 +42,9 @@ class EpipolarFit:
         dof: residual degrees of freedom (observations minus 7).
         covariance1, covariance2: (2, 2) px^2 covariance of each epipole's pixel position,
             None when that epipole is at infinity.
-        fundamental_covariance: (9, 9) first-order covariance of ``fundamental`` read row by
-            row (on its unit sphere).
+        parameters: what :attr:`fundamental_covariance` is computed from, when asked: the
+            normalised frame, (a1, a2, buddy), d(a1, a2, buddy)/d(theta) and theta's
+            covariance (None: not available).
     """
 
     fundamental: Array
@@ -53,7 +55,20 @@ class EpipolarFit:
     dof: int
     covariance1: Array | None
     covariance2: Array | None
-    fundamental_covariance: Array | None = None
+    parameters: tuple[_Frame, Array, Array, Array] | None = field(
+        default=None, repr=False, compare=False
+    )
+
+    @functools.cached_property
+    def fundamental_covariance(self) -> Array | None:
+        """(9, 9) first-order covariance of ``fundamental`` read row by row (on its unit
+        sphere), computed when first asked: most fits (mis-tap searches, ranking) never
+        need it."""
+        if self.parameters is None:
+            return None
+        frame, columns, d_columns, covariance = self.parameters
+        jacobian = _pixel_f_jacobian(frame, columns[:3], columns[3:6], columns[6:8]) @ d_columns
+        return jacobian @ covariance @ jacobian.T
 
 
 @dataclass(frozen=True)
@@ -288,7 +303,6 @@ def _fit(
     covariance = gauge_free_covariance(jacobian, gauge, 1.0)
     e1_n = np.append(buddy, 1.0)
     x, y = buddy
-    d_fundamental = _pixel_f_jacobian(frame, a1, a2, buddy) @ d_columns
     return EpipolarFit(
         fundamental=frame.pixel_f(np.column_stack([a1, a2, -(x * a1 + y * a2)])),
         epipole1=linalg.solve(frame.t1, e1_n),
@@ -298,7 +312,7 @@ def _fit(
         dof=len(r) - 7,
         covariance1=_pixel_covariance(frame.t1, e1_n, derivatives[0], covariance),
         covariance2=_pixel_covariance(frame.t2, seeker, derivatives[1], covariance),
-        fundamental_covariance=d_fundamental @ covariance @ d_fundamental.T,
+        parameters=(frame, np.concatenate([a1, a2, buddy]), d_columns, covariance),
     )
 
 

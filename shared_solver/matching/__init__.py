@@ -4,7 +4,8 @@ Every landmark one phone has tapped and the other has not lies on a known epipol
 in the other photo. This package gives:
 
 - the **band** (:func:`epipolar_band`): that line widened by its uncertainty (from
-  ``SolveResult.fundamental_covariance`` and the tap's precision), clipped to the photo,
+  ``SolveResult.fundamental_covariance``, which ``solve(..., fundamental_covariance=True)``
+  returns, and the tap's precision), clipped to the photo,
   as the phone draws it (:meth:`Band.shape`);
 - a **suggestion** (:func:`suggest`): the tapped spot's patch searched along the band by
   template matching in epipolar coordinates, offered only when the match is sure;
@@ -68,7 +69,7 @@ def guide_landmark(
     """The band, and a suggestion, for a landmark tapped at ``point`` in one photo only.
 
     Args:
-        result: the current answer.
+        result: the current answer, from ``solve(..., fundamental_covariance=True)``.
         photo1, photo2: the stored photos, (H, W, 3) uint8 BGR.
         point: (2,) where the landmark was tapped, px of photo ``tapped_in``.
         tapped_in: the photo it was tapped in; the band is in the other one.
@@ -78,8 +79,9 @@ def guide_landmark(
         search: False for the band alone (no image work).
 
     Returns:
-        None when the answer gives no band (no uncertainty of F: the plane model, the
-        curve of four landmarks, several candidates) or the band misses the other photo.
+        None when the answer gives no band (no uncertainty of F: not asked for, the plane
+        model, the curve of four landmarks, several candidates) or the band misses the
+        other photo.
     """
     epipolar = Epipolar.from_result(
         result, tapped_in=tapped_in, landmarks1=landmarks1, landmarks2=landmarks2

@@ -54,9 +54,9 @@ class Epipolar:
         """The answer's geometry from the photo a landmark was tapped in to the other.
 
         Args:
-            result: an answer of :func:`shared_solver.solve`; None is returned when it has
-                no uncertainty of F (the plane model, four landmarks' curve, or several
-                candidate geometries).
+            result: an answer of ``solve(..., fundamental_covariance=True)``; None is
+                returned when it has no uncertainty of F (not asked for, the plane model,
+                four landmarks' curve, or several candidate geometries).
             tapped_in: 1 when the landmark was tapped in photo 1 (look for it in photo 2),
                 2 the other way round.
             landmarks1, landmarks2: (N, 2) the landmarks both photos share (px), which

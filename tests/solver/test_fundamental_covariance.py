@@ -1,4 +1,5 @@
-"""The answer's ``fundamental_covariance``: the uncertainty of F that epipolar bands need.
+"""The answer's ``fundamental_covariance``: the uncertainty of F that epipolar bands need,
+returned when asked (``solve(..., fundamental_covariance=True)``).
 
 It is first order (F's derivatives through the fit's covariance), so it is checked two
 ways: the pinhole model's derivatives of F against central differences, and, for every
@@ -69,6 +70,7 @@ def _coverage(route: str) -> tuple[float, int]:
                 image_size2=scene.image_size2,
                 **marks,
                 **cameras,
+                fundamental_covariance=True,
             )
         except SolverError:
             continue
@@ -119,6 +121,7 @@ def test_exact_taps_give_a_band_through_the_truth() -> None:
         image_size2=scene.image_size2,
         camera1={"kind": "known_focal", "focal_35mm": scene.focal_35mm1},
         camera2={"kind": "known_focal", "focal_35mm": scene.focal_35mm2},
+        fundamental_covariance=True,
     )
     epipolar = Epipolar.from_result(
         result, tapped_in=1, landmarks1=scene.landmarks1[:5], landmarks2=scene.landmarks2[:5]
@@ -137,7 +140,11 @@ def test_exact_taps_give_a_band_through_the_truth() -> None:
 def test_no_covariance_where_no_single_geometry_is_claimed() -> None:
     rng = np.random.default_rng(9)
     scene = facing_scene(rng, 7)
-    sizes = {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
+    sizes = {
+        "image_size1": scene.image_size1,
+        "image_size2": scene.image_size2,
+        "fundamental_covariance": True,
+    }
     seven = solve(scene.landmarks1, scene.landmarks2, tap_sigma=1.0, **sizes)
     assert seven.candidates
     assert seven.fundamental_covariance is None
@@ -166,6 +173,7 @@ def test_the_covariance_is_symmetric_positive_and_flat_along_f() -> None:
             image_size1=scene.image_size1,
             image_size2=scene.image_size2,
             **cameras,
+            fundamental_covariance=True,
         )
         assert result.fundamental is not None
         assert result.fundamental_covariance is not None
@@ -175,3 +183,26 @@ def test_the_covariance_is_symmetric_positive_and_flat_along_f() -> None:
         assert np.linalg.eigvalsh(covariance).min() > -1e-15
         # F stays at unit norm: no variance along F itself.
         assert f @ covariance @ f < 1e-12 * np.trace(covariance)
+
+
+def test_only_when_asked() -> None:
+    """Without the flag the answer is what it was: no covariance, the same numbers."""
+    rng = np.random.default_rng(11)
+    scene = phone_scene(rng, 5)
+    taps = (
+        scene.landmarks1 + rng.normal(0.0, SIGMA, (5, 2)),
+        scene.landmarks2 + rng.normal(0.0, SIGMA, (5, 2)),
+    )
+    for cameras in ({"camera1": "phone", "camera2": "phone"}, {}):
+        options = {
+            "epipole1": scene.epipole1,
+            "tap_sigma": SIGMA,
+            "image_size1": scene.image_size1,
+            "image_size2": scene.image_size2,
+            **cameras,
+        }
+        plain = solve(*taps, **options)
+        asked = solve(*taps, **options, fundamental_covariance=True)
+        assert plain.fundamental_covariance is None
+        assert asked.fundamental_covariance is not None
+        assert asked.model_copy(update={"fundamental_covariance": None}) == plain
