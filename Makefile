@@ -22,7 +22,7 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-taps bench-load demo lock clean
+.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-taps bench-load bench-suggest demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -83,6 +83,9 @@ bench-taps: $(INSTALLED) $(APP) browser
 
 bench-load: $(INSTALLED)
 	$(BIN)/python benchmarks/load.py --workers 2
+
+bench-suggest: $(INSTALLED)
+	$(BIN)/python benchmarks/suggestions.py
 
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo

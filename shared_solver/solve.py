@@ -64,6 +64,7 @@ def solve(
     points2_sigma: ArrayLike | None = None,
     epipole1_sigma: ArrayLike | None = None,
     epipole2_sigma: ArrayLike | None = None,
+    fundamental_covariance: bool = False,
 ) -> SolveResult:
     """Where the seeker stands in the buddy's photo, from whatever the two people tapped.
 
@@ -93,6 +94,10 @@ def solve(
             sigmas in px, or (N, 2, 2) covariances in px^2.
         epipole1_sigma, epipole2_sigma: the precision of a friend's mark: a sigma in px or
             a (2, 2) covariance; for ``epipolar_line1``, the line's sigma across it.
+        fundamental_covariance: also return F's first-order covariance
+            (``SolveResult.fundamental_covariance``), from which ``shared_solver.matching``
+            draws a landmark's band in the other photo; off by default (it costs a few
+            tens of microseconds, and 81 numbers of JSON).
 
     Returns:
         A :class:`SolveResult`; ``model_dump(mode="json")`` is the REST API's JSON.
@@ -112,6 +117,7 @@ def solve(
         landmark_ids=landmark_ids,
         cameras=(camera1, camera2),
         sigmas=(points1_sigma, points2_sigma, epipole1_sigma, epipole2_sigma),
+        with_fundamental_covariance=fundamental_covariance,
     )
     taps = request.taps
     count = len(taps)
@@ -165,6 +171,7 @@ def _parse(
     landmark_ids: Sequence[int] | None,
     cameras: tuple[CameraInput, CameraInput],
     sigmas: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None, ArrayLike | None],
+    with_fundamental_covariance: bool = False,
 ) -> Request:
     sigma = validation.positive(tap_sigma, "tap_sigma")
     e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
@@ -210,7 +217,14 @@ def _parse(
         if line_normal is None
         else float(np.sqrt(line_normal @ cov_e1 @ line_normal)),
     )
-    return Request(taps, size1, size2, labels or list(range(1, len(p) + 1)), camera_pair)
+    return Request(
+        taps,
+        size1,
+        size2,
+        labels or list(range(1, len(p) + 1)),
+        camera_pair,
+        bool(with_fundamental_covariance),
+    )
 
 
 def fewest_landmarks(
