@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
-import { CURVE_TEXT, WAVE_TEXT, describeAnswer, neededText } from "./answer";
+import { CURVE_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
+import { personSize } from "./answerLayer";
 import type { Answer, FriendInPhoto, SessionState } from "./types";
 
 const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
@@ -52,15 +53,18 @@ describe("the answer on each phone", () => {
     expect(view.kind).toBe("curve");
     expect(view.text).toBe(CURVE_TEXT);
     expect(view.position).toBeNull();
-    expect(view.hasOverlay).toBe(true);
+    expect(view.curve).toEqual([[1, 0, 0], [0, 1, 0], [0, 0, -1]]);
   });
 
   it("is the position found, with its region, on the phone that did not mark", () => {
     const view = describeAnswer(state(inPhoto()), "joiner");
     expect(view.kind).toBe("position");
     expect(view.position).toEqual({ x: 300, y: 200, ellipse: RING, quality: "good", how: "solved" });
-    expect(view.text).toContain("star");
-    expect(view.news).toBe(true); // drawn on the photo without asking
+    expect(view.text).toBe(FRAME_TEXT); // what is drawn: a frame, labelled "friend"
+    expect(view.text).not.toMatch(/star|ring/);
+    expect(view.news).toBe(true); // brought into view
+    expect(view.sureness).toMatch(/^Good: /);
+    expect(view.sureness).not.toMatch(/px/);
     expect(view.seen).toBe(false);
   });
 
@@ -75,7 +79,7 @@ describe("the answer on each phone", () => {
     expect(view.seen).toBe(true);
     expect(view.text).toBe(WAVE_TEXT);
     expect(view.position).toMatchObject({ x: 10, y: 10, how: "marked", ellipse: null });
-    expect(view.news).toBe(false); // its own mark: the drawing on request
+    expect(view.news).toBe(false); // its own mark: nothing new to bring into view
   });
 
   it("shows each phone its own mark, refined, when both marked each other", () => {
@@ -97,7 +101,7 @@ describe("the answer on each phone", () => {
 
   it("says to turn when the friend is outside the photo", () => {
     const view = describeAnswer(state(inPhoto({}, { friend: [900, 200] })), "joiner");
-    expect(view.text).toContain("arrow");
+    expect(view.text).toBe(OUTSIDE_TEXT);
   });
 
   it("asks for a mark when there is a point but no sure region", () => {
@@ -129,9 +133,13 @@ describe("the answer on each phone", () => {
     expect(view.text).toBe("All landmarks are on one line.");
   });
 
-  it("counts the landmarks still needed", () => {
-    expect(neededText(3)).toBe("3 more landmarks needed");
-    expect(neededText(1)).toBe("1 more landmark needed");
-    expect(neededText(0)).toContain("Enough");
+  it("says how sure the frame is in people, never in pixels", () => {
+    const photo = { width: 640, height: 480 };
+    const person = personSize(photo);
+    const region = (across: number) => ({ center: [0, 0] as [number, number], axes: [across / 2, 2] as [number, number], angle_deg: 0 });
+    expect(surenessText(region(person), "good", photo)).toBe("Good: the frame is about one person across.");
+    expect(surenessText(region(5 * person), "good", photo)).toBe("Rough: the frame is about 5 people across.");
+    expect(surenessText(region(person), "poor", photo)).toMatch(/^Rough: /);
+    expect(surenessText(null, "good", photo)).toMatch(/^Rough: no sure region/);
   });
 });

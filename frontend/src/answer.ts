@@ -4,8 +4,10 @@
  * geometry is the server's; this only chooses words.
  */
 
+import { personSize } from "./answerLayer";
 import type { Ellipse, FriendInPhoto, Quality, Role, SessionState } from "./types";
 import { otherRole } from "./types";
+import type { Size } from "./viewTransform";
 
 export interface Position {
   x: number;
@@ -28,17 +30,24 @@ export interface AnswerView {
   position: Position | null;
   /** The other phone now shows where this phone's owner is (found, not only marked). */
   seen: boolean;
-  /** Whether the overlay tells this phone something new (it is shown without asking). */
+  /** Whether the answer tells this phone something new (where the friend is found): the
+   * view then brings it into sight. */
   news: boolean;
   warnings: string[];
   /** Numbers (as people see them) of landmarks that look mis-tapped. */
   suspects: number[];
-  /** Whether there is a server overlay to show. */
-  hasOverlay: boolean;
+  /** How sure the drawn frame is, in words a person can use ("Good: ..." / "Rough: ..."). */
+  sureness: string | null;
+  /** The curve the friend is on (3x3 conic, row by row), when there is no point yet. */
+  curve: number[][] | null;
 }
 
 export const CURVE_TEXT =
   "Your friend is somewhere on the yellow curve: 1 more landmark pins it down";
+export const FRAME_TEXT = "Your friend is inside the yellow frame marked \u201cfriend\u201d.";
+export const LIKELY_TEXT =
+  "Your friend is most likely inside the yellow frame marked \u201cfriend?\u201d. Ask them to mark you as a point to be sure.";
+export const OUTSIDE_TEXT = "Your friend is outside your photo: turn towards the yellow arrow at its edge.";
 export const WAVE_TEXT = "Stay where you are and wave.";
 
 const NOTHING: AnswerView = {
@@ -49,7 +58,8 @@ const NOTHING: AnswerView = {
   news: false,
   warnings: [],
   suspects: [],
-  hasOverlay: false,
+  sureness: null,
+  curve: null,
 };
 
 function isInside(x: number, y: number, size: { width: number; height: number } | null | undefined): boolean {
@@ -68,7 +78,7 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
   const base = {
     warnings: mine.warnings ?? [],
     suspects: answer.suspects ?? [],
-    hasOverlay: state.answer_version !== null && state.answer_version !== undefined,
+    curve: mine.curve ?? null,
     // The other phone found where this phone's owner is (not only refined its own mark).
     seen: theirs?.how === "solved" && (theirs.friend != null || theirs.curve != null),
   };
@@ -78,6 +88,8 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
   const position: Position | null = mine.friend
     ? { x, y, ellipse: region, quality: answer.quality, how: mine.how }
     : null;
+  const photo = state.photos[role];
+  const sureness = position && photo ? surenessText(region, answer.quality, photo) : null;
 
   if (mine.how !== "solved") {
     // This phone marked its friend (or drew a line through them): its mark, refined.
@@ -85,31 +97,41 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
       theirs?.how === "marked"
         ? "You marked each other: your mark, refined by the landmarks."
         : mine.how === "on_line"
-          ? `Your friend is most likely at the yellow ring on your line. ${WAVE_TEXT}`
+          ? `Your friend is most likely inside the yellow frame on your line. ${WAVE_TEXT}`
           : WAVE_TEXT;
-    return { ...base, kind: position ? "position" : "elsewhere", position, news, text };
+    return { ...base, kind: position ? "position" : "elsewhere", position, news, text, sureness };
   }
   if (!position) {
-    if (mine.curve) return { ...base, kind: "curve", position: null, news, text: CURVE_TEXT };
+    if (mine.curve) return { ...base, kind: "curve", position: null, news, text: CURVE_TEXT, sureness: null };
     const behind = (mine.friend_h?.[2] ?? 0) < 0;
     const text = behind
       ? "Your friend is behind you: turn around."
       : "Your friend is far off to the side: follow the yellow arrow.";
-    return { ...base, kind: "elsewhere", position: null, news, text };
+    return { ...base, kind: "elsewhere", position: null, news, text, sureness: null };
   }
   let text: string;
   if (!isInside(x, y, state.photos[role])) {
-    text = "Your friend is outside your photo: turn towards the yellow arrow.";
+    text = OUTSIDE_TEXT;
   } else if (region === null) {
-    text = "Your friend is most likely at the yellow star. Ask them to mark you as a point to be sure.";
+    text = LIKELY_TEXT;
   } else {
-    text = "Your friend is at the yellow star, inside the yellow ring.";
+    text = FRAME_TEXT;
   }
-  return { ...base, kind: "position", position, news, text };
+  return { ...base, kind: "position", position, news, text, sureness };
 }
 
-/** The landmark counter: how many more landmarks both phones need for a position. */
-export function neededText(count: number): string {
-  if (count <= 0) return "Enough landmarks \u2713";
-  return count === 1 ? "1 more landmark needed" : `${count} more landmarks needed`;
+/** A region this many people across (or fewer) is said to be good, unless the fit is poor. */
+export const GOOD_PEOPLE = 2;
+
+/**
+ * How sure the frame is, in people rather than pixels of someone's photo: the 95 % region's
+ * long diameter in persons far across a hall (answerLayer.ts, `personSize`).
+ */
+export function surenessText(region: Ellipse | null, quality: Quality, photo: Size): string {
+  if (region === null) return "Rough: no sure region yet.";
+  const people = (2 * Math.max(...region.axes)) / personSize(photo);
+  if (people <= GOOD_PEOPLE) {
+    return quality === "poor" ? "Rough: the landmarks disagree; re-check them." : "Good: the frame is about one person across.";
+  }
+  return `Rough: the frame is about ${Math.round(people)} people across.`;
 }

@@ -7,7 +7,7 @@
 import type { Point, Size } from "./viewTransform";
 
 /** Distance (screen px, along x and y) from a landmark's point to its label's centre. */
-export const LABEL_OFFSET = 22;
+export const LABEL_OFFSET = 18;
 /** The loupe's side, screen px. */
 export const LOUPE_SIZE = 132;
 /** Gap between the finger and the loupe, screen px. */

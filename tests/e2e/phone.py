@@ -89,10 +89,12 @@ TAP_POINT = f"""(steps) => {{
 }}"""
 
 # The photo view's published transform (PhotoView.tsx): pixel (x, y) of the photo is at
-# (left + tx + scale * x, top + ty + scale * y) in client coordinates.
+# (left + tx + scale * x, top + ty + scale * y) in client coordinates; none while the view
+# glides to an answer (a tap then would land elsewhere).
 TRANSFORM = f"""(steps) => {{
   const element = ({RESOLVE})(steps)[0];
   if (!element || !element.hasAttribute("data-scale")) return null;
+  if (element.hasAttribute("data-gliding")) return null;
   const rect = element.getBoundingClientRect();
   const read = (name) => Number(element.getAttribute(name));
   return [rect.left, rect.top, read("data-scale"), read("data-tx"), read("data-ty")];

@@ -2,7 +2,15 @@
  * The tap surface: the stored photo, zoomable and pannable, with this phone's marks drawn
  * on top at a constant size, and the loupe while a finger presses. It publishes its view
  * transform as data attributes (data-scale, data-tx, data-ty): photo pixel (x, y) is at
- * (rect.left + tx + scale * x, rect.top + ty + scale * y).
+ * (rect.left + tx + scale * x, rect.top + ty + scale * y); `data-gliding` while the view glides
+ * to the answer (reframe.ts).
+ *
+ * The controls over the photo (the whole-photo button, the arrow to the answer) are not
+ * inside the photo view but beside it, in a layer of their own over it. Browsers move a
+ * finger's touch onto a nearby element that takes taps (Chromium's touch adjustment), and
+ * they pass over an element that takes taps when an element inside it takes them too: were
+ * the photo view the controls' parent, every touch near a control would go to the control.
+ * As siblings they compete, and a touch on the photo beside a control stays on the photo.
  */
 
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
@@ -20,8 +28,21 @@ import {
 } from "../gestures";
 import { clipLine, type Landmark, type TapSet } from "../landmarks";
 import { LOUPE_SIZE, labelPositions, loupePosition, loupeZoom } from "../markLayout";
+import type { AnswerView } from "../answer";
+import { edgeArrow } from "../answerLayer";
 import { FRIEND_COLOUR, OUTLINE_COLOUR, landmarkColour } from "../palette";
 import { tapSigma } from "../precision";
+import {
+  GLIDE_MS,
+  clearArea,
+  clipToPhoto,
+  easeInOut,
+  frameTarget,
+  glide,
+  movedNoticeably,
+  type Box,
+  type Insets,
+} from "../reframe";
 import type { Tap } from "../session";
 import {
   centreOn,
@@ -36,8 +57,8 @@ import {
   type Size,
   type ViewTransform,
 } from "../viewTransform";
-import { FitIcon } from "./icons";
-import { OverlayLayer } from "./OverlayLayer";
+import { AnswerLayer, frameOf } from "./AnswerLayer";
+import { ArrowIcon, FitIcon } from "./icons";
 
 export interface Focus {
   id: number;
@@ -47,8 +68,11 @@ export interface Focus {
 interface Props {
   photoUrl: string;
   photoSize: Size;
-  /** The server's drawing of the answer, shown over the photo (same pixels). */
-  overlayUrl: string | null;
+  /** The answer, drawn over the photo by the phone (AnswerLayer). */
+  answer: AnswerView;
+  /** Screen px along each side of the view covered by the status: an answer is brought
+   * into the rest. */
+  insets: Insets;
   taps: TapSet;
   selected: number | null;
   suspects: readonly number[];
@@ -64,6 +88,8 @@ interface Props {
 
 /** Mouse events this soon after a touch are the browser's imitation of it: ignored. */
 const TOUCH_MOUSE_GAP_MS = 1000;
+/** The arrow to an answer out of sight: how far inside the view's clear edge, screen px. */
+const ARROW_INSET = 34;
 
 function sameSize(a: Size | null, b: Size | null): boolean {
   return !!a && !!b && a.width === b.width && a.height === b.height;
@@ -77,6 +103,12 @@ export function PhotoView(props: Props) {
   const [transform, setTransform] = useState<ViewTransform | null>(null);
   const [gesture, setGesture] = useState<Gesture>(IDLE);
   const [loaded, setLoaded] = useState(false);
+  const [gliding, setGliding] = useState(false);
+  // The glide's animation frame; the answer last brought into view; one waiting for a
+  // gesture to end.
+  const glideFrame = useRef<number | null>(null);
+  const shownBox = useRef<Box | null>(null);
+  const pendingBox = useRef<Box | null>(null);
   // What the native event handlers (attached once) need to read now.
   const live = useRef({
     props,
@@ -96,6 +128,41 @@ export function PhotoView(props: Props) {
     live.current.gesture = next;
     setGesture(next);
   };
+
+  const stopGlide = (): void => {
+    if (glideFrame.current !== null) cancelAnimationFrame(glideFrame.current);
+    glideFrame.current = null;
+    setGliding(false);
+  };
+  /** Glide the view so that `box` (photo px) is in sight with room around it. */
+  const bringIntoView = (box: Box): void => {
+    const { transform: from, view: size, props: now } = live.current;
+    if (!from || !size) return;
+    const to = frameTarget(box, from, size, now.photoSize, now.insets);
+    stopGlide();
+    if (!to) return;
+    const start = performance.now();
+    setGliding(true);
+    const step = (time: number): void => {
+      const k = easeInOut((time - start) / GLIDE_MS);
+      applyTransform(clampTransform(glide(from, to, k, size), size, live.current.props.photoSize));
+      if (k < 1) {
+        glideFrame.current = requestAnimationFrame(step);
+      } else {
+        glideFrame.current = null;
+        setGliding(false);
+      }
+    };
+    glideFrame.current = requestAnimationFrame(step);
+  };
+  /** After a gesture: an answer that arrived during it is brought into view now. */
+  const gestureEnded = (): void => {
+    const box = pendingBox.current;
+    pendingBox.current = null;
+    if (box) bringIntoView(box);
+  };
+  const live2 = useRef({ bringIntoView, stopGlide, gestureEnded });
+  live2.current = { bringIntoView, stopGlide, gestureEnded };
 
   // Measure the view before the first paint, and on every resize (rotation, bars).
   useLayoutEffect(() => {
@@ -137,6 +204,21 @@ export function PhotoView(props: Props) {
     const scale = Math.max(current.scale, fitTransform(size, photoSize).scale * 3);
     applyTransform(centreOn(landmark, scale, size, photoSize));
   }, [props.focus?.nonce]);
+
+  // A new answer, or one that moved noticeably: brought into view, after the gesture in
+  // progress if there is one.
+  const frame = frameOf(props.answer, photoSize);
+  const answerBox: Box | null = frame && props.answer.news ? { centre: frame.centre, half: frame.half } : null;
+  const boxKey = answerBox ? `${answerBox.centre.x},${answerBox.centre.y},${answerBox.half.x}` : "";
+  useEffect(() => {
+    if (!answerBox || !view || !transform) return;
+    if (!movedNoticeably(shownBox.current, answerBox)) return;
+    shownBox.current = answerBox;
+    if (live.current.fingers.size > 0) pendingBox.current = answerBox;
+    else bringIntoView(answerBox);
+  }, [boxKey, view !== null && transform !== null]);
+
+  useEffect(() => () => stopGlide(), []);
 
   // Touch, mouse and wheel, attached natively: touch handlers must be able to
   // preventDefault (no page scroll or zoom, no imitated mouse events).
@@ -189,6 +271,7 @@ export function PhotoView(props: Props) {
     const onTouchStart = (event: TouchEvent): void => {
       if (isUi(event.target)) return;
       event.preventDefault();
+      live2.current.stopGlide();
       live.current.lastTouch = Date.now();
       const { fingers } = live.current;
       for (const touch of [...event.touches, ...event.changedTouches]) {
@@ -238,6 +321,7 @@ export function PhotoView(props: Props) {
         finish(next.outcome);
       }
       applyGesture(g);
+      if (fingers.size === 0) live2.current.gestureEnded();
     };
 
     // --- mouse ---
@@ -256,6 +340,7 @@ export function PhotoView(props: Props) {
       const next = fingerUp(live.current.gesture, fingers, 0, false, event.timeStamp);
       applyGesture(next.gesture);
       finish(next.outcome);
+      live2.current.gestureEnded();
     };
     const onMouseDown = (event: MouseEvent): void => {
       if (event.button !== 0 || isUi(event.target)) return;
@@ -263,6 +348,7 @@ export function PhotoView(props: Props) {
       const t = live.current.transform;
       if (!t || live.current.fingers.size > 0) return;
       event.preventDefault();
+      live2.current.stopGlide();
       live.current.fingers.set(0, local(event.clientX, event.clientY));
       const grab = grabAt(event.target);
       applyGesture(fingerDown(live.current.gesture, live.current.fingers, 0, grab, t, true, event.timeStamp));
@@ -273,6 +359,7 @@ export function PhotoView(props: Props) {
       const { transform: t, view: v, props: now } = live.current;
       if (!t || !v) return;
       event.preventDefault();
+      live2.current.stopGlide();
       const factor = wheelFactor(event.deltaY, event.deltaMode);
       applyTransform(zoomAbout(t, factor, local(event.clientX, event.clientY), v, now.photoSize));
     };
@@ -308,31 +395,61 @@ export function PhotoView(props: Props) {
         "data-scale": String(transform.scale),
         "data-tx": String(transform.tx),
         "data-ty": String(transform.ty),
+        ...(gliding ? { "data-gliding": "" } : {}),
       }
     : {};
 
+  const zoomed = ready && !isFitted(transform, view, photoSize);
   return (
-    <div
-      ref={box}
-      class="photo-view"
-      data-testid="photo-view"
-      role="application"
-      aria-label="Your photo: tap to mark, two fingers to zoom"
-      {...attributes}
-    >
+    <>
+      <div
+        ref={box}
+        class="photo-view"
+        data-testid="photo-view"
+        role="application"
+        aria-label="Your photo: tap to mark, two fingers to zoom"
+        {...attributes}
+      >
+        {ready && (
+          <Drawing
+            {...props}
+            view={view}
+            transform={transform}
+            gesture={gesture}
+            image={image}
+            loaded={loaded}
+            onLoaded={() => setLoaded(true)}
+          />
+        )}
+      </div>
       {ready && (
-        <Drawing
-          {...props}
-          view={view}
-          transform={transform}
-          gesture={gesture}
-          image={image}
-          loaded={loaded}
-          onLoaded={() => setLoaded(true)}
-          onFit={() => applyTransform(fitTransform(view, photoSize))}
-        />
+        <div class="photo-controls">
+          {zoomed && <p class="pan-hint">Drag to look around</p>}
+          <AnswerArrow
+            answer={props.answer}
+            photoSize={photoSize}
+            transform={transform}
+            view={view}
+            insets={props.insets}
+            onShow={() => answerBox && bringIntoView(answerBox)}
+          />
+          {zoomed && (
+            <button
+              type="button"
+              class="fit-button"
+              data-testid="fit"
+              aria-label="Whole photo"
+              onClick={() => {
+                stopGlide();
+                applyTransform(fitTransform(view, photoSize));
+              }}
+            >
+              <FitIcon />
+            </button>
+          )}
+        </div>
       )}
-    </div>
+    </>
   );
 }
 
@@ -343,10 +460,9 @@ interface DrawingProps extends Props {
   image: { current: HTMLImageElement | null };
   loaded: boolean;
   onLoaded: () => void;
-  onFit: () => void;
 }
 
-/** The picture: photo, answer overlay, marks, loupe. */
+/** The picture: photo, marks, the answer on top, loupe. */
 function Drawing(props: DrawingProps) {
   const { view, transform: t, gesture, taps, photoSize, selected, suspects } = props;
   const layer = `width:${photoSize.width}px;height:${photoSize.height}px;transform:translate(${t.tx}px,${t.ty}px) scale(${t.scale})`;
@@ -368,7 +484,6 @@ function Drawing(props: DrawingProps) {
     [...friends, ...props.keepClear].map(screen),
   );
   const target = loupeTarget(gesture);
-  const zoomed = !isFitted(t, view, photoSize);
 
   return (
     <>
@@ -381,7 +496,6 @@ function Drawing(props: DrawingProps) {
         draggable={false}
         onLoad={props.onLoaded}
       />
-      {props.overlayUrl && <OverlayLayer url={props.overlayUrl} style={layer} />}
       <svg class="lines" width={view.width} height={view.height} aria-hidden="true">
         {line && (
           <g>
@@ -432,6 +546,7 @@ function Drawing(props: DrawingProps) {
           </div>
         );
       })}
+      <AnswerLayer answer={props.answer} transform={t} view={view} photo={photoSize} />
       {target && props.image.current && (
         <Loupe
           target={target}
@@ -444,12 +559,39 @@ function Drawing(props: DrawingProps) {
         />
       )}
       {!props.loaded && <p class="photo-loading">Loading photo...</p>}
-      {zoomed && (
-        <button type="button" class="fit-button" data-ui="" aria-label="Whole photo" onClick={props.onFit}>
-          <FitIcon />
-        </button>
-      )}
     </>
+  );
+}
+
+/** An arrow at the view's edge towards an answer out of sight; a tap brings it into view. */
+interface ArrowProps {
+  answer: AnswerView;
+  photoSize: Size;
+  transform: ViewTransform;
+  view: Size;
+  insets: Insets;
+  onShow: () => void;
+}
+
+function AnswerArrow({ answer, photoSize, transform: t, view, insets, onShow }: ArrowProps) {
+  const frame = frameOf(answer, photoSize);
+  if (!frame) return null;
+  const target = toScreen(t, clipToPhoto({ centre: frame.centre, half: frame.half }, photoSize).centre);
+  // Out of the view, not merely under the status (which lets the photo show through).
+  const arrow = edgeArrow(target, clearArea(view, { ...insets, top: insets.left }), ARROW_INSET);
+  if (!arrow) return null;
+  const degrees = (arrow.angle * 180) / Math.PI;
+  return (
+    <button
+      type="button"
+      class="answer-arrow"
+      data-testid="answer-arrow"
+      aria-label="Show where your friend is"
+      style={`${at(arrow.at)};transform:translate(-50%,-50%) rotate(${degrees}deg)`}
+      onClick={onShow}
+    >
+      <ArrowIcon />
+    </button>
   );
 }
 

@@ -1,19 +1,22 @@
 /**
- * Tapping: the status of the answer on top, the photo in the middle, what to tap next and
- * the tools at the bottom (in reach of the thumb). The heights of the bars are fixed, so
- * the photo never jumps while the answer or a prompt changes.
+ * Tapping, full-bleed: the photo takes the screen; the answer's status is overlaid compactly
+ * on its top (it lets taps through to the photo but for its own buttons); what to do next
+ * and the tools are below it, in reach of the thumb and away from the photo's tappable area.
+ * Every word is this phone's own (nextStep.ts): never a count that mixes the two phones.
  */
 
 import type { ComponentChildren } from "preact";
-import { useEffect, useState } from "preact/hooks";
-import { cropUrl, overlayUrl, photoUrl } from "../api";
-import { describeAnswer, neededText, type AnswerView } from "../answer";
-import { canUndo, friendMarked, fromServerTaps, landmarkIds, nextLandmark } from "../landmarks";
+import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
+import { cropUrl, photoUrl } from "../api";
+import { describeAnswer, type AnswerView } from "../answer";
+import { canUndo, friendMarked, fromServerTaps, landmarkIds } from "../landmarks";
 import { lensNote } from "../lens";
+import { nextStep, type Step } from "../nextStep";
 import { landmarkColour } from "../palette";
+import type { Insets } from "../reframe";
 import type { Mode, SessionController, SessionView } from "../session";
 import { otherRole, type SessionState } from "../types";
-import { LineIcon, PersonIcon, PinIcon, TrashIcon, UndoIcon, EyeIcon } from "./icons";
+import { LineIcon, PersonIcon, PinIcon, TrashIcon, UndoIcon } from "./icons";
 import { PhotoView, type Focus } from "./PhotoView";
 import { UploadStatus } from "./PhotoStep";
 
@@ -24,21 +27,33 @@ interface Props {
   top: ComponentChildren;
 }
 
+/** Room kept clear at the view's sides and bottom when the answer is brought into view. */
+const MARGIN = 12;
+
 export function TapScreen({ controller, view, state, top }: Props) {
   const { credentials, editor, photo } = view;
   const role = credentials.role;
   const answerState = view.answerState ?? state;
   const answer = describeAnswer(answerState, role);
-  // The answer is drawn on the photo when it tells this phone something new (where the
-  // friend is found); a phone that marked its friend sees it on request. A choice sticks.
-  const [chosen, setChosen] = useState<boolean | null>(null);
-  const showAnswer = chosen ?? answer.news;
   const [focus, setFocus] = useState<Focus | null>(null);
+  const status = useRef<HTMLElement>(null);
+  const [covered, setCovered] = useState(0);
 
   const focusOn = (id: number): void => {
     controller.select(id);
     setFocus({ id, nonce: Date.now() });
   };
+
+  // How much of the photo's top the status covers: an answer is brought into the rest.
+  useLayoutEffect(() => {
+    const element = status.current;
+    if (!element) return;
+    const measure = (): void => setCovered(element.getBoundingClientRect().height);
+    measure();
+    const observer = new ResizeObserver(measure);
+    observer.observe(element);
+    return () => observer.disconnect();
+  }, [photo !== null]);
 
   // A keyboard on a desktop: undo, delete, deselect.
   useEffect(() => {
@@ -58,41 +73,60 @@ export function TapScreen({ controller, view, state, top }: Props) {
   }, [controller]);
 
   if (!photo) return null;
-  const version = answerState.answer_version;
-  const overlay =
-    answer.hasOverlay && showAnswer && typeof version === "number" ? overlayUrl(credentials, role, version) : null;
+  const step = stepOf(state, view, answer);
+  const insets: Insets = { top: covered + MARGIN, right: MARGIN, bottom: MARGIN, left: MARGIN };
 
   return (
     <main class="screen session tap-screen">
       {top}
-      <StatusPanel
-        hint={statusHint(state, view)}
-        saveError={view.save.status === "error" ? view.save.message : null}
-        state={state}
-        answer={answer}
-        lens={lensNote(state.photos[role])}
-        showAnswer={showAnswer}
-        onToggleAnswer={() => setChosen(!showAnswer)}
-        onRecheck={focusOn}
-      />
-      <PhotoView
-        photoUrl={photoUrl(credentials, role, photo.key)}
-        photoSize={photo.size}
-        overlayUrl={overlay}
-        taps={editor.taps}
-        selected={editor.selected}
-        suspects={answer.suspects}
-        linePoint={view.linePoint}
-        keepClear={overlay && answer.position ? [answer.position] : []}
-        focus={focus}
-        onTap={(at) => controller.tap(at)}
-        onMove={(id, to) => controller.moveLandmark(id, to)}
-        onSelect={(id) => controller.select(id)}
-      />
-      <Prompt controller={controller} view={view} state={state} />
+      <div class="stage">
+        <PhotoView
+          photoUrl={photoUrl(credentials, role, photo.key)}
+          photoSize={photo.size}
+          answer={answer}
+          insets={insets}
+          taps={editor.taps}
+          selected={editor.selected}
+          suspects={answer.suspects}
+          linePoint={view.linePoint}
+          keepClear={answer.position ? [answer.position] : []}
+          focus={focus}
+          onTap={(at) => controller.tap(at)}
+          onMove={(id, to) => controller.moveLandmark(id, to)}
+          onSelect={(id) => controller.select(id)}
+        />
+        <StatusPanel
+          panel={status}
+          hint={statusHint(state, view)}
+          saveError={view.save.status === "error" ? view.save.message : null}
+          answer={answer}
+          lens={lensNote(state.photos[role])}
+          onRecheck={focusOn}
+        />
+      </div>
+      <Prompt controller={controller} view={view} state={state} step={step} />
       <Toolbar controller={controller} view={view} />
     </main>
   );
+}
+
+/** This phone's next step, from the state and its own taps. */
+function stepOf(state: SessionState, view: SessionView, answer: AnswerView): Step {
+  const role = view.credentials.role;
+  const other = otherRole(role);
+  const theirs = fromServerTaps(state.taps[other]);
+  const mine = view.editor.taps;
+  return nextStep({
+    mine: landmarkIds(mine),
+    theirs: landmarkIds(theirs),
+    skipped: view.skipped,
+    needed: state.landmarks_needed,
+    theirPhoto: Boolean(state.photos[other]),
+    iMarked: friendMarked(mine),
+    theyMarked: friendMarked(theirs),
+    toldWhere: answer.news && answer.kind !== "none" && answer.kind !== "refused",
+    seen: answer.seen,
+  });
 }
 
 /** What to do while there is no answer yet. */
@@ -109,34 +143,26 @@ function statusHint(state: SessionState, view: SessionView): string {
 }
 
 interface StatusProps {
+  panel: { current: HTMLElement | null };
   hint: string;
   saveError: string | null;
-  state: SessionState;
   answer: AnswerView;
   /** What the phone says of its photo's lens. */
   lens: string | null;
-  showAnswer: boolean;
-  onToggleAnswer: () => void;
   onRecheck: (id: number) => void;
 }
 
-function StatusPanel({ hint, saveError, state, answer, lens, showAnswer, onToggleAnswer, onRecheck }: StatusProps) {
-  const count = state.landmarks_needed;
+/**
+ * The answer's status over the photo's top: the sentence saying what is drawn, how sure it
+ * is in words, warnings, and a button per landmark to re-check. Only its buttons take taps;
+ * elsewhere taps reach the photo (a sibling, so a touch beside a button stays on the photo:
+ * PhotoView.tsx).
+ */
+function StatusPanel({ panel, hint, saveError, answer, lens, onRecheck }: StatusProps) {
   const { position } = answer;
   const ellipse = position?.ellipse ?? null;
-  const refined = position !== null && position.how !== "solved";
   return (
-    <section class="status" aria-live="polite">
-      <div class="status-row">
-        <span class={`needed ${count === 0 ? "done" : ""}`} data-testid="landmarks-needed" data-count={String(count)}>
-          {neededText(count)}
-        </span>
-        {answer.hasOverlay && (
-          <button type="button" class="chip" onClick={onToggleAnswer} aria-pressed={showAnswer}>
-            <EyeIcon /> {showAnswer ? "Hide" : "Answer"}
-          </button>
-        )}
-      </div>
+    <section class="status" aria-live="polite" ref={panel}>
       {saveError && (
         <p class="save-error" role="alert">
           {saveError}
@@ -158,32 +184,27 @@ function StatusPanel({ hint, saveError, state, answer, lens, showAnswer, onToggl
           {answer.text}
         </p>
       )}
-      {(position || answer.suspects.length > 0) && (
+      {position && (
+        <p
+          class={`result-position quality-${position.quality}`}
+          data-testid="result-position"
+          data-x={String(position.x)}
+          data-y={String(position.y)}
+          data-quality={position.quality}
+          data-how={position.how}
+          {...(ellipse
+            ? {
+                "data-axis-a": String(ellipse.axes[0]),
+                "data-axis-b": String(ellipse.axes[1]),
+                "data-angle": String(ellipse.angle_deg),
+              }
+            : {})}
+        >
+          {answer.sureness ?? (position.how === "solved" ? "" : "Your mark, refined by the landmarks.")}
+        </p>
+      )}
+      {answer.suspects.length > 0 && (
         <div class="status-row wrap">
-          {position && (
-            <p
-              class={`result-position quality-${position.quality}`}
-              data-testid="result-position"
-              data-x={String(position.x)}
-              data-y={String(position.y)}
-              data-quality={position.quality}
-              data-how={position.how}
-              {...(ellipse
-                ? {
-                    "data-axis-a": String(ellipse.axes[0]),
-                    "data-axis-b": String(ellipse.axes[1]),
-                    "data-angle": String(ellipse.angle_deg),
-                  }
-                : {})}
-            >
-              Quality: {position.quality}
-              {ellipse
-                ? ` \u00b7 \u00b1${Math.round(ellipse.axes[0])} px`
-                : refined
-                  ? " \u00b7 your mark, refined"
-                  : " \u00b7 no sure region"}
-            </p>
-          )}
           {answer.suspects.map((id) => (
             <button type="button" class="chip suspect" key={id} onClick={() => onRecheck(id)}>
               Re-check #{id}
@@ -204,17 +225,31 @@ function StatusPanel({ hint, saveError, state, answer, lens, showAnswer, onToggl
   );
 }
 
-function Prompt({ controller, view, state }: { controller: SessionController; view: SessionView; state: SessionState }) {
+interface PromptProps {
+  controller: SessionController;
+  view: SessionView;
+  state: SessionState;
+  step: Step;
+}
+
+/** What this phone does next. Publishes the state's `landmarks_needed` (data-needed) and
+ * how many landmarks this phone is asked to tap (data-to-tap), for the tests. */
+function Prompt({ controller, view, state, step }: PromptProps) {
   const { credentials, editor, mode } = view;
   const other = otherRole(credentials.role);
   const theirTaps = fromServerTaps(state.taps[other]);
-  const next = nextLandmark(landmarkIds(editor.taps), landmarkIds(theirTaps), view.skipped);
   const marked = friendMarked(editor.taps);
+  const data = {
+    "data-testid": "next-step",
+    "data-kind": mode === "landmark" ? step.kind : mode,
+    "data-needed": String(state.landmarks_needed),
+    "data-to-tap": String(step.toTap),
+  };
 
   if (view.upload.phase !== "idle") {
     // A new photo on its way: its progress (or why it failed) instead of the prompt.
     return (
-      <section class="prompt upload">
+      <section class="prompt upload" {...data}>
         <UploadStatus controller={controller} view={view} />
       </section>
     );
@@ -222,8 +257,8 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
 
   if (mode === "friend") {
     return (
-      <section class="prompt" data-testid="friend-prompt">
-        <div class="prompt-text">
+      <section class="prompt" {...data}>
+        <div class="prompt-text" data-testid="friend-prompt">
           <strong>{marked ? "Move your mark?" : "Tap your friend"}</strong>
           <span>{marked ? "Tap where they are." : "Not sure where? Line."}</span>
         </div>
@@ -241,8 +276,8 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
   }
   if (mode === "line") {
     return (
-      <section class="prompt" data-testid="line-prompt">
-        <div class="prompt-text">
+      <section class="prompt" {...data}>
+        <div class="prompt-text" data-testid="line-prompt">
           <strong>{view.linePoint ? "Now a second point" : "Somewhere along here?"}</strong>
           <span>
             {view.linePoint ? "Tap another point on the line." : "Tap 2 points on a line through your friend."}
@@ -254,18 +289,23 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
       </section>
     );
   }
-  const swatch = <span class="swatch" style={`--c:${landmarkColour(next.id)}`}>{next.id}</span>;
+  const { next } = step;
+  const swatch = (
+    <span class="swatch" style={`--c:${landmarkColour(next.id)}`} data-testid="next-number">
+      #{next.id}
+    </span>
+  );
   if (next.find) {
     const theirs = theirTaps.landmarks.find((l) => l.id === next.id);
     const key = theirs ? `${theirs.x},${theirs.y}` : "";
     return (
-      <section class="prompt find" data-testid="find-prompt" data-id={String(next.id)}>
-        <img class="crop" src={cropUrl(credentials, other, next.id, key)} width={64} height={64} alt={`Landmark #${next.id} in the other photo`} />
-        <div class="prompt-text">
-          <strong>
-            Find {swatch} here
-          </strong>
-          <span>Tap the same spot as in your friend's photo.</span>
+      <section class="prompt find" {...data}>
+        <div class="prompt-main" data-testid="find-prompt" data-id={String(next.id)}>
+          <img class="crop" src={cropUrl(credentials, other, next.id, key)} width={64} height={64} alt={`Landmark #${next.id} in the other photo`} />
+          <div class="prompt-text">
+            <strong data-testid="step-title">{step.title}</strong>
+            <span data-testid="step-detail">{step.detail}</span>
+          </div>
         </div>
         <button type="button" class="button secondary small" onClick={() => controller.skip(next.id)}>
           Can't see it
@@ -274,11 +314,12 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
     );
   }
   return (
-    <section class="prompt">
+    <section class={`prompt ${step.kind}`} {...data}>
       <div class="prompt-text">
-        <strong>Tap a landmark {swatch}</strong>
-        <span>A spot you both can see: a corner, a sign, a lamp.</span>
+        <strong data-testid="step-title">{step.title}</strong>
+        <span data-testid="step-detail">{step.detail}</span>
       </div>
+      {step.kind !== "wait" && swatch}
     </section>
   );
 }

@@ -81,3 +81,11 @@ export const EyeIcon = () => (
     <circle cx="12" cy="12" r="3" />
   </Icon>
 );
+
+/** Points right (along +x): rotated to point at what it shows. */
+export const ArrowIcon = () => (
+  <Icon size={28}>
+    <path d="M4 12h15" />
+    <path d="M13 6l6 6-6 6" />
+  </Icon>
+);

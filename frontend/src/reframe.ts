@@ -1,0 +1,132 @@
+/**
+ * Bringing the answer into view: when it first arrives, or moves noticeably, the view
+ * glides to show it with some room around it (unless the person is in the middle of a
+ * gesture: then it waits); when it is out of sight, an arrow at the view's edge points to
+ * it (answerLayer.ts, `edgeArrow`).
+ */
+
+import {
+  centreOn,
+  clampTransform,
+  fitTransform,
+  scaleLimits,
+  toPhoto,
+  type Point,
+  type Size,
+  type ViewTransform,
+} from "./viewTransform";
+
+/** A box in photo px: its centre and half-sizes. */
+export interface Box {
+  centre: Point;
+  half: { x: number; y: number };
+}
+
+/** Screen px along each side of the view hidden under the status or kept as a margin. */
+export interface Insets {
+  top: number;
+  right: number;
+  bottom: number;
+  left: number;
+}
+
+/** Room around the answer when the view reframes: the box shown this many times its size. */
+export const CONTEXT = 4;
+/** How long the glide to the answer lasts, ms. */
+export const GLIDE_MS = 450;
+
+/** The part of the view that is not covered, in screen px. */
+export function clearArea(view: Size, insets: Insets): { left: number; top: number; right: number; bottom: number } {
+  return {
+    left: insets.left,
+    top: insets.top,
+    right: Math.max(insets.left + 1, view.width - insets.right),
+    bottom: Math.max(insets.top + 1, view.height - insets.bottom),
+  };
+}
+
+/** Whether the whole box is in the clear part of the view at `t`. */
+export function boxInView(box: Box, t: ViewTransform, view: Size, insets: Insets): boolean {
+  const area = clearArea(view, insets);
+  const left = t.tx + t.scale * (box.centre.x - box.half.x);
+  const right = t.tx + t.scale * (box.centre.x + box.half.x);
+  const top = t.ty + t.scale * (box.centre.y - box.half.y);
+  const bottom = t.ty + t.scale * (box.centre.y + box.half.y);
+  return left >= area.left && right <= area.right && top >= area.top && bottom <= area.bottom;
+}
+
+/**
+ * Where the view should go to show `box` (clipped to the photo) with room around it, or
+ * null when it is already in view at `current`. It zooms out as far as needed to fit
+ * {@link CONTEXT} times the box in the clear area, never in further than `current`.
+ */
+export function frameTarget(box: Box, current: ViewTransform, view: Size, photo: Size, insets: Insets): ViewTransform | null {
+  const clipped = clipToPhoto(box, photo);
+  if (boxInView(clipped, current, view, insets)) return null;
+  const area = clearArea(view, insets);
+  const width = area.right - area.left;
+  const height = area.bottom - area.top;
+  const fits = Math.min(width / (2 * CONTEXT * clipped.half.x), height / (2 * CONTEXT * clipped.half.y));
+  const fitted = fitTransform(view, photo).scale;
+  const chosen = Math.max(fitted, Math.min(current.scale, fits));
+  // The box's centre in the middle of the clear area, not of the whole view.
+  const shift = { x: (area.left + area.right - view.width) / 2, y: (area.top + area.bottom - view.height) / 2 };
+  const at = (scale: number): ViewTransform => {
+    const centred = centreOn(clipped.centre, scale, view, photo);
+    return clampTransform({ scale, tx: centred.tx + shift.x, ty: centred.ty + shift.y }, view, photo);
+  };
+  // A fitted photo cannot move (it is centred), nor a photo's edge past the view's: zoom in
+  // a little further when that is what takes the box out from under the status, as far as
+  // the box still fits.
+  const most = Math.max(chosen, Math.min(CONTEXT * fits, scaleLimits(view, photo).max));
+  for (let scale = chosen; scale <= most; scale *= 1.25) {
+    const candidate = at(scale);
+    if (boxInView(clipped, candidate, view, insets)) return candidate;
+  }
+  return at(chosen);
+}
+
+/** The box's part on the photo; a box wholly off it shrinks to the nearest border point. */
+export function clipToPhoto(box: Box, photo: Size): Box {
+  const clamp = (v: number, low: number, high: number): number => Math.min(Math.max(v, low), high);
+  const x0 = clamp(box.centre.x - box.half.x, 0, photo.width);
+  const x1 = clamp(box.centre.x + box.half.x, 0, photo.width);
+  const y0 = clamp(box.centre.y - box.half.y, 0, photo.height);
+  const y1 = clamp(box.centre.y + box.half.y, 0, photo.height);
+  // Half-sizes of at least 1 px: a box squeezed onto a border still has a size to fit.
+  return {
+    centre: { x: (x0 + x1) / 2, y: (y0 + y1) / 2 },
+    half: { x: Math.max(1, (x1 - x0) / 2), y: Math.max(1, (y1 - y0) / 2) },
+  };
+}
+
+/**
+ * Whether the answer moved noticeably from `before` to `after` (a new answer, or its centre
+ * moved out of the old frame): the view reframes then, not for every small refinement.
+ */
+export function movedNoticeably(before: Box | null, after: Box): boolean {
+  if (!before) return true;
+  return (
+    Math.abs(after.centre.x - before.centre.x) > before.half.x ||
+    Math.abs(after.centre.y - before.centre.y) > before.half.y
+  );
+}
+
+/**
+ * The view `k` of the way (0..1) from `from` to `to`: the photo point in the middle of the
+ * view moves in a straight line while the scale changes geometrically (a steady zoom).
+ */
+export function glide(from: ViewTransform, to: ViewTransform, k: number, view: Size): ViewTransform {
+  const middle = { x: view.width / 2, y: view.height / 2 };
+  const a = toPhoto(from, middle);
+  const b = toPhoto(to, middle);
+  const scale = from.scale * Math.pow(to.scale / from.scale, k);
+  const at = { x: a.x + (b.x - a.x) * k, y: a.y + (b.y - a.y) * k };
+  return { scale, tx: middle.x - at.x * scale, ty: middle.y - at.y * scale };
+}
+
+/** Ease in and out: slow at both ends (a smooth glide). */
+export function easeInOut(k: number): number {
+  const c = Math.min(Math.max(k, 0), 1);
+  return c * c * (3 - 2 * c);
+}

@@ -1,0 +1,239 @@
+"""What the person sees of the answer, in each engine: their friend, still visible inside the
+frame the phone draws; the answer brought into view when it arrives while the phone is zoomed
+in elsewhere, or an arrow at the edge that takes them there; and no control caught by a tap
+beside it.
+
+The friend is a person-like figure pasted into the buddy's temple photo at the true position
+of the other camera (the calibrated epipole): the test compares the screen around the figure
+with and without the answer drawn.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+import pytest
+from phone import Phone, expect
+from PIL import Image
+from test_two_phones import (
+    PAIR,
+    cannot_see,
+    find_landmarks,
+    framed,
+    mark_friend,
+    saved,
+    scene,
+    start_and_join,
+    tap_landmarks,
+    temple,
+    upload,
+    view_scale,
+)
+
+pytestmark = pytest.mark.engines("chromium", "webkit")
+
+# The figure: a person far across the hall in the temple photo (640 x 480), px.
+FIGURE_HEIGHT = 16
+FIGURE_WIDTH = 7
+
+
+def with_figure(
+    name: str, at: np.ndarray, folder: Path
+) -> tuple[Path, tuple[float, float, float, float]]:
+    """The temple photo with a person standing at ``at`` (a head, a red shirt, dark legs);
+    the photo's path and the figure's box (x0, y0, x1, y1), photo px."""
+    with Image.open(temple(name)) as opened:
+        pixels = np.array(opened.convert("RGB"))
+    x, y = (round(v) for v in at)
+    top, left = y - FIGURE_HEIGHT // 2, x - FIGURE_WIDTH // 2
+    head = (slice(top, top + 4), slice(left + 2, left + 5))
+    shirt = (slice(top + 4, top + 10), slice(left, left + FIGURE_WIDTH))
+    legs = (slice(top + 10, top + FIGURE_HEIGHT), slice(left + 1, left + FIGURE_WIDTH - 1))
+    pixels[head] = (235, 190, 150)
+    pixels[shirt] = (220, 20, 30)
+    pixels[legs] = (20, 20, 60)
+    path = folder / f"{name}-with-friend.png"
+    Image.fromarray(pixels).save(path)
+    return path, (left, top, left + FIGURE_WIDTH, top + FIGURE_HEIGHT)
+
+
+def screen_pixels(page: Phone, folder: Path, name: str) -> tuple[np.ndarray, float]:
+    """The visible page as an (H, W, 3) array, and its device px per CSS px."""
+    path = folder / f"{name}.png"
+    page.screenshot(path=path)
+    with Image.open(io.BytesIO(path.read_bytes())) as shot:
+        pixels = np.array(shot.convert("RGB")).astype(int)
+    ratio = pixels.shape[1] / float(page.evaluate("() => innerWidth"))
+    return pixels, ratio
+
+
+def crop(pixels: np.ndarray, ratio: float, box: tuple[float, float, float, float]) -> np.ndarray:
+    x0, y0, x1, y1 = (round(v * ratio) for v in box)
+    return pixels[y0:y1, x0:x1]
+
+
+def on_screen(
+    page: Phone, box: tuple[float, float, float, float], pad: float = 0
+) -> tuple[float, ...]:
+    """A photo box in CSS px (client coordinates), widened by ``pad`` CSS px."""
+    x0, y0 = page.photo_to_screen(box[0], box[1])
+    x1, y1 = page.photo_to_screen(box[2], box[3])
+    return x0 - pad, y0 - pad, x1 + pad, y1 + pad
+
+
+def set_answer_shown(page: Phone, shown: bool) -> None:
+    # Through the CSSOM, which the page's Content-Security-Policy allows.
+    page.evaluate(
+        """(shown) => {
+            for (const layer of document.querySelectorAll('[data-testid="answer-layer"]'))
+                layer.style.visibility = shown ? "" : "hidden"; }""",
+        shown,
+    )
+
+
+def view_rect(page: Phone) -> list[float]:
+    rect: list[float] = page.get_by_test_id("photo-view").evaluate(
+        "(view) => { const r = view.getBoundingClientRect();"
+        " return [r.left, r.top, r.right, r.bottom]; }"
+    )
+    return rect
+
+
+def in_view(page: Phone, point: tuple[float, float]) -> bool:
+    left, top, right, bottom = view_rect(page)
+    x, y = page.photo_to_screen(*point)
+    return left <= x <= right and top <= y <= bottom
+
+
+def frame_centre(page: Phone) -> tuple[float, float]:
+    x0, y0, x1, y1 = framed(page)
+    return (x0 + x1) / 2, (y0 + y1) / 2
+
+
+def test_the_friend_stays_visible_inside_the_frame(
+    server: str, pixel: Phone, iphone: Phone, tmp_path: Path
+) -> None:
+    """The buddy's photo shows a person where the friend really is: once the answer is in,
+    the frame holds the whole person, and the person's pixels on screen are the same with
+    the answer drawn as without it."""
+    truth = scene(5, seed=16)
+    photo, figure = with_figure(PAIR[1], truth.epipole2, tmp_path)
+    starter, joiner = start_and_join(server, pixel, iphone)
+    upload(starter, temple(PAIR[0]))
+    upload(joiner, photo)
+    mark_friend(starter, *truth.epipole1)
+    tap_landmarks(starter, truth.landmarks1)
+    cannot_see(joiner)
+    find_landmarks(joiner, truth.landmarks2)
+
+    x0, y0, x1, y1 = framed(joiner)
+    assert x0 <= figure[0], (x0, figure)
+    assert y0 <= figure[1], (y0, figure)
+    assert figure[2] <= x1, (x1, figure)
+    assert figure[3] <= y1, (y1, figure)
+    assert in_view(joiner, ((figure[0] + figure[2]) / 2, (figure[1] + figure[3]) / 2))
+    person = on_screen(joiner, figure)
+    around = on_screen(joiner, (x0, y0, x1, y1), pad=20)
+    drawn, ratio = screen_pixels(joiner, tmp_path, "drawn")
+    set_answer_shown(joiner, False)
+    bare, _ = screen_pixels(joiner, tmp_path, "bare")
+    set_answer_shown(joiner, True)
+
+    changed = np.abs(crop(drawn, ratio, person) - crop(bare, ratio, person)).max(axis=2) > 40
+    assert changed.size > 0
+    assert changed.mean() < 0.05, f"{changed.mean():.0%} of the person's pixels are drawn over"
+    # The answer is drawn around them (the comparison sees the drawing where it is).
+    framing = np.abs(crop(drawn, ratio, around) - crop(bare, ratio, around)).max(axis=2) > 40
+    assert framing.mean() > 0.02
+
+
+def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
+    server: str, pixel: Phone, iphone: Phone
+) -> None:
+    """The buddy is zoomed in on a landmark far from the friend when the answer arrives: the
+    view glides to show it. Zoomed away again, an arrow at the edge points to it, and one
+    tap on it brings it back."""
+    truth = scene(5, seed=16)
+    # The landmark farthest from the friend is tapped third: the answer arrives with it.
+    order = np.argsort(-np.linalg.norm(truth.landmarks2 - truth.epipole2, axis=1))
+    order = np.concatenate([order[1:3], order[:1], order[3:]])
+    points1, points2 = truth.landmarks1[order], truth.landmarks2[order]
+    starter, joiner = start_and_join(server, pixel, iphone)
+    upload(starter, temple(PAIR[0]))
+    upload(joiner, temple(PAIR[1]))
+    mark_friend(starter, *truth.epipole1)
+    tap_landmarks(starter, points1)
+    cannot_see(joiner)
+    find_landmarks(joiner, points2[:2])
+    expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
+
+    far = joiner.photo_to_screen(*points2[2])
+    joiner.zoom(far, 4.0)
+    assert not in_view(joiner, tuple(truth.epipole2)), "the friend was in view already"
+    find_landmarks(joiner, points2[2:3], first_id=3)
+    framed(joiner)
+    joiner.wait_for(lambda: in_view(joiner, frame_centre(joiner)), "the answer in view")
+    assert view_scale(joiner) > 0  # the published transform is settled (not gliding)
+
+    # Zoomed in away from it: the arrow, and a tap on it.
+    joiner.zoom(joiner.photo_to_screen(*points2[2]), 4.0)
+    joiner.wait_for(lambda: not in_view(joiner, frame_centre(joiner)), "the answer out of view")
+    arrow = joiner.get_by_test_id("answer-arrow")
+    expect(arrow).to_be_visible()
+    arrow.tap()
+    joiner.wait_for(lambda: in_view(joiner, frame_centre(joiner)), "the answer back in view")
+    expect(arrow).to_have_count(0)
+
+
+def box_of(page: Phone, test_id: str) -> list[float]:
+    box: list[float] = page.get_by_test_id(test_id).evaluate(
+        "(b) => { const r = b.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; }"
+    )
+    return box
+
+
+def test_a_tap_beside_a_control_places_a_mark_or_nothing(
+    server: str, pixel: Phone, iphone: Phone
+) -> None:
+    """Zoomed in, taps on the photo 8 CSS px beside the whole-photo button, and just above
+    the button below the photo, never trigger them: the view stays zoomed and each tap places
+    a mark where it was made (the friend's first, then landmarks)."""
+    starter, _ = start_and_join(server, pixel, iphone)
+    upload(starter, temple(PAIR[0]))
+    left, top, right, bottom = view_rect(starter)
+    starter.zoom(((left + right) / 2, (top + bottom) / 2), 3.0)
+    zoomed = view_scale(starter)
+    expect(starter.get_by_test_id("fit")).to_be_visible()
+    fit = box_of(starter, "fit")
+    mark = starter.get_by_test_id("friend-mark")
+    for x, y in ((fit[0] - 8, (fit[1] + fit[3]) / 2), ((fit[0] + fit[2]) / 2, fit[1] - 8)):
+        starter.tap_at(x, y)
+        starter.wait_for(lambda x=x, y=y: marked_at(starter, x, y), f"a mark at {x, y}")
+        assert view_scale(starter) == pytest.approx(zoomed)
+
+    # The friend's prompt with its button, just below the photo.
+    starter.get_by_test_id("mark-friend").tap()
+    button = box_of(starter, "remove-friend")
+    assert button[1] - bottom < 20, "the button is far from the photo: the test would prove nothing"
+    x, y = (button[0] + button[2]) / 2, bottom - 8
+    starter.tap_at(x, y)
+    starter.wait_for(lambda: marked_at(starter, x, y), "the friend's mark moved, not removed")
+    expect(mark).to_be_visible()
+    saved(starter)
+    assert view_scale(starter) == pytest.approx(zoomed)
+    # The button itself still works.
+    starter.get_by_test_id("fit").tap()
+    starter.wait_for(lambda: view_scale(starter) < zoomed, "the whole photo")
+
+
+def marked_at(page: Phone, x: float, y: float) -> bool:
+    """Whether a mark (the friend's, or a landmark's ring) is drawn at client point (x, y),
+    within 2 CSS px."""
+    centres: list[list[float]] = page.evaluate(
+        """() => [...document.querySelectorAll('.friend-mark, .lm-point')].map((m) => {
+            const r = m.getBoundingClientRect();
+            return [(r.left + r.right) / 2, (r.top + r.bottom) / 2]; })"""
+    )
+    return any(abs(cx - x) <= 2 and abs(cy - y) <= 2 for cx, cy in centres)
