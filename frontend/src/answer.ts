@@ -89,7 +89,9 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     ? { x, y, ellipse: region, quality: answer.quality, how: mine.how }
     : null;
   const photo = state.photos[role];
-  const sureness = position && photo ? surenessText(region, answer.quality, photo) : null;
+  // This phone's own mark without a region is what it tapped: no sureness to speak of.
+  const own = mine.how !== "solved" && region === null;
+  const sureness = position && photo && !own ? surenessText(region, answer.quality, photo) : null;
 
   if (mine.how !== "solved") {
     // This phone marked its friend (or drew a line through them): its mark, refined.

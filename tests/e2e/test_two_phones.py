@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 from PIL import Image
 
@@ -65,6 +66,16 @@ def upload(page: Phone, photo: Path) -> None:
     page.get_by_test_id("photo-input").set_input_files(photo)
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-height", "480")
+
+
+def landscape(page: ChromiumPhone, path: Path) -> None:
+    """A screenshot of the page with the phone on its side; then upright again."""
+    size = page.page.viewport_size
+    assert size is not None
+    page.page.set_viewport_size({"width": size["height"], "height": size["width"]})
+    expect(page.get_by_test_id("answer-frame")).to_be_visible()
+    page.screenshot(path=path)
+    page.page.set_viewport_size(size)
 
 
 def temple(name: str) -> Path:
@@ -189,7 +200,9 @@ def test_the_starter_marks_the_joiner(
     truth = scene(5, seed=16)  # a layout that pins the friend down (seed 11: +-3000 px)
     fitted = view_scale(starter)
     mark_friend(starter, *truth.epipole1)
+    step(starter, "Tap 3 more landmarks", 3)
     tap_landmarks(starter, truth.landmarks1[:4])
+    step(starter, "Waiting for your friend to find #1", 0)  # 3 are enough once found
     # One pinch to zoom in, then the last landmark is tapped under the zoom
     # (the wheel where the engine has no touch)
     starter.zoom(starter.photo_to_screen(*truth.landmarks1[4]), 1.8)
@@ -199,16 +212,29 @@ def test_the_starter_marks_the_joiner(
     starter.screenshot(path=screenshots / "4-taps-starter.png")
     cannot_see(joiner)
     expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
+    step(joiner, "Find #1 here", 3)
     joiner.screenshot(path=screenshots / "5-find-joiner.png")
 
-    find_landmarks(joiner, truth.landmarks2)
+    find_landmarks(joiner, truth.landmarks2[:2])
+    step(joiner, "Find #3 here", 1)
+    step(starter, "Waiting for your friend to find #3", 0)
+    find_landmarks(joiner, truth.landmarks2[2:], first_id=3)
     assert in_frame(truth.epipole2, framed(joiner))
     centre, ellipse, how = reported_position(joiner)
     assert how == "solved"
     assert ellipse[0] < 100  # a claim worth checking: a small region...
     assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)  # ...and true
     needed(joiner, 0)
+    step(joiner, "Done", 0)
+    expect(joiner.get_by_test_id("result-text")).to_have_text(
+        "Your friend is inside the yellow frame marked \u201cfriend\u201d."
+    )
+    expect(joiner.get_by_test_id("result-position")).to_contain_text("the frame is about")
     joiner.screenshot(path=screenshots / "6-answer-joiner.png")
+    if isinstance(joiner, ChromiumPhone):  # the same, the phone on its side
+        landscape(joiner, screenshots / "6b-answer-joiner-landscape.png")
+    step(starter, "Your friend sees where you are.", 0)
+    expect(starter.get_by_test_id("step-detail")).to_have_text("Add a landmark to sharpen it.")
     expect(starter.get_by_test_id("seen-status")).to_be_visible()
     expect(starter.get_by_test_id("result-position")).to_have_attribute("data-how", "marked")
     starter.screenshot(path=screenshots / "7-answer-starter.png")
@@ -251,12 +277,20 @@ def test_the_joiner_marks_the_starter_and_the_phones_tell_their_lenses(
 
     truth = scene(3, seed=13)
     cannot_see(starter)
+    step(starter, "Tap 7 more landmarks", 7)  # nobody marked: 7 for two phone photos
     mark_friend(joiner, *truth.epipole1)
+    step(joiner, "Tap 3 more landmarks", 3)
+    step(starter, "Waiting for your friend to tap #1")  # not "tap #1": they lead
     tap_landmarks(joiner, truth.landmarks1[:2])
     needed(joiner, 3)  # none in common yet
+    step(joiner, "Tap 1 more landmark", 1)  # #1 and #2 count once found: never 3 here
+    step(starter, "Find #1 here", 3)
     tap_landmarks(joiner, truth.landmarks1[2:], first_id=3)
+    step(joiner, "Waiting for your friend to find #1", 0)
     find_landmarks(starter, truth.landmarks2[:2])
     needed(starter, 1)
+    step(starter, "Find #3 here", 1)
+    step(joiner, "Waiting for your friend to find #3", 0)
     expect(starter.get_by_test_id("answer-frame")).to_have_count(0)
     find_landmarks(starter, truth.landmarks2[2:], first_id=3)
     assert in_frame(truth.epipole2, framed(starter))
@@ -265,6 +299,8 @@ def test_the_joiner_marks_the_starter_and_the_phones_tell_their_lenses(
     assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
     needed(starter, 0)
     needed(joiner, 0)
+    step(starter, "Done", 0)
+    step(joiner, "Your friend sees where you are.", 0)
     expect(joiner.get_by_test_id("seen-status")).to_be_visible()
     starter.screenshot(path=screenshots / "8-three-landmarks-starter.png")
 

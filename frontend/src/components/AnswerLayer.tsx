@@ -33,6 +33,16 @@ export function frameOf(answer: AnswerView, photo: Size): Frame | null {
   return position ? answerFrame(position, position.ellipse, photo) : null;
 }
 
+/**
+ * The frame's label: "friend" around a 95 % region, "friend?" around a likely spot; none on
+ * this phone's own mark, refined (its mark says "Friend" already). Null: no frame at all (its
+ * own mark without a region: the mark is the answer).
+ */
+export function frameLabel(answer: AnswerView, frame: Frame): string | null | undefined {
+  if (answer.position?.how === "marked") return frame.sure ? undefined : null;
+  return frame.sure ? "friend" : "friend?";
+}
+
 interface Props {
   answer: AnswerView;
   transform: ViewTransform;
@@ -48,14 +58,16 @@ export function AnswerLayer({ answer, transform: t, view, photo }: Props) {
   return (
     <svg class="answer-layer" width={view.width} height={view.height} aria-hidden="true" data-testid="answer-layer">
       {answer.curve && <Curve conic={answer.curve} transform={t} photo={photo} />}
-      {frame && inPhoto && <FrameMark frame={frame} transform={t} />}
+      {frame && inPhoto && frameLabel(answer, frame) !== null && (
+        <FrameMark frame={frame} label={frameLabel(answer, frame) ?? null} transform={t} />
+      )}
       {frame && !inPhoto && <BorderArrow target={frame.centre} transform={t} photo={photo} />}
     </svg>
   );
 }
 
 /** Brackets around the region (its outline inside when larger than a person), labelled. */
-function FrameMark({ frame, transform }: { frame: Frame; transform: ViewTransform }) {
+function FrameMark({ frame, label, transform }: { frame: Frame; label: string | null; transform: ViewTransform }) {
   const { centre, half } = screenFrame(frame, transform);
   const box = {
     "data-x0": String(frame.centre.x - frame.half.x),
@@ -68,27 +80,32 @@ function FrameMark({ frame, transform }: { frame: Frame; transform: ViewTransfor
   const above = centre.y - half.y - LEADER - FONT >= 0;
   const edge = above ? centre.y - half.y : centre.y + half.y;
   const end = above ? edge - LEADER : edge + LEADER;
-  const text = frame.sure ? "friend" : "friend?";
   return (
     <g data-testid="answer-frame" data-sure={String(frame.sure)} data-outlined={String(frame.outlined)} {...box}>
       {frame.outlined && frame.region && <Outline region={frame.region} transform={transform} />}
-      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
-      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
+      {label && (
+        <>
+          <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
+          <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
+        </>
+      )}
       <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
       <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" stroke-linejoin="round" />
-      <text
-        class="answer-label"
-        x={centre.x}
-        y={above ? end - 4 : end + FONT}
-        text-anchor="middle"
-        font-size={FONT}
-        fill={FRIEND_COLOUR}
-        stroke={OUTLINE_COLOUR}
-        stroke-width="4"
-        paint-order="stroke"
-      >
-        {text}
-      </text>
+      {label && (
+        <text
+          class="answer-label"
+          x={centre.x}
+          y={above ? end - 4 : end + FONT}
+          text-anchor="middle"
+          font-size={FONT}
+          fill={FRIEND_COLOUR}
+          stroke={OUTLINE_COLOUR}
+          stroke-width="4"
+          paint-order="stroke"
+        >
+          {label}
+        </text>
+      )}
     </g>
   );
 }

@@ -37,6 +37,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const answer = describeAnswer(answerState, role);
   const [focus, setFocus] = useState<Focus | null>(null);
   const status = useRef<HTMLElement>(null);
+  const stage = useRef<HTMLDivElement>(null);
   const [covered, setCovered] = useState(0);
 
   const focusOn = (id: number): void => {
@@ -44,14 +45,22 @@ export function TapScreen({ controller, view, state, top }: Props) {
     setFocus({ id, nonce: Date.now() });
   };
 
-  // How much of the photo's top the status covers: an answer is brought into the rest.
+  // How much of the photo's top the status covers (upright; on its side the phone shows the
+  // status beside the photo): an answer is brought into the rest.
   useLayoutEffect(() => {
-    const element = status.current;
-    if (!element) return;
-    const measure = (): void => setCovered(element.getBoundingClientRect().height);
+    const panel = status.current;
+    const photoArea = stage.current;
+    if (!panel || !photoArea) return;
+    const measure = (): void => {
+      const over = panel.getBoundingClientRect();
+      const under = photoArea.getBoundingClientRect();
+      const overlaps = over.left < under.right && over.right > under.left && over.top < under.bottom;
+      setCovered(overlaps ? Math.max(0, over.bottom - under.top) : 0);
+    };
     measure();
     const observer = new ResizeObserver(measure);
-    observer.observe(element);
+    observer.observe(panel);
+    observer.observe(photoArea);
     return () => observer.disconnect();
   }, [photo !== null]);
 
@@ -79,7 +88,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   return (
     <main class="screen session tap-screen">
       {top}
-      <div class="stage">
+      <div class="stage" ref={stage}>
         <PhotoView
           photoUrl={photoUrl(credentials, role, photo.key)}
           photoSize={photo.size}
@@ -95,15 +104,15 @@ export function TapScreen({ controller, view, state, top }: Props) {
           onMove={(id, to) => controller.moveLandmark(id, to)}
           onSelect={(id) => controller.select(id)}
         />
-        <StatusPanel
-          panel={status}
-          hint={statusHint(state, view)}
-          saveError={view.save.status === "error" ? view.save.message : null}
-          answer={answer}
-          lens={lensNote(state.photos[role])}
-          onRecheck={focusOn}
-        />
       </div>
+      <StatusPanel
+        panel={status}
+        hint={statusHint(state, view)}
+        saveError={view.save.status === "error" ? view.save.message : null}
+        answer={answer}
+        lens={lensNote(state.photos[role])}
+        onRecheck={focusOn}
+      />
       <Prompt controller={controller} view={view} state={state} step={step} />
       <Toolbar controller={controller} view={view} />
     </main>
