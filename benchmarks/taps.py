@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import io
 import json
+import re
 import tempfile
 import time
 from dataclasses import dataclass
@@ -91,8 +92,10 @@ def blank_photo(size: tuple[int, int]) -> bytes:
 
 
 def photo_to_screen(page: Page, x: float, y: float) -> tuple[float, float]:
-    """Client coordinates of photo pixel (x, y), from the view's published transform."""
+    """Client coordinates of photo pixel (x, y), from the view's published transform (once
+    the view is still: it glides to an answer that arrives)."""
     view = page.get_by_test_id("photo-view")
+    expect(view).not_to_have_attribute("data-gliding", re.compile(".*"))
     box = view.bounding_box()
     assert box is not None
     scale, tx, ty = (float(view.get_attribute(f"data-{k}") or "nan") for k in ("scale", "tx", "ty"))

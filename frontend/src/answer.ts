@@ -89,8 +89,8 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     ? { x, y, ellipse: region, quality: answer.quality, how: mine.how }
     : null;
   const photo = state.photos[role];
-  // This phone's own mark without a region is what it tapped: no sureness to speak of.
-  const own = mine.how !== "solved" && region === null;
+  // This phone's own mark is what it tapped, drawn as it was (no frame): no sureness to say.
+  const own = mine.how === "marked";
   const sureness = position && photo && !own ? surenessText(region, answer.quality, photo) : null;
 
   if (mine.how !== "solved") {

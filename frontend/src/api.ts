@@ -105,10 +105,6 @@ export function photoUrl({ session_id, token }: Credentials, role: Role, key: st
   return withToken(`/api/sessions/${session_id}/photo/${role}`, token, { v: key });
 }
 
-export function overlayUrl({ session_id, token }: Credentials, role: Role, version: number): string {
-  return withToken(`/api/sessions/${session_id}/overlay/${role}`, token, { v: String(version) });
-}
-
 export function cropUrl({ session_id, token }: Credentials, role: Role, id: number, key: string): string {
   return withToken(`/api/sessions/${session_id}/landmarks/${role}/${id}/crop`, token, { v: key });
 }

@@ -340,9 +340,13 @@ def test_both_mark_each_other_and_one_landmark_is_enough(
     needed(starter, 1)
     tap_landmarks(starter, truth.landmarks1)
     find_landmarks(joiner, truth.landmarks2)
-    framed(joiner)
     centre, ellipse, how = reported_position(joiner)
     assert how == "marked"
+    # Its own mark is the answer, drawn as it was: no frame over the person, no sureness.
+    expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
+    expect(joiner.get_by_test_id("result-position")).to_have_text(
+        "Your mark, refined by the landmarks."
+    )
     assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
     needed(joiner, 0)
     needed(starter, 0)

@@ -34,12 +34,12 @@ export function frameOf(answer: AnswerView, photo: Size): Frame | null {
 }
 
 /**
- * The frame's label: "friend" around a 95 % region, "friend?" around a likely spot; none on
- * this phone's own mark, refined (its mark says "Friend" already). Null: no frame at all (its
- * own mark without a region: the mark is the answer).
+ * The frame's label: "friend" around a 95 % region, "friend?" around a likely spot. Null: no
+ * frame, on this phone's own mark, refined (its thin ring, "Friend", is the answer: a frame
+ * around it would only hide more of the person).
  */
-export function frameLabel(answer: AnswerView, frame: Frame): string | null | undefined {
-  if (answer.position?.how === "marked") return frame.sure ? undefined : null;
+export function frameLabel(answer: AnswerView, frame: Frame): string | null {
+  if (answer.position?.how === "marked") return null;
   return frame.sure ? "friend" : "friend?";
 }
 
@@ -48,26 +48,36 @@ interface Props {
   transform: ViewTransform;
   view: Size;
   photo: Size;
+  /** Screen px at the view's top covered by the status: no label goes there. */
+  clearTop: number;
 }
 
-export function AnswerLayer({ answer, transform: t, view, photo }: Props) {
+export function AnswerLayer({ answer, transform: t, view, photo, clearTop }: Props) {
   const frame = frameOf(answer, photo);
+  const label = frame ? frameLabel(answer, frame) : null;
   const inPhoto = frame
     ? frame.centre.x >= 0 && frame.centre.y >= 0 && frame.centre.x <= photo.width && frame.centre.y <= photo.height
     : false;
   return (
     <svg class="answer-layer" width={view.width} height={view.height} aria-hidden="true" data-testid="answer-layer">
       {answer.curve && <Curve conic={answer.curve} transform={t} photo={photo} />}
-      {frame && inPhoto && frameLabel(answer, frame) !== null && (
-        <FrameMark frame={frame} label={frameLabel(answer, frame) ?? null} transform={t} />
+      {frame && inPhoto && label !== null && (
+        <FrameMark frame={frame} label={label} clearTop={clearTop} transform={t} />
       )}
       {frame && !inPhoto && <BorderArrow target={frame.centre} transform={t} photo={photo} />}
     </svg>
   );
 }
 
+interface FrameProps {
+  frame: Frame;
+  label: string;
+  clearTop: number;
+  transform: ViewTransform;
+}
+
 /** Brackets around the region (its outline inside when larger than a person), labelled. */
-function FrameMark({ frame, label, transform }: { frame: Frame; label: string | null; transform: ViewTransform }) {
+function FrameMark({ frame, label, clearTop, transform }: FrameProps) {
   const { centre, half } = screenFrame(frame, transform);
   const box = {
     "data-x0": String(frame.centre.x - frame.half.x),
@@ -76,36 +86,31 @@ function FrameMark({ frame, label, transform }: { frame: Frame; label: string | 
     "data-y1": String(frame.centre.y + frame.half.y),
   };
   const path = bracketPath(centre, half);
-  // The label above the frame, else below when the frame is at the top of the view.
-  const above = centre.y - half.y - LEADER - FONT >= 0;
+  // The label above the frame, else below when there is no room above (the top of the view,
+  // or under the status).
+  const above = centre.y - half.y - LEADER - FONT >= clearTop;
   const edge = above ? centre.y - half.y : centre.y + half.y;
   const end = above ? edge - LEADER : edge + LEADER;
   return (
     <g data-testid="answer-frame" data-sure={String(frame.sure)} data-outlined={String(frame.outlined)} {...box}>
       {frame.outlined && frame.region && <Outline region={frame.region} transform={transform} />}
-      {label && (
-        <>
-          <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
-          <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
-        </>
-      )}
+      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
+      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
       <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
       <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" stroke-linejoin="round" />
-      {label && (
-        <text
-          class="answer-label"
-          x={centre.x}
-          y={above ? end - 4 : end + FONT}
-          text-anchor="middle"
-          font-size={FONT}
-          fill={FRIEND_COLOUR}
-          stroke={OUTLINE_COLOUR}
-          stroke-width="4"
-          paint-order="stroke"
-        >
-          {label}
-        </text>
-      )}
+      <text
+        class="answer-label"
+        x={centre.x}
+        y={above ? end - 4 : end + FONT}
+        text-anchor="middle"
+        font-size={FONT}
+        fill={FRIEND_COLOUR}
+        stroke={OUTLINE_COLOUR}
+        stroke-width="4"
+        paint-order="stroke"
+      >
+        {label}
+      </text>
     </g>
   );
 }

@@ -546,7 +546,7 @@ function Drawing(props: DrawingProps) {
           </div>
         );
       })}
-      <AnswerLayer answer={props.answer} transform={t} view={view} photo={photoSize} />
+      <AnswerLayer answer={props.answer} transform={t} view={view} photo={photoSize} clearTop={props.insets.top} />
       {target && props.image.current && (
         <Loupe
           target={target}

@@ -328,7 +328,7 @@ function Prompt({ controller, view, state, step }: PromptProps) {
         <strong data-testid="step-title">{step.title}</strong>
         <span data-testid="step-detail">{step.detail}</span>
       </div>
-      {step.kind !== "wait" && swatch}
+      {step.kind === "tap" && swatch}
     </section>
   );
 }
