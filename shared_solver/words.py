@@ -55,6 +55,11 @@ def mistapped(label: int, off_px: float) -> str:
     )
 
 
+def misfit(label: int) -> str:
+    """A landmark tapped far from where the others put it (outside its band)."""
+    return f"#{label} does not fit the others: check it in both photos."
+
+
 def outside_photo(beyond_px: float, side: Side) -> str:
     """The friend is beyond one edge of the photo."""
     return (
