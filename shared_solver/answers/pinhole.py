@@ -165,7 +165,7 @@ def _from_roots(
     Only when none of those refines to a fit that puts friend 1 in front of friend 2
     are the three-landmark solver's poses added, with friend 2 at each solution's own
     ``friend2_places`` (B, 2): with noisy taps a projective solution can be far from any
-    pair of phone cameras while its friend 2 is near the right place. Most taps need only
+    pair of phone cameras while it puts friend 2 near the right place. Most taps need only
     the first, cheaper, search (measured: the same accuracy, coverage and ranking,
     docs/geometry.md).
     """

@@ -104,7 +104,7 @@ def unmarked_starts(
     projective solutions ``fundamentals``, and the three-landmark solver with friend 2 at
     each of ``friend2_places`` (B, 2) pixels (the solutions' own, and places along a line
     through friend 2 if one was drawn). With noisy taps a projective solution can be far
-    from any pair of phone cameras while its friend 2 is near the right place."""
+    from any pair of phone cameras while it puts friend 2 near the right place."""
     found = [fundamental_poses(model, fundamentals)]
     for triple in _spread_indices(model.taps, 3, _SUBSETS_TRIED) if len(friend2_places) else []:
         poses = exact_poses(model, [triple], friend2_places=friend2_places)
