@@ -117,7 +117,7 @@ LINE_FITS_EVERYWHERE = (
     "Every point of the line fits these landmarks; add landmarks in other directions."
 )
 SEVEN_FIT_NOTHING = "No geometry fits these 7 landmarks; re-check them."
-ONE_SURFACE_WITHOUT_BUDDY = (
+ONE_SURFACE_UNMARKED = (
     "The landmarks all lie on one surface, which cannot locate your friend on its own; tap "
     "your friend if you can see them."
 )

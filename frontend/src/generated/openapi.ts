@@ -1222,7 +1222,7 @@ export interface components {
         };
         /**
          * SolveResult
-         * @description Where the seeker stands in the buddy's photo, how sure that is, and why.
+         * @description Where friend 1 stands in friend 2's photo, how sure that is, and why.
          */
         SolveResult: {
             /**
@@ -1262,7 +1262,7 @@ export interface components {
             ] | null;
             /**
              * Epipole1
-             * @description The buddy in photo 1, refined from the tap.
+             * @description Friend 2 in photo 1, refined from the tap.
              */
             epipole1: [
                 number,
@@ -1276,7 +1276,7 @@ export interface components {
             ] | null;
             /**
              * Epipole2
-             * @description The seeker in photo 2 (the answer), px; None at infinity or for a conic.
+             * @description Friend 1 in photo 2 (the answer), px; None at infinity or for a conic.
              */
             epipole2: [
                 number,
@@ -1514,7 +1514,7 @@ export interface components {
         };
         /**
          * Uncertainty
-         * @description Where the seeker is with probability ``level``, from the tap noise ``tap_sigma``.
+         * @description Where friend 1 is with probability ``level``, from the tap noise ``tap_sigma``.
          */
         Uncertainty: {
             /**
