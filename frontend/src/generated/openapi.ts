@@ -2019,7 +2019,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description text/event-stream: events joined, code (renewed), photo, taps, result, left, expired; ': ping' comments keep it alive. */
+            /** @description text/event-stream: events joined, code (renewed), photo, taps, answer, left, expired; ': ping' comments keep it alive. */
             200: {
                 headers: {
                     [name: string]: unknown;
@@ -2030,10 +2030,10 @@ export interface operations {
                      *
                      *     id: 41
                      *     event: taps
-                     *     data: {"role": "buddy", "version": 9}
+                     *     data: {"role": "joiner", "version": 9}
                      *
                      *     id: 42
-                     *     event: result
+                     *     event: answer
                      *     data: {"version": 9}
                      *
                      *     : ping
