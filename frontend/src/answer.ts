@@ -43,7 +43,7 @@ export interface AnswerView {
 }
 
 export const CURVE_TEXT =
-  "Your friend is somewhere on the yellow curve: 1 more landmark pins it down";
+  "Your friend is somewhere on the dotted yellow curve: 1 more landmark pins it down";
 export const FRAME_TEXT = "Your friend is inside the yellow frame marked \u201cfriend\u201d.";
 export const LIKELY_TEXT =
   "Your friend is most likely inside the yellow frame marked \u201cfriend?\u201d. Ask them to mark you as a point to be sure.";

@@ -21,8 +21,11 @@ const OUTLINE = 5;
 /** The leader from the frame to its label, and the label's font size, screen px. */
 const LEADER = 12;
 const FONT = 15;
-/** A curve is sampled about every this many screen px. */
-const CURVE_STEP_CSS = 2;
+/** The curve is dotted, a dot about every this many screen px: it runs through the friend,
+ * who shows between the dots. */
+const CURVE_STEP_CSS = 7;
+const CURVE_DOT = 3;
+const CURVE_OUTLINE = 4.5;
 /** The arrow at the photo's border: its length, and its distance inside the border. */
 const BORDER_ARROW = 44;
 const BORDER_INSET = 30;
@@ -134,7 +137,7 @@ function Outline({ region, transform: t }: { region: Ellipse; transform: ViewTra
   );
 }
 
-/** The curve the friend is on, as dots where it crosses the photo's rows and columns. */
+/** The curve the friend is on, dotted: dots where it crosses the photo's rows and columns. */
 function Curve({ conic, transform: t, photo }: { conic: number[][]; transform: ViewTransform; photo: Size }) {
   const points = conicPoints(conic, photo, CURVE_STEP_CSS / t.scale);
   const path = points
@@ -143,8 +146,8 @@ function Curve({ conic, transform: t, photo }: { conic: number[][]; transform: V
     .join("");
   return (
     <g data-testid="answer-curve" data-points={String(points.length)}>
-      <path d={path} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
-      <path d={path} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
+      <path d={path} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} stroke-linecap="round" />
+      <path d={path} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} stroke-linecap="round" />
     </g>
   );
 }
