@@ -61,11 +61,11 @@ postgres:
 	@ls /usr/lib/postgresql/*/bin/postgres >/dev/null 2>&1 || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq postgresql )
 
-# The README's screenshots: the two-phone browser test and the layout test take them
+# The README's screenshots: the two-phone, layout and guidance browser tests take them
 # (artifacts/screenshots/), then they are halved and saved as JPEG in docs/screenshots/.
 screenshots: $(INSTALLED) $(APP) browser
 	rm -rf artifacts/screenshots
-	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py tests/e2e/test_layout.py
+	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py tests/e2e/test_layout.py tests/e2e/test_guided_tapping.py
 	$(BIN)/python -m testbed.screenshots artifacts/screenshots docs/screenshots
 
 bench: $(INSTALLED)

@@ -150,7 +150,9 @@ def solved(
     for role, view in told.in_photo.items():
         view.bands = [LandmarkBand(id=i, **band.model_dump()) for i, band in guides[role].items()]
         view.misfits = misfits[role]
-        view.warnings = [words.misfit(i) for i in misfits[role]] + view.warnings
+        # A misfit the fit left out already has its sentence ("looks mis-tapped"): one is enough.
+        flagged = [i for i in misfits[role] if i not in told.suspects]
+        view.warnings = [words.misfit(i) for i in flagged] + view.warnings
     return {"answer": told.model_dump(mode="json"), "solution": solution, "first": task.first}
 
 

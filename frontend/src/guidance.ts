@@ -9,6 +9,13 @@
 import type { Point } from "./viewTransform";
 import type { FriendInPhoto, LandmarkBand, Role, SessionState } from "./types";
 
+/**
+ * The precision of a suggested spot taken with one tap, px per axis: spots are shown only
+ * when the match is sure, and those right are a median 4.8 px from the landmark
+ * (docs/suggestions.md, section 3).
+ */
+export const SUGGESTED_SIGMA_PX = 4;
+
 /** What this phone's part of the answer says about landmarks, or nothing before one. */
 function mine(state: SessionState, you: Role): FriendInPhoto | null {
   return state.answer?.in_photo[you] ?? null;

@@ -58,6 +58,7 @@ import {
   type ViewTransform,
 } from "../viewTransform";
 import { AnswerLayer, frameOf } from "./AnswerLayer";
+import { GuideLayer, type Guide } from "./GuideLayer";
 import { ArrowIcon, FitIcon } from "./icons";
 
 export interface Focus {
@@ -70,6 +71,8 @@ interface Props {
   photoSize: Size;
   /** The answer, drawn over the photo by the phone (AnswerLayer). */
   answer: AnswerView;
+  /** Where the landmark to find must be, under the answer (GuideLayer). */
+  guide: Guide | null;
   /** Screen px along each side of the view covered by the status: an answer is brought
    * into the rest. */
   insets: Insets;
@@ -496,6 +499,7 @@ function Drawing(props: DrawingProps) {
         draggable={false}
         onLoad={props.onLoaded}
       />
+      {props.guide && <GuideLayer guide={props.guide} transform={t} view={view} />}
       <svg class="lines" width={view.width} height={view.height} aria-hidden="true">
         {line && (
           <g>

@@ -9,6 +9,7 @@ import type { ComponentChildren } from "preact";
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
 import { cropUrl, photoUrl } from "../api";
 import { describeAnswer, type AnswerView } from "../answer";
+import { SUGGESTED_SIGMA_PX, bandOf, misfitsOf } from "../guidance";
 import { canUndo, friendMarked, fromServerTaps, landmarkIds } from "../landmarks";
 import { lensNote } from "../lens";
 import { nextStep, type Step } from "../nextStep";
@@ -17,6 +18,7 @@ import type { Insets } from "../reframe";
 import type { Mode, SessionController, SessionView } from "../session";
 import { otherRole, type SessionState } from "../types";
 import { LineIcon, PersonIcon, PinIcon, TrashIcon, UndoIcon } from "./icons";
+import { useSuggestion, type Guide } from "./GuideLayer";
 import { PhotoView, type Focus } from "./PhotoView";
 import { UploadStatus } from "./PhotoStep";
 
@@ -81,8 +83,17 @@ export function TapScreen({ controller, view, state, top }: Props) {
     return () => window.removeEventListener("keydown", onKey);
   }, [controller]);
 
-  if (!photo) return null;
   const step = stepOf(state, view, answer);
+  // The landmark to find, its band under the answer, and a suggested spot on it.
+  const findId = step.next.find ? step.next.id : null;
+  const band = findId === null ? null : bandOf(answerState, role, findId);
+  const spot = useSuggestion(credentials, band ? findId : null, band ? (answerState.answer_version ?? null) : null);
+  const guide: Guide | null = band && findId !== null ? { id: findId, band, spot: spot ?? null } : null;
+  const suggestion = !guide ? "no-band" : spot === undefined ? "asking" : spot ? "shown" : "none";
+  // Landmarks to re-check: those the fit left out, and those far outside their band.
+  const recheck = [...new Set([...answer.suspects, ...misfitsOf(answerState, role)])].sort((a, b) => a - b);
+
+  if (!photo) return null;
   const insets: Insets = { top: covered + MARGIN, right: MARGIN, bottom: MARGIN, left: MARGIN };
 
   return (
@@ -93,10 +104,11 @@ export function TapScreen({ controller, view, state, top }: Props) {
           photoUrl={photoUrl(credentials, role, photo.key)}
           photoSize={photo.size}
           answer={answer}
+          guide={guide}
           insets={insets}
           taps={editor.taps}
           selected={editor.selected}
-          suspects={answer.suspects}
+          suspects={recheck}
           linePoint={view.linePoint}
           keepClear={answer.position ? [answer.position] : []}
           focus={focus}
@@ -111,9 +123,10 @@ export function TapScreen({ controller, view, state, top }: Props) {
         saveError={view.save.status === "error" ? view.save.message : null}
         answer={answer}
         lens={lensNote(state.photos[role])}
+        recheck={recheck}
         onRecheck={focusOn}
       />
-      <Prompt controller={controller} view={view} state={state} step={step} />
+      <Prompt controller={controller} view={view} state={state} step={step} guide={guide} suggestion={suggestion} />
       <Toolbar controller={controller} view={view} />
     </main>
   );
@@ -158,6 +171,8 @@ interface StatusProps {
   answer: AnswerView;
   /** What the phone says of its photo's lens. */
   lens: string | null;
+  /** Landmarks to re-check: left out of the answer, or not fitting the others. */
+  recheck: readonly number[];
   onRecheck: (id: number) => void;
 }
 
@@ -167,7 +182,7 @@ interface StatusProps {
  * elsewhere taps reach the photo (a sibling, so a touch beside a button stays on the photo:
  * PhotoView.tsx).
  */
-function StatusPanel({ panel, hint, saveError, answer, lens, onRecheck }: StatusProps) {
+function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck }: StatusProps) {
   const { position } = answer;
   const ellipse = position?.ellipse ?? null;
   return (
@@ -212,10 +227,10 @@ function StatusPanel({ panel, hint, saveError, answer, lens, onRecheck }: Status
           {answer.sureness ?? (position.how === "solved" ? "" : "Your mark, refined by the landmarks.")}
         </p>
       )}
-      {answer.suspects.length > 0 && (
+      {recheck.length > 0 && (
         <div class="status-row wrap">
-          {answer.suspects.map((id) => (
-            <button type="button" class="chip suspect" key={id} onClick={() => onRecheck(id)}>
+          {recheck.map((id) => (
+            <button type="button" class="chip suspect" data-testid="recheck" key={id} onClick={() => onRecheck(id)}>
               Re-check #{id}
             </button>
           ))}
@@ -239,11 +254,14 @@ interface PromptProps {
   view: SessionView;
   state: SessionState;
   step: Step;
+  guide: Guide | null;
+  /** Where the search for a suggested spot is: for the tests (data-suggestion). */
+  suggestion: string;
 }
 
 /** What this phone does next. Publishes the state's `landmarks_needed` (data-needed) and
  * how many landmarks this phone is asked to tap (data-to-tap), for the tests. */
-function Prompt({ controller, view, state, step }: PromptProps) {
+function Prompt({ controller, view, state, step, guide, suggestion }: PromptProps) {
   const { credentials, editor, mode } = view;
   const other = otherRole(credentials.role);
   const theirTaps = fromServerTaps(state.taps[other]);
@@ -309,16 +327,28 @@ function Prompt({ controller, view, state, step }: PromptProps) {
     const key = theirs ? `${theirs.x},${theirs.y}` : "";
     return (
       <section class="prompt find" {...data}>
-        <div class="prompt-main" data-testid="find-prompt" data-id={String(next.id)}>
+        <div class="prompt-main" data-testid="find-prompt" data-id={String(next.id)} data-suggestion={suggestion}>
           <img class="crop" src={cropUrl(credentials, other, next.id, key)} width={64} height={64} alt={`Landmark #${next.id} in the other photo`} />
           <div class="prompt-text">
             <strong data-testid="step-title">{step.title}</strong>
             <span data-testid="step-detail">{step.detail}</span>
           </div>
         </div>
-        <button type="button" class="button secondary small" onClick={() => controller.skip(next.id)}>
-          Can't see it
-        </button>
+        <div class="prompt-actions">
+          {guide?.spot && guide.id === next.id ? (
+            <button
+              type="button"
+              class="button primary small"
+              data-testid="accept-suggestion"
+              onClick={() => guide.spot && controller.tap({ ...guide.spot, sigma: SUGGESTED_SIGMA_PX })}
+            >
+              Use #{next.id}?
+            </button>
+          ) : null}
+          <button type="button" class="button secondary small" onClick={() => controller.skip(next.id)}>
+            Can't see it
+          </button>
+        </div>
       </section>
     );
   }
