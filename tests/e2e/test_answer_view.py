@@ -3,7 +3,7 @@ frame the phone draws; the answer brought into view when it arrives while the ph
 in elsewhere, or an arrow at the edge that takes them there; and no control caught by a tap
 beside it.
 
-The friend is a person-like figure pasted into the buddy's temple photo at the true position
+The friend is a person-like figure pasted into the joiner's temple photo at the true position
 of the other camera (the calibrated epipole): the test compares the screen around the figure
 with and without the answer drawn.
 """
@@ -115,7 +115,7 @@ def frame_centre(page: Phone) -> tuple[float, float]:
 def test_the_friend_stays_visible_inside_the_frame(
     server: str, pixel: Phone, iphone: Phone, tmp_path: Path
 ) -> None:
-    """The buddy's photo shows a person where the friend really is: once the answer is in,
+    """The joiner's photo shows a person where the friend really is: once the answer is in,
     the frame holds the whole person, and the person's pixels on screen are the same with
     the answer drawn as without it."""
     truth = scene(5, seed=16)
@@ -152,7 +152,7 @@ def test_the_friend_stays_visible_inside_the_frame(
 def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
     server: str, pixel: Phone, iphone: Phone
 ) -> None:
-    """The buddy is zoomed in on a landmark far from the friend when the answer arrives: the
+    """The joiner is zoomed in on a landmark far from the friend when the answer arrives: the
     view glides to show it. Zoomed away again, an arrow at the edge points to it, and one
     tap on it brings it back."""
     truth = scene(5, seed=16)
