@@ -105,8 +105,9 @@ export function photoUrl({ session_id, token }: Credentials, role: Role, key: st
   return withToken(`/api/sessions/${session_id}/photo/${role}`, token, { v: key });
 }
 
+/** The answer's drawing alone (a transparent PNG, tens of kB): the phone has its photo. */
 export function overlayUrl({ session_id, token }: Credentials, role: Role, version: number): string {
-  return withToken(`/api/sessions/${session_id}/overlay/${role}`, token, { v: String(version) });
+  return withToken(`/api/sessions/${session_id}/overlay/${role}`, token, { v: String(version), layer: "true" });
 }
 
 export function cropUrl({ session_id, token }: Credentials, role: Role, id: number, key: string): string {

@@ -39,6 +39,7 @@ export class TapSaver {
   private inFlight = false;
   private timer: unknown = null;
   private failures = 0;
+  private held = false;
   private state: SaveState = { status: "saved", message: null };
   private readonly debounceMs: number;
   private readonly delay: (attempt: number) => number;
@@ -82,6 +83,16 @@ export class TapSaver {
     return this.inFlight;
   }
 
+  /**
+   * Hold the taps on the phone (`true`: the photo they are on is not on the server yet, and
+   * taps must never be sent for a photo it does not have), or send what waits (`false`).
+   */
+  hold(held: boolean): void {
+    this.held = held;
+    if (held) this.cancelTimer();
+    else this.retryNow();
+  }
+
   /** The network is back (or the person asked): try now. */
   retryNow(): void {
     if (this.pending && !this.inFlight) {
@@ -118,7 +129,7 @@ export class TapSaver {
   }
 
   private async flush(): Promise<void> {
-    if (this.inFlight || this.wanted === null || !this.pending) return;
+    if (this.held || this.inFlight || this.wanted === null || !this.pending) return;
     const taps = this.wanted;
     const json = this.wantedJson;
     this.inFlight = true;

@@ -16,6 +16,7 @@ import { otherRole, type SessionState } from "../types";
 import { LineIcon, PersonIcon, PinIcon, TrashIcon, UndoIcon, EyeIcon } from "./icons";
 import { PhotoView, type Focus } from "./PhotoView";
 import { UploadStatus } from "./PhotoStep";
+import { UploadBar, uploadReplacesPrompt } from "./UploadBar";
 
 interface Props {
   controller: SessionController;
@@ -76,7 +77,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
         onRecheck={focusOn}
       />
       <PhotoView
-        photoUrl={photoUrl(credentials, role, photo.key)}
+        photoUrl={photo.local ?? photoUrl(credentials, role, photo.key)}
         photoSize={photo.size}
         overlayUrl={overlay}
         taps={editor.taps}
@@ -89,6 +90,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
         onMove={(id, to) => controller.moveLandmark(id, to)}
         onSelect={(id) => controller.select(id)}
       />
+      <UploadBar view={view} />
       <Prompt controller={controller} view={view} state={state} />
       <Toolbar controller={controller} view={view} />
     </main>
@@ -211,7 +213,7 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
   const next = nextLandmark(landmarkIds(editor.taps), landmarkIds(theirTaps), view.skipped);
   const marked = friendMarked(editor.taps);
 
-  if (view.upload.phase !== "idle") {
+  if (uploadReplacesPrompt(view)) {
     // A new photo on its way: its progress (or why it failed) instead of the prompt.
     return (
       <section class="prompt upload">
