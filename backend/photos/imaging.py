@@ -186,12 +186,14 @@ def encode_layer(drawn: NDArray[np.uint8], photo: NDArray[np.uint8]) -> bytes:
         raise ValueError(
             f"A layer needs two (H, W, 3) uint8 images, not {drawn.shape}, {photo.shape}."
         )
-    changed = np.any(drawn != photo, axis=2)
-    layer = np.zeros((*drawn.shape[:2], 4), dtype=np.uint8)
-    layer[changed, :3] = drawn[changed]
-    layer[changed, 3] = 255
-    # Mostly zeros: zlib's default level shrinks them far better than the drawings' level 1.
-    ok, encoded = cv2.imencode(".png", layer, [cv2.IMWRITE_PNG_COMPRESSION, 6])
+    # OpenCV's whole-image operations: numpy's per-pixel any() and masking took ~0.5 s here.
+    blue, green, red = cv2.split(cv2.absdiff(drawn, photo))
+    _, alpha = cv2.threshold(cv2.max(cv2.max(blue, green), red), 0, 255, cv2.THRESH_BINARY)
+    layer = cv2.merge([*cv2.split(cv2.bitwise_and(drawn, drawn, mask=alpha)), alpha])
+    # Mostly zeros: no row filter, and zlib's default level, halve the bytes of the drawings'
+    # level 1 in about the same time (~60 ms for 2560 x 1920).
+    options = [cv2.IMWRITE_PNG_COMPRESSION, 6, cv2.IMWRITE_PNG_FILTER, cv2.IMWRITE_PNG_FILTER_NONE]
+    ok, encoded = cv2.imencode(".png", layer, options)
     if not ok:
         raise ValueError(f"OpenCV could not encode a {layer.shape} layer as PNG.")
     return bytes(encoded.tobytes())
