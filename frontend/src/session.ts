@@ -139,7 +139,11 @@ export class SessionController {
       url: eventsUrl(credentials),
       onChange: (change) => this.changed(change),
       onEnded: () => this.end("ended"),
-      onStatus: (stream) => this.set({ stream }),
+      onStatus: (stream) => {
+        this.set({ stream });
+        // The stream is back: so is the network. What waits goes now, not at its backoff's end.
+        if (stream === "up") this.connectionBack();
+      },
     });
   }
 
@@ -163,15 +167,18 @@ export class SessionController {
     this.refetcher.request();
     this.stream.start();
     const onVisible = (): void => {
-      if (document.visibilityState === "visible") this.stream.wake();
+      if (document.visibilityState !== "visible") return;
+      this.stream.wake();
+      this.connectionBack();
     };
     const onOnline = (): void => {
       this.stream.wake();
-      this.saver.retryNow();
-      if (this.view.upload.phase === "failed" && this.view.upload.retryable) void this.retryUpload();
+      this.connectionBack();
     };
+    const onOffline = (): void => this.stream.drop();
     document.addEventListener("visibilitychange", onVisible);
     window.addEventListener("online", onOnline);
+    window.addEventListener("offline", onOffline);
     // Now and then, also without an event: a join code runs out silently, and a proxy may
     // hold events back.
     const poll = setInterval(() => {
@@ -181,7 +188,15 @@ export class SessionController {
       () => clearInterval(poll),
       () => document.removeEventListener("visibilitychange", onVisible),
       () => window.removeEventListener("online", onOnline),
+      () => window.removeEventListener("offline", onOffline),
     );
+  }
+
+  /** The network may be back (online, the page shown again, the stream reopened): send the
+   * taps and the photo that wait, at once. */
+  private connectionBack(): void {
+    this.saver.retryNow();
+    if (this.view.upload.phase === "failed" && this.view.upload.retryable) void this.retryUpload();
   }
 
   stop(): void {

@@ -48,7 +48,9 @@ export class TapSaver {
 
   constructor(private readonly options: TapSaverOptions) {
     this.debounceMs = options.debounceMs ?? 120;
-    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 1000, maxMs: 15_000 }));
+    // At most ~4 s between tries: a phone back on the network saves within seconds even when
+    // the browser says nothing of it (no "online" event after a dropped connection).
+    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 1000, maxMs: 4000 }));
     this.setTimer = options.setTimer ?? ((run, ms) => setTimeout(run, ms));
     this.clearTimer =
       options.clearTimer ?? ((timer) => clearTimeout(timer as ReturnType<typeof setTimeout>));
