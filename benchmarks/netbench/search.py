@@ -184,7 +184,7 @@ def play(
             if number == last:
                 # Both settled: the answer before the last tap is drawn, nothing in flight.
                 saved(starter)
-                expect(joiner.get_by_test_id("result-overlay")).to_be_visible()
+                expect(joiner.get_by_test_id("result-position")).to_be_visible()
                 expect(joiner.locator("img.preload")).to_have_count(0)
                 joiner.evaluate(WATCH_ANSWER)
                 tapped = time.time() * 1000

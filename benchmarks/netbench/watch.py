@@ -6,7 +6,8 @@ stamp, with the page's wall clock (``Date.now()``, the same clock as the benchma
 - ``tappable``: then the photo view shows it (its transform published, its picture decoded);
 - ``uploaded``: the photo's PUT answered (the browser's resource timing of the request);
 - ``text`` / ``drawn``: after :data:`WATCH_ANSWER`, the answer's position and its drawing
-  on the photo changed from what they were.
+  on the photo (the server's image layer, ``result-overlay``, or an SVG the app draws,
+  ``answer-layer``) changed from what they were.
 """
 
 from __future__ import annotations
@@ -56,9 +57,12 @@ WATCH_ANSWER = """
     const p = document.querySelector('[data-testid="result-position"]');
     return p ? `${p.dataset.x},${p.dataset.y}` : null;
   };
+  // The server's drawing (an image layer), or one the app draws itself (an SVG layer).
   const drawing = () => {
     const img = document.querySelector('[data-testid="result-overlay"]');
-    return img && img.complete && img.naturalWidth > 0 ? img.currentSrc || img.src : null;
+    if (img) return img.complete && img.naturalWidth > 0 ? img.currentSrc || img.src : null;
+    const svg = document.querySelector('[data-testid="answer-layer"]');
+    return svg && svg.childElementCount > 0 ? svg.innerHTML : null;
   };
   const before = { text: position(), drawn: drawing() };
   stamps.text = stamps.drawn = null;
