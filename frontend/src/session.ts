@@ -253,9 +253,13 @@ export class SessionController {
     } else if (mine && !this.view.photo) {
       extra = { photo: { size: mine, key: `${state.version}` } };
     }
-    // A new photo on its way: the answer of the one it replaces does not belong on it.
-    const shown = this.view.photo?.pending ? { ...state, answer: null, answer_error: null } : state;
-    this.set({ state, loadError: null, ...this.answerPatch(shown), ...extra });
+    this.set({ state, loadError: null, ...this.answerPatch(this.forScreen(state)), ...extra });
+  }
+
+  /** The state to draw the answer from: none while a new photo is on its way (the answer of
+   * the photo it replaces does not belong on it). */
+  private forScreen(state: SessionState): SessionState {
+    return this.view.photo?.pending ? { ...state, answer: null, answer_error: null } : state;
   }
 
   /** The taps to start from: unsaved ones kept on this phone, else the server's. */
@@ -292,7 +296,7 @@ export class SessionController {
     if (!this.holdTimer) {
       this.holdTimer = setTimeout(() => {
         this.holdTimer = null;
-        this.set({ answerState: this.view.state });
+        this.set({ answerState: this.view.state && this.forScreen(this.view.state) });
       }, ANSWER_HOLD_MS);
     }
     return {};
@@ -333,8 +337,11 @@ export class SessionController {
       unseen: false,
       mode: startingMode(false, false),
       linePoint: null,
-      ...(this.view.state ? this.answerPatch({ ...this.view.state, answer: null, answer_error: null }) : {}),
     });
+    // The answer of the photo it replaces goes at once (not held as a renewed answer is).
+    if (this.holdTimer) clearTimeout(this.holdTimer);
+    this.holdTimer = null;
+    this.set({ answerState: this.view.state && this.forScreen(this.view.state) });
     // A reload meanwhile starts from the server's photo: nothing of this one is kept.
     saveDraft({ session_id: this.view.credentials.session_id, taps: null, unsaved: false, skipped: [...this.view.skipped], unseen: false });
   }
