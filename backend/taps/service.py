@@ -104,7 +104,7 @@ class TapService:
         return self.answer(snapshot.id, snapshot.version) or snapshot
 
     def overlay(
-        self, participant: Participant, role: Role, fmt: ImageFormat, *, layer: bool = False
+        self, participant: Participant, role: Role, fmt: ImageFormat, layer: bool = False
     ) -> bytes:
         """``role``'s photo with the answer drawn for that phone, drawn for each request and
         never kept (a phone loads each answer's overlay once; its own cache keeps it).

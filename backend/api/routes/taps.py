@@ -50,7 +50,7 @@ def overlay(
     ] = False,
 ) -> Response:
     """That participant's photo with the answer drawn for their phone."""
-    data = taps.overlay(participant, role, format, layer=layer)
+    data = taps.overlay(participant, role, format, layer)
     media_type = MEDIA_TYPES["png" if layer else format]
     return Response(data, media_type=media_type, headers={"Cache-Control": "private"})
 
