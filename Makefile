@@ -22,7 +22,7 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-taps bench-load bench-suggest demo lock clean
+.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -86,6 +86,11 @@ bench-load: $(INSTALLED)
 
 bench-suggest: $(INSTALLED)
 	$(BIN)/python benchmarks/suggestions.py
+
+# The app on a venue's network: two phones in Chromium, loopback and an emulated congested
+# venue, in one run (docs/network-benchmark.md).
+bench-network: $(INSTALLED) $(APP) browser
+	$(BIN)/python benchmarks/network.py
 
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo

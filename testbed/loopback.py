@@ -32,16 +32,19 @@ def free_port() -> int:
 
 
 @contextmanager
-def serve(folder: Path, env: dict[str, str] | None = None) -> Iterator[Server]:
-    """uvicorn serving ``backend.main:app`` on 127.0.0.1, SQLite in ``folder`` unless
-    ``env`` says otherwise; terminated on exit. Its output goes to ``folder/uvicorn.log``,
-    shown if it fails to start."""
-    port = free_port()
+def serve(
+    folder: Path, env: dict[str, str] | None = None, port: int | None = None
+) -> Iterator[Server]:
+    """uvicorn serving ``backend.main:app`` on 127.0.0.1 (on ``port``, else a free one),
+    SQLite in ``folder`` unless ``env`` says otherwise; terminated on exit. Its output goes
+    to ``folder/uvicorn.log`` (appended: a server restarted on the same folder and port
+    keeps the first one's), shown if it fails to start."""
+    port = port or free_port()
     environment = os.environ | {"BUDDY_DATABASE_URL": f"sqlite:///{folder / 'buddy.db'}"}
     command = [sys.executable, "-m", "uvicorn", "backend.main:app", "--host", "127.0.0.1"]
     command += ["--port", str(port), "--no-access-log", "--timeout-graceful-shutdown", "3"]
     log_path = folder / "uvicorn.log"
-    with log_path.open("wb") as log:
+    with log_path.open("ab") as log:
         process = subprocess.Popen(
             command, cwd=ROOT, env=environment | (env or {}), stdout=log, stderr=log
         )

@@ -171,6 +171,34 @@ def encode_image(image: NDArray[np.uint8], *, format: Literal["png", "jpeg"]) ->
     return bytes(encoded.tobytes())
 
 
+def encode_layer(drawn: NDArray[np.uint8], photo: NDArray[np.uint8]) -> bytes:
+    """PNG of what ``drawn`` adds to ``photo``: the drawing alone, transparent elsewhere.
+
+    Both are (H, W, 3) uint8 BGR of the same shape, ``drawn`` a copy of ``photo`` drawn on.
+    A pixel the drawing changed is kept, opaque; every other pixel is transparent black, so
+    the PNG of a drawing over a 2560 x 1920 photo is tens of kB where the drawn photo is
+    hundreds: a phone that shows its own photo needs only this layer.
+
+    Raises ValueError when the shapes differ or are not (H, W, 3) uint8.
+    """
+    same = drawn.shape == photo.shape and drawn.dtype == photo.dtype == np.uint8
+    if not same or drawn.ndim != 3 or drawn.shape[2] != 3 or drawn.size == 0:
+        raise ValueError(
+            f"A layer needs two (H, W, 3) uint8 images, not {drawn.shape}, {photo.shape}."
+        )
+    # OpenCV's whole-image operations: numpy's per-pixel any() and masking took ~0.5 s here.
+    blue, green, red = cv2.split(cv2.absdiff(drawn, photo))
+    _, alpha = cv2.threshold(cv2.max(cv2.max(blue, green), red), 0, 255, cv2.THRESH_BINARY)
+    layer = cv2.merge([*cv2.split(cv2.bitwise_and(drawn, drawn, mask=alpha)), alpha])
+    # Mostly zeros: no row filter, and zlib's default level, halve the bytes of the drawings'
+    # level 1 in about the same time (~60 ms for 2560 x 1920).
+    options = [cv2.IMWRITE_PNG_COMPRESSION, 6, cv2.IMWRITE_PNG_FILTER, cv2.IMWRITE_PNG_FILTER_NONE]
+    ok, encoded = cv2.imencode(".png", layer, options)
+    if not ok:
+        raise ValueError(f"OpenCV could not encode a {layer.shape} layer as PNG.")
+    return bytes(encoded.tobytes())
+
+
 def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
     """JPEG of the ``size x size`` px of the stored photo ``data`` around ``(x, y)``.
 

@@ -11,7 +11,7 @@ from backend.clock import Clock
 from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
 from backend.participants import ROLES, Participant, Role, other
-from backend.photos.imaging import decode_photo, encode_image
+from backend.photos.imaging import decode_photo, encode_image, encode_layer
 from backend.photos.repository import Photos
 from backend.photos.schemas import ImageFormat
 from backend.photos.service import PhotoService
@@ -103,9 +103,13 @@ class TapService:
             return snapshot
         return self.answer(snapshot.id, snapshot.version) or snapshot
 
-    def overlay(self, participant: Participant, role: Role, fmt: ImageFormat) -> bytes:
+    def overlay(
+        self, participant: Participant, role: Role, fmt: ImageFormat, layer: bool = False
+    ) -> bytes:
         """``role``'s photo with the answer drawn for that phone, drawn for each request and
-        never kept (a phone loads each answer's overlay once; its own cache keeps it)."""
+        never kept (a phone loads each answer's overlay once; its own cache keeps it).
+        ``layer``: the drawing alone, a transparent PNG (``fmt`` aside), for a phone that
+        has its photo already."""
         snapshot = self.due(self.snapshot(participant.session_id))
         stored = snapshot.answer or {}
         if "solution" not in stored or snapshot.answer_version is None:
@@ -120,15 +124,16 @@ class TapService:
             )
         taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
         ids: list[int] = stored["answer"]["landmark_ids"]
+        pixels = decode_photo(photo.data)
         drawn = draw_overlay(
-            decode_photo(photo.data),
+            pixels,
             SolveResult.model_validate(stored["solution"]),
             # The solver's photo 2 is the one it found the friend in.
             photo=1 if role == stored["first"] else 2,
             points=[taps[i] for i in ids],
             labels=ids,
         )
-        return encode_image(drawn, format=fmt)
+        return encode_layer(drawn, pixels) if layer else encode_image(drawn, format=fmt)
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
         """A small picture around one landmark of ``role``'s photo: "find this"."""

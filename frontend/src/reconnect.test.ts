@@ -273,6 +273,21 @@ describe("the event stream", () => {
     expect(changes).toBe(4);
   });
 
+  it("drops the stream when the browser says the network is gone, until woken", () => {
+    const live = stream();
+    const source = latest();
+    source.open();
+    live.drop();
+    expect(source.closed).toBe(true);
+    expect(statuses).toEqual(["up", "down"]);
+    vi.advanceTimersByTime(60_000);
+    expect(FakeSource.opened).toHaveLength(1); // nothing opened while offline
+    live.wake();
+    expect(FakeSource.opened).toHaveLength(2);
+    latest().open();
+    expect(statuses).toEqual(["up", "down", "up"]);
+  });
+
   it("ends on 'expired' and opens nothing more", () => {
     stream();
     latest().open();

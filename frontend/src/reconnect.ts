@@ -182,7 +182,9 @@ export class LiveStream {
 
   constructor(private readonly options: LiveStreamOptions) {
     this.open = options.open ?? ((url) => new EventSource(url));
-    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 2000 }));
+    // Capped at ~4 s: a phone back on the network (or a restarted server) is caught up
+    // within seconds; a reopen is one small request.
+    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 2000, maxMs: 4000 }));
     this.setTimer = options.setTimer ?? ((run, ms) => setTimeout(run, ms));
     this.clearTimer =
       options.clearTimer ?? ((timer) => clearTimeout(timer as ReturnType<typeof setTimeout>));
@@ -199,6 +201,20 @@ export class LiveStream {
     this.timer = null;
     this.source?.close();
     this.source = null;
+  }
+
+  /**
+   * The browser says the network is gone: the stream over it is dead, even when its
+   * connection has not noticed yet (a dropped network may close nothing). Down until
+   * `wake` (the network back, the page shown again).
+   */
+  drop(): void {
+    if (this.stopped) return;
+    if (this.timer !== null) this.clearTimer(this.timer);
+    this.timer = null;
+    this.source?.close();
+    this.source = null;
+    this.setStatus("down");
   }
 
   /** The page is visible again, or the network is back: fetch, and reopen a dead stream. */

@@ -11,7 +11,6 @@ import {
   fetchState,
   isRetryable,
   putTaps,
-  uploadPhoto,
 } from "./api";
 import { browserDecoder, preparePhoto, type PreparedPhoto } from "./downscale";
 import {
@@ -36,15 +35,14 @@ import {
   LiveStream,
   Refetcher,
   alreadyShown,
-  backoffDelay,
-  withRetry,
   type Change,
   type StreamStatus,
 } from "./reconnect";
 import { forgetSession, loadDraft, saveDraft } from "./storage";
 import { TapSaver, type SaveState } from "./tapSaver";
 import { otherRole, type Credentials, type LensFields, type SessionState } from "./types";
-import type { Point, Size } from "./viewTransform";
+import { localPhoto, scaleTaps, sendPhoto, type ShownPhoto } from "./upload";
+import type { Point } from "./viewTransform";
 
 /** What a tap on the photo places: the friend, a point of a line through them, a landmark. */
 export type Mode = "friend" | "line" | "landmark";
@@ -82,8 +80,8 @@ export interface SessionView {
   readonly stream: StreamStatus;
   readonly upload: UploadState;
   readonly ended: Ending | null;
-  /** This phone's stored photo: its size, and a key that changes with each new photo. */
-  readonly photo: { size: Size; key: string } | null;
+  /** This phone's photo: the stored one, or its own copy while it is sent (upload.ts). */
+  readonly photo: ShownPhoto | null;
   readonly deleteError: string | null;
 }
 
@@ -101,6 +99,8 @@ export class SessionController {
   private readonly stream: LiveStream;
   private loaded = false;
   private prepared: (PreparedPhoto & { lens: LensFields }) | null = null;
+  /** What was on screen before a new photo was shown: back to it if that photo is refused. */
+  private before: Pick<SessionView, "photo" | "editor" | "unseen" | "mode"> | null = null;
   private holdTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly cleanups: Array<() => void> = [];
   /** Changes told while this phone's own PUT was on its way: judged when its reply is in. */
@@ -139,7 +139,11 @@ export class SessionController {
       url: eventsUrl(credentials),
       onChange: (change) => this.changed(change),
       onEnded: () => this.end("ended"),
-      onStatus: (stream) => this.set({ stream }),
+      onStatus: (stream) => {
+        this.set({ stream });
+        // The stream is back: so is the network. What waits goes now, not at its backoff's end.
+        if (stream === "up") this.connectionBack();
+      },
     });
   }
 
@@ -163,15 +167,18 @@ export class SessionController {
     this.refetcher.request();
     this.stream.start();
     const onVisible = (): void => {
-      if (document.visibilityState === "visible") this.stream.wake();
+      if (document.visibilityState !== "visible") return;
+      this.stream.wake();
+      this.connectionBack();
     };
     const onOnline = (): void => {
       this.stream.wake();
-      this.saver.retryNow();
-      if (this.view.upload.phase === "failed" && this.view.upload.retryable) void this.retryUpload();
+      this.connectionBack();
     };
+    const onOffline = (): void => this.stream.drop();
     document.addEventListener("visibilitychange", onVisible);
     window.addEventListener("online", onOnline);
+    window.addEventListener("offline", onOffline);
     // Now and then, also without an event: a join code runs out silently, and a proxy may
     // hold events back.
     const poll = setInterval(() => {
@@ -181,10 +188,19 @@ export class SessionController {
       () => clearInterval(poll),
       () => document.removeEventListener("visibilitychange", onVisible),
       () => window.removeEventListener("online", onOnline),
+      () => window.removeEventListener("offline", onOffline),
     );
   }
 
+  /** The network may be back (online, the page shown again, the stream reopened): send the
+   * taps and the photo that wait, at once. */
+  private connectionBack(): void {
+    this.saver.retryNow();
+    if (this.view.upload.phase === "failed" && this.view.upload.retryable) void this.retryUpload();
+  }
+
   stop(): void {
+    this.forgetLocal(this.view.photo);
     this.stream.stop();
     this.saver.stop();
     if (this.holdTimer) clearTimeout(this.holdTimer);
@@ -237,7 +253,13 @@ export class SessionController {
     } else if (mine && !this.view.photo) {
       extra = { photo: { size: mine, key: `${state.version}` } };
     }
-    this.set({ state, loadError: null, ...this.answerPatch(state), ...extra });
+    this.set({ state, loadError: null, ...this.answerPatch(this.forScreen(state)), ...extra });
+  }
+
+  /** The state to draw the answer from: none while a new photo is on its way (the answer of
+   * the photo it replaces does not belong on it). */
+  private forScreen(state: SessionState): SessionState {
+    return this.view.photo?.pending ? { ...state, answer: null, answer_error: null } : state;
   }
 
   /** The taps to start from: unsaved ones kept on this phone, else the server's. */
@@ -274,7 +296,7 @@ export class SessionController {
     if (!this.holdTimer) {
       this.holdTimer = setTimeout(() => {
         this.holdTimer = null;
-        this.set({ answerState: this.view.state });
+        this.set({ answerState: this.view.state && this.forScreen(this.view.state) });
       }, ANSWER_HOLD_MS);
     }
     return {};
@@ -289,67 +311,89 @@ export class SessionController {
 
   // --- the photo ---------------------------------------------------------------------------
 
-  /** The lens is read from the chosen file itself: the shrunk copy keeps no EXIF. */
+  /**
+   * The lens is read from the chosen file itself: the shrunk copy keeps no EXIF. The shrunk
+   * copy is shown and tapped on at once; the upload runs behind it (upload.ts).
+   */
   async choosePhoto(file: File): Promise<void> {
     this.set({ upload: { ...IDLE_UPLOAD, phase: "preparing" } });
     const [lens, prepared] = await Promise.all([readLens(file), preparePhoto(file, browserDecoder())]);
+    if (this.view.ended) return;
     this.prepared = { ...prepared, lens };
-    await this.sendPhoto();
+    const shown = localPhoto(prepared, `local-${Date.now()}`);
+    if (shown) this.showNewPhoto(shown);
+    await this.sendPrepared();
+  }
+
+  /** A new photo on screen before the server has it: new taps, held until it lands. */
+  private showNewPhoto(photo: ShownPhoto): void {
+    const { editor, unseen, mode } = this.view;
+    if (!this.view.photo?.pending) this.before = { photo: this.view.photo, editor, unseen, mode };
+    else this.forgetLocal(this.view.photo);
+    this.saver.hold(true);
+    this.set({
+      photo,
+      editor: newEditor(),
+      unseen: false,
+      mode: startingMode(false, false),
+      linePoint: null,
+    });
+    // The answer of the photo it replaces goes at once (not held as a renewed answer is).
+    if (this.holdTimer) clearTimeout(this.holdTimer);
+    this.holdTimer = null;
+    this.set({ answerState: this.view.state && this.forScreen(this.view.state) });
+    // A reload meanwhile starts from the server's photo: nothing of this one is kept.
+    saveDraft({ session_id: this.view.credentials.session_id, taps: null, unsaved: false, skipped: [...this.view.skipped], unseen: false });
+  }
+
+  private forgetLocal(photo: ShownPhoto | null): void {
+    if (photo?.local) URL.revokeObjectURL(photo.local);
   }
 
   /** The person read the refusal: back to what was there. */
   dismissUpload(): void {
     this.prepared = null;
+    const shown = this.view.photo;
+    if (shown?.pending) {
+      this.forgetLocal(shown);
+      const before = this.before ?? { photo: null, editor: newEditor(), unseen: false, mode: startingMode(false, false) };
+      this.before = null;
+      this.saver.saved(toServerTaps(before.editor.taps));
+      this.saver.hold(false);
+      this.set({ ...before, linePoint: null, upload: IDLE_UPLOAD, save: { status: "saved", message: null } });
+      this.keepDraft();
+      this.refetcher.request();
+      return;
+    }
     this.set({ upload: IDLE_UPLOAD });
   }
 
   async retryUpload(): Promise<void> {
-    if (this.prepared) await this.sendPhoto();
+    if (this.prepared) await this.sendPrepared();
   }
 
-  private async sendPhoto(): Promise<void> {
+  private async sendPrepared(): Promise<void> {
     const prepared = this.prepared;
     if (!prepared || this.view.ended) return;
-    const progress = (fraction: number): void =>
-      this.set({ upload: { ...IDLE_UPLOAD, phase: "uploading", progress: fraction } });
+    const progress = (fraction: number): void => {
+      if (this.prepared === prepared) this.set({ upload: { ...IDLE_UPLOAD, phase: "uploading", progress: fraction } });
+    };
     progress(0);
     try {
-      const send = (lens: LensFields) =>
-        withRetry(() => uploadPhoto(this.view.credentials, prepared.body, prepared.name, lens, progress), {
-          retries: 3,
-          isRetryable,
-          delay: (n) => backoffDelay(n, { baseMs: 1500 }),
-        });
-      const stored = await send(prepared.lens).catch((error: unknown) => {
-        // EXIF the server will not take (a lens of 65535 mm, say) must not cost the photo:
-        // it goes again without, and the server assumes a phone's camera.
-        const lensRefused = error instanceof ApiError && error.status === 422;
-        if (lensRefused && Object.keys(prepared.lens).length > 0) return send({});
-        throw error;
-      });
+      const stored = await sendPhoto(this.view.credentials, prepared, prepared.lens, progress);
+      if (this.prepared !== prepared) return; // another photo was chosen meanwhile
       this.prepared = null;
-      // A new photo: the server cleared this phone's taps, and so does the phone.
-      this.saver.saved(toServerTaps(fromServerTaps(null)));
-      const editor = newEditor();
-      this.set({
-        upload: IDLE_UPLOAD,
-        photo: { size: { width: stored.width, height: stored.height }, key: `${Date.now()}` },
-        editor,
-        unseen: false,
-        mode: startingMode(false, false),
-        linePoint: null,
-        save: { status: "saved", message: null },
-      });
-      this.keepDraft();
-      this.refetcher.request();
+      this.before = null;
+      this.landed({ width: stored.width, height: stored.height });
     } catch (error) {
+      if (this.prepared !== prepared) return;
       if (error instanceof ApiError && error.sessionEnded) {
         this.end("ended");
         return;
       }
       const retryable = isRetryable(error);
       const message = retryable
-        ? "The photo could not be sent: no connection. Retry when you have a signal."
+        ? "The photo could not be sent: no connection. Your taps are kept. Retry when you have a signal."
         : error instanceof Error
           ? error.message
           : String(error);
@@ -357,6 +401,33 @@ export class SessionController {
         upload: { ...IDLE_UPLOAD, phase: "failed", message, retryable },
       });
     }
+  }
+
+  /**
+   * The server has the new photo (of size `size`) and no taps on it: the taps made on the
+   * phone's copy meanwhile go now. The phone keeps showing its own copy: no download.
+   */
+  private landed(size: { width: number; height: number }): void {
+    const shown = this.view.photo;
+    const local = shown?.pending ? shown : null;
+    this.saver.saved(toServerTaps(fromServerTaps(null)));
+    let editor = local ? this.view.editor : newEditor();
+    if (local && (local.size.width !== size.width || local.size.height !== size.height)) {
+      editor = newEditor(scaleTaps(editor.taps, local.size, size));
+    }
+    const photo: ShownPhoto = local
+      ? { ...local, size, pending: false }
+      : { size, key: `${Date.now()}` };
+    this.set({
+      upload: IDLE_UPLOAD,
+      photo,
+      editor,
+      ...(local ? {} : { unseen: false, mode: startingMode(false, false), linePoint: null }),
+    });
+    this.saver.hold(false);
+    this.saver.update(toServerTaps(editor.taps));
+    this.keepDraft();
+    this.refetcher.request();
   }
 
   // --- taps ----------------------------------------------------------------------------------
@@ -376,6 +447,7 @@ export class SessionController {
   }
 
   private keepDraft(): void {
+    if (this.view.photo?.pending) return; // taps on a photo the server does not have yet
     saveDraft({
       session_id: this.view.credentials.session_id,
       taps: toServerTaps(this.view.editor.taps),

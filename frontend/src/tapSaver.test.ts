@@ -144,4 +144,33 @@ describe("saving taps", () => {
     expect(sent).toHaveLength(0);
     expect(statuses).toEqual([]);
   });
+
+  it("holds taps while their photo is not on the server, then sends the newest at once", async () => {
+    saver.hold(true);
+    saver.update(taps(1));
+    saver.update(taps(1, 2));
+    await vi.advanceTimersByTimeAsync(60_000);
+    expect(sent).toHaveLength(0);
+    expect(saver.pending).toBe(true);
+    saver.retryNow(); // the network coming back does not release a held saver
+    await vi.advanceTimersByTimeAsync(1000);
+    expect(sent).toHaveLength(0);
+    saver.hold(false);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(sent).toEqual([taps(1, 2)]);
+    await answer(STATE);
+    expect(statuses.at(-1)).toBe("saved");
+  });
+
+  it("holds a retry after a failure until released", async () => {
+    saver.update(taps(1));
+    await vi.advanceTimersByTimeAsync(100);
+    saver.hold(true);
+    await answer(new ApiError(0, "network", "No connection."));
+    await vi.advanceTimersByTimeAsync(60_000);
+    expect(sent).toHaveLength(1);
+    saver.hold(false);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(sent).toHaveLength(2);
+  });
 });

@@ -39,6 +39,7 @@ export class TapSaver {
   private inFlight = false;
   private timer: unknown = null;
   private failures = 0;
+  private held = false;
   private state: SaveState = { status: "saved", message: null };
   private readonly debounceMs: number;
   private readonly delay: (attempt: number) => number;
@@ -47,7 +48,9 @@ export class TapSaver {
 
   constructor(private readonly options: TapSaverOptions) {
     this.debounceMs = options.debounceMs ?? 120;
-    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 1000, maxMs: 15_000 }));
+    // At most ~4 s between tries: a phone back on the network saves within seconds even when
+    // the browser says nothing of it (no "online" event after a dropped connection).
+    this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 1000, maxMs: 4000 }));
     this.setTimer = options.setTimer ?? ((run, ms) => setTimeout(run, ms));
     this.clearTimer =
       options.clearTimer ?? ((timer) => clearTimeout(timer as ReturnType<typeof setTimeout>));
@@ -80,6 +83,16 @@ export class TapSaver {
   /** Whether a PUT is on its way: its reply will be the newest state. */
   get sending(): boolean {
     return this.inFlight;
+  }
+
+  /**
+   * Hold the taps on the phone (`true`: the photo they are on is not on the server yet, and
+   * taps must never be sent for a photo it does not have), or send what waits (`false`).
+   */
+  hold(held: boolean): void {
+    this.held = held;
+    if (held) this.cancelTimer();
+    else this.retryNow();
   }
 
   /** The network is back (or the person asked): try now. */
@@ -118,7 +131,7 @@ export class TapSaver {
   }
 
   private async flush(): Promise<void> {
-    if (this.inFlight || this.wanted === null || !this.pending) return;
+    if (this.held || this.inFlight || this.wanted === null || !this.pending) return;
     const taps = this.wanted;
     const json = this.wantedJson;
     this.inFlight = true;

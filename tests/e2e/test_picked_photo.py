@@ -5,6 +5,7 @@ making a canvas beyond iOS Safari's 16.7 MP.
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import httpx2
@@ -57,6 +58,10 @@ COLOURS = """(img) => {
 }"""
 
 
+# The centre of each quarter on a 4 x 4 picture of the photo (as COLOURS reads it).
+CENTRES = {"top-left": (1, 1), "top-right": (2, 1), "bottom-left": (1, 2), "bottom-right": (2, 2)}
+
+
 @pytest.fixture(scope="module")
 def turned_photo(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The upright photo stored a quarter turn back, with EXIF orientation 6, as a JPEG."""
@@ -103,12 +108,34 @@ def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     assert sent["size"] < turned_photo.stat().st_size, sent
     areas = iphone.evaluate("() => window.canvasAreas")
     assert max(areas) == short_side * long_side <= CANVAS_CAP, areas
-    # ...upright: the server keeps a photo without EXIF as it comes.
+    # ...upright, as the phone shows it (its own copy: WebKit may draw a picture it has not
+    # decoded yet as transparent, so the colours are read until they are drawn)...
     photo = view.locator("img")
-    iphone.wait_for(
-        lambda: bool(photo.evaluate("(img) => img.complete && img.naturalWidth > 0")), "the photo"
-    )
-    colours = photo.evaluate(COLOURS)
+    shown: list[dict[str, list[int]]] = []
+
+    def drawn_upright() -> bool:
+        shown[:] = [photo.evaluate(COLOURS)]
+        return all(nearest(colour) == quarter for quarter, colour in shown[0].items())
+
+    try:
+        iphone.wait_for(drawn_upright, "the shown photo, upright")
+    except AssertionError as turned:
+        raise AssertionError(f"{turned}: {shown}") from None
+    # ...and as the server stores it: it keeps a photo without EXIF as it comes.
+    joined = iphone.evaluate("() => JSON.parse(localStorage.getItem('buddy-search.session'))")
+    url = f"{server}/api/sessions/{joined['session_id']}/photo/joiner"
+    auth = {"Authorization": f"Bearer {joined['token']}"}
+    stored: list[httpx2.Response] = []
+
+    def landed() -> bool:
+        stored[:] = [httpx2.get(url, headers=auth)]
+        return stored[0].is_success
+
+    iphone.wait_for(landed, "the upload")
+    with Image.open(io.BytesIO(stored[0].content)) as kept:
+        assert kept.size == (short_side, long_side)
+        small = kept.convert("RGB").resize((4, 4))
+        colours = {q: list(small.getpixel(xy)) for q, xy in CENTRES.items()}
     assert {quarter: nearest(colour) for quarter, colour in colours.items()} == {
         quarter: quarter for quarter in colours
     }, colours

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Path
+from fastapi import APIRouter, Path, Query
 from fastapi.responses import Response
 
 from backend.api.deps import BaseUrlDep, ParticipantDep, StateDep, TapsDep, ViewerDep
@@ -41,10 +41,18 @@ def overlay(
     participant: ViewerDep,
     taps: TapsDep,
     format: FormatParam = "jpeg",
+    layer: Annotated[
+        bool,
+        Query(
+            description="true: the drawing alone, a PNG transparent elsewhere (format aside): "
+            "tens of kB, for a phone that shows its own photo under it"
+        ),
+    ] = False,
 ) -> Response:
     """That participant's photo with the answer drawn for their phone."""
-    data = taps.overlay(participant, role, format)
-    return Response(data, media_type=MEDIA_TYPES[format], headers={"Cache-Control": "private"})
+    data = taps.overlay(participant, role, format, layer)
+    media_type = MEDIA_TYPES["png" if layer else format]
+    return Response(data, media_type=media_type, headers={"Cache-Control": "private"})
 
 
 @router.get(

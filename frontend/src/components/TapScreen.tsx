@@ -21,6 +21,7 @@ import { LineIcon, PersonIcon, PinIcon, TrashIcon, UndoIcon } from "./icons";
 import { useSuggestion, type Guide } from "./GuideLayer";
 import { PhotoView, type Focus } from "./PhotoView";
 import { UploadStatus } from "./PhotoStep";
+import { UploadBar, uploadReplacesPrompt } from "./UploadBar";
 
 interface Props {
   controller: SessionController;
@@ -101,7 +102,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
       {top}
       <div class="stage" ref={stage}>
         <PhotoView
-          photoUrl={photoUrl(credentials, role, photo.key)}
+          photoUrl={photo.local ?? photoUrl(credentials, role, photo.key)}
           photoSize={photo.size}
           answer={answer}
           guide={guide}
@@ -127,6 +128,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
         onRecheck={focusOn}
       />
       <Prompt controller={controller} view={view} state={state} step={step} guide={guide} suggestion={suggestion} />
+      <UploadBar view={view} />
       <Toolbar controller={controller} view={view} />
     </main>
   );
@@ -273,7 +275,7 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
     "data-to-tap": String(step.toTap),
   };
 
-  if (view.upload.phase !== "idle") {
+  if (uploadReplacesPrompt(view)) {
     // A new photo on its way: its progress (or why it failed) instead of the prompt.
     return (
       <section class="prompt upload" {...data}>

@@ -2362,6 +2362,8 @@ export interface operations {
             query?: {
                 /** @description jpeg (photos: small, fast) or png */
                 format?: "png" | "jpeg";
+                /** @description true: the drawing alone, a PNG transparent elsewhere (format aside): tens of kB, for a phone that shows its own photo under it */
+                layer?: boolean;
                 /** @description The token, for EventSource and <img>, which cannot send headers. */
                 token?: string | null;
             };

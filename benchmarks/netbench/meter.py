@@ -1,0 +1,158 @@
+"""A phone's network through Chromium's DevTools protocol: the profile it is emulated on
+(``Network.emulateNetworkConditions``) and the bytes it sent and received (``Network``
+events), on a CDP session of Playwright's.
+
+Bytes are counted on the wire as Chromium reports them: received, a request's
+``encodedDataLength`` when it finished (headers and body as they came), else (an event stream
+still open) its response headers plus every chunk so far; sent, the request line, the headers
+Chromium sent (``requestWillBeSentExtraInfo``) and the body (its ``Content-Length``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+from urllib.parse import urlsplit
+
+from playwright.sync_api import BrowserContext, CDPSession, Page
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A network: its name, and the conditions to emulate (None: loopback, as it is)."""
+
+    name: str
+    up_mbit: float | None = None
+    down_mbit: float | None = None
+    round_trip_ms: float = 0.0
+
+    def conditions(self) -> dict[str, Any] | None:
+        if self.up_mbit is None or self.down_mbit is None:
+            return None
+        # The protocol takes bytes per second, and "latency" as the delay added to each
+        # request's round trip, ms.
+        return {
+            "offline": False,
+            "latency": self.round_trip_ms,
+            "downloadThroughput": self.down_mbit * 1e6 / 8,
+            "uploadThroughput": self.up_mbit * 1e6 / 8,
+        }
+
+    def describe(self) -> str:
+        if self.conditions() is None:
+            return "loopback (no emulation)"
+        return (
+            f"{self.up_mbit:g} Mbit/s up, {self.down_mbit:g} Mbit/s down, "
+            f"{self.round_trip_ms:g} ms round trip"
+        )
+
+
+LOOPBACK = Profile("loopback")
+VENUE = Profile("venue", up_mbit=1.5, down_mbit=3.0, round_trip_ms=300.0)
+PROFILES = {profile.name: profile for profile in (LOOPBACK, VENUE)}
+
+
+@dataclass
+class _Request:
+    url: str = ""
+    method: str = "GET"
+    sent_headers: int = 0
+    body: int = 0
+    response_headers: int = 0
+    chunks: int = 0
+    finished: int | None = None
+
+    @property
+    def sent(self) -> int:
+        target = urlsplit(self.url)
+        line = (
+            f"{self.method} {target.path}{'?' + target.query if target.query else ''} HTTP/1.1\r\n"
+        )
+        return len(line) + self.sent_headers + self.body
+
+    @property
+    def received(self) -> int:
+        return self.finished if self.finished is not None else self.response_headers + self.chunks
+
+
+@dataclass
+class Meter:
+    """One page's network: emulated as ``profile`` from :meth:`attach` on, and counted."""
+
+    profile: Profile
+    session: CDPSession | None = None
+    requests: dict[str, _Request] = field(default_factory=dict)
+
+    def attach(self, context: BrowserContext, page: Page) -> None:
+        session = context.new_cdp_session(page)
+        session.send("Network.enable")
+        conditions = self.profile.conditions()
+        if conditions is not None:
+            session.send("Network.emulateNetworkConditions", conditions)
+        session.on("Network.requestWillBeSent", self._will_be_sent)
+        session.on("Network.requestWillBeSentExtraInfo", self._sent_headers)
+        session.on("Network.responseReceived", self._response)
+        session.on("Network.dataReceived", self._data)
+        session.on("Network.loadingFinished", self._finished)
+        self.session = session
+
+    def set_offline(self, offline: bool) -> None:
+        """Cut this page off the network (or bring it back to its profile)."""
+        assert self.session is not None, "attach first"
+        conditions = self.profile.conditions() or {
+            "latency": 0,
+            "downloadThroughput": -1,
+            "uploadThroughput": -1,
+        }
+        self.session.send("Network.emulateNetworkConditions", {**conditions, "offline": offline})
+
+    def _request(self, event: dict[str, Any]) -> _Request:
+        return self.requests.setdefault(event["requestId"], _Request())
+
+    def _will_be_sent(self, event: dict[str, Any]) -> None:
+        request = self._request(event)
+        request.url = event["request"]["url"]
+        request.method = event["request"]["method"]
+
+    def _sent_headers(self, event: dict[str, Any]) -> None:
+        request = self._request(event)
+        headers: dict[str, str] = event.get("headers", {})
+        request.sent_headers = sum(len(k) + len(v) + 4 for k, v in headers.items()) + 2
+        lengths = [v for k, v in headers.items() if k.lower() == "content-length"]
+        request.body = int(lengths[0]) if lengths else 0
+
+    def _response(self, event: dict[str, Any]) -> None:
+        self._request(event).response_headers = int(event["response"].get("encodedDataLength", 0))
+
+    def _data(self, event: dict[str, Any]) -> None:
+        self._request(event).chunks += int(event.get("encodedDataLength", 0))
+
+    def _finished(self, event: dict[str, Any]) -> None:
+        self._request(event).finished = int(event.get("encodedDataLength", 0))
+
+    def totals(self) -> tuple[int, int]:
+        """(sent, received) bytes so far."""
+        sent = sum(r.sent for r in self.requests.values() if r.url.startswith("http"))
+        received = sum(r.received for r in self.requests.values() if r.url.startswith("http"))
+        return sent, received
+
+    def by_kind(self) -> dict[str, int]:
+        """Received bytes by what was fetched (the app, photos, overlays, crops, state...)."""
+        kinds: dict[str, int] = {}
+        for request in self.requests.values():
+            if request.url.startswith("http"):
+                kind = _kind(urlsplit(request.url).path)
+                kinds[kind] = kinds.get(kind, 0) + request.received
+        return kinds
+
+
+def _kind(path: str) -> str:
+    parts = path.strip("/").split("/")
+    if parts[:2] != ["api", "sessions"] or len(parts) < 3:
+        return "app" if not path.startswith("/api/") else "other API"
+    rest = parts[3:]
+    if not rest:
+        return "state"
+    return {"photo": "photo", "overlay": "overlay", "landmarks": "crops", "events": "events"}.get(
+        rest[0], rest[0]
+    )

@@ -1,0 +1,220 @@
+"""The phone app on a venue's network: how soon a photo can be tapped, how soon it is sent,
+how soon an answer reaches the other phone, and how many bytes a whole search moves.
+
+Two phones (Pixel 7 and iPhone 13, emulated in Debian's Chromium, touch input) on a live
+server on loopback play the same search (``netbench.search``) on each network profile in
+one run, through the DevTools protocol's network emulation (``netbench.meter``): loopback
+as it is, and a congested venue (1.5 Mbit/s up, 3 Mbit/s down, 300 ms round trip). The
+photos are a rendered hall enlarged to 12 MP phone photos; the app shrinks them to 2560 px
+before sending, as it does on a phone.
+
+    .venv/bin/python benchmarks/network.py [--runs N] [--profile NAME ...] [--out PATH]
+                                                                    (``make bench-network``)
+
+The report is printed and written as Markdown to ``docs/network-benchmark.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from netbench.meter import PROFILES
+from netbench.search import PhoneRun, SearchRun, hall_photos, play
+from playwright.sync_api import sync_playwright
+from report import ROOT, log, markdown_table, publish, source_state, verdict
+
+from testbed.loopback import serve
+
+DEFAULT_OUT = ROOT / "docs" / "network-benchmark.md"
+SEED = 20261125
+LANDMARKS = 6
+CHROMIUM = "/usr/bin/chromium"
+FLAGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+TAPPABLE_MS = 1500.0
+ANSWER_MS = {"loopback": 300.0, "venue": 1000.0}
+SEARCH_BYTES = 2.5e6
+
+
+def run(runs: int, profiles: list[str]) -> list[SearchRun]:
+    results: list[SearchRun] = []
+    with (
+        tempfile.TemporaryDirectory() as folder,
+        serve(Path(folder)) as server,
+        sync_playwright() as playwright,
+    ):
+        photos = hall_photos(Path(folder), SEED, LANDMARKS)
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        try:
+            for index in range(runs):
+                for name in profiles:
+                    log(f"[{name}] search {index + 1} of {runs}")
+                    results.append(
+                        play(browser, playwright, server.base_url, PROFILES[name], photos)
+                    )
+        finally:
+            browser.close()
+    return results
+
+
+def _median(values: list[float]) -> float:
+    return statistics.median(values)
+
+
+def _phones(results: list[SearchRun]) -> list[tuple[str, list[PhoneRun]]]:
+    return [
+        ("starter (Pixel 7)", [r.starter for r in results]),
+        ("joiner (iPhone 13)", [r.joiner for r in results]),
+    ]
+
+
+def _range(values: list[float], unit: Callable[[float], str]) -> str:
+    """The median, and the range when there are several."""
+    if len(values) == 1:
+        return unit(values[0])
+    return f"{unit(_median(values))} ({unit(min(values))}-{unit(max(values))})"
+
+
+def _s(ms: float) -> str:
+    return f"{ms / 1000:.2f} s"
+
+
+def _mb(count: float) -> str:
+    return f"{count / 1e6:.2f} MB"
+
+
+def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str:
+    rows = []
+    checks = []
+    for name in profiles:
+        mine = [r for r in results if r.profile == name]
+        for phone, runs in _phones(mine):
+            tappable = [r.tappable_ms for r in runs]
+            rows.append(
+                [
+                    name,
+                    phone,
+                    _range(tappable, _s),
+                    _range([r.uploaded_ms for r in runs], _s),
+                    _range([float(r.sent) for r in runs], _mb),
+                    _range([float(r.received) for r in runs], _mb),
+                ]
+            )
+            checks.append(
+                (
+                    f"{name}, {phone}: photo chosen -> tappable <= {_s(TAPPABLE_MS)}",
+                    max(tappable) <= TAPPABLE_MS,
+                )
+            )
+            whole = [float(r.sent + r.received) for r in runs]
+            checks.append(
+                (
+                    f"{name}, {phone}: a whole search <= {_mb(SEARCH_BYTES)}",
+                    max(whole) <= SEARCH_BYTES,
+                )
+            )
+        text = [r.answer_text_ms for r in mine]
+        drawn = [r.answer_drawn_ms for r in mine]
+        rows.append(
+            [
+                name,
+                "joiner: last tap -> answer",
+                f"text {_range(text, _s)}",
+                f"drawn {_range(drawn, _s)}",
+                "",
+                "",
+            ]
+        )
+        target = ANSWER_MS[name]
+        checks.append(
+            (
+                f"{name}: last tap -> answer drawn on the other phone < {_s(target)}",
+                max(drawn) < target,
+            )
+        )
+    table = markdown_table(
+        [
+            "profile",
+            "phone",
+            "photo chosen -> tappable",
+            "photo chosen -> uploaded",
+            "sent",
+            "received",
+        ],
+        rows,
+    )
+    kinds = sorted({k for r in results for p in (r.starter, r.joiner) for k in p.by_kind})
+    by_kind = markdown_table(
+        ["profile", "phone", *kinds],
+        [
+            [
+                name,
+                phone,
+                *(_mb(_median([float(r.by_kind.get(k, 0)) for r in runs])) for k in kinds),
+            ]
+            for name in profiles
+            for phone, runs in _phones([r for r in results if r.profile == name])
+        ],
+    )
+    lines = [
+        "# The phone app on a venue's network",
+        "",
+        "Command: `python benchmarks/network.py` (from the repository root, in its "
+        "virtualenv; `make bench-network`)",
+        "",
+        f"- {source_state()}",
+        f"- {len(results)} searches ({len(results) // len(profiles)} per profile), "
+        f"{seconds:.0f} s; figures are medians, with the range in brackets",
+        "- Profiles (Chromium's `Network.emulateNetworkConditions`, each phone): "
+        + "; ".join(f"{n}: {PROFILES[n].describe()}" for n in profiles),
+        f"- One search: the starter (Pixel 7) marks the joiner (iPhone 13) and both tap "
+        f"{LANDMARKS} landmarks of a rendered hall (`testbed.venue`), each photo a 12 MP JPEG "
+        "the app shrinks to 2560 px; the joiner taps as soon as its photo shows; the starter's "
+        "last tap renews the joiner's answer.",
+        "- Tappable: the photo view shows the photo, from the file input's change. Uploaded: "
+        "the photo's PUT answered. Answer: from the starter's last tap to the joiner's screen "
+        "showing the new position (text) and its drawing (drawn). Bytes: on the wire, as "
+        "Chromium's `Network` events report them, from opening the app to the last answer.",
+        "",
+        table,
+        "",
+        "Received bytes by what was fetched:",
+        "",
+        by_kind,
+        "",
+        "## Targets",
+        "",
+        *(f"- {verdict(passed)}: {what}" for what, passed in checks),
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=3, help="searches per profile")
+    parser.add_argument(
+        "--profile", action="append", choices=sorted(PROFILES), help="default: every profile"
+    )
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    args = parser.parse_args()
+    profiles = args.profile or list(PROFILES)
+    started = time.monotonic()
+    results = run(args.runs, profiles)
+    publish(report(results, profiles, time.monotonic() - started), args.out)
+    print(json.dumps({r.profile: round(r.answer_drawn_ms) for r in results}))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,80 @@
+"""The photo goes up behind the person's back, in each engine: the phone shows its own copy
+at once and takes taps on it; with no connection the upload fails with a clear message and
+the taps stay on the phone; once the connection is back the photo goes, then the taps, in
+that order, and nothing is lost. The phone never downloads its own photo."""
+
+from __future__ import annotations
+
+import math
+import re
+import time
+from pathlib import Path
+
+import pytest
+from phone import Phone, expect
+from test_catch_up import DROPPED, link
+from test_two_phones import PAIR, saved, scene, session_state, temple
+
+from testbed.loopback import serve
+
+pytestmark = pytest.mark.engines("chromium", "webkit")
+
+# The phone's requests as its browser's resource timing has them: [path, start, end] ms.
+REQUESTS = """() => performance.getEntriesByType("resource")
+  .map((e) => [new URL(e.name).pathname, e.startTime, e.responseEnd])"""
+
+
+@pytest.mark.expected_console_errors(DROPPED)
+def test_taps_wait_on_the_phone_for_its_photo(pixel: Phone, iphone: Phone, tmp_path: Path) -> None:
+    s = scene(3, seed=6)
+    with serve(tmp_path) as server, link(iphone, server.base_url) as network:
+        starter, joiner = pixel, iphone
+        starter.goto(f"{server.base_url}/")
+        starter.get_by_test_id("start").tap()
+        code = starter.get_by_test_id("code")
+        expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
+        joiner.goto(f"{network.base_url}/join/{re.sub(r'[^0-9]', '', code.inner_text())}")
+        expect(joiner.get_by_test_id("photo-input")).to_be_attached()
+
+        network.cut()
+        joiner.get_by_test_id("photo-input").set_input_files(temple(PAIR[1]))
+        # Shown at once, in the stored photo's pixels, and tappable: no upload awaited.
+        expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
+        expect(joiner.get_by_test_id("friend-prompt")).to_contain_text("Tap your friend")
+        joiner.tap_photo(*map(float, s.epipole2))
+        expect(joiner.get_by_test_id("friend-mark")).to_be_visible()
+        for number, (x, y) in enumerate(s.landmarks2, 1):
+            joiner.tap_photo(float(x), float(y))
+            expect(joiner.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+        # With no connection the upload gives up (after its retries), says so, keeps the taps.
+        error = joiner.get_by_test_id("upload-error")
+        expect(error).to_contain_text("no connection")
+        expect(error).to_contain_text("Your taps are kept")
+        expect(joiner.get_by_test_id("upload-retry")).to_be_visible()
+        expect(joiner.get_by_test_id("save-state")).not_to_have_attribute("data-state", "saved")
+
+        network.restore()
+        back = time.monotonic()
+        # Back online, the photo goes by itself (no Retry tapped), then the taps.
+        expect(joiner.get_by_test_id("upload-error")).to_have_count(0)
+        saved(joiner)
+        sent_in = time.monotonic() - back
+        state = session_state(starter)
+        requests = joiner.evaluate(REQUESTS)
+
+    assert sent_in < 15, f"the photo and taps took {sent_in:.1f} s once back online"
+    assert state["photos"]["joiner"]["width"] == 640
+    taps = state["taps"]["joiner"]
+    assert [t["id"] for t in taps["landmarks"]] == [1, 2, 3]
+    for tap, (x, y) in zip(taps["landmarks"], s.landmarks2, strict=True):
+        assert math.hypot(tap["x"] - x, tap["y"] - y) < 2  # where they were tapped
+    friend = taps["friend"]
+    assert math.hypot(friend["x"] - s.epipole2[0], friend["y"] - s.epipole2[1]) < 2
+    photo_puts = [r for r in requests if r[0].endswith("/photo")]
+    tap_puts = [r for r in requests if r[0].endswith("/taps")]
+    assert photo_puts, requests
+    assert tap_puts, requests
+    landed = max(end for _, _, end in photo_puts)
+    assert all(start >= landed for _, start, _ in tap_puts), "taps sent before the photo landed"
+    own = [path for path, _, _ in requests if re.search(r"/photo/joiner$", path)]
+    assert own == [], f"the phone downloaded its own photo: {own}"
