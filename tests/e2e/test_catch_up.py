@@ -110,7 +110,7 @@ def shown(phone: Phone) -> dict[str, Any]:
           return {
             landmarks: [...document.querySelectorAll('[data-testid="landmark"]')]
               .map((l) => Number(l.dataset.id)).sort((a, b) => a - b),
-            needed: one("landmarks-needed")?.dataset.count ?? null,
+            needed: one("next-step")?.dataset.needed ?? null,
             find: one("find-prompt")?.dataset.id ?? null,
             saved: one("save-state")?.dataset.state === "saved",
             friend: position ? [Number(position.dataset.x), Number(position.dataset.y)] : null,
