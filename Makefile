@@ -1,7 +1,7 @@
 # The two commands of the README: `make run` and `make test`. Each sets up what it needs
 # from nothing (a virtualenv in .venv, pinned Python and npm packages, the built phone app,
-# Debian's Chromium for the browser tests, Debian's PostgreSQL server for the replica
-# tests) and is safe to run again.
+# Debian's Chromium for the browser tests, Debian's PostgreSQL server and nginx for the
+# replica and cluster tests) and is safe to run again.
 
 PYTHON ?= python3
 NPM ?= npm
@@ -16,12 +16,17 @@ APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/nu
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck frontend-test browser postgres bench bench-api bench-camera bench-load demo clean
+.PHONY: run run-cluster test lint typecheck frontend-test browser postgres nginx bench bench-api bench-camera bench-load demo clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
 
-test: $(INSTALLED) lint typecheck frontend-test $(APP) browser postgres
+# The production topology on this machine: nginx (HTTPS) -> 2 replicas -> PostgreSQL
+# (deploy/cluster.py; python -m deploy.cluster --help for its options). Ctrl+C stops it.
+run-cluster: $(INSTALLED) $(APP) postgres nginx
+	$(BIN)/python -m deploy.cluster $(ARGS)
+
+test: $(INSTALLED) lint typecheck frontend-test $(APP) browser postgres nginx
 	$(BIN)/python -m pytest
 
 lint: $(INSTALLED)
@@ -45,6 +50,12 @@ postgres:
 	@ls /usr/lib/postgresql/*/bin/postgres >/dev/null 2>&1 || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq postgresql )
 
+# Debian's nginx, which make run-cluster, the cluster tests and the load benchmark run as a
+# plain process with deploy/nginx.conf; the package's own service is not used.
+nginx:
+	@command -v nginx >/dev/null || test -x /usr/sbin/nginx || ( $(SUDO) apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq nginx )
+
 bench: $(INSTALLED)
 	$(BIN)/python benchmarks/solver.py
 
@@ -54,8 +65,8 @@ bench-api: $(INSTALLED)
 bench-camera: $(INSTALLED)
 	$(BIN)/python benchmarks/camera_checks.py
 
-bench-load: $(INSTALLED)
-	$(BIN)/python benchmarks/load.py --workers 2
+bench-load: $(INSTALLED) $(APP) postgres nginx
+	$(BIN)/python benchmarks/load.py
 
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo

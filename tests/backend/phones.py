@@ -1,5 +1,6 @@
-"""Test helpers for the service: the temple data, a controllable clock, one phone's API,
-a phone's event stream followed over HTTP."""
+"""Test helpers for the service: the temple data, a controllable clock, one phone's API
+(in-process, or over HTTP to a live server: a replica, or nginx in front of them), a
+phone's event stream followed over HTTP."""
 
 from __future__ import annotations
 
@@ -12,9 +13,13 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import numpy as np
 from fastapi.testclient import TestClient
 
+from testbed.scenes import Scene, Taps, tap, temple_scene
+
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
+PAIR = ("templeSR0003", "templeSR0006")  # the seeker's photo, the buddy's
 
 
 class FakeClock:
@@ -118,3 +123,88 @@ class Listener(threading.Thread):
                 f"no {type_} {data} event in {seconds} s; got {self.types}"
             )
             time.sleep(0.02)
+
+
+@dataclass
+class HttpPhone:
+    """One phone over HTTP, talking to whatever ``base`` is: a replica, or nginx."""
+
+    base: str
+    session_id: str
+    token: str
+
+    @property
+    def auth(self) -> dict[str, str]:
+        return {"Authorization": f"Bearer {self.token}"}
+
+    def url(self, rest: str = "") -> str:
+        return f"{self.base}/api/sessions/{self.session_id}{rest}"
+
+    def call(
+        self, method: str, rest: str = "", headers: dict[str, str] | None = None, **options: Any
+    ) -> httpx.Response:
+        headers = self.auth | (headers or {})
+        return httpx.request(method, self.url(rest), headers=headers, timeout=30, **options)
+
+    def state(self) -> dict[str, Any]:
+        answer = self.call("GET")
+        assert answer.status_code == 200, answer.text
+        return dict(answer.json())
+
+    def upload(self, name: str) -> None:
+        answer = self.call("PUT", "/photo", files=photo_form(name))
+        assert answer.status_code == 200, answer.text
+
+    def tap(self, **taps: Any) -> dict[str, Any]:
+        answer = self.call("PUT", "/taps", json=taps)
+        assert answer.status_code == 200, answer.text
+        return dict(answer.json())
+
+    def listen(self, last_event_id: int | None = None) -> Listener:
+        listener = Listener(self.base, self.session_id, self.token, last_event_id)
+        listener.start()
+        return listener
+
+
+def photo_form(name: str) -> dict[str, tuple[str, bytes, str]]:
+    """The multipart form of a photo upload: a temple view by name."""
+    return {"photo": (f"{name}.png", (TEMPLE / f"{name}.png").read_bytes(), "image/png")}
+
+
+def pair(seeker_base: str, buddy_base: str) -> tuple[HttpPhone, HttpPhone]:
+    """The seeker starts through one address, the buddy joins with the code through the
+    other (the same one, through nginx)."""
+    created = httpx.post(f"{seeker_base}/api/sessions", timeout=30).json()
+    joined = httpx.post(
+        f"{buddy_base}/api/sessions/join", json={"code": created["join_code"]}, timeout=30
+    )
+    assert joined.status_code == 200, joined.text
+    sid = created["session_id"]
+    return (
+        HttpPhone(seeker_base, sid, created["token"]),
+        HttpPhone(buddy_base, sid, joined.json()["token"]),
+    )
+
+
+def follow(seeker: HttpPhone, buddy: HttpPhone, seconds: float = 15) -> tuple[Listener, Listener]:
+    """Both phones' event streams. The seeker's is open first (its own presence came back),
+    so the buddy coming online is news to it: within ``seconds``, from wherever the buddy's
+    stream is."""
+    seeker_events = seeker.listen()
+    seeker_events.wait_for("joined", role="seeker", online=True)
+    buddy_events = buddy.listen()
+    buddy_events.wait_for("joined", role="buddy", online=True)
+    seeker_events.wait_for("joined", role="buddy", online=True, seconds=seconds)
+    return seeker_events, buddy_events
+
+
+def landmarks(points: np.ndarray) -> list[dict[str, float]]:
+    """Taps in the API's form, numbered from 1 in order."""
+    return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
+
+
+def scene_taps() -> tuple[Scene, Taps]:
+    """Six landmarks of the temple PAIR and the buddy, tapped with 1 px of noise."""
+    rng = np.random.default_rng(6)
+    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
+    return scene, tap(scene, 1.0, rng)

@@ -10,7 +10,6 @@ import signal
 import time
 from collections.abc import Iterator
 from contextlib import ExitStack
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -18,15 +17,14 @@ import httpx
 import numpy as np
 import psycopg
 import pytest
-from phones import TEMPLE, Listener
+from phones import PAIR, HttpPhone, Listener, follow, landmarks, pair, scene_taps
 from postgres import PostgresServer
 
 from backend.loopback import Server, serve
 from backend.storage.database import database_url
 from shared_solver.estimation.uncertainty import contains
-from testbed.scenes import Scene, Taps, tap, temple_scene
+from testbed.scenes import Scene
 
-PAIR = ("templeSR0003", "templeSR0006")
 # Streams read the event table only when woken or every 30 s, and ping every 20 s: an
 # event that reaches the other replica's stream within CROSSING_SECONDS was carried by
 # LISTEN/NOTIFY, nothing else.
@@ -44,81 +42,6 @@ def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, 
             (tmp_path / name).mkdir()
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
         yield servers[0], servers[1]
-
-
-@dataclass
-class HttpPhone:
-    """One phone over HTTP, talking to whichever replica ``base`` is."""
-
-    base: str
-    session_id: str
-    token: str
-
-    @property
-    def auth(self) -> dict[str, str]:
-        return {"Authorization": f"Bearer {self.token}"}
-
-    def call(self, method: str, rest: str = "", **options: Any) -> httpx.Response:
-        url = f"{self.base}/api/sessions/{self.session_id}{rest}"
-        return httpx.request(method, url, headers=self.auth, timeout=30, **options)
-
-    def state(self) -> dict[str, Any]:
-        answer = self.call("GET")
-        assert answer.status_code == 200, answer.text
-        return dict(answer.json())
-
-    def upload(self, name: str) -> None:
-        photo = (TEMPLE / f"{name}.png").read_bytes()
-        answer = self.call("PUT", "/photo", files={"photo": (f"{name}.png", photo, "image/png")})
-        assert answer.status_code == 200, answer.text
-
-    def tap(self, **taps: Any) -> dict[str, Any]:
-        answer = self.call("PUT", "/taps", json=taps)
-        assert answer.status_code == 200, answer.text
-        return dict(answer.json())
-
-    def listen(self, last_event_id: int | None = None) -> Listener:
-        listener = Listener(self.base, self.session_id, self.token, last_event_id)
-        listener.start()
-        return listener
-
-
-def pair(seeker_replica: Server, buddy_replica: Server) -> tuple[HttpPhone, HttpPhone]:
-    """The seeker starts on one replica, the buddy joins with the code on the other."""
-    created = httpx.post(f"{seeker_replica.base_url}/api/sessions", timeout=30).json()
-    joined = httpx.post(
-        f"{buddy_replica.base_url}/api/sessions/join",
-        json={"code": created["join_code"]},
-        timeout=30,
-    )
-    assert joined.status_code == 200, joined.text
-    sid = created["session_id"]
-    return (
-        HttpPhone(seeker_replica.base_url, sid, created["token"]),
-        HttpPhone(buddy_replica.base_url, sid, joined.json()["token"]),
-    )
-
-
-def follow(seeker: HttpPhone, buddy: HttpPhone) -> tuple[Listener, Listener]:
-    """Both phones' event streams, each on its own replica. The seeker's is open first (its
-    own presence came back), so the buddy coming online is news to it, from the other
-    replica."""
-    seeker_events = seeker.listen()
-    seeker_events.wait_for("joined", role="seeker", online=True)
-    buddy_events = buddy.listen()
-    buddy_events.wait_for("joined", role="buddy", online=True)
-    seeker_events.wait_for("joined", role="buddy", online=True, seconds=CROSSING_SECONDS)
-    return seeker_events, buddy_events
-
-
-def scene_taps() -> tuple[Scene, Taps]:
-    rng = np.random.default_rng(6)
-    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
-    return scene, tap(scene, 1.0, rng)
-
-
-def landmarks(points: np.ndarray) -> list[dict[str, float]]:
-    return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
 
 
 def photos_and_taps_cross(
@@ -144,8 +67,8 @@ def test_phones_on_two_replicas_find_each_other(
     replicas: tuple[Server, Server], postgres: PostgresServer, fresh_postgres_url: str
 ) -> None:
     one, two = replicas
-    seeker, buddy = pair(one, two)
-    seeker_events, buddy_events = follow(seeker, buddy)
+    seeker, buddy = pair(one.base_url, two.base_url)
+    seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
 
     scene, state = photos_and_taps_cross(seeker, buddy, seeker_events, buddy_events)
 
@@ -191,8 +114,8 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
         for name in ("worker1", "worker2"):
             (tmp_path / name).mkdir()
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
-        seeker, buddy = pair(*servers)
-        seeker_events, buddy_events = follow(seeker, buddy)
+        seeker, buddy = pair(*(server.base_url for server in servers))
+        seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
         _, state = photos_and_taps_cross(seeker, buddy, seeker_events, buddy_events)
         assert seeker.state()["result"] == state["result"]
         assert seeker.call("DELETE").status_code == 204
@@ -204,8 +127,8 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
 
 def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
     one, two = replicas
-    seeker, buddy = pair(one, two)
-    seeker_events, buddy_events = follow(seeker, buddy)
+    seeker, buddy = pair(one.base_url, two.base_url)
+    seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
     seeker.upload(PAIR[0])
     buddy.upload(PAIR[1])
     scene, taps = scene_taps()
@@ -247,8 +170,8 @@ def test_postgresql_restarted_mid_search(
     replicas: tuple[Server, Server], postgres: PostgresServer
 ) -> None:
     one, two = replicas
-    seeker, buddy = pair(one, two)
-    seeker_events, buddy_events = follow(seeker, buddy)
+    seeker, buddy = pair(one.base_url, two.base_url)
+    seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
     seeker.upload(PAIR[0])
     buddy.upload(PAIR[1])
     scene, taps = scene_taps()
