@@ -162,9 +162,11 @@ def load(setup: argparse.Namespace, running: Cluster, processes: Processes) -> R
     database = Database(running.database_url)
     peak_mb = database.size_mb()
 
+    sampling = True
+
     def sample() -> None:
         nonlocal peak_mb
-        while True:
+        while sampling:
             processes.sample_memory()
             peak_mb = max(peak_mb, database.size_mb())
             gevent.sleep(SAMPLE_SECONDS)
@@ -182,7 +184,8 @@ def load(setup: argparse.Namespace, running: Cluster, processes: Processes) -> R
     seconds = time.monotonic() - started
     after, (busy_after, total_after) = processes.cpu_seconds(), machine_busy_seconds()
     runner.quit()
-    sampler.kill()
+    sampling = False  # not killed: its database connection must not be left mid-query
+    sampler.join()
     figures = {
         "size": peak_mb,
         "wal": database.wal_mb() - wal,

@@ -4,6 +4,10 @@ The shipped file is written for the official image in Compose: ports 80 and 443,
 replicas found by Docker's DNS, the certificate and logs at the image's paths. Here it is
 templated only there: loopback ports, the replicas' loopback addresses, this run's folder
 for the certificate, logs, pid and temporary files. Every other line is the shipped one.
+
+The template is a few exact substitutions, each required to match once, rather than an
+nginx config library: crossplane, Python's, has had no release since 2022 and drops the
+file's comments, and `nginx -t` (tests/test_deploy.py) checks the result anyway.
 """
 
 from __future__ import annotations
