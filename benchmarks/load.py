@@ -51,6 +51,7 @@ DRAIN_SECONDS = 180.0  # searches still running at the end of the duration get t
 SAMPLE_SECONDS = 1.0
 SEED = 20261121
 KINDS = ("nginx", "replicas", "PostgreSQL", "load generator")
+STATEMENTS = 8  # PostgreSQL's heaviest statements reported
 
 
 @dataclass
@@ -111,6 +112,7 @@ class Run:
     seconds: float  # from the first search's start to the last one's end
     memory_mb: dict[str, float]
     database: dict[str, float]  # peak size, WAL written (MB), connections opened
+    statements: list[tuple[int, float, float, str]]  # PostgreSQL's heaviest
     versions: dict[str, str]
     cut_off: int
 
@@ -128,6 +130,25 @@ class Database:
             conninfo.render_as_string(hide_password=False), autocommit=True
         )
         self.version = str(self._one("SHOW server_version")).split()[0]
+        self.connection.execute("CREATE EXTENSION IF NOT EXISTS pg_stat_statements")
+
+    def statements_reset(self) -> None:
+        self.connection.execute("SELECT pg_stat_statements_reset()")
+
+    def statements(self, top: int) -> list[tuple[int, float, float, str]]:
+        """The ``top`` statements by total time since the reset, this connection's aside:
+        (calls, mean ms, total s, the statement's start)."""
+        rows = self.connection.execute(
+            "SELECT calls, mean_exec_time, total_exec_time / 1000, "
+            "left(regexp_replace(query, '\\s+', ' ', 'g'), 70) FROM pg_stat_statements "
+            "WHERE dbid = (SELECT oid FROM pg_database WHERE datname = current_database()) "
+            "AND query NOT LIKE '%%pg_stat_statements%%' AND query NOT LIKE '%%pg_database_size%%' "
+            "ORDER BY total_exec_time DESC LIMIT %s",
+            (top,),
+        ).fetchall()
+        return [
+            (int(calls), float(mean), float(total), str(text)) for calls, mean, total, text in rows
+        ]
 
     def _one(self, query: str) -> Any:
         row = self.connection.execute(query).fetchone()
@@ -172,6 +193,7 @@ def load(setup: argparse.Namespace, running: Cluster, processes: Processes) -> R
             gevent.sleep(SAMPLE_SECONDS)
 
     wal, connections = database.wal_mb(), database.connections()
+    database.statements_reset()
     before, (busy, total) = processes.cpu_seconds(), machine_busy_seconds()
     started = time.monotonic()
     Search.stop_at = started + setup.duration
@@ -186,6 +208,7 @@ def load(setup: argparse.Namespace, running: Cluster, processes: Processes) -> R
     runner.quit()
     sampling = False  # not killed: its database connection must not be left mid-query
     sampler.join()
+    statements = database.statements(STATEMENTS)
     figures = {
         "size": peak_mb,
         "wal": database.wal_mb() - wal,
@@ -199,6 +222,7 @@ def load(setup: argparse.Namespace, running: Cluster, processes: Processes) -> R
         seconds,
         dict(processes.peak_mb),
         figures,
+        statements,
         versions(database),
         cut_off,
     )
@@ -356,6 +380,21 @@ def report(run: Run) -> str:
             "",
             per_search_table(run, calls),
             "",
+            "## PostgreSQL's heaviest statements",
+            "",
+            "By total time in PostgreSQL during the run (pg_stat_statements), waits for locks"
+            " included. `VACUUM (FULL)` is the erase of deleted rows' bytes (each replica"
+            " runs it after its deletions, at most every `BUDDY_ERASE_INTERVAL_SECONDS`):"
+            " it locks each table while copying it.",
+            "",
+            markdown_table(
+                ["statement", "calls", "mean (ms)", "total (s)"],
+                [
+                    [f"`{text}`", str(calls), ms(mean), f"{total:.2f}"]
+                    for calls, mean, total, text in run.statements
+                ],
+            ),
+            "",
             "## Errors",
             "",
             *[f"- {error.occurrences} x {error.name}: {error.error}" for error in errors],
@@ -382,7 +421,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     if not (0 <= setup.ramp <= setup.duration and 0.1 <= setup.speed <= 1000):
         parser.error("--ramp must be in [0, duration], --speed in [0.1, 1000]")
     with tempfile.TemporaryDirectory(prefix="buddy-load-") as folder:
-        postgres = PostgresServer()
+        # pg_stat_statements: what PostgreSQL's time goes to (the erase among it).
+        postgres = PostgresServer({"shared_preload_libraries": "pg_stat_statements"})
         try:
             postgres.start()
             url = postgres.url(postgres.create_database(name="buddy"))

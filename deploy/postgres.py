@@ -43,8 +43,10 @@ class PostgresServer:
     """One server, initialised at once; :meth:`stop` and :meth:`start` again (a restart
     mid-test) keep its data directory and port."""
 
-    def __init__(self) -> None:
+    def __init__(self, settings: dict[str, str] | None = None) -> None:
+        """``settings``: server settings beyond the defaults, as ``-c name=value``."""
         self.bin = binaries()
+        self.settings = {"listen_addresses": "127.0.0.1", **(settings or {})}
         self.folder = Path(tempfile.mkdtemp(prefix="buddy-postgres-"))
         self.data = self.folder / "data"
         self.port = free_port()
@@ -91,7 +93,8 @@ class PostgresServer:
             )
 
     def start(self) -> None:
-        options = f"-p {self.port} -k {self.folder} -c listen_addresses=127.0.0.1"
+        options = f"-p {self.port} -k {self.folder}"
+        options += "".join(f" -c {name}={value}" for name, value in self.settings.items())
         log = self.folder / "postgres.log"
         self._run("pg_ctl", "start", "-D", str(self.data), "-w", "-o", options, "-l", str(log))
 

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import hmac
 import json
-import math
-import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from dataclasses import dataclass
@@ -32,6 +30,7 @@ from .database import (
     sqlite_file,
     unavailable,
 )
+from .erasing import EraseTurn
 from .notifications import CHANNEL, ChangeListener
 from .tables import EventRow, JoinFailureRow, ParticipantRow, PhotoRow, SessionRow
 
@@ -178,8 +177,8 @@ class Store:
         path = sqlite_file(engine)
         self._writer = None if path is None else WriterLock(path)
         self._erase_pending = False
-        self._erase_interval = erase_interval_seconds
-        self._erased_at = -math.inf  # time.monotonic() of the last VACUUM FULL
+        # PostgreSQL: one VACUUM FULL per erase interval for all replicas (erasing.py).
+        self._erase_turn = EraseTurn(engine, erase_interval_seconds)
 
     def change_listener(
         self, changed: Callable[[str], None], missed: Callable[[], None]
@@ -374,24 +373,28 @@ class Store:
         PostgreSQL leaves a deleted row's bytes in its table's files, and VACUUM only marks
         that space free: VACUUM FULL copies each table without them into a new file and
         deletes the old one. It locks each table while copying it (requests touching it
-        wait: about 1 s per 100 MB of photos kept), so it runs at most once per
-        ``erase_interval_seconds``, after deletions only, giving up a table's lock after
-        5 s. PostgreSQL's own write-ahead log (``pg_wal``, and any archive or backup of it)
+        wait: the load benchmark reports how long), so it runs at most once per
+        ``erase_interval_seconds`` for all replicas together (the one that erases takes the
+        turn: erasing.py), after deletions only, giving up a table's lock after 5 s.
+        PostgreSQL's own write-ahead log (``pg_wal``, and any archive or backup of it)
         keeps the bytes until it is recycled: outside the app's reach.
         """
+        postgresql = self.engine.dialect.name == "postgresql"
+        if postgresql:
+            with _translated():
+                self._erase_turn.end_if_over()
         if not self._erase_pending:
             return True
-        postgresql = self.engine.dialect.name == "postgresql"
-        if postgresql and time.monotonic() - self._erased_at < self._erase_interval:
-            return False
+        if postgresql:
+            with _translated():
+                if not self._erase_turn.take():  # erased within the interval, here or not
+                    return False
         self._erase_pending = False  # a deletion from here on sets it again
         try:
             done = self._vacuum_full() if postgresql else self._checkpoint()
         except BaseException:
             self._erase_pending = True
             raise
-        if postgresql:
-            self._erased_at = time.monotonic()
         if not done:
             self._erase_pending = True
         return done
