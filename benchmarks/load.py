@@ -383,9 +383,9 @@ def report(run: Run) -> str:
             "## PostgreSQL's heaviest statements",
             "",
             "By total time in PostgreSQL during the run (pg_stat_statements), waits for locks"
-            " included. `VACUUM (FULL)` is the erase of deleted rows' bytes (each replica"
-            " runs it after its deletions, at most every `BUDDY_ERASE_INTERVAL_SECONDS`):"
-            " it locks each table while copying it.",
+            " included. `VACUUM (FULL)` is the erase of deleted rows' bytes (one replica for"
+            " all, after deletions, at most every `BUDDY_ERASE_INTERVAL_SECONDS`): it locks"
+            " each table while copying it.",
             "",
             markdown_table(
                 ["statement", "calls", "mean (ms)", "total (s)"],
