@@ -45,7 +45,7 @@ browser:
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium )
 
 # Debian's PostgreSQL server binaries: the tests start their own throwaway server from them
-# on a loopback port (tests/postgres.py); the package's own cluster is not used.
+# on a loopback port (deploy/postgres.py); the package's own cluster is not used.
 postgres:
 	@ls /usr/lib/postgresql/*/bin/postgres >/dev/null 2>&1 || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq postgresql )
