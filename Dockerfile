@@ -1,11 +1,15 @@
 # Buddy Search in one image: the phone app built with Node, served by the Python app.
 # docker-compose.yml runs it behind nginx with PostgreSQL (README.md, "Deploy").
 
-# Stage 1: the phone app. The lock file first, so `npm ci` is cached until it changes.
+# Stage 1: the phone app. The lock file first, so `npm ci` is cached until it changes. The
+# app reads the palette and the limits it shares with the server from their own files, at
+# the same places beside it as in the repository.
 FROM node:20-slim AS frontend
-WORKDIR /frontend
+WORKDIR /build/frontend
 COPY frontend/package.json frontend/package-lock.json ./
 RUN npm ci --no-audit --no-fund
+COPY backend/limits.json /build/backend/
+COPY shared_solver/drawing/palette.json /build/shared_solver/drawing/
 COPY frontend/ ./
 RUN npm run build
 
@@ -15,16 +19,15 @@ ENV PYTHONUNBUFFERED=1 \
     PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
 WORKDIR /app
-# The pinned runtime dependencies of pyproject.toml (not its test extras), installed before
-# the code is copied so that a change to the code does not reinstall them. The app itself
-# is not pip-installed: it runs from /app, where it finds frontend/dist beside backend/.
-COPY pyproject.toml ./
-RUN python -c "import tomllib; project = tomllib.load(open('pyproject.toml', 'rb'))['project']; open('requirements.txt', 'w').write('\n'.join(project['dependencies']))" \
-    && pip install -r requirements.txt \
-    && rm requirements.txt
+# The locked runtime dependencies (every transitive package, with its hashes; not the test
+# extras), installed before the code is copied so that a change to the code does not
+# reinstall them. The app itself is not pip-installed: it runs from /app, where it finds
+# frontend/dist beside backend/.
+COPY requirements/runtime.txt requirements.txt
+RUN pip install --require-hashes --no-deps -r requirements.txt && rm requirements.txt
 COPY backend/ backend/
 COPY shared_solver/ shared_solver/
-COPY --from=frontend /frontend/dist frontend/dist
+COPY --from=frontend /build/frontend/dist frontend/dist
 # Byte-code compiled now: the app's user cannot write to /app. var/ is where SQLite goes when
 # no BUDDY_DATABASE_URL is given (a single `docker run`), so that user owns it.
 RUN python -m compileall -q backend shared_solver \

@@ -1,7 +1,7 @@
 # The two commands of the README: `make run` and `make test`. Each sets up what it needs
 # from nothing (a virtualenv in .venv, pinned Python and npm packages, the built phone app,
-# Debian's Chromium for the browser tests, Debian's PostgreSQL server and nginx for the
-# replica and cluster tests) and is safe to run again.
+# Debian's Chromium and WebKitGTK for the browser tests, Debian's PostgreSQL server and nginx
+# for the replica and cluster tests) and is safe to run again.
 
 PYTHON ?= python3
 NPM ?= npm
@@ -12,11 +12,17 @@ FRONTEND := frontend
 NODE_MODULES := $(FRONTEND)/node_modules/.installed
 APP := $(FRONTEND)/dist/index.html
 APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/null) \
-	$(wildcard $(FRONTEND)/index.html $(FRONTEND)/vite.config.ts $(FRONTEND)/tsconfig*.json)
+	$(wildcard $(FRONTEND)/index.html $(FRONTEND)/vite.config.ts $(FRONTEND)/tsconfig*.json) \
+	backend/limits.json shared_solver/drawing/palette.json
+# The API's TypeScript types, generated from the app's own OpenAPI schema (what it is made of:
+# the backend's and the solver's models). Committed; `make test` checks them before the build
+# renews them, so a stale committed copy fails (tests/test_api_types.py).
+API_TYPES := $(FRONTEND)/src/generated/openapi.ts
+API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json')
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test lint typecheck frontend-test browser postgres nginx bench bench-api bench-camera bench-load demo clean
+.PHONY: run run-cluster test lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -26,8 +32,11 @@ run: $(INSTALLED) $(APP)
 run-cluster: $(INSTALLED) $(APP) postgres nginx
 	$(BIN)/python -m deploy.cluster $(ARGS)
 
-test: $(INSTALLED) lint typecheck frontend-test $(APP) browser postgres nginx
+test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
 	$(BIN)/python -m pytest
+
+api-types-check: $(INSTALLED) $(NODE_MODULES)
+	$(BIN)/python -m pytest -q tests/test_api_types.py
 
 lint: $(INSTALLED)
 	$(BIN)/ruff check .
@@ -44,6 +53,13 @@ browser:
 	@command -v chromium >/dev/null || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium )
 
+# Debian's WebKitGTK for the WebKit end-to-end tests (tests/e2e/webkit_phone.py):
+# WebKitWebDriver (webkit2gtk-driver, which brings MiniBrowser) and the virtual X server
+# the browser draws on (xvfb).
+webkit:
+	@( command -v WebKitWebDriver && command -v Xvfb ) >/dev/null || ( $(SUDO) apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq webkit2gtk-driver xvfb )
+
 # Debian's PostgreSQL server binaries: the tests start their own throwaway server from them
 # on a loopback port (deploy/postgres.py); the package's own cluster is not used.
 postgres:
@@ -56,6 +72,13 @@ nginx:
 	@command -v nginx >/dev/null || test -x /usr/sbin/nginx || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq nginx )
 
+# The README's screenshots: the two-phone browser test takes them (artifacts/screenshots/),
+# then they are halved and saved as JPEG in docs/screenshots/.
+screenshots: $(INSTALLED) $(APP) browser
+	rm -rf artifacts/screenshots
+	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py
+	$(BIN)/python -m testbed.screenshots artifacts/screenshots docs/screenshots
+
 bench: $(INSTALLED)
 	$(BIN)/python benchmarks/solver.py
 
@@ -65,18 +88,26 @@ bench-api: $(INSTALLED)
 bench-camera: $(INSTALLED)
 	$(BIN)/python benchmarks/camera_checks.py
 
+# The taps' precision, held out: two phones in Chromium on a live server (docs/tap-precision.md).
+bench-taps: $(INSTALLED) $(APP) browser
+	$(BIN)/python benchmarks/taps.py
+
 bench-load: $(INSTALLED) $(APP) postgres nginx
 	$(BIN)/python benchmarks/load.py
+
+bench-suggest: $(INSTALLED)
+	$(BIN)/python benchmarks/suggestions.py
 
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo
 
-# The .pth file puts the repository root on the virtualenv's path, for what runs here but
-# never ships: testbed/, the scenes the tests, benchmarks and demo share.
-$(INSTALLED): pyproject.toml
+# Every package from the lock file, hashes checked. The app is not installed: the .pth file
+# puts the repository root on the virtualenv's path (backend/, shared_solver/, and testbed/,
+# the scenes the tests, benchmarks and demo share).
+$(INSTALLED): pyproject.toml requirements/test.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r requirements/test.txt
 	$(BIN)/python -c "import pathlib, site; pathlib.Path(site.getsitepackages()[0], 'buddy-search-root.pth').write_text(str(pathlib.Path.cwd()) + '\\n')"
 	touch $(INSTALLED)
 
@@ -84,8 +115,24 @@ $(NODE_MODULES): $(FRONTEND)/package.json $(FRONTEND)/package-lock.json
 	cd $(FRONTEND) && $(NPM) ci --no-audit --no-fund
 	touch $(NODE_MODULES)
 
-$(APP): $(NODE_MODULES) $(APP_SOURCES)
+$(API_TYPES): $(API_SOURCES) | $(INSTALLED) $(NODE_MODULES)
+	$(BIN)/python -m backend.openapi | (cd $(FRONTEND) && $(NPM) run --silent api-types)
+
+$(APP): $(NODE_MODULES) $(APP_SOURCES) $(API_TYPES)
 	cd $(FRONTEND) && $(NPM) run build
+
+# The Python lock files, from pyproject.toml: every transitive package with its hashes, for
+# every platform (requirements/test.txt for make, runtime.txt, its subset, for the image).
+# Run after changing a dependency; uv, pinned, lives in a throwaway virtualenv.
+UV_VERSION := 0.13.9
+lock:
+	rm -rf .venv-lock && $(PYTHON) -m venv .venv-lock
+	.venv-lock/bin/python -m pip install --quiet uv==$(UV_VERSION)
+	.venv-lock/bin/uv pip compile pyproject.toml --extra test --generate-hashes --universal \
+		--python-version 3.11 --quiet -o requirements/test.txt
+	.venv-lock/bin/uv pip compile pyproject.toml --generate-hashes --universal \
+		--python-version 3.11 --quiet -c requirements/test.txt -o requirements/runtime.txt
+	rm -rf .venv-lock
 
 clean:
 	rm -rf $(VENV) var artifacts .pytest_cache .ruff_cache .mypy_cache .hypothesis \

@@ -1,109 +1,99 @@
-"""One JSON shape for every error: ``{"error": {"code": "...", "message": "..."}}``.
+"""Every refusal of the service, by stable code, with the one HTTP status of each code.
 
-``code`` is stable and machine-readable (phones and scripts branch on it); ``message`` is a
-sentence a person can act on. Services raise :class:`ApiError`; the solver's
-:class:`~shared_solver.SolverError` becomes a 422 with its own code; a database that cannot
-be reached (down, restarting) a 503 ``database_unavailable``, which phones retry.
+Domain code raises :class:`RefusedError` with an :class:`ErrorCode` and a sentence a person can
+act on; it knows nothing of HTTP. The API layer (:mod:`backend.api.errors`) answers it as
+``{"error": {"code": "...", "message": "..."}}`` with the status :data:`STATUS` gives the
+code: one code, one status, everywhere (a test checks that the OpenAPI schema agrees).
+The solver's own codes (:class:`shared_solver.ErrorCode`) are all 422.
 """
 
 from __future__ import annotations
 
-import logging
-
-from fastapi import FastAPI, Request
-from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
-from starlette.exceptions import HTTPException as StarletteHTTPException
-
-from backend.storage.database import DatabaseUnavailableError
-from shared_solver import SolverError
-
-log = logging.getLogger(__name__)
+from enum import StrEnum
 
 
-class ApiError(Exception):
-    """An answer other than success, with its HTTP status, stable code and sentence."""
+class ErrorCode(StrEnum):
+    """What phones and scripts branch on. Never renamed: a new meaning gets a new code."""
 
-    def __init__(
-        self, status: int, code: str, message: str, headers: dict[str, str] | None = None
-    ) -> None:
-        super().__init__(message)
-        self.status = status
-        self.code = code
-        self.message = message
-        self.headers = headers  # e.g. Retry-After
+    # the request itself
+    BAD_REQUEST = "bad_request"
+    INVALID_REQUEST = "invalid_request"
+    NOT_FOUND = "not_found"
+    METHOD_NOT_ALLOWED = "method_not_allowed"
+    BODY_TOO_LARGE = "body_too_large"
+    # who is asking
+    UNAUTHORIZED = "unauthorized"
+    FORBIDDEN = "forbidden"
+    # pairing
+    SESSION_NOT_FOUND = "session_not_found"
+    INVALID_JOIN_CODE = "invalid_join_code"
+    TOO_MANY_ATTEMPTS = "too_many_attempts"
+    BUSY = "busy"
+    # photos
+    EMPTY_PHOTO = "empty_photo"
+    INVALID_PHOTO = "invalid_photo"
+    PHOTO_TOO_LARGE = "photo_too_large"
+    UNSUPPORTED_MEDIA_TYPE = "unsupported_media_type"
+    HEIC_UNSUPPORTED = "heic_unsupported"
+    PHOTO_NOT_FOUND = "photo_not_found"
+    # taps
+    PHOTO_MISSING = "photo_missing"
+    TOO_MANY_LANDMARKS = "too_many_landmarks"
+    DUPLICATE_LANDMARK = "duplicate_landmark"
+    OUTSIDE_PHOTO = "outside_photo"
+    INVALID_LINE = "invalid_line"
+    CONFLICTING_INPUTS = "conflicting_inputs"
+    NOT_YOUR_MARK = "not_your_mark"
+    LANDMARK_NOT_FOUND = "landmark_not_found"
+    # answers
+    NO_RESULT = "no_result"
+    # the service
+    DATABASE_UNAVAILABLE = "database_unavailable"
+    INTERNAL_ERROR = "internal_error"
 
 
-def error_body(code: str, message: str) -> dict[str, dict[str, str]]:
-    return {"error": {"code": code, "message": message}}
-
-
-def error_response(
-    status: int, code: str, message: str, headers: dict[str, str] | None = None
-) -> JSONResponse:
-    return JSONResponse(error_body(code, message), status_code=status, headers=headers)
-
-
-# Codes for the statuses Starlette itself answers (unknown route, wrong method, ...).
-_HTTP_CODES = {
-    400: "bad_request",
-    401: "unauthorized",
-    403: "forbidden",
-    404: "not_found",
-    405: "method_not_allowed",
-    413: "body_too_large",
-    415: "unsupported_media_type",
-    429: "too_many_attempts",
+STATUS: dict[ErrorCode, int] = {
+    ErrorCode.BAD_REQUEST: 400,
+    ErrorCode.INVALID_REQUEST: 422,
+    ErrorCode.NOT_FOUND: 404,
+    ErrorCode.METHOD_NOT_ALLOWED: 405,
+    ErrorCode.BODY_TOO_LARGE: 413,
+    ErrorCode.UNAUTHORIZED: 401,
+    ErrorCode.FORBIDDEN: 403,
+    ErrorCode.SESSION_NOT_FOUND: 404,
+    ErrorCode.INVALID_JOIN_CODE: 404,
+    ErrorCode.TOO_MANY_ATTEMPTS: 429,
+    ErrorCode.BUSY: 503,
+    ErrorCode.EMPTY_PHOTO: 422,
+    ErrorCode.INVALID_PHOTO: 422,
+    ErrorCode.PHOTO_TOO_LARGE: 413,
+    ErrorCode.UNSUPPORTED_MEDIA_TYPE: 415,
+    ErrorCode.HEIC_UNSUPPORTED: 415,
+    ErrorCode.PHOTO_NOT_FOUND: 404,
+    ErrorCode.PHOTO_MISSING: 409,
+    ErrorCode.TOO_MANY_LANDMARKS: 422,
+    ErrorCode.DUPLICATE_LANDMARK: 422,
+    ErrorCode.OUTSIDE_PHOTO: 422,
+    ErrorCode.INVALID_LINE: 422,
+    ErrorCode.CONFLICTING_INPUTS: 422,
+    ErrorCode.NOT_YOUR_MARK: 422,
+    ErrorCode.LANDMARK_NOT_FOUND: 404,
+    ErrorCode.NO_RESULT: 409,
+    ErrorCode.DATABASE_UNAVAILABLE: 503,
+    ErrorCode.INTERNAL_ERROR: 500,
 }
 
 
-def install(app: FastAPI) -> None:
-    """Make every error of ``app`` answer in the one shape."""
+class RefusedError(Exception):
+    """The service will not do what was asked: a stable ``code`` and a ``message`` to
+    show. ``retry_after``: seconds until trying again may succeed (a limit)."""
 
-    @app.exception_handler(ApiError)
-    async def api_error(_: Request, error: ApiError) -> JSONResponse:
-        return error_response(error.status, error.code, error.message, error.headers)
+    def __init__(self, code: ErrorCode, message: str, *, retry_after: int | None = None) -> None:
+        super().__init__(message)
+        self.code = code
+        self.message = message
+        self.retry_after = retry_after
 
-    @app.exception_handler(SolverError)
-    async def solver_error(_: Request, error: SolverError) -> JSONResponse:
-        return error_response(422, error.code.value, error.message)
-
-    @app.exception_handler(DatabaseUnavailableError)
-    async def database_unavailable(_: Request, error: DatabaseUnavailableError) -> JSONResponse:
-        log.warning("database unavailable: %s", error)
-        return error_response(
-            503, "database_unavailable", "The database does not answer just now; try again."
-        )
-
-    @app.exception_handler(RequestValidationError)
-    async def invalid_request(_: Request, error: RequestValidationError) -> JSONResponse:
-        return error_response(422, "invalid_request", _describe(error))
-
-    @app.exception_handler(StarletteHTTPException)
-    async def http_error(_: Request, error: StarletteHTTPException) -> JSONResponse:
-        code = _HTTP_CODES.get(error.status_code, f"http_{error.status_code}")
-        message = error.detail if isinstance(error.detail, str) else "Request refused."
-        if error.status_code == 404 and message == "Not Found":
-            message = "There is nothing at this address."
-        elif error.status_code == 400 and message == "There was an error parsing the body":
-            # FastAPI's words for a body that is not UTF-8 JSON or not a multipart form.
-            message = "The body cannot be read: send JSON (UTF-8) or a form, as documented."
-        return error_response(error.status_code, code, message)
-
-    @app.exception_handler(Exception)
-    async def unexpected(request: Request, error: Exception) -> JSONResponse:
-        # The route's template, never the URL: pictures and event streams carry ?token=.
-        route = getattr(request.scope.get("route"), "path", "an unknown route")
-        log.exception("unexpected error in %s %s", request.method, route, exc_info=error)
-        return error_response(500, "internal_error", "Something went wrong on our side; try again.")
-
-
-def _describe(error: RequestValidationError) -> str:
-    """The first problem of a request, as a sentence naming the field."""
-    problems = error.errors()
-    if not problems:
-        return "The request is not valid."
-    first = problems[0]
-    where = ".".join(str(part) for part in first.get("loc", ()) if part not in ("body", "query"))
-    what = str(first.get("msg", "is not valid")).rstrip(".")
-    return f"{where}: {what}." if where else f"{what}."
+    @property
+    def status(self) -> int:
+        return STATUS[self.code]

@@ -12,7 +12,7 @@ from fastapi import FastAPI
 from fastapi.responses import FileResponse, HTMLResponse
 from fastapi.staticfiles import StaticFiles
 
-from backend.errors import ApiError
+from backend.errors import ErrorCode, RefusedError
 
 # Paths the app must never swallow: an unknown API path is a 404 in the one error shape.
 _NOT_THE_APP = ("api/", "docs", "openapi.json", "healthz")
@@ -33,7 +33,7 @@ def serve_app(app: FastAPI, folder: Path) -> None:
     @app.get("/{path:path}", include_in_schema=False, response_model=None)
     def page(path: str) -> FileResponse | HTMLResponse:
         if path.startswith(_NOT_THE_APP):
-            raise ApiError(404, "not_found", "There is nothing at this address.")
+            raise RefusedError(ErrorCode.NOT_FOUND, "There is nothing at this address.")
         static = (folder / path).resolve()
         if path and static.is_file() and static.is_relative_to(folder.resolve()):
             return FileResponse(static)  # icons, manifest: files at the top of dist/

@@ -1,77 +1,17 @@
-"""Request-level middleware: refuse bodies over the size limit, report server time."""
+"""The limits the phone app and the server share, read from ``limits.json``: the one source
+(the app imports the same file; tests check both read it)."""
 
 from __future__ import annotations
 
-import time
+import json
+from pathlib import Path
+from typing import Any
 
-from starlette.types import ASGIApp, Message, Receive, Scope, Send
+_LIMITS: dict[str, Any] = json.loads(Path(__file__).with_name("limits.json").read_text())
 
-from backend.errors import error_response
-
-
-class BodySizeLimit:
-    """ASGI middleware: 413 for a declared Content-Length over ``max_bytes``. A body that
-    turns out longer while streaming gets the same 413, sent from here; the app is handed
-    an end of body and whatever it answers is dropped."""
-
-    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
-        self.app = app
-        self.max_bytes = max_bytes
-
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http":
-            await self.app(scope, receive, send)
-            return
-        refusal = error_response(
-            413, "body_too_large", f"The request is larger than {self.max_bytes // 1_000_000} MB."
-        )
-        declared = dict(scope["headers"]).get(b"content-length")
-        if declared is not None and (not declared.isdigit() or int(declared) > self.max_bytes):
-            await refusal(scope, receive, send)
-            return
-        seen = 0
-        refused = False
-
-        async def limited() -> Message:
-            nonlocal seen, refused
-            message = await receive()
-            if message["type"] == "http.request" and not refused:
-                seen += len(message.get("body", b""))
-                if seen > self.max_bytes:
-                    refused = True
-                    await refusal(scope, receive, send)
-                    return {"type": "http.request", "body": b"", "more_body": False}
-            return message
-
-        async def unless_refused(message: Message) -> None:
-            if not refused:
-                await send(message)
-
-        await self.app(scope, limited, unless_refused)
-
-
-class ServerTiming:
-    """ASGI middleware: ``Server-Timing: app;dur=<ms>`` on every response, the time from
-    the request's arrival to the response's start (body upload included). Benchmarks read
-    it to separate the server's time from the network's."""
-
-    def __init__(self, app: ASGIApp) -> None:
-        self.app = app
-
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http":
-            await self.app(scope, receive, send)
-            return
-        started = time.perf_counter()
-
-        async def timed(message: Message) -> None:
-            if message["type"] == "http.response.start":
-                elapsed = (time.perf_counter() - started) * 1000
-                headers = [
-                    *message.get("headers", []),
-                    (b"server-timing", f"app;dur={elapsed:.2f}".encode()),
-                ]
-                message = {**message, "headers": headers}
-            await send(message)
-
-        await self.app(scope, receive, timed)
+STORED_PHOTO_SIDE: int = _LIMITS["stored_photo_side"]
+MAX_LANDMARKS: int = _LIMITS["max_landmarks"]
+MAX_LANDMARK_ID: int = _LIMITS["max_landmark_id"]
+JOIN_CODE_LENGTH: int = _LIMITS["join_code_length"]
+# The event types a phone's stream carries (backend.eventstream.log.EventType).
+EVENTS: tuple[str, ...] = tuple(_LIMITS["events"])

@@ -15,24 +15,22 @@ from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.types import ASGIApp
 
-from backend import __version__, errors
+from backend import __version__, wiring
+from backend.api import errors
 from backend.api import responses as api_responses
-from backend.api.routes import events, health, sessions, solver
-from backend.clock import Clock, utc_now
-from backend.events import Notifier
-from backend.frontend import serve_app
-from backend.limits import BodySizeLimit, ServerTiming
-from backend.security import SecurityHeaders, inline_script_policy, quiet_chatty_loggers
-from backend.sessions.service import SessionService
-from backend.settings import Settings, get_settings
-from backend.storage.database import make_engine
-from backend.storage.repository import Store
-from backend.sweeper import (
+from backend.api.routes import events, health, pairing, photos, sessions, solver, taps
+from backend.background import (
     erase_forever,
     keep_online_forever,
     sweep_forever,
     watch_events_forever,
 )
+from backend.clock import Clock, utc_now
+from backend.frontend import serve_app
+from backend.middleware import BodySizeLimit, ServerTiming
+from backend.security import SecurityHeaders, inline_script_policy, quiet_chatty_loggers
+from backend.settings import Settings, get_settings
+from backend.storage.database import make_engine
 
 ROOT = Path(__file__).resolve().parents[1]
 # How often a process on SQLite looks for other processes' changes: their latency at most.
@@ -42,7 +40,7 @@ ERASE_SECONDS = 2.0
 DESCRIPTION = """Find a friend across a venue from two phone photos.
 
 Stateless: `POST /api/solve` and `POST /api/overlay` for scripts.
-Sessions: the seeker creates one, the buddy joins with its code; each uploads a photo and
+Sessions: one friend starts a search, the other joins with its code; each uploads a photo and
 taps landmarks; the answer is recomputed on every change and drawn on each photo. Every
 error is `{"error": {"code": "...", "message": "..."}}`.
 """
@@ -56,21 +54,22 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         engine = make_engine(settings.database_url)
-        store, notifier = Store(engine, settings.erase_interval_seconds), Notifier()
-        service = SessionService(store, settings, notifier, clock)
-        app.state.service = service
+        services = wiring.build(engine, settings, clock)
+        app.state.services = services
         tasks = [
-            asyncio.create_task(sweep_forever(service, settings.sweep_interval_seconds)),
-            asyncio.create_task(keep_online_forever(service, settings.online_seconds / 3)),
-            asyncio.create_task(erase_forever(service, ERASE_SECONDS)),
+            asyncio.create_task(
+                sweep_forever(services.pairing, services.eraser, settings.sweep_interval_seconds)
+            ),
+            asyncio.create_task(keep_online_forever(services.streams, settings.online_seconds / 3)),
+            asyncio.create_task(erase_forever(services.eraser, ERASE_SECONDS)),
         ]
         # Other processes' changes wake this one's streams too: on PostgreSQL they notify,
         # on SQLite (several worker processes on one file) the watcher looks.
-        if listener := store.change_listener(notifier.notify, notifier.notify_all):
+        if listener := services.listener:
             tasks.append(asyncio.create_task(listener.run()))
             await listener.started(timeout=10)  # else /healthz says 503 until it is
         else:
-            tasks.append(asyncio.create_task(watch_events_forever(service, WATCH_SECONDS)))
+            tasks.append(asyncio.create_task(watch_events_forever(services.streams, WATCH_SECONDS)))
         try:
             yield
         finally:
@@ -88,11 +87,11 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
         redoc_url=None,
     )
     app.state.settings = settings
-    errors.install(app)
+    errors.install(app, settings.max_body_bytes)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.add_middleware(ServerTiming)
     _secure_every_response(app)
-    for module in (solver, sessions, events, health):
+    for module in (solver, pairing, sessions, photos, taps, events, health):
         app.include_router(module.router)
     _serve_docs(app)
     _document_refusals(app)

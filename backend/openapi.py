@@ -1,7 +1,8 @@
 """Print the app's OpenAPI schema as JSON: the one source of the phone app's API types.
 
-``python -m backend.openapi > frontend/openapi.json``; the build turns it into TypeScript
-(openapi-typescript), and a test fails when the committed types are stale.
+The build (``make``) pipes it into openapi-typescript, which writes
+``frontend/src/generated/openapi.ts``; tests/test_api_types.py fails when the committed
+types are stale.
 """
 
 from __future__ import annotations

@@ -10,6 +10,8 @@ from functools import lru_cache
 from pydantic import Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from backend import limits
+
 
 class Settings(BaseSettings):
     """Documented in the README's settings table; each field's description is the reference."""
@@ -65,7 +67,7 @@ class Settings(BaseSettings):
         5,
         gt=0,
         description="Wrong codes naming a search's number (the first four digits) after "
-        "which its join code is renewed: a new number and secret, shown on the seeker's phone.",
+        "which its join code is renewed: a new number and secret, shown on the starter's phone.",
     )
     join_failures_overall: int = Field(
         600,
@@ -89,11 +91,13 @@ class Settings(BaseSettings):
         description="Largest photo (width x height, read from its header before decoding).",
     )
     stored_photo_side: int = Field(
-        2560,
+        limits.STORED_PHOTO_SIDE,
         gt=0,
         description="Photos are stored downscaled to at most this many px on the long side.",
     )
-    max_landmarks: int = Field(64, gt=0, description="Most landmarks one participant may tap.")
+    max_landmarks: int = Field(
+        limits.MAX_LANDMARKS, gt=0, description="Most landmarks one participant may tap."
+    )
     tap_sigma: float = Field(
         3.0,
         gt=0,

@@ -13,7 +13,7 @@ in a temporary folder) that this script starts on a free loopback port and stops
    the same request, in this process, for what the HTTP layer adds.
 2. ``PUT /api/sessions/{id}/photo`` of a photo-like 4032x3024 JPEG (a temple photo upscaled,
    with sensor-like noise), repeated: the server time to accept and store it.
-3. ``GET /api/sessions/{id}/overlay/buddy`` of the stored 2560x1920 photo: JPEG renders
+3. ``GET /api/sessions/{id}/overlay/joiner`` of the stored 2560x1920 photo: JPEG renders
    (each after a 0.5 px change of one tap, which makes a new answer version; overlays are
    drawn for each request, never kept) and PNG renders.
 
@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import Any
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 from report import (
     ROOT,
@@ -63,9 +63,9 @@ from report import (
     verdict,
 )
 
-from backend.loopback import Server, serve
 from backend.settings import Settings
 from shared_solver import solve
+from testbed.loopback import Server, serve
 from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
@@ -163,10 +163,10 @@ class Load:
         return seconds / self.seconds
 
 
-Call = Callable[[httpx.Client], httpx.Response]
+Call = Callable[[httpx2.Client], httpx2.Response]
 
 
-def hammer(client: httpx.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
+def hammer(client: httpx2.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
     """One worker: requests back to back on its keep-alive connection until ``deadline``."""
     samples: list[Sample] = []
     errors = 0
@@ -184,7 +184,7 @@ def hammer(client: httpx.Client, call: Call, deadline: float) -> tuple[list[Samp
 
 
 def load_slice(
-    server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx.Client], call: Call, s: float
+    server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx2.Client], call: Call, s: float
 ) -> Load:
     """All workers on one endpoint for ``s`` seconds; the CPU spent meanwhile."""
     before = cpu_snapshot([server.pid])
@@ -250,7 +250,7 @@ class Throughput:
 def interleaved(
     server: Server,
     pool: ThreadPoolExecutor,
-    clients: Sequence[httpx.Client],
+    clients: Sequence[httpx2.Client],
     calls: dict[str, Call],
     slice_seconds: float,
 ) -> dict[str, Load]:
@@ -283,7 +283,7 @@ def throughput(server: Server, seconds: float) -> Throughput:
     request = solve_request()
     calls = endpoint_calls(json.dumps(request).encode())
     slice_seconds = seconds / ROUNDS
-    clients = [httpx.Client(base_url=server.base_url, timeout=30) for _ in range(CONCURRENCY)]
+    clients = [httpx2.Client(base_url=server.base_url, timeout=30) for _ in range(CONCURRENCY)]
     try:
         answer = calls[SOLVE](clients[0])
         answer.raise_for_status()
@@ -326,11 +326,11 @@ def photo_like_jpeg(name: str, rng: np.random.Generator) -> bytes:
 class Phone:
     """One participant: a client with its bearer token."""
 
-    http: httpx.Client
+    http: httpx2.Client
     session_id: str
     token: str
 
-    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx.Response, Sample]:
+    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx2.Response, Sample]:
         """A request to the session (``path`` after its id), timed; fails on an error."""
         started = time.perf_counter()
         response = self.http.request(
@@ -407,13 +407,13 @@ def tap_both(
     seeker.put_taps(
         {
             "landmarks": landmark_taps(noisy.landmarks1, size),
-            "epipole1": noisy.epipole1.clip(0, size).tolist(),
+            "friend": dict(zip("xy", noisy.epipole1.clip(0, size).tolist(), strict=True)),
         }
     )
     buddy_landmarks = landmark_taps(noisy.landmarks2, size)
     state, _ = buddy.put_taps({"landmarks": buddy_landmarks})
-    if state.get("result") is None:
-        raise RuntimeError(f"no answer from the session's taps: {state.get('result_error')}")
+    if state.get("answer") is None:
+        raise RuntimeError(f"no answer from the session's taps: {state.get('answer_error')}")
     return state, buddy_landmarks
 
 
@@ -421,19 +421,19 @@ def renders(seeker: Phone, buddy: Phone, size: tuple[int, int]) -> Renders:
     """Renders of the buddy's overlay, each after a new answer version (the buddy's landmark
     #1 moved by 0.5 px)."""
     state, landmarks = tap_both(seeker, buddy, size)
-    method = str(state["result"]["method"])
+    method = str(state["answer"]["method"])
     drawn: dict[str, list[Sample]] = {"jpeg": [], "png": [], "taps": []}
     sizes = {"jpeg": 0, "png": 0}
     for render in range(RENDERS + PNG_RENDERS):
         nudge = TAP_NUDGE_PX if render % 2 == 0 else -TAP_NUDGE_PX
         landmarks[0]["x"] = float(np.clip(landmarks[0]["x"] + nudge, 0, size[0]))
-        before = state["result_version"]
+        before = state["answer_version"]
         state, sample = buddy.put_taps({"landmarks": landmarks})
         drawn["taps"].append(sample)
-        if state.get("result") is None or state["result_version"] == before:
-            raise RuntimeError(f"the move made no new answer: {state.get('result_error')}")
+        if state.get("answer") is None or state["answer_version"] == before:
+            raise RuntimeError(f"the move made no new answer: {state.get('answer_error')}")
         fmt = "jpeg" if render < RENDERS else "png"
-        first, sample = buddy.request("GET", "/overlay/buddy", params={"format": fmt})
+        first, sample = buddy.request("GET", "/overlay/joiner", params={"format": fmt})
         decoded_overlay(first.content, size)
         sizes[fmt] = len(first.content)
         drawn[fmt].append(sample)
@@ -451,7 +451,7 @@ def session(server: Server) -> SessionFigures:
     rng = np.random.default_rng(PHOTO_NOISE_SEED)
     seeker_photo = photo_like_jpeg("templeSR0006", rng)
     buddy_photo = photo_like_jpeg("templeSR0003", rng)
-    with httpx.Client(base_url=server.base_url, timeout=60) as http:
+    with httpx2.Client(base_url=server.base_url, timeout=60) as http:
         created = http.post("/api/sessions")
         created.raise_for_status()
         seeker = Phone(http, created.json()["session_id"], created.json()["token"])
@@ -578,8 +578,8 @@ def session_table(figures: SessionFigures) -> str:
         ["request", "n", "server time median / p90 / max (ms)", "client median / p90 / max (ms)"],
         [
             summary_row("`PUT /photo`, 12 MP JPEG (seeker, replacing)", figures.uploads.samples),
-            summary_row("`GET /overlay/buddy`, jpeg (render)", drawn.jpeg),
-            summary_row("`GET /overlay/buddy?format=png` (informative)", drawn.png),
+            summary_row("`GET /overlay/joiner`, jpeg (render)", drawn.jpeg),
+            summary_row("`GET /overlay/joiner?format=png` (informative)", drawn.png),
             summary_row("`PUT /taps` before each render: solve + state (informative)", drawn.taps),
         ],
     )
@@ -612,7 +612,7 @@ def header(settings: Settings, database: str) -> str:
     now = datetime.now().astimezone().isoformat(timespec="seconds")
     versions = ", ".join(
         f"{name} {version(name)}"
-        for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx", "numpy", "pillow")
+        for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx2", "numpy", "pillow")
     )
     code = source_state("backend", "shared_solver")
     return "\n".join(
@@ -644,7 +644,7 @@ def header(settings: Settings, database: str) -> str:
 def throughput_section(result: Throughput, seconds: float) -> list[str]:
     return [
         "## 1. `/api/solve` against `/api/version`, under load",
-        f"Load generator: this Python process, {CONCURRENCY} threads, each with its own httpx "
+        f"Load generator: this Python process, {CONCURRENCY} threads, each with its own httpx2 "
         "client and keep-alive connection, sending requests back to back, **on the same "
         f"2-core machine as the server**. After a {WARMUP_SECONDS:g} s warm-up of each "
         f"endpoint, {ROUNDS} interleaved rounds (order alternating) of "

@@ -4,7 +4,7 @@ PostgreSQL erases deleted rows' bytes from its files only by copying the table (
 sweeper runs ``VACUUM (FULL)``), and locks the table meanwhile. This times it on a table of
 ``--photos`` phone photos (the load benchmark's, 2560 px), a quarter of them deleted, once
 with PostgreSQL's default storage for bytea (EXTENDED: a compression try for each value, at
-the insert and again at the copy) and once as migration 0006 keeps photos (EXTERNAL: none),
+the insert and again at the copy) and once as migration 0007 keeps photos (EXTERNAL: none),
 on a throwaway server (``deploy/postgres.py``). Also the insert's PostgreSQL CPU per photo.
 
     .venv/bin/python benchmarks/erase.py [--photos N]

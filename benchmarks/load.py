@@ -277,7 +277,7 @@ def header(run: Run) -> list[str]:
         f" spread over {setup.ramp:g} s; those still running then get {DRAIN_SECONDS:g} s."
         f" People {setup.speed:g} times quicker than a brisk person (the pauses in"
         f" `benchmarks/searches.py`); photos {setup.photo_side} px wide ({photos} JPEG);"
-        " 6 landmarks and the buddy's mark per search.",
+        " 6 landmarks and the starter's mark of the joiner per search.",
     ]
 
 

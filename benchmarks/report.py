@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
 
-import httpx
+import httpx2
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -94,7 +94,7 @@ def cpu_snapshot(server_pids: Sequence[int]) -> CpuSnapshot:
     return CpuSnapshot(time.monotonic(), server, time.process_time(), busy, total)
 
 
-def server_timing_ms(response: httpx.Response) -> float:
+def server_timing_ms(response: httpx2.Response) -> float:
     """The ``app;dur=<ms>`` of the response's Server-Timing header."""
     header = response.headers["server-timing"]
     return float(header.split("dur=", 1)[1].split(";", 1)[0].split(",", 1)[0])

@@ -2,15 +2,15 @@
 open event streams, people's pauses. Everything the load benchmark knows of the session
 API's requests and answers is in this module.
 
-Each Locust user runs searches back to back. The seeker creates the search and opens its
-event stream; the buddy joins with the code and opens its own; both streams stay open to
+Each Locust user runs searches back to back. The starter creates the search and opens its
+event stream; the joiner joins with the code and opens its own; both streams stay open to
 the end. Each phone fetches the state when an event tells it something newer than what it
 shows (at most one fetch at a time: its stream reader fetches, then reads on), loads its
 overlay once per new answer, and shows the state its own PUT /taps answers with. Once its
-stream is live, each phone uploads its photo and loads the stored one; the seeker marks
-the buddy and taps 6 landmarks one PUT at a time; for each, the buddy waits until its
+stream is live, each phone uploads its photo and loads the stored one; the starter marks
+the joiner and taps 6 landmarks one PUT at a time; for each, the joiner waits until its
 state shows it, loads its crop ("find #n") and taps its own; both wait for the answer,
-read it, and the seeker deletes the search, which must end both streams with 'expired'.
+read it, and the starter deletes the search, which must end both streams with 'expired'.
 """
 
 from __future__ import annotations
@@ -36,12 +36,12 @@ from report import ROOT
 from testbed.scenes import Scene, tap, temple_scene
 
 TEMPLE = ROOT / "tests" / "data" / "temple"
-PAIR = ("templeSR0003", "templeSR0006")  # the seeker's photo, the buddy's
+PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the joiner's
 LANDMARKS = 6
 SCENES = 64  # temple scenes drawn up front; each search adds its own tap noise
 TAP_SIGMA_PX = 2.0  # a finger's noise on the photo as sent
-# A person's pauses, seconds, uniform in each range (divided by the speed-up): the buddy
-# scans the code; each takes a photo; the seeker picks and places a landmark; the buddy
+# A person's pauses, seconds, uniform in each range (divided by the speed-up): the joiner
+# scans the code; each takes a photo; the starter picks and places a landmark; the joiner
 # finds it from its crop; both read the answer. A search then lasts about 1.5 minutes.
 PAUSES = {"join": (5, 15), "photo": (5, 15), "tap": (3, 8), "find": (5, 15), "read": (3, 10)}
 CALL_SECONDS = 30.0  # any one call
@@ -79,9 +79,9 @@ class Crowd:
 
     def taps(
         self, rng: random.Random
-    ) -> tuple[list[dict[str, float]], list[dict[str, float]], list[float]]:
-        """One search's taps in the photos' pixels: the seeker's landmarks, the buddy's,
-        and the seeker's mark of the buddy."""
+    ) -> tuple[list[dict[str, float]], list[dict[str, float]], dict[str, float]]:
+        """One search's taps in the photos' pixels: the starter's landmarks, the joiner's,
+        and the starter's mark of the joiner."""
         scene = self.scenes[rng.randrange(len(self.scenes))]
         scale = self.side / scene.image_size1[0]
         noisy = tap(scene, TAP_SIGMA_PX / scale, np.random.default_rng(rng.randrange(2**32)))
@@ -89,10 +89,12 @@ class Crowd:
         def marks(points: np.ndarray) -> list[dict[str, float]]:
             return [
                 {"id": n, "x": round(float(x) * scale, 1), "y": round(float(y) * scale, 1)}
+                | {"sigma": TAP_SIGMA_PX}
                 for n, (x, y) in enumerate(points, start=1)
             ]
 
-        mark = [round(float(v) * scale, 1) for v in noisy.epipole1]
+        x, y = (round(float(v) * scale, 1) for v in noisy.epipole1)
+        mark = {"x": x, "y": y, "sigma": TAP_SIGMA_PX}
         return marks(noisy.landmarks1), marks(noisy.landmarks2), mark
 
 
@@ -133,7 +135,7 @@ class Phone:
             return
         self.state = state
         self.news.set()
-        answer = state["result_version"] if state.get("result") else None
+        answer = state["answer_version"] if state.get("answer") else None
         if answer is not None and answer != self.drawn:
             self.drawn = answer
             query = {"token": self.token, "v": answer}
@@ -144,8 +146,8 @@ class Phone:
         version, shown = data.get("version"), self.state
         if not isinstance(version, int) or shown is None:
             return True
-        if event == "result":
-            return shown["version"] < version or shown.get("result") is None
+        if event == "answer":
+            return shown["version"] < version or shown.get("answer") is None
         return bool(shown["version"] < version)
 
     def fetch(self) -> None:
@@ -324,13 +326,13 @@ class Search(User):
         self.searches += 1
         Search.counts["started"] += 1
         started = time.monotonic()
-        seeker_taps, buddy_taps, mark = self.crowd.taps(rng)
+        starter_taps, joiner_taps, mark = self.crowd.taps(rng)
         lobby = self.session()
         created = call(lobby, "POST", "/api/sessions", "POST /api/sessions", expect=201)
         if created is None:
             return
-        seeker = Phone(self, "seeker", created)
-        phones = [seeker]
+        starter = Phone(self, "starter", created)
+        phones = [starter]
         try:
             self.pause(rng, "join")
             joined = call(
@@ -342,14 +344,14 @@ class Search(User):
             )
             if joined is None:
                 return
-            buddy = Phone(self, "buddy", joined)
-            phones.append(buddy)
-            seeker_side = gevent.spawn(self.seeker_side, seeker, seeker_taps, mark, rng)
-            buddy_side = gevent.spawn(self.buddy_side, buddy, buddy_taps, rng)
-            seeker_side.join()
-            buddy_side.join()
-            answered = bool(seeker_side.value and buddy_side.value) and all(
-                phone.wait_until(lambda state: state.get("result") is not None, "the answer")
+            joiner = Phone(self, "joiner", joined)
+            phones.append(joiner)
+            starter_side = gevent.spawn(self.starter_side, starter, starter_taps, mark, rng)
+            joiner_side = gevent.spawn(self.joiner_side, joiner, joiner_taps, rng)
+            starter_side.join()
+            joiner_side.join()
+            answered = bool(starter_side.value and joiner_side.value) and all(
+                phone.wait_until(lambda state: state.get("answer") is not None, "the answer")
                 for phone in phones
             )
             if not answered:
@@ -357,49 +359,51 @@ class Search(User):
             self.pause(rng, "read")
             for phone in phones:
                 phone.settle()
-            if seeker.call("DELETE", "DELETE /api/sessions/{id}", expect=204) is None:
+            if starter.call("DELETE", "DELETE /api/sessions/{id}", expect=204) is None:
                 return
             if all(phone.wait_for(phone.expired, "'expired'") for phone in phones):
                 Search.counts["completed"] += 1
                 Search.durations.append(time.monotonic() - started)
         finally:
-            if not seeker.expired.is_set():  # a failed search: deleted all the same
-                headers = {"Authorization": f"Bearer {seeker.token}"}
-                lobby.delete(seeker.path, headers=headers, name="DELETE (clean-up after a failure)")
+            if not starter.expired.is_set():  # a failed search: deleted all the same
+                headers = {"Authorization": f"Bearer {starter.token}"}
+                lobby.delete(
+                    starter.path, headers=headers, name="DELETE (clean-up after a failure)"
+                )
             for phone in phones:
                 phone.close()
             lobby.close()
 
-    def seeker_side(
-        self, phone: Phone, taps: list[dict[str, float]], mark: list[float], rng: random.Random
+    def starter_side(
+        self, phone: Phone, taps: list[dict[str, float]], mark: dict[str, float], rng: random.Random
     ) -> bool:
         if not self.photo_taken(phone, self.crowd.photos[0], rng):
             return False
         for n in range(1, LANDMARKS + 1):
             self.pause(rng, "tap")
-            if not phone.put_taps({"landmarks": taps[:n], "epipole1": mark}):
+            if not phone.put_taps({"landmarks": taps[:n], "friend": mark}):
                 return False
         return True
 
-    def buddy_side(self, phone: Phone, taps: list[dict[str, float]], rng: random.Random) -> bool:
+    def joiner_side(self, phone: Phone, taps: list[dict[str, float]], rng: random.Random) -> bool:
         if not self.photo_taken(phone, self.crowd.photos[1], rng):
             return False
         for n in range(1, LANDMARKS + 1):
 
             def tapped(state: dict[str, Any], n: int = n) -> bool:
-                seeker = state["taps"].get("seeker")
-                return seeker is not None and any(t["id"] == n for t in seeker["landmarks"])
+                starter = state["taps"].get("starter")
+                return starter is not None and any(t["id"] == n for t in starter["landmarks"])
 
-            if not phone.wait_until(tapped, f"the seeker's landmark #{n}"):
+            if not phone.wait_until(tapped, f"the starter's landmark #{n}"):
                 return False
             assert phone.state is not None
-            seen = next(t for t in phone.state["taps"]["seeker"]["landmarks"] if t["id"] == n)
+            seen = next(t for t in phone.state["taps"]["starter"]["landmarks"] if t["id"] == n)
             query = {"token": phone.token, "v": f"{seen['x']},{seen['y']}"}
             if (
                 phone.call(
                     "GET",
-                    "GET /landmarks/seeker/{n}/crop",
-                    f"/landmarks/seeker/{n}/crop",
+                    "GET /landmarks/starter/{n}/crop",
+                    f"/landmarks/starter/{n}/crop",
                     params=query,
                 )
                 is None

@@ -180,7 +180,7 @@ def report(results: Results) -> str:
         "exactly, so the median error is 0 whatever the sample). OpenCV 8-point: "
         "`findFundamentalMat(..., FM_8POINT)` in pixels, e2 the left null vector of F. "
         "*Exact roots 3+e1, true K*: every rotation of our three-landmark solver "
-        "(`minimal/buddy_and_three.py`) on the same noisy taps at the **true** intrinsics, "
+        "(`minimal/epipole_and_three.py`) on the same noisy taps at the **true** intrinsics, "
         "principal points included, and the root nearest the truth (oracle): with no landmark "
         "to spare every estimator answers with one of these roots, so this bounds what 3 + e1 "
         "can give.",

@@ -22,9 +22,9 @@ from types import FrameType
 from typing import TypeVar
 
 from backend.__main__ import lan_address
-from backend.loopback import Server, free_port, serve
 from deploy import nginx, tls
 from deploy.postgres import PostgresServer
+from testbed.loopback import Server, free_port, serve
 
 REPLICAS = 2
 T = TypeVar("T")

@@ -23,7 +23,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-import httpx
+import httpx2
 
 SHIPPED = Path(__file__).with_name("nginx.conf")
 STARTUP_SECONDS = 20.0
@@ -165,9 +165,9 @@ def _wait_until_listening(listen: Listen, process: subprocess.Popen[bytes], fold
         if process.poll() is not None:
             raise RuntimeError(f"nginx exited at start:\n{_log(folder)}")
         try:
-            httpx.get(url, timeout=1)
+            httpx2.get(url, timeout=1)
             return
-        except httpx.TransportError:
+        except httpx2.TransportError:
             time.sleep(0.05)
     raise RuntimeError(f"nginx did not answer in {STARTUP_SECONDS:g} s:\n{_log(folder)}")
 

@@ -1,7 +1,9 @@
 import { defineConfig } from "vitest/config";
 
 // Preact through esbuild's automatic JSX runtime: no Babel, no plugin.
-// The API runs on the backend (port 8765 in development): the dev server forwards /api to it.
+// The API runs on the backend (`make run`: port 8000): the dev server forwards /api to it.
+// The app reads two files it shares with the server, outside this folder: the palette
+// (shared_solver/drawing/palette.json) and the limits (backend/limits.json).
 export default defineConfig({
   esbuild: { jsx: "automatic", jsxImportSource: "preact" },
   build: {
@@ -11,10 +13,13 @@ export default defineConfig({
     sourcemap: false,
   },
   server: {
-    proxy: { "/api": { target: "http://127.0.0.1:8765", changeOrigin: false } },
+    proxy: { "/api": { target: "http://127.0.0.1:8000", changeOrigin: false } },
+    fs: { allow: [".", "../backend/limits.json", "../shared_solver/drawing/palette.json"] },
   },
   test: {
     environment: "node",
     include: ["src/**/*.test.ts"],
+    // The stylesheet as written (palette.test.ts reads it): vitest empties CSS otherwise.
+    css: { include: [/styles\.css/] },
   },
 });

@@ -29,6 +29,8 @@ Quality = Literal["good", "fair", "poor"]
 Pixel = tuple[float, float]
 Homogeneous = tuple[float, float, float]
 Matrix = tuple[Homogeneous, Homogeneous, Homogeneous]
+Row9 = tuple[float, float, float, float, float, float, float, float, float]
+Covariance9 = tuple[Row9, Row9, Row9, Row9, Row9, Row9, Row9, Row9, Row9]
 
 
 class _Frozen(BaseModel):
@@ -112,6 +114,14 @@ class SolveResult(_Frozen):
     epipole1: Pixel | None = Field(description="The buddy in photo 1, refined from the tap.")
     epipole1_h: Homogeneous | None
     fundamental: Matrix | None = None
+    fundamental_covariance: Covariance9 | None = Field(
+        default=None,
+        description="9x9 first-order covariance of `fundamental` read row by row (F at unit "
+        "norm), widened as the region is when the taps disagree; what an epipolar line's "
+        "uncertainty is computed from (shared_solver.matching). Only when asked "
+        "(solve(..., fundamental_covariance=True)); None for the plane model, the curve of "
+        "four landmarks, and answers that list several candidates.",
+    )
     homography: Matrix | None = Field(default=None, description="Plane model: q ~ H p.")
     conic2: Matrix | None = Field(default=None, description="4 landmarks: e2^T C e2 = 0.")
     candidates: list[Candidate] = Field(default_factory=list)

@@ -64,6 +64,7 @@ def solve(
     points2_sigma: ArrayLike | None = None,
     epipole1_sigma: ArrayLike | None = None,
     epipole2_sigma: ArrayLike | None = None,
+    fundamental_covariance: bool = False,
 ) -> SolveResult:
     """Where the seeker stands in the buddy's photo, from whatever the two people tapped.
 
@@ -93,6 +94,10 @@ def solve(
             sigmas in px, or (N, 2, 2) covariances in px^2.
         epipole1_sigma, epipole2_sigma: the precision of a friend's mark: a sigma in px or
             a (2, 2) covariance; for ``epipolar_line1``, the line's sigma across it.
+        fundamental_covariance: also return F's first-order covariance
+            (``SolveResult.fundamental_covariance``), from which ``shared_solver.matching``
+            draws a landmark's band in the other photo; off by default (it costs a few
+            tens of microseconds, and 81 numbers of JSON).
 
     Returns:
         A :class:`SolveResult`; ``model_dump(mode="json")`` is the REST API's JSON.
@@ -112,6 +117,7 @@ def solve(
         landmark_ids=landmark_ids,
         cameras=(camera1, camera2),
         sigmas=(points1_sigma, points2_sigma, epipole1_sigma, epipole2_sigma),
+        with_fundamental_covariance=fundamental_covariance,
     )
     taps = request.taps
     count = len(taps)
@@ -165,6 +171,7 @@ def _parse(
     landmark_ids: Sequence[int] | None,
     cameras: tuple[CameraInput, CameraInput],
     sigmas: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None, ArrayLike | None],
+    with_fundamental_covariance: bool = False,
 ) -> Request:
     sigma = validation.positive(tap_sigma, "tap_sigma")
     e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
@@ -173,7 +180,7 @@ def _parse(
     if e1 is not None and line1 is not None:
         raise SolverError(ErrorCode.CONFLICTING_INPUTS, words.POINT_AND_LINE)
     if e2 is not None and e1 is None:
-        raise SolverError(ErrorCode.MISSING_EPIPOLE1, words.SEEKER_WITHOUT_BUDDY)
+        raise SolverError(ErrorCode.MISSING_EPIPOLE1, words.SECOND_MARK_ALONE)
     size1 = validation.image_size(image_size1, "image_size1")
     size2 = validation.image_size(image_size2, "image_size2")
     camera_pair = (_camera(cameras[0], "camera1", size1), _camera(cameras[1], "camera2", size2))
@@ -210,24 +217,36 @@ def _parse(
         if line_normal is None
         else float(np.sqrt(line_normal @ cov_e1 @ line_normal)),
     )
-    return Request(taps, size1, size2, labels or list(range(1, len(p) + 1)), camera_pair)
+    return Request(
+        taps,
+        size1,
+        size2,
+        labels or list(range(1, len(p) + 1)),
+        camera_pair,
+        bool(with_fundamental_covariance),
+    )
 
 
 def fewest_landmarks(
-    *, buddy: bool, seeker: bool = False, line: bool = False, cameras: bool, position: bool = True
+    *,
+    epipole1: bool,
+    epipole2: bool = False,
+    line: bool = False,
+    cameras: bool,
+    position: bool = True,
 ) -> int:
     """How many landmarks (common to both photos) ``solve`` needs.
 
     Args:
-        buddy: the buddy is marked as a point in photo 1; seeker: the seeker in photo 2 too.
-        line: a line through the buddy is drawn instead.
+        epipole1: the friend is marked as a point in photo 1; epipole2: in photo 2 too.
+        line: a line through the friend is drawn in photo 1 instead.
         cameras: both photos' cameras have a model (``camera1``, ``camera2`` not unknown).
-        position: for a position; False: for any answer (four landmarks and the buddy
-            already give the curve the seeker is on, without a camera model).
+        position: for a position; False: for any answer (four landmarks and the friend
+            mark already give the curve the friend is on, without a camera model).
     """
-    if buddy and seeker:
+    if epipole1 and epipole2:
         return 1 if cameras else 3
-    if buddy:
+    if epipole1:
         return 3 if cameras else (5 if position else 4)
     return 6 if line else 7
 
@@ -235,13 +254,13 @@ def fewest_landmarks(
 def _minimum(buddy: bool, seeker: bool, line: bool, modelled: bool) -> tuple[int, str]:
     """Fewest landmarks for any answer, and the end of the sentence refusing fewer."""
     count = fewest_landmarks(
-        buddy=buddy, seeker=seeker, line=line, cameras=modelled, position=False
+        epipole1=buddy, epipole2=seeker, line=line, cameras=modelled, position=False
     )
     if buddy:
-        return count, "when both friends are marked" if seeker else "with the buddy marked"
+        return count, "when both friends are marked" if seeker else "with your friend marked"
     if line:
-        return count, "with a line through the buddy"
-    return count, "without marking the buddy (mark the buddy to need fewer)"
+        return count, "with a line through your friend"
+    return count, "without marking your friend (tap your friend to need fewer)"
 
 
 def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> Camera:

@@ -171,7 +171,6 @@ def _refuse_epipole(
 ) -> None:
     """Refuse an epipole tapped on a landmark, or (``spread_needed``) landmarks all on one
     line through it."""
-    who = "buddy" if photo == "photo 1" else "seeker"
     if abs(epipole[2]) > 0:
         at = epipole[:2] / epipole[2]
         directions = pts - at
@@ -179,7 +178,7 @@ def _refuse_epipole(
         closest = int(distances.argmin())
         if distances[closest] <= tolerance:
             raise SolverError(
-                ErrorCode.EPIPOLE_ON_LANDMARK, words.mark_on_landmark(who, names[closest], photo)
+                ErrorCode.EPIPOLE_ON_LANDMARK, words.mark_on_landmark(names[closest], photo)
             )
         if not spread_needed:
             return
@@ -194,7 +193,7 @@ def _refuse_epipole(
         off_line = float(np.ptp(pts @ normal))
     if off_line <= tolerance:
         raise SolverError(
-            ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE, words.landmarks_on_line_through(who, photo)
+            ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE, words.landmarks_on_line_through(photo)
         )
 
 

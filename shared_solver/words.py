@@ -1,8 +1,10 @@
 """Every sentence the solver says to a person: warnings on an answer and reasons for a refusal.
 
-They reach a phone's screen unchanged, so they are written for the two friends: "your
-friend", "the buddy mark", "landmark #3", and a next step to take. Kept in one place so the
-voice stays one, and so a change of wording never hides in the geometry.
+They reach a phone's screen, so they are written for the two friends: "your friend", "the
+friend mark", "landmark #3", and a next step to take. Photos are named "photo 1" and "photo
+2" and nothing else, so that a session can say them to each phone as "your photo" and "your
+friend's photo". Kept in one place so the voice stays one, and so a change of wording never
+hides in the geometry.
 """
 
 from __future__ import annotations
@@ -22,14 +24,14 @@ ON_THE_CURVE = (
     "down the spot."
 )
 MARKS_DISAGREE = (
-    "The marks disagree more than tapping error explains: re-check the buddy mark and each "
+    "The marks disagree more than tapping error explains: re-check the friend mark and each "
     "landmark (same spot, same number in both photos). The uncertainty is widened."
 )
 FAR_TO_THE_SIDE = (
     "The landmarks put your friend very far off to the side; re-check the marks or add landmarks."
 )
 NOT_PINNED_DOWN = (
-    "These marks do not pin down where your friend is; re-check each landmark and the buddy "
+    "These marks do not pin down where your friend is; re-check each landmark and the friend "
     "mark, or add landmarks."
 )
 BEHIND_YOU = "Your friend is behind you: turn around, and photograph the side where they are."
@@ -61,7 +63,7 @@ def outside_photo(beyond_px: float, side: Side) -> str:
     )
 
 
-Marked = Literal["point", "line", "none"]  # how the buddy was marked in photo 1
+Marked = Literal["point", "line", "none"]  # how the friend was marked in photo 1
 
 
 def ambiguous(*, marked: Marked) -> str:
@@ -74,25 +76,33 @@ def ambiguous(*, marked: Marked) -> str:
 
 def no_margin(*, marked: Marked) -> str:
     """An answer ranked first among several, with no region claimed."""
-    return f"This position has no reliable error margin; {_decide(marked)} for one."
+    return f"This position has no reliable error margin; to get one, {_decide(marked)}."
 
 
 def _decide(marked: Marked) -> str:
     return {
         "point": "add a landmark",
-        "line": "mark the buddy as a point or add a landmark",
-        "none": "mark the buddy in photo 1 or add a landmark",
+        "line": "tap your friend instead of a line, or add a landmark",
+        "none": "tap your friend if you can see them, or add a landmark",
     }[marked]
+
+
+# The warnings about where the friend is in photo 2 (the answer's photo): the friend who
+# marked the other in photo 1 sees them there, so they are not said to that phone.
+_ABOUT_PHOTO2 = (ON_THE_CURVE, FAR_TO_THE_SIDE, BEHIND_YOU, UNCERTAIN)
+
+
+def about_photo2(sentence: str) -> bool:
+    """Whether a warning is about where the friend is in photo 2 only."""
+    return sentence in _ABOUT_PHOTO2 or sentence.startswith("Your friend is outside this photo")
 
 
 # --- refusals: input that cannot be answered honestly ----------------------------------------
 
-POINT_AND_LINE = (
-    "Give either the buddy's position or a line through the buddy in photo 1, not both."
-)
-SEEKER_WITHOUT_BUDDY = (
-    "The seeker's mark in photo 2 is used together with the buddy's mark in photo 1; tap the "
-    "buddy in photo 1 too."
+POINT_AND_LINE = "Mark your friend either as a point or as a line in photo 1, not both."
+SECOND_MARK_ALONE = (
+    "The friend mark in photo 2 (epipole2) is used together with the one in photo 1 "
+    "(epipole1); give that one too."
 )
 ONE_ID_PER_LANDMARK = "Give one number in landmark_ids per landmark."
 LINE_FITS_NOTHING = (
@@ -103,11 +113,11 @@ LINE_FITS_EVERYWHERE = (
 )
 SEVEN_FIT_NOTHING = "No geometry fits these 7 landmarks; re-check them."
 ONE_SURFACE_WITHOUT_BUDDY = (
-    "The landmarks all lie on one surface, which cannot locate your friend on its own; mark "
-    "the buddy in photo 1."
+    "The landmarks all lie on one surface, which cannot locate your friend on its own; tap "
+    "your friend if you can see them."
 )
-SEEKER_UNDETERMINED = (
-    "These landmarks do not fix the seeker's position; add landmarks in other directions."
+FRIEND_UNDETERMINED = (
+    "These landmarks do not fix where your friend is; add landmarks in other directions."
 )
 GEOMETRY_UNDETERMINED = (
     "These landmarks do not fix the geometry; add landmarks in other directions."
@@ -116,7 +126,7 @@ TOO_FEW_EPIPOLAR_LINES = (
     "These landmarks lie on too few epipolar lines to link the two photos; add landmarks in "
     "other directions."
 )
-BUDDY_AT_INFINITY = "The landmarks put the buddy at infinity in photo 1; re-check the landmarks."
+FRIEND_AT_INFINITY = "The landmarks put your friend at infinity in photo 1; re-check the landmarks."
 NO_PLANE = "No plane fits these landmarks."
 FIVE_METHOD = "The method must be 'cremona' or 'linear'."
 UNUSABLE_FOCAL = (
@@ -148,16 +158,16 @@ def repeated(first: int, second: int, photo: str) -> str:
     )
 
 
-def mark_on_landmark(who: str, label: int, photo: str) -> str:
+def mark_on_landmark(label: int, photo: str) -> str:
     return (
-        f"The {who}'s mark is on landmark #{label} in {photo}; mark the {who} and the "
+        f"The friend mark is on landmark #{label} in {photo}; mark your friend and the "
         "landmarks at different spots."
     )
 
 
-def landmarks_on_line_through(who: str, photo: str) -> str:
+def landmarks_on_line_through(photo: str) -> str:
     return (
-        f"All landmarks lie on one line through the {who} in {photo}, so they say nothing "
+        f"All landmarks lie on one line through your friend in {photo}, so they say nothing "
         "about direction; add landmarks to the side of that line."
     )
 
@@ -225,6 +235,9 @@ def not_a_size(name: str) -> str:
 
 # --- drawn on the photo (short: they share the picture with the answer) -------------------------
 
+DRAWN_FRIEND = "friend"
+DRAWN_FRIEND_LIKELY = "friend?"
+DRAWN_ON_CURVE = "friend on this curve"
 DRAWN_BEHIND = "friend is behind you"
 DRAWN_UNCLEAR = "position unclear: re-check marks"
 DRAWN_FAR_OFF = "friend far off this way"
@@ -241,8 +254,8 @@ LABELS_WITHOUT_POINTS = "labels were given without points."
 LABELS_NOT_WHOLE = "labels must be whole numbers."
 
 
-def bad_view(view: object) -> str:
-    return f'view must be "buddy" or "seeker", got {view!r}.'
+def bad_photo(photo: object) -> str:
+    return f"photo must be 1 or 2, got {photo!r}."
 
 
 def not_a_photo(shape: tuple[int, ...]) -> str:

@@ -45,18 +45,17 @@ def main() -> None:
     print(json.dumps(result.model_dump(mode="json"), indent=2))
     if result.epipole2 is not None:
         error = np.linalg.norm(np.array(result.epipole2) - scene.epipole2)
-        print(f"\ntrue seeker position {scene.epipole2.round(1).tolist()}, off by {error:.1f} px")
+        print(
+            f"\nthe friend really is at {scene.epipole2.round(1).tolist()}, off by {error:.1f} px"
+        )
 
     args.out.mkdir(parents=True, exist_ok=True)
-    for view, name, points in (
-        ("seeker", PAIR[0], taps.landmarks1),
-        ("buddy", PAIR[1], taps.landmarks2),
-    ):
-        photo = cv2.imread(str(args.data / f"{name}.png"))
-        drawn = draw_overlay(photo, result, view=view, points=points)  # type: ignore[arg-type]
-        path = args.out / f"{view}.png"
+    for number, name, points in ((1, PAIR[0], taps.landmarks1), (2, PAIR[1], taps.landmarks2)):
+        image = cv2.imread(str(args.data / f"{name}.png"))
+        drawn = draw_overlay(image, result, photo=number, points=points)  # type: ignore[arg-type]
+        path = args.out / f"photo{number}.png"
         cv2.imwrite(str(path), drawn)
-        print(f"{view}'s phone: {path}")
+        print(f"photo {number}'s phone: {path}")
 
 
 if __name__ == "__main__":

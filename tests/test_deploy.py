@@ -26,16 +26,16 @@ from typing import Any
 from urllib.parse import urlsplit
 
 import dockerfile
-import httpx
+import httpx2
 import pytest
 import yaml
 from packaging.requirements import Requirement
 from packaging.utils import canonicalize_name
 from sqlalchemy.engine import make_url
 
-from backend.loopback import free_port
 from backend.settings import Settings
 from deploy import nginx, tls
+from testbed.loopback import free_port
 
 ROOT = Path(__file__).parents[1]
 COMPOSE = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
@@ -183,7 +183,7 @@ def test_every_request_reaches_the_app_with_the_phones_address_host_and_scheme(
     X-Forwarded-For/Proto for uvicorn --proxy-headers, the address being the one nginx saw,
     never one the client names (the app counts failed join codes per address)."""
     base, recorder, _ = proxied
-    answer = httpx.get(
+    answer = httpx2.get(
         f"{base}{path}",
         headers={"X-Forwarded-For": "203.0.113.7"},
         verify=trusted,
@@ -203,7 +203,7 @@ def test_nginx_logs_paths_without_their_tokens(
     proxied: tuple[str, Recorder, nginx.Nginx], trusted: ssl.SSLContext
 ) -> None:
     base, _, running = proxied
-    httpx.get(f"{base}{EVENTS_PATH}?token=s3cret-t0ken", verify=trusted)
+    httpx2.get(f"{base}{EVENTS_PATH}?token=s3cret-t0ken", verify=trusted)
     log = running.folder / "access.log"
     for _ in range(50):  # nginx writes the line after the answer
         if log.exists() and EVENTS_PATH in log.read_text():
@@ -222,7 +222,7 @@ def test_with_no_replica_up_nginx_answers_in_the_apps_error_shape(
         "127.0.0.1", free_port(), free_port(), certificate.certificate, certificate.key
     )
     with nginx.run(listen, [f"127.0.0.1:{free_port()}"]):
-        answer = httpx.post(f"https://127.0.0.1:{listen.https_port}/api/sessions", verify=trusted)
+        answer = httpx2.post(f"https://127.0.0.1:{listen.https_port}/api/sessions", verify=trusted)
     assert answer.status_code == 503
     assert answer.headers["content-type"] == "application/json"
     assert answer.json()["error"]["code"] == "service_unavailable"
@@ -386,7 +386,13 @@ def test_the_runtime_is_slim_python_with_the_app_and_without_test_packages() -> 
     assert stages()[-1][0].value[0].startswith("python:3.11-slim")
     installs = [command.value[0] for command in runtime("run") if "pip install" in command.value[0]]
     assert installs
-    assert all("['dependencies']" in run and "[test]" not in run for run in installs)
+    # The runtime lock (pyproject's dependencies, hashes checked), not the test extras.
+    sources = {
+        command.value[-1]: command.value[0] for command in runtime("copy") if not command.flags
+    }
+    locks = [sources[run.split("-r ")[1].split()[0]] for run in installs]
+    assert locks == ["requirements/runtime.txt"]
+    assert all("--require-hashes" in run and "[test]" not in run for run in installs)
     copied = {command.value[0].rstrip("/") for command in runtime("copy") if not command.flags}
     setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
     for pattern in setuptools["packages"]["find"]["include"]:
@@ -394,19 +400,26 @@ def test_the_runtime_is_slim_python_with_the_app_and_without_test_packages() -> 
 
 
 def test_the_build_context_holds_only_what_the_dockerfile_copies() -> None:
-    """.dockerignore is an allow-list: everything out (`*`), then back in only what a COPY
-    names, so .env (the database password), .venv and var/ never enter an image."""
+    """.dockerignore is an allow-list: everything out (`*`), then back in what a COPY names
+    (and pyproject.toml: the project's metadata, no secret), so .env (the database
+    password), .venv and var/ never enter an image."""
     lines = [line.strip() for line in (ROOT / ".dockerignore").read_text().splitlines()]
     patterns = [line for line in lines if line and not line.startswith("#")]
     assert patterns[0] == "*"
-    allowed = {pattern[1:] for pattern in patterns if pattern.startswith("!")}
+    allowed = {pattern[1:].rstrip("/") for pattern in patterns if pattern.startswith("!")}
     sources = {
-        source.rstrip("/").split("/")[0]
+        source.rstrip("/")
         for command in dockerfile.parse_file(str(ROOT / "Dockerfile"))
         if command.cmd == "COPY" and not command.flags
         for source in command.value[:-1]
     }
-    assert allowed == sources
+
+    def within(path: str, folder: str) -> bool:
+        return path == folder or path.startswith(f"{folder}/")
+
+    assert all(any(within(source, entry) for entry in allowed) for source in sources)
+    unused = {entry for entry in allowed if not any(within(s, entry) for s in sources)}
+    assert unused <= {"pyproject.toml"}
 
 
 # The files of this project's modules that the app loads when it starts (its Alembic

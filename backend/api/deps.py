@@ -12,18 +12,43 @@ from typing import Annotated
 from fastapi import Depends, Query, Request
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
-from backend.sessions.service import SessionService
+from backend.eventstream.stream import EventStreams
+from backend.pairing.service import PairingService
+from backend.participants import Participant
+from backend.photos.service import PhotoService
+from backend.sessions.state import StateService
 from backend.settings import Settings
-from backend.storage.repository import Participant
+from backend.taps.service import TapService
+from backend.wiring import Services
 
 _bearer = HTTPBearer(
     auto_error=False, description="The token from creating or joining the session."
 )
 
 
-async def get_service(request: Request) -> SessionService:
-    service: SessionService = request.app.state.service
-    return service
+async def get_services(request: Request) -> Services:
+    services: Services = request.app.state.services
+    return services
+
+
+async def get_pairing(request: Request) -> PairingService:
+    return (await get_services(request)).pairing
+
+
+async def get_photos(request: Request) -> PhotoService:
+    return (await get_services(request)).photos
+
+
+async def get_taps(request: Request) -> TapService:
+    return (await get_services(request)).taps
+
+
+async def get_state(request: Request) -> StateService:
+    return (await get_services(request)).state
+
+
+async def get_streams(request: Request) -> EventStreams:
+    return (await get_services(request)).streams
 
 
 async def get_settings(request: Request) -> Settings:
@@ -42,21 +67,26 @@ async def client_address(request: Request) -> str:
     return request.client.host if request.client else ""
 
 
-ServiceDep = Annotated[SessionService, Depends(get_service)]
+ServicesDep = Annotated[Services, Depends(get_services)]
+PairingDep = Annotated[PairingService, Depends(get_pairing)]
+PhotosDep = Annotated[PhotoService, Depends(get_photos)]
+TapsDep = Annotated[TapService, Depends(get_taps)]
+StateDep = Annotated[StateService, Depends(get_state)]
+StreamsDep = Annotated[EventStreams, Depends(get_streams)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 BaseUrlDep = Annotated[str, Depends(base_url)]
 ClientAddressDep = Annotated[str, Depends(client_address)]
 Credentials = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
 
 
-def participant(session_id: str, service: ServiceDep, credentials: Credentials) -> Participant:
+def participant(session_id: str, pairing: PairingDep, credentials: Credentials) -> Participant:
     """The caller, from its bearer token, which must open this session."""
-    return service.authenticate(credentials.credentials if credentials else None, session_id)
+    return pairing.authenticate(credentials.credentials if credentials else None, session_id)
 
 
 def viewer(
     session_id: str,
-    service: ServiceDep,
+    pairing: PairingDep,
     credentials: Credentials,
     token: Annotated[
         str | None,
@@ -64,7 +94,7 @@ def viewer(
     ] = None,
 ) -> Participant:
     """Like :func:`participant`, also accepting ``?token=`` (pictures and event streams)."""
-    return service.authenticate(credentials.credentials if credentials else token, session_id)
+    return pairing.authenticate(credentials.credentials if credentials else token, session_id)
 
 
 ParticipantDep = Annotated[Participant, Depends(participant)]

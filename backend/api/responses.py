@@ -48,7 +48,7 @@ def errors(*statuses: int) -> dict[int | str, dict[str, Any]]:
     }
     return {
         status: {
-            "description": "Refused",
+            "description": "RefusedError",
             "model": Error,
             "content": {
                 "application/json": {

@@ -1,0 +1,1 @@
+"""The session as one phone sees it (the state), built from the other domains."""

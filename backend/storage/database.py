@@ -3,19 +3,20 @@
 
 from __future__ import annotations
 
-import fcntl
 import threading
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
 from typing import IO, Any
 
+import portalocker
 from alembic import command
 from alembic.config import Config
-from sqlalchemy import Engine, create_engine, event, inspect, text
+from sqlalchemy import Connection, Engine, create_engine, event, inspect, text
 from sqlalchemy.engine import URL, make_url
 from sqlalchemy.exc import DBAPIError, InterfaceError, OperationalError, SQLAlchemyError
 from sqlalchemy.exc import TimeoutError as PoolTimeoutError
+from sqlalchemy.orm import Session, sessionmaker
 
 MIGRATIONS = Path(__file__).with_name("migrations")
 INITIAL_REVISION = "0001"
@@ -144,11 +145,14 @@ def file_lock(path: Path) -> Iterator[None]:
 
 @contextmanager
 def _locked(handle: IO[str]) -> Iterator[None]:
-    fcntl.flock(handle, fcntl.LOCK_EX)
+    # portalocker's blocking lock, not its Lock class nor filelock's: those poll (every
+    # 50 ms or so) where this waits in the kernel and wakes the moment the lock is free,
+    # which is what kept the write tail short under load (docs/load-benchmark.md).
+    portalocker.lock(handle, portalocker.LockFlags.EXCLUSIVE)
     try:
         yield
     finally:
-        fcntl.flock(handle, fcntl.LOCK_UN)
+        portalocker.unlock(handle)
 
 
 class WriterLock:
@@ -173,6 +177,56 @@ class WriterLock:
                 raise DatabaseUnavailableError(f"{self._path.name}: {error.strerror}") from error
             with handle, _locked(handle):
                 yield
+
+
+class Database:
+    """The engine with the three ways the repositories use it: :meth:`read` (an ORM
+    session), :meth:`query` (a plain connection for prepared Core statements: no ORM work
+    per call) and :meth:`write` (a transaction, one writer at a time on a SQLite file).
+    Each raises :class:`DatabaseUnavailableError` while the database cannot be reached."""
+
+    def __init__(self, engine: Engine) -> None:
+        self.engine = engine
+        self.postgresql = engine.dialect.name == "postgresql"
+        self._sessions = sessionmaker(engine, expire_on_commit=False)
+        path = sqlite_file(engine)
+        self._writer = None if path is None else WriterLock(path)
+
+    @contextmanager
+    def read(self) -> Iterator[Session]:
+        with translated(), self._sessions() as tx:
+            yield tx
+
+    @contextmanager
+    def query(self) -> Iterator[Connection]:
+        with translated(), self.engine.connect() as connection:
+            yield connection
+
+    @contextmanager
+    def write(self) -> Iterator[Session]:
+        """A transaction, committed at the end of the block (rolled back on an error)."""
+        with self.writing(), translated(), self._sessions.begin() as tx:
+            yield tx
+
+    def writing(self) -> AbstractContextManager[None]:
+        """Holds the writer lock of a SQLite file (PostgreSQL takes row locks itself)."""
+        return nullcontext() if self._writer is None else self._writer.held()
+
+    def answers(self) -> bool:
+        """Whether the database answers a query."""
+        with self.query() as connection:
+            return connection.scalar(text("SELECT 1")) == 1
+
+
+@contextmanager
+def translated() -> Iterator[None]:
+    """An unreachable database as :class:`DatabaseUnavailableError`; other errors unchanged."""
+    try:
+        yield
+    except SQLAlchemyError as error:
+        if unavailable(error):
+            raise DatabaseUnavailableError(str(error).splitlines()[0]) from error
+        raise
 
 
 def unavailable(error: SQLAlchemyError) -> bool:

@@ -23,7 +23,7 @@ class Base(DeclarativeBase):
 
 
 class SessionRow(Base):
-    """One search: two participants, their photos and taps, the current answer."""
+    """One search: two friends, their photos and taps, the current answer."""
 
     __tablename__ = "sessions"
 
@@ -37,16 +37,18 @@ class SessionRow(Base):
     # Wrong codes that named this code's search number; at the limit the code is renewed
     # (a new number and secret) and this starts again from 0.
     join_code_failures: Mapped[int] = mapped_column(Integer, default=0, server_default="0")
-    # How many times the code was renewed so (the seeker's phone says why it changed).
+    # How many times the code was renewed so (the starter's phone says why it changed).
     join_code_renewals: Mapped[int] = mapped_column(Integer, default=0, server_default="0")
     # Bumped by every change a phone should see; the answer records the version it is for.
     version: Mapped[int] = mapped_column(Integer, default=1)
-    result: Mapped[str | None] = mapped_column(Text)  # JSON: SolveResult, or an error
-    result_version: Mapped[int | None] = mapped_column(Integer)
+    # JSON: {"answer": what each phone is told, "solution": the solver's own answer,
+    # "first": whose photo was photo 1}, or {"error": {"code", "message"}}.
+    answer: Mapped[str | None] = mapped_column(Text)
+    answer_version: Mapped[int | None] = mapped_column(Integer)
 
 
 class ParticipantRow(Base):
-    """The seeker or the buddy: who holds which token, whether online, what they tapped."""
+    """The starter or the joiner: who holds which token, whether online, what they tapped."""
 
     __tablename__ = "participants"
     __table_args__ = (UniqueConstraint("session_id", "role"),)
@@ -55,27 +57,33 @@ class ParticipantRow(Base):
     session_id: Mapped[str] = mapped_column(
         ForeignKey("sessions.id", ondelete="CASCADE"), index=True
     )
-    role: Mapped[str] = mapped_column(String(6))
+    role: Mapped[str] = mapped_column(String(8))  # starter, joiner
     token_hash: Mapped[str] = mapped_column(String(64), unique=True)
     joined_at: Mapped[datetime] = mapped_column(DateTime())
     last_seen_at: Mapped[datetime | None] = mapped_column(DateTime())
-    taps: Mapped[str | None] = mapped_column(Text)  # JSON: TapsIn
+    taps: Mapped[str | None] = mapped_column(Text)  # JSON: backend.taps.schemas.Taps
 
 
 class PhotoRow(Base):
-    """A participant's photo as stored: upright JPEG, downscaled, no metadata."""
+    """A friend's photo as stored: upright JPEG, downscaled, no metadata; of its EXIF only
+    the lens's focal length is kept (what the solver uses), never the rest."""
 
     __tablename__ = "photos"
 
     session_id: Mapped[str] = mapped_column(
         ForeignKey("sessions.id", ondelete="CASCADE"), primary_key=True
     )
-    role: Mapped[str] = mapped_column(String(6), primary_key=True)
+    role: Mapped[str] = mapped_column(String(8), primary_key=True)
     data: Mapped[bytes] = mapped_column(LargeBinary)
     width: Mapped[int] = mapped_column(Integer)
     height: Mapped[int] = mapped_column(Integer)
     scale: Mapped[float] = mapped_column(Float)
     uploaded_at: Mapped[datetime] = mapped_column(DateTime())
+    # The lens, 35 mm equivalent, with its relative uncertainty, and who read it from EXIF
+    # (the server from the upload, or the phone before shrinking it); NULL: not told.
+    lens_focal_35mm: Mapped[float | None] = mapped_column(Float)
+    lens_uncertainty: Mapped[float | None] = mapped_column(Float)
+    lens_told_by: Mapped[str | None] = mapped_column(String(5))
 
 
 class EventRow(Base):

@@ -13,7 +13,7 @@ import cv2
 import numpy as np
 from report import markdown_table, verdict
 
-from shared_solver.minimal.buddy_and_three import rotations_from_three
+from shared_solver.minimal.epipole_and_three import rotations_from_three
 from shared_solver.projective import Array
 from testbed.phones import PhoneScene, phone_scene, zoom_from_prior
 from testbed.scenes import Taps, tap

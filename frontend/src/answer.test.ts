@@ -1,93 +1,130 @@
 import { describe, expect, it } from "vitest";
-import { CURVE_TEXT, describeAnswer, neededText, suspectIds } from "./answer";
-import type { SessionState, SolveResult } from "./types";
+import { CURVE_TEXT, WAVE_TEXT, describeAnswer, neededText } from "./answer";
+import type { Answer, FriendInPhoto, SessionState } from "./types";
 
-function state(result: Partial<SolveResult> | null, extra: Partial<SessionState> = {}): SessionState {
+const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
+
+/** Where each phone's friend is in its own photo: the starter marked, the joiner was told. */
+function inPhoto(starter: Partial<FriendInPhoto> = {}, joiner: Partial<FriendInPhoto> = {}): Answer["in_photo"] {
+  return {
+    starter: { how: "marked", friend: [10, 10], friend_h: [0.1, 0.1, 0.01], ...starter },
+    joiner: { how: "solved", friend: [300, 200], friend_h: [0.8, 0.6, 0.001], region: RING, ...joiner },
+  };
+}
+
+function state(in_photo: Answer["in_photo"] | null, extra: Partial<SessionState> = {}): SessionState {
   return {
     session_id: "s",
-    you: "buddy",
+    you: "joiner",
     version: 9,
     expires_at: "",
     join_code: null,
     join_code_renewals: 0,
     join_url: null,
-    participants: { seeker: { joined: true, online: true }, buddy: { joined: true, online: true } },
-    photos: { seeker: { width: 640, height: 480, scale: 1 }, buddy: { width: 640, height: 480, scale: 1 } },
-    taps: { seeker: null, buddy: null },
+    participants: { starter: { joined: true, online: true }, joiner: { joined: true, online: true } },
+    photos: { starter: { width: 640, height: 480, scale: 1 }, joiner: { width: 640, height: 480, scale: 1 } },
+    taps: { starter: null, joiner: null },
     landmarks_needed: 0,
-    result:
-      result === null
+    answer:
+      in_photo === null
         ? null
         : {
             method: "five_point_epipole",
-            landmark_count: 5,
-            epipole2: [300, 200],
-            epipole2_h: [0.8, 0.6, 0.001],
-            epipole1: [10, 10],
-            uncertainty: { level: 0.95, ellipse: { center: [300, 200], axes: [12, 5], angle_deg: 30 } },
-            suspect_landmarks: [],
+            camera_model: "pinhole",
             quality: "good",
-            warnings: [],
-            ...result,
+            landmark_ids: [1, 2, 4, 5, 7],
+            suspects: [],
+            in_photo,
           },
-    result_version: result === null ? null : 9,
-    result_landmark_ids: [1, 2, 4, 5, 7],
-    result_error: null,
+    answer_version: in_photo === null ? null : 9,
+    answer_error: null,
     ...extra,
   };
 }
 
 describe("the answer on each phone", () => {
   it("is nothing before there is an answer", () => {
-    expect(describeAnswer(state(null), "buddy").kind).toBe("none");
+    expect(describeAnswer(state(null), "joiner").kind).toBe("none");
   });
 
   it("is the curve with 4 landmarks", () => {
-    const view = describeAnswer(state({ method: "conic", epipole2: null, epipole2_h: null }), "buddy");
+    const view = describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, curve: [[1, 0, 0], [0, 1, 0], [0, 0, -1]] })), "joiner");
     expect(view.kind).toBe("curve");
     expect(view.text).toBe(CURVE_TEXT);
     expect(view.position).toBeNull();
     expect(view.hasOverlay).toBe(true);
   });
 
-  it("is the position with its ellipse and quality on the buddy's phone", () => {
-    const view = describeAnswer(state({}), "buddy");
+  it("is the position found, with its region, on the phone that did not mark", () => {
+    const view = describeAnswer(state(inPhoto()), "joiner");
     expect(view.kind).toBe("position");
-    expect(view.position).toEqual({
-      x: 300,
-      y: 200,
-      ellipse: { center: [300, 200], axes: [12, 5], angle_deg: 30 },
-      quality: "good",
-    });
+    expect(view.position).toEqual({ x: 300, y: 200, ellipse: RING, quality: "good", how: "solved" });
     expect(view.text).toContain("star");
+    expect(view.news).toBe(true); // drawn on the photo without asking
+    expect(view.seen).toBe(false);
+  });
+
+  it("is the same found by either phone: the roles only say who started", () => {
+    const swapped = { starter: inPhoto().joiner, joiner: inPhoto().starter } as Answer["in_photo"];
+    expect(describeAnswer(state(swapped), "starter")).toEqual(describeAnswer(state(inPhoto()), "joiner"));
+    expect(describeAnswer(state(swapped), "joiner")).toEqual(describeAnswer(state(inPhoto()), "starter"));
+  });
+
+  it("tells the phone that marked its friend that the friend can now see them", () => {
+    const view = describeAnswer(state(inPhoto()), "starter");
+    expect(view.seen).toBe(true);
+    expect(view.text).toBe(WAVE_TEXT);
+    expect(view.position).toMatchObject({ x: 10, y: 10, how: "marked", ellipse: null });
+    expect(view.news).toBe(false); // its own mark: the drawing on request
+  });
+
+  it("shows each phone its own mark, refined, when both marked each other", () => {
+    const both = inPhoto({}, { how: "marked" });
+    for (const role of ["starter", "joiner"] as const) {
+      const view = describeAnswer(state(both), role);
+      expect(view.text).toContain("You marked each other");
+      expect(view.position?.how).toBe("marked");
+      expect(view.seen).toBe(false);
+    }
+    expect(describeAnswer(state(both), "joiner").position?.ellipse).toEqual(RING);
+  });
+
+  it("names the point a line gave", () => {
+    const view = describeAnswer(state(inPhoto({ how: "on_line" })), "starter");
+    expect(view.text).toContain("on your line");
+    expect(view.position?.how).toBe("on_line");
   });
 
   it("says to turn when the friend is outside the photo", () => {
-    expect(describeAnswer(state({ epipole2: [900, 200] }), "buddy").text).toContain("arrow");
+    const view = describeAnswer(state(inPhoto({}, { friend: [900, 200] })), "joiner");
+    expect(view.text).toContain("arrow");
   });
 
-  it("tells the seeker that the buddy can see them", () => {
-    expect(describeAnswer(state({}), "seeker").text).toBe("Your buddy can now see where you are.");
+  it("asks for a mark when there is a point but no sure region", () => {
+    const view = describeAnswer(state(inPhoto({}, { region: null })), "joiner");
+    expect(view.text).toContain("most likely");
+    expect(view.news).toBe(true);
   });
 
   it("says 'turn around' when the friend is behind", () => {
-    const behind = describeAnswer(state({ epipole2: null, epipole2_h: [0.1, 0.1, -0.99] }), "buddy");
-    expect(behind.kind).toBe("elsewhere");
-    expect(behind.text).toContain("turn around");
+    const view = describeAnswer(state(inPhoto({}, { friend: null, friend_h: [0.1, 0.1, -0.99], region: null })), "joiner");
+    expect(view.kind).toBe("elsewhere");
+    expect(view.text).toContain("turn around");
   });
 
-  it("names suspects by the numbers people see", () => {
-    const view = describeAnswer(state({ suspect_landmarks: [1, 3], warnings: ["Re-check #2."] }), "buddy");
-    expect(view.suspects).toEqual([2, 5]);
-    expect(view.warnings).toEqual(["Re-check #2."]);
-    expect(suspectIds(state({ suspect_landmarks: [9] }))).toEqual([]);
+  it("passes on the warnings said to this phone, and the suspects by number", () => {
+    const answer = state(inPhoto({ warnings: ["Re-check #2 in your photo."] }, { warnings: ["Re-check #2 in your friend's photo."] }));
+    if (answer.answer) answer.answer.suspects = [2, 5];
+    expect(describeAnswer(answer, "starter").warnings).toEqual(["Re-check #2 in your photo."]);
+    expect(describeAnswer(answer, "joiner").warnings).toEqual(["Re-check #2 in your friend's photo."]);
+    expect(describeAnswer(answer, "joiner").suspects).toEqual([2, 5]);
   });
 
   it("passes on the solver's refusal", () => {
     const refused = state(null, {
-      result_error: { code: "collinear_landmarks", message: "All landmarks are on one line." },
+      answer_error: { code: "collinear_landmarks", message: "All landmarks are on one line." },
     });
-    const view = describeAnswer(refused, "buddy");
+    const view = describeAnswer(refused, "joiner");
     expect(view.kind).toBe("refused");
     expect(view.text).toBe("All landmarks are on one line.");
   });

@@ -1,12 +1,14 @@
 /**
- * The REST API (README "The web service"). Every refusal is {"error": {"code", "message"}};
- * the message is a sentence for the person, shown as it is.
+ * The REST API (its types: generated from the server's OpenAPI schema, types.ts). Every
+ * refusal is {"error": {"code", "message"}}; the message is a sentence for the person,
+ * shown as it is.
  */
 
 import type {
   CreatedSession,
   Credentials,
   Joined,
+  LensFields,
   PhotoStored,
   Role,
   SessionState,
@@ -116,13 +118,15 @@ export function eventsUrl({ session_id, token }: Credentials): string {
 }
 
 /**
- * PUT the photo with XMLHttpRequest, which (unlike fetch) reports upload progress:
- * `onProgress` gets 0..1.
+ * PUT the photo, with the lens its original's EXIF told (`lens`: form fields beside the
+ * photo), with XMLHttpRequest, which (unlike fetch) reports upload progress: `onProgress`
+ * gets 0..1.
  */
 export function uploadPhoto(
   { session_id, token }: Credentials,
   body: Blob,
   name: string,
+  lens: LensFields,
   onProgress: (fraction: number) => void,
 ): Promise<PhotoStored> {
   return new Promise((resolve, reject) => {
@@ -154,6 +158,9 @@ export function uploadPhoto(
     };
     const form = new FormData();
     form.append("photo", body, name);
+    for (const [field, value] of Object.entries(lens)) {
+      if (value !== undefined && value !== null) form.append(field, String(value));
+    }
     request.send(form);
   });
 }

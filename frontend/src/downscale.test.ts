@@ -1,12 +1,6 @@
 import { describe, expect, it } from "vitest";
-import {
-  STORED_PHOTO_SIDE,
-  downscaledSize,
-  isUpright,
-  orientedSize,
-  preparePhoto,
-  type PhotoDecoder,
-} from "./downscale";
+import { downscaledSize, isUpright, preparePhoto, type PhotoDecoder } from "./downscale";
+import { STORED_PHOTO_SIDE } from "./limits";
 import type { Size } from "./viewTransform";
 
 describe("the size sent", () => {
@@ -35,15 +29,6 @@ describe("the size sent", () => {
   it("never enlarges a small photo", () => {
     expect(downscaledSize({ width: 640, height: 480 })).toEqual({ width: 640, height: 480 });
     expect(downscaledSize({ width: 2560, height: 100 })).toEqual({ width: 2560, height: 100 });
-  });
-
-  it("uses the upright size: EXIF orientations 5 to 8 swap width and height", () => {
-    const stored = { width: 4032, height: 3024 };
-    for (const orientation of [1, 2, 3, 4]) expect(orientedSize(stored, orientation)).toEqual(stored);
-    for (const orientation of [5, 6, 7, 8]) {
-      expect(orientedSize(stored, orientation)).toEqual({ width: 3024, height: 4032 });
-    }
-    expect(downscaledSize(orientedSize(stored, 6))).toEqual({ width: 1920, height: 2560 });
   });
 
   it("tells an upright picture from one the browser did not turn", () => {

@@ -1,6 +1,6 @@
 /**
- * The photo is made small on the phone before it is sent: at most 2560 px on the long side
- * (what the server stores anyway), upright, as a JPEG. Sending 3 MB instead of 12 MB matters
+ * The photo is made small on the phone before it is sent: at most STORED_PHOTO_SIDE (2560)
+ * px on the long side (what the server stores anyway), upright, as a JPEG. Sending 3 MB instead of 12 MB matters
  * on a venue's weak network.
  *
  * Never a full-size canvas: iOS Safari draws nothing on a canvas beyond about 16.7 MP, and a
@@ -10,10 +10,9 @@
  * sent as it is: the server converts HEIC or says clearly why it cannot.
  */
 
+import { STORED_PHOTO_SIDE } from "./limits";
 import type { Size } from "./viewTransform";
 
-/** The server's BUDDY_STORED_PHOTO_SIDE: longer sides are downscaled there anyway. */
-export const STORED_PHOTO_SIDE = 2560;
 export const JPEG_QUALITY = 0.9;
 
 /** The size to send: the long side at most `maxSide`, the aspect kept, never enlarged. */
@@ -23,16 +22,6 @@ export function downscaledSize(natural: Size, maxSide: number = STORED_PHOTO_SID
   const factor = maxSide / long;
   const side = (value: number): number => Math.min(maxSide, Math.max(1, Math.round(value * factor)));
   return { width: side(natural.width), height: side(natural.height) };
-}
-
-/**
- * The upright size of a photo stored `stored` px with EXIF orientation `orientation`
- * (1..8): orientations 5 to 8 turn it a quarter, so width and height swap.
- */
-export function orientedSize(stored: Size, orientation: number): Size {
-  return orientation >= 5 && orientation <= 8
-    ? { width: stored.height, height: stored.width }
-    : { width: stored.width, height: stored.height };
 }
 
 /** Whether a decoded picture of size `got` is the upright photo of size `upright` (not turned). */

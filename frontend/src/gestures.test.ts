@@ -1,6 +1,7 @@
 import { describe, expect, it } from "vitest";
 import {
   IDLE,
+  LOUPE_AIM_MS,
   fingerDown,
   fingerUp,
   fingersMove,
@@ -23,8 +24,16 @@ describe("one finger", () => {
     const down = fingerDown(IDLE, fingers([1, { x: 100, y: 200 }]), 1, null, fitted);
     expect(loupeTarget(down)).toEqual({ x: 100, y: 200 });
     const { gesture, outcome } = fingerUp(down, fingers(), 1);
-    expect(outcome).toEqual({ kind: "place", at: { x: 100, y: 200 } });
+    expect(outcome).toEqual({ kind: "place", at: { x: 100, y: 200 }, aim: "finger" });
     expect(gesture).toEqual(IDLE);
+  });
+
+  it("a finger held still long enough aimed with the loupe", () => {
+    const down = fingerDown(IDLE, fingers([1, { x: 100, y: 200 }]), 1, null, fitted, false, 1000);
+    const quick = fingerUp(down, fingers(), 1, false, 1000 + LOUPE_AIM_MS - 1).outcome;
+    const held = fingerUp(down, fingers(), 1, false, 1000 + LOUPE_AIM_MS).outcome;
+    expect(quick).toMatchObject({ kind: "place", aim: "finger" });
+    expect(held).toMatchObject({ kind: "place", aim: "loupe" });
   });
 
   it("dragging adjusts, and the release point is placed", () => {
@@ -33,7 +42,8 @@ describe("one finger", () => {
     gesture = moved.gesture;
     expect(moved.transform).toBeNull(); // one finger never pans or zooms
     expect(loupeTarget(gesture)).toEqual({ x: 130, y: 180 });
-    expect(fingerUp(gesture, fingers(), 1).outcome).toEqual({ kind: "place", at: { x: 130, y: 180 } });
+    // Slid under the loupe: aimed with it, however quick.
+    expect(fingerUp(gesture, fingers(), 1).outcome).toEqual({ kind: "place", at: { x: 130, y: 180 }, aim: "loupe" });
   });
 
   it("a press on a label grabs that landmark: dragging moves it from where it was", () => {
@@ -41,7 +51,7 @@ describe("one finger", () => {
     let gesture: Gesture = fingerDown(IDLE, fingers([1, { x: 110, y: 196 }]), 1, grab, fitted);
     gesture = fingersMove(gesture, fingers([1, { x: 120, y: 206 }]), fitted, view, photo, false).gesture;
     expect(loupeTarget(gesture)).toEqual({ x: 100, y: 226 });
-    expect(fingerUp(gesture, fingers(), 1).outcome).toEqual({ kind: "move", id: 3, to: { x: 100, y: 226 } });
+    expect(fingerUp(gesture, fingers(), 1).outcome).toEqual({ kind: "move", id: 3, to: { x: 100, y: 226 }, aim: "loupe" });
   });
 
   it("a tap on a label selects that landmark", () => {
@@ -88,7 +98,8 @@ describe("the mouse", () => {
   it("a click places", () => {
     const down = fingerDown(IDLE, fingers([0, { x: 50, y: 250 }]), 0, null, fitted, true);
     expect(loupeTarget(down)).toBeNull(); // the pointer is precise: no loupe
-    expect(fingerUp(down, fingers(), 0).outcome).toEqual({ kind: "place", at: { x: 50, y: 250 } });
+    // Its pointer is as precise as the loupe.
+    expect(fingerUp(down, fingers(), 0).outcome).toEqual({ kind: "place", at: { x: 50, y: 250 }, aim: "loupe" });
   });
 
   it("a drag pans a zoomed photo and places nothing", () => {

@@ -10,12 +10,15 @@
  * Points are screen points relative to the view (see viewTransform).
  */
 
+import type { Aim } from "./precision";
 import { panBy, pinchTransform, type Point, type Size, type ViewTransform } from "./viewTransform";
 
 /** A finger that moved less than this (screen px) is a tap for a mouse, a pan threshold. */
 export const MOUSE_SLOP = 4;
 /** A grabbed landmark that moved less than this was only tapped (selected). */
 export const TOUCH_SLOP = 6;
+/** A finger held this long (ms) before it lifts had time to aim with the loupe. */
+export const LOUPE_AIM_MS = 500;
 
 export interface Grab {
   /** The landmark's number. */
@@ -34,6 +37,8 @@ export type Gesture =
       readonly grab: Grab | null;
       readonly moved: boolean;
       readonly mouse: boolean;
+      /** When the finger went down, ms (any clock: only differences count). */
+      readonly since: number;
     }
   | {
       readonly kind: "pinch";
@@ -47,8 +52,8 @@ export type Gesture =
 
 export type Outcome =
   | { readonly kind: "none" }
-  | { readonly kind: "place"; readonly at: Point }
-  | { readonly kind: "move"; readonly id: number; readonly to: Point }
+  | { readonly kind: "place"; readonly at: Point; readonly aim: Aim }
+  | { readonly kind: "move"; readonly id: number; readonly to: Point; readonly aim: Aim }
   | { readonly kind: "select"; readonly id: number };
 
 export const IDLE: Gesture = { kind: "idle" };
@@ -61,7 +66,10 @@ function distance(a: Point, b: Point): number {
   return Math.hypot(a.x - b.x, a.y - b.y);
 }
 
-/** A finger (or the mouse button) went down at `at`; `grab`: it landed on a landmark's label. */
+/**
+ * A finger (or the mouse button) went down at `at`; `grab`: it landed on a landmark's label;
+ * `now`: the time, ms.
+ */
 export function fingerDown(
   gesture: Gesture,
   fingers: Fingers,
@@ -69,6 +77,7 @@ export function fingerDown(
   grab: Grab | null,
   transform: ViewTransform,
   mouse = false,
+  now = 0,
 ): Gesture {
   if (gesture.kind === "done" || gesture.kind === "pinch") return gesture;
   if (fingers.size >= 2) {
@@ -79,7 +88,7 @@ export function fingerDown(
   }
   const at = fingers.get(finger);
   if (!at || gesture.kind !== "idle") return gesture;
-  return { kind: "press", finger, start: at, at, grab, moved: false, mouse };
+  return { kind: "press", finger, start: at, at, grab, moved: false, mouse, since: now };
 }
 
 /** Fingers moved; returns the gesture and, for a pinch or pan, the new transform. */
@@ -123,14 +132,15 @@ export function fingersMove(
 }
 
 /**
- * Finger `finger` lifted (`cancelled`: the system took the touch away); `fingers` are those
- * still down. Returns the next gesture and what the lift does.
+ * Finger `finger` lifted at `now` (ms; `cancelled`: the system took the touch away);
+ * `fingers` are those still down. Returns the next gesture and what the lift does.
  */
 export function fingerUp(
   gesture: Gesture,
   fingers: Fingers,
   finger: number,
   cancelled = false,
+  now = 0,
 ): { gesture: Gesture; outcome: Outcome } {
   const next: Gesture = fingers.size > 0 ? { kind: "done" } : IDLE;
   switch (gesture.kind) {
@@ -138,13 +148,14 @@ export function fingerUp(
       if (finger !== gesture.finger) return { gesture, outcome: NOTHING };
       if (cancelled) return { gesture: next, outcome: NOTHING };
       const target = pressTarget(gesture);
+      const aim = aimOf(gesture, now);
       if (gesture.grab) {
         const outcome: Outcome = gesture.moved
-          ? { kind: "move", id: gesture.grab.id, to: target }
+          ? { kind: "move", id: gesture.grab.id, to: target, aim }
           : { kind: "select", id: gesture.grab.id };
         return { gesture: next, outcome };
       }
-      return { gesture: next, outcome: { kind: "place", at: target } };
+      return { gesture: next, outcome: { kind: "place", at: target, aim } };
     }
     case "pinch":
     case "done":
@@ -154,6 +165,16 @@ export function fingerUp(
     case "idle":
       return { gesture: IDLE, outcome: NOTHING };
   }
+}
+
+/**
+ * How a press lifted at `now` was aimed: with the loupe when the finger slid under it or
+ * was held long enough to look at it, else as a quick tap of the finger. A mouse's pointer
+ * is as precise as the loupe's cross-hair.
+ */
+function aimOf(press: Extract<Gesture, { kind: "press" }>, now: number): Aim {
+  if (press.mouse || press.moved) return "loupe";
+  return now - press.since >= LOUPE_AIM_MS ? "loupe" : "finger";
 }
 
 /**

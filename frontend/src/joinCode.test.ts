@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
-import { CODE_DIGITS, codeFrom, codeGroups } from "./joinCode";
+import { codeFrom, codeGroups } from "./joinCode";
+import { CODE_DIGITS } from "./limits";
 import { parseRoute } from "./routes";
 
 describe("join codes", () => {

@@ -1,9 +1,10 @@
 /**
- * Join codes as people read and type them: eight digits, the search's number then its
- * secret, shown in two groups of four ("4829 1375"), typed with or without spaces.
+ * Join codes as people read and type them: CODE_DIGITS digits (eight), the search's number
+ * then its secret, shown in groups of four ("4829 1375"), typed with or without spaces.
  */
 
-export const CODE_DIGITS = 8;
+import { CODE_DIGITS } from "./limits";
+
 const GROUP = 4;
 
 /** The code in what someone typed (spaces, dashes and dots are ignored), or null. */
@@ -12,7 +13,7 @@ export function codeFrom(typed: string): string | null {
   return new RegExp(`^\\d{${CODE_DIGITS}}$`).test(digits) ? digits : null;
 }
 
-/** The code in groups of four, as the seeker's phone shows it. */
+/** The code in groups of four, as the starter's phone shows it. */
 export function codeGroups(code: string): string[] {
   const groups: string[] = [];
   for (let start = 0; start < code.length; start += GROUP) groups.push(code.slice(start, start + GROUP));

@@ -1,38 +1,36 @@
 /**
  * One phone's taps and how they change: landmarks (numbered, matched across the phones by
- * number), the buddy mark or a line through the buddy (seeker), the seeker mark (buddy),
- * the selected landmark and an undo stack of whole tap sets.
+ * number), the friend (a mark where they are, or a line through them, when this phone can
+ * see them), the selected landmark and an undo stack of whole tap sets. Each tap keeps its
+ * precision (`sigma`, stored-photo px: precision.ts), so a moved landmark has that of its
+ * new placement.
  *
  * All functions are pure: they return a new editor and never change the one given.
  */
 
+import { MAX_LANDMARK_ID, MAX_LANDMARKS } from "./limits";
+import type { FriendLineTap, LandmarkTap, MarkTap, Taps } from "./types";
 import type { Point, Size } from "./viewTransform";
-import type { Taps } from "./types";
 
-/** The most landmarks one phone may tap (the server's BUDDY_MAX_LANDMARKS default). */
-export const MAX_LANDMARKS = 64;
-/** Landmark numbers run 1..999 (the server's limit). */
-export const MAX_LANDMARK_ID = 999;
 /** Undo remembers this many steps. */
 export const UNDO_DEPTH = 100;
 
-export interface Landmark {
-  readonly id: number;
-  readonly x: number;
-  readonly y: number;
-}
+/** A tap as the API has it, with its precision always said (null: unknown, the server's default). */
+type Precise<T extends { sigma?: number | null }> = Readonly<Omit<T, "sigma"> & { sigma: number | null }>;
 
-/** a*x + b*y + c = 0 in photo pixels, with a^2 + b^2 = 1. */
-export type Line = readonly [number, number, number];
+export type Landmark = Precise<LandmarkTap>;
+/** Where the friend is in this phone's photo. */
+export type FriendMark = Precise<MarkTap>;
+/** "Somewhere along here": a x + b y + c = 0 through the friend, with a^2 + b^2 = 1. */
+export type FriendLine = Precise<FriendLineTap>;
+/** A line without its precision (to draw, or before it is placed). */
+export type Line = Pick<FriendLine, "a" | "b" | "c">;
 
 export interface TapSet {
   readonly landmarks: readonly Landmark[];
-  /** Seeker: where the buddy is (epipole1). */
-  readonly buddyMark: Point | null;
-  /** Seeker, instead of the buddy mark: a line through the buddy (epipolar_line1). */
-  readonly buddyLine: Line | null;
-  /** Buddy, optional: where the seeker is, when both see each other (epipole2). */
-  readonly seekerMark: Point | null;
+  readonly friend: FriendMark | null;
+  /** Instead of the friend mark: a line through the friend. */
+  readonly friend_line: FriendLine | null;
 }
 
 export interface TapEditor {
@@ -42,8 +40,7 @@ export interface TapEditor {
   readonly selected: number | null;
 }
 
-export const NO_TAPS: TapSet = { landmarks: [], buddyMark: null, buddyLine: null, seekerMark: null };
-
+export const NO_TAPS: TapSet = { landmarks: [], friend: null, friend_line: null };
 export function newEditor(taps: TapSet = NO_TAPS): TapEditor {
   return { taps, history: [], selected: null };
 }
@@ -89,10 +86,12 @@ function round(p: Point): Point {
   return { x: Math.round(p.x * 10) / 10, y: Math.round(p.y * 10) / 10 };
 }
 
-/** A new landmark at `at`, numbered by {@link nextLandmark}. Unchanged when full. */
+/** A new landmark at `at` (tapped with precision `sigma`), numbered by {@link nextLandmark}.
+ * Unchanged when full. */
 export function addLandmark(
   editor: TapEditor,
   at: Point,
+  sigma: number,
   theirs: readonly number[],
   skipped: ReadonlySet<number> = new Set(),
 ): TapEditor {
@@ -103,15 +102,16 @@ export function addLandmark(
     theirs,
     skipped,
   );
-  const landmark = { id, ...round(at) };
+  const landmark = { id, ...round(at), sigma };
   const sorted = [...landmarks, landmark].sort((a, b) => a.id - b.id);
   return change(editor, { ...editor.taps, landmarks: sorted }, editor.selected);
 }
 
-export function moveLandmark(editor: TapEditor, id: number, to: Point): TapEditor {
+/** Landmark `id` placed again at `to`, with the precision of this placement. */
+export function moveLandmark(editor: TapEditor, id: number, to: Point, sigma: number): TapEditor {
   const { landmarks } = editor.taps;
   if (!landmarks.some((l) => l.id === id)) return editor;
-  const moved = landmarks.map((l) => (l.id === id ? { id, ...round(to) } : l));
+  const moved = landmarks.map((l) => (l.id === id ? { id, ...round(to), sigma } : l));
   return change(editor, { ...editor.taps, landmarks: moved }, id);
 }
 
@@ -128,20 +128,18 @@ export function select(editor: TapEditor, id: number | null): TapEditor {
   return { ...editor, selected: id };
 }
 
-/** The seeker marks the buddy; a line drawn before goes (one or the other). */
-export function setBuddyMark(editor: TapEditor, at: Point): TapEditor {
-  return change(editor, { ...editor.taps, buddyMark: round(at), buddyLine: null }, editor.selected);
+/**
+ * This phone marks its friend; a line drawn before goes. With null: the friend is no longer
+ * marked (neither mark nor line).
+ */
+export function setFriend(editor: TapEditor, at: Point | null, sigma: number | null = null): TapEditor {
+  const friend = at === null ? null : { ...round(at), sigma };
+  return change(editor, { ...editor.taps, friend, friend_line: null }, editor.selected);
 }
 
-/** The seeker draws a line through the buddy instead of marking them. */
-export function setBuddyLine(editor: TapEditor, line: Line): TapEditor {
-  return change(editor, { ...editor.taps, buddyLine: line, buddyMark: null }, editor.selected);
-}
-
-/** The buddy marks the seeker (or, with null, takes the mark away). */
-export function setSeekerMark(editor: TapEditor, at: Point | null): TapEditor {
-  const seekerMark = at === null ? null : round(at);
-  return change(editor, { ...editor.taps, seekerMark }, editor.selected);
+/** "Somewhere along here": a line through the friend instead of a mark. */
+export function setFriendLine(editor: TapEditor, line: FriendLine): TapEditor {
+  return change(editor, { ...editor.taps, friend_line: line, friend: null }, editor.selected);
 }
 
 export function canUndo(editor: TapEditor): boolean {
@@ -159,7 +157,7 @@ export function undo(editor: TapEditor): TapEditor {
   return { taps: previous, history: editor.history.slice(0, -1), selected };
 }
 
-// --- the line through the buddy -------------------------------------------------------------
+// --- the line through the friend ------------------------------------------------------------
 
 /** The line through two photo points, normalised; null when they are the same point. */
 export function lineThrough(p: Point, q: Point): Line | null {
@@ -168,12 +166,12 @@ export function lineThrough(p: Point, q: Point): Line | null {
   const norm = Math.hypot(a, b);
   if (norm < 1e-9) return null;
   const c = -(a * p.x + b * p.y);
-  return [a / norm, b / norm, c / norm];
+  return { a: a / norm, b: b / norm, c: c / norm };
 }
 
 /** Where a line crosses the photo (to draw it), or null when it misses the photo. */
 export function clipLine(line: Line, photo: Size): readonly [Point, Point] | null {
-  const [a, b, c] = line;
+  const { a, b, c } = line;
   const { width: w, height: h } = photo;
   const hits: Point[] = [];
   const add = (p: Point): void => {
@@ -196,29 +194,29 @@ export function clipLine(line: Line, photo: Size): readonly [Point, Point] | nul
 
 export function toServerTaps(taps: TapSet): Taps {
   return {
-    landmarks: taps.landmarks.map(({ id, x, y }) => ({ id, x, y })),
-    epipole1: taps.buddyMark ? [taps.buddyMark.x, taps.buddyMark.y] : null,
-    epipolar_line1: taps.buddyLine ? [taps.buddyLine[0], taps.buddyLine[1], taps.buddyLine[2]] : null,
-    epipole2: taps.seekerMark ? [taps.seekerMark.x, taps.seekerMark.y] : null,
+    landmarks: taps.landmarks.map(({ id, x, y, sigma }) => ({ id, x, y, sigma })),
+    friend: taps.friend ? { ...taps.friend } : null,
+    friend_line: taps.friend_line ? { ...taps.friend_line } : null,
   };
 }
 
 export function fromServerTaps(taps: Taps | null | undefined): TapSet {
   if (!taps) return NO_TAPS;
-  const point = (p: readonly [number, number] | null): Point | null =>
-    p ? { x: p[0], y: p[1] } : null;
+  const { friend, friend_line: line } = taps;
   return {
-    landmarks: [...taps.landmarks].sort((a, b) => a.id - b.id).map(({ id, x, y }) => ({ id, x, y })),
-    buddyMark: point(taps.epipole1),
-    buddyLine: taps.epipolar_line1 ? [...taps.epipolar_line1] : null,
-    seekerMark: point(taps.epipole2),
+    landmarks: [...(taps.landmarks ?? [])]
+      .sort((a, b) => a.id - b.id)
+      .map(({ id, x, y, sigma }) => ({ id, x, y, sigma: sigma ?? null })),
+    friend: friend ? { x: friend.x, y: friend.y, sigma: friend.sigma ?? null } : null,
+    friend_line: line ? { a: line.a, b: line.b, c: line.c, sigma: line.sigma ?? null } : null,
   };
-}
-
-export function sameTaps(a: TapSet, b: TapSet): boolean {
-  return JSON.stringify(toServerTaps(a)) === JSON.stringify(toServerTaps(b));
 }
 
 export function landmarkIds(taps: TapSet | null | undefined): number[] {
   return taps ? taps.landmarks.map((l) => l.id) : [];
+}
+
+/** Whether this phone has marked its friend, as a point or a line. */
+export function friendMarked(taps: TapSet): boolean {
+  return taps.friend !== null || taps.friend_line !== null;
 }

@@ -210,21 +210,21 @@ describe("the event stream", () => {
     latest().open();
     expect(statuses).toEqual(["up"]);
     expect(changes).toBe(1);
-    for (const type of ["joined", "code", "photo", "taps", "result", "left"]) latest().emit(type);
+    for (const type of ["joined", "code", "photo", "taps", "answer", "left"]) latest().emit(type);
     expect(changes).toBe(7);
   });
 
   it("tells what changed and the version it made, when the event names one", () => {
     stream();
     latest().open();
-    latest().emit("taps", '{"role": "buddy", "version": 9}');
-    latest().emit("result", '{"version": 9}');
-    latest().emit("joined", '{"role": "buddy", "online": true}');
+    latest().emit("taps", '{"role": "joiner", "version": 9}');
+    latest().emit("answer", '{"version": 9}');
+    latest().emit("joined", '{"role": "joiner", "online": true}');
     latest().emit("photo", "not json");
     expect(told).toEqual([
       undefined, // opened: anything may have changed
       { type: "taps", version: 9 },
-      { type: "result", version: 9 },
+      { type: "answer", version: 9 },
       { type: "joined", version: null },
       { type: "photo", version: null },
     ]);
@@ -298,8 +298,8 @@ describe("the event stream", () => {
 describe("a change the screen already shows", () => {
   const at = (version: number, answered = false) => ({
     version,
-    result: answered ? {} : null,
-    result_error: null,
+    answer: answered ? {} : null,
+    answer_error: null,
   });
 
   it("is a change up to the version shown", () => {
@@ -309,11 +309,11 @@ describe("a change the screen already shows", () => {
   });
 
   it("is an answer only when the state shown holds that version's answer, or is newer", () => {
-    expect(alreadyShown({ type: "result", version: 7 }, at(7, true))).toBe(true);
-    expect(alreadyShown({ type: "result", version: 7 }, at(7))).toBe(false);
-    expect(alreadyShown({ type: "result", version: 7 }, at(8))).toBe(true);
-    const refused = { version: 7, result: null, result_error: { code: "degenerate" } };
-    expect(alreadyShown({ type: "result", version: 7 }, refused)).toBe(true);
+    expect(alreadyShown({ type: "answer", version: 7 }, at(7, true))).toBe(true);
+    expect(alreadyShown({ type: "answer", version: 7 }, at(7))).toBe(false);
+    expect(alreadyShown({ type: "answer", version: 7 }, at(8))).toBe(true);
+    const refused = { version: 7, answer: null, answer_error: { code: "degenerate" } };
+    expect(alreadyShown({ type: "answer", version: 7 }, refused)).toBe(true);
   });
 
   it("is never a change without a version, or when nothing is shown yet", () => {

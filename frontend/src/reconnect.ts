@@ -7,6 +7,8 @@
  * page becomes visible again and when the network comes back.
  */
 
+import { EVENTS } from "./limits";
+
 export interface BackoffOptions {
   /** First delay, ms. */
   baseMs?: number;
@@ -86,9 +88,10 @@ export class Refetcher {
   }
 }
 
-/** The event types the server sends (backend/events.py). */
-export const CHANGE_EVENTS = ["joined", "code", "photo", "taps", "result", "left"] as const;
+/** The event that ends the session on this phone; every other type the server sends
+ * (limits.json's "events") says that something changed. */
 export const ENDED_EVENT = "expired";
+export const CHANGE_EVENTS: readonly string[] = EVENTS.filter((type) => type !== ENDED_EVENT);
 
 export type StreamStatus = "connecting" | "up" | "down";
 
@@ -110,8 +113,8 @@ export interface Change {
 /** The parts of the state that tell which changes it already shows. */
 export interface ShownVersion {
   version: number;
-  result: unknown;
-  result_error: unknown;
+  answer?: unknown;
+  answer_error?: unknown;
 }
 
 /**
@@ -123,8 +126,8 @@ export interface ShownVersion {
  */
 export function alreadyShown(change: Change | undefined, shown: ShownVersion | null): boolean {
   if (!change || change.version === null || !shown) return false;
-  if (change.type === "result") {
-    const answered = shown.result !== null || shown.result_error !== null;
+  if (change.type === "answer") {
+    const answered = (shown.answer ?? null) !== null || (shown.answer_error ?? null) !== null;
     return shown.version > change.version || (shown.version === change.version && answered);
   }
   return shown.version >= change.version;

@@ -1,6 +1,6 @@
 /** The app's addresses: / (start), /join/<code> (the join link), /s (the session). */
 
-import { CODE_DIGITS } from "./joinCode";
+import { CODE_DIGITS } from "./limits";
 
 export type Route = { name: "start" } | { name: "join"; code: string } | { name: "session" };
 

@@ -17,19 +17,21 @@ import { browserDecoder, preparePhoto, type PreparedPhoto } from "./downscale";
 import {
   addLandmark,
   deleteLandmark,
+  friendMarked,
   fromServerTaps,
   landmarkIds,
   lineThrough,
   moveLandmark,
   newEditor,
   select,
-  setBuddyLine,
-  setBuddyMark,
-  setSeekerMark,
+  setFriend,
+  setFriendLine,
   toServerTaps,
   undo,
   type TapEditor,
 } from "./landmarks";
+import { readLens } from "./lens";
+import { lineSigma } from "./precision";
 import {
   LiveStream,
   Refetcher,
@@ -41,11 +43,16 @@ import {
 } from "./reconnect";
 import { forgetSession, loadDraft, saveDraft } from "./storage";
 import { TapSaver, type SaveState } from "./tapSaver";
-import { otherRole, type Credentials, type SessionState } from "./types";
+import { otherRole, type Credentials, type LensFields, type SessionState } from "./types";
 import type { Point, Size } from "./viewTransform";
 
-/** What a tap on the photo places. */
-export type Mode = "buddy" | "line" | "landmark" | "seeker";
+/** What a tap on the photo places: the friend, a point of a line through them, a landmark. */
+export type Mode = "friend" | "line" | "landmark";
+
+/** A tap on the photo: where (photo px), and how precise (sigma, photo px: precision.ts). */
+export interface Tap extends Point {
+  readonly sigma: number;
+}
 
 export interface UploadState {
   phase: "idle" | "preparing" | "uploading" | "failed";
@@ -66,9 +73,11 @@ export interface SessionView {
   readonly loadError: string | null;
   readonly editor: TapEditor;
   readonly skipped: ReadonlySet<number>;
+  /** This phone said it cannot see the friend: it is not asked again for this photo. */
+  readonly unseen: boolean;
   readonly mode: Mode;
-  /** The first point of a line through the buddy, until the second is tapped. */
-  readonly linePoint: Point | null;
+  /** The first point of a line through the friend, until the second is tapped. */
+  readonly linePoint: Tap | null;
   readonly save: SaveState;
   readonly stream: StreamStatus;
   readonly upload: UploadState;
@@ -91,7 +100,7 @@ export class SessionController {
   private readonly refetcher: Refetcher;
   private readonly stream: LiveStream;
   private loaded = false;
-  private prepared: PreparedPhoto | null = null;
+  private prepared: (PreparedPhoto & { lens: LensFields }) | null = null;
   private holdTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly cleanups: Array<() => void> = [];
   /** Changes told while this phone's own PUT was on its way: judged when its reply is in. */
@@ -105,7 +114,8 @@ export class SessionController {
       loadError: null,
       editor: newEditor(),
       skipped: new Set(),
-      mode: credentials.role === "seeker" ? "buddy" : "landmark",
+      unseen: false,
+      mode: "friend",
       linePoint: null,
       save: { status: "saved", message: null },
       stream: "connecting",
@@ -241,24 +251,22 @@ export class SessionController {
       taps = fromServerTaps(draft.taps);
       this.saver.update(toServerTaps(taps));
     }
+    const unseen = draft?.unseen ?? false;
     const patch: Partial<SessionView> = {
       editor: newEditor(taps),
       skipped: new Set(draft?.skipped ?? []),
-      mode: this.startingMode(taps.buddyMark !== null || taps.buddyLine !== null),
+      unseen,
+      mode: startingMode(friendMarked(taps), unseen),
       photo: mine ? { size: mine, key: `${state.version}` } : null,
     };
     return patch;
   }
 
-  private startingMode(buddyMarked: boolean): Mode {
-    return this.role === "seeker" && !buddyMarked ? "buddy" : "landmark";
-  }
-
   /** Which state's answer to show: a missing answer while one is renewed is held a moment. */
   private answerPatch(state: SessionState): Partial<SessionView> {
-    const hasAnswer = state.result !== null || state.result_error !== null;
+    const hasAnswer = !!state.answer || !!state.answer_error;
     const shown = this.view.answerState;
-    if (hasAnswer || !shown || (shown.result === null && shown.result_error === null)) {
+    if (hasAnswer || !shown || (!shown.answer && !shown.answer_error)) {
       if (this.holdTimer) clearTimeout(this.holdTimer);
       this.holdTimer = null;
       return { answerState: state };
@@ -281,9 +289,11 @@ export class SessionController {
 
   // --- the photo ---------------------------------------------------------------------------
 
+  /** The lens is read from the chosen file itself: the shrunk copy keeps no EXIF. */
   async choosePhoto(file: File): Promise<void> {
     this.set({ upload: { ...IDLE_UPLOAD, phase: "preparing" } });
-    this.prepared = await preparePhoto(file, browserDecoder());
+    const [lens, prepared] = await Promise.all([readLens(file), preparePhoto(file, browserDecoder())]);
+    this.prepared = { ...prepared, lens };
     await this.sendPhoto();
   }
 
@@ -304,10 +314,19 @@ export class SessionController {
       this.set({ upload: { ...IDLE_UPLOAD, phase: "uploading", progress: fraction } });
     progress(0);
     try {
-      const stored = await withRetry(
-        () => uploadPhoto(this.view.credentials, prepared.body, prepared.name, progress),
-        { retries: 3, isRetryable, delay: (n) => backoffDelay(n, { baseMs: 1500 }) },
-      );
+      const send = (lens: LensFields) =>
+        withRetry(() => uploadPhoto(this.view.credentials, prepared.body, prepared.name, lens, progress), {
+          retries: 3,
+          isRetryable,
+          delay: (n) => backoffDelay(n, { baseMs: 1500 }),
+        });
+      const stored = await send(prepared.lens).catch((error: unknown) => {
+        // EXIF the server will not take (a lens of 65535 mm, say) must not cost the photo:
+        // it goes again without, and the server assumes a phone's camera.
+        const lensRefused = error instanceof ApiError && error.status === 422;
+        if (lensRefused && Object.keys(prepared.lens).length > 0) return send({});
+        throw error;
+      });
       this.prepared = null;
       // A new photo: the server cleared this phone's taps, and so does the phone.
       this.saver.saved(toServerTaps(fromServerTaps(null)));
@@ -316,7 +335,8 @@ export class SessionController {
         upload: IDLE_UPLOAD,
         photo: { size: { width: stored.width, height: stored.height }, key: `${Date.now()}` },
         editor,
-        mode: this.startingMode(false),
+        unseen: false,
+        mode: startingMode(false, false),
         linePoint: null,
         save: { status: "saved", message: null },
       });
@@ -361,6 +381,7 @@ export class SessionController {
       taps: toServerTaps(this.view.editor.taps),
       unsaved: this.saver.pending,
       skipped: [...this.view.skipped],
+      unseen: this.view.unseen,
     });
   }
 
@@ -369,14 +390,11 @@ export class SessionController {
   }
 
   /** A tap on the photo at `at` (photo pixels, inside the photo): place what the mode says. */
-  tap(at: Point): void {
+  tap(at: Tap): void {
     const { editor, mode } = this.view;
     switch (mode) {
-      case "buddy":
-        this.edit(setBuddyMark(editor, at), { mode: "landmark" });
-        return;
-      case "seeker":
-        this.edit(setSeekerMark(editor, at), { mode: "landmark" });
+      case "friend":
+        this.edit(setFriend(editor, at, at.sigma), { mode: "landmark", unseen: false });
         return;
       case "line": {
         const first = this.view.linePoint;
@@ -385,18 +403,23 @@ export class SessionController {
           return;
         }
         const line = Math.hypot(first.x - at.x, first.y - at.y) >= 2 ? lineThrough(first, at) : null;
-        if (line) this.edit(setBuddyLine(editor, line), { mode: "landmark", linePoint: null });
-        else this.set({ linePoint: at });
+        if (line) {
+          const friendLine = { ...line, sigma: lineSigma(first.sigma, at.sigma) };
+          this.edit(setFriendLine(editor, friendLine), { mode: "landmark", linePoint: null });
+        } else {
+          this.set({ linePoint: at });
+        }
         return;
       }
       case "landmark":
-        this.edit(addLandmark(select(editor, null), at, this.theirIds(), this.view.skipped));
+        this.edit(addLandmark(select(editor, null), at, at.sigma, this.theirIds(), this.view.skipped));
         return;
     }
   }
 
-  moveLandmark(id: number, to: Point): void {
-    this.edit(moveLandmark(this.view.editor, id, to));
+  /** Landmark `id` dragged to `to`: it takes the precision of this placement. */
+  moveLandmark(id: number, to: Tap): void {
+    this.edit(moveLandmark(this.view.editor, id, to, to.sigma));
   }
 
   select(id: number | null): void {
@@ -410,14 +433,19 @@ export class SessionController {
 
   undo(): void {
     const editor = undo(this.view.editor);
-    const { buddyMark, buddyLine } = editor.taps;
-    // The buddy mark undone: the next tap marks the buddy again.
-    const unmarked = this.role === "seeker" && !buddyMark && !buddyLine && this.view.mode === "landmark";
-    this.edit(editor, { linePoint: null, ...(unmarked ? { mode: "buddy" as const } : {}) });
+    // The friend mark undone: the next tap marks the friend again, unless they are not seen.
+    const unmarked = !friendMarked(editor.taps) && friendMarked(this.view.editor.taps) && !this.view.unseen;
+    this.edit(editor, { linePoint: null, ...(unmarked ? { mode: "friend" as const } : {}) });
   }
 
-  removeSeekerMark(): void {
-    this.edit(setSeekerMark(this.view.editor, null));
+  removeFriend(): void {
+    this.edit(setFriend(this.view.editor, null), { mode: "landmark", linePoint: null });
+  }
+
+  /** "I can't see them": landmarks only, and this phone is not asked again for this photo. */
+  cannotSee(): void {
+    this.set({ unseen: true, mode: "landmark", linePoint: null });
+    this.keepDraft();
   }
 
   /** "I can't see #n here": the next prompt asks for another landmark. */
@@ -455,4 +483,9 @@ export class SessionController {
   clearDeleteError(): void {
     this.set({ deleteError: null });
   }
+}
+
+/** What the first tap on a photo places: the friend, unless marked or said to be unseen. */
+function startingMode(marked: boolean, unseen: boolean): Mode {
+  return marked || unseen ? "landmark" : "friend";
 }

@@ -4,7 +4,7 @@
  * the page is closed.
  */
 
-import type { Credentials, Taps } from "./types";
+import { isRole, type Credentials, type Taps } from "./types";
 
 const SESSION_KEY = "buddy-search.session";
 const DRAFT_KEY = "buddy-search.draft";
@@ -33,7 +33,7 @@ export function loadCredentials(): Credentials | null {
     stored &&
     typeof stored.session_id === "string" &&
     typeof stored.token === "string" &&
-    (stored.role === "seeker" || stored.role === "buddy")
+    isRole(stored.role)
   ) {
     return { session_id: stored.session_id, token: stored.token, role: stored.role };
   }
@@ -50,12 +50,16 @@ export function forgetSession(): void {
   write(DRAFT_KEY, null);
 }
 
-/** Taps of this phone that the server may not have yet, and landmarks it skipped. */
+/**
+ * Taps of this phone that the server may not have yet, landmarks it skipped, and whether
+ * it said it cannot see the friend.
+ */
 export interface Draft {
   session_id: string;
   taps: Taps | null;
   unsaved: boolean;
   skipped: number[];
+  unseen?: boolean;
 }
 
 export function loadDraft(sessionId: string): Draft | null {

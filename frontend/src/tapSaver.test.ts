@@ -5,10 +5,9 @@ import type { SessionState, Taps } from "./types";
 
 function taps(...ids: number[]): Taps {
   return {
-    landmarks: ids.map((id) => ({ id, x: id, y: id })),
-    epipole1: null,
-    epipolar_line1: null,
-    epipole2: null,
+    landmarks: ids.map((id) => ({ id, x: id, y: id, sigma: 2 })),
+    friend: null,
+    friend_line: null,
   };
 }
 

@@ -1,110 +1,35 @@
 /**
- * The JSON the server speaks (backend/sessions/schemas.py, shared_solver/result.py).
- * Pixels are stored-photo pixels: x right, y down.
+ * The app's names for the API's JSON, all generated from the server's own OpenAPI schema
+ * (generated/openapi.ts: `make` renews it, tests/test_api_types.py fails when it is stale),
+ * and the few types of the app's own. Pixels are stored-photo pixels: x right, y down.
  */
 
-export type Role = "seeker" | "buddy";
-export type Pixel = readonly [number, number];
-export type Homogeneous = readonly [number, number, number];
+import type { components, paths } from "./generated/openapi";
 
-export interface CreatedSession {
-  session_id: string;
-  join_code: string;
-  join_code_expires_at: string;
-  join_url: string;
-  token: string;
-  role: "seeker";
-  expires_at: string;
-}
+type Schemas = components["schemas"];
 
-export interface Joined {
-  session_id: string;
-  token: string;
-  role: "buddy";
-  expires_at: string;
-}
+export type CreatedSession = Schemas["CreatedSession"];
+export type Joined = Schemas["Joined"];
+export type SessionState = Schemas["SessionState"];
+export type PhotoStored = Schemas["PhotoStored"];
+export type Taps = Schemas["Taps"];
+export type LandmarkTap = Schemas["Landmark"];
+export type MarkTap = Schemas["Mark"];
+export type FriendLineTap = Schemas["FriendLine"];
+export type Answer = Schemas["Answer"];
+export type FriendInPhoto = Schemas["FriendInPhoto"];
+export type Ellipse = Schemas["Ellipse"];
+export type Quality = Answer["quality"];
 
-export interface PhotoStored {
-  width: number;
-  height: number;
-  scale: number;
-}
+/** Who a phone is in its search: the friend who started it, or the one who joined it. */
+export type Role = SessionState["you"];
+const ROLES: readonly Role[] = ["starter", "joiner"];
 
-export interface LandmarkTap {
-  id: number;
-  x: number;
-  y: number;
-}
-
-/** A participant's whole tap set: each PUT replaces it. */
-export interface Taps {
-  landmarks: LandmarkTap[];
-  epipole1: Pixel | null;
-  epipolar_line1: Homogeneous | null;
-  epipole2: Pixel | null;
-}
-
-export interface ParticipantState {
-  joined: boolean;
-  online: boolean;
-}
-
-export interface Ellipse {
-  center: Pixel;
-  axes: readonly [number, number];
-  angle_deg: number;
-}
-
-export type Method =
-  | "conic"
-  | "five_point_epipole"
-  | "least_squares_epipole"
-  | "planar"
-  | "six_point_line"
-  | "two_epipoles"
-  | "seven_point"
-  | "eight_point"
-  | "pinhole_epipole"
-  | "pinhole_two_epipoles"
-  | "pinhole_line"
-  | "pinhole_landmarks";
-
-export type Quality = "good" | "fair" | "poor";
-
-/** The solver's answer (the fields the app reads). */
-export interface SolveResult {
-  method: Method;
-  /** "pinhole": solved as two phone cameras; "projective": any two cameras. */
-  camera_model?: "projective" | "pinhole";
-  landmark_count: number;
-  epipole2: Pixel | null;
-  epipole2_h: Homogeneous | null;
-  epipole1: Pixel | null;
-  uncertainty: { level: number; ellipse: Ellipse | null } | null;
-  suspect_landmarks: number[];
-  quality: Quality;
-  warnings: string[];
-  candidates?: unknown[];
-}
-
-export interface SessionState {
-  session_id: string;
-  you: Role;
-  version: number;
-  expires_at: string;
-  join_code: string | null;
-  join_url: string | null;
-  /** How many times the code was renewed after wrong codes named this search. */
-  join_code_renewals: number;
-  participants: Record<Role, ParticipantState>;
-  photos: Record<Role, PhotoStored | null>;
-  taps: Record<Role, Taps | null>;
-  landmarks_needed: number;
-  result: SolveResult | null;
-  result_version: number | null;
-  result_landmark_ids: number[] | null;
-  result_error: { code: string; message: string } | null;
-}
+/** What the phone read of its photo's EXIF lens, sent with the photo (all optional). */
+export type LensFields = Omit<
+  paths["/api/sessions/{session_id}/photo"]["put"]["requestBody"]["content"]["multipart/form-data"],
+  "photo"
+>;
 
 /** What a phone keeps to come back to its session after a reload. */
 export interface Credentials {
@@ -114,5 +39,9 @@ export interface Credentials {
 }
 
 export function otherRole(role: Role): Role {
-  return role === "seeker" ? "buddy" : "seeker";
+  return role === "starter" ? "joiner" : "starter";
+}
+
+export function isRole(value: unknown): value is Role {
+  return ROLES.includes(value as Role);
 }

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -25,6 +26,7 @@ from ..result import (
     CameraEstimate,
     CameraModel,
     Candidate,
+    Covariance9,
     Ellipse,
     Matrix,
     Method,
@@ -51,6 +53,7 @@ class Answer:
     camera_model: CameraModel = "projective"
     cameras: tuple[CameraEstimate, ...] = ()
     conic: Array | None = None  # (3, 3) the curve of four landmarks, drawn alongside
+    fundamental_covariance: Array | None = None  # (9, 9), row by row, widened with e2's
 
     @classmethod
     def of_fit(cls, request: Request, fit: EpipolarFit, covariance: Array | None) -> Answer:
@@ -62,6 +65,9 @@ class Answer:
             distances,
             fit.fundamental,
             cameras=unknown_cameras(request),
+            fundamental_covariance=_widened(fit, fit.fundamental_covariance)
+            if request.with_fundamental_covariance
+            else None,
         )
 
     @classmethod
@@ -98,6 +104,9 @@ class Answer:
             orientable=orientable,
             camera_model="pinhole",
             cameras=pinhole_cameras(request, fit),
+            fundamental_covariance=_widened(fit, fit.fundamental_covariance)
+            if request.with_fundamental_covariance
+            else None,
         )
 
 
@@ -175,6 +184,10 @@ def result(
         epipole1=pixel(e1),
         epipole1_h=unit(e1),
         fundamental=None if answer.homography is not None else matrix(answer.fundamental),
+        # One of several geometries (candidates) has no uncertainty of its own to claim.
+        fundamental_covariance=None
+        if answer.homography is not None or candidates or answer.fundamental_covariance is None
+        else covariance9(answer.fundamental_covariance),
         homography=None if answer.homography is None else matrix(answer.homography),
         conic2=None if answer.conic is None else matrix(answer.conic),
         candidates=candidates or [],
@@ -258,9 +271,15 @@ def widen_if_inconsistent(
     if consistent(fit):
         return covariance, False
     warnings.append(words.MARKS_DISAGREE)
-    if covariance is not None:
-        covariance = covariance * (fit.cost / fit.dof)
-    return covariance, True
+    return _widened(fit, covariance), True
+
+
+def _widened(fit: Fitted, covariance: Array | None) -> Array | None:
+    """The covariance of a fit whose taps are noisier than their precisions say grown by
+    the reduced chi-square; as it is otherwise."""
+    if covariance is None or consistent(fit):
+        return covariance
+    return covariance * (fit.cost / fit.dof)
 
 
 def calibrated(
@@ -346,6 +365,11 @@ def unit(point: Array) -> tuple[float, float, float]:
     """A homogeneous point at unit norm, its sign (orientation) kept."""
     x, y, w = point / linalg.norm(point)
     return float(x), float(y), float(w)
+
+
+def covariance9(values: Array) -> Covariance9:
+    """A (9, 9) array as nested tuples of floats (``tolist`` converts in one call)."""
+    return cast(Covariance9, tuple(map(tuple, values.tolist())))
 
 
 def matrix(values: Array) -> Matrix:

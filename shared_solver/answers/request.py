@@ -20,6 +20,7 @@ class Request:
         size1, size2: (width, height) of the photos, px, when given.
         labels: the numbers people see on the landmarks.
         cameras: what is known about photo 1's and photo 2's camera.
+        with_fundamental_covariance: whether the answer carries F's covariance.
     """
 
     taps: Taps
@@ -27,6 +28,7 @@ class Request:
     size2: tuple[float, float] | None
     labels: list[int]
     cameras: tuple[Camera, Camera]
+    with_fundamental_covariance: bool = False
 
     @functools.cached_property
     def sigma(self) -> float:

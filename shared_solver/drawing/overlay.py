@@ -1,10 +1,15 @@
 """Drawing the answer on a photo, for the phone that took it.
 
-The buddy's photo (photo 2) gets the seeker as a yellow star inside its 95 % ellipse, an
-arrow at the border when the seeker is outside the photo or at infinity, or the curve the
-seeker is on when only 4 landmarks were marked. The seeker's photo (photo 1) gets the buddy as
-a ring with a cross. Both get the landmarks, numbered and coloured by number
-(:mod:`.palette`, the same colours on both phones), and mis-tap suspects ringed in red.
+The friend must stay visible: nothing is drawn on the spot where they are. Photo 2 (the
+photo the friend was found in) gets an open frame: corner brackets around the 95 % region
+(never smaller than a person far across a hall), the region's outline thin inside them, and
+"friend" on a short leader beside; an arrow at the border when the friend is outside the
+photo or at infinity; the curve the friend is on, labelled, when only 4 landmarks were
+marked and the cameras are unknown. Photo 1 (the photo the friend was tapped in) gets the
+tapped friend as a sight open in the middle. Both get the landmarks as thin rings with a
+centre dot, coloured by number (:mod:`.palette`, the same colours on both phones), their
+numbers beside them, and mis-tap suspects ringed in red. The friend's frame is drawn last,
+on top of everything. The phone app draws the same design (docs/app.md).
 
 Answers can be anywhere up to infinity and ellipses any size, so every position stays a float
 until it has been clipped to the photo: OpenCV takes int coordinates and would overflow.
@@ -37,7 +42,9 @@ from .palette import (
 )
 
 Image = NDArray[np.uint8]
-View = Literal["buddy", "seeker"]
+# Which photo of the answer this is: 1, the friend was tapped in it (epipole1); 2, the
+# friend was found in it (epipole2).
+Photo = Literal[1, 2]
 
 # OpenCV's fixed point: coordinates in 1/16 px place markers with sub-pixel accuracy.
 _SHIFT = 4
@@ -50,10 +57,13 @@ _THINNEST_AXIS_PX = 1e-3
 _ARROW_HEAD = 0.3
 # Beyond this many photo diagonals a distance in px means nothing to a person: "far off".
 _FAR_OFF_DIAGONALS = 100
-# A suspect's red ring: its radius in landmark dots.
-_SUSPECT_RING = 2.2
-# Star points: inner radius as a fraction of the outer one (0.38 is the regular pentagram).
-_STAR_WAIST = 0.45
+# A suspect's red ring: its radius in landmark rings.
+_SUSPECT_RING = 1.8
+# A bracket's arm, as a fraction of the frame's shorter half-side.
+_BRACKET_ARM = 0.4
+# The region's outline is drawn when its long semi-axis is at least this many frame
+# half-sizes: smaller, it would run over the friend, whom the brackets frame anyway.
+_OUTLINED_REGION = 0.6
 
 # Draws a shape in a colour, its strokes widened by the given px (0 = as designed).
 _Shape = Callable[[Bgr, int], None]
@@ -69,26 +79,32 @@ class _Style:
     outline: int
     font_scale: float
     text_thickness: int
-    star_radius: float
+    marker_radius: float
     landmark_radius: float
+    frame_half: float
     margin: float
     arrow_length: float
 
     @classmethod
     def of(cls, width: int, height: int) -> _Style:
         diagonal = math.hypot(width, height)
-        line = max(2, round(diagonal / 500))
-        # A phone shows the whole photo across its screen: this keeps numbers ~10 pt high.
+        # Thin: a stroke hides what is under it. A phone shows the whole photo across its
+        # screen (one screen px is about diagonal / 700 photo px): 1-2 screen px.
+        line = max(2, round(diagonal / 900))
+        # That keeps numbers ~10 pt high on the phone.
         font_scale = diagonal / 1100
         return cls(
             width=width,
             height=height,
             line=line,
-            outline=max(1, round(line / 2)),
+            outline=max(2, round(0.6 * line)),
             font_scale=font_scale,
             text_thickness=max(1, round(font_scale * 2)),
-            star_radius=diagonal / 40,
-            landmark_radius=max(4.0, diagonal / 150),
+            marker_radius=diagonal / 45,
+            landmark_radius=max(5.0, diagonal / 160),
+            # The frame around the friend is never smaller than a person 80 m away on a
+            # phone's main camera (about 1.5 % of the diagonal), with room around them.
+            frame_half=diagonal / 55,
             margin=diagonal / 30,
             arrow_length=diagonal / 7,
         )
@@ -107,45 +123,48 @@ def draw_overlay(
     image: NDArray[Any],
     result: SolveResult,
     *,
-    view: View = "buddy",
+    photo: Photo = 2,
     points: ArrayLike | None = None,
     labels: Sequence[int] | None = None,
     epipolar_lines: bool = False,
 ) -> Image:
     """The photo with the answer drawn on it, for the phone that took it.
 
-    ``view="buddy"`` (photo 2, the buddy's phone): the seeker (``result.epipole2``) as a
-    yellow star with a dark outline, inside the 95 % ellipse of ``result.uncertainty``; when
-    the seeker is outside the photo, an arrow at the border pointing from the photo's centre
-    towards them with "friend N px off" (N as in ``solve``'s warning: px beyond the nearest
-    edge), or "friend far off this way" when ``epipole2`` is at infinity (``epipole2_h`` has
-    ``w == 0``; the arrow follows its oriented ``(x, y)``). When the seeker is behind the
-    buddy's camera (``epipole2_h`` oriented with ``w < 0``) no point of the photo is right:
-    a banner says "friend is behind you" (or "position unclear" for a 'poor' answer). With 4
-    landmarks (``method="conic"``) the curve ``x^T conic2 x = 0`` the seeker is on, and no
-    point. Other exact candidates
-    (``result.candidates``: 6 landmarks on a line, or 7) as hollow "?" circles.
+    ``photo=2`` (the friend found, ``result.epipole2``): an open yellow frame, corner
+    brackets around the 95 % ellipse of ``result.uncertainty`` (at least ``frame_half`` each
+    way, so a small region still frames a person) with the ellipse's outline inside and
+    "friend" on a leader beside it ("friend?" without a region); nothing inside the frame
+    but that outline, so the friend shows through. When the friend is outside the photo, an
+    arrow at the border pointing from the photo's centre towards them with "friend N px off"
+    (N as in ``solve``'s warning: px beyond the nearest edge), or "friend far off this way"
+    when ``epipole2`` is at infinity (``epipole2_h`` has ``w == 0``; the arrow follows its
+    oriented ``(x, y)``). When the friend is behind this camera (``epipole2_h`` oriented with
+    ``w < 0``) no point of the photo is right: a banner says "friend is behind you" (or
+    "position unclear" for a 'poor' answer). With 4 landmarks (``method="conic"``) the
+    curve ``x^T conic2 x = 0`` the friend is on, labelled, and no point. Other exact
+    candidates (``result.candidates``: 6 landmarks on a line, or 7) as thin "?" circles.
 
-    ``view="seeker"`` (photo 1, the seeker's phone): the buddy (``result.epipole1``) as a
-    yellow ring with a cross, open in the middle so the tapped person stays visible; the
-    same border arrow when it is outside the photo.
+    ``photo=1`` (the friend tapped, ``result.epipole1``, refined): a sight, open in the
+    middle so the tapped person stays visible; the same border arrow when it is outside.
 
-    Both views: each landmark a filled dot in its number's colour
-    (:func:`.palette.landmark_colour`, identical on both phones) with its number beside it;
-    suspects (``result.suspect_landmarks``) ringed in red, their number followed by "?".
-    Sizes, strokes and text scale with the photo's diagonal.
+    Both: each landmark a thin ring in its number's colour with a dot at its centre
+    (:func:`.palette.landmark_colour`, identical on both phones) and its number beside it;
+    suspects (``result.suspect_landmarks``) ringed in red, their number followed by "?". The
+    friend's frame or sight is drawn last, over the rest. Sizes, strokes and text scale with
+    the photo's diagonal.
 
     Args:
         image: (H, W, 3) uint8 BGR photo (OpenCV's layout), or (H, W) uint8 grey; never
             modified.
         result: what :func:`.solve` returned for these photos.
-        view: whose photo this is: ``"buddy"`` (photo 2) or ``"seeker"`` (photo 1).
+        photo: which photo of the answer this is: 2 (where the friend was found) or 1 (where
+            the friend was tapped).
         points: (N, 2) landmarks of this photo, pixels (x right, y down), in the order given
             to ``solve`` (the indices of ``suspect_landmarks`` refer to it).
         labels: the numbers people see on the landmarks, one per point (default 1..N).
         epipolar_lines: also draw each landmark's epipolar line in this photo, the line
-            through the landmark and the friend's position (``epipole2_h`` in the buddy
-            view, ``epipole1_h`` in the seeker's, so also when that is at infinity), in the
+            through the landmark and the friend's position (``epipole2_h`` on photo 2,
+            ``epipole1_h`` on photo 1, so also when that is at infinity), in the
             landmark's colour. Nothing when the position is unknown (``method="conic"``).
 
     Returns:
@@ -155,29 +174,35 @@ def draw_overlay(
         SolverError: ``INVALID_SHAPE`` for an image that is not (H, W, 3) or (H, W) uint8,
             or points that are not (N, 2) numbers; ``NOT_FINITE`` for NaN or infinite
             points; ``MISMATCHED_LENGTHS`` when ``labels`` and ``points`` differ in length;
-            ``INVALID_PARAMETER`` for an unknown ``view``.
+            ``INVALID_PARAMETER`` for a ``photo`` other than 1 or 2.
     """
     canvas = _bgr_copy(image)
     landmarks, names = _landmarks(points, labels)
-    if view not in ("buddy", "seeker"):
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.bad_view(view))
+    if photo not in (1, 2):
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.bad_photo(photo))
     style = _Style.of(canvas.shape[1], canvas.shape[0])
-    if view == "buddy":
+    ellipse = result.uncertainty.ellipse if result.uncertainty is not None else None
+    marker: Callable[[Image, Array, _Style], None]
+    if photo == 2:
         friend, friend_h = result.epipole2, result.epipole2_h
         others = [c.epipole2 for c in result.candidates]
-        marker: Callable[[Image, Array, _Style], None] = _draw_star
-        if result.uncertainty is not None and result.uncertainty.ellipse is not None:
-            _draw_ellipse(canvas, result.uncertainty.ellipse, style)
-        if result.conic2 is not None:
-            _draw_curve(canvas, _conic_samples(np.array(result.conic2), style), style.line, style)
+        sure = ellipse is not None
+
+        def marker(canvas: Image, at: Array, style: _Style) -> None:
+            _draw_frame(canvas, at, ellipse if sure else None, style)
+
     else:
         friend, friend_h = result.epipole1, result.epipole1_h
         others = [c.epipole1 for c in result.candidates]
-        marker = _draw_ring
+        marker = _draw_sight
     if epipolar_lines and friend_h is not None:
         _draw_epipolar_lines(canvas, np.array(friend_h), landmarks, names, style)
-    _draw_other_candidates(canvas, others, friend, style)
     _draw_landmarks(canvas, landmarks, names, set(result.suspect_landmarks), style)
+    _draw_other_candidates(canvas, others, friend, style)
+    if photo == 2 and result.conic2 is not None:
+        samples = _conic_samples(np.array(result.conic2), style)
+        _draw_curve(canvas, samples, style.line, style)
+        _label_curve(canvas, samples, style)
     if friend is None and friend_h is not None and _behind(friend_h):
         # Behind the camera: no point of this photo is right. Say so, as solve's warning does.
         pinned = result.quality != "poor"
@@ -265,23 +290,66 @@ def _draw_friend(
             _draw_border_arrow(canvas, direction, "friend far off this way", style)
 
 
-def _draw_star(canvas: Image, at: Array, style: _Style) -> None:
-    """A filled five-pointed star centred on ``at``, point up, with a dark border."""
-    corners = np.arange(10)
-    angles = -math.pi / 2 + corners * math.pi / 5
-    radii = np.where(corners % 2 == 0, 1.0, _STAR_WAIST) * style.star_radius
-    star = _fixed_points(at + radii[:, None] * np.column_stack([np.cos(angles), np.sin(angles)]))
-    _outlined_polygon(canvas, star, FRIEND_COLOUR_BGR, style.line)
+def _draw_frame(canvas: Image, at: Array, ellipse: Ellipse | None, style: _Style) -> None:
+    """Corner brackets around the friend's region (or, without one, a region as large as a
+    person), the region's outline inside, and "friend" on a leader beside: open, so the
+    friend shows through."""
+    half = np.array([style.frame_half, style.frame_half])
+    if ellipse is not None and all(map(math.isfinite, (*ellipse.center, *ellipse.axes))):
+        a, b = ellipse.axes
+        theta = math.radians(ellipse.angle_deg)
+        cos, sin = abs(math.cos(theta)), abs(math.sin(theta))
+        # The axis-aligned half-sizes of the ellipse, a little room added.
+        reach = np.array([math.hypot(a * cos, b * sin), math.hypot(a * sin, b * cos)])
+        half = np.maximum(half, 1.1 * reach + style.line)
+        # A region smaller than a person is inside the brackets: its outline would cover them.
+        if max(a, b) >= _OUTLINED_REGION * style.frame_half:
+            _draw_ellipse(canvas, ellipse, style)
+    visible = np.minimum(half, [style.width + style.height] * 2)  # a huge region: its corners
+    arm = _BRACKET_ARM * float(visible.min())
+    corners = [at + visible * np.array([sx, sy]) for sx in (-1.0, 1.0) for sy in (-1.0, 1.0)]
+
+    def brackets(colour: Bgr, grow: int) -> None:
+        for corner in corners:
+            inward = np.sign(at - corner)
+            for leg in (np.array([inward[0], 0.0]), np.array([0.0, inward[1]])):
+                end = corner + arm * leg
+                cv2.line(
+                    canvas, _fixed(corner), _fixed(end), colour, style.line + grow, _AA, _SHIFT
+                )
+
+    _outlined(brackets, FRIEND_COLOUR_BGR, style)
+    text = words.DRAWN_FRIEND if ellipse is not None else words.DRAWN_FRIEND_LIKELY
+    _leader_label(canvas, text, at, visible, style)
 
 
-def _draw_ring(canvas: Image, at: Array, style: _Style) -> None:
-    """A ring with four ticks (a gun sight) on ``at``, open in the middle."""
-    radius = 0.6 * style.star_radius
+def _leader_label(canvas: Image, text: str, at: Array, half: Array, style: _Style) -> None:
+    """``text`` beside the frame (above it, else below), joined to it by a short leader."""
+    (_, height), baseline = _text_size(text, style)
+    gap = 0.6 * style.frame_half
+    above = at[1] - half[1] - gap - height >= 0
+    edge = at[1] - half[1] if above else at[1] + half[1]
+    level = edge - gap if above else edge + gap
+    start = np.array([at[0], edge])
+    end = np.array([at[0], level])
+
+    def leader(colour: Bgr, grow: int) -> None:
+        cv2.line(canvas, _fixed(start), _fixed(end), colour, style.line + grow, _AA, _SHIFT)
+
+    if style.contains(start) and style.contains(end):
+        _outlined(leader, FRIEND_COLOUR_BGR, style)
+    centre = end + np.array([0.0, -(height + baseline) / 2 if above else (height + baseline) / 2])
+    _centred_text(canvas, text, centre, FRIEND_COLOUR_BGR, style)
+
+
+def _draw_sight(canvas: Image, at: Array, style: _Style) -> None:
+    """A thin ring with four ticks (a gun sight) on ``at``, open in the middle."""
+    radius = 0.6 * style.marker_radius
     directions = np.array([(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)])
-    ticks = [(at + 0.25 * style.star_radius * d, at + style.star_radius * d) for d in directions]
+    ticks = [(at + 0.3 * style.marker_radius * d, at + style.marker_radius * d) for d in directions]
 
     def ring(colour: Bgr, grow: int) -> None:
-        thickness = round(1.5 * style.line) + grow
+        thickness = style.line + grow
         cv2.circle(canvas, _fixed(at), round(radius * _ONE), colour, thickness, _AA, _SHIFT)
         for start, end in ticks:
             cv2.line(canvas, _fixed(start), _fixed(end), colour, thickness, _AA, _SHIFT)
@@ -307,11 +375,21 @@ def _draw_ellipse(canvas: Image, ellipse: Ellipse, style: _Style) -> None:
     _draw_curve(canvas, samples, max(1, round(0.75 * style.line)), style)
 
 
+def _label_curve(canvas: Image, samples: Array, style: _Style) -> None:
+    """ "friend on this curve" beside the curve's point nearest the photo's centre."""
+    if len(samples) == 0:
+        return
+    nearest = samples[np.argmin(np.hypot(*(samples - style.centre).T))]
+    (_, height), _ = _text_size(words.DRAWN_ON_CURVE, style)
+    offset = np.array([0.0, -(style.margin + height)])
+    _centred_text(canvas, words.DRAWN_ON_CURVE, nearest + offset, FRIEND_COLOUR_BGR, style)
+
+
 def _draw_epipolar_lines(
     canvas: Image, epipole: Array, landmarks: Array, labels: list[int], style: _Style
 ) -> None:
     """Each landmark's epipolar line: the line through it and the epipole (maybe at infinity)."""
-    thickness = max(1, style.line // 2)
+    thickness = max(2, style.line // 2)
     for point, label in zip(landmarks, labels, strict=True):
         segment = _clip_line(np.cross(np.append(point, 1.0), epipole), style)
         if segment is None:
@@ -327,14 +405,14 @@ def _draw_epipolar_lines(
 def _draw_other_candidates(
     canvas: Image, others: list[Pixel | None], friend: Pixel | None, style: _Style
 ) -> None:
-    """Other positions that fit the landmarks exactly, as hollow "?" circles."""
-    radius = 0.7 * style.star_radius
+    """Other positions that fit the landmarks exactly, as thin "?" circles."""
+    radius = 0.7 * style.marker_radius
     for other in others:
         if other is None or not all(map(math.isfinite, other)):
             continue
         at = np.array(other)
-        # The answer is refined from one of them: that one is under the star already.
-        if friend is not None and np.hypot(*(at - np.array(friend))) < style.star_radius:
+        # The answer is refined from one of them: that one is in the frame already.
+        if friend is not None and np.hypot(*(at - np.array(friend))) < style.frame_half:
             continue
         if not style.contains(at):
             continue
@@ -350,8 +428,10 @@ def _draw_other_candidates(
 def _draw_landmarks(
     canvas: Image, landmarks: Array, labels: list[int], suspects: set[int], style: _Style
 ) -> None:
-    """Numbered dots in their number's colour; suspects inside a red ring, number + "?"."""
+    """Thin rings with a centre dot in their number's colour, the number beside; suspects
+    inside a red ring, number + "?". The spot itself stays visible inside the ring."""
     radius = style.landmark_radius
+    dot = max(1.5, 0.6 * style.line)
     for index, (point, label) in enumerate(zip(landmarks, labels, strict=True)):
         if not style.contains(point, pad=style.margin):
             continue
@@ -366,9 +446,13 @@ def _draw_landmarks(
 
             _outlined(ring, SUSPECT_COLOUR_BGR, style)
         centre = _fixed(point)
-        dark_edge = round((radius + style.outline) * _ONE)
-        cv2.circle(canvas, centre, dark_edge, OUTLINE_COLOUR_BGR, -1, _AA, _SHIFT)
-        cv2.circle(canvas, centre, round(radius * _ONE), colour, -1, _AA, _SHIFT)
+
+        def ring(colour: Bgr, grow: int, centre: tuple[int, int] = centre) -> None:
+            size = round(radius * _ONE)
+            cv2.circle(canvas, centre, size, colour, style.line + grow, _AA, _SHIFT)
+            cv2.circle(canvas, centre, round((dot + grow / 2) * _ONE), colour, -1, _AA, _SHIFT)
+
+        _outlined(ring, colour, style)
         gap = (_SUSPECT_RING if index in suspects else 1.0) * radius + style.line
         _label_beside(canvas, text, point, gap=gap, colour=colour, style=style)
 
@@ -493,12 +577,6 @@ def _outlined(shape: _Shape, colour: Bgr, style: _Style) -> None:
     """A dark version one outline wider all round, then the shape: it reads on any photo."""
     shape(OUTLINE_COLOUR_BGR, 2 * style.outline)
     shape(colour, 0)
-
-
-def _outlined_polygon(canvas: Image, polygon: NDArray[np.int32], colour: Bgr, border: int) -> None:
-    """A filled polygon with a dark border ``border`` px wide outside it."""
-    cv2.polylines(canvas, [polygon], True, OUTLINE_COLOUR_BGR, 2 * border, _AA, _SHIFT)
-    cv2.fillPoly(canvas, [polygon], colour, _AA, _SHIFT)
 
 
 def _text_size(text: str, style: _Style) -> tuple[tuple[int, int], int]:

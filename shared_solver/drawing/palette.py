@@ -1,8 +1,9 @@
-"""The colours of every drawing of the answer: the photo overlay and, later, the phone app.
+"""The colours of every drawing of the answer: the photo overlay and the phone app.
 
 Landmark ``k`` (the number people see, from 1) is painted ``LANDMARK_COLOURS_HEX[(k - 1) % 12]``
 on both phones, so "the orange 3" means the same spot in both photos. The table is written
-once, as web colours ``"#rrggbb"`` (RGB order); OpenCV's BGR tuples are derived from it.
+once, in ``palette.json``, as web colours ``"#rrggbb"`` (RGB order); OpenCV's BGR tuples are
+derived from it.
 
 The colours are bright enough to read with a dark outline on dark photos and on bright ones,
 and none is the friend's yellow or the suspect red, which mean something else.
@@ -10,28 +11,20 @@ and none is the friend's yellow or the suspect red, which mean something else.
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 Bgr = tuple[int, int, int]
 
-LANDMARK_COLOURS_HEX: tuple[str, ...] = (
-    "#3cb44b",  # green
-    "#4d7cff",  # blue
-    "#ff8c1a",  # orange
-    "#33e0ff",  # cyan
-    "#f032e6",  # magenta
-    "#bfef45",  # lime
-    "#a35cff",  # violet
-    "#ffa3c9",  # pink
-    "#1fb5a3",  # teal
-    "#ffffff",  # white
-    "#d2b48c",  # tan
-    "#8fa8ff",  # periwinkle
-)
+# The one source, which the phone app reads too (frontend/src/palette.ts and its CSS).
+_PALETTE = json.loads(Path(__file__).with_name("palette.json").read_text())
 
-# The friend (star, ring, arrow, curve, uncertainty ellipse) and a landmark to re-check.
-FRIEND_COLOUR_HEX = "#ffd400"
-SUSPECT_COLOUR_HEX = "#ff1f1f"
+LANDMARK_COLOURS_HEX: tuple[str, ...] = tuple(c["hex"] for c in _PALETTE["landmarks"])
+# The friend (marker, region, arrow, curve) and a landmark to re-check.
+FRIEND_COLOUR_HEX: str = _PALETTE["friend"]
+SUSPECT_COLOUR_HEX: str = _PALETTE["suspect"]
 # Outline under every stroke and letter, so colours read on bright photos too.
-OUTLINE_COLOUR_HEX = "#141414"
+OUTLINE_COLOUR_HEX: str = _PALETTE["outline"]
 
 
 def hex_to_bgr(colour: str) -> Bgr:

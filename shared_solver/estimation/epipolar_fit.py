@@ -15,7 +15,8 @@ each other, ``(a1, a2)`` is further tied to ``e2 = (x2, y2, 1)``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import functools
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -41,6 +42,9 @@ class EpipolarFit:
         dof: residual degrees of freedom (observations minus 7).
         covariance1, covariance2: (2, 2) px^2 covariance of each epipole's pixel position,
             None when that epipole is at infinity.
+        parameters: what :attr:`fundamental_covariance` is computed from, when asked: the
+            normalised frame, (a1, a2, buddy), d(a1, a2, buddy)/d(theta) and theta's
+            covariance (None: not available).
     """
 
     fundamental: Array
@@ -51,6 +55,20 @@ class EpipolarFit:
     dof: int
     covariance1: Array | None
     covariance2: Array | None
+    parameters: tuple[_Frame, Array, Array, Array] | None = field(
+        default=None, repr=False, compare=False
+    )
+
+    @functools.cached_property
+    def fundamental_covariance(self) -> Array | None:
+        """(9, 9) first-order covariance of ``fundamental`` read row by row (on its unit
+        sphere), computed when first asked: most fits (mis-tap searches, ranking) never
+        need it."""
+        if self.parameters is None:
+            return None
+        frame, columns, d_columns, covariance = self.parameters
+        jacobian = _pixel_f_jacobian(frame, columns[:3], columns[3:6], columns[6:8]) @ d_columns
+        return jacobian @ covariance @ jacobian.T
 
 
 @dataclass(frozen=True)
@@ -142,7 +160,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
     if abs(e1[2]) < _FAR_W * linalg.norm(e1):
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
-            words.BUDDY_AT_INFINITY,
+            words.FRIEND_AT_INFINITY,
         )
     x0, y0 = e1[:2] / e1[2]
     prior_rows, prior_target = _prior(frame, taps) if use_buddy else (None, np.zeros(0))
@@ -174,6 +192,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
         derivatives=(d_e1, d_e2),
         residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([a1, a2, [0.0, 0.0]]),
+        d_columns=np.eye(8),
     )
 
 
@@ -240,6 +259,13 @@ def fit_two_epipoles(taps: Taps, start: Array) -> EpipolarFit:
     a1, a2 = columns(theta)
     d_e1, d_e2 = np.zeros((3, 8)), np.zeros((3, 8))
     d_e1[0, 4] = d_e1[1, 5] = d_e2[0, 6] = d_e2[1, 7] = 1.0
+    m11, m12, m21, m22, _, _, x2, y2 = theta
+    # (a1, a2, x1, y1) from theta: a1 = (m11, m21, -(x2 m11 + y2 m21)), a2 likewise.
+    d_columns = np.zeros((8, 8))
+    d_columns[0, 0] = d_columns[1, 2] = d_columns[3, 1] = d_columns[4, 3] = 1.0
+    d_columns[2] = [-x2, 0.0, -y2, 0.0, 0.0, 0.0, -m11, -m21]
+    d_columns[5] = [0.0, -x2, 0.0, -y2, 0.0, 0.0, -m12, -m22]
+    d_columns[6, 4] = d_columns[7, 5] = 1.0
     return _fit(
         frame,
         a1,
@@ -249,6 +275,7 @@ def fit_two_epipoles(taps: Taps, start: Array) -> EpipolarFit:
         derivatives=(d_e1, d_e2),
         residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([theta[:4], np.zeros(4)]),
+        d_columns=d_columns,
     )
 
 
@@ -262,6 +289,7 @@ def _fit(
     derivatives: tuple[Array, Array],
     residuals: tuple[Array, Array, int],
     gauge: Array,
+    d_columns: Array,
 ) -> EpipolarFit:
     """The fit in pixels from its normalised parameters at the minimum.
 
@@ -269,6 +297,7 @@ def _fit(
         a1, a2: columns of F (normalised); buddy: (2,) e1 (normalised); seeker: (3,) e2.
         derivatives: (3, P) Jacobians of e1 and e2 (homogeneous, normalised) w.r.t. theta.
         residuals: (r, J, number of landmarks) at the minimum; gauge: theta's null direction.
+        d_columns: (8, P) Jacobian of (a1, a2, buddy) w.r.t. theta.
     """
     r, jacobian, landmarks = residuals
     covariance = gauge_free_covariance(jacobian, gauge, 1.0)
@@ -283,7 +312,24 @@ def _fit(
         dof=len(r) - 7,
         covariance1=_pixel_covariance(frame.t1, e1_n, derivatives[0], covariance),
         covariance2=_pixel_covariance(frame.t2, seeker, derivatives[1], covariance),
+        parameters=(frame, np.concatenate([a1, a2, buddy]), d_columns, covariance),
     )
+
+
+def _pixel_f_jacobian(frame: _Frame, a1: Array, a2: Array, buddy: Array) -> Array:
+    """(9, 8) derivative of the unit pixel F (row by row) w.r.t. (a1, a2, x, y), for
+    ``F_n = [a1 | a2 | -(x a1 + y a2)]`` in normalised coordinates."""
+    x, y = buddy
+    d_normalised = np.zeros((8, 3, 3))  # d F_n along each of the 8 parameters
+    for i in range(3):
+        d_normalised[i, i, 0], d_normalised[i, i, 2] = 1.0, -x
+        d_normalised[3 + i, i, 1], d_normalised[3 + i, i, 2] = 1.0, -y
+    d_normalised[6, :, 2], d_normalised[7, :, 2] = -a1, -a2
+    raw = frame.t2.T @ np.column_stack([a1, a2, -(x * a1 + y * a2)]) @ frame.t1
+    norm = linalg.norm(raw)
+    unit = raw.reshape(9) / norm
+    d_raw = (frame.t2.T @ d_normalised @ frame.t1).reshape(8, 9).T / norm  # (9, 8)
+    return d_raw - np.outer(unit, unit @ d_raw)
 
 
 def _prior(frame: _Frame, taps: Taps) -> tuple[Array | None, Array]:

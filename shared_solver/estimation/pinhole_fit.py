@@ -194,6 +194,20 @@ class PinholeFit:
         return self.intrinsics[1] @ (-self.pose.rotation[0] @ self.pose.baseline[0])
 
     @functools.cached_property
+    def fundamental_covariance(self) -> Array:
+        """(9, 9) first-order covariance of :attr:`fundamental` read row by row: F's
+        derivatives along the 7 parameters, through the parameters' covariance, projected
+        on the unit sphere (F is kept at unit norm, so it cannot vary along itself)."""
+        tangent = np.array(_tangent(*self.pose.buddy[0].tolist()))
+        (x1, y1), (x2, y2) = self.centres.tolist()
+        stacked = fundamental_stack(self.pose, ((x1, y1), (x2, y2)), tangent).reshape(8, 9)
+        norm = linalg.norm(stacked[0])
+        unit = stacked[0] / norm
+        derivatives = stacked[1:].T / norm  # (9, 7)
+        jacobian = derivatives - np.outer(unit, unit @ derivatives)
+        return jacobian @ self.covariance @ jacobian.T
+
+    @functools.cached_property
     def covariance2(self) -> Array | None:
         """(2, 2) px^2 covariance of the seeker's pixel position, None if it is at infinity."""
         centre = (float(self.centres[1, 0]), float(self.centres[1, 1]))
@@ -341,7 +355,7 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
         model: the taps (landmarks, N >= 1, and whichever friends' marks were made, with
             covariances) and the focal priors of photo 1 and photo 2 (their centres are the
             principal points).
-        start: an initial pose (a batch of one), e.g. from :mod:`..minimal.buddy_and_three`.
+        start: an initial pose (a batch of one), e.g. from :mod:`..minimal.epipole_and_three`.
         max_iterations: bound for Levenberg-Marquardt.
     """
 
@@ -451,9 +465,33 @@ def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array,
     every landmark's residual and gradient come from a few products (this runs at every
     iteration of every fit). ``tangent``: (3, 2) the buddy direction's tangent basis.
     """
+    stacked = fundamental_stack(pose, model.centre_pixels, tangent)
+    lines2 = stacked @ model.p_t[0]  # (8, 3, N): F p and its derivatives
+    lines1 = stacked.transpose(0, 2, 1) @ model.q_t[0]  # F^T q
+    eps = np.einsum("kin,in->kn", lines2, model.q_t[0])  # (8, N): q^T F p and derivatives
+    # Sampson: eps over its standard deviation g^T C g, g = (F^T q, F p)_xy its gradient in
+    # the four tap coordinates and C both taps' covariances (block diagonal, (4, 4, N)).
+    gradients = np.concatenate([lines1[:, :2], lines2[:, :2]], axis=1)  # (8, 4, N)
+    weighted = np.einsum("ijn,jn->in", model.cov_t, gradients[0])  # C g, (4, N)
+    products = np.einsum("kin,in->kn", gradients, weighted)  # g^T C g, then g_k^T C g
+    scale = 1.0 / np.sqrt(products[0])  # (N,)
+    r = eps[0] * scale
+    # d(eps / sqrt(v)) = d eps / sqrt(v) - eps d v / (2 v^1.5), with d v = 2 g_k^T C g.
+    return r, (eps[1:] * scale - (r * scale * scale) * products[1:]).T
+
+
+def fundamental_stack(
+    pose: Poses, centres: tuple[tuple[float, float], tuple[float, float]], tangent: Array
+) -> Array:
+    """(8, 3, 3) F in pixels at one pose (not normalised), then its derivatives along the 7
+    tangent parameters (rotation, buddy direction, log focal lengths).
+
+    ``centres``: the principal points of photo 1 and 2, px; ``tangent``: (3, 2) the buddy
+    direction's tangent basis.
+    """
     log_f1, log_f2 = pose.log_focals[0].tolist()
     f1, f2 = math.exp(log_f1), math.exp(log_f2)
-    (x1, y1), (x2, y2) = model.centre_pixels
+    (x1, y1), (x2, y2) = centres
     inverse1 = np.array([[1.0 / f1, 0.0, -x1 / f1], [0.0, 1.0 / f1, -y1 / f1], [0.0, 0.0, 1.0]])
     inverse2_t = np.array([[1.0 / f2, 0.0, 0.0], [0.0, 1.0 / f2, 0.0], [-x2 / f2, -y2 / f2, 1.0]])
     # b1 = diag(r, r, 1) u, its steps along the tangent basis, and d b1 / d ln f1, as one
@@ -480,19 +518,7 @@ def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array,
     middle[4:7] = moved[1:4]
     middle[6, :, :2] -= essential[:, :2]  # - E P
     middle[7, :2], middle[7, 2] = -essential[:2], 0.0  # - P E
-    stacked = inverse2_t @ middle @ inverse1
-    lines2 = stacked @ model.p_t[0]  # (8, 3, N): F p and its derivatives
-    lines1 = stacked.transpose(0, 2, 1) @ model.q_t[0]  # F^T q
-    eps = np.einsum("kin,in->kn", lines2, model.q_t[0])  # (8, N): q^T F p and derivatives
-    # Sampson: eps over its standard deviation g^T C g, g = (F^T q, F p)_xy its gradient in
-    # the four tap coordinates and C both taps' covariances (block diagonal, (4, 4, N)).
-    gradients = np.concatenate([lines1[:, :2], lines2[:, :2]], axis=1)  # (8, 4, N)
-    weighted = np.einsum("ijn,jn->in", model.cov_t, gradients[0])  # C g, (4, N)
-    products = np.einsum("kin,in->kn", gradients, weighted)  # g^T C g, then g_k^T C g
-    scale = 1.0 / np.sqrt(products[0])  # (N,)
-    r = eps[0] * scale
-    # d(eps / sqrt(v)) = d eps / sqrt(v) - eps d v / (2 v^1.5), with d v = 2 g_k^T C g.
-    return r, (eps[1:] * scale - (r * scale * scale) * products[1:]).T
+    return inverse2_t @ middle @ inverse1
 
 
 def _inverse_k(focal: Array, centre: Array) -> Array:

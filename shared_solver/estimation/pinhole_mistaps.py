@@ -1,7 +1,7 @@
 """Which landmark was mis-tapped, with the camera model? Consensus over sets of three.
 
 With both cameras modelled, three landmarks and the buddy fix the geometry
-(:mod:`..minimal.buddy_and_three`), so a consensus needs only four landmarks and one more
+(:mod:`..minimal.epipole_and_three`), so a consensus needs only four landmarks and one more
 to name a culprit: from five landmarks on, where the projective search needs seven. Run
 only when the camera-aware fit fails its chi-square test: every set of three landmarks (a
 fixed random sample of them for many landmarks) proposes its poses, the one most landmarks

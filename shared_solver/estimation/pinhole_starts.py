@@ -2,7 +2,7 @@
 
 The fit (:mod:`.pinhole_fit`) is local, so it starts from the exact solutions of a few
 minimal subsets at the priors' focal lengths: three landmarks and the buddy
-(:mod:`..minimal.buddy_and_three`), one landmark and both friends
+(:mod:`..minimal.epipole_and_three`), one landmark and both friends
 (:mod:`..minimal.both_and_one`), or, when the buddy was not marked as a point, the
 projective solutions turned into poses (the essential matrix of OpenCV's decomposition).
 Each candidate is scored on every tap: squared whitened residuals (each capped, so one
@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import linalg
 from ..minimal.both_and_one import rotations_from_both
-from ..minimal.buddy_and_three import rotations_from_three
+from ..minimal.epipole_and_three import rotations_from_three
 from ..projective import Array, Indices
 from .camera import FocalPrior
 from .pinhole_fit import PinholeModel, Poses

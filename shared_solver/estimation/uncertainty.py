@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+from statistics import NormalDist
 from typing import Protocol
 
 from .. import linalg
@@ -18,6 +19,8 @@ from ..result import Quality
 LEVEL = 0.95
 # Chi-square quantile with 2 degrees of freedom at LEVEL: -2 ln(1 - LEVEL).
 CHI2_2D = -2.0 * math.log(1.0 - LEVEL)  # = chi2_quantile(LEVEL, 2)
+
+_STANDARD_NORMAL = NormalDist()
 
 # Quality bands: the 95 % ellipse's longer semi-axis as a fraction of photo 2's diagonal.
 GOOD_FRACTION = 0.03
@@ -46,21 +49,10 @@ def chi2_quantile(probability: float, dof: int) -> float:
     if dof == 2:
         return -2.0 * math.log(1.0 - probability)
     if dof == 1:
-        return (math.sqrt(2.0) * _inverse_erf(probability)) ** 2
-    z = math.sqrt(2.0) * _inverse_erf(2.0 * probability - 1.0)
+        return _STANDARD_NORMAL.inv_cdf(0.5 + 0.5 * probability) ** 2
+    z = _STANDARD_NORMAL.inv_cdf(probability)
     h = 2.0 / (9.0 * dof)
     return dof * (1.0 - h + z * math.sqrt(h)) ** 3
-
-
-def _inverse_erf(y: float) -> float:
-    """Inverse error function by Newton's method on math.erf (to float accuracy)."""
-    x = 0.0
-    for _ in range(100):
-        step = (math.erf(x) - y) / (2.0 / math.sqrt(math.pi) * math.exp(-x * x))
-        x -= step
-        if abs(step) < 1e-15 * max(1.0, abs(x)):
-            break
-    return x
 
 
 def ellipse(

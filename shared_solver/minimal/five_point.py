@@ -84,7 +84,7 @@ def epipole_from_five(
         e1h, p, q = _checked_five(e1, pts1, pts2)
         e2 = cremona_epipole(e1h.tolist(), p.T.tolist(), q.T.tolist(), checked=True)
         if e2 is None:
-            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.SEEKER_UNDETERMINED)
+            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.FRIEND_UNDETERMINED)
         return _canonical(*e2)
     if method == "linear":
         e1h, p, q = _checked_five(e1, pts1, pts2)

@@ -48,7 +48,7 @@ def fundamental_with_epipole(e1: Array, p: Array, q: Array) -> Array:
     if singular[4] <= _SINGULAR * singular[0]:
         raise SolverError(
             ErrorCode.DEGENERATE_CONFIGURATION,
-            words.SEEKER_UNDETERMINED,
+            words.FRIEND_UNDETERMINED,
         )
     columns = vt[-1].reshape(2, 3).T
     fundamental = t2.T @ (columns @ basis.T) @ t1

@@ -80,7 +80,7 @@ def database_outage(
                 postgres.start()
             return
         folder = Path(make_url(database_url).database or "").parent
-        app.state.service.store.engine.dispose()
+        app.state.services.database.engine.dispose()
         folder.rename(folder.with_name("away"))
         try:
             yield
@@ -107,20 +107,20 @@ def client(app: FastAPI) -> Iterator[TestClient]:
 
 
 @pytest.fixture
-def seeker(client: TestClient) -> Phone:
+def starter(client: TestClient) -> Phone:
     created = client.post("/api/sessions")
     assert created.status_code == 201, created.text
     body = created.json()
-    return Phone(client, body["session_id"], body["token"], "seeker")
+    return Phone(client, body["session_id"], body["token"], "starter")
 
 
 @pytest.fixture
-def buddy(client: TestClient, seeker: Phone) -> Phone:
-    code = seeker.state()["join_code"]
+def joiner(client: TestClient, starter: Phone) -> Phone:
+    code = starter.state()["join_code"]
     joined = client.post("/api/sessions/join", json={"code": code})
     assert joined.status_code == 200, joined.text
     body = joined.json()
-    return Phone(client, body["session_id"], body["token"], "buddy")
+    return Phone(client, body["session_id"], body["token"], "joiner")
 
 
 @pytest.fixture

@@ -5,6 +5,7 @@ phone's event stream followed over HTTP."""
 from __future__ import annotations
 
 import json
+import math
 import threading
 import time
 from dataclasses import dataclass
@@ -12,14 +13,14 @@ from datetime import datetime, timedelta
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 from fastapi.testclient import TestClient
 
 from testbed.scenes import Scene, Taps, tap, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
-PAIR = ("templeSR0003", "templeSR0006")  # the seeker's photo, the buddy's
+PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the joiner's
 
 
 class FakeClock:
@@ -56,13 +57,38 @@ class Phone:
         assert response.status_code == 200, response.text
         return response.json()
 
-    def upload(self, photo: bytes, name: str = "photo.jpg") -> httpx.Response:
+    def upload(self, photo: bytes, name: str = "photo.jpg") -> httpx2.Response:
         return self.client.put(
             self.url("/photo"), headers=self.auth, files={"photo": (name, photo, "image/jpeg")}
         )
 
-    def tap(self, **taps: Any) -> httpx.Response:
+    def tap(self, **taps: Any) -> httpx2.Response:
+        """PUT these taps; a ``friend`` given as ``(x, y)`` is sent as ``{"x", "y"}``."""
+        friend = taps.get("friend")
+        if isinstance(friend, list | tuple):
+            taps["friend"] = {"x": friend[0], "y": friend[1]}
         return self.client.put(self.url("/taps"), headers=self.auth, json=taps)
+
+
+def in_region(region: dict[str, Any], point: Any) -> bool:
+    """Whether ``point`` (x, y) lies in an answer's 95 % ellipse."""
+    (cx, cy), (a, b) = region["center"], region["axes"]
+    angle = math.radians(region["angle_deg"])
+    dx, dy = point[0] - cx, point[1] - cy
+    u = dx * math.cos(angle) + dy * math.sin(angle)
+    v = -dx * math.sin(angle) + dy * math.cos(angle)
+    return (u / a) ** 2 + (v / b) ** 2 <= 1.0
+
+
+def mark(point: Any) -> dict[str, float]:
+    """A friend mark at ``point`` (x, y), as the API takes it."""
+    return {"x": float(point[0]), "y": float(point[1])}
+
+
+def friend_in(state: dict[str, Any], role: str) -> list[float] | None:
+    """Where the answer puts ``role``'s friend in ``role``'s photo."""
+    answer = state["answer"]
+    return None if answer is None else answer["in_photo"][role]["friend"]
 
 
 class Listener(threading.Thread):
@@ -87,7 +113,7 @@ class Listener(threading.Thread):
 
     def run(self) -> None:
         try:
-            with httpx.stream(
+            with httpx2.stream(
                 "GET", self.url, params={"token": self.token}, headers=self.headers, timeout=30
             ) as answer:
                 assert answer.status_code == 200
@@ -103,7 +129,7 @@ class Listener(threading.Thread):
                         self.data.append(json.loads(line[6:]))
                     elif line == ": ping":
                         self.pings += 1
-        except httpx.TransportError:
+        except httpx2.TransportError:
             self.dropped = True  # the server went away (a phone's EventSource reconnects)
         self.ended.set()
 
@@ -142,9 +168,9 @@ class HttpPhone:
 
     def call(
         self, method: str, rest: str = "", headers: dict[str, str] | None = None, **options: Any
-    ) -> httpx.Response:
+    ) -> httpx2.Response:
         headers = self.auth | (headers or {})
-        return httpx.request(method, self.url(rest), headers=headers, timeout=30, **options)
+        return httpx2.request(method, self.url(rest), headers=headers, timeout=30, **options)
 
     def state(self) -> dict[str, Any]:
         answer = self.call("GET")
@@ -171,40 +197,42 @@ def photo_form(name: str) -> dict[str, tuple[str, bytes, str]]:
     return {"photo": (f"{name}.png", (TEMPLE / f"{name}.png").read_bytes(), "image/png")}
 
 
-def pair(seeker_base: str, buddy_base: str) -> tuple[HttpPhone, HttpPhone]:
-    """The seeker starts through one address, the buddy joins with the code through the
+def pair(starter_base: str, joiner_base: str) -> tuple[HttpPhone, HttpPhone]:
+    """The starter starts through one address, the joiner joins with the code through the
     other (the same one, through nginx)."""
-    created = httpx.post(f"{seeker_base}/api/sessions", timeout=30).json()
-    joined = httpx.post(
-        f"{buddy_base}/api/sessions/join", json={"code": created["join_code"]}, timeout=30
+    created = httpx2.post(f"{starter_base}/api/sessions", timeout=30).json()
+    joined = httpx2.post(
+        f"{joiner_base}/api/sessions/join", json={"code": created["join_code"]}, timeout=30
     )
     assert joined.status_code == 200, joined.text
     sid = created["session_id"]
     return (
-        HttpPhone(seeker_base, sid, created["token"]),
-        HttpPhone(buddy_base, sid, joined.json()["token"]),
+        HttpPhone(starter_base, sid, created["token"]),
+        HttpPhone(joiner_base, sid, joined.json()["token"]),
     )
 
 
-def follow(seeker: HttpPhone, buddy: HttpPhone, seconds: float = 15) -> tuple[Listener, Listener]:
-    """Both phones' event streams. The seeker's is open first (its own presence came back),
-    so the buddy coming online is news to it: within ``seconds``, from wherever the buddy's
-    stream is."""
-    seeker_events = seeker.listen()
-    seeker_events.wait_for("joined", role="seeker", online=True)
-    buddy_events = buddy.listen()
-    buddy_events.wait_for("joined", role="buddy", online=True)
-    seeker_events.wait_for("joined", role="buddy", online=True, seconds=seconds)
-    return seeker_events, buddy_events
+def follow(starter: HttpPhone, joiner: HttpPhone, seconds: float = 15) -> tuple[Listener, Listener]:
+    """Both phones' event streams. The starter's is open first (its own presence came
+    back), so the joiner coming online is news to it: within ``seconds``, from wherever the
+    joiner's stream is."""
+    starter_events = starter.listen()
+    starter_events.wait_for("joined", role="starter", online=True)
+    joiner_events = joiner.listen()
+    joiner_events.wait_for("joined", role="joiner", online=True)
+    starter_events.wait_for("joined", role="joiner", online=True, seconds=seconds)
+    return starter_events, joiner_events
 
 
 def landmarks(points: np.ndarray) -> list[dict[str, float]]:
-    """Taps in the API's form, numbered from 1 in order."""
-    return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
+    """Landmarks as a phone sends them, numbered from 1, each tap with its precision (px)."""
+    return [
+        {"id": i + 1, "x": float(x), "y": float(y), "sigma": 2.0} for i, (x, y) in enumerate(points)
+    ]
 
 
 def scene_taps() -> tuple[Scene, Taps]:
-    """Six landmarks of the temple PAIR and the buddy, tapped with 1 px of noise."""
+    """Six landmarks of the temple PAIR and the joiner, tapped with 1 px of noise."""
     rng = np.random.default_rng(6)
     scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
     return scene, tap(scene, 1.0, rng)

@@ -2,7 +2,7 @@
 with the status and error code it gets, through the API, on SQLite and on PostgreSQL.
 
 Each row runs on a fresh app and database with two phones paired. An accepted row's code
-is the one the answer reports (``result_error``), or none; a refused row's is the error's,
+is the one the answer reports (``answer_error``), or none; a refused row's is the error's,
 in the one shape. Rows of accepted photos also check what was stored.
 """
 
@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 import pillow_heif
 import pytest
@@ -35,20 +35,20 @@ class Search:
     """Two paired phones on a fresh app, and what the rows need around them."""
 
     client: TestClient
-    seeker: Phone
-    buddy: Phone
+    starter: Phone
+    joiner: Phone
     clock: FakeClock
     settings: Settings
 
     def with_photos(self) -> Search:
         """Both phones have uploaded their temple photo (640 x 480)."""
-        for phone, name in ((self.seeker, "templeSR0003"), (self.buddy, "templeSR0006")):
+        for phone, name in ((self.starter, "templeSR0003"), (self.joiner, "templeSR0006")):
             stored = phone.upload((TEMPLE / f"{name}.png").read_bytes(), f"{name}.png")
             assert stored.status_code == 200, stored.text
         return self
 
-    def stored_photo(self, role: str = "seeker") -> Image.Image:
-        answer = self.client.get(self.seeker.url(f"/photo/{role}"), headers=self.seeker.auth)
+    def stored_photo(self, role: str = "starter") -> Image.Image:
+        answer = self.client.get(self.starter.url(f"/photo/{role}"), headers=self.starter.auth)
         assert answer.status_code == 200, answer.text
         assert answer.content.startswith(b"\xff\xd8\xff")  # JPEG, whatever came in
         image = Image.open(io.BytesIO(answer.content))
@@ -60,7 +60,7 @@ class Search:
         assert created.status_code == 201, created.text
         return dict(created.json())
 
-    def raw_taps(self, phone: Phone, body: bytes) -> httpx.Response:
+    def raw_taps(self, phone: Phone, body: bytes) -> httpx2.Response:
         """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
         headers = {**phone.auth, "Content-Type": "application/json"}
         return self.client.put(phone.url("/taps"), headers=headers, content=body)
@@ -69,10 +69,10 @@ class Search:
 @dataclass(frozen=True)
 class Row:
     name: str
-    send: Callable[[Search], httpx.Response]
+    send: Callable[[Search], httpx2.Response]
     status: int
     code: str | None
-    then: Callable[[Search, httpx.Response], None] | None = None  # what was stored
+    then: Callable[[Search, httpx2.Response], None] | None = None  # what was stored
 
 
 # --- photos to send -------------------------------------------------------------------
@@ -116,13 +116,13 @@ def turned_by_exif() -> bytes:
     return encoded(noise(), "JPEG", exif=exif, quality=90)
 
 
-def upload(data: bytes, name: str = "photo.jpg") -> Callable[[Search], httpx.Response]:
-    return lambda search: search.seeker.upload(data, name)
+def upload(data: bytes, name: str = "photo.jpg") -> Callable[[Search], httpx2.Response]:
+    return lambda search: search.starter.upload(data, name)
 
 
-def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx.Response], None]:
-    def check(search: Search, _: httpx.Response) -> None:
-        stored = search.seeker.state()["photos"]["seeker"]
+def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx2.Response], None]:
+    def check(search: Search, _: httpx2.Response) -> None:
+        stored = search.starter.state()["photos"]["starter"]
         assert (stored["width"], stored["height"]) == size
         photo = search.stored_photo()
         assert (photo.mode, photo.size) == (mode, size)
@@ -130,33 +130,37 @@ def stored_as(mode: str, size: tuple[int, int]) -> Callable[[Search, httpx.Respo
     return check
 
 
-def ramp_kept(search: Search, answer: httpx.Response) -> None:
+def ramp_kept(search: Search, answer: httpx2.Response) -> None:
     """16 bits scaled to 8, not clipped (which would turn it all white)."""
     grey = np.asarray(search.stored_photo().convert("L"), dtype=int)
     assert grey[:, :20].mean() < 30
     assert grey[:, -20:].mean() > 225
 
 
-def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx.Response:
+def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx2.Response:
     """y = 350 is on the photo as shown (300 x 400), not as coded (400 x 300)."""
-    stored = search.seeker.upload(turned_by_exif())
-    assert stored.json() == {"width": HEIGHT, "height": WIDTH, "scale": 1.0}
-    return search.seeker.tap(landmarks=[{"id": 1, "x": 250, "y": 350}], epipole1=[20, 390])
+    stored = search.starter.upload(turned_by_exif())
+    assert stored.json() == {"width": HEIGHT, "height": WIDTH, "scale": 1.0, "lens": None}
+    return search.starter.tap(landmarks=[{"id": 1, "x": 250, "y": 350}], friend=[20, 390])
 
 
 # --- taps to send ---------------------------------------------------------------------
 
 
-def taps(**fields: Any) -> Callable[[Search], httpx.Response]:
-    return lambda search: search.with_photos().seeker.tap(**fields)
+def taps(**fields: Any) -> Callable[[Search], httpx2.Response]:
+    return lambda search: search.with_photos().starter.tap(**fields)
 
 
-def one_tap(x: Any, y: Any) -> Callable[[Search], httpx.Response]:
+def one_tap(x: Any, y: Any) -> Callable[[Search], httpx2.Response]:
     return taps(landmarks=[{"id": 1, "x": x, "y": y}])
 
 
-def raw_taps(body: bytes) -> Callable[[Search], httpx.Response]:
-    return lambda search: search.raw_taps(search.with_photos().seeker, body)
+def one_tap_sigma(sigma: Any) -> Callable[[Search], httpx2.Response]:
+    return taps(landmarks=[{"id": 1, "x": 3, "y": 3, "sigma": sigma}])
+
+
+def raw_taps(body: bytes) -> Callable[[Search], httpx2.Response]:
+    return lambda search: search.raw_taps(search.with_photos().starter, body)
 
 
 def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]:
@@ -164,14 +168,14 @@ def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]
     return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
 
 
-def answer_to(seeker_taps: dict[str, Any]) -> Callable[[Search], httpx.Response]:
-    """The seeker taps ``seeker_taps``; the buddy taps five true landmarks: the state the
-    buddy gets back says what came of it."""
+def answer_to(starter_taps: dict[str, Any]) -> Callable[[Search], httpx2.Response]:
+    """The starter taps ``starter_taps``; the joiner taps five true landmarks: the state the
+    joiner gets back says what came of it."""
 
-    def send(search: Search) -> httpx.Response:
+    def send(search: Search) -> httpx2.Response:
         search.with_photos()
-        assert search.seeker.tap(**seeker_taps).status_code == 200
-        return search.buddy.tap(landmarks=landmarks(SCENE.landmarks2))
+        assert search.starter.tap(**starter_taps).status_code == 200
+        return search.joiner.tap(landmarks=landmarks(SCENE.landmarks2))
 
     return send
 
@@ -187,37 +191,37 @@ COLLINEAR = [(100 + 50 * n, 100 + 30 * n) for n in range(5)]
 
 def get_state(
     token: str | None, session_id: str | None = None
-) -> Callable[[Search], httpx.Response]:
-    def send(search: Search) -> httpx.Response:
+) -> Callable[[Search], httpx2.Response]:
+    def send(search: Search) -> httpx2.Response:
         headers = {"Authorization": f"Bearer {token}"} if token else {}
         return search.client.get(
-            f"/api/sessions/{session_id or search.seeker.session_id}", headers=headers
+            f"/api/sessions/{session_id or search.starter.session_id}", headers=headers
         )
 
     return send
 
 
-def with_token(pick: Callable[[Search], str]) -> Callable[[Search], httpx.Response]:
+def with_token(pick: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
     return lambda search: get_state(pick(search))(search)
 
 
-def expired_token(search: Search) -> httpx.Response:
+def expired_token(search: Search) -> httpx2.Response:
     search.clock.advance(search.settings.session_ttl_seconds + 1)
-    return search.client.get(search.seeker.url(), headers=search.seeker.auth)
+    return search.client.get(search.starter.url(), headers=search.starter.auth)
 
 
-def as_seeker_at(path: str) -> Callable[[Search], httpx.Response]:
-    """The seeker's valid token, at ``/api/sessions/<path>``: another session's id, or
+def as_starter_at(path: str) -> Callable[[Search], httpx2.Response]:
+    """The starter's valid token, at ``/api/sessions/<path>``: another session's id, or
     one that is none."""
-    return lambda search: search.client.get(f"/api/sessions/{path}", headers=search.seeker.auth)
+    return lambda search: search.client.get(f"/api/sessions/{path}", headers=search.starter.auth)
 
 
-def join(code: Callable[[Search], str]) -> Callable[[Search], httpx.Response]:
+def join(code: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.client.post("/api/sessions/join", json={"code": code(search)})
 
 
 def used_code(search: Search) -> str:
-    """The seeker's code, which the buddy has used."""
+    """The starter's code, which the joiner has used."""
     created = search.other_session()
     code = created["join_code"]
     joined = search.client.post("/api/sessions/join", json={"code": code})
@@ -239,10 +243,10 @@ def deleted_sessions_code(search: Search) -> str:
     return str(created["join_code"])
 
 
-def events_after(last_event_id: str) -> Callable[[Search], httpx.Response]:
-    def send(search: Search) -> httpx.Response:
-        headers = {**search.seeker.auth, "Last-Event-ID": last_event_id}
-        return search.client.get(search.seeker.url("/events"), headers=headers)
+def events_after(last_event_id: str) -> Callable[[Search], httpx2.Response]:
+    def send(search: Search) -> httpx2.Response:
+        headers = {**search.starter.auth, "Last-Event-ID": last_event_id}
+        return search.client.get(search.starter.url("/events"), headers=headers)
 
     return send
 
@@ -259,25 +263,27 @@ STORED_RGB = stored_as("RGB", (WIDTH, HEIGHT))
 STORED_TURNED = stored_as("RGB", (HEIGHT, WIDTH))
 NAN = b'{"landmarks": [{"id": 1, "x": NaN, "y": 3}]}'
 INFINITY = b'{"landmarks": [{"id": 1, "x": 3, "y": -Infinity}]}'
-OVERFLOW = b'{"epipole1": [1e999, 3]}'  # Python's JSON reads it as infinity
+OVERFLOW = b'{"friend": {"x": 1e999, "y": 3}}'  # Python's JSON reads it as infinity
 NOT_UTF_8 = b'{"landmarks": [{"id": 1, "x": 3, "y": "\xff"}]}'
 MANY = [(n % 640, n % 480) for n in range(1000)]
 MANY_IDS = [n % 999 + 1 for n in range(1000)]
 DUPLICATES = landmarks(MANY[:3], [1, 2, 1])
-COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "epipole1": [500, 100]}
-ON_A_LANDMARK = {"landmarks": landmarks(SCENE.landmarks1), "epipole1": list(SCENE.landmarks1[2])}
+COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "friend": [500, 100]}
+ON_A_LANDMARK = {"landmarks": landmarks(SCENE.landmarks1), "friend": list(SCENE.landmarks1[2])}
+ZERO_LINE = {"a": 0, "b": 0, "c": 5}
+LINE_OFF_THE_PHOTO = {"a": 1, "b": 0, "c": 1000}  # x = -1000
 
 
-def too_large(search: Search) -> httpx.Response:
-    return search.seeker.upload(b"\xff\xd8\xff" + bytes(search.settings.max_body_bytes))
+def too_large(search: Search) -> httpx2.Response:
+    return search.starter.upload(b"\xff\xd8\xff" + bytes(search.settings.max_body_bytes))
 
 
 def another_token(search: Search) -> str:
     return str(search.other_session()["token"])
 
 
-def another_session_id(search: Search) -> httpx.Response:
-    return as_seeker_at(search.other_session()["session_id"])(search)
+def another_session_id(search: Search) -> httpx2.Response:
+    return as_starter_at(search.other_session()["session_id"])(search)
 
 
 TABLE = [
@@ -298,16 +304,27 @@ TABLE = [
     Row("1e999 in taps", raw_taps(OVERFLOW), 422, "invalid_request"),
     Row("a word in taps", one_tap("left", 3), 422, "invalid_request"),
     Row("a number in a string", one_tap("12", 3), 422, "invalid_request"),
-    Row("true as a coordinate", taps(epipole1=[True, 3]), 422, "invalid_request"),
+    Row("true as a coordinate", taps(friend={"x": True, "y": 3}), 422, "invalid_request"),
+    Row("a friend mark as [x, y]", raw_taps(b'{"friend": [3, 3]}'), 422, "invalid_request"),
+    Row("a precision of 0", taps(friend={"x": 3, "y": 3, "sigma": 0}), 422, "invalid_request"),
+    Row("a negative precision", one_tap_sigma(-2.0), 422, "invalid_request"),
     Row("1e308 in taps", one_tap(1e308, 3), 422, "outside_photo"),
     Row("a tap outside the photo", one_tap(641, 3), 422, "outside_photo"),
-    Row("a buddy mark outside the photo", taps(epipole1=[-0.5, 3]), 422, "outside_photo"),
+    Row("a friend mark outside the photo", taps(friend=[-0.5, 3]), 422, "outside_photo"),
+    Row("a friend line with a = b = 0", taps(friend_line=ZERO_LINE), 422, "invalid_line"),
+    Row("a friend line off the photo", taps(friend_line=LINE_OFF_THE_PHOTO), 422, "invalid_line"),
+    Row(
+        "a friend mark and a line",
+        taps(friend=[3, 3], friend_line={"a": 1, "b": 0, "c": -3}),
+        422,
+        "conflicting_inputs",
+    ),
     Row("duplicate landmark ids", taps(landmarks=DUPLICATES), 422, "duplicate_landmark"),
     Row("1000 landmarks", taps(landmarks=landmarks(MANY, MANY_IDS)), 422, "too_many_landmarks"),
     Row("taps that are not UTF-8", raw_taps(NOT_UTF_8), 400, "bad_request"),
     # Taps that are fine but cannot be answered: accepted, and the answer says why.
     Row("collinear landmarks", answer_to(COLLINEAR_TAPS), 200, "collinear_landmarks"),
-    Row("the buddy mark on a landmark", answer_to(ON_A_LANDMARK), 200, "epipole_on_landmark"),
+    Row("the friend mark on a landmark", answer_to(ON_A_LANDMARK), 200, "epipole_on_landmark"),
     # Tokens: a token opens its own session, while it lasts.
     Row("a missing token", get_state(None), 401, "unauthorized"),
     Row("a wrong token", get_state("b" * 43), 401, "unauthorized"),
@@ -318,13 +335,13 @@ TABLE = [
     Row("an expired join code", join(expired_code), 404, "invalid_join_code"),
     Row("a code replayed after the end", join(deleted_sessions_code), 404, "invalid_join_code"),
     # Session ids, unknown or malformed, with the valid token of another session.
-    Row("an unknown session id", as_seeker_at("0" * 32), 403, "forbidden"),
+    Row("an unknown session id", as_starter_at("0" * 32), 403, "forbidden"),
     Row("the id of another live session", another_session_id, 403, "forbidden"),
-    Row("a session id ../x", as_seeker_at("../x"), 404, "not_found"),
-    Row("a session id ..%2Fx", as_seeker_at("..%2Fx"), 404, "not_found"),
-    Row("a session id of 10000 characters", as_seeker_at("7" * 10_000), 403, "forbidden"),
-    Row("a unicode session id", as_seeker_at("s\u00e9ance-\U0001f600"), 403, "forbidden"),
-    Row("a session id with a NUL byte", as_seeker_at("abc%00def"), 403, "forbidden"),
+    Row("a session id ../x", as_starter_at("../x"), 404, "not_found"),
+    Row("a session id ..%2Fx", as_starter_at("..%2Fx"), 404, "not_found"),
+    Row("a session id of 10000 characters", as_starter_at("7" * 10_000), 403, "forbidden"),
+    Row("a unicode session id", as_starter_at("s\u00e9ance-\U0001f600"), 403, "forbidden"),
+    Row("a session id with a NUL byte", as_starter_at("abc%00def"), 403, "forbidden"),
     Row("a malformed session id, no token", get_state(None, "%ff%fe"), 401, "unauthorized"),
     # The event stream: a Last-Event-ID no event can have.
     Row("a Last-Event-ID past 64 bits", events_after(str(2**64)), 422, "invalid_request"),
@@ -332,7 +349,7 @@ TABLE = [
 ]
 
 
-def code_of(answer: httpx.Response) -> str | None:
+def code_of(answer: httpx2.Response) -> str | None:
     """The refusal's code (in the one shape), or what the answer says about itself."""
     body = answer.json()
     if answer.status_code >= 400:
@@ -340,7 +357,7 @@ def code_of(answer: httpx.Response) -> str | None:
         assert set(body["error"]) == {"code", "message"}, body
         assert body["error"]["message"].endswith("."), body
         return str(body["error"]["code"])
-    error = body.get("result_error")
+    error = body.get("answer_error")
     return None if error is None else str(error["code"])
 
 
@@ -348,12 +365,12 @@ def code_of(answer: httpx.Response) -> str | None:
 def test_bad_input(
     row: Row,
     client: TestClient,
-    seeker: Phone,
-    buddy: Phone,
+    starter: Phone,
+    joiner: Phone,
     clock: FakeClock,
     settings: Settings,
 ) -> None:
-    search = Search(client, seeker, buddy, clock, settings)
+    search = Search(client, starter, joiner, clock, settings)
     answer = row.send(search)
     assert answer.status_code == row.status, answer.text[:500]
     assert code_of(answer) == row.code, answer.text[:500]

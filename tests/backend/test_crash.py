@@ -32,16 +32,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 import numpy as np
 from PIL import Image
 from sqlalchemy import text
 
-from backend.loopback import Server, serve
-from backend.photos import store_photo
-from backend.sessions.schemas import Taps
+from backend.photos.imaging import store_photo
 from backend.settings import Settings
 from backend.storage.database import connect
+from backend.taps.schemas import Taps
+from testbed.loopback import Server, serve
 
 SEARCHES = 4
 KILLS = 3
@@ -139,7 +139,7 @@ class Traffic:
 
     def _send(self, phone: Phone, seed: int) -> None:
         rng = np.random.default_rng(seed)
-        with httpx.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
+        with httpx2.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
             while True:
                 change = phone.in_flight = self._change(phone, rng)
                 try:
@@ -148,7 +148,7 @@ class Traffic:
                         answer = http.put(phone.path("/photo"), files=upload)
                     else:
                         answer = http.put(phone.path("/taps"), json=change.taps)
-                except httpx.TransportError:
+                except httpx2.TransportError:
                     return  # the server is gone: this change may or may not have been stored
                 if answer.status_code != 200:
                     self.failures.append(f"{phone.role} of {phone.session_id}: {answer.text}")
@@ -170,17 +170,18 @@ class Traffic:
         taps: dict[str, Any] = {
             "landmarks": [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points.tolist(), 1)]
         }
-        if phone.role == "seeker":
-            taps["epipole1"] = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
+        if phone.role == "starter":
+            x, y = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
+            taps["friend"] = {"x": x, "y": y}
         return Change(taps=taps)
 
 
 def pair(base: str) -> list[Phone]:
-    created = httpx.post(f"{base}/api/sessions", timeout=30).json()
+    created = httpx2.post(f"{base}/api/sessions", timeout=30).json()
     code = {"code": created["join_code"]}
-    joined = httpx.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
+    joined = httpx2.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
     sid = created["session_id"]
-    return [Phone(sid, "seeker", created["token"]), Phone(sid, "buddy", joined["token"])]
+    return [Phone(sid, "starter", created["token"]), Phone(sid, "joiner", joined["token"])]
 
 
 def kill_mid_traffic(server: Server, phones: list[Phone], rng: np.random.Generator) -> None:
@@ -207,7 +208,7 @@ def check_acknowledged_writes(server: Server, phones: list[Phone]) -> None:
     """Each phone's photo and taps are what it last had acknowledged, or what it had in
     flight (then that counts as stored from now on)."""
     for phone in phones:
-        with httpx.Client(base_url=server.base_url, headers=phone.auth, timeout=30) as http:
+        with httpx2.Client(base_url=server.base_url, headers=phone.auth, timeout=30) as http:
             state, stored = http.get(phone.path()), http.get(phone.path(f"/photo/{phone.role}"))
         assert state.status_code == 200, state.text
         assert stored.status_code == 200, stored.text
@@ -223,7 +224,12 @@ def check_acknowledged_writes(server: Server, phones: list[Phone]) -> None:
             allowed.append(phone.in_flight.applied_to(phone.known))
         assert found in allowed, (phone.role, phone.session_id, found, allowed)
         width, height = PHOTO_SIZES[found.photo]
-        assert body["photos"][phone.role] == {"width": width, "height": height, "scale": 1.0}
+        assert body["photos"][phone.role] == {
+            "width": width,
+            "height": height,
+            "scale": 1.0,
+            "lens": None,
+        }
         if found != phone.known:
             phone.stored += 1
         phone.known, phone.in_flight = found, None
@@ -249,7 +255,7 @@ def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
                     assert image.size == (row.width, row.height)
             for row in db.execute(text("SELECT taps FROM participants WHERE taps IS NOT NULL")):
                 Taps.model_validate_json(row.taps)
-            sessions = db.execute(text("SELECT id, version, result, result_version FROM sessions"))
+            sessions = db.execute(text("SELECT id, version, answer, answer_version FROM sessions"))
             for session in sessions:
                 events = db.execute(
                     text("SELECT type, data FROM events WHERE session_id = :id ORDER BY id"),
@@ -262,11 +268,11 @@ def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
                     if phone.session_id == session.id:
                         events_of_phone = sum(c["role"] == phone.role for c in changes)
                         assert events_of_phone == phone.stored, "a change without its event"
-                answered = [json.loads(e.data)["version"] for e in events if e.type == "result"]
+                answered = [json.loads(e.data)["version"] for e in events if e.type == "answer"]
                 assert answered == sorted(answered)
-                if session.result_version is not None:
-                    assert session.result_version in answered
-                    json.loads(session.result)
+                if session.answer_version is not None:
+                    assert session.answer_version in answered
+                    json.loads(session.answer)
     finally:
         engine.dispose()
 

@@ -9,37 +9,49 @@ from datetime import timedelta
 from sqlalchemy import text
 
 from backend.clock import utc_now
-from backend.storage.database import connect
-from backend.storage.repository import Store
+from backend.pairing.repository import Pairings
+from backend.storage.database import Database, connect
+from backend.storage.erase import Eraser
 
 INTERVAL_SECONDS = 1.0
 
 
-def a_deletion(store: Store, number: int) -> None:
-    """A session made and deleted through ``store``: bytes for it to erase."""
+class Replica:
+    """What one replica erases with: its database, its eraser, its sessions."""
+
+    def __init__(self, url: str) -> None:
+        self.database = Database(connect(url))
+        self.eraser = Eraser(self.database, INTERVAL_SECONDS)
+        self.pairings = Pairings(self.database, self.eraser)
+
+    def erase_deleted(self) -> bool:
+        return self.eraser.erase_deleted()
+
+
+def a_deletion(replica: Replica, number: int) -> None:
+    """A session made and deleted through ``replica``: bytes for it to erase."""
     now = utc_now()
     later = now + timedelta(hours=1)
-    assert store.create(
+    assert replica.pairings.create(
         f"erase{number:027d}",
-        seeker_token_hash=f"hash{number}",
+        starter_token_hash=f"hash{number}",
         join_code=f"{number:08d}",
         now=now,
         expires_at=later,
         join_code_expires_at=later,
     )
-    assert store.delete(f"erase{number:027d}")
+    assert replica.pairings.delete(f"erase{number:027d}")
 
 
-def table_file(store: Store) -> int:
+def table_file(replica: Replica) -> int:
     """The sessions table's file: each VACUUM FULL writes a new one."""
     query = text("SELECT relfilenode FROM pg_class WHERE relname = 'sessions'")
-    with store.engine.connect() as connection:
+    with replica.database.engine.connect() as connection:
         return int(connection.scalar(query))
 
 
 def test_replicas_take_turns_to_erase_once_per_interval(fresh_postgres_url: str) -> None:
-    engines = [connect(fresh_postgres_url) for _ in range(2)]
-    first, second = (Store(engine, INTERVAL_SECONDS) for engine in engines)
+    first, second = Replica(fresh_postgres_url), Replica(fresh_postgres_url)
     try:
         a_deletion(first, 1)
         a_deletion(second, 2)
@@ -64,5 +76,5 @@ def test_replicas_take_turns_to_erase_once_per_interval(fresh_postgres_url: str)
         assert second.erase_deleted()  # the second replica's turn at last
         assert table_file(first) != erased
     finally:
-        for engine in engines:
-            engine.dispose()
+        for replica in (first, second):
+            replica.database.engine.dispose()

@@ -4,7 +4,7 @@ Every operation of /openapi.json gets requests made from its schema, valid and i
 every answer must not be a 5xx and must be what the schema documents: a documented status,
 the documented content type, and a body of the documented schema (refusals included: the
 one error shape). The session endpoints are reached for real: a request goes out as
-generated (a made-up session id and token), or as the seeker or the buddy of a live search
+generated (a made-up session id and token), or as the starter or the joiner of a live search
 (both photos uploaded, landmarks tapped, an answer computed), or with the token of another
 session; a request that changed the search (a 2xx PUT or DELETE) has it set up again.
 
@@ -44,7 +44,7 @@ CHECKS = [
     response_schema_conformance,
 ]
 # Who sends a request to a session endpoint.
-IDENTITIES = ("as generated", "seeker", "buddy", "stranger")
+IDENTITIES = ("as generated", "starter", "joiner", "stranger")
 # An event stream lasts as long as its session: it is read this long, then cut.
 EVENT_STREAM_SECONDS = 0.2
 # Per operation. 14 operations: about 40 s in all on 2 cores (measured), the most of it
@@ -75,7 +75,7 @@ class LiveSearch:
             code = {"code": created["join_code"]}
             joined = self._answer("POST", "/api/sessions/join", 200, json=code)
             self.session_id = created["session_id"]
-            self.tokens = {"seeker": created["token"], "buddy": joined["token"]}
+            self.tokens = {"starter": created["token"], "joiner": joined["token"]}
             scene = temple_scene(
                 TEMPLE / "templeSR_par.txt",
                 "templeSR0003",
@@ -84,8 +84,8 @@ class LiveSearch:
                 np.random.default_rng(0),
             )
             for role, photo, points in (
-                ("seeker", "templeSR0003.png", scene.landmarks1),
-                ("buddy", "templeSR0006.png", scene.landmarks2),
+                ("starter", "templeSR0003.png", scene.landmarks1),
+                ("joiner", "templeSR0006.png", scene.landmarks2),
             ):
                 upload = {"photo": (photo, (TEMPLE / photo).read_bytes(), "image/png")}
                 self._answer("PUT", "/photo", 200, role=role, files=upload)
@@ -95,10 +95,10 @@ class LiveSearch:
                         for n, (x, y) in enumerate(points, start=1)
                     ]
                 }
-                if role == "seeker":
-                    taps["epipole1"] = [float(v) for v in scene.epipole1]
+                if role == "starter":
+                    taps["friend"] = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
                 self._answer("PUT", "/taps", 200, role=role, json=taps)
-            assert self._answer("GET", "", 200, role="buddy")["result"] is not None
+            assert self._answer("GET", "", 200, role="joiner")["answer"] is not None
             self.changed = False
         return self
 
@@ -165,12 +165,12 @@ def call_and_validate(case: Any, who: str, search: LiveSearch, app: FastAPI) -> 
     phases=[hypothesis.Phase.explicit],  # schemathesis' examples and coverage cases
     suppress_health_check=list(hypothesis.HealthCheck),
 )
-def test_documented_examples_and_edge_cases_as_the_seeker(
+def test_documented_examples_and_edge_cases_as_the_starter(
     case: Any, search: LiveSearch, fuzzed_app: FastAPI
 ) -> None:
     """The schema's own examples, and schemathesis' deterministic edge cases (boundary
-    values, missing and wrong-typed fields, methods not allowed), sent by the seeker."""
-    call_and_validate(case, "seeker", search, fuzzed_app)
+    values, missing and wrong-typed fields, methods not allowed), sent by the starter."""
+    call_and_validate(case, "starter", search, fuzzed_app)
 
 
 @schema.parametrize()

@@ -7,13 +7,12 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 import pytest
-from phones import TEMPLE, Listener
+from phones import TEMPLE, Listener, in_region, mark
 
-from backend.loopback import serve
-from shared_solver.estimation.uncertainty import contains
+from testbed.loopback import serve
 from testbed.scenes import tap, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
@@ -27,23 +26,23 @@ def server(tmp_path: Path, database_url: str) -> Iterator[str]:
 
 
 def test_two_phones_find_each_other(server: str) -> None:
-    http = httpx.Client(base_url=server, timeout=30)
+    http = httpx2.Client(base_url=server, timeout=30)
     created = http.post("/api/sessions").json()
-    seeker = {"Authorization": f"Bearer {created['token']}"}
+    starter = {"Authorization": f"Bearer {created['token']}"}
     sid = created["session_id"]
-    seeker_events = Listener(server, sid, created["token"])
-    seeker_events.start()
-    seeker_events.wait_for("joined")  # its own presence
+    starter_events = Listener(server, sid, created["token"])
+    starter_events.start()
+    starter_events.wait_for("joined")  # its own presence
 
-    # The buddy opens the join link: the code is its last part.
+    # The joiner opens the join link: the code is its last part.
     code = created["join_url"].rsplit("/", 1)[-1]
     joined = http.post("/api/sessions/join", json={"code": code}).json()
-    buddy = {"Authorization": f"Bearer {joined['token']}"}
-    buddy_events = Listener(server, sid, joined["token"])
-    buddy_events.start()
-    seeker_events.wait_for("joined", 3)  # buddy joined, buddy online
+    joiner = {"Authorization": f"Bearer {joined['token']}"}
+    joiner_events = Listener(server, sid, joined["token"])
+    joiner_events.start()
+    starter_events.wait_for("joined", 3)  # joiner joined, joiner online
 
-    for headers, name in ((seeker, PAIR[0]), (buddy, PAIR[1])):
+    for headers, name in ((starter, PAIR[0]), (joiner, PAIR[1])):
         photo = (TEMPLE / f"{name}.png").read_bytes()
         stored = http.put(
             f"/api/sessions/{sid}/photo",
@@ -51,8 +50,8 @@ def test_two_phones_find_each_other(server: str) -> None:
             files={"photo": (f"{name}.png", photo, "image/png")},
         )
         assert stored.status_code == 200
-        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0}
-    seeker_events.wait_for("photo", 2)
+        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
+    starter_events.wait_for("photo", 2)
 
     rng = np.random.default_rng(6)
     scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
@@ -63,33 +62,32 @@ def test_two_phones_find_each_other(server: str) -> None:
 
     http.put(
         f"/api/sessions/{sid}/taps",
-        headers=seeker,
-        json={"landmarks": landmarks(taps.landmarks1), "epipole1": taps.epipole1.tolist()},
+        headers=starter,
+        json={"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)},
     )
     state = http.put(
-        f"/api/sessions/{sid}/taps", headers=buddy, json={"landmarks": landmarks(taps.landmarks2)}
+        f"/api/sessions/{sid}/taps", headers=joiner, json={"landmarks": landmarks(taps.landmarks2)}
     ).json()
-    seeker_events.wait_for("result")
-    buddy_events.wait_for("result")
+    starter_events.wait_for("answer")
+    joiner_events.wait_for("answer")
 
-    result = state["result"]
-    assert result["method"] == "pinhole_epipole"  # phone cameras: the camera model answers
-    covariance = np.array(result["uncertainty"]["covariance"])
-    assert contains(np.array(result["epipole2"]), covariance, scene.epipole2)
-    assert http.get(f"/api/sessions/{sid}", headers=seeker).json()["result"] == result
+    answer = state["answer"]
+    assert answer["method"] == "pinhole_epipole"  # phone cameras: the camera model answers
+    assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
+    assert http.get(f"/api/sessions/{sid}", headers=starter).json()["answer"] == answer
 
-    for role in ("seeker", "buddy"):
-        picture = http.get(f"/api/sessions/{sid}/overlay/{role}", headers=buddy)
+    for role in ("starter", "joiner"):
+        picture = http.get(f"/api/sessions/{sid}/overlay/{role}", headers=joiner)
         assert picture.status_code == 200
         image = cv2.imdecode(np.frombuffer(picture.content, np.uint8), cv2.IMREAD_COLOR)
         assert image.shape == (480, 640, 3)
 
-    assert seeker_events.ids == sorted(seeker_events.ids)
-    assert {"joined", "photo", "taps", "result"} <= set(seeker_events.types)
-    assert http.delete(f"/api/sessions/{sid}", headers=seeker).status_code == 204
-    assert seeker_events.ended.wait(15)
-    assert buddy_events.ended.wait(15)
-    assert seeker_events.types[-1] == buddy_events.types[-1] == "expired"
+    assert starter_events.ids == sorted(starter_events.ids)
+    assert {"joined", "photo", "taps", "answer"} <= set(starter_events.types)
+    assert http.delete(f"/api/sessions/{sid}", headers=starter).status_code == 204
+    assert starter_events.ended.wait(15)
+    assert joiner_events.ended.wait(15)
+    assert starter_events.types[-1] == joiner_events.types[-1] == "expired"
 
 
 def test_the_server_stops_promptly_with_a_phone_listening(
@@ -98,7 +96,7 @@ def test_the_server_stops_promptly_with_a_phone_listening(
     """Event streams never end by themselves: stopping (SIGTERM) must not wait for them
     (nor for the thread listening to PostgreSQL)."""
     with serve(tmp_path, {"BUDDY_DATABASE_URL": database_url}) as running:
-        created = httpx.post(f"{running.base_url}/api/sessions").json()
+        created = httpx2.post(f"{running.base_url}/api/sessions").json()
         listener = Listener(running.base_url, created["session_id"], created["token"])
         listener.start()
         listener.wait_for("joined")

@@ -2,21 +2,30 @@
 
 from __future__ import annotations
 
+import json
 import threading
 from collections.abc import Iterator
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 from alembic import command
 from alembic.autogenerate import compare_metadata
 from alembic.config import Config
 from alembic.migration import MigrationContext
 from alembic.script import ScriptDirectory
+from fastapi.testclient import TestClient
+from phones import TEMPLE
 from postgres import PostgresServer
 from sqlalchemy import Column, Connection, Engine, String, inspect, text
 from sqlalchemy.types import TypeEngine
 
+from backend.main import create_app
+from backend.pairing.tokens import token_hash
+from backend.photos.imaging import store_photo
+from backend.settings import Settings
 from backend.storage.database import (
     MIGRATIONS,
     connect,
@@ -25,6 +34,7 @@ from backend.storage.database import (
     migrate,
 )
 from backend.storage.tables import Base
+from testbed.scenes import temple_scene
 
 HEAD = ScriptDirectory(str(MIGRATIONS)).get_current_head()
 
@@ -130,7 +140,7 @@ def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(
                     "VALUES ('s1', 'seeker', 'h1', '2026-11-21 20:00')"
                 )
             )
-            command.upgrade(config, "head")
+            command.upgrade(config, "0005")
         with engine.connect() as connection:
             row = connection.execute(
                 text(
@@ -139,9 +149,99 @@ def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(
                 )
             ).one()
         assert tuple(row) == (None, 0, 0, "seeker")
-        assert differences(engine) == []
     finally:
         engine.dispose()
+
+
+def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
+    empty_database: str, tmp_path: Path
+) -> None:
+    """Migration 0006: roles, taps and events in the friends' words, each tap's old
+    coordinates kept; the stored answer (of the old shape) is cleared, and the next read of
+    the state answers again."""
+    engine = make_engine(empty_database)
+    s = temple_scene(
+        TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 6, np.random.default_rng(3)
+    )
+    old = {
+        "seeker": {"landmarks": taps(s.landmarks1), "epipole1": list(s.epipole1)},
+        "buddy": {"landmarks": taps(s.landmarks2), "epipole2": None},
+    }
+    stored = {
+        role: store_photo(
+            (TEMPLE / f"templeSR000{n}.png").read_bytes(), max_pixels=10**8, max_side=2560
+        )
+        for role, n in (("seeker", 3), ("buddy", 6))
+    }
+    try:
+        with engine.begin() as connection:
+            command.downgrade(alembic_config(connection), "0005")
+            connection.execute(
+                text(
+                    "INSERT INTO sessions (id, created_at, expires_at, version, result, "
+                    "result_version) VALUES ('s1', :now, :end, 7, '{\"result\": {}}', 7)"
+                ),
+                {"now": datetime(2026, 11, 25, 8), "end": datetime(2099, 1, 1)},
+            )
+            for role in ("seeker", "buddy"):
+                connection.execute(
+                    text(
+                        "INSERT INTO participants (session_id, role, token_hash, joined_at, "
+                        "taps) VALUES ('s1', :role, :hash, :now, :taps)"
+                    ),
+                    {
+                        "role": role,
+                        "hash": token_hash(role),
+                        "now": datetime(2026, 11, 25, 8),
+                        "taps": json.dumps(old[role]),
+                    },
+                )
+                photo = stored[role]
+                connection.execute(
+                    text(
+                        "INSERT INTO photos (session_id, role, data, width, height, scale, "
+                        "uploaded_at) VALUES ('s1', :role, :data, :w, :h, 1.0, :now)"
+                    ),
+                    {
+                        "role": role,
+                        "data": photo.data,
+                        "w": photo.width,
+                        "h": photo.height,
+                        "now": datetime(2026, 11, 25, 8),
+                    },
+                )
+            connection.execute(
+                text(
+                    "INSERT INTO events (session_id, type, data, created_at) VALUES "
+                    "('s1', 'result', '{\"version\": 7}', :now), "
+                    "('s1', 'taps', '{\"role\": \"buddy\", \"version\": 7}', :now)"
+                ),
+                {"now": datetime(2026, 11, 25, 8)},
+            )
+        migrate(engine)
+        assert differences(engine) == []
+        with engine.connect() as connection:
+            events = connection.execute(text("SELECT type, data FROM events ORDER BY id")).all()
+            assert [tuple(e) for e in events] == [
+                ("answer", '{"version": 7}'),
+                ("taps", '{"role": "joiner", "version": 7}'),
+            ]
+            assert connection.scalar(text("SELECT answer FROM sessions")) is None
+    finally:
+        engine.dispose()
+    settings = Settings(database_url=empty_database)
+    with TestClient(create_app(settings)) as client:
+        state = client.get("/api/sessions/s1", headers={"Authorization": "Bearer seeker"})
+        assert state.status_code == 200, state.text
+        body = state.json()
+        assert body["you"] == "starter"
+        assert body["taps"]["starter"]["friend"]["x"] == pytest.approx(s.epipole1[0])
+        assert body["taps"]["joiner"]["landmarks"][2]["y"] == pytest.approx(s.landmarks2[2][1])
+        assert body["answer"]["in_photo"]["joiner"]["how"] == "solved"  # answered again
+
+
+def taps(points: Any) -> list[dict[str, float]]:
+    return [{"id": n, "x": float(x), "y": float(y)} for n, (x, y) in enumerate(points, 1)]
 
 
 def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: str) -> None:
@@ -157,6 +257,10 @@ def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: s
     with engine.begin() as connection:
         for added in ("join_code_failures", "join_code_renewals"):
             connection.execute(text(f"ALTER TABLE sessions DROP COLUMN {added}"))
+        for added in ("lens_focal_35mm", "lens_uncertainty", "lens_told_by"):
+            connection.execute(text(f"ALTER TABLE photos DROP COLUMN {added}"))
+        for old, new in (("result", "answer"), ("result_version", "answer_version")):
+            connection.execute(text(f"ALTER TABLE sessions RENAME COLUMN {new} TO {old}"))
         connection.execute(
             text(
                 "CREATE TABLE overlays (session_id VARCHAR(32) NOT NULL REFERENCES sessions(id) "
@@ -227,7 +331,7 @@ def test_plain_postgresql_urls_mean_psycopg() -> None:
 
 
 def test_postgresql_keeps_photo_bytes_uncompressed(fresh_postgres_url: str) -> None:
-    """Migration 0006: no compression is tried on the photos' JPEG bytes (which do not
+    """Migration 0007: no compression is tried on the photos' JPEG bytes (which do not
     compress), neither at an upload nor when VACUUM FULL copies the photos kept."""
     engine = connect(fresh_postgres_url)
     try:

@@ -22,8 +22,14 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from PIL import ExifTags, Image, ImageCms, PngImagePlugin
 
-from backend.errors import ApiError
-from backend.photos import StoredPhoto, crop_around, decode_photo, encode_image, store_photo
+from backend.errors import RefusedError
+from backend.photos.imaging import (
+    StoredPhoto,
+    crop_around,
+    decode_photo,
+    encode_image,
+    store_photo,
+)
 
 pillow_heif.register_heif_opener()
 
@@ -82,8 +88,8 @@ def store(data: bytes, **limits: int) -> StoredPhoto:
     )
 
 
-def refused(status: int, code: str, call: Callable[[], object]) -> ApiError:
-    with pytest.raises(ApiError) as caught:
+def refused(status: int, code: str, call: Callable[[], object]) -> RefusedError:
+    with pytest.raises(RefusedError) as caught:
         call()
     assert (caught.value.status, caught.value.code) == (status, code), caught.value.message
     assert caught.value.message[0].isupper()
@@ -299,10 +305,10 @@ def test_a_photo_cut_in_half_is_invalid(image_format: str) -> None:
 
 
 def assert_refused_cleanly(data: bytes) -> None:
-    """Stores ``data`` or refuses it with one of the documented ApiErrors, nothing else."""
+    """Stores ``data`` or refuses it with one of the documented RefusedErrors, nothing else."""
     try:
         outcome: StoredPhoto | tuple[int, str] = store(data, max_pixels=1_000_000, max_side=64)
-    except ApiError as error:
+    except RefusedError as error:
         outcome = (error.status, error.code)
     if isinstance(outcome, StoredPhoto):
         assert rgb(outcome).shape == (outcome.height, outcome.width, 3)

@@ -27,11 +27,11 @@ from PIL import ExifTags, Image
 from postgres import PostgresServer
 from sqlalchemy import Engine
 
+from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
-from backend.sessions.service import SessionService
-from backend.sweeper import sweep_forever
+from backend.wiring import Services
 
-# The temple landmarks of the README's example, and where the buddy is in photo 1.
+# The temple landmarks of the README's example, and where the joiner is in photo 1.
 IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]
 IN_PHOTO2 = [(266, 108), (490, 358), (461, 209), (504, 76), (189, 202), (517, 267)]
 BUDDY_IN_PHOTO1 = (523, 384)
@@ -41,21 +41,23 @@ def taps(points: Sequence[tuple[float, float]]) -> list[dict[str, float]]:
     return [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points, start=1)]
 
 
-def answered(seeker: Phone, buddy: Phone, photos: tuple[bytes, bytes]) -> None:
+def answered(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> None:
     """Both photos uploaded and tapped: the session has an answer (and overlays to draw)."""
-    for phone, photo in zip((seeker, buddy), photos, strict=True):
+    for phone, photo in zip((starter, joiner), photos, strict=True):
         assert phone.upload(photo, "photo.png").status_code == 200
-    assert seeker.tap(landmarks=taps(IN_PHOTO1), epipole1=BUDDY_IN_PHOTO1).status_code == 200
-    state = buddy.tap(landmarks=taps(IN_PHOTO2))
+    assert starter.tap(landmarks=taps(IN_PHOTO1), friend=BUDDY_IN_PHOTO1).status_code == 200
+    state = joiner.tap(landmarks=taps(IN_PHOTO2))
     assert state.status_code == 200
-    assert state.json()["result"] is not None
+    assert state.json()["answer"] is not None
 
 
 def pictures(client: TestClient, phone: Phone, *, drawn: bool = False) -> list[bytes]:
     """The session's pictures: both stored photos (kept), or both overlays (``drawn``: made
     for each request, never kept)."""
     found = []
-    paths = ("/overlay/seeker", "/overlay/buddy") if drawn else ("/photo/seeker", "/photo/buddy")
+    paths = (
+        ("/overlay/starter", "/overlay/joiner") if drawn else ("/photo/starter", "/photo/joiner")
+    )
     for path in paths:
         response = client.get(phone.url(path), headers=phone.auth)
         assert response.status_code == 200, (path, response.text)
@@ -111,57 +113,64 @@ class Disk:
 @pytest.fixture
 def disk(request: pytest.FixtureRequest, client: TestClient, database_url: str) -> Disk:
     postgres = request.getfixturevalue("postgres") if "postgresql" in database_url else None
-    return Disk(client.app.state.service.store.engine, postgres)  # type: ignore[attr-defined]
+    return Disk(client.app.state.services.database.engine, postgres)  # type: ignore[attr-defined]
 
 
 @pytest.fixture
-def service(client: TestClient) -> SessionService:
-    found: SessionService = client.app.state.service  # type: ignore[attr-defined]
+def services(client: TestClient) -> Services:
+    found: Services = client.app.state.services  # type: ignore[attr-defined]
     return found
+
+
+def sweep(services: Services) -> list[str]:
+    """One round of the sweeper: expired sessions deleted, deleted bytes erased."""
+    gone = services.pairing.sweep()
+    services.eraser.erase_deleted()
+    return gone
 
 
 def other_session(client: TestClient, photo: bytes) -> tuple[Phone, bytes]:
     """A second search, still going, with a photo: what erasing must leave alone."""
     created = client.post("/api/sessions").json()
-    phone = Phone(client, created["session_id"], created["token"], "seeker")
+    phone = Phone(client, created["session_id"], created["token"], "starter")
     assert phone.upload(photo, "photo.png").status_code == 200
-    stored = client.get(phone.url("/photo/seeker"), headers=phone.auth).content
+    stored = client.get(phone.url("/photo/starter"), headers=phone.auth).content
     return phone, stored
 
 
 def test_a_deleted_session_leaves_no_picture_in_the_database_files(
     client: TestClient,
-    seeker: Phone,
-    buddy: Phone,
+    starter: Phone,
+    joiner: Phone,
     temple_photos: tuple[bytes, bytes],
     disk: Disk,
-    service: SessionService,
+    services: Services,
     database_url: str,
 ) -> None:
     # A photo replaced by another: the first one's bytes must go too.
-    assert seeker.upload(variant(temple_photos[0], 1), "first.png").status_code == 200
-    replaced = client.get(seeker.url("/photo/seeker"), headers=seeker.auth).content
-    answered(seeker, buddy, temple_photos)
-    kept = pictures(client, seeker)
+    assert starter.upload(variant(temple_photos[0], 1), "first.png").status_code == 200
+    replaced = client.get(starter.url("/photo/starter"), headers=starter.auth).content
+    answered(starter, joiner, temple_photos)
+    kept = pictures(client, starter)
     # Another search uploaded after this one's, so that this one's rows are not simply the
     # end of each table (which any VACUUM cuts off).
     _, other = other_session(client, variant(temple_photos[0], 2))
-    crop = client.get(seeker.url("/landmarks/buddy/3/crop"), headers=seeker.auth).content
+    crop = client.get(starter.url("/landmarks/joiner/3/crop"), headers=starter.auth).content
 
     for picture in [replaced, *kept, other]:
         assert disk.holds(picture) >= 12  # the search finds what is there
     # Crops and overlays are made from the photo for each request, and never kept.
-    for picture in [crop, *pictures(client, seeker, drawn=True)]:
+    for picture in [crop, *pictures(client, starter, drawn=True)]:
         assert disk.holds(picture) == 0
 
-    assert client.delete(seeker.url(), headers=seeker.auth).status_code == 204
+    assert client.delete(starter.url(), headers=starter.auth).status_code == 204
     if "sqlite" in database_url:  # within seconds, by the eraser (off the request)
         deadline = time.monotonic() + 10 * ERASE_SECONDS
         while any(disk.holds(p) for p in [replaced, *kept]) and time.monotonic() < deadline:
             time.sleep(0.1)
         for picture in [replaced, *kept]:
             assert disk.holds(picture) == 0
-    service.sweep()  # PostgreSQL: by the next sweep
+    sweep(services)  # PostgreSQL: by the next sweep
     for picture in [replaced, *kept]:
         assert disk.holds(picture) == 0
     assert disk.holds(other) >= 12
@@ -169,21 +178,21 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
 
 def test_an_expired_session_leaves_no_picture_in_the_database_files(
     client: TestClient,
-    seeker: Phone,
-    buddy: Phone,
+    starter: Phone,
+    joiner: Phone,
     temple_photos: tuple[bytes, bytes],
     disk: Disk,
-    service: SessionService,
+    services: Services,
     clock: FakeClock,
 ) -> None:
-    answered(seeker, buddy, temple_photos)
-    kept = pictures(client, buddy)
+    answered(starter, joiner, temple_photos)
+    kept = pictures(client, joiner)
     clock.advance(3600)
     _, other = other_session(client, variant(temple_photos[0], 3))  # an hour younger
     for picture in [*kept, other]:
         assert disk.holds(picture) >= 12
     clock.advance(3601)
-    assert service.sweep() == [seeker.session_id]
+    assert sweep(services) == [starter.session_id]
     for picture in kept:
         assert disk.holds(picture) == 0
     assert disk.holds(other) >= 12
@@ -209,13 +218,13 @@ GPS_PHOTO, GPS_EXIF = photo_with_gps()
 
 
 def test_no_exif_or_gps_reaches_the_stored_photo(
-    client: TestClient, seeker: Phone, buddy: Phone, disk: Disk
+    client: TestClient, starter: Phone, joiner: Phone, disk: Disk
 ) -> None:
     upload, exif = GPS_PHOTO, GPS_EXIF
     assert Image.open(io.BytesIO(upload)).getexif().get_ifd(ExifTags.IFD.GPSInfo)  # it has GPS
     assert exif in upload
-    assert seeker.upload(upload).status_code == 200
-    stored = client.get(buddy.url("/photo/seeker"), headers=buddy.auth).content  # as shown
+    assert starter.upload(upload).status_code == 200
+    stored = client.get(joiner.url("/photo/starter"), headers=joiner.auth).content  # as shown
     image = Image.open(io.BytesIO(stored))
     assert image.format == "JPEG"
     assert dict(image.getexif()) == {}
@@ -231,7 +240,7 @@ def test_no_exif_or_gps_reaches_the_stored_photo(
 
 # The test's own HTTP client (TestClient is httpx) logs the URLs it requests; the server
 # does not use it.
-CLIENT_LOGGERS = ("httpx", "httpcore")
+CLIENT_LOGGERS = ("httpx2", "httpcore2")
 
 
 @pytest.fixture
@@ -259,7 +268,7 @@ def logged(caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch) ->
 
 def test_logs_hold_no_token_code_or_position(
     client: TestClient,
-    service: SessionService,
+    services: Services,
     clock: FakeClock,
     logged: Callable[[], str],
     temple_photos: tuple[bytes, bytes],
@@ -270,27 +279,28 @@ def test_logs_hold_no_token_code_or_position(
     wrong = f"{(int(code) + 1) % 10**8:08d}"
     assert client.post("/api/sessions/join", json={"code": wrong}).status_code == 404
     joined = client.post("/api/sessions/join", json={"code": code}).json()
-    seeker = Phone(client, created["session_id"], created["token"], "seeker")
-    buddy = Phone(client, joined["session_id"], joined["token"], "buddy")
-    assert seeker.upload(GPS_PHOTO).status_code == 200
-    assert seeker.upload(temple_photos[0], "photo.png").status_code == 200
-    assert buddy.upload(temple_photos[1], "photo.png").status_code == 200
+    starter = Phone(client, created["session_id"], created["token"], "starter")
+    joiner = Phone(client, joined["session_id"], joined["token"], "joiner")
+    assert starter.upload(GPS_PHOTO).status_code == 200
+    assert starter.upload(temple_photos[0], "photo.png").status_code == 200
+    assert joiner.upload(temple_photos[1], "photo.png").status_code == 200
     # Positions nobody else would write: taps with three decimals.
     photo1 = [(x + 0.417, y + 0.583) for x, y in IN_PHOTO1]
     photo2 = [(x + 0.271, y + 0.829) for x, y in IN_PHOTO2]
-    assert seeker.tap(landmarks=taps(photo1), epipole1=(523.613, 384.347)).status_code == 200
-    state = buddy.tap(landmarks=taps(photo2)).json()
-    position = state["result"]["epipole2"]
-    for path in ("/overlay/buddy", "/landmarks/seeker/2/crop", "/photo/buddy"):
-        answer = client.get(buddy.url(path), params={"token": buddy.token})
+    assert starter.tap(landmarks=taps(photo1), friend=(523.613, 384.347)).status_code == 200
+    state = joiner.tap(landmarks=taps(photo2)).json()
+    position = state["answer"]["in_photo"]["joiner"]["friend"]
+    for path in ("/overlay/joiner", "/landmarks/starter/2/crop", "/photo/joiner"):
+        answer = client.get(joiner.url(path), params={"token": joiner.token})
         assert answer.status_code == 200
     # An unexpected error on a URL with ?token=: logged with the route, not the URL.
-    monkeypatch.setattr(service, "overlay", lambda *_: 1 / 0)
-    failed = client.get(seeker.url("/overlay/seeker"), params={"token": seeker.token})
+    monkeypatch.setattr(services.taps, "overlay", lambda *_: 1 / 0)
+    failed = client.get(starter.url("/overlay/starter"), params={"token": starter.token})
     assert failed.status_code == 500
     monkeypatch.undo()
     clock.advance(7201)
-    asyncio.run(run_for(sweep_forever(service, 3600), seconds=1))  # logs what it deleted
+    sweeper = sweep_forever(services.pairing, services.eraser, 3600)
+    asyncio.run(run_for(sweeper, seconds=1))  # logs what it deleted
 
     written = logged()
     assert "ZeroDivisionError" in written  # records were captured, tracebacks included

@@ -13,16 +13,24 @@ from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
-import httpx
-import numpy as np
+import httpx2
 import psycopg
 import pytest
-from phones import PAIR, HttpPhone, Listener, follow, landmarks, pair, scene_taps
+from phones import (
+    PAIR,
+    HttpPhone,
+    Listener,
+    follow,
+    in_region,
+    landmarks,
+    mark,
+    pair,
+    scene_taps,
+)
 from postgres import PostgresServer
 
-from backend.loopback import Server, serve
 from backend.storage.database import database_url
-from shared_solver.estimation.uncertainty import contains
+from testbed.loopback import Server, serve
 from testbed.scenes import Scene
 
 # Streams read the event table only when woken or every 30 s, and ping every 20 s: an
@@ -45,21 +53,21 @@ def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, 
 
 
 def photos_and_taps_cross(
-    seeker: HttpPhone, buddy: HttpPhone, seeker_events: Listener, buddy_events: Listener
+    starter: HttpPhone, joiner: HttpPhone, starter_events: Listener, joiner_events: Listener
 ) -> tuple[Scene, dict[str, Any]]:
     """Both photos and both tap sets, each phone on its own process: each change reaches
-    the other phone's stream within CROSSING_SECONDS. The scene, and the buddy's state with
-    the answer (computed in the buddy's process)."""
-    seeker.upload(PAIR[0])
-    buddy_events.wait_for("photo", role="seeker", seconds=CROSSING_SECONDS)
-    buddy.upload(PAIR[1])
-    seeker_events.wait_for("photo", role="buddy", seconds=CROSSING_SECONDS)
+    the other phone's stream within CROSSING_SECONDS. The scene, and the joiner's state with
+    the answer (computed in the joiner's process)."""
+    starter.upload(PAIR[0])
+    joiner_events.wait_for("photo", role="starter", seconds=CROSSING_SECONDS)
+    joiner.upload(PAIR[1])
+    starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     scene, taps = scene_taps()
-    seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
-    buddy_events.wait_for("taps", role="seeker", seconds=CROSSING_SECONDS)
-    state = buddy.tap(landmarks=landmarks(taps.landmarks2))
-    seeker_events.wait_for("taps", role="buddy", seconds=CROSSING_SECONDS)
-    seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
+    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    joiner_events.wait_for("taps", role="starter", seconds=CROSSING_SECONDS)
+    state = joiner.tap(landmarks=landmarks(taps.landmarks2))
+    starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
+    starter_events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     return scene, state
 
 
@@ -67,18 +75,18 @@ def test_phones_on_two_replicas_find_each_other(
     replicas: tuple[Server, Server], postgres: PostgresServer, fresh_postgres_url: str
 ) -> None:
     one, two = replicas
-    seeker, buddy = pair(one.base_url, two.base_url)
-    seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
+    starter, joiner = pair(one.base_url, two.base_url)
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
 
-    scene, state = photos_and_taps_cross(seeker, buddy, seeker_events, buddy_events)
+    scene, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
 
     # Both replicas tell the same state, drawn from the same photos.
-    result = state["result"]
-    covariance = np.array(result["uncertainty"]["covariance"])
-    assert contains(np.array(result["epipole2"]), covariance, scene.epipole2)
-    assert seeker.state()["result"] == result
+    answer = state["answer"]
+    assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
+    assert starter.state()["answer"] == answer
     assert (
-        seeker.call("GET", "/overlay/buddy").content == buddy.call("GET", "/overlay/buddy").content
+        starter.call("GET", "/overlay/joiner").content
+        == joiner.call("GET", "/overlay/joiner").content
     )
 
     # The control: an event written without a notification waits for the poll (30 s), and
@@ -87,21 +95,21 @@ def test_phones_on_two_replicas_find_each_other(
         database.execute(
             "INSERT INTO events (session_id, type, data, created_at) "
             "VALUES (%s, 'joined', '{\"role\": \"control\"}', now())",
-            (seeker.session_id,),
+            (starter.session_id,),
         )
         time.sleep(CROSSING_SECONDS)
-        assert seeker_events.count("joined", role="control") == 0
-        database.execute("SELECT pg_notify('buddy_events', %s)", (seeker.session_id,))
-        seeker_events.wait_for("joined", role="control", seconds=CROSSING_SECONDS)
+        assert starter_events.count("joined", role="control") == 0
+        database.execute("SELECT pg_notify('buddy_events', %s)", (starter.session_id,))
+        starter_events.wait_for("joined", role="control", seconds=CROSSING_SECONDS)
 
-    # Delete now, on replica 1: the buddy's stream on replica 2 ends at once.
-    assert seeker.call("DELETE").status_code == 204
-    assert buddy_events.ended.wait(CROSSING_SECONDS)
-    assert buddy_events.types[-1] == "expired"
-    assert seeker_events.ended.wait(CROSSING_SECONDS)
-    assert seeker_events.ids == sorted(seeker_events.ids)
-    assert not seeker_events.dropped
-    assert not buddy_events.dropped
+    # Delete now, on replica 1: the joiner's stream on replica 2 ends at once.
+    assert starter.call("DELETE").status_code == 204
+    assert joiner_events.ended.wait(CROSSING_SECONDS)
+    assert joiner_events.types[-1] == "expired"
+    assert starter_events.ended.wait(CROSSING_SECONDS)
+    assert starter_events.ids == sorted(starter_events.ids)
+    assert not starter_events.dropped
+    assert not joiner_events.dropped
 
 
 def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path) -> None:
@@ -114,74 +122,75 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
         for name in ("worker1", "worker2"):
             (tmp_path / name).mkdir()
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
-        seeker, buddy = pair(*(server.base_url for server in servers))
-        seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
-        _, state = photos_and_taps_cross(seeker, buddy, seeker_events, buddy_events)
-        assert seeker.state()["result"] == state["result"]
-        assert seeker.call("DELETE").status_code == 204
-        assert buddy_events.ended.wait(CROSSING_SECONDS)
-        assert buddy_events.types[-1] == "expired"
-        assert not seeker_events.dropped
-        assert not buddy_events.dropped
+        starter, joiner = pair(servers[0].base_url, servers[1].base_url)
+        starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
+        _, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
+        assert starter.state()["answer"] == state["answer"]
+        assert starter.call("DELETE").status_code == 204
+        assert joiner_events.ended.wait(CROSSING_SECONDS)
+        assert joiner_events.types[-1] == "expired"
+        assert not starter_events.dropped
+        assert not joiner_events.dropped
 
 
 def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
     one, two = replicas
-    seeker, buddy = pair(one.base_url, two.base_url)
-    seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
-    seeker.upload(PAIR[0])
-    buddy.upload(PAIR[1])
+    starter, joiner = pair(one.base_url, two.base_url)
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
+    starter.upload(PAIR[0])
+    joiner.upload(PAIR[1])
     scene, taps = scene_taps()
-    seeker_taps = {"landmarks": landmarks(taps.landmarks1), "epipole1": taps.epipole1.tolist()}
-    seeker.tap(**seeker_taps)
-    buddy.tap(landmarks=landmarks(taps.landmarks2[:3]))  # the buddy is still tapping
-    seeker_events.wait_for("taps", role="buddy", seconds=CROSSING_SECONDS)
-    before = seeker.state()
-    photos = [seeker.call("GET", f"/photo/{role}").content for role in ("seeker", "buddy")]
+    starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)}
+    starter.tap(**starter_taps)
+    joiner.tap(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
+    starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
+    before = starter.state()
+    photos = [starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")]
 
     os.kill(one.pid, signal.SIGKILL)  # no shutdown, no goodbye
-    assert seeker_events.ended.wait(10)
-    assert seeker_events.dropped
+    assert starter_events.ended.wait(10)
+    assert starter_events.dropped
 
-    # The seeker's phone reconnects to replica 2 with the same token, from its last event.
-    seeker.base = two.base_url
-    after = seeker.state()
+    # The starter's phone reconnects to replica 2 with the same token, from its last event.
+    starter.base = two.base_url
+    after = starter.state()
     assert after["photos"] == before["photos"]
-    assert [seeker.call("GET", f"/photo/{role}").content for role in ("seeker", "buddy")] == photos
+    assert [
+        starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")
+    ] == photos
     assert after["taps"] == before["taps"]
-    assert after["taps"]["seeker"]["landmarks"] == seeker_taps["landmarks"]
+    assert after["taps"]["starter"]["landmarks"] == starter_taps["landmarks"]
     assert after["version"] == before["version"]
-    resumed = seeker.listen(last_event_id=seeker_events.ids[-1])
-    resumed.wait_for("joined", role="seeker", online=True)
+    resumed = starter.listen(last_event_id=starter_events.ids[-1])
+    resumed.wait_for("joined", role="starter", online=True)
 
-    state = buddy.tap(landmarks=landmarks(taps.landmarks2))  # the buddy finishes
-    resumed.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
-    result = seeker.state()["result"]
-    covariance = np.array(result["uncertainty"]["covariance"])
-    assert contains(np.array(result["epipole2"]), covariance, scene.epipole2)
-    # The buddy's stream on replica 2 never noticed: still the same connection.
-    buddy_events.wait_for("result", version=state["version"])
-    assert not buddy_events.dropped
-    assert not buddy_events.ended.is_set()
-    end(seeker, resumed, buddy_events)
+    state = joiner.tap(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
+    resumed.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
+    answer = starter.state()["answer"]
+    assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
+    # The joiner's stream on replica 2 never noticed: still the same connection.
+    joiner_events.wait_for("answer", version=state["version"])
+    assert not joiner_events.dropped
+    assert not joiner_events.ended.is_set()
+    end(starter, resumed, joiner_events)
 
 
 def test_postgresql_restarted_mid_search(
     replicas: tuple[Server, Server], postgres: PostgresServer
 ) -> None:
     one, two = replicas
-    seeker, buddy = pair(one.base_url, two.base_url)
-    seeker_events, buddy_events = follow(seeker, buddy, CROSSING_SECONDS)
-    seeker.upload(PAIR[0])
-    buddy.upload(PAIR[1])
+    starter, joiner = pair(one.base_url, two.base_url)
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
+    starter.upload(PAIR[0])
+    joiner.upload(PAIR[1])
     scene, taps = scene_taps()
-    seeker.tap(landmarks=landmarks(taps.landmarks1), epipole1=taps.epipole1.tolist())
-    buddy_events.wait_for("taps", role="seeker")
+    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    joiner_events.wait_for("taps", role="starter")
 
     postgres.stop()
     try:
-        for replica, phone in ((one, seeker), (two, buddy)):
-            health = httpx.get(f"{replica.base_url}/healthz", timeout=10)
+        for replica, phone in ((one, starter), (two, joiner)):
+            health = httpx2.get(f"{replica.base_url}/healthz", timeout=10)
             refused = phone.call("PUT", "/taps", json={"landmarks": []})
             for answer in (health, phone.call("GET"), refused):
                 assert answer.status_code == 503, answer.text
@@ -192,19 +201,15 @@ def test_postgresql_restarted_mid_search(
     for replica in (one, two):  # back by themselves, neither restarted
         wait_until_healthy(replica)
         os.kill(replica.pid, 0)  # still the same process
-    state = buddy.tap(landmarks=landmarks(taps.landmarks2))
-    seeker_events.wait_for("result", version=state["version"], seconds=CROSSING_SECONDS)
-    assert seeker.state()["result"] == state["result"]
-    assert contains(
-        np.array(state["result"]["epipole2"]),
-        np.array(state["result"]["uncertainty"]["covariance"]),
-        scene.epipole2,
-    )
+    state = joiner.tap(landmarks=landmarks(taps.landmarks2))
+    starter_events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
+    assert starter.state()["answer"] == state["answer"]
+    assert in_region(state["answer"]["in_photo"]["joiner"]["region"], scene.epipole2)
     # The streams lived through it: the same connections, no reconnection.
-    for events in (seeker_events, buddy_events):
+    for events in (starter_events, joiner_events):
         assert not events.dropped
         assert not events.ended.is_set()
-    end(buddy, seeker_events, buddy_events)
+    end(joiner, starter_events, joiner_events)
 
 
 def end(phone: HttpPhone, *streams: Listener) -> None:
@@ -217,7 +222,7 @@ def end(phone: HttpPhone, *streams: Listener) -> None:
 
 def wait_until_healthy(replica: Server, seconds: float = 20) -> None:
     deadline = time.monotonic() + seconds
-    while httpx.get(f"{replica.base_url}/healthz", timeout=10).status_code != 200:
+    while httpx2.get(f"{replica.base_url}/healthz", timeout=10).status_code != 200:
         assert time.monotonic() < deadline, f"{replica.base_url} did not recover"
         time.sleep(0.1)
 

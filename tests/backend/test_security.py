@@ -8,24 +8,22 @@ from __future__ import annotations
 
 import base64
 import hashlib
-import hmac
 import re
 from pathlib import Path
 from typing import Any
 
-import httpx
+import httpx2
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
 from phones import FakeClock, Phone
 
-from backend.loopback import serve
 from backend.main import create_app
+from backend.pairing import guessing
+from backend.pairing.guessing import client_key
 from backend.security import APP_POLICY
-from backend.sessions import guessing
-from backend.sessions.guessing import client_key
 from backend.settings import Settings
-from backend.storage import repository
+from testbed.loopback import serve
 
 PER_CLIENT = 5
 OVERALL = 12
@@ -59,11 +57,11 @@ def wrong_code(*right: str) -> str:
     return next(f"{n:04d}0000" for n in range(10_000) if f"{n:04d}" not in numbers)
 
 
-def error_of(response: httpx.Response) -> str:
+def error_of(response: httpx2.Response) -> str:
     return str(response.json()["error"]["code"])
 
 
-def join(client: TestClient, code: str) -> httpx.Response:
+def join(client: TestClient, code: str) -> httpx2.Response:
     return client.post("/api/sessions/join", json={"code": code})
 
 
@@ -97,7 +95,7 @@ def test_an_address_that_keeps_guessing_is_stopped_even_with_the_right_code(
 def test_right_codes_never_count_so_a_crowd_behind_one_address_joins(
     client: TestClient,
 ) -> None:
-    """A stadium behind one carrier address: many buddies joining, a few typos."""
+    """A stadium behind one carrier address: many joiners joining, a few typos."""
     codes = [new_code(client) for _ in range(3 * PER_CLIENT)]
     for n, code in enumerate(codes):
         if n % 4 == 0:  # a typo now and then, under the limit
@@ -119,30 +117,30 @@ def same_search(code: str, n: int) -> str:
     return code[:4] + f"{(int(code[4:]) + 1 + n) % 10_000:04d}"
 
 
-def seeker_state(client: TestClient, created: dict[str, Any]) -> dict[str, Any]:
-    return Phone(client, created["session_id"], created["token"], "seeker").state()
+def starter_state(client: TestClient, created: dict[str, Any]) -> dict[str, Any]:
+    return Phone(client, created["session_id"], created["token"], "starter").state()
 
 
 def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
     client: TestClient, app: FastAPI
 ) -> None:
     """A guesser who knows (or hit) a search's number gets five tries at its secret, from
-    however many addresses: then the code is a new one, shown on the seeker's phone."""
+    however many addresses: then the code is a new one, shown on the starter's phone."""
     created = client.post("/api/sessions").json()
     code = created["join_code"]
     for n in range(5):  # each from its own address: no address reaches its own limit
         guesser = from_address(app, f"198.51.100.{n}")
         assert error_of(join(guesser, same_search(code, n))) == "invalid_join_code"
     assert error_of(join(from_address(app, "192.0.2.1"), code)) == "invalid_join_code"
-    state = seeker_state(client, created)
+    state = starter_state(client, created)
     renewed = state["join_code"]
     assert re.fullmatch(r"[0-9]{8}", renewed)
     assert renewed != code
     assert state["join_code_renewals"] == 1
     assert state["join_url"].endswith(f"/join/{renewed}")
     assert state["version"] == 2  # a change the phone is told of, with its own event
-    service = client.app.state.service  # type: ignore[attr-defined]
-    assert [e.type for e in service.store.events_after(created["session_id"], 0)] == ["code"]
+    log = client.app.state.services.streams.log  # type: ignore[attr-defined]
+    assert [e.type for e in log.events_after(created["session_id"], 0)] == ["code"]
     joined = join(from_address(app, "192.0.2.2"), renewed)
     assert joined.status_code == 200, joined.text
 
@@ -151,24 +149,24 @@ def test_a_renewal_that_draws_only_taken_codes_ends_the_code(
     client: TestClient, app: FastAPI, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Never two sessions with one code: if every code drawn is taken (impossible but for
-    a broken generator), the code ends, and the seeker's phone offers a new search."""
+    a broken generator), the code ends, and the starter's phone offers a new search."""
     taken = new_code(client)
     created = client.post("/api/sessions").json()
     monkeypatch.setattr(guessing, "new_join_code", lambda: taken)
     for n in range(5):
         join(from_address(app, f"198.51.100.{n}"), same_search(created["join_code"], n))
-    state = seeker_state(client, created)
+    state = starter_state(client, created)
     assert (state["join_code"], state["join_code_renewals"]) == (None, 1)
     assert join(client, taken).status_code == 200  # still the other session's
 
 
 def test_fewer_wrong_codes_leave_the_code_as_it_is(client: TestClient, app: FastAPI) -> None:
-    """A buddy's typos (four, in the secret) do not cost them the code."""
+    """A joiner's typos (four, in the secret) do not cost them the code."""
     created = client.post("/api/sessions").json()
     code = created["join_code"]
     for n in range(4):
         assert join(from_address(app, f"198.51.100.{n}"), same_search(code, n)).status_code == 404
-    state = seeker_state(client, created)
+    state = starter_state(client, created)
     assert (state["join_code"], state["join_code_renewals"]) == (code, 0)
     assert join(client, code).status_code == 200
 
@@ -181,18 +179,18 @@ def test_wrong_codes_of_other_searches_do_not_count_against_a_code(
     wrong = wrong_code(code)
     for n in range(6):
         assert join(from_address(app, f"198.51.100.{n}"), wrong).status_code == 404
-    state = seeker_state(client, created)
+    state = starter_state(client, created)
     assert (state["join_code"], state["join_code_renewals"]) == (code, 0)
 
 
-def test_the_buddy_never_sees_the_code_or_its_renewals(client: TestClient, app: FastAPI) -> None:
+def test_the_joiner_never_sees_the_code_or_its_renewals(client: TestClient, app: FastAPI) -> None:
     created = client.post("/api/sessions").json()
     for n in range(5):
         join(from_address(app, f"198.51.100.{n}"), same_search(created["join_code"], n))
-    renewed = seeker_state(client, created)["join_code"]
+    renewed = starter_state(client, created)["join_code"]
     joined = join(client, renewed).json()
-    buddy = Phone(client, joined["session_id"], joined["token"], "buddy")
-    state = buddy.state()
+    joiner = Phone(client, joined["session_id"], joined["token"], "joiner")
+    state = joiner.state()
     assert (state["join_code"], state["join_code_renewals"]) == (None, 0)
 
 
@@ -222,7 +220,7 @@ def test_client_addresses_are_counted_as_subscribers() -> None:
 def test_guessing_from_many_addresses_leaves_one_guess_each(
     client: TestClient, app: FastAPI
 ) -> None:
-    """Above the overall limit an address that has failed waits; a fresh one (a buddy
+    """Above the overall limit an address that has failed waits; a fresh one (a joiner
     typing a code for the first time) may still try."""
     code = new_code(client)
     wrong = wrong_code(code)
@@ -259,18 +257,18 @@ def test_failures_are_forgotten_after_the_window(client: TestClient, clock: Fake
     wrong = wrong_code()
     for _ in range(3):
         join(client, wrong)
-    service = client.app.state.service  # type: ignore[attr-defined]
-    engine = service.store.engine
+    services = client.app.state.services  # type: ignore[attr-defined]
+    engine = services.database.engine
 
     def kept() -> int:
         with engine.connect() as connection:
             count = connection.exec_driver_sql("SELECT COUNT(*) FROM join_failures").scalar()
         return int(count)
 
-    service.sweep()
+    services.pairing.sweep()
     assert kept() == 3
     clock.advance(600)
-    service.sweep()
+    services.pairing.sweep()
     assert kept() == 0
 
 
@@ -279,7 +277,7 @@ def test_a_proxys_forwarded_address_is_the_one_counted(tmp_path: Path) -> None:
     the one the proxy forwards, not the proxy's own: else one guesser would stop everyone
     behind the proxy, and could not be told apart."""
     env = {"BUDDY_JOIN_FAILURES_PER_CLIENT": "2"}
-    with serve(tmp_path, env) as server, httpx.Client(base_url=server.base_url) as http:
+    with serve(tmp_path, env) as server, httpx2.Client(base_url=server.base_url) as http:
         code = http.post("/api/sessions").json()["join_code"]
         wrong = wrong_code(code)
 
@@ -306,21 +304,23 @@ def test_tokens_are_256_random_bits(client: TestClient) -> None:
         assert len(base64.urlsafe_b64decode(token + "=")) == 32
 
 
-def test_a_token_is_checked_in_constant_time(
-    client: TestClient, seeker: Phone, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """The row found by the token's hash is compared again with hmac.compare_digest."""
-    compared: list[tuple[Any, Any]] = []
-    constant_time = hmac.compare_digest
-
-    def compare_digest(a: Any, b: Any) -> bool:
-        compared.append((a, b))
-        return constant_time(a, b)
-
-    monkeypatch.setattr(repository.hmac, "compare_digest", compare_digest)
-    assert client.get(seeker.url(), headers=seeker.auth).status_code == 200
-    digest = hashlib.sha256(seeker.token.encode()).hexdigest()
-    assert compared == [(digest, digest)]
+def test_only_the_exact_token_opens_a_session(client: TestClient, starter: Phone) -> None:
+    """A token one character off, a prefix of it, or the hash the database keeps opens
+    nothing: the token itself is the only key (compared as a whole, by its hash)."""
+    assert client.get(starter.url(), headers=starter.auth).status_code == 200
+    token = starter.token
+    flip = dict(zip("Aa0_-", "Bb1-_", strict=True))
+    near_misses = [
+        token[:i] + flip.get(token[i], "A") + token[i + 1 :]
+        for i in (0, len(token) // 2, len(token) - 1)
+    ]
+    stored = hashlib.sha256(token.encode()).hexdigest()
+    for wrong in [*near_misses, token[:-1], token + "A", stored, token.upper()]:
+        if wrong == token:
+            continue
+        answer = client.get(starter.url(), headers={"Authorization": f"Bearer {wrong}"})
+        assert answer.status_code == 401, wrong
+        assert answer.json()["error"]["code"] == "unauthorized"
 
 
 # --- headers --------------------------------------------------------------------------
@@ -361,15 +361,15 @@ def test_every_answer_carries_the_security_headers(
 
 
 def test_an_unexpected_error_carries_them_too(
-    client: TestClient, seeker: Phone, monkeypatch: pytest.MonkeyPatch
+    client: TestClient, starter: Phone, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """A 500 is answered by Starlette's outermost middleware, outside the others."""
 
     def bug(*_: object) -> None:
         raise RuntimeError("a bug")
 
-    monkeypatch.setattr(client.app.state.service, "state", bug)  # type: ignore[attr-defined]
-    answer = client.get(seeker.url(), headers=seeker.auth)
+    monkeypatch.setattr(client.app.state.services.state, "state", bug)  # type: ignore[attr-defined]
+    answer = client.get(starter.url(), headers=starter.auth)
     assert answer.status_code == 500
     assert answer.json()["error"]["code"] == "internal_error"
     for name, value in EVERYWHERE.items():
@@ -388,20 +388,20 @@ def test_the_app_policy_allows_only_the_apps_own_files() -> None:
 
 
 def test_state_and_pictures_are_not_kept_by_caches(
-    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The state holds the join code: no cache keeps it. Pictures may stay in the phone's
     own cache, never in a shared one."""
-    assert client.get(seeker.url(), headers=seeker.auth).headers["cache-control"] == "no-store"
-    assert buddy.upload(temple_photos[1], "photo.png").status_code == 200
-    picture = client.get(seeker.url("/photo/buddy"), params={"token": seeker.token})
+    assert client.get(starter.url(), headers=starter.auth).headers["cache-control"] == "no-store"
+    assert joiner.upload(temple_photos[1], "photo.png").status_code == 200
+    picture = client.get(starter.url("/photo/joiner"), params={"token": starter.token})
     assert picture.headers["cache-control"] == "private"
 
 
 def test_https_answers_say_to_stay_on_https(app: FastAPI) -> None:
     """Directly over HTTPS, or through a trusted proxy's X-Forwarded-Proto (uvicorn's
     --proxy-headers turns that into the request's scheme)."""
-    with TestClient(app, base_url="https://buddy.example") as secure:
+    with TestClient(app, base_url="https://joiner.example") as secure:
         answer = secure.get("/api/version")
     assert answer.headers["strict-transport-security"] == "max-age=31536000"
 
@@ -428,10 +428,10 @@ def test_the_docs_allow_their_one_inline_script_by_its_hash(client: TestClient) 
 
 
 @pytest.mark.parametrize("method", ["POST", "GET", "PUT", "DELETE"])
-def test_no_other_origin_is_let_in(client: TestClient, seeker: Phone, method: str) -> None:
+def test_no_other_origin_is_let_in(client: TestClient, starter: Phone, method: str) -> None:
     origin = {"Origin": "https://evil.example"}
     preflight = client.options(
-        seeker.url(),
+        starter.url(),
         headers={
             **origin,
             "Access-Control-Request-Method": method,
@@ -443,5 +443,5 @@ def test_no_other_origin_is_let_in(client: TestClient, seeker: Phone, method: st
     simple = client.post("/api/sessions", headers=origin)
     assert simple.status_code == 201  # a browser would not let the other origin read it:
     assert not any(name.startswith("access-control-") for name in simple.headers)
-    state = client.get(seeker.url(), headers={**origin, **seeker.auth})
+    state = client.get(starter.url(), headers={**origin, **starter.auth})
     assert not any(name.startswith("access-control-") for name in state.headers)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import zlib
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -9,16 +10,17 @@ from pathlib import Path
 from typing import Any
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, Phone
+from phones import TEMPLE, FakeClock, Phone, in_region
+from PIL import ExifTags, Image
 from sqlalchemy import text
 
-from backend.sessions.tokens import token_hash
+from backend.pairing.tokens import token_hash
+from backend.participants import ROLES
 from backend.storage.tables import Base
-from shared_solver.estimation.uncertainty import contains
 from testbed.scenes import Scene, temple_scene
 
 
@@ -45,11 +47,11 @@ def landmarks(points: np.ndarray, ids: list[int] | None = None) -> list[dict[str
     return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
 
 
-def photos_uploaded(seeker: Phone, buddy: Phone, photos: tuple[bytes, bytes]) -> None:
-    for phone, photo in zip((seeker, buddy), photos, strict=True):
+def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> None:
+    for phone, photo in zip((starter, joiner), photos, strict=True):
         stored = phone.upload(photo, "photo.png")
         assert stored.status_code == 200, stored.text
-        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0}
+        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
 
 
 # --- pairing --------------------------------------------------------------------------
@@ -59,7 +61,7 @@ def test_a_session_starts_with_a_code_and_a_link(client: TestClient) -> None:
     created = client.post("/api/sessions")
     assert created.status_code == 201
     body = created.json()
-    assert body["role"] == "seeker"
+    assert body["role"] == "starter"
     assert len(body["join_code"]) == 8
     assert body["join_code"].isdigit()
     assert body["join_url"].endswith(f"/join/{body['join_code']}")
@@ -67,28 +69,28 @@ def test_a_session_starts_with_a_code_and_a_link(client: TestClient) -> None:
     assert body["expires_at"] > body["join_code_expires_at"]
 
 
-def test_the_buddy_joins_once_and_a_third_phone_is_refused(
-    client: TestClient, seeker: Phone
+def test_the_friend_joins_once_and_a_third_phone_is_refused(
+    client: TestClient, starter: Phone
 ) -> None:
-    code = seeker.state()["join_code"]
+    code = starter.state()["join_code"]
     first = client.post("/api/sessions/join", json={"code": code})
     assert first.status_code == 200
-    assert first.json()["role"] == "buddy"
-    assert first.json()["session_id"] == seeker.session_id
+    assert first.json()["role"] == "joiner"
+    assert first.json()["session_id"] == starter.session_id
     third = client.post("/api/sessions/join", json={"code": code})
     assert third.status_code == 404
     assert error_of(third) == "invalid_join_code"
-    state = seeker.state()
-    assert state["participants"]["buddy"]["joined"] is True
+    state = starter.state()
+    assert state["participants"]["joiner"]["joined"] is True
     assert state["join_code"] is None
 
 
-def test_join_codes_expire(client: TestClient, seeker: Phone, clock: FakeClock) -> None:
-    state = seeker.state()
+def test_join_codes_expire(client: TestClient, starter: Phone, clock: FakeClock) -> None:
+    state = starter.state()
     code = state["join_code"]
     assert state["join_code_expires_at"].startswith("2026-11-21T20:10:00")  # 10 minutes
     clock.advance(601)
-    assert seeker.state()["join_code"] is None
+    assert starter.state()["join_code"] is None
     late = client.post("/api/sessions/join", json={"code": code})
     assert late.status_code == 404
     assert error_of(late) == "invalid_join_code"
@@ -109,20 +111,20 @@ def test_malformed_join_codes_are_refused(client: TestClient, code: str) -> None
 # --- who may do what ------------------------------------------------------------------
 
 
-def test_a_token_opens_only_its_own_session(client: TestClient, seeker: Phone) -> None:
+def test_a_token_opens_only_its_own_session(client: TestClient, starter: Phone) -> None:
     other = client.post("/api/sessions").json()
-    response = client.get(seeker.url(), headers={"Authorization": f"Bearer {other['token']}"})
+    response = client.get(starter.url(), headers={"Authorization": f"Bearer {other['token']}"})
     assert response.status_code == 403
     assert error_of(response) == "forbidden"
-    missing = client.get(seeker.url())
+    missing = client.get(starter.url())
     assert missing.status_code == 401
     assert error_of(missing) == "unauthorized"
-    wrong = client.get(seeker.url(), headers={"Authorization": "Bearer not-a-token"})
+    wrong = client.get(starter.url(), headers={"Authorization": "Bearer not-a-token"})
     assert wrong.status_code == 401
 
 
-def test_tokens_are_stored_hashed(client: TestClient, seeker: Phone) -> None:
-    engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
+def test_tokens_are_stored_hashed(client: TestClient, starter: Phone) -> None:
+    engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
     if engine.dialect.name == "sqlite":  # the file and its write-ahead log, byte for byte
         files = (Path(engine.url.database), Path(f"{engine.url.database}-wal"))
         stored = b"".join(file.read_bytes() for file in files if file.exists())
@@ -134,15 +136,15 @@ def test_tokens_are_stored_hashed(client: TestClient, seeker: Phone) -> None:
                 for row in connection.scalars(text(f"SELECT t::text FROM {table.name} t"))
             ]
         stored = "\n".join(rows).encode()
-    assert token_hash(seeker.token).encode() in stored
-    assert seeker.token.encode() not in stored
+    assert token_hash(starter.token).encode() in stored
+    assert starter.token.encode() not in stored
 
 
 # --- photos and taps ------------------------------------------------------------------
 
 
-def test_taps_need_a_photo_first(seeker: Phone, buddy: Phone) -> None:
-    response = seeker.tap(landmarks=[{"id": 1, "x": 10, "y": 10}])
+def test_taps_need_a_photo_first(starter: Phone, joiner: Phone) -> None:
+    response = starter.tap(landmarks=[{"id": 1, "x": 10, "y": 10}])
     assert response.status_code == 409
     assert error_of(response) == "photo_missing"
 
@@ -150,47 +152,51 @@ def test_taps_need_a_photo_first(seeker: Phone, buddy: Phone) -> None:
 @pytest.mark.parametrize(
     ("role", "taps", "code"),
     [
-        ("seeker", {"landmarks": [{"id": 1, "x": 700, "y": 10}]}, "outside_photo"),
-        ("seeker", {"landmarks": [{"id": 1, "x": 10, "y": -1}]}, "outside_photo"),
-        ("seeker", {"epipole1": [641, 10]}, "outside_photo"),
+        ("starter", {"landmarks": [{"id": 1, "x": 700, "y": 10}]}, "outside_photo"),
+        ("starter", {"landmarks": [{"id": 1, "x": 10, "y": -1}]}, "outside_photo"),
+        ("starter", {"friend": [641, 10]}, "outside_photo"),
+        ("joiner", {"friend": [10, -3]}, "outside_photo"),
         (
-            "seeker",
+            "starter",
             {"landmarks": [{"id": 2, "x": 1, "y": 1}, {"id": 2, "x": 5, "y": 5}]},
             "duplicate_landmark",
         ),
-        ("seeker", {"epipole2": [10, 10]}, "not_your_mark"),
-        ("buddy", {"epipole1": [10, 10]}, "not_your_mark"),
-        ("buddy", {"epipolar_line1": [1, 0, -5]}, "not_your_mark"),
-        ("seeker", {"epipole1": [10, 10], "epipolar_line1": [1, 0, -5]}, "conflicting_inputs"),
-        ("seeker", {"epipolar_line1": [0, 0, 1]}, "invalid_line"),
-        ("seeker", {"landmarks": [{"id": 0, "x": 1, "y": 1}]}, "invalid_request"),
-        ("seeker", {"landmarks": [{"id": 1, "x": "left", "y": 1}]}, "invalid_request"),
-        ("seeker", {"epipole1": [1, 2, 3]}, "invalid_request"),
+        (
+            "joiner",
+            {"friend": [10, 10], "friend_line": {"a": 1, "b": 0, "c": -5}},
+            "conflicting_inputs",
+        ),
+        ("starter", {"friend_line": {"a": 0, "b": 0, "c": 1}}, "invalid_line"),
+        ("joiner", {"friend_line": [1, 0, -5]}, "invalid_request"),
+        ("starter", {"landmarks": [{"id": 0, "x": 1, "y": 1}]}, "invalid_request"),
+        ("starter", {"landmarks": [{"id": 1, "x": "left", "y": 1}]}, "invalid_request"),
+        ("starter", {"friend": {"x": 1, "y": 2, "w": 3}}, "invalid_request"),
+        ("starter", {"epipole1": [1, 2]}, "invalid_request"),
     ],
 )
 def test_bad_taps_are_refused_with_a_code(
-    seeker: Phone,
-    buddy: Phone,
+    starter: Phone,
+    joiner: Phone,
     temple_photos: tuple[bytes, bytes],
     role: str,
     taps: dict[str, Any],
     code: str,
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
-    phone = seeker if role == "seeker" else buddy
+    photos_uploaded(starter, joiner, temple_photos)
+    phone = starter if role == "starter" else joiner
     response = phone.tap(**taps)
     assert response.status_code == 422, response.text
     assert error_of(response) == code
 
 
 def test_non_finite_taps_are_refused(
-    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     raw = b'{"landmarks": [{"id": 1, "x": NaN, "y": 3}]}'
     response = client.put(
-        seeker.url("/taps"),
-        headers={**seeker.auth, "Content-Type": "application/json"},
+        starter.url("/taps"),
+        headers={**starter.auth, "Content-Type": "application/json"},
         content=raw,
     )
     assert response.status_code == 422
@@ -198,162 +204,274 @@ def test_non_finite_taps_are_refused(
 
 
 def test_too_many_landmarks_are_refused(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     many = [{"id": i, "x": i % 600, "y": i % 400} for i in range(1, 66)]
-    response = seeker.tap(landmarks=many)
+    response = starter.tap(landmarks=many)
     assert response.status_code == 422
     assert error_of(response) == "too_many_landmarks"
 
 
 def test_the_answer_follows_the_taps(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    """Phone photos: three landmarks and the buddy give a position (the solver's camera
+    """Phone photos: three landmarks and the joiner give a position (the solver's camera
     model); the counter counts down to it and the answer holds the truth in its region."""
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(6, seed=2)
-    seeker.tap(landmarks=landmarks(s.landmarks1[:2]), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[:2])).json()
-    assert state["result"] is None
+    starter.tap(landmarks=landmarks(s.landmarks1[:2]), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:2])).json()
+    assert state["answer"] is None
     assert state["landmarks_needed"] == 1
 
-    seeker.tap(landmarks=landmarks(s.landmarks1[:3]), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[:3])).json()
-    assert state["result"]["method"] == "pinhole_epipole"
-    assert state["result"]["camera_model"] == "pinhole"
-    assert [camera["known"] for camera in state["result"]["cameras"]] == ["phone", "phone"]
+    starter.tap(landmarks=landmarks(s.landmarks1[:3]), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:3])).json()
+    assert state["answer"]["method"] == "pinhole_epipole"
+    assert state["answer"]["camera_model"] == "pinhole"
+    # No lens told: each photo's focal length estimated from the phone prior.
+    assert all(state["answer"]["in_photo"][role]["focal_35mm"] > 0 for role in ROLES)
+    assert state["photos"]["starter"]["lens"] is None
     assert state["landmarks_needed"] == 0
 
     # Ids match across photos whatever the order they were tapped in.
-    seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[4::-1], [5, 4, 3, 2, 1])).json()
-    result = state["result"]
-    assert result["method"] == "pinhole_epipole"
+    starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[4::-1], [5, 4, 3, 2, 1])).json()
+    answer = state["answer"]
+    assert answer["method"] == "pinhole_epipole"
     assert state["landmarks_needed"] == 0
-    assert state["result_landmark_ids"] == [1, 2, 3, 4, 5]
-    assert contains(
-        np.array(result["epipole2"]), np.array(result["uncertainty"]["covariance"]), s.epipole2
-    )
-    assert state["result_version"] == state["version"]
-    assert seeker.state()["result"] == result  # both phones see the same answer
+    assert answer["landmark_ids"] == [1, 2, 3, 4, 5]
+    # The joiner is told where the starter is in its photo, with a region holding it; the
+    # starter, who marked the joiner, is told where its own mark puts the joiner.
+    joiners = answer["in_photo"]["joiner"]
+    assert joiners["how"] == "solved"
+    assert in_region(joiners["region"], s.epipole2)
+    starters = answer["in_photo"]["starter"]
+    assert starters["how"] == "marked"
+    assert np.linalg.norm(np.array(starters["friend"]) - s.epipole1) < 3.0
+    assert state["answer_version"] == state["version"]
+    assert starter.state()["answer"] == answer  # both phones see the same answer
 
 
 @pytest.mark.parametrize(
     ("marks", "fewest"),
     [
         ({}, 7),  # nothing marked
-        ({"epipolar_line1": "line"}, 6),  # a line through the buddy
-        ({"epipole1": "buddy"}, 3),  # the buddy (5 without the phone cameras)
+        ({"friend_line": "line"}, 6),  # a line through the joiner
+        ({"friend": "joiner"}, 3),  # the joiner (5 without the phone cameras)
     ],
 )
 def test_the_counter_counts_down_to_what_the_solver_needs_from_phones(
-    seeker: Phone,
-    buddy: Phone,
+    starter: Phone,
+    joiner: Phone,
     temple_photos: tuple[bytes, bytes],
     marks: dict[str, str],
     fewest: int,
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(7, seed=5)
     drawn = {
-        "epipole1": list(s.epipole1),
-        "epipolar_line1": [1.0, 0.0, -float(s.epipole1[0])],  # vertical, through the buddy
+        "friend": list(s.epipole1),
+        # vertical, through the joiner
+        "friend_line": {"a": 1.0, "b": 0.0, "c": -float(s.epipole1[0])},
     }
     mark = {name: drawn[name] for name in marks}
-    seeker.tap(landmarks=landmarks(s.landmarks1), **mark)
+    starter.tap(landmarks=landmarks(s.landmarks1), **mark)
     for n in range(fewest):
-        state = buddy.tap(landmarks=landmarks(s.landmarks2[:n])).json()
+        state = joiner.tap(landmarks=landmarks(s.landmarks2[:n])).json()
         assert state["landmarks_needed"] == fewest - n
-        assert state["result"] is None
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[:fewest])).json()
+        assert state["answer"] is None
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:fewest])).json()
     assert state["landmarks_needed"] == 0
-    assert state["result"]["camera_model"] == "pinhole"
+    assert state["answer"]["camera_model"] == "pinhole"
+
+
+def test_either_friend_may_mark_the_other(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The friend who joined sees the one who started and marks them: the starter's phone is
+    told where the joiner is, from the same three landmarks."""
+    photos_uploaded(starter, joiner, temple_photos)
+    s = scene(5, seed=21)
+    starter.tap(landmarks=landmarks(s.landmarks1[:3]))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:3]), friend=list(s.epipole2)).json()
+    answer = state["answer"]
+    assert answer["method"] == "pinhole_epipole"
+    starters, joiners = answer["in_photo"]["starter"], answer["in_photo"]["joiner"]
+    assert (starters["how"], joiners["how"]) == ("solved", "marked")
+    assert in_region(starters["region"], s.epipole1)
+    assert joiners["region"] is None  # the joiner tapped their friend: no region to draw
+    assert starter.state()["answer"] == answer
+
+
+def test_a_line_from_either_phone_and_a_point_from_the_other(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """A line through the friend answers with six landmarks; once the other phone taps its
+    friend as a point, the point answers (three landmarks would do) and the line is not
+    needed."""
+    photos_uploaded(starter, joiner, temple_photos)
+    s = scene(6, seed=22)
+    through = {"a": 0.0, "b": 1.0, "c": -float(s.epipole2[1])}  # level, through the starter
+    starter.tap(landmarks=landmarks(s.landmarks1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2), friend_line=through).json()
+    starters, joiners = (state["answer"]["in_photo"][role] for role in ROLES)
+    assert state["answer"]["method"] == "pinhole_line"
+    assert joiners["how"] == "on_line"
+    assert abs(joiners["friend"][1] - s.epipole2[1]) < 1e-6 * abs(s.epipole2[1]) + 3.0
+    assert np.linalg.norm(np.array(starters["friend"]) - s.epipole1) < 10.0
+    state = starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_epipole"
+    assert state["answer"]["in_photo"]["starter"]["how"] == "marked"
+    assert in_region(state["answer"]["in_photo"]["joiner"]["region"], s.epipole2)
+
+
+def test_each_taps_precision_sizes_the_region(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The same taps said to be ten times less precise give a much larger region (ten times
+    where the taps alone fix the answer; less where the focal-length prior, which does not
+    change, fixes part of it)."""
+    photos_uploaded(starter, joiner, temple_photos)
+    s = scene(8, seed=23)
+    axes = []
+    for sigma in (0.5, 5.0):
+        taps = [{**tap, "sigma": sigma} for tap in landmarks(s.landmarks1)]
+        starter.tap(landmarks=taps, friend={"x": s.epipole1[0], "y": s.epipole1[1], "sigma": sigma})
+        state = joiner.tap(landmarks=[{**t, "sigma": sigma} for t in landmarks(s.landmarks2)])
+        region = state.json()["answer"]["in_photo"]["joiner"]["region"]
+        axes.append(np.array(region["axes"]))
+    assert np.all(axes[1] > 3 * axes[0])
+    assert np.all(axes[1] < 11 * axes[0])
+
+
+def test_the_lens_a_photo_tells_reaches_the_answer(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """A photo's own EXIF focal length is read by the server; a shrunk photo's comes from
+    the phone's form fields; the answer uses each as that camera's focal length."""
+    starter_photo = with_exif_focal(temple_photos[0], focal_35mm=31)
+    assert starter.upload(starter_photo, "photo.jpg").json()["lens"] == {
+        "focal_35mm": 31.0,
+        "told_by": "photo",
+    }
+    told = joiner.client.put(
+        joiner.url("/photo"),
+        headers=joiner.auth,
+        files={"photo": ("photo.png", temple_photos[1], "image/png")},
+        data={"focal_35mm": "44", "make": "Google", "model": "Pixel 7"},
+    )
+    assert told.json()["lens"] == {"focal_35mm": 44.0, "told_by": "phone"}
+    s = scene(5, seed=24)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
+    assert state["photos"]["starter"]["lens"]["told_by"] == "photo"
+    focal = {role: state["answer"]["in_photo"][role]["focal_35mm"] for role in ROLES}
+    # Known to 2 %: the fit keeps each within a few percent of what the photo said.
+    assert abs(focal["starter"] / 31 - 1) < 0.1
+    assert abs(focal["joiner"] / 44 - 1) < 0.1
+
+
+def with_exif_focal(png: bytes, *, focal_35mm: int) -> bytes:
+    """The photo as a phone's JPEG whose EXIF gives its lens (and a GPS position, which
+    must not be kept)."""
+    exif = Image.Exif()
+    exif[ExifTags.Base.Make] = "Apple"
+    exif.get_ifd(ExifTags.IFD.Exif)[ExifTags.Base.FocalLengthIn35mmFilm] = focal_35mm
+    exif.get_ifd(ExifTags.IFD.GPSInfo)[ExifTags.GPS.GPSLatitudeRef] = "N"
+    buffer = io.BytesIO()
+    Image.open(io.BytesIO(png)).convert("RGB").save(buffer, "JPEG", quality=95, exif=exif)
+    return buffer.getvalue()
 
 
 def test_both_friends_marked_one_landmark_is_enough(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    """Each sees the other: with phone photos one common landmark fixes the seeker (three
+    """Each sees the other: with phone photos one common landmark fixes the starter (three
     for any two cameras)."""
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(3, seed=13)
-    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=[], epipole2=list(s.epipole2)).json()
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=[], friend=list(s.epipole2)).json()
     assert state["landmarks_needed"] == 1
-    assert state["result"] is None
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[:1]), epipole2=list(s.epipole2)).json()
+    assert state["answer"] is None
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:1]), friend=list(s.epipole2)).json()
     assert state["landmarks_needed"] == 0
-    result = state["result"]
-    assert result["method"] == "pinhole_two_epipoles"
-    assert result["camera_model"] == "pinhole"
-    assert np.linalg.norm(np.array(result["epipole2"]) - s.epipole2) < 3.0
+    answer = state["answer"]
+    assert answer["method"] == "pinhole_two_epipoles"
+    assert answer["camera_model"] == "pinhole"
+    # Both marks are used for both answers: each is its own mark, refined by the fit.
+    for role, truth in (("starter", s.epipole1), ("joiner", s.epipole2)):
+        assert answer["in_photo"][role]["how"] == "marked"
+        assert np.linalg.norm(np.array(answer["in_photo"][role]["friend"]) - truth) < 3.0
 
 
 # Taps that fit no two phone photos (found by search: no pose of two phone cameras puts
-# these landmarks and the buddy where they were tapped); any two cameras can still answer.
+# these landmarks and the joiner where they were tapped); any two cameras can still answer.
 NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
 NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
 NO_PHONES_BUDDY = [397.0, 291.0]
 
 
 def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The solver falls back to the projective geometry, and says so: four landmarks give
-    the curve the seeker is on, and the counter asks for the fifth that fixes the spot."""
-    photos_uploaded(seeker, buddy, temple_photos)
-    seeker.tap(landmarks=landmarks(NO_PHONES_1), epipole1=NO_PHONES_BUDDY)
-    state = buddy.tap(landmarks=landmarks(NO_PHONES_2[:3])).json()
-    assert state["result"] is None
-    assert state["result_error"]["code"] == "degenerate_configuration"
+    the curve the starter is on, and the counter asks for the fifth that fixes the spot."""
+    photos_uploaded(starter, joiner, temple_photos)
+    starter.tap(landmarks=landmarks(NO_PHONES_1), friend=NO_PHONES_BUDDY)
+    state = joiner.tap(landmarks=landmarks(NO_PHONES_2[:3])).json()
+    assert state["answer"] is None
+    assert state["answer_error"]["code"] == "degenerate_configuration"
 
-    state = buddy.tap(landmarks=landmarks(NO_PHONES_2[:4])).json()
-    result = state["result"]
-    assert result["method"] == "conic"
-    assert result["camera_model"] == "projective"
-    assert "do not fit two ordinary phone photos" in result["warnings"][0]
+    state = joiner.tap(landmarks=landmarks(NO_PHONES_2[:4])).json()
+    answer = state["answer"]
+    assert answer["method"] == "conic"
+    assert answer["camera_model"] == "projective"
+    for role in ROLES:  # said to both phones
+        assert "do not fit two ordinary phone photos" in answer["in_photo"][role]["warnings"][0]
+    assert answer["in_photo"]["joiner"]["curve"] is not None
+    assert answer["in_photo"]["joiner"]["friend"] is None
     assert state["landmarks_needed"] == 1  # the curve: one more for a position
-    assert seeker.state()["landmarks_needed"] == 1
+    assert starter.state()["landmarks_needed"] == 1
 
-    state = buddy.tap(landmarks=landmarks(NO_PHONES_2)).json()
-    assert state["result"]["method"] == "five_point_epipole"
-    assert state["result"]["camera_model"] == "projective"
+    state = joiner.tap(landmarks=landmarks(NO_PHONES_2)).json()
+    assert state["answer"]["method"] == "five_point_epipole"
+    assert state["answer"]["camera_model"] == "projective"
     assert state["landmarks_needed"] == 0
 
 
 def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The taps and their answer are one write: the reply is what the other phone sees."""
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(6, seed=3)
-    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
     for n in (2, 3, 6):  # no answer yet, then answers
-        reply = buddy.tap(landmarks=landmarks(s.landmarks2[:n])).json()
-        assert reply == buddy.state()
-        fetched = seeker.state()
-        for key in ("version", "result", "result_version", "result_error", "taps"):
+        reply = joiner.tap(landmarks=landmarks(s.landmarks2[:n])).json()
+        assert reply == joiner.state()
+        fetched = starter.state()
+        for key in ("version", "answer", "answer_version", "answer_error", "taps"):
             assert fetched[key] == reply[key]
-    assert reply["result"]["method"] == "pinhole_epipole"  # 6 landmarks + e1, phone cameras
+    assert reply["answer"]["method"] == "pinhole_epipole"  # 6 landmarks + e1, phone cameras
 
 
-def overtake_the_buddy(
-    app: Any, seeker: Phone, s: Scene, then: Callable[[], httpx.Response] | None = None
-) -> list[httpx.Response]:
-    """Make the buddy's next taps overtaken: the seeker's taps of all ``s``'s landmarks land
-    between the buddy's request reading the session and writing its own. Filled in as it
-    happens: the seeker's reply, then (if given) what ``then`` got right after the buddy's
+def overtake_the_joiner(
+    app: Any, starter: Phone, s: Scene, then: Callable[[], httpx2.Response] | None = None
+) -> list[httpx2.Response]:
+    """Make the joiner's next taps overtaken: the starter's taps of all ``s``'s landmarks land
+    between the joiner's request reading the session and writing its own. Filled in as it
+    happens: the starter's reply, then (if given) what ``then`` got right after the joiner's
     write, before its request answered the session again."""
-    store = app.state.service.store
+    store = app.state.services.taps.taps
     write = store.put_taps
-    got: list[httpx.Response] = []
+    got: list[httpx2.Response] = []
 
     def overtaken(participant: Any, *args: Any) -> Any:
-        if got or participant.role != "buddy":
+        if got or participant.role != "joiner":
             return write(participant, *args)
-        got.append(seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1)))
+        got.append(starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)))
         written = write(participant, *args)
         if then is not None:
             got.append(then())
@@ -364,125 +482,128 @@ def overtake_the_buddy(
 
 
 def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
-    app: Any, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    app: Any, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The other phone's taps land between reading the session and writing these: the
     answer computed before that would be stale, so the new version is answered again."""
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(6, seed=4)
-    seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
-    buddy.tap(landmarks=landmarks(s.landmarks2[:4]))
-    sneaked = overtake_the_buddy(app, seeker, s)
-    reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
+    starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2[:4]))
+    sneaked = overtake_the_joiner(app, starter, s)
+    reply = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
     assert sneaked[0].status_code == 200
-    # Answered with the seeker's 6 landmarks, which came in after the buddy's request did.
-    assert reply["result"]["method"] == "pinhole_epipole"
-    assert reply["result_landmark_ids"] == [1, 2, 3, 4, 5, 6]
-    assert reply["result_version"] == reply["version"] == sneaked[0].json()["version"] + 1
-    assert reply == buddy.state()
+    # Answered with the starter's 6 landmarks, which came in after the joiner's request did.
+    assert reply["answer"]["method"] == "pinhole_epipole"
+    assert reply["answer"]["landmark_ids"] == [1, 2, 3, 4, 5, 6]
+    assert reply["answer_version"] == reply["version"] == sneaked[0].json()["version"] + 1
+    assert reply == joiner.state()
 
 
 def test_landmarks_tapped_in_one_photo_only_do_not_count(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(7)
-    seeker.tap(landmarks=landmarks(s.landmarks1, [1, 2, 3, 4, 5, 6, 7]), epipole1=list(s.epipole1))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2[[0, 1, 2, 6]], [1, 2, 3, 9])).json()
-    assert state["result"]["method"] == "pinhole_epipole"
-    assert state["result_landmark_ids"] == [1, 2, 3]
+    starter.tap(landmarks=landmarks(s.landmarks1, [1, 2, 3, 4, 5, 6, 7]), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[[0, 1, 2, 6]], [1, 2, 3, 9])).json()
+    assert state["answer"]["method"] == "pinhole_epipole"
+    assert state["answer"]["landmark_ids"] == [1, 2, 3]
 
 
 def test_a_degenerate_tap_set_explains_itself(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(5)
-    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.landmarks1[2]))
-    state = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
-    assert state["result"] is None
-    assert state["result_error"]["code"] == "epipole_on_landmark"
-    assert "#3" in state["result_error"]["message"]
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.landmarks1[2]))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
+    assert state["answer"] is None
+    assert state["answer_error"]["code"] == "epipole_on_landmark"
+    assert "#3" in state["answer_error"]["message"]
 
 
 def test_a_new_photo_clears_its_taps_and_the_answer(
-    seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(5)
-    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
-    assert buddy.tap(landmarks=landmarks(s.landmarks2)).json()["result"] is not None
-    assert buddy.upload(temple_photos[1], "again.png").status_code == 200
-    state = seeker.state()
-    assert state["taps"]["buddy"] is None
-    assert state["taps"]["seeker"] is not None
-    assert state["result"] is None
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    assert joiner.tap(landmarks=landmarks(s.landmarks2)).json()["answer"] is not None
+    assert joiner.upload(temple_photos[1], "again.png").status_code == 200
+    state = starter.state()
+    assert state["taps"]["joiner"] is None
+    assert state["taps"]["starter"] is not None
+    assert state["answer"] is None
 
 
 # --- pictures -------------------------------------------------------------------------
 
 
 def test_overlays_show_the_answer_on_each_photo(
-    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
-    before = client.get(seeker.url("/overlay/buddy"), headers=seeker.auth)
+    photos_uploaded(starter, joiner, temple_photos)
+    before = client.get(starter.url("/overlay/joiner"), headers=starter.auth)
     assert before.status_code == 409
     assert error_of(before) == "no_result"
     s = scene(6)
-    seeker.tap(landmarks=landmarks(s.landmarks1), epipole1=list(s.epipole1))
-    buddy.tap(landmarks=landmarks(s.landmarks2))
-    for role, fmt, magic in (("buddy", "png", b"\x89PNG"), ("seeker", "jpeg", b"\xff\xd8\xff")):
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2))
+    for role, fmt, magic in (("joiner", "png", b"\x89PNG"), ("starter", "jpeg", b"\xff\xd8\xff")):
         response = client.get(
-            buddy.url(f"/overlay/{role}"), params={"format": fmt}, headers=buddy.auth
+            joiner.url(f"/overlay/{role}"), params={"format": fmt}, headers=joiner.auth
         )
         assert response.status_code == 200
         assert response.content.startswith(magic)
         assert response.headers["content-type"] == f"image/{fmt}"
         image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
         assert image.shape == (480, 640, 3)
-    again = client.get(buddy.url("/overlay/buddy"), headers=buddy.auth)
+    again = client.get(joiner.url("/overlay/joiner"), headers=joiner.auth)
     assert again.headers["content-type"] == "image/jpeg"  # the default for a phone
-    assert again.content == client.get(buddy.url("/overlay/buddy"), headers=buddy.auth).content
+    assert again.content == client.get(joiner.url("/overlay/joiner"), headers=joiner.auth).content
     # <img> cannot send headers: the token may come in the query.
-    by_query = client.get(buddy.url("/overlay/buddy"), params={"token": buddy.token})
+    by_query = client.get(joiner.url("/overlay/joiner"), params={"token": joiner.token})
     assert by_query.status_code == 200
 
 
 def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
-    app: Any, client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    app: Any, client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    """The buddy's taps are overtaken by the seeker's: they are written without their
+    """The joiner's taps are overtaken by the starter's: they are written without their
     (stale) answer, and the answer for the session as it now is comes a moment later. An
     overlay asked for in that moment is answered then and there, not refused."""
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(6, seed=4)
-    seeker.tap(landmarks=landmarks(s.landmarks1[:5]), epipole1=list(s.epipole1))
-    buddy.tap(landmarks=landmarks(s.landmarks2[:5]))
-    got = overtake_the_buddy(
-        app, seeker, s, then=lambda: client.get(seeker.url("/overlay/buddy"), headers=seeker.auth)
+    starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
+    got = overtake_the_joiner(
+        app,
+        starter,
+        s,
+        then=lambda: client.get(starter.url("/overlay/joiner"), headers=starter.auth),
     )
-    reply = buddy.tap(landmarks=landmarks(s.landmarks2)).json()
+    reply = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
     overlay = got[1]
     assert overlay.status_code == 200, overlay.text
     image = cv2.imdecode(np.frombuffer(overlay.content, np.uint8), cv2.IMREAD_COLOR)
     assert image.shape == (480, 640, 3)
-    assert reply["result_landmark_ids"] == [1, 2, 3, 4, 5, 6]
-    assert reply == buddy.state()
+    assert reply["answer"]["landmark_ids"] == [1, 2, 3, 4, 5, 6]
+    assert reply == joiner.state()
 
 
 def test_the_other_phone_gets_a_crop_of_each_landmark(
-    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
+    photos_uploaded(starter, joiner, temple_photos)
     s = scene(3)
-    seeker.tap(landmarks=landmarks(s.landmarks1))
-    crop = client.get(buddy.url("/landmarks/seeker/2/crop"), headers=buddy.auth)
+    starter.tap(landmarks=landmarks(s.landmarks1))
+    crop = client.get(joiner.url("/landmarks/starter/2/crop"), headers=joiner.auth)
     assert crop.status_code == 200
     assert crop.headers["content-type"] == "image/jpeg"
     image = cv2.imdecode(np.frombuffer(crop.content, np.uint8), cv2.IMREAD_COLOR)
     assert image.shape[0] == image.shape[1] > 50
-    missing = client.get(buddy.url("/landmarks/seeker/9/crop"), headers=buddy.auth)
+    missing = client.get(joiner.url("/landmarks/starter/9/crop"), headers=joiner.auth)
     assert missing.status_code == 404
     assert error_of(missing) == "landmark_not_found"
 
@@ -491,15 +612,15 @@ def test_the_other_phone_gets_a_crop_of_each_landmark(
 
 
 def test_delete_now_removes_everything_for_both_phones(
-    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
-    deleted = client.delete(buddy.url(), headers=buddy.auth)
+    photos_uploaded(starter, joiner, temple_photos)
+    deleted = client.delete(joiner.url(), headers=joiner.auth)
     assert deleted.status_code == 204
-    for phone in (seeker, buddy):
+    for phone in (starter, joiner):
         gone = client.get(phone.url(), headers=phone.auth)
         assert gone.status_code == 401
-    engine = client.app.state.service.store.engine  # type: ignore[attr-defined]
+    engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
     with engine.connect() as connection:
         for table in ("sessions", "participants", "photos", "events"):
             assert connection.exec_driver_sql(f"SELECT COUNT(*) FROM {table}").scalar() == 0
@@ -507,59 +628,59 @@ def test_delete_now_removes_everything_for_both_phones(
 
 def test_expired_sessions_are_swept_away(
     client: TestClient,
-    seeker: Phone,
-    buddy: Phone,
+    starter: Phone,
+    joiner: Phone,
     temple_photos: tuple[bytes, bytes],
     clock: FakeClock,
 ) -> None:
-    photos_uploaded(seeker, buddy, temple_photos)
-    service = client.app.state.service  # type: ignore[attr-defined]
-    assert service.sweep() == []
+    photos_uploaded(starter, joiner, temple_photos)
+    services = client.app.state.services  # type: ignore[attr-defined]
+    assert services.pairing.sweep() == []
     clock.advance(7201)
-    assert client.get(seeker.url(), headers=seeker.auth).status_code == 401
-    assert service.sweep() == [seeker.session_id]
-    engine = service.store.engine
+    assert client.get(starter.url(), headers=starter.auth).status_code == 401
+    assert services.pairing.sweep() == [starter.session_id]
+    engine = services.database.engine
     with engine.connect() as connection:
         assert connection.exec_driver_sql("SELECT COUNT(*) FROM photos").scalar() == 0
 
 
-def test_the_state_says_who_is_there(seeker: Phone, buddy: Phone) -> None:
-    state = buddy.state()
-    assert state["you"] == "buddy"
-    assert state["join_code"] is None  # only the seeker is shown the code
-    assert state["participants"]["seeker"] == {"joined": True, "online": False}
-    assert state["photos"] == {"seeker": None, "buddy": None}
+def test_the_state_says_who_is_there(starter: Phone, joiner: Phone) -> None:
+    state = joiner.state()
+    assert state["you"] == "joiner"
+    assert state["join_code"] is None  # only the starter is shown the code
+    assert state["participants"]["starter"] == {"joined": True, "online": False}
+    assert state["photos"] == {"starter": None, "joiner": None}
     version = state["version"]
-    assert seeker.state()["version"] == version
+    assert starter.state()["version"] == version
 
 
-def test_photo_refusals_reach_the_phone_in_the_one_shape(seeker: Phone) -> None:
+def test_photo_refusals_reach_the_phone_in_the_one_shape(starter: Phone) -> None:
     """The photo module's checks, through the route: type from the bytes, size from the
     header (a small file claiming 60 megapixels), emptiness."""
-    not_a_photo = seeker.upload(b"GIF89a" + b"\0" * 100, "photo.jpg")
+    not_a_photo = starter.upload(b"GIF89a" + b"\0" * 100, "photo.jpg")
     assert not_a_photo.status_code == 415
     assert error_of(not_a_photo) == "unsupported_media_type"
     png = bytearray((TEMPLE / "templeSR0003.png").read_bytes())
     png[16:24] = (10000).to_bytes(4, "big") + (6000).to_bytes(4, "big")  # IHDR width, height
     png[29:33] = zlib.crc32(bytes(png[12:29])).to_bytes(4, "big")  # the chunk's CRC
-    bomb = seeker.upload(bytes(png), "small.png")
+    bomb = starter.upload(bytes(png), "small.png")
     assert bomb.status_code == 413
     assert error_of(bomb) == "photo_too_large"
-    empty = seeker.upload(b"", "empty.jpg")
+    empty = starter.upload(b"", "empty.jpg")
     assert empty.status_code == 422
-    assert seeker.state()["photos"]["seeker"] is None  # nothing half-stored
+    assert starter.state()["photos"]["starter"] is None  # nothing half-stored
 
 
 def test_each_phone_can_fetch_the_stored_photos(
-    client: TestClient, seeker: Phone, buddy: Phone, temple_photos: tuple[bytes, bytes]
+    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The app shows the stored photo to tap on: exactly the pixels taps refer to."""
-    missing = client.get(seeker.url("/photo/buddy"), headers=seeker.auth)
+    missing = client.get(starter.url("/photo/joiner"), headers=starter.auth)
     assert missing.status_code == 404
-    assert error_of(missing) == "photo_missing"
-    photos_uploaded(seeker, buddy, temple_photos)
-    for role in ("seeker", "buddy"):
-        stored = client.get(seeker.url(f"/photo/{role}"), params={"token": seeker.token})
+    assert error_of(missing) == "photo_not_found"
+    photos_uploaded(starter, joiner, temple_photos)
+    for role in ("starter", "joiner"):
+        stored = client.get(starter.url(f"/photo/{role}"), params={"token": starter.token})
         assert stored.status_code == 200
         assert stored.headers["content-type"] == "image/jpeg"
         image = cv2.imdecode(np.frombuffer(stored.content, np.uint8), cv2.IMREAD_COLOR)
@@ -567,10 +688,15 @@ def test_each_phone_can_fetch_the_stored_photos(
 
 
 def test_the_same_photo_sent_twice_at_once_is_stored_once(
-    seeker: Phone, temple_photos: tuple[bytes, bytes]
+    starter: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """A phone on a bad network retries an upload that is still in flight."""
     with ThreadPoolExecutor(4) as pool:
-        answers = list(pool.map(lambda _: seeker.upload(temple_photos[0], "p.png"), range(4)))
+        answers = list(pool.map(lambda _: starter.upload(temple_photos[0], "p.png"), range(4)))
     assert [a.status_code for a in answers] == [200] * 4
-    assert seeker.state()["photos"]["seeker"] == {"width": 640, "height": 480, "scale": 1.0}
+    assert starter.state()["photos"]["starter"] == {
+        "width": 640,
+        "height": 480,
+        "scale": 1.0,
+        "lens": None,
+    }

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 import cv2
-import httpx
+import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
@@ -338,7 +338,7 @@ def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -
         }
     )
 
-    def overlay(request: dict[str, object]) -> httpx.Response:
+    def overlay(request: dict[str, object]) -> httpx2.Response:
         return client.post(
             "/api/overlay",
             files={"photo": ("buddy.png", photo, "image/png")},

@@ -1,4 +1,10 @@
-"""Two phones in Debian's Chromium (Playwright), against a real server on loopback."""
+"""Phones against a real server on loopback: Debian's Chromium (Playwright) and Debian's
+WebKitGTK (Selenium and WebKitWebDriver), behind one :class:`phone.Phone`.
+
+A test that takes the ``pixel`` and ``iphone`` phones runs in Chromium; marked
+``@pytest.mark.engines("chromium", "webkit")`` (or the module's ``pytestmark``) it runs once
+per engine, both phones in that engine.
+"""
 
 from __future__ import annotations
 
@@ -7,9 +13,12 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from playwright.sync_api import Browser, BrowserContext, Page, Playwright, sync_playwright
+from chromium_phone import ChromiumPhone
+from phone import Phone
+from playwright.sync_api import Browser, Playwright, sync_playwright
+from webkit_phone import Screen, WebKitPhone
 
-from backend.loopback import serve
+from testbed.loopback import serve
 
 ROOT = Path(__file__).parents[2]
 CHROMIUM = "/usr/bin/chromium"  # Debian's package; `make test` installs it when missing
@@ -25,6 +34,16 @@ FLAGS = [
     "--host-resolver-rules=MAP buddy.test 127.0.0.1",
 ]
 SCREENSHOTS = ROOT / "artifacts" / "screenshots"
+ENGINES = ("chromium", "webkit")
+
+
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """``engine``: the engines the test's ``engines`` marker names, else Chromium."""
+    if "engine" in metafunc.fixturenames:
+        marker = metafunc.definition.get_closest_marker("engines")
+        engines = marker.args if marker else ("chromium",)
+        assert set(engines) <= set(ENGINES), engines
+        metafunc.parametrize("engine", engines)
 
 
 @pytest.fixture(scope="session")
@@ -47,26 +66,6 @@ def server(tmp_path: Path) -> Iterator[str]:
         yield running.base_url
 
 
-def phone(playwright: Playwright, browser: Browser, model: str) -> BrowserContext:
-    """A mobile-emulated browser context (touch, viewport, user agent) of ``model``."""
-    device = dict(playwright.devices[model])
-    device.pop("default_browser_type", None)
-    return browser.new_context(**device)
-
-
-def console_errors(context: BrowserContext) -> list[str]:
-    """What the context's pages report as errors from now on: console errors (a Content
-    Security Policy violation is one) and uncaught exceptions."""
-    errors: list[str] = []
-
-    def watch(page: Page) -> None:
-        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        page.on("pageerror", lambda error: errors.append(str(error)))
-
-    context.on("page", watch)
-    return errors
-
-
 def unexpected(errors: list[str], request: pytest.FixtureRequest) -> list[str]:
     """The errors but those the test expects (``@pytest.mark.expected_console_errors``:
     Chromium logs every 4xx answer to a fetch, a refused join code among them)."""
@@ -76,29 +75,52 @@ def unexpected(errors: list[str], request: pytest.FixtureRequest) -> list[str]:
     return [error for error in errors if not re.search(marker.args[0], error)]
 
 
+def screen(playwright: Playwright, model: str) -> Screen:
+    """The screen of Playwright's descriptor of ``model``: the same size in both engines."""
+    device = playwright.devices[model]
+    viewport, whole = device["viewport"], device["screen"]
+    return Screen(
+        viewport=(viewport["width"], viewport["height"]),
+        screen=(whole["width"], whole["height"]),
+        scale=device["device_scale_factor"],
+    )
+
+
+def phone(
+    engine: str, model: str, playwright: Playwright, request: pytest.FixtureRequest, folder: Path
+) -> Iterator[Phone]:
+    """A phone of ``model`` in ``engine``; the test fails if its page reported errors."""
+    started: Phone
+    if engine == "chromium":
+        started = ChromiumPhone(playwright, request.getfixturevalue("browser"), model)
+    else:
+        started = WebKitPhone(model, screen(playwright, model), folder)
+    try:
+        yield started
+        errors = started.console_errors()
+    finally:
+        started.close()
+    assert unexpected(errors, request) == [], f"the {started}'s pages reported errors"
+
+
 @pytest.fixture
 def pixel(
-    playwright: Playwright, browser: Browser, request: pytest.FixtureRequest
-) -> Iterator[BrowserContext]:
-    context = phone(playwright, browser, "Pixel 7")
-    errors = console_errors(context)
-    yield context
-    context.close()
-    assert unexpected(errors, request) == [], "the Pixel's pages reported errors"
+    engine: str, playwright: Playwright, request: pytest.FixtureRequest, tmp_path: Path
+) -> Iterator[Phone]:
+    yield from phone(engine, "Pixel 7", playwright, request, tmp_path / "pixel")
 
 
 @pytest.fixture
 def iphone(
-    playwright: Playwright, browser: Browser, request: pytest.FixtureRequest
-) -> Iterator[BrowserContext]:
-    context = phone(playwright, browser, "iPhone 13")
-    errors = console_errors(context)
-    yield context
-    context.close()
-    assert unexpected(errors, request) == [], "the iPhone's pages reported errors"
+    engine: str, playwright: Playwright, request: pytest.FixtureRequest, tmp_path: Path
+) -> Iterator[Phone]:
+    yield from phone(engine, "iPhone 13", playwright, request, tmp_path / "iphone")
 
 
-@pytest.fixture(scope="session")
-def screenshots() -> Path:
-    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
-    return SCREENSHOTS
+@pytest.fixture
+def screenshots(engine: str) -> Path:
+    """Chromium's screenshots (the README's) in artifacts/screenshots, WebKit's in its
+    webkit/ folder."""
+    folder = SCREENSHOTS if engine == "chromium" else SCREENSHOTS / engine
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder

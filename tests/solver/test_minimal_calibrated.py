@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from shared_solver.minimal.both_and_one import rotations_from_both
-from shared_solver.minimal.buddy_and_three import rotations_from_three
+from shared_solver.minimal.epipole_and_three import rotations_from_three
 
 SCENES = 200
 ROOT = 1e-9  # Frobenius distance of the true rotation from the nearest root

@@ -104,16 +104,16 @@ def test_facing_friends_are_never_told_to_turn_around() -> None:
     assert told == 0
 
 
-def test_the_buddys_overlay_says_behind_instead_of_marking_a_spot() -> None:
+def test_photo_2_says_behind_instead_of_marking_a_spot() -> None:
     s = turned_away(np.random.default_rng(3))
     result = solve(
         s.landmarks1, s.landmarks2, epipole1=s.epipole1, image_size1=SIZE, image_size2=SIZE
     )
     photo = np.full((SIZE[1], SIZE[0], 3), 90, np.uint8)
-    drawn = draw_overlay(photo, result, view="buddy")
+    drawn = draw_overlay(photo, result, photo=2)
     changed = np.any(drawn != photo, axis=2)
     rows = np.flatnonzero(changed.any(axis=1))
     assert rows.size > 0
     assert rows.max() < SIZE[1] * 0.15  # only the banner at the top: no star anywhere
     unsure = result.model_copy(update={"quality": "poor"})
-    assert not np.array_equal(draw_overlay(photo, unsure, view="buddy"), drawn)  # other words
+    assert not np.array_equal(draw_overlay(photo, unsure, photo=2), drawn)  # other words

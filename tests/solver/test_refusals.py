@@ -161,7 +161,7 @@ def test_landmarks_all_on_one_line_through_the_buddy_are_refused(scene: Scene) -
         ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE,
         lambda: solve(along, scene.landmarks2[:6], epipole1=e1),
     )
-    assert "line through the buddy" in error.message
+    assert "line through your friend" in error.message
     refused(
         ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE,
         lambda: epipole_from_five(e1, along[:5], scene.landmarks2[:5]),
@@ -202,7 +202,7 @@ def test_landmarks_on_one_plane_without_the_buddy_are_refused() -> None:
     error = refused(
         ErrorCode.DEGENERATE_CONFIGURATION, lambda: solve(floor.landmarks1, floor.landmarks2)
     )
-    assert "mark the buddy" in error.message
+    assert "tap your friend" in error.message
     # With the buddy marked the same landmarks are enough.
     assert solve(floor.landmarks1, floor.landmarks2, epipole1=floor.epipole1).method == "planar"
 

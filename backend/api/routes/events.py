@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import AsyncIterator
 from typing import Annotated
 
-from fastapi import APIRouter, Header, Request
-from fastapi.responses import StreamingResponse
+from fastapi import APIRouter, Header
+from fastapi.sse import EventSourceResponse, ServerSentEvent
 
-from backend.api.deps import ServiceDep, ViewerDep
+from backend.api.deps import StreamsDep, ViewerDep
 from backend.api.responses import errors
 
 router = APIRouter(prefix="/api/sessions", tags=["sessions"])
@@ -29,21 +30,17 @@ router = APIRouter(prefix="/api/sessions", tags=["sessions"])
         },
         **errors(401, 403, 503),
     },
-    response_class=StreamingResponse,
+    response_class=EventSourceResponse,
 )
 async def events(
-    request: Request,
     participant: ViewerDep,
-    service: ServiceDep,
+    streams: StreamsDep,
     last_event_id: Annotated[
         int | None,
         # Event ids are the database's 64-bit row ids: a larger number can name no event.
         Header(ge=0, lt=2**63, description="Resume after this event."),
     ] = None,
-) -> StreamingResponse:
+) -> AsyncIterator[ServerSentEvent]:
     """Server-sent events for this session (EventSource: pass ``?token=``)."""
-    return StreamingResponse(
-        service.events(participant, last_event_id, request.is_disconnected),
-        media_type="text/event-stream",
-        headers={"Cache-Control": "no-store", "X-Accel-Buffering": "no"},
-    )
+    async for event in streams.events(participant, last_event_id):
+        yield event

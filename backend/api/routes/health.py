@@ -6,9 +6,10 @@ from fastapi import APIRouter
 from fastapi.responses import JSONResponse
 
 from backend import __version__
-from backend.api.deps import ServiceDep
+from backend.api.deps import ServicesDep
+from backend.api.errors import error_response
 from backend.api.responses import errors
-from backend.errors import error_response
+from backend.errors import ErrorCode
 
 router = APIRouter(tags=["health"])
 
@@ -20,14 +21,14 @@ router = APIRouter(tags=["health"])
         **errors(503),
     },
 )
-def health(service: ServiceDep) -> JSONResponse:
+def health(services: ServicesDep) -> JSONResponse:
     """Ready to serve: the database answers."""
     try:
-        ok = service.healthy()
+        ok = services.healthy()
     except Exception:
         ok = False
     if not ok:
-        return error_response(503, "database_unavailable", "The database does not answer.")
+        return error_response(ErrorCode.DATABASE_UNAVAILABLE, "The database does not answer.")
     return JSONResponse({"status": "ok"})
 
 

@@ -1,4 +1,8 @@
-"""Stateless endpoints for scripts: solve, and draw the answer on the buddy's photo."""
+"""Stateless endpoints for scripts: solve, and draw the answer on photo 2.
+
+They speak the solver's geometric words: photo 1 is the photo of the friend who marked the
+other (``epipole1``, or ``epipolar_line1``), photo 2 the one the answer is for
+(``epipole2``: where the friend of photo 1's owner is in it)."""
 
 from __future__ import annotations
 
@@ -11,9 +15,9 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue, PlainValidator, Va
 
 from backend.api.deps import SettingsDep
 from backend.api.responses import PICTURE, errors, json_answer
-from backend.errors import ApiError
-from backend.photos import decode_photo, encode_image, store_photo
-from backend.sessions.service import MEDIA_TYPES, ImageFormat
+from backend.errors import ErrorCode, RefusedError
+from backend.photos.imaging import decode_photo, encode_image, store_photo
+from backend.photos.schemas import MEDIA_TYPES, ImageFormat
 from shared_solver import Camera, SolveResult, draw_overlay, solve
 
 router = APIRouter(prefix="/api", tags=["solver"])
@@ -64,11 +68,13 @@ class SolveRequest(BaseModel):
 
     model_config = ConfigDict(json_schema_extra={"examples": [_EXAMPLE, _PHONES_EXAMPLE]})
 
-    points1: Any = Field(description="Landmarks in photo 1 (the seeker's): [[x, y], ...].")
+    points1: Any = Field(description="Landmarks in photo 1: [[x, y], ...].")
     points2: Any = Field(description="The same landmarks, same order, in photo 2.")
-    epipole1: Any = Field(None, description="[x, y] of the buddy in photo 1.")
-    epipole2: Any = Field(None, description="[x, y] of the seeker in photo 2.")
-    epipolar_line1: Any = Field(None, description="[a, b, c]: a line through the buddy in photo 1.")
+    epipole1: Any = Field(None, description="[x, y] of the friend marked in photo 1.")
+    epipole2: Any = Field(None, description="[x, y] of the other friend, marked in photo 2.")
+    epipolar_line1: Any = Field(
+        None, description="[a, b, c]: a line through the friend in photo 1."
+    )
     tap_sigma: float = Field(
         2.0,
         description="Tap noise, px per axis: the precision of every tap not given its own "
@@ -85,14 +91,14 @@ class SolveRequest(BaseModel):
         'default); "phone" or "unknown" for short. Null or unknown (the default): any '
         "camera, the projective geometry (for cropped, edited or non-phone photos). With "
         "both cameras known the answer uses a pinhole model (method pinhole_*, "
-        "camera_model 'pinhole', cameras) and needs fewer landmarks: 3 with the buddy "
+        "camera_model 'pinhole', cameras) and needs fewer landmarks: 3 with the friend "
         "marked instead of 5, 1 with both friends marked instead of 3. Needs image_size1; "
         "a malformed camera is refused with invalid_parameter.",
         examples=[{"kind": "phone"}, {"kind": "known_focal", "focal_35mm": 26}],
     )
     camera2: _CameraField = Field(
         None,
-        description="The same for photo 2 (the buddy's); needs image_size2.",
+        description="The same for photo 2; needs image_size2.",
         examples=[{"kind": "phone"}],
     )
     points1_sigma: _TapPrecisions = Field(
@@ -146,11 +152,11 @@ def _answer_of(example: dict[str, JsonValue]) -> JsonValue:
 
 _EXAMPLES: dict[str, dict[str, JsonValue]] = {
     "projective": {
-        "summary": "Five landmarks and the buddy, cameras unknown",
+        "summary": "Five landmarks and the friend marked, cameras unknown",
         "value": _answer_of(_EXAMPLE),
     },
     "phones": {
-        "summary": "Three landmarks and the buddy from two phones, taps of their own precision",
+        "summary": "Three landmarks and the friend marked, two phones, taps of their own precision",
         "value": _answer_of(_PHONES_EXAMPLE),
     },
 }
@@ -165,11 +171,11 @@ _EXAMPLES: dict[str, dict[str, JsonValue]] = {
     },
 )
 def solve_taps(request: SolveRequest) -> Response:
-    """Where the seeker is in photo 2, from the taps: exactly ``shared_solver.solve``.
+    """Where the friend is in photo 2, from the taps: exactly ``shared_solver.solve``.
 
     The cameras are unknown unless ``camera1`` and ``camera2`` say otherwise (the paper's
-    projective geometry: 5 landmarks with the buddy marked); with both (two phone photos,
-    say) the answer uses a pinhole camera model and needs fewer landmarks (3 with the buddy
+    projective geometry: 5 landmarks with the friend marked); with both (two phone photos,
+    say) the answer uses a pinhole camera model and needs fewer landmarks (3 with the friend
     marked).
     """
     return json_answer(request.solve())
@@ -180,7 +186,7 @@ def solve_taps(request: SolveRequest) -> Response:
 )
 def draw_on_photo(
     settings: SettingsDep,
-    photo: Annotated[UploadFile, File(description="The buddy's photo (JPEG, PNG, WebP, HEIC).")],
+    photo: Annotated[UploadFile, File(description="Photo 2 (JPEG, PNG, WebP, HEIC).")],
     request: Annotated[
         str,
         Form(
@@ -190,17 +196,17 @@ def draw_on_photo(
     ],
     format: Annotated[ImageFormat, Query(description="png or jpeg")] = "png",
 ) -> Response:
-    """The buddy's photo with the answer drawn on it (landmarks = ``points2``).
+    """Photo 2 with the answer drawn on it (landmarks = ``points2``).
 
     Points are in the photo's pixels as a browser shows it (EXIF orientation applied).
     """
     try:
         parsed = SolveRequest.model_validate_json(request)
     except ValidationError as error:
-        raise ApiError(
-            422, "invalid_request", "The request field is not the JSON of /api/solve."
+        raise RefusedError(
+            ErrorCode.INVALID_REQUEST, "The request field is not the JSON of /api/solve."
         ) from error
     result = parsed.solve()
     stored = store_photo(photo.file.read(), max_pixels=settings.max_photo_pixels, max_side=2**16)
-    drawn = draw_overlay(decode_photo(stored.data), result, view="buddy", points=parsed.points2)
+    drawn = draw_overlay(decode_photo(stored.data), result, photo=2, points=parsed.points2)
     return Response(encode_image(drawn, format=format), media_type=MEDIA_TYPES[format])

@@ -46,7 +46,7 @@ export function App() {
     let active = true;
     joinSession(route.code).then(
       (joined) => {
-        if (active) enter({ session_id: joined.session_id, token: joined.token, role: "buddy" });
+        if (active) enter({ session_id: joined.session_id, token: joined.token, role: joined.role });
       },
       (error: unknown) => {
         if (!active) return;
@@ -72,7 +72,7 @@ export function App() {
   if (route.name === "session" && credentials) {
     const newSearch = (): void => {
       createSession().then(
-        (created) => enter({ session_id: created.session_id, token: created.token, role: "seeker" }),
+        (created) => enter({ session_id: created.session_id, token: created.token, role: created.role }),
         () => toStart(),
       );
     };

@@ -52,7 +52,6 @@ interface Props {
 }
 
 export function PhotoStep({ controller, view, top }: Props) {
-  const seeker = view.credentials.role === "seeker";
   const busy = view.upload.phase === "preparing" || view.upload.phase === "uploading";
   return (
     <main class="screen session photo-step">
@@ -63,9 +62,8 @@ export function PhotoStep({ controller, view, top }: Props) {
         </div>
         <h1>Photo of the other side</h1>
         <p class="lead">
-          {seeker
-            ? "Aim at your buddy. Get some clear landmarks in too: corners, signs, lights, pillars."
-            : "Aim across the venue, where your friend is. Get some clear landmarks in: corners, signs, lights."}
+          Aim across the venue, where your friend is. Get some clear landmarks in too: corners,
+          signs, lights, pillars.
         </p>
       </section>
       <footer class="bottom-actions">

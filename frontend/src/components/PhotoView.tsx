@@ -21,6 +21,8 @@ import {
 import { clipLine, type Landmark, type TapSet } from "../landmarks";
 import { LOUPE_SIZE, labelPositions, loupePosition, loupeZoom } from "../markLayout";
 import { FRIEND_COLOUR, OUTLINE_COLOUR, landmarkColour } from "../palette";
+import { tapSigma } from "../precision";
+import type { Tap } from "../session";
 import {
   centreOn,
   clampTransform,
@@ -51,13 +53,12 @@ interface Props {
   selected: number | null;
   suspects: readonly number[];
   linePoint: Point | null;
-  /** Labels for the marks of the two friends on this phone. */
-  markName: string;
   /** Photo points no label may cover (the answer's star). */
   keepClear: readonly Point[];
   focus: Focus | null;
-  onTap: (at: Point) => void;
-  onMove: (id: number, to: Point) => void;
+  /** A tap, with its precision at the zoom and aim it was made with. */
+  onTap: (at: Tap) => void;
+  onMove: (id: number, to: Tap) => void;
   onSelect: (id: number | null) => void;
 }
 
@@ -162,12 +163,13 @@ export function PhotoView(props: Props) {
       if (!t) return;
       if (outcome.kind === "place") {
         const at = toPhoto(t, outcome.at);
-        if (isInsidePhoto(at, now.photoSize)) now.onTap(at);
+        if (isInsidePhoto(at, now.photoSize)) now.onTap({ ...at, sigma: tapSigma(t.scale, outcome.aim) });
       } else if (outcome.kind === "move") {
         const at = toPhoto(t, outcome.to);
         now.onMove(outcome.id, {
           x: Math.min(Math.max(at.x, 0), now.photoSize.width),
           y: Math.min(Math.max(at.y, 0), now.photoSize.height),
+          sigma: tapSigma(t.scale, outcome.aim),
         });
       } else if (outcome.kind === "select") {
         now.onSelect(now.selected === outcome.id ? null : outcome.id);
@@ -196,7 +198,7 @@ export function PhotoView(props: Props) {
       if (!t) return;
       let g = live.current.gesture;
       for (const touch of event.changedTouches) {
-        g = fingerDown(g, fingers, touch.identifier, grabAt(event.target), t);
+        g = fingerDown(g, fingers, touch.identifier, grabAt(event.target), t, false, event.timeStamp);
       }
       applyGesture(g);
     };
@@ -231,7 +233,7 @@ export function PhotoView(props: Props) {
       let g = live.current.gesture;
       for (const id of lifted) {
         fingers.delete(id);
-        const next = fingerUp(g, fingers, id, cancelled);
+        const next = fingerUp(g, fingers, id, cancelled, event.timeStamp);
         g = next.gesture;
         finish(next.outcome);
       }
@@ -251,7 +253,7 @@ export function PhotoView(props: Props) {
       fingers.set(0, local(event.clientX, event.clientY));
       moved();
       fingers.delete(0);
-      const next = fingerUp(live.current.gesture, fingers, 0);
+      const next = fingerUp(live.current.gesture, fingers, 0, false, event.timeStamp);
       applyGesture(next.gesture);
       finish(next.outcome);
     };
@@ -262,7 +264,8 @@ export function PhotoView(props: Props) {
       if (!t || live.current.fingers.size > 0) return;
       event.preventDefault();
       live.current.fingers.set(0, local(event.clientX, event.clientY));
-      applyGesture(fingerDown(live.current.gesture, live.current.fingers, 0, grabAt(event.target), t, true));
+      const grab = grabAt(event.target);
+      applyGesture(fingerDown(live.current.gesture, live.current.fingers, 0, grab, t, true, event.timeStamp));
       window.addEventListener("mousemove", onMouseMove);
       window.addEventListener("mouseup", onMouseUp);
     };
@@ -355,10 +358,10 @@ function Drawing(props: DrawingProps) {
       ? { id: gesture.grab.id, at: toPhoto(t, pressTarget(gesture)) }
       : null;
   const landmarks: Landmark[] = taps.landmarks.map((l) =>
-    dragged && l.id === dragged.id ? { id: l.id, ...dragged.at } : l,
+    dragged && l.id === dragged.id ? { ...l, ...dragged.at } : l,
   );
-  const line = taps.buddyLine ? clipLine(taps.buddyLine, photoSize) : null;
-  const friends = [taps.buddyMark, taps.seekerMark].filter((m): m is Point => m !== null);
+  const line = taps.friend_line ? clipLine(taps.friend_line, photoSize) : null;
+  const friends: Point[] = taps.friend ? [taps.friend] : [];
   const labels = labelPositions(
     landmarks.map((l) => ({ id: l.id, at: screen(l) })),
     view,
@@ -401,14 +404,9 @@ function Drawing(props: DrawingProps) {
         })}
       </svg>
       {props.linePoint && <div class="line-point" style={at(screen(props.linePoint))} />}
-      {taps.buddyMark && (
-        <div class="friend-mark" style={at(screen(taps.buddyMark))}>
-          <span>{props.markName}</span>
-        </div>
-      )}
-      {taps.seekerMark && (
-        <div class="friend-mark" style={at(screen(taps.seekerMark))}>
-          <span>{props.markName}</span>
+      {taps.friend && (
+        <div class="friend-mark" data-testid="friend-mark" style={at(screen(taps.friend))}>
+          <span>Friend</span>
         </div>
       )}
       {landmarks.map((l) => {

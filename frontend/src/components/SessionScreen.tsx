@@ -49,14 +49,15 @@ export function SessionScreen({ credentials, onLeave, onNewSearch }: Props) {
     );
   }
 
-  const seekerWaiting = credentials.role === "seeker" && !state.participants.buddy.joined;
+  // The friend who started the search shares its code until the other joins.
+  const waiting = credentials.role === "starter" && !state.participants.joiner?.joined;
   const top = <TopBar controller={controller} view={view} />;
   let screen: JSX.Element;
   const newSearch = (): void => {
     controller.abandon();
     onNewSearch();
   };
-  if (seekerWaiting) {
+  if (waiting) {
     screen = <SharePanel controller={controller} view={view} state={state} top={top} onNewSearch={newSearch} />;
   }
   else if (!view.photo) screen = <PhotoStep controller={controller} view={view} top={top} />;

@@ -1,4 +1,4 @@
-/** The seeker's screen until the buddy joins: the code, its QR code, a share button. */
+/** The starter's screen until their friend joins: the code, its QR code, a share button. */
 
 import type { ComponentChildren } from "preact";
 import { useMemo, useState } from "preact/hooks";
@@ -62,7 +62,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
         if (error instanceof DOMException && error.name === "AbortError") return;
       }
     }
-    setShared((await copy(link)) ? "Link copied: paste it to your buddy." : `Send this link: ${link}`);
+    setShared((await copy(link)) ? "Link copied: paste it to your friend." : `Send this link: ${link}`);
   };
 
   return (
@@ -71,7 +71,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
       <section class="share-body">
         {code && link ? (
           <>
-            <p class="label">Your buddy types this code, or scans it</p>
+            <p class="label">Your friend types this code, or scans it</p>
             <p class="code" data-testid="code" aria-label={`Code ${code.split("").join(" ")}`}>
               {codeGroups(code).map((group, index) => (
                 <span key={index}>{group}</span>
@@ -80,7 +80,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
             {state.join_code_renewals > 0 && (
               <p class="note" data-testid="code-renewed" role="status">
                 New code: someone typed wrong codes for your search, so the last one no longer
-                works. Give your buddy this one.
+                works. Give your friend this one.
               </p>
             )}
             {qr && (
@@ -105,16 +105,16 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
               </p>
             )}
             <p class="waiting" data-testid="waiting" role="status">
-              <span class="spinner" aria-hidden="true" /> Waiting for your buddy...
+              <span class="spinner" aria-hidden="true" /> Waiting for your friend...
             </p>
           </>
         ) : (
           <>
             <p class="error" role="alert">
-              The code ran out before your buddy joined.
+              The code ran out before your friend joined.
             </p>
             <p class="waiting" data-testid="waiting">
-              Your buddy has not joined yet.
+              Your friend has not joined yet.
             </p>
             <button type="button" class="button primary wide" onClick={onNewSearch}>
               New code

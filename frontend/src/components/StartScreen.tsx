@@ -1,8 +1,9 @@
-/** Start: "Find my buddy" makes a session; a code joins one. */
+/** Start: "Start a search" makes a session; the code a friend gives joins theirs. */
 
 import { useState } from "preact/hooks";
 import { createSession, joinSession } from "../api";
-import { CODE_DIGITS, codeFrom } from "../joinCode";
+import { codeFrom } from "../joinCode";
+import { CODE_DIGITS } from "../limits";
 import type { Credentials } from "../types";
 
 interface Props {
@@ -23,7 +24,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
     setError(null);
     try {
       const created = await createSession();
-      onEnter({ session_id: created.session_id, token: created.token, role: "seeker" });
+      onEnter({ session_id: created.session_id, token: created.token, role: created.role });
     } catch (failure) {
       setError(failure instanceof Error ? failure.message : String(failure));
       setBusy(null);
@@ -41,7 +42,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
     setError(null);
     try {
       const joined = await joinSession(digits);
-      onEnter({ session_id: joined.session_id, token: joined.token, role: "buddy" });
+      onEnter({ session_id: joined.session_id, token: joined.token, role: joined.role });
     } catch (failure) {
       setError(failure instanceof Error ? failure.message : String(failure));
       setBusy(null);
@@ -65,7 +66,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
 
       <form class="join" onSubmit={join}>
         <label for="join-code" class="label">
-          Got a code from your friend?
+          Join your friend: type their code
         </label>
         <div class="join-row">
           <input
@@ -100,7 +101,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
           disabled={busy !== null}
           onClick={() => void start()}
         >
-          {busy === "start" ? "Starting..." : "Find my buddy"}
+          {busy === "start" ? "Starting..." : "Start a search"}
         </button>
       </div>
     </main>

@@ -8,7 +8,8 @@ import type { ComponentChildren } from "preact";
 import { useEffect, useState } from "preact/hooks";
 import { cropUrl, overlayUrl, photoUrl } from "../api";
 import { describeAnswer, neededText, type AnswerView } from "../answer";
-import { canUndo, fromServerTaps, landmarkIds, nextLandmark } from "../landmarks";
+import { canUndo, friendMarked, fromServerTaps, landmarkIds, nextLandmark } from "../landmarks";
+import { lensNote } from "../lens";
 import { landmarkColour } from "../palette";
 import type { Mode, SessionController, SessionView } from "../session";
 import { otherRole, type SessionState } from "../types";
@@ -26,11 +27,12 @@ interface Props {
 export function TapScreen({ controller, view, state, top }: Props) {
   const { credentials, editor, photo } = view;
   const role = credentials.role;
-  const seeker = role === "seeker";
   const answerState = view.answerState ?? state;
   const answer = describeAnswer(answerState, role);
-  // The buddy's phone shows the answer on the photo; the seeker's on request.
-  const [showAnswer, setShowAnswer] = useState(!seeker);
+  // The answer is drawn on the photo when it tells this phone something new (where the
+  // friend is found); a phone that marked its friend sees it on request. A choice sticks.
+  const [chosen, setChosen] = useState<boolean | null>(null);
+  const showAnswer = chosen ?? answer.news;
   const [focus, setFocus] = useState<Focus | null>(null);
 
   const focusOn = (id: number): void => {
@@ -56,10 +58,9 @@ export function TapScreen({ controller, view, state, top }: Props) {
   }, [controller]);
 
   if (!photo) return null;
+  const version = answerState.answer_version;
   const overlay =
-    answer.hasOverlay && showAnswer && answerState.result_version !== null
-      ? overlayUrl(credentials, role, answerState.result_version)
-      : null;
+    answer.hasOverlay && showAnswer && typeof version === "number" ? overlayUrl(credentials, role, version) : null;
 
   return (
     <main class="screen session tap-screen">
@@ -69,9 +70,9 @@ export function TapScreen({ controller, view, state, top }: Props) {
         saveError={view.save.status === "error" ? view.save.message : null}
         state={state}
         answer={answer}
-        seeker={seeker}
+        lens={lensNote(state.photos[role])}
         showAnswer={showAnswer}
-        onToggleAnswer={() => setShowAnswer(!showAnswer)}
+        onToggleAnswer={() => setChosen(!showAnswer)}
         onRecheck={focusOn}
       />
       <PhotoView
@@ -82,8 +83,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
         selected={editor.selected}
         suspects={answer.suspects}
         linePoint={view.linePoint}
-        markName={seeker ? "Buddy" : "Friend"}
-        keepClear={!seeker && overlay && answer.position ? [answer.position] : []}
+        keepClear={overlay && answer.position ? [answer.position] : []}
         focus={focus}
         onTap={(at) => controller.tap(at)}
         onMove={(id, to) => controller.moveLandmark(id, to)}
@@ -97,14 +97,14 @@ export function TapScreen({ controller, view, state, top }: Props) {
 
 /** What to do while there is no answer yet. */
 function statusHint(state: SessionState, view: SessionView): string {
-  const seeker = view.credentials.role === "seeker";
-  const { taps } = view.editor;
-  if (seeker && !taps.buddyMark && !taps.buddyLine) {
-    return "Mark your buddy first: then 3 landmarks are enough.";
+  const other = otherRole(view.credentials.role);
+  const theirs = fromServerTaps(state.taps[other]);
+  if (!friendMarked(view.editor.taps) && !view.unseen) {
+    return friendMarked(theirs)
+      ? "Your friend marked you. If you can see them too, mark them: fewer landmarks are needed."
+      : "Whoever can see the other marks them: then fewer landmarks are needed.";
   }
-  if (!state.photos[otherRole(view.credentials.role)]) {
-    return seeker ? "Your buddy is taking their photo." : "Your friend is taking their photo.";
-  }
+  if (!state.photos[other]) return "Your friend is taking their photo.";
   return "Both tap the same spots: #3 here is #3 there.";
 }
 
@@ -113,17 +113,18 @@ interface StatusProps {
   saveError: string | null;
   state: SessionState;
   answer: AnswerView;
-  seeker: boolean;
+  /** What the phone says of its photo's lens. */
+  lens: string | null;
   showAnswer: boolean;
   onToggleAnswer: () => void;
   onRecheck: (id: number) => void;
 }
 
-function StatusPanel({ hint, saveError, state, answer, seeker, showAnswer, onToggleAnswer, onRecheck }: StatusProps) {
+function StatusPanel({ hint, saveError, state, answer, lens, showAnswer, onToggleAnswer, onRecheck }: StatusProps) {
   const count = state.landmarks_needed;
   const { position } = answer;
   const ellipse = position?.ellipse ?? null;
-  const located = answer.kind === "position" || answer.kind === "elsewhere";
+  const refined = position !== null && position.how !== "solved";
   return (
     <section class="status" aria-live="polite">
       <div class="status-row">
@@ -142,14 +143,19 @@ function StatusPanel({ hint, saveError, state, answer, seeker, showAnswer, onTog
         </p>
       )}
       {answer.kind === "none" && <p class="hint">{hint}</p>}
-      {seeker && located && (
-        <p class="seeker-status" data-testid="seeker-status">
-          Your buddy can now see where you are.
+      {answer.kind === "none" && lens && (
+        <p class="lens-note" data-testid="lens-note">
+          {lens}
+        </p>
+      )}
+      {answer.seen && (
+        <p class="seen-status" data-testid="seen-status">
+          Your friend can now see where you are.
         </p>
       )}
       {answer.text && (
         <p class={`result-text ${answer.kind}`} data-testid="result-text">
-          {seeker && located ? "Stay where you are and wave." : answer.text}
+          {answer.text}
         </p>
       )}
       {(position || answer.suspects.length > 0) && (
@@ -161,6 +167,7 @@ function StatusPanel({ hint, saveError, state, answer, seeker, showAnswer, onTog
               data-x={String(position.x)}
               data-y={String(position.y)}
               data-quality={position.quality}
+              data-how={position.how}
               {...(ellipse
                 ? {
                     "data-axis-a": String(ellipse.axes[0]),
@@ -170,7 +177,11 @@ function StatusPanel({ hint, saveError, state, answer, seeker, showAnswer, onTog
                 : {})}
             >
               Quality: {position.quality}
-              {ellipse ? ` \u00b7 \u00b1${Math.round(ellipse.axes[0])} px` : " \u00b7 no sure region"}
+              {ellipse
+                ? ` \u00b7 \u00b1${Math.round(ellipse.axes[0])} px`
+                : refined
+                  ? " \u00b7 your mark, refined"
+                  : " \u00b7 no sure region"}
             </p>
           )}
           {answer.suspects.map((id) => (
@@ -198,9 +209,7 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
   const other = otherRole(credentials.role);
   const theirTaps = fromServerTaps(state.taps[other]);
   const next = nextLandmark(landmarkIds(editor.taps), landmarkIds(theirTaps), view.skipped);
-  const seeker = credentials.role === "seeker";
-  const buddyMarked = editor.taps.buddyMark !== null || editor.taps.buddyLine !== null;
-  const back = (): void => controller.setMode("landmark");
+  const marked = friendMarked(editor.taps);
 
   if (view.upload.phase !== "idle") {
     // A new photo on its way: its progress (or why it failed) instead of the prompt.
@@ -211,50 +220,37 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
     );
   }
 
-  if (mode === "buddy") {
+  if (mode === "friend") {
     return (
-      <section class="prompt">
+      <section class="prompt" data-testid="friend-prompt">
         <div class="prompt-text">
-          <strong>Where is your buddy?</strong>
-          <span>Tap them in your photo.</span>
+          <strong>{marked ? "Move your mark?" : "Tap your friend"}</strong>
+          <span>{marked ? "Tap where they are." : "Not sure where? Line."}</span>
         </div>
-        <button type="button" class="button secondary small" onClick={() => controller.setMode("line")}>
-          Not sure? Line
-        </button>
+        {marked ? (
+          <button type="button" class="button secondary small" data-testid="remove-friend" onClick={() => controller.removeFriend()}>
+            Remove mark
+          </button>
+        ) : (
+          <button type="button" class="button secondary small" data-testid="cannot-see" onClick={() => controller.cannotSee()}>
+            I can't see them
+          </button>
+        )}
       </section>
     );
   }
   if (mode === "line") {
     return (
-      <section class="prompt">
+      <section class="prompt" data-testid="line-prompt">
         <div class="prompt-text">
           <strong>{view.linePoint ? "Now a second point" : "Somewhere along here?"}</strong>
           <span>
-            {view.linePoint ? "Tap another point on the line." : "Tap 2 points on a line through your buddy."}
+            {view.linePoint ? "Tap another point on the line." : "Tap 2 points on a line through your friend."}
           </span>
         </div>
-        <button type="button" class="button secondary small" onClick={() => controller.setMode(buddyMarked ? "landmark" : "buddy")}>
+        <button type="button" class="button secondary small" onClick={() => controller.setMode(marked || view.unseen ? "landmark" : "friend")}>
           Cancel
         </button>
-      </section>
-    );
-  }
-  if (mode === "seeker") {
-    return (
-      <section class="prompt">
-        <div class="prompt-text">
-          <strong>Can you see your friend?</strong>
-          <span>Tap them: then 1 landmark is enough.</span>
-        </div>
-        {editor.taps.seekerMark ? (
-          <button type="button" class="button secondary small" onClick={() => controller.removeSeekerMark()}>
-            Remove mark
-          </button>
-        ) : (
-          <button type="button" class="button secondary small" onClick={back}>
-            Cancel
-          </button>
-        )}
       </section>
     );
   }
@@ -269,7 +265,7 @@ function Prompt({ controller, view, state }: { controller: SessionController; vi
           <strong>
             Find {swatch} here
           </strong>
-          <span>Tap the same spot as in {seeker ? "your buddy's" : "your friend's"} photo.</span>
+          <span>Tap the same spot as in your friend's photo.</span>
         </div>
         <button type="button" class="button secondary small" onClick={() => controller.skip(next.id)}>
           Can't see it
@@ -305,18 +301,11 @@ function ModeButton(props: { mode: Mode; current: Mode; testId: string; label: s
 
 function Toolbar({ controller, view }: { controller: SessionController; view: SessionView }) {
   const { editor, mode } = view;
-  const seeker = view.credentials.role === "seeker";
   const pick = (next: Mode): void => controller.setMode(next);
   return (
     <nav class="toolbar" aria-label="Tools">
-      {seeker ? (
-        <>
-          <ModeButton mode="buddy" current={mode} testId="mark-buddy" label="Buddy" icon={<PersonIcon />} onPick={pick} />
-          <ModeButton mode="line" current={mode} testId="mark-line" label="Line" icon={<LineIcon />} onPick={pick} />
-        </>
-      ) : (
-        <ModeButton mode="seeker" current={mode} testId="mark-seeker" label="Friend" icon={<PersonIcon />} onPick={pick} />
-      )}
+      <ModeButton mode="friend" current={mode} testId="mark-friend" label="Friend" icon={<PersonIcon />} onPick={pick} />
+      <ModeButton mode="line" current={mode} testId="mark-line" label="Line" icon={<LineIcon />} onPick={pick} />
       <ModeButton mode="landmark" current={mode} testId="mark-landmark" label="Landmarks" icon={<PinIcon />} onPick={pick} />
       <button type="button" class="tool" data-testid="undo" disabled={!canUndo(editor)} onClick={() => controller.undo()}>
         <UndoIcon />

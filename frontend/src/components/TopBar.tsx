@@ -14,14 +14,13 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
   const other = otherRole(credentials.role);
   const peer = state?.participants[other];
   const online = peer?.online ?? false;
-  const name = credentials.role === "seeker" ? "Buddy" : "Friend";
-  const peerWords = !peer?.joined ? `${name} not here yet` : online ? `${name} online` : `${name} offline`;
+  const peerWords = !peer?.joined ? "Friend not here yet" : online ? "Friend online" : "Friend offline";
 
   return (
     <header class="top-bar">
       <span class={`peer ${online ? "on" : "off"}`} data-testid="peer-online" data-online={String(online)}>
         <span class="dot" aria-hidden="true" />
-        {peerWords}
+        <span class="peer-words">{peerWords}</span>
       </span>
       {view.stream === "down" && (
         <span class="reconnecting" data-testid="reconnecting" role="status">

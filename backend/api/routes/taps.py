@@ -1,0 +1,63 @@
+"""Taps, and the pictures drawn from them: the answer on a photo, a landmark's crop."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Path
+from fastapi.responses import Response
+
+from backend.api.deps import BaseUrlDep, ParticipantDep, StateDep, TapsDep, ViewerDep
+from backend.api.params import FormatParam, RoleParam
+from backend.api.responses import PICTURE, errors, json_answer
+from backend.limits import MAX_LANDMARK_ID
+from backend.photos.schemas import MEDIA_TYPES
+from backend.sessions.schemas import SessionState
+from backend.taps.schemas import Taps
+
+router = APIRouter(prefix="/api/sessions", tags=["sessions"])
+
+
+@router.put(
+    "/{session_id}/taps",
+    response_model=SessionState,
+    responses=errors(400, 401, 403, 404, 409, 413, 422, 503),
+)
+def put_taps(
+    taps: Taps, participant: ParticipantDep, state: StateDep, base: BaseUrlDep
+) -> Response:
+    """Replace your landmarks and, if you can see your friend, your friend mark (or a line
+    through them). The answer is recomputed and returned in the state."""
+    return json_answer(state.put_taps(participant, taps, base))
+
+
+@router.get(
+    "/{session_id}/overlay/{role}",
+    responses={**PICTURE, **errors(401, 403, 404, 409, 503)},
+    response_class=Response,
+)
+def overlay(
+    role: RoleParam,
+    participant: ViewerDep,
+    taps: TapsDep,
+    format: FormatParam = "jpeg",
+) -> Response:
+    """That participant's photo with the answer drawn for their phone."""
+    data = taps.overlay(participant, role, format)
+    return Response(data, media_type=MEDIA_TYPES[format], headers={"Cache-Control": "private"})
+
+
+@router.get(
+    "/{session_id}/landmarks/{role}/{landmark_id}/crop",
+    responses={200: {"content": {"image/jpeg": {}}}, **errors(401, 403, 404, 503)},
+    response_class=Response,
+)
+def landmark_crop(
+    role: RoleParam,
+    landmark_id: Annotated[int, Path(ge=1, le=MAX_LANDMARK_ID)],
+    participant: ViewerDep,
+    taps: TapsDep,
+) -> Response:
+    """A small JPEG around one landmark of that participant's photo: "find #3"."""
+    data = taps.crop(participant, role, landmark_id)
+    return Response(data, media_type="image/jpeg", headers={"Cache-Control": "private"})

@@ -1,0 +1,1 @@
+"""Server-sent events: "this changed", written with each change, streamed to the phones."""

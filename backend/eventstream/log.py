@@ -1,0 +1,128 @@
+"""The event log: "this changed" as rows of the events table, written in the transaction of
+the change they announce, read by the streams.
+
+Events live in the database, so a phone that reconnects with ``Last-Event-ID`` gets what it
+missed, whichever replica it reaches; ids are never reused (migration 0004), so a reader
+that has looked past an id never needs to look there again.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from datetime import datetime
+from enum import StrEnum
+from typing import Any
+
+from sqlalchemy import bindparam, func, select
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+
+from backend.storage.database import Database
+from backend.storage.tables import EventRow, SessionRow
+
+from .listener import CHANNEL
+
+
+class EventType(StrEnum):
+    """What a phone is told; it then fetches the state (the app reacts to each type)."""
+
+    JOINED = "joined"  # a phone opened its stream (or joined the search)
+    CODE = "code"  # the join code was renewed after wrong guesses
+    PHOTO = "photo"
+    TAPS = "taps"
+    ANSWER = "answer"
+    LEFT = "left"  # a phone's stream closed
+    EXPIRED = "expired"  # the session ended (deleted, or its time is up): sent, never stored
+
+
+@dataclass(frozen=True)
+class Event:
+    id: int
+    type: str
+    data: dict[str, Any]
+
+
+_sessions, _events = SessionRow.__table__, EventRow.__table__
+# The hot reads, built once (building a statement costs more than running it on SQLite).
+_ALIVE = select(_sessions.c.id).where(_sessions.c.id == bindparam("session_id"))
+_EXISTING = select(_sessions.c.id).where(_sessions.c.id.in_(bindparam("ids", expanding=True)))
+_NEWEST_EVENT = select(func.max(_events.c.id))
+_NEW_EVENTS = (
+    select(_events.c.session_id, func.max(_events.c.id).label("newest"))
+    .where(_events.c.id > bindparam("after"))
+    .group_by(_events.c.session_id)
+)
+_LAST_EVENT = select(func.max(_events.c.id)).where(_events.c.session_id == bindparam("session_id"))
+_EVENTS_AFTER = (
+    select(_events.c.id, _events.c.type, _events.c.data)
+    .where(_events.c.session_id == bindparam("session_id"), _events.c.id > bindparam("after"))
+    .order_by(_events.c.id)
+)
+
+
+def record(
+    tx: Session, session_id: str, type_: EventType, data: dict[str, Any], now: datetime
+) -> None:
+    """Write an event in ``tx``, and tell every replica's streams of its session.
+
+    The session's row is locked first (a no-op where the transaction changed it already):
+    then the events of a session commit in the order of their ids, and a stream that has
+    read up to an id never misses a smaller one committed later by a concurrent writer.
+    """
+    tx.execute(
+        select(SessionRow.id).where(SessionRow.id == session_id).with_for_update(key_share=True)
+    )
+    tx.add(EventRow(session_id=session_id, type=type_, data=json.dumps(data), created_at=now))
+    notify_replicas(tx, session_id)
+
+
+def notify_replicas(tx: Session, session_id: str) -> None:
+    """PostgreSQL: wake every replica's streams of this session, at commit."""
+    if tx.get_bind().dialect.name == "postgresql":
+        tx.execute(select(func.pg_notify(CHANNEL, session_id)))
+
+
+class EventLog:
+    """What the streams read, and the events that change no state (presence)."""
+
+    def __init__(self, database: Database) -> None:
+        self.database = database
+
+    def publish(
+        self, session_id: str, type_: EventType, data: dict[str, Any], now: datetime
+    ) -> None:
+        """An event with no change of state (a phone came or went)."""
+        try:
+            with self.database.write() as tx:
+                record(tx, session_id, type_, data, now)
+        except IntegrityError:
+            pass  # the session is gone
+
+    def last_event_id(self, session_id: str) -> int:
+        """The id of the session's newest event (0: none yet): where a new stream starts."""
+        with self.database.query() as connection:
+            return int(connection.scalar(_LAST_EVENT, {"session_id": session_id}) or 0)
+
+    def events_after(self, session_id: str, after: int) -> list[Event] | None:
+        """Events of a session newer than ``after``; None when the session is gone."""
+        with self.database.query() as connection:
+            if connection.scalar(_ALIVE, {"session_id": session_id}) is None:
+                return None
+            rows = connection.execute(_EVENTS_AFTER, {"session_id": session_id, "after": after})
+            return [Event(row.id, row.type, json.loads(row.data)) for row in rows]
+
+    def changes_since(self, after: int | None, watched: Sequence[str]) -> tuple[int, set[str]]:
+        """What other processes may have changed: the newest event id, and the sessions
+        with an event newer than ``after`` (None: the first look, nothing is new) or, of
+        ``watched``, deleted."""
+        with self.database.query() as connection:
+            if after is None:
+                return int(connection.scalar(_NEWEST_EVENT) or 0), set()
+            changed = {
+                row.session_id: row.newest
+                for row in connection.execute(_NEW_EVENTS, {"after": after})
+            }
+            gone = set(watched) - set(connection.scalars(_EXISTING, {"ids": list(watched)}))
+        return max(changed.values(), default=after), set(changed) | gone

@@ -1,0 +1,1 @@
+"""A participant's photo: stored upright without metadata, shown back, cropped."""

@@ -1,0 +1,36 @@
+"""What the photo endpoints answer, and the picture formats they draw in."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, Field
+
+ImageFormat = Literal["png", "jpeg"]
+ToldBy = Literal["photo", "phone"]
+MEDIA_TYPES: dict[ImageFormat, str] = {"png": "image/png", "jpeg": "image/jpeg"}
+
+
+class LensInfo(BaseModel):
+    """What the photo's EXIF said of its lens: the answer uses it, and needs fewer guesses."""
+
+    focal_35mm: float = Field(description="35 mm-equivalent focal length, mm.", examples=[26.0])
+    told_by: ToldBy = Field(
+        description="'photo': read by the server from the uploaded photo; 'phone': read by "
+        "the phone before it shrank the photo (the shrunk copy keeps no EXIF)."
+    )
+
+
+class PhotoStored(BaseModel):
+    width: int = Field(
+        description="Of the stored photo, px: taps are in these pixels.", examples=[2560]
+    )
+    height: int = Field(examples=[1920])
+    scale: float = Field(
+        description="Stored size / uploaded size (1.0 if not downscaled).", examples=[0.6349]
+    )
+    lens: LensInfo | None = Field(
+        None,
+        description="The lens, when the photo told it; else the answer assumes a phone's "
+        "main camera, zoomed or not.",
+    )

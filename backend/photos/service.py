@@ -1,0 +1,60 @@
+"""A participant's photo: stored, shown back, and cropped around a landmark ("find #3")."""
+
+from __future__ import annotations
+
+from backend.clock import Clock
+from backend.errors import ErrorCode, RefusedError
+from backend.eventstream.notifier import Notifier
+from backend.participants import Participant, Role
+from backend.settings import Settings
+
+from .imaging import crop_around, store_photo
+from .lens import LensFacts, lens
+from .repository import Photos
+from .schemas import LensInfo, PhotoStored
+
+
+class PhotoService:
+    def __init__(
+        self, photos: Photos, settings: Settings, notifier: Notifier, clock: Clock
+    ) -> None:
+        self.photos = photos
+        self.settings = settings
+        self.notifier = notifier
+        self.clock = clock
+
+    def put(
+        self, participant: Participant, data: bytes, told: LensFacts | None = None
+    ) -> PhotoStored:
+        """Store the caller's photo (replacing any earlier one, whose taps go with it), with
+        its lens: from the photo's own EXIF, else from what the phone ``told`` of it."""
+        photo = store_photo(
+            data,
+            max_pixels=self.settings.max_photo_pixels,
+            max_side=self.settings.stored_photo_side,
+        )
+        found = lens(photo.lens, "photo") or (None if told is None else lens(told, "phone"))
+        self.photos.put(participant, photo, found, self.clock())
+        self.notifier.notify(participant.session_id)
+        return PhotoStored(
+            width=photo.width,
+            height=photo.height,
+            scale=photo.scale,
+            lens=None
+            if found is None
+            else LensInfo(focal_35mm=found.focal_35mm, told_by=found.told_by),
+        )
+
+    def get(self, participant: Participant, role: Role) -> bytes:
+        """``role``'s photo as stored (upright JPEG): what that phone taps on."""
+        photo = self.photos.get(participant.session_id, role)
+        if photo is None:
+            raise RefusedError(
+                ErrorCode.PHOTO_NOT_FOUND, f"The {role} has not uploaded a photo yet."
+            )
+        return photo.data
+
+    def crop(self, participant: Participant, role: Role, x: float, y: float) -> bytes | None:
+        """A small picture around ``(x, y)`` of ``role``'s photo; None without a photo."""
+        photo = self.photos.get(participant.session_id, role)
+        return None if photo is None else crop_around(photo.data, x, y)

@@ -1,0 +1,95 @@
+"""The session as one phone sees it: who is there and online, both photos and tap sets,
+the answer, and how many landmarks are still needed."""
+
+from __future__ import annotations
+
+from datetime import timedelta
+
+from backend.clock import Clock, aware
+from backend.pairing.service import PairingService
+from backend.participants import ROLES, Participant
+from backend.photos.schemas import LensInfo, PhotoStored
+from backend.settings import Settings
+from backend.storage.snapshot import PhotoInfo, Snapshot
+from backend.taps import problem as problems
+from backend.taps.schemas import Answer, Taps
+from backend.taps.service import TapService, tap_sets
+
+from .schemas import ParticipantState, SessionState
+
+
+class StateService:
+    def __init__(
+        self, taps: TapService, pairing: PairingService, settings: Settings, clock: Clock
+    ) -> None:
+        self.taps = taps
+        self.pairing = pairing
+        self.settings = settings
+        self.clock = clock
+
+    def state(
+        self, participant: Participant, base_url: str, snapshot: Snapshot | None = None
+    ) -> SessionState:
+        """What ``participant``'s phone shows, from ``snapshot`` if it was just read."""
+        snapshot = self.taps.due(snapshot or self.taps.snapshot(participant.session_id))
+        now = self.clock()
+        online_after = now - timedelta(seconds=self.settings.online_seconds)
+        taps = tap_sets(snapshot)
+        task = problems.problem(taps, self.settings.tap_sigma)
+        stored = snapshot.answer or {}
+        answer = Answer.model_validate(stored["answer"]) if "answer" in stored else None
+        error = stored.get("error")
+        if error is not None:
+            reader = 1 if participant.role == stored.get("first", task.first) else 2
+            error = {**error, "message": problems.for_reader(error["message"], reader)}
+        code = snapshot.join_code
+        code_valid = (
+            code is not None
+            and snapshot.join_code_expires_at is not None
+            and snapshot.join_code_expires_at > now
+            and participant.role == "starter"
+        )
+        return SessionState(
+            session_id=snapshot.id,
+            you=participant.role,
+            version=snapshot.version,
+            expires_at=aware(snapshot.expires_at),
+            join_code=code if code_valid else None,
+            join_code_expires_at=(
+                aware(snapshot.join_code_expires_at)
+                if code_valid and snapshot.join_code_expires_at
+                else None
+            ),
+            join_url=self.pairing.join_url(base_url, code) if code_valid and code else None,
+            join_code_renewals=snapshot.join_code_renewals if participant.role == "starter" else 0,
+            participants={
+                role: ParticipantState(
+                    joined=role in snapshot.members,
+                    online=role in snapshot.members
+                    and (seen := snapshot.members[role].last_seen_at) is not None
+                    and seen > online_after,
+                )
+                for role in ROLES
+            },
+            photos={role: _photo(snapshot.photos.get(role)) for role in ROLES},
+            taps=taps,
+            landmarks_needed=task.landmarks_needed(answer),
+            answer=answer,
+            answer_version=snapshot.answer_version if answer is not None else None,
+            answer_error=error,
+        )
+
+    def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:
+        """Replace the caller's taps; the state with the answer they give."""
+        return self.state(participant, base_url, self.taps.put(participant, taps))
+
+
+def _photo(info: PhotoInfo | None) -> PhotoStored | None:
+    if info is None:
+        return None
+    lens = (
+        None
+        if info.lens_focal_35mm is None or info.lens_told_by not in ("photo", "phone")
+        else LensInfo(focal_35mm=info.lens_focal_35mm, told_by=info.lens_told_by)
+    )
+    return PhotoStored(width=info.width, height=info.height, scale=info.scale, lens=lens)

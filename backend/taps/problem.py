@@ -1,0 +1,224 @@
+"""From the two friends' taps to the solver's question, and from its answer back to what
+each phone is told: where its friend is in its own photo.
+
+The solver speaks of photo 1 and photo 2 (``epipole1`` in photo 1, ``epipole2`` in photo
+2); the friends do not. Photo 1 is the photo of a friend who marked the other: the starter's
+if it has a mark, else the joiner's; a point before a line. Landmarks are matched by id (#3
+in one photo is #3 in the other); only ids tapped in both photos count, in ascending order.
+Every photo of a session comes from a phone, so each camera is a phone's: its lens's 35 mm
+focal length when the photo told it (``known_focal``), else the phone prior. The counts
+come from the solver itself (``fewest_landmarks``). docs/geometry.md has the geometry.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from backend.participants import ROLES, Role, other
+from backend.photos.lens import EXIF_UNCERTAINTY
+from shared_solver import Camera, SolverError, SolveResult, fewest_landmarks, solve, words
+
+from .schemas import Answer, FriendInPhoto, Taps
+
+Point = tuple[float, float]
+Line = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What the solver is asked, in stored-photo pixels; ``first``'s photo is photo 1."""
+
+    first: Role
+    default_sigma: float
+    ids: list[int]
+    points1: list[Point]
+    points2: list[Point]
+    sigmas1: list[float]
+    sigmas2: list[float]
+    epipole1: Point | None = None
+    epipole1_sigma: float | None = None
+    line1: Line | None = None
+    epipole2: Point | None = None
+    epipole2_sigma: float | None = None
+
+    @property
+    def second(self) -> Role:
+        return other(self.first)
+
+    def fewest(self, *, position: bool, cameras: bool = True) -> int:
+        """Landmarks (common to both photos) the solver needs, phone cameras given (or,
+        ``cameras=False``, without the camera model)."""
+        return fewest_landmarks(
+            epipole1=self.epipole1 is not None,
+            epipole2=self.epipole2 is not None,
+            line=self.line1 is not None,
+            cameras=cameras,
+            position=position,
+        )
+
+    def landmarks_needed(self, answer: Answer | None = None) -> int:
+        """How many more common landmarks until a position. Counted for phone cameras,
+        unless the answer so far had to do without the camera model: taps that fit no two
+        phone photos are answered as the paper's projective geometry counts (four
+        landmarks and a friend mark: the curve, and one more for a position)."""
+        projective = answer is not None and answer.camera_model == "projective"
+        return max(0, self.fewest(position=True, cameras=not projective) - len(self.ids))
+
+    @property
+    def solvable(self) -> bool:
+        return len(self.ids) >= self.fewest(position=False)
+
+
+def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
+    """The common landmarks and the friends' marks, with each tap's precision (a tap sent
+    without one has ``default_sigma``)."""
+    sets = {role: taps.get(role) or Taps() for role in ROLES}
+    first = _first(sets)
+    mine, theirs = sets[first], sets[other(first)]
+    one = {tap.id: tap for tap in mine.landmarks}
+    two = {tap.id: tap for tap in theirs.landmarks}
+    ids = sorted(one.keys() & two.keys())
+
+    def sigma(value: float | None) -> float:
+        return default_sigma if value is None else value
+
+    friend1 = mine.friend
+    line1 = mine.friend_line if friend1 is None else None
+    # The other phone's mark is the solver's epipole2 only beside a point in photo 1.
+    friend2 = theirs.friend if friend1 is not None else None
+    return Problem(
+        first=first,
+        default_sigma=default_sigma,
+        ids=ids,
+        points1=[(one[i].x, one[i].y) for i in ids],
+        points2=[(two[i].x, two[i].y) for i in ids],
+        sigmas1=[sigma(one[i].sigma) for i in ids],
+        sigmas2=[sigma(two[i].sigma) for i in ids],
+        epipole1=None if friend1 is None else (friend1.x, friend1.y),
+        epipole1_sigma=(
+            sigma(friend1.sigma)
+            if friend1 is not None
+            else sigma(line1.sigma)
+            if line1 is not None
+            else None
+        ),
+        line1=None if line1 is None else (line1.a, line1.b, line1.c),
+        epipole2=None if friend2 is None else (friend2.x, friend2.y),
+        epipole2_sigma=None if friend2 is None else sigma(friend2.sigma),
+    )
+
+
+def _first(sets: dict[Role, Taps]) -> Role:
+    """Whose photo is photo 1: a point marked before a line, the starter before the joiner."""
+    for mark in ("friend", "friend_line"):
+        for role in ROLES:
+            if getattr(sets[role], mark) is not None:
+                return role
+    return "starter"
+
+
+def camera(focal_35mm: float | None, uncertainty: float | None = None) -> Camera:
+    """A phone's camera: its lens's focal length when its photo said, else the phone prior."""
+    if focal_35mm is None:
+        return Camera.phone()
+    return Camera.with_focal(focal_35mm, uncertainty or EXIF_UNCERTAINTY)
+
+
+def solved(
+    task: Problem,
+    *,
+    sizes: dict[Role, tuple[int, int]],
+    cameras: dict[Role, Camera],
+) -> dict[str, Any]:
+    """The solver's answer to ``task`` as stored: ``{"answer": Answer, "solution": the
+    solver's own JSON, "first": whose photo was photo 1}``, or ``{"error": {"code",
+    "message"}}`` (messages naming photo 1 and photo 2; :func:`for_reader` says them to a
+    phone)."""
+    second = task.second
+    try:
+        result = solve(
+            task.points1,
+            task.points2,
+            epipole1=task.epipole1,
+            epipole2=task.epipole2,
+            epipolar_line1=task.line1,
+            tap_sigma=task.default_sigma,
+            image_size1=sizes[task.first],
+            image_size2=sizes[second],
+            landmark_ids=task.ids,
+            camera1=cameras[task.first],
+            camera2=cameras[second],
+            points1_sigma=task.sigmas1 or None,
+            points2_sigma=task.sigmas2 or None,
+            epipole1_sigma=task.epipole1_sigma,
+            epipole2_sigma=task.epipole2_sigma,
+        )
+    except SolverError as error:
+        return {"error": {"code": error.code.value, "message": error.message}}
+    return {
+        "answer": answer(task, result).model_dump(mode="json"),
+        "solution": result.model_dump(mode="json"),
+        "first": task.first,
+    }
+
+
+def answer(task: Problem, result: SolveResult) -> Answer:
+    """What each phone is told: where its friend is in its own photo. Photo 1's friend is
+    the mark its phone tapped (refined by the fit), or the point the fit puts on its line,
+    or (nothing marked) where the landmarks put them; photo 2's is what the fit found."""
+    first, second = task.first, task.second
+    focal = [camera.focal_35mm for camera in result.cameras] or [None, None]
+    suspects = {task.ids[i] for i in result.suspect_landmarks}
+    one = FriendInPhoto(
+        friend=result.epipole1,
+        friend_h=result.epipole1_h,
+        how="marked" if task.epipole1 is not None else "on_line" if task.line1 else "solved",
+        candidates=_others([c.epipole1 for c in result.candidates], result.epipole1),
+        focal_35mm=focal[0],
+        warnings=[for_reader(w, 1) for w in result.warnings if not words.about_photo2(w)],
+    )
+    ellipse = result.uncertainty.ellipse if result.uncertainty else None
+    two = FriendInPhoto(
+        friend=result.epipole2,
+        friend_h=result.epipole2_h,
+        how="marked" if task.epipole2 is not None else "solved",
+        region=ellipse,
+        curve=result.conic2,
+        candidates=_others([c.epipole2 for c in result.candidates], result.epipole2),
+        focal_35mm=focal[1],
+        warnings=[for_reader(w, 2) for w in result.warnings],
+    )
+    return Answer(
+        method=result.method,
+        camera_model=result.camera_model,
+        quality=result.quality,
+        landmark_ids=task.ids,
+        suspects=sorted(suspects),
+        residuals=result.residuals,
+        in_photo={first: one, second: two},
+    )
+
+
+def _others(positions: list[Point | None], answer: Point | None) -> list[Point]:
+    """The positions other than the answer (within a pixel) that fit the taps as well."""
+    return [
+        p for p in positions if p is not None and (answer is None or math.dist(p, answer) > 1.0)
+    ]
+
+
+_PHOTO = re.compile(r"\b([Pp])hoto ([12])\b")
+
+
+def for_reader(sentence: str, reader: int) -> str:
+    """A sentence of the solver naming photo 1 and photo 2, said to the phone whose photo is
+    ``reader``: "your photo" and "your friend's photo"."""
+
+    def name(match: re.Match[str]) -> str:
+        whose = "your" if int(match.group(2)) == reader else "your friend's"
+        said = f"{whose} photo"
+        return said[0].upper() + said[1:] if match.group(1) == "P" else said
+
+    return _PHOTO.sub(name, sentence)

@@ -1,0 +1,144 @@
+"""What a phone sends as its taps (each PUT replaces the whole set): the landmarks, and the
+friend if this phone can see them, each tap with how precise it is."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, Strict
+
+from backend.limits import MAX_LANDMARK_ID
+from backend.participants import Role
+from shared_solver.result import Ellipse
+
+# A JSON number, nothing that converts to one ("12", true): a tap sent as anything else is
+# a bug of the client, refused rather than guessed at.
+Coordinate = Annotated[float, Strict()]
+# A tap's standard deviation in stored-photo px, per axis: how far the finger may be off at
+# the zoom it tapped at (docs/app.md). Missing: the server's BUDDY_TAP_SIGMA.
+Sigma = Annotated[float, Strict(), Field(gt=0.0, le=1000.0)]
+
+
+class Mark(BaseModel):
+    """A point tapped on the photo."""
+
+    model_config = ConfigDict(allow_inf_nan=False, extra="forbid")
+
+    x: Coordinate = Field(description="Stored-photo pixels, x right.")
+    y: Coordinate = Field(description="Stored-photo pixels, y down.")
+    sigma: Sigma | None = Field(
+        None, description="How precise the tap is: its standard deviation per axis, px."
+    )
+
+
+class Landmark(Mark):
+    """A landmark: a spot both friends tap, #3 here being #3 there."""
+
+    id: int = Field(
+        ge=1,
+        le=MAX_LANDMARK_ID,
+        strict=True,
+        description="The number people see; #3 here is #3 there.",
+    )
+
+
+class FriendLine(BaseModel):
+    """'My friend is somewhere along here': the line ``a x + b y + c = 0`` through them."""
+
+    model_config = ConfigDict(allow_inf_nan=False, extra="forbid")
+
+    a: Coordinate
+    b: Coordinate
+    c: Coordinate
+    sigma: Sigma | None = Field(
+        None, description="How precise the line is across it: a standard deviation, px."
+    )
+
+
+class Taps(BaseModel):
+    """A phone's whole tap set (each PUT replaces it)."""
+
+    model_config = ConfigDict(
+        allow_inf_nan=False,
+        extra="forbid",
+        json_schema_extra={
+            "examples": [
+                {
+                    "landmarks": [
+                        {"id": 1, "x": 412.0, "y": 230.5, "sigma": 6.0},
+                        {"id": 2, "x": 1830.0, "y": 402.0, "sigma": 2.5},
+                        {"id": 3, "x": 960.0, "y": 1410.0, "sigma": 6.0},
+                    ],
+                    "friend": {"x": 1204.0, "y": 861.0, "sigma": 2.0},
+                }
+            ]
+        },
+    )
+
+    landmarks: list[Landmark] = Field(default_factory=list)
+    friend: Mark | None = Field(
+        None, description="Where your friend is in your photo, if you can see them."
+    )
+    friend_line: FriendLine | None = Field(
+        None,
+        description="Instead of friend: a line through your friend in your photo, when you "
+        "can only say 'somewhere along here'.",
+    )
+
+
+class FriendInPhoto(BaseModel):
+    """Where the friend is in one phone's photo, and how that is known."""
+
+    friend: tuple[float, float] | None = Field(
+        None,
+        description="Where your friend is in your photo, px; None when they are behind you, "
+        "infinitely far to the side, or known only to be on a curve.",
+    )
+    friend_h: tuple[float, float, float] | None = Field(
+        None,
+        description="The same, homogeneous and oriented: w > 0 in front of the camera, w < 0 "
+        "behind it (turn around), w = 0 a direction.",
+    )
+    how: Literal["marked", "on_line", "solved"] = Field(
+        description="'marked': you tapped your friend (refined by the fit); 'on_line': the "
+        "point of your line the fit chose; 'solved': found from your friend's mark and the "
+        "landmarks."
+    )
+    region: Ellipse | None = Field(
+        None, description="Where your friend is with 95 % probability, when that is known."
+    )
+    curve: tuple[tuple[float, float, float], ...] | None = Field(
+        None,
+        description="Too few landmarks for a point: your friend is on this conic "
+        "(x, y, 1) C (x, y, 1)^T = 0.",
+    )
+    candidates: list[tuple[float, float]] = Field(
+        default_factory=list, description="Other positions that fit the taps as well."
+    )
+    focal_35mm: float | None = Field(
+        None, description="The focal length of your photo's lens the answer used, 35 mm mm."
+    )
+    warnings: list[str] = Field(
+        default_factory=list, description="Sentences for you: what to check or do next."
+    )
+
+
+class Answer(BaseModel):
+    """What each phone is told, from both phones' taps (``in_photo``: by whose photo)."""
+
+    method: str = Field(description="The solver's method (docs/solver.md).")
+    camera_model: Literal["projective", "pinhole"] = Field(
+        description="'pinhole': solved as two phone cameras; 'projective': as any two "
+        "cameras, because the taps did not fit two phone photos."
+    )
+    quality: Literal["good", "fair", "poor"]
+    landmark_ids: list[int] = Field(description="The landmarks in both photos, used in order.")
+    suspects: list[int] = Field(
+        default_factory=list,
+        description="Landmarks that look mis-tapped, left out of the answer: re-check them.",
+    )
+    residuals: list[float] = Field(
+        default_factory=list,
+        description="Per landmark of landmark_ids, its distance from the fitted geometry, px.",
+    )
+    in_photo: dict[Role, FriendInPhoto]

@@ -1,0 +1,214 @@
+"""Taps and the answer they give: a phone replaces its taps, the answer is computed from
+both phones' taps (when there is enough) and recorded with the version it is for; the
+answer drawn on a photo, and a landmark's crop ("find #3")."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+from backend.clock import Clock
+from backend.errors import ErrorCode, RefusedError
+from backend.eventstream.notifier import Notifier
+from backend.participants import ROLES, Participant, Role
+from backend.photos.imaging import decode_photo, encode_image
+from backend.photos.repository import Photos
+from backend.photos.schemas import ImageFormat
+from backend.photos.service import PhotoService
+from backend.settings import Settings
+from backend.storage.database import Database
+from backend.storage.snapshot import Snapshot, read_snapshot
+from shared_solver import SolveResult, draw_overlay
+
+from . import problem as problems
+from .repository import TapStore
+from .schemas import Taps
+
+
+class TapService:
+    def __init__(
+        self,
+        *,
+        database: Database,
+        taps: TapStore,
+        photos: Photos,
+        photo_service: PhotoService,
+        settings: Settings,
+        notifier: Notifier,
+        clock: Clock,
+    ) -> None:
+        self.database = database
+        self.taps = taps
+        self.photos = photos
+        self.photo_service = photo_service
+        self.settings = settings
+        self.notifier = notifier
+        self.clock = clock
+
+    def snapshot(self, session_id: str) -> Snapshot:
+        snapshot = read_snapshot(self.database, session_id)
+        if snapshot is None:
+            raise RefusedError(ErrorCode.SESSION_NOT_FOUND, "This session has ended.")
+        return snapshot
+
+    def put(self, participant: Participant, taps: Taps) -> Snapshot | None:
+        """Replace the caller's taps, answering again when both photos allow it: the
+        session as it then is (None: overtaken by a newer change, being answered)."""
+        snapshot = self.snapshot(participant.session_id)
+        photo = snapshot.photos.get(participant.role)
+        if photo is None:
+            raise RefusedError(ErrorCode.PHOTO_MISSING, "Upload your photo before tapping on it.")
+        self._check(taps, (photo.width, photo.height))
+        # Answered before writing, so that the taps and their answer are one write; unless
+        # another change comes in between, which makes that answer stale.
+        tapped = taps.model_dump(mode="json")
+        member = snapshot.members[participant.role]
+        after = replace(
+            snapshot, members=snapshot.members | {member.role: replace(member, taps=tapped)}
+        )
+        found = self._solve(after)
+        answer = None if found is None else (snapshot.version, found)
+        version, answered = self.taps.put_taps(participant, tapped, self.clock(), answer)
+        self.notifier.notify(participant.session_id)
+        if version != snapshot.version + 1:  # overtaken: answer the session as it now is
+            return self.answer(participant.session_id, version)
+        return replace(
+            after,
+            version=version,
+            answer=found if answered else None,
+            answer_version=version if answered else None,
+        )
+
+    def answer(self, session_id: str, version: int) -> Snapshot | None:
+        """Solve for this version if there is enough; record it unless overtaken. The
+        session as it then is (None: overtaken by a newer change)."""
+        snapshot = self.snapshot(session_id)
+        if snapshot.version != version:
+            return None  # a newer change is being answered
+        found = self._solve(snapshot)
+        if found is None:
+            return snapshot
+        if not self.taps.put_answer(session_id, version, found, self.clock()):
+            return None
+        self.notifier.notify(session_id)
+        return replace(snapshot, answer=found, answer_version=version)
+
+    def due(self, snapshot: Snapshot) -> Snapshot:
+        """The session with its answer. One may be due but not recorded: a change overtook
+        the write that carried it and its writer is answering again, or a migration cleared
+        it. Answered here rather than sending a phone away empty."""
+        if snapshot.answer is not None:
+            return snapshot
+        return self.answer(snapshot.id, snapshot.version) or snapshot
+
+    def overlay(self, participant: Participant, role: Role, fmt: ImageFormat) -> bytes:
+        """``role``'s photo with the answer drawn for that phone, drawn for each request and
+        never kept (a phone loads each answer's overlay once; its own cache keeps it)."""
+        snapshot = self.due(self.snapshot(participant.session_id))
+        stored = snapshot.answer or {}
+        if "solution" not in stored or snapshot.answer_version is None:
+            raise RefusedError(
+                ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
+            )
+        photo = self.photos.get(snapshot.id, role)
+        member = snapshot.members.get(role)
+        if photo is None or member is None or member.taps is None:
+            raise RefusedError(
+                ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
+            )
+        taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
+        ids: list[int] = stored["answer"]["landmark_ids"]
+        drawn = draw_overlay(
+            decode_photo(photo.data),
+            SolveResult.model_validate(stored["solution"]),
+            # The solver's photo 2 is the one it found the friend in.
+            photo=1 if role == stored["first"] else 2,
+            points=[taps[i] for i in ids],
+            labels=ids,
+        )
+        return encode_image(drawn, format=fmt)
+
+    def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
+        """A small picture around one landmark of ``role``'s photo: "find this"."""
+        taps = tap_sets(self.snapshot(participant.session_id))[role]
+        tap = next((t for t in taps.landmarks if t.id == landmark_id), None) if taps else None
+        crop = None if tap is None else self.photo_service.crop(participant, role, tap.x, tap.y)
+        if crop is None:
+            raise RefusedError(
+                ErrorCode.LANDMARK_NOT_FOUND, f"The {role} has no landmark #{landmark_id}."
+            )
+        return crop
+
+    def _check(self, taps: Taps, size: tuple[int, int]) -> None:
+        if len(taps.landmarks) > self.settings.max_landmarks:
+            raise RefusedError(
+                ErrorCode.TOO_MANY_LANDMARKS,
+                f"{len(taps.landmarks)} landmarks; at most {self.settings.max_landmarks}.",
+            )
+        ids = [tap.id for tap in taps.landmarks]
+        if len(set(ids)) != len(ids):
+            repeated = sorted({i for i in ids if ids.count(i) > 1})
+            raise RefusedError(
+                ErrorCode.DUPLICATE_LANDMARK, f"Landmark #{repeated[0]} is tapped twice; keep one."
+            )
+        if taps.friend is not None and taps.friend_line is not None:
+            raise RefusedError(
+                ErrorCode.CONFLICTING_INPUTS,
+                "Mark your friend either as a point or as a line, not both.",
+            )
+        width, height = size
+        line = taps.friend_line
+        if line is not None and not _crosses(line.a, line.b, line.c, width, height):
+            raise RefusedError(
+                ErrorCode.INVALID_LINE,
+                "The line through your friend must cross your photo: friend_line is "
+                "{a, b, c} for a*x + b*y + c = 0, with a or b nonzero.",
+            )
+        marks = [(f"landmark #{t.id}", t.x, t.y) for t in taps.landmarks]
+        if taps.friend is not None:
+            marks.append(("the friend mark", taps.friend.x, taps.friend.y))
+        for name, x, y in marks:
+            if not (0 <= x <= width and 0 <= y <= height):
+                raise RefusedError(
+                    ErrorCode.OUTSIDE_PHOTO,
+                    # :g, not :.0f: 1e308 is shown as such, not as 309 digits.
+                    f"{name.capitalize()} at ({x:g}, {y:g}) is outside your photo "
+                    f"({width} x {height} px).",
+                )
+
+    def _solve(self, snapshot: Snapshot) -> dict[str, Any] | None:
+        """The answer for the session as ``snapshot`` has it; None when there is not enough
+        to answer (a friend or a photo missing, too few taps)."""
+        photos = snapshot.photos
+        if set(snapshot.members) != set(ROLES) or set(photos) != set(ROLES):
+            return None
+        task = problems.problem(tap_sets(snapshot), self.settings.tap_sigma)
+        if not task.solvable:
+            return None
+        return problems.solved(
+            task,
+            sizes={role: (photos[role].width, photos[role].height) for role in ROLES},
+            cameras={
+                role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
+                for role in ROLES
+            },
+        )
+
+
+def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:
+    """Each friend's taps as the snapshot holds them."""
+    members = snapshot.members
+    return {
+        role: Taps.model_validate(members[role].taps)
+        if role in members and members[role].taps is not None
+        else None
+        for role in ROLES
+    }
+
+
+def _crosses(a: float, b: float, c: float, width: int, height: int) -> bool:
+    """Whether a x + b y + c = 0 is a line (a or b nonzero) that crosses the photo."""
+    if a == 0.0 and b == 0.0:
+        return False
+    corners = [a * x + b * y + c for x in (0, width) for y in (0, height)]
+    return min(corners) <= 0.0 <= max(corners)

@@ -1,0 +1,334 @@
+"""Do the phone app's taps carry honest precisions? Held out, through the app.
+
+Two phones (Pixel 7 and iPhone 13, emulated in Chromium with touch) on a live server play
+``--trials`` searches: photo 1's phone taps its friend and 5 landmarks, photo 2's phone
+says it cannot see its friend and finds the same 5, every tap a quick finger tap on the
+whole photo (the app's default zoom, no pinch). The scenes are phone scenes
+(:func:`testbed.phones.phone_scene`: 12 MP photos, stored at 2560 px, 20-80 m apart), and
+the taps land where the scene puts each spot, plus a finger's miss: per tap a standard
+deviation drawn uniformly from 1 to 2 CSS px, per axis ("a finger is off by one or two CSS
+pixels"), a model of fingers the app does not share. The app sends each tap's precision
+(docs/app.md); the server answers; the benchmark reads the answer's 95 % region for photo 2
+and asks whether it holds where the friend really is.
+
+Against its peer in the same run, on the same taps: the server's old rule, one fixed 3 px
+for every tap (``solve`` with ``tap_sigma=3`` and no per-tap precision).
+
+    .venv/bin/python benchmarks/taps.py [--trials N] [--out PATH]     (``make bench-taps``)
+
+The report is printed and written as Markdown to ``docs/tap-precision.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import httpx2
+import numpy as np
+from PIL import Image
+from playwright.sync_api import BrowserContext, Page, Playwright, expect, sync_playwright
+from report import ROOT, markdown_table, publish, source_state
+
+from shared_solver import SolverError, solve
+from shared_solver.estimation.uncertainty import contains
+from testbed.loopback import serve
+from testbed.phones import PhoneScene, phone_scene
+
+DEFAULT_OUT = ROOT / "docs" / "tap-precision.md"
+SEED = 20261125
+LANDMARKS = 5
+STORED_SIDE = 2560
+FINGER_CSS = (1.0, 2.0)  # a finger's miss: sd per axis, CSS px, uniform between these
+OLD_TAP_SIGMA = 3.0
+# Spots a person would tap on the whole photo are apart on the screen: no two of a photo's
+# taps closer than this fraction of its diagonal (about 50 CSS px on a phone: closer, a tap
+# may land on another landmark's number, which selects that landmark instead).
+APART = 0.1
+LEVEL = 0.95
+CHROMIUM = "/usr/bin/chromium"
+FLAGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+TIMEOUT_MS = 20_000
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One search: whether each rule's region held the truth, and the taps' sigmas."""
+
+    error_px: float
+    held: bool | None  # None: no region claimed
+    held_fixed: bool | None
+    sigmas: list[float]
+    axis_px: float | None
+
+
+def stored(scene: PhoneScene, which: int) -> tuple[float, tuple[int, int]]:
+    """The stored photo's scale and size for photo ``which``."""
+    width, height = scene.image_size1 if which == 1 else scene.image_size2
+    scale = STORED_SIDE / max(width, height)
+    return scale, (round(width * scale), round(height * scale))
+
+
+def blank_photo(size: tuple[int, int]) -> bytes:
+    """A plain JPEG of the stored size: what is tapped is where the scene says, not what
+    the photo shows."""
+    buffer = io.BytesIO()
+    Image.new("RGB", size, (96, 104, 112)).save(buffer, "JPEG", quality=80)
+    return buffer.getvalue()
+
+
+def photo_to_screen(page: Page, x: float, y: float) -> tuple[float, float]:
+    """Client coordinates of photo pixel (x, y), from the view's published transform."""
+    view = page.get_by_test_id("photo-view")
+    box = view.bounding_box()
+    assert box is not None
+    scale, tx, ty = (float(view.get_attribute(f"data-{k}") or "nan") for k in ("scale", "tx", "ty"))
+    return box["x"] + tx + scale * x, box["y"] + ty + scale * y
+
+
+def spot(point: np.ndarray) -> tuple[float, float]:
+    return float(point[0]), float(point[1])
+
+
+def finger(page: Page, x: float, y: float, rng: np.random.Generator) -> None:
+    """A quick tap aimed at photo pixel (x, y), missing as a finger does."""
+    sigma = rng.uniform(*FINGER_CSS)
+    sx, sy = photo_to_screen(page, x, y)
+    page.touchscreen.tap(sx + rng.normal(0.0, sigma), sy + rng.normal(0.0, sigma))
+
+
+def open_session(
+    page: Page, server: str, credentials: dict[str, str], size: tuple[int, int]
+) -> None:
+    page.goto(f"{server}/")
+    page.evaluate(
+        "(c) => localStorage.setItem('buddy-search.session', JSON.stringify(c))", credentials
+    )
+    page.goto(f"{server}/s")  # the session's screen, as after a reload
+    expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", str(size[0]))
+
+
+def play(
+    server: str, phones: tuple[Page, Page], scene: PhoneScene, rng: np.random.Generator
+) -> Trial:
+    """One search through the app; the region photo 2's phone is shown, judged."""
+    http = httpx2.Client(base_url=server, timeout=30)
+    started = http.post("/api/sessions").raise_for_status().json()
+    joined = http.post("/api/sessions/join", json={"code": started["join_code"]}).json()
+    path = f"/api/sessions/{started['session_id']}"
+    scale1, size1 = stored(scene, 1)
+    scale2, size2 = stored(scene, 2)
+    for token, size in ((started["token"], size1), (joined["token"], size2)):
+        files = {"photo": ("photo.jpg", blank_photo(size), "image/jpeg")}
+        http.put(f"{path}/photo", headers=bearer(token), files=files).raise_for_status()
+    one, two = phones
+    open_session(one, server, {**started, "role": "starter"}, size1)
+    open_session(two, server, {**joined, "role": "joiner"}, size2)
+
+    expect(one.get_by_test_id("friend-prompt")).to_be_visible()
+    x, y = scale1 * scene.epipole1
+    finger(one, x, y, rng)
+    expect(one.get_by_test_id("friend-mark")).to_be_visible()
+    for number, point in enumerate(scene.landmarks1[:LANDMARKS], 1):
+        finger(one, *spot(scale1 * point), rng)
+        expect(one.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+    expect(one.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+    two.get_by_test_id("cannot-see").tap()
+    for number, point in enumerate(scene.landmarks2[:LANDMARKS], 1):
+        expect(two.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
+        finger(two, *spot(scale2 * point), rng)
+        expect(two.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+    expect(two.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+    state = http.get(path, headers=bearer(joined["token"])).json()
+    http.delete(path, headers=bearer(started["token"]))
+    http.close()
+    return judge(state, scale2 * scene.epipole2, size1, size2)
+
+
+def bearer(token: str) -> dict[str, str]:
+    return {"Authorization": f"Bearer {token}"}
+
+
+def judge(
+    state: dict[str, Any],
+    truth: np.ndarray,
+    size1: tuple[int, int],
+    size2: tuple[int, int],
+) -> Trial:
+    """Whether the answer's region, and the old rule's on the same taps, hold ``truth``."""
+    answer = state["answer"]
+    mine = answer["in_photo"]["joiner"]
+    taps1, taps2 = state["taps"]["starter"], state["taps"]["joiner"]
+    sigmas = [t["sigma"] for t in taps1["landmarks"] + taps2["landmarks"]]
+    sigmas.append(taps1["friend"]["sigma"])
+    region = mine["region"]
+    held = None
+    if region is not None:
+        held = in_region(region, truth)
+    points1 = [(t["x"], t["y"]) for t in taps1["landmarks"]]
+    points2 = [(t["x"], t["y"]) for t in taps2["landmarks"]]
+    friend = (taps1["friend"]["x"], taps1["friend"]["y"])
+    held_fixed = None
+    try:
+        fixed = solve(
+            points1,
+            points2,
+            epipole1=friend,
+            tap_sigma=OLD_TAP_SIGMA,
+            image_size1=size1,
+            image_size2=size2,
+            camera1="phone",
+            camera2="phone",
+        )
+        if fixed.epipole2 is not None and fixed.uncertainty and fixed.uncertainty.covariance:
+            held_fixed = bool(
+                contains(np.array(fixed.epipole2), np.array(fixed.uncertainty.covariance), truth)
+            )
+    except SolverError:
+        pass
+    position = mine["friend"]
+    error = float(np.hypot(*(np.array(position) - truth))) if position else float("inf")
+    axis = None if region is None else float(max(region["axes"]))
+    return Trial(error, held, held_fixed, sigmas, axis)
+
+
+def in_region(region: dict[str, Any], point: np.ndarray) -> bool:
+    (cx, cy), (a, b) = region["center"], region["axes"]
+    angle = np.radians(region["angle_deg"])
+    dx, dy = point[0] - cx, point[1] - cy
+    u = dx * np.cos(angle) + dy * np.sin(angle)
+    v = -dx * np.sin(angle) + dy * np.cos(angle)
+    return bool((u / a) ** 2 + (v / b) ** 2 <= 1.0)
+
+
+def phones(playwright: Playwright) -> tuple[BrowserContext, BrowserContext]:
+    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+    contexts = []
+    for model in ("Pixel 7", "iPhone 13"):
+        device = dict(playwright.devices[model])
+        device.pop("default_browser_type", None)
+        contexts.append(browser.new_context(**device))
+    return contexts[0], contexts[1]
+
+
+def run(trials: int) -> list[Trial]:
+    results: list[Trial] = []
+    with (
+        tempfile.TemporaryDirectory() as folder,
+        serve(Path(folder)) as server,
+        sync_playwright() as playwright,
+    ):
+        expect.set_options(timeout=TIMEOUT_MS)
+        pixel, iphone = phones(playwright)
+        pages = (pixel.new_page(), iphone.new_page())
+        for trial in range(trials):
+            scene = tappable_scene(np.random.default_rng([SEED, trial]))
+            rng = np.random.default_rng([SEED, trial, 1])
+            results.append(play(server.base_url, pages, scene, rng))
+    return results
+
+
+def tappable_scene(rng: np.random.Generator) -> PhoneScene:
+    """A phone scene whose taps, in each photo, are far enough apart to be tapped without
+    zooming (:data:`APART`)."""
+    while True:
+        scene = phone_scene(rng, LANDMARKS)
+        taps1 = np.vstack([scene.landmarks1, scene.epipole1])
+        if all(
+            apart(points, size)
+            for points, size in ((taps1, scene.image_size1), (scene.landmarks2, scene.image_size2))
+        ):
+            return scene
+
+
+def apart(points: np.ndarray, size: tuple[int, int]) -> bool:
+    gaps = np.hypot(*(points[:, None] - points[None]).transpose(2, 0, 1))
+    np.fill_diagonal(gaps, np.inf)
+    return bool(gaps.min() > APART * np.hypot(*size))
+
+
+def rate(values: list[bool | None]) -> tuple[str, int]:
+    claimed = [v for v in values if v is not None]
+    if not claimed:
+        return "no region claimed", 0
+    return f"{100 * sum(claimed) / len(claimed):.1f} %", len(claimed)
+
+
+def report(results: list[Trial], seconds: float) -> str:
+    held, claimed = rate([r.held for r in results])
+    held_fixed, claimed_fixed = rate([r.held_fixed for r in results])
+    errors = np.array([r.error_px for r in results])
+    sigmas = np.concatenate([r.sigmas for r in results])
+    axes = [r.axis_px for r in results if r.axis_px is not None]
+    table = markdown_table(
+        ["rule for each tap's precision", "95 % region holds the truth", "regions claimed"],
+        [
+            ["the app's (each tap's own, docs/app.md)", f"**{held}**", str(claimed)],
+            [
+                f"one fixed {OLD_TAP_SIGMA:g} px for every tap",
+                held_fixed,
+                str(claimed_fixed),
+            ],
+        ],
+    )
+    lines = [
+        "# Tap precision through the app",
+        "",
+        "Command: `python benchmarks/taps.py` (from the repository root, in its virtualenv; "
+        "`make bench-taps`)",
+        "",
+        f"- {source_state()}",
+        f"- {len(results)} searches, seed {SEED}; {seconds:.0f} s",
+        f"- Two phones (Pixel 7, iPhone 13) emulated in Chromium, touch input, the app's default "
+        f"zoom (the whole photo), no pinch. Phone scenes (`testbed.phones.phone_scene`), photos "
+        f"stored at {STORED_SIDE} px. Photo 1's phone taps its friend and {LANDMARKS} landmarks; "
+        f"photo 2's phone cannot see its friend and finds the {LANDMARKS} landmarks. Each tap "
+        f"aims at the true spot and misses by a finger: sd per axis uniform in "
+        f"{FINGER_CSS[0]:g}-{FINGER_CSS[1]:g} CSS px, drawn per tap. Scenes whose taps come "
+        f"closer than {APART:.0%} of the photo's diagonal (about 50 CSS px on the phone) are "
+        "drawn again: a person taps such spots zoomed in.",
+        "",
+        table,
+        "",
+        f"- Sigmas the app sent (stored-photo px): median {np.median(sigmas):.2f}, "
+        f"range {sigmas.min():.2f}-{sigmas.max():.2f}.",
+        f"- Error of the answer: median {np.median(errors):.1f} px, "
+        f"90th percentile {np.percentile(errors, 90):.1f} px; the region's long semi-axis: "
+        f"median {np.median(axes):.1f} px."
+        if axes
+        else "",
+        "",
+        "A 95 % region should hold the truth about 95 % of the time; with "
+        f"{claimed} regions, one standard deviation of the measured rate is "
+        f"{100 * np.sqrt(LEVEL * (1 - LEVEL) / max(claimed, 1)):.1f} points.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--trials", type=int, default=200)
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    args = parser.parse_args()
+    started = time.monotonic()
+    results = run(args.trials)
+    text = report(results, time.monotonic() - started)
+    publish(text, args.out)
+    print(json.dumps({"held": rate([r.held for r in results])[0]}))
+
+
+if __name__ == "__main__":
+    main()

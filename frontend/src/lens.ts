@@ -1,0 +1,72 @@
+/**
+ * The lens of the photo, read from the chosen file's EXIF before the phone shrinks it (the
+ * shrunk JPEG keeps no metadata) and sent with the upload: the solver then knows the photo's
+ * focal length instead of assuming a typical phone's (backend/photos/lens.py).
+ *
+ * Only the tags that describe the lens are read, never GPS, serial numbers or dates. Many
+ * phones (iOS Safari in particular) strip them from photos picked in the browser: then
+ * nothing is sent, and the server assumes a phone's main camera.
+ */
+
+import exifr from "exifr/dist/lite.esm.mjs";
+import type { LensFields, PhotoStored } from "./types";
+
+/**
+ * The EXIF tags read, and nothing else (exifr's names: FocalLengthIn35mmFormat is EXIF's
+ * FocalLengthIn35mmFilm), by the block they are in; GPS and the other blocks are skipped.
+ */
+const READ = {
+  ifd0: { pick: ["Make", "Model"] },
+  exif: { pick: ["FocalLength", "FocalLengthIn35mmFormat", "DigitalZoomRatio"] },
+  gps: false,
+  interop: false,
+  ifd1: false,
+  xmp: false,
+};
+
+function positive(value: unknown): number | undefined {
+  return typeof value === "number" && Number.isFinite(value) && value > 0 ? value : undefined;
+}
+
+function words(value: unknown): string | undefined {
+  const text = typeof value === "string" ? value.replace(/\0/g, "").trim() : "";
+  return text ? text : undefined;
+}
+
+/** The form fields of the upload from EXIF tags as exifr names them (absent ones left out). */
+export function lensFields(tags: unknown): LensFields {
+  if (typeof tags !== "object" || tags === null) return {};
+  const read = tags as Record<string, unknown>;
+  const zoom = read.DigitalZoomRatio;
+  const fields: LensFields = {
+    focal_35mm: positive(read.FocalLengthIn35mmFormat),
+    focal_mm: positive(read.FocalLength),
+    make: words(read.Make),
+    model: words(read.Model),
+    // 0 is EXIF's "no digital zoom".
+    digital_zoom: typeof zoom === "number" && Number.isFinite(zoom) && zoom >= 0 ? zoom : undefined,
+  };
+  return Object.fromEntries(Object.entries(fields).filter(([, value]) => value !== undefined));
+}
+
+/**
+ * The lens fields of `file`'s EXIF; none when it has none or cannot be read. The file is
+ * read whole (a HEIC photo may keep its EXIF anywhere): never a name or URL, which exifr
+ * would fetch.
+ */
+export async function readLens(file: Blob): Promise<LensFields> {
+  try {
+    return lensFields(await exifr.parse(await file.arrayBuffer(), READ));
+  } catch {
+    return {};
+  }
+}
+
+/** What the phone says of its photo's lens, once the photo is stored. */
+export function lensNote(photo: PhotoStored | null | undefined): string | null {
+  if (!photo) return null;
+  const lens = photo.lens;
+  if (!lens) return "Your photo did not say which lens took it: a typical phone camera is assumed.";
+  const who = lens.told_by === "phone" ? "Your phone" : "Your photo";
+  return `${who} told us its lens (${Math.round(lens.focal_35mm)} mm): the answer uses it.`;
+}

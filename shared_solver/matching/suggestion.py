@@ -1,0 +1,195 @@
+"""A suggested spot for a landmark in the other photo, or none when the match is not sure.
+
+A wrong suggestion is worse than none: a person may accept it with one tap. So a match is
+suggested only when three things agree (the rule and its thresholds were calibrated on
+rendered halls, and are measured on others, in docs/suggestions.md):
+
+- its correlation is high (``min_score``);
+- nothing else along the band comes close (``min_margin`` over the runner-up, beyond 1 %
+  of the diagonal): a row of seats or a repeated poster gives two places almost alike;
+- searched back from photo B along its own band in photo A, the match leads to the tapped
+  point again (within 1 % of A's diagonal): the classical left-right check.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from ..projective import Array
+from ..result import Pixel
+from .band import Band, epipolar_band
+from .epipolar import Epipolar
+from .polar import Image, polar_frame
+from .search import Match, best_match
+
+
+@dataclass(frozen=True)
+class Rules:
+    """When a match is suggested, and how it is searched for.
+
+    Attributes:
+        min_score: least normalised cross-correlation of the match.
+        min_margin: least lead of its score over the best elsewhere along the band.
+        tolerance: fraction of a photo's diagonal within which two places are the same
+            (the runner-up's exclusion, and the back-check's distance).
+        radius: half size of the patch, px of the stored photo.
+        max_margin: most rows searched on each side of the band's centre line.
+    """
+
+    min_score: float = 0.7
+    min_margin: float = 0.05
+    tolerance: float = 0.01
+    radius: int = 16
+    max_margin: int = 16
+
+
+RULES = Rules()
+
+
+class Suggestion(BaseModel):
+    """Where the landmark probably is in photo B, for the phone to offer."""
+
+    model_config = ConfigDict(frozen=True)
+
+    point: Pixel = Field(description="The suggested spot in photo B, stored-photo px.")
+    score: float = Field(description="Normalised cross-correlation of the patches (-1 to 1).")
+    margin: float = Field(description="Its lead over the best other place along the band.")
+
+
+@dataclass(frozen=True)
+class Evidence:
+    """What the rule decides on.
+
+    Attributes:
+        match: the best place along the band (:func:`search_band`).
+        returned: how far the search back from it lands from the tapped point, as a
+            fraction of photo A's diagonal (:func:`search_back`; infinite when it finds
+            nothing).
+    """
+
+    match: Match
+    returned: float
+
+
+def suggest(
+    photo_a: Image,
+    photo_b: Image,
+    point: Array,
+    epipolar: Epipolar,
+    band: Band,
+    *,
+    point_covariance: Array,
+    rules: Rules = RULES,
+) -> Suggestion | None:
+    """Search photo B's band for the landmark tapped at ``point`` (2,) in photo A.
+
+    Args:
+        photo_a, photo_b: the stored photos, (H, W, 3) uint8 BGR (or (H, W) grey).
+        point: where the landmark was tapped in A, px.
+        epipolar: the answer's geometry from A to B, oriented by the shared landmarks.
+        band: the landmark's band in B (:func:`.band.epipolar_band`).
+        point_covariance: (2, 2) the tap's covariance, px^2 (for the band of the search
+            back from B to A).
+        rules: the thresholds (the default is the calibrated one).
+
+    Returns:
+        The suggestion, or None when no place along the band is a sure match.
+    """
+    match = search_band(photo_a, photo_b, point, epipolar, band, rules=rules)
+    if match is None or not leads(match, rules):
+        return None  # the search back is only worth its time for a match that leads
+    returned = search_back(
+        photo_a, photo_b, point, epipolar, match, point_covariance=point_covariance, rules=rules
+    )
+    return decide(Evidence(match, returned), rules)
+
+
+def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
+    """The suggestion the evidence allows under ``rules``, or None."""
+    match = evidence.match
+    if not leads(match, rules) or evidence.returned > rules.tolerance:
+        return None
+    return Suggestion(
+        point=(float(match.point[0]), float(match.point[1])),
+        score=match.score,
+        margin=match.score - match.runner_up,
+    )
+
+
+def leads(match: Match, rules: Rules = RULES) -> bool:
+    """Whether a match scores high enough and clearly above anything else on its band."""
+    return match.score >= rules.min_score and match.score - match.runner_up >= rules.min_margin
+
+
+def search_back(
+    photo_a: Image,
+    photo_b: Image,
+    point: Array,
+    epipolar: Epipolar,
+    match: Match,
+    *,
+    point_covariance: Array,
+    rules: Rules = RULES,
+) -> float:
+    """How far (fraction of A's diagonal) the search from ``match`` back along its own
+    band in A lands from ``point``; infinite when it finds nothing."""
+    back = epipolar.transposed()
+    height_a, width_a = photo_a.shape[:2]
+    back_band = epipolar_band(
+        back, match.point, image_size=(width_a, height_a), point_covariance=point_covariance
+    )
+    if back_band is None:
+        return math.inf
+    returned = search_band(photo_b, photo_a, match.point, back, back_band, rules=rules)
+    if returned is None:
+        return math.inf
+    return float(np.hypot(*(returned.point - point))) / math.hypot(width_a, height_a)
+
+
+def search_band(
+    photo_a: Image,
+    photo_b: Image,
+    point: Array,
+    epipolar: Epipolar,
+    band: Band,
+    *,
+    rules: Rules = RULES,
+) -> Match | None:
+    """The best place along ``band`` for the patch at ``point`` (both halves of the line
+    when ``epipolar`` is not oriented: each searched as a half-line from ``e_B``)."""
+    height_b, width_b = photo_b.shape[:2]
+    exclusion = rules.tolerance * math.hypot(width_b, height_b)
+    geometries = [epipolar] if epipolar.sign != 0 else [replace(epipolar, sign=s) for s in (1, -1)]
+    found: list[Match] = []
+    for geometry in geometries:
+        frame = polar_frame(
+            photo_a,
+            photo_b,
+            point,
+            geometry,
+            band,
+            radius=rules.radius,
+            max_margin=rules.max_margin,
+        )
+        if frame is None:
+            continue
+        ends = (np.array([band.start, band.end]) - frame.origin) @ geometry.direction(
+            np.asarray(point, float)[None]
+        )[0]
+        low, high = max(0.0, float(ends.min())), float(ends.max())
+        if high - low < 1.0:
+            continue
+        match = best_match(frame, np.arange(low, high, 1.0), exclusion=exclusion)
+        if match is not None:
+            found.append(match)
+    if not found:
+        return None
+    found.sort(key=lambda match: -match.score)
+    best = found[0]
+    if len(found) > 1:  # the other half-line's best competes as a runner-up
+        best = replace(best, runner_up=max(best.runner_up, found[1].score))
+    return best

@@ -1,0 +1,86 @@
+"""A phone in Debian's Chromium, driven by Playwright: a mobile-emulated browser context
+(viewport, device scale, touch, user agent) with one page; taps and pinches are real touch
+input through the DevTools protocol."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from fingers import pinch
+from phone import RESOLVE, Phone, Step
+from playwright.sync_api import Browser, BrowserContext, ElementHandle, Page, Playwright
+from playwright.sync_api import Error as PlaywrightError
+
+NAVIGATION_TIMEOUT_MS = 30_000
+
+
+class ChromiumPhone(Phone):
+    engine = "chromium"
+    pointer = "touch"
+
+    def __init__(self, playwright: Playwright, browser: Browser, model: str) -> None:
+        super().__init__(model)
+        device = dict(playwright.devices[model])
+        device.pop("default_browser_type", None)
+        self._context = browser.new_context(**device)
+        self._context.set_default_navigation_timeout(NAVIGATION_TIMEOUT_MS)
+        self._page = self._context.new_page()
+        self._errors: list[str] = []
+        self._page.on(
+            "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
+        )
+        self._page.on("pageerror", lambda error: self._errors.append(str(error)))
+
+    @property
+    def context(self) -> BrowserContext:
+        """Playwright's context, for what only Chromium has (the DevTools protocol's
+        network emulation, say); a test that uses it runs in Chromium only."""
+        return self._context
+
+    @property
+    def page(self) -> Page:
+        return self._page
+
+    def navigating(self, error: Exception) -> bool:
+        destroyed = "Execution context was destroyed"
+        return isinstance(error, PlaywrightError) and destroyed in str(error)
+
+    def goto(self, url: str) -> None:
+        self._page.goto(url)
+
+    def reload(self) -> None:
+        self._page.reload()
+
+    def evaluate(self, script: str, arg: Any = None) -> Any:
+        return self._page.evaluate(script, arg)
+
+    def tap_at(self, x: float, y: float) -> None:
+        self._page.touchscreen.tap(x, y)
+
+    def zoom(self, around: tuple[float, float], factor: float) -> None:
+        pinch(self._context, self._page, around, factor)
+
+    def screenshot(self, path: Path) -> None:
+        self._page.screenshot(path=path)
+
+    def console_errors(self) -> list[str]:
+        # Playwright's sync API delivers events only while a call is under way: one round
+        # trip lets those that arrived since the last call in.
+        self._page.evaluate("() => 0")
+        return list(self._errors)
+
+    def close(self) -> None:
+        self._context.close()
+
+    def fill_in(self, steps: tuple[Step, ...], text: str) -> None:
+        self._handle(steps).fill(text)
+
+    def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
+        self._handle(steps).set_input_files(path)
+
+    def _handle(self, steps: tuple[Step, ...]) -> ElementHandle:
+        handle = self._page.evaluate_handle(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))
+        element = handle.as_element()
+        assert element is not None, f"{self}: nothing matches {steps}"
+        return element

@@ -1,0 +1,395 @@
+"""A phone in the end-to-end tests, whichever browser engine drives it.
+
+The tests speak to a :class:`Phone` (open a page, tap a button or a photo pixel, zoom, choose
+a file, read a test id's text or attribute, wait, take a screenshot, read console errors);
+``chromium_phone.py`` (Playwright) and ``webkit_phone.py`` (Selenium and WebKitWebDriver)
+implement the few things that differ. The words mirror Playwright's (``get_by_test_id``,
+``locator``, ``expect(...).to_have_text``) so a test reads the same as before, but finding
+elements, reading them and waiting are done here, once, in the page's own JavaScript: both
+engines then check exactly the same thing.
+
+Playwright's WebKit build is not used: its download is not reachable here and it is not the
+engine Debian ships; Selenium drives Debian's WebKitGTK (see docs/browsers.md).
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, ClassVar, Literal
+
+TIMEOUT_S = 20.0
+POLL_S = 0.05
+
+# One step of a query: ("css", selector) finds descendants of what was found so far,
+# ("text", words) keeps those whose text contains the words (case and spaces ignored, as
+# Playwright's has_text), ("first", "") keeps the first.
+Step = tuple[str, str]
+
+# The page's side of every query: the steps -> matching elements, in document order.
+RESOLVE = r"""(steps) => {
+  let found = [document];
+  for (const [kind, value] of steps) {
+    if (kind === "css") {
+      const all = new Set(found.flatMap((root) => [...root.querySelectorAll(value)]));
+      found = [...all].sort((a, b) =>
+        a === b ? 0 : a.compareDocumentPosition(b) & Node.DOCUMENT_POSITION_FOLLOWING ? -1 : 1);
+    } else if (kind === "text") {
+      const squash = (text) => text.replace(/\s+/g, " ").trim().toLowerCase();
+      found = found.filter((element) => squash(element.textContent || "").includes(squash(value)));
+    } else if (kind === "first") {
+      found = found.slice(0, 1);
+    }
+  }
+  return found;
+}"""
+
+# What an expectation needs of the first match, in one round trip.
+STATE = f"""(steps) => {{
+  const found = ({RESOLVE})(steps);
+  const element = found[0];
+  if (!element) return {{ count: 0 }};
+  const rect = element.getBoundingClientRect();
+  const style = getComputedStyle(element);
+  return {{
+    count: found.length,
+    visible: rect.width > 0 && rect.height > 0 && style.visibility !== "hidden",
+    enabled: !element.disabled && !element.closest("fieldset:disabled"),
+    text: element.textContent || "",
+    innerText: element.innerText || "",
+    attributes: Object.fromEntries(
+      element.getAttributeNames().map((name) => [name, element.getAttribute(name)])),
+  }};
+}}"""
+
+# Where to tap an element, once it can be tapped: the only match, visible, enabled, scrolled
+# into view, and the topmost element at its centre (not under a dialog or a loupe).
+TAP_POINT = f"""(steps) => {{
+  const found = ({RESOLVE})(steps);
+  if (found.length !== 1) return {{ count: found.length }};
+  const element = found[0];
+  let rect = element.getBoundingClientRect();
+  if (rect.width === 0 || rect.height === 0) return {{ count: 1, problem: "not visible" }};
+  if (element.disabled) return {{ count: 1, problem: "disabled" }};
+  if (rect.top < 0 || rect.left < 0 || rect.bottom > innerHeight || rect.right > innerWidth) {{
+    element.scrollIntoView({{ block: "center", inline: "center" }});
+    rect = element.getBoundingClientRect();
+  }}
+  const x = rect.left + rect.width / 2;
+  const y = rect.top + rect.height / 2;
+  const hit = document.elementFromPoint(x, y);
+  if (!hit || (hit !== element && !element.contains(hit))) {{
+    return {{ count: 1, problem: `covered by <${{hit ? hit.tagName.toLowerCase() : "nothing"}}>` }};
+  }}
+  return {{ count: 1, x, y, box: [rect.left, rect.top, rect.width, rect.height] }};
+}}"""
+
+# The photo view's published transform (PhotoView.tsx): pixel (x, y) of the photo is at
+# (left + tx + scale * x, top + ty + scale * y) in client coordinates.
+TRANSFORM = f"""(steps) => {{
+  const element = ({RESOLVE})(steps)[0];
+  if (!element || !element.hasAttribute("data-scale")) return null;
+  const rect = element.getBoundingClientRect();
+  const read = (name) => Number(element.getAttribute(name));
+  return [rect.left, rect.top, read("data-scale"), read("data-tx"), read("data-ty")];
+}}"""
+
+
+def _squash(text: str) -> str:
+    return re.sub(r"\s+", " ", text).strip()
+
+
+def _test_id(test_id: str) -> str:
+    return '[data-testid="{}"]'.format(test_id.replace("\\", "\\\\").replace('"', '\\"'))
+
+
+class Phone(ABC):
+    """One phone: a browser window of a phone's size showing one page.
+
+    Subclasses implement the engine's part (the abstract methods); everything else is
+    written once, here, on top of :meth:`evaluate`.
+    """
+
+    #: "chromium" or "webkit".
+    engine: ClassVar[str]
+    #: What a tap is to the page: "touch" (touch events, as on a phone) or "mouse" (the
+    #: engine's automation has no touch input; the app's mouse handling gets the tap).
+    pointer: ClassVar[Literal["touch", "mouse"]]
+
+    def __init__(self, model: str) -> None:
+        self.model = model
+
+    # --- the engine's part ---------------------------------------------------------------
+
+    @abstractmethod
+    def goto(self, url: str) -> None:
+        """Open ``url`` and wait for its load event."""
+
+    @abstractmethod
+    def reload(self) -> None:
+        """Reload the page and wait for its load event."""
+
+    @abstractmethod
+    def evaluate(self, script: str, arg: Any = None) -> Any:
+        """Run the JavaScript function expression ``script`` on ``arg`` (JSON) in the page;
+        its JSON result."""
+
+    @abstractmethod
+    def tap_at(self, x: float, y: float) -> None:
+        """One finger (or the engine's pointer) down and up at client point (x, y)."""
+
+    @abstractmethod
+    def zoom(self, around: tuple[float, float], factor: float) -> None:
+        """Zoom the photo by about ``factor`` about a client point, as a person would on
+        this engine: a two-finger pinch where there is touch input, else the wheel."""
+
+    @abstractmethod
+    def screenshot(self, path: Path) -> None:
+        """The visible page as a PNG, at the device's pixel ratio."""
+
+    @abstractmethod
+    def console_errors(self) -> list[str]:
+        """What the page reported as errors so far: console errors, uncaught exceptions and
+        unhandled rejections, Content Security Policy violations."""
+
+    @abstractmethod
+    def close(self) -> None:
+        """Close the window and whatever the engine started for it."""
+
+    @abstractmethod
+    def fill_in(self, steps: tuple[Step, ...], text: str) -> None:
+        """Replace the text of the input ``steps`` find by ``text``, as typed."""
+
+    @abstractmethod
+    def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
+        """Choose ``path`` in the file input ``steps`` find."""
+
+    # --- written once -------------------------------------------------------------------
+
+    def get_by_test_id(self, test_id: str) -> Element:
+        return Element(self, (("css", _test_id(test_id)),))
+
+    def locator(self, css: str) -> Element:
+        return Element(self, (("css", css),))
+
+    def get_by_role(self, role: str) -> Element:
+        """Elements with this explicit ``role`` attribute (implicit roles are not derived)."""
+        return self.locator(f'[role="{role}"]')
+
+    def navigating(self, error: Exception) -> bool:
+        """Whether ``error`` only says the page was being replaced while it was asked (the
+        question is then asked again)."""
+        return False
+
+    def wait_for(
+        self, condition: Callable[[], bool], what: str, timeout: float = TIMEOUT_S
+    ) -> None:
+        """Poll ``condition`` until it holds; fail naming ``what`` after ``timeout`` s."""
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                if condition():
+                    return
+            except Exception as error:
+                if not self.navigating(error):
+                    raise
+            if time.monotonic() > deadline:
+                raise AssertionError(f"{self}: timed out after {timeout:g} s waiting for {what}")
+            time.sleep(POLL_S)
+
+    def photo_to_screen(self, x: float, y: float) -> tuple[float, float]:
+        """Client coordinates of photo pixel (x, y), from the view's published transform."""
+        view = self.get_by_test_id("photo-view")
+        found: list[list[float]] = []
+
+        def published() -> bool:
+            transform = self.evaluate(TRANSFORM, list(view.steps))
+            if transform is not None:
+                found.append(transform)
+            return transform is not None
+
+        self.wait_for(published, "the photo view's transform")
+        left, top, scale, tx, ty = found[-1]
+        return left + tx + scale * x, top + ty + scale * y
+
+    def tap_photo(self, x: float, y: float) -> None:
+        """A one-finger tap on the photo at pixel (x, y)."""
+        self.tap_at(*self.photo_to_screen(x, y))
+
+    def __str__(self) -> str:
+        return f"{self.model} ({self.engine})"
+
+
+@dataclass(frozen=True)
+class Element:
+    """The elements a chain of steps finds on one phone's page, found anew at every use
+    (like a Playwright locator)."""
+
+    phone: Phone
+    steps: tuple[Step, ...]
+
+    def locator(self, css: str) -> Element:
+        return Element(self.phone, (*self.steps, ("css", css)))
+
+    def filter(self, has_text: str) -> Element:
+        return Element(self.phone, (*self.steps, ("text", has_text)))
+
+    @property
+    def first(self) -> Element:
+        return Element(self.phone, (*self.steps, ("first", "")))
+
+    def state(self) -> dict[str, Any]:
+        state: dict[str, Any] = self.phone.evaluate(STATE, list(self.steps))
+        return state
+
+    def count(self) -> int:
+        return int(self.state()["count"])
+
+    def _one(self, what: str) -> dict[str, Any]:
+        """The state of the only match, once there is one (several are an error at once,
+        as in Playwright's strict mode)."""
+        found: list[dict[str, Any]] = []
+
+        def present() -> bool:
+            state = self.state()
+            if state["count"] > 1:
+                raise AssertionError(f"{self}: {state['count']} elements match")
+            found.append(state)
+            return bool(state["count"])
+
+        self.phone.wait_for(present, f"{self} to {what}")
+        return found[-1]
+
+    def inner_text(self) -> str:
+        return str(self._one("exist")["innerText"])
+
+    def get_attribute(self, name: str) -> str | None:
+        value = self._one("exist")["attributes"].get(name)
+        return None if value is None else str(value)
+
+    def evaluate(self, script: str) -> Any:
+        """Run the JavaScript function expression ``script`` on the only match."""
+        self._one("exist")
+        call = f"(steps) => ({script})(({RESOLVE})(steps)[0])"
+        return self.phone.evaluate(call, list(self.steps))
+
+    def tap(self) -> None:
+        """A tap at the element's centre once it can be tapped (see ``TAP_POINT``); the
+        element must hold still over two looks, so a moving one is not missed."""
+        looks: list[dict[str, Any]] = []
+
+        def ready() -> bool:
+            look = self.phone.evaluate(TAP_POINT, list(self.steps))
+            if look["count"] > 1:
+                raise AssertionError(f"{self}: {look['count']} elements match")
+            still = bool(looks) and "box" in look and looks[-1].get("box") == look["box"]
+            looks.append(look)
+            return still
+
+        try:
+            self.phone.wait_for(ready, f"{self} to be tappable")
+        except AssertionError as failed:
+            raise AssertionError(f"{failed}; last look: {looks[-1:]}") from None
+        self.phone.tap_at(looks[-1]["x"], looks[-1]["y"])
+
+    def fill(self, text: str) -> None:
+        self._one("exist")
+        self.phone.fill_in(self.steps, text)
+
+    def set_input_files(self, path: Path) -> None:
+        self._one("exist")
+        self.phone.choose_file(self.steps, path)
+
+    def __str__(self) -> str:
+        described = " ".join(
+            value if kind == "css" else f"{kind}={value!r}" for kind, value in self.steps
+        )
+        return f"{self.phone}: {described}"
+
+
+def expect(element: Element) -> Expectation:
+    """Assertions that wait (up to :data:`TIMEOUT_S`) for the page to agree."""
+    return Expectation(element)
+
+
+@dataclass(frozen=True)
+class Expectation:
+    element: Element
+
+    def _until(
+        self, holds: Callable[[dict[str, Any]], bool], what: str, strict: bool = True
+    ) -> None:
+        last: list[dict[str, Any]] = []
+
+        def check() -> bool:
+            state = self.element.state()
+            if strict and state["count"] > 1:
+                raise AssertionError(f"{self.element}: {state['count']} elements match")
+            last[:] = [state]
+            return holds(state)
+
+        try:
+            self.element.phone.wait_for(check, f"{self.element} to {what}")
+        except AssertionError as failed:
+            raise AssertionError(f"{failed}; last state: {last[:1]}") from None
+
+    def to_be_attached(self) -> None:
+        self._until(lambda s: s["count"] == 1, "be attached")
+
+    def to_be_visible(self) -> None:
+        self._until(lambda s: s["count"] == 1 and s["visible"], "be visible")
+
+    def to_be_hidden(self) -> None:
+        self._until(lambda s: s["count"] == 0 or not s["visible"], "be hidden")
+
+    def to_be_enabled(self) -> None:
+        self._until(lambda s: s["count"] == 1 and s["enabled"], "be enabled")
+
+    def to_have_count(self, count: int) -> None:
+        self._until(lambda s: s["count"] == count, f"number {count}", strict=False)
+
+    def to_have_text(self, expected: str | re.Pattern[str]) -> None:
+        self._until(
+            lambda s: s["count"] == 1 and _matches(s["text"], expected), f"read {expected!r}"
+        )
+
+    def not_to_have_text(self, expected: str | re.Pattern[str]) -> None:
+        self._until(
+            lambda s: s["count"] == 1 and not _matches(s["text"], expected),
+            f"not read {expected!r}",
+        )
+
+    def to_contain_text(self, expected: str) -> None:
+        self._until(
+            lambda s: s["count"] == 1 and _squash(expected) in _squash(s["text"]),
+            f"contain {expected!r}",
+        )
+
+    def to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
+        def holds(state: dict[str, Any]) -> bool:
+            found = state.get("attributes", {}).get(name)
+            return (
+                state["count"] == 1 and found is not None and _matches(found, value, squash=False)
+            )
+
+        self._until(holds, f"have {name}={value!r}")
+
+    def not_to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
+        def holds(state: dict[str, Any]) -> bool:
+            found = state.get("attributes", {}).get(name)
+            absent = found is None or not _matches(found, value, squash=False)
+            return state["count"] == 1 and absent
+
+        self._until(holds, f"not have {name}={value!r}")
+
+
+def _matches(text: str, expected: str | re.Pattern[str], squash: bool = True) -> bool:
+    """Playwright's rule: a string matches the whole text (spaces squashed), a pattern
+    anywhere in it."""
+    if isinstance(expected, re.Pattern):
+        return expected.search(text) is not None
+    return (_squash(text) == _squash(expected)) if squash else text == expected

@@ -1,0 +1,234 @@
+"""A phone in WebKit: Debian's WebKitGTK MiniBrowser on its own virtual X screen (Xvfb),
+driven by WebKitWebDriver through Selenium.
+
+What the engine allows, found on WebKitGTK 2.50 (docs/browsers.md):
+- size: ``--full-screen`` hides MiniBrowser's toolbar (whose width is otherwise the
+  window's minimum, 447 px), so the page gets the whole window, sized to the phone's
+  viewport; GDK_SCALE gives an integer device pixel ratio (3 for an iPhone 13);
+- input: the GTK port builds WebKitWebDriver without touch (ENABLE_WEBDRIVER_TOUCH_INTERACTIONS
+  is off), so a W3C pointer of type "touch" arrives as the mouse: a tap is mousedown/mouseup
+  and click, and there is no second finger: zooming is the wheel;
+- console: no log endpoint, no WebDriver BiDi, and MiniBrowser's
+  --enable-write-console-messages-to-stdout is not applied to the automation view, so a
+  small watcher is put into each page after it loads (:data:`WATCH`).
+"""
+
+from __future__ import annotations
+
+import glob
+import math
+import shutil
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from phone import RESOLVE, Phone, Step
+from pyvirtualdisplay.display import Display
+from selenium import webdriver
+from selenium.webdriver.common.actions import interaction
+from selenium.webdriver.common.actions.action_builder import ActionBuilder
+from selenium.webdriver.common.actions.pointer_input import PointerInput
+from selenium.webdriver.common.actions.wheel_input import WheelInput
+from selenium.webdriver.remote.webelement import WebElement
+from selenium.webdriver.webkitgtk.options import Options
+from selenium.webdriver.webkitgtk.service import Service
+
+# Debian's packages (webkit2gtk-driver, libwebkit2gtk-4.1-0, xvfb); `make test` installs them.
+WEBKIT_DRIVER = "/usr/bin/WebKitWebDriver"
+MINIBROWSERS = sorted(
+    glob.glob("/usr/lib/*-linux-gnu/webkit2gtk-4.1/MiniBrowser")
+)  # per architecture
+XVFB = "/usr/bin/Xvfb"
+PAGE_LOAD_S = 30
+# One wheel notch of a mouse (px). The app zooms by exp(0.002 * px) per wheel event
+# (frontend/src/gestures.ts, wheelFactor), so a notch is a factor of about 1.22.
+WHEEL_NOTCH_PX = 100
+WHEEL_NOTCH_ZOOM = math.exp(0.002 * WHEEL_NOTCH_PX)
+
+# Collects what the page reports as errors into window.__phoneErrors (read by HARVEST).
+WATCH = r"""() => {
+  if (window.__phoneErrors) return;
+  const errors = (window.__phoneErrors = []);
+  const text = (value) =>
+    value instanceof Error ? `${value.name}: ${value.message}` : String(value);
+  const original = console.error;
+  console.error = function (...args) {
+    errors.push(args.map(text).join(" "));
+    return original.apply(this, args);
+  };
+  addEventListener("error", (event) => {
+    const source = event.target && (event.target.src || event.target.href);
+    errors.push(event.error ? text(event.error) : event.message || `failed to load ${source}`);
+  }, true);
+  addEventListener("unhandledrejection", (event) =>
+    errors.push(`Unhandled Promise Rejection: ${text(event.reason)}`));
+  document.addEventListener("securitypolicyviolation", (event) =>
+    errors.push(`Content Security Policy: ${event.violatedDirective} refused ${event.blockedURI}`));
+}"""
+HARVEST = "() => (window.__phoneErrors ? window.__phoneErrors.splice(0) : [])"
+
+
+@dataclass(frozen=True)
+class Screen:
+    """A phone's screen in CSS px: the page's viewport (the screen less the browser's bars),
+    the whole screen, and the device pixel ratio."""
+
+    viewport: tuple[int, int]
+    screen: tuple[int, int]
+    scale: float
+
+
+def missing() -> list[str]:
+    """The programs a WebKit phone needs that are not installed."""
+    absent = [path for path in (WEBKIT_DRIVER, XVFB) if not shutil.which(path)]
+    return absent + ([] if MINIBROWSERS else ["MiniBrowser (libwebkit2gtk-4.1-0)"])
+
+
+class WebKitPhone(Phone):
+    engine = "webkit"
+    pointer = "mouse"
+
+    def __init__(self, model: str, screen: Screen, folder: Path) -> None:
+        super().__init__(model)
+        absent = missing()
+        assert not absent, f"not installed: {absent} (`make test` installs them: `make webkit`)"
+        # GTK scales by whole numbers only: 2.625 (a Pixel 7) becomes 3.
+        self.scale = max(1, round(screen.scale))
+        width, height = screen.screen
+        folder.mkdir(parents=True, exist_ok=True)
+        self._display = Display(
+            backend="xvfb",
+            size=(width * self.scale, height * self.scale),
+            color_depth=24,
+            manage_global_env=False,
+        )
+        self._display.start()
+        self._errors: list[str] = []
+        self._wheels = 0
+        try:
+            self._driver = self._start(folder)
+            self._fit(screen.viewport)
+        except BaseException:
+            self._display.stop()
+            raise
+
+    def _start(self, folder: Path) -> webdriver.WebKitGTK:
+        # A home of its own: no profile, cache or storage shared with the other phone.
+        home = folder / "home"
+        home.mkdir(exist_ok=True)
+        environment = self._display.env() | {
+            "GDK_BACKEND": "x11",
+            "GDK_SCALE": str(self.scale),
+            "HOME": str(home),
+            "XDG_CACHE_HOME": str(home / "cache"),
+            "XDG_CONFIG_HOME": str(home / "config"),
+            "XDG_DATA_HOME": str(home / "data"),
+        }
+        options = Options()
+        options.binary_location = MINIBROWSERS[0]
+        options.add_argument("--automation")
+        options.add_argument("--full-screen")  # no toolbar: the page gets the whole window
+        service = Service(
+            executable_path=WEBKIT_DRIVER,
+            env=environment,
+            log_output=str(folder / "webkitwebdriver.log"),
+        )
+        with warnings.catch_warnings():
+            # Selenium's own WebKitGTK class still sets remote_server_addr, which it deprecates.
+            warnings.filterwarnings("ignore", "setting remote_server_addr", DeprecationWarning)
+            driver = webdriver.WebKitGTK(options=options, service=service)
+        driver.set_page_load_timeout(PAGE_LOAD_S)
+        return driver
+
+    def _fit(self, viewport: tuple[int, int]) -> None:
+        """The window at the phone's viewport; checked, since GTK may refuse a size."""
+        width, height = viewport
+        self._driver.set_window_rect(0, 0, width, height)
+        got = self.evaluate("() => [innerWidth, innerHeight, devicePixelRatio]")
+        assert got == [width, height, self.scale], (
+            f"{self}: the page got {got[0]}x{got[1]} at {got[2]}x, "
+            f"not {width}x{height} at {self.scale}x"
+        )
+
+    def goto(self, url: str) -> None:
+        self._harvest()
+        self._driver.get(url)
+        self.evaluate(WATCH)
+
+    def reload(self) -> None:
+        self._harvest()
+        self._driver.refresh()
+        self.evaluate(WATCH)
+
+    def evaluate(self, script: str, arg: Any = None) -> Any:
+        return self._driver.execute_script(f"return ({script})(arguments[0]);", arg)
+
+    def tap_at(self, x: float, y: float) -> None:
+        actions = self._finger()
+        actions.pointer_action.move_to_location(x, y).pointer_down().pointer_up()
+        actions.perform()
+
+    def zoom(self, around: tuple[float, float], factor: float) -> None:
+        """Wheel notches at ``around``: up (in) for a factor above 1, down (out) below.
+
+        Two quirks of WebKitWebDriver 2.50 are worked around: a wheel before any pointer
+        action in the window is lost (so the finger moves there first, without pressing),
+        and a wheel source sends each scroll's difference from its previous one (a second
+        notch of the same size scrolls nothing), so every notch gets a source of its own.
+        """
+        x, y = round(around[0]), round(around[1])
+        hover = self._finger()
+        hover.pointer_action.move_to_location(x, y)
+        hover.perform()
+        notches = round(math.log(factor) / math.log(WHEEL_NOTCH_ZOOM))
+        delta = -WHEEL_NOTCH_PX if notches > 0 else WHEEL_NOTCH_PX
+        for _ in range(abs(notches)):
+            self._wheels += 1
+            wheel = ActionBuilder(
+                self._driver, wheel=WheelInput(f"wheel{self._wheels}"), duration=0
+            )
+            wheel.wheel_action.scroll(
+                x=x, y=y, delta_x=0, delta_y=delta, duration=0, origin="viewport"
+            )
+            wheel.perform()
+
+    def _finger(self) -> ActionBuilder:
+        # A finger does not glide to where it lands: moves take no time.
+        finger = PointerInput(interaction.POINTER_TOUCH, "finger")
+        return ActionBuilder(self._driver, mouse=finger, duration=0)
+
+    def screenshot(self, path: Path) -> None:
+        # WebKitGTK's screenshot is the last frame painted, which may not show the latest
+        # change yet: two animation frames first.
+        self._driver.execute_async_script(
+            "const done = arguments[0]; requestAnimationFrame(() => requestAnimationFrame(done));"
+        )
+        assert self._driver.save_screenshot(str(path)), f"{self}: no screenshot"
+
+    def console_errors(self) -> list[str]:
+        self._harvest()
+        return list(self._errors)
+
+    def close(self) -> None:
+        try:
+            self._driver.quit()
+        finally:
+            self._display.stop()
+
+    def fill_in(self, steps: tuple[Step, ...], text: str) -> None:
+        element = self._element(steps)
+        element.clear()
+        element.send_keys(text)
+
+    def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
+        self._element(steps).send_keys(str(path))
+
+    def _element(self, steps: tuple[Step, ...]) -> WebElement:
+        element = self.evaluate(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))
+        assert isinstance(element, WebElement), f"{self}: nothing matches {steps}"
+        return element
+
+    def _harvest(self) -> None:
+        """Move what the page's watcher collected into ``_errors`` (before the page goes)."""
+        self._errors += self.evaluate(HARVEST)
