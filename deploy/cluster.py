@@ -129,6 +129,8 @@ def main(argv: Sequence[str] | None = None) -> None:
         parser.error("--certificate and --key go together")
     given = (args.certificate.resolve(), args.key.resolve()) if args.certificate else None
     signal.signal(signal.SIGTERM, _stop)
+    # Ctrl+C as well when started in the background, where the shell makes it ignored.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         with ExitStack() as stack:
             folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="buddy-cluster-")))
