@@ -3,8 +3,8 @@
 Everything runs against one real uvicorn process (``backend.main:app``, one worker, SQLite
 in a temporary folder) that this script starts on a free loopback port and stops at the end:
 
-1. ``POST /api/solve`` (8 landmarks + the buddy tap e1 of a ``facing_scene``, 1 px tap
-   noise) against ``GET /api/version`` (no database: the cheapest endpoint), from a Python
+1. ``POST /api/solve`` (8 landmarks + the tap e1 on friend 2 of a ``facing_scene``, 1 px
+   tap noise) against ``GET /api/version`` (no database: the cheapest endpoint), from a Python
    load generator (httpx, one keep-alive connection per worker thread) in interleaved
    rounds, so both endpoints see the same machine state; 8 workers, then 1 (no queueing).
    Per endpoint: requests/s, client latency, the server's own time (the ``Server-Timing``
@@ -361,12 +361,12 @@ class Uploads:
     samples: list[Sample]
 
 
-def uploads(seeker: Phone, photo: bytes) -> Uploads:
-    """The seeker's photo, uploaded ``UPLOADS`` times (each replaces the one before)."""
+def uploads(starter: Phone, photo: bytes) -> Uploads:
+    """The starter's photo, uploaded ``UPLOADS`` times (each replaces the one before)."""
     samples = []
     stored: dict[str, Any] = {}
     for _ in range(UPLOADS):
-        stored, sample = seeker.upload(photo)
+        stored, sample = starter.upload(photo)
         samples.append(sample)
     return Uploads(len(photo), stored, samples)
 
@@ -397,30 +397,30 @@ def decoded_overlay(data: bytes, size: tuple[int, int]) -> None:
 
 
 def tap_both(
-    seeker: Phone, buddy: Phone, size: tuple[int, int]
+    starter: Phone, joiner: Phone, size: tuple[int, int]
 ) -> tuple[dict[str, Any], list[dict[str, float]]]:
-    """Both phones tap 8 landmarks of a facing scene of the stored size, the seeker also the
-    buddy (1 px tap noise); the state with its answer, and the buddy's landmarks."""
+    """Both phones tap 8 landmarks of a facing scene of the stored size, the starter also
+    their friend (1 px tap noise); the state with its answer, and the joiner's landmarks."""
     rng = np.random.default_rng(SESSION_SCENE_SEED)
     scene = facing_scene(rng, SOLVE_LANDMARKS, image_size=size, focal=SESSION_FOCAL)
     noisy = tap(scene, SOLVE_SIGMA, rng)
-    seeker.put_taps(
+    starter.put_taps(
         {
             "landmarks": landmark_taps(noisy.landmarks1, size),
             "friend": dict(zip("xy", noisy.epipole1.clip(0, size).tolist(), strict=True)),
         }
     )
-    buddy_landmarks = landmark_taps(noisy.landmarks2, size)
-    state, _ = buddy.put_taps({"landmarks": buddy_landmarks})
+    joiner_landmarks = landmark_taps(noisy.landmarks2, size)
+    state, _ = joiner.put_taps({"landmarks": joiner_landmarks})
     if state.get("answer") is None:
         raise RuntimeError(f"no answer from the session's taps: {state.get('answer_error')}")
-    return state, buddy_landmarks
+    return state, joiner_landmarks
 
 
-def renders(seeker: Phone, buddy: Phone, size: tuple[int, int]) -> Renders:
-    """Renders of the buddy's overlay, each after a new answer version (the buddy's landmark
-    #1 moved by 0.5 px)."""
-    state, landmarks = tap_both(seeker, buddy, size)
+def renders(starter: Phone, joiner: Phone, size: tuple[int, int]) -> Renders:
+    """Renders of the joiner's overlay, each after a new answer version (the joiner's
+    landmark #1 moved by 0.5 px)."""
+    state, landmarks = tap_both(starter, joiner, size)
     method = str(state["answer"]["method"])
     drawn: dict[str, list[Sample]] = {"jpeg": [], "png": [], "taps": []}
     sizes = {"jpeg": 0, "png": 0}
@@ -428,12 +428,12 @@ def renders(seeker: Phone, buddy: Phone, size: tuple[int, int]) -> Renders:
         nudge = TAP_NUDGE_PX if render % 2 == 0 else -TAP_NUDGE_PX
         landmarks[0]["x"] = float(np.clip(landmarks[0]["x"] + nudge, 0, size[0]))
         before = state["answer_version"]
-        state, sample = buddy.put_taps({"landmarks": landmarks})
+        state, sample = joiner.put_taps({"landmarks": landmarks})
         drawn["taps"].append(sample)
         if state.get("answer") is None or state["answer_version"] == before:
             raise RuntimeError(f"the move made no new answer: {state.get('answer_error')}")
         fmt = "jpeg" if render < RENDERS else "png"
-        first, sample = buddy.request("GET", "/overlay/joiner", params={"format": fmt})
+        first, sample = joiner.request("GET", "/overlay/joiner", params={"format": fmt})
         decoded_overlay(first.content, size)
         sizes[fmt] = len(first.content)
         drawn[fmt].append(sample)
@@ -447,23 +447,23 @@ class SessionFigures:
 
 
 def session(server: Server) -> SessionFigures:
-    """One two-phone session: the seeker's uploads, then the buddy, taps and overlays."""
+    """One two-phone session: the starter's uploads, then the joiner, taps and overlays."""
     rng = np.random.default_rng(PHOTO_NOISE_SEED)
-    seeker_photo = photo_like_jpeg("templeSR0006", rng)
-    buddy_photo = photo_like_jpeg("templeSR0003", rng)
+    starter_photo = photo_like_jpeg("templeSR0006", rng)
+    joiner_photo = photo_like_jpeg("templeSR0003", rng)
     with httpx2.Client(base_url=server.base_url, timeout=60) as http:
         created = http.post("/api/sessions")
         created.raise_for_status()
-        seeker = Phone(http, created.json()["session_id"], created.json()["token"])
-        uploaded = uploads(seeker, seeker_photo)
-        state, _ = seeker.request("GET", "")
+        starter = Phone(http, created.json()["session_id"], created.json()["token"])
+        uploaded = uploads(starter, starter_photo)
+        state, _ = starter.request("GET", "")
         joined = http.post("/api/sessions/join", json={"code": state.json()["join_code"]})
         joined.raise_for_status()
-        buddy = Phone(http, seeker.session_id, joined.json()["token"])
-        stored, _ = buddy.upload(buddy_photo)
+        joiner = Phone(http, starter.session_id, joined.json()["token"])
+        stored, _ = joiner.upload(joiner_photo)
         size = (int(stored["width"]), int(stored["height"]))
-        drawn = renders(seeker, buddy, size)
-        seeker.request("DELETE", "")
+        drawn = renders(starter, joiner, size)
+        starter.request("DELETE", "")
     return SessionFigures(uploaded, drawn)
 
 
@@ -577,7 +577,7 @@ def session_table(figures: SessionFigures) -> str:
     return markdown_table(
         ["request", "n", "server time median / p90 / max (ms)", "client median / p90 / max (ms)"],
         [
-            summary_row("`PUT /photo`, 12 MP JPEG (seeker, replacing)", figures.uploads.samples),
+            summary_row("`PUT /photo`, 12 MP JPEG (starter, replacing)", figures.uploads.samples),
             summary_row("`GET /overlay/joiner`, jpeg (render)", drawn.jpeg),
             summary_row("`GET /overlay/joiner?format=png` (informative)", drawn.png),
             summary_row("`PUT /taps` before each render: solve + state (informative)", drawn.taps),
@@ -675,12 +675,13 @@ def session_section(figures: SessionFigures) -> list[str]:
         f"{UPLOAD_SIZE[0]}x{UPLOAD_SIZE[1]} (bicubic) with Gaussian noise sigma "
         f"{UPLOAD_NOISE_SIGMA:g}, JPEG quality {UPLOAD_QUALITY} "
         f"({figures.uploads.upload_bytes / 1e6:.2f} MB, multipart), put {UPLOADS} times as the "
-        f"seeker's photo (each replaces the last); stored as {stored['width']}x"
-        f"{stored['height']} (scale {stored['scale']:.4f}). Then the buddy joins with the code "
-        "from the seeker's state and uploads `templeSR0003` made the same way; both tap "
-        f"{SOLVE_LANDMARKS} landmarks (the seeker also e1) from a `facing_scene` of the stored "
+        f"starter's photo (each replaces the last); stored as {stored['width']}x"
+        f"{stored['height']} (scale {stored['scale']:.4f}). Then the joiner joins with the code "
+        "from the starter's state and uploads `templeSR0003` made the same way; both tap "
+        f"{SOLVE_LANDMARKS} landmarks (the starter also their friend, e1) from a `facing_scene` "
+        "of the stored "
         f"size (f = {SESSION_FOCAL:g} px, {SOLVE_SIGMA:g} px tap noise), answered by "
-        f"`{drawn.method}`. Each render follows a `PUT /taps` that moves the buddy's landmark "
+        f"`{drawn.method}`. Each render follows a `PUT /taps` that moves the joiner's landmark "
         f"#1 by {TAP_NUDGE_PX:g} px (a new answer version). Every overlay decodes to "
         f"{stored['height']}x{stored['width']}x3; jpeg {drawn.jpeg_bytes / 1e6:.2f} MB, png "
         f"{drawn.png_bytes / 1e6:.2f} MB.",

@@ -7,7 +7,7 @@ alternative, on the same phone scenes and the same taps, in one run.
    photos stretched (pixels no longer square), with the phone prior.
 3. Landmarks on one plane (a floor): the camera model against the homography of the
    projective route.
-4. The bootstrap where there is little redundancy (3 and 4 landmarks + the buddy, taps of
+4. The bootstrap where there is little redundancy (3 and 4 landmarks + friend 2, taps of
    mixed precision): the region with and without it.
 5. Ranking several exact roots with the camera unknown: the cues of the first version
    (epipoles inside the photos ranked) against the current ones (real focal lengths first).
@@ -72,14 +72,14 @@ def _percentile(values: Sequence[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, math.ceil(q / 100 * len(ordered)) - 1)]
 
 
-Trial = tuple[object, dict[str, Any], Array]  # (scene, solve's arguments, true seeker)
+Trial = tuple[object, dict[str, Any], Array]  # (scene, solve's arguments, true friend 1)
 
 
 def run(
     scenes: Sequence[Trial],
     variant: Callable[[dict[str, Any]], dict[str, Any]],
 ) -> Cell:
-    """``solve`` on every (scene, taps, true seeker) with the arguments ``variant`` makes."""
+    """``solve`` on every (scene, taps, true friend 1) with the arguments ``variant`` makes."""
     errors: list[float] = []
     claims = held = projective = 0
     modelled = False
@@ -112,7 +112,7 @@ def _px(value: float) -> str:
 
 
 def phone_taps(trials: int, landmarks: int, stream: int, *, zoom2: float = 1.0) -> list[Trial]:
-    """Phone scenes and their taps at SIGMA px, the buddy marked, as ``solve`` arguments."""
+    """Phone scenes and their taps at SIGMA px, friend 2 marked, as ``solve`` arguments."""
     drawn: list[Trial] = []
     for trial in range(trials):
         rng = np.random.default_rng((SEED, stream, trial))
@@ -206,7 +206,7 @@ def _edited(trials: int, landmarks: int, crop: float, stretch: float) -> list[Tr
         truth = (scene.epipole2 - [cut, 0.0]) * [stretch, 1.0]
         keep = np.flatnonzero(q[:, 0] > 0)[:landmarks]
         if len(keep) < landmarks or truth[0] < 0:
-            continue  # the crop leaves too few landmarks, or the seeker, out of the photo
+            continue  # the crop leaves too few landmarks, or friend 1, out of the photo
         edited = {
             **taps,
             "points1": np.asarray(taps["points1"])[keep],
@@ -270,7 +270,7 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
         rng = np.random.default_rng((SEED, 5, trial))
         scene = phone_scene(rng, landmarks)
         sigmas = [np.where(rng.random(landmarks) < 0.5, 10.0, 2.0) for _ in range(2)]
-        buddy_sigma = float(rng.choice([2.0, 10.0]))
+        friend2_sigma = float(rng.choice([2.0, 10.0]))
         p = scene.landmarks1 + rng.normal(size=(landmarks, 2)) * sigmas[0][:, None]
         q = scene.landmarks2 + rng.normal(size=(landmarks, 2)) * sigmas[1][:, None]
         drawn.append(
@@ -279,10 +279,10 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
                 {
                     "points1": p,
                     "points2": q,
-                    "epipole1": scene.epipole1 + rng.normal(0.0, buddy_sigma, 2),
+                    "epipole1": scene.epipole1 + rng.normal(0.0, friend2_sigma, 2),
                     "points1_sigma": sigmas[0],
                     "points2_sigma": sigmas[1],
-                    "epipole1_sigma": buddy_sigma,
+                    "epipole1_sigma": friend2_sigma,
                     "image_size1": scene.image_size1,
                     "image_size2": scene.image_size2,
                 },
@@ -412,7 +412,7 @@ def report(trials: int) -> str:
             "1. The focal-length prior",
             "Phone scenes (`testbed.phones.phone_scene`), taps at 3 px, photo 2 zoomed and no "
             "EXIF. Narrow: a main camera only; broad: the phone prior of "
-            "`shared_solver.estimation.camera` (log-sd 0.5). The seeker's position hardly "
+            "`shared_solver.estimation.camera` (log-sd 0.5). Friend 1's position hardly "
             "depends on the focal length when the phones face each other, so the broad prior "
             "costs little at 1x and keeps the region honest when the photo was zoomed.",
             lambda: prior_width(trials),
@@ -441,7 +441,7 @@ def report(trials: int) -> str:
         ),
         (
             "5. Ranking exact roots with the camera unknown",
-            "Exact taps; the roots of the six-landmark cubic (a line through the buddy in a "
+            "Exact taps; the roots of the six-landmark cubic (a line through friend 2 in a "
             "random direction) or of OpenCV's 7-point method; how often the first-ranked is "
             "the true one.",
             lambda: ranking(trials),

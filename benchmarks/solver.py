@@ -6,7 +6,7 @@ marks included) and the same scenes and taps for every method of a trial:
 
 1. Phone scenes (:func:`testbed.phones.phone_scene`: 12 MP photos, landscape or portrait,
    ~26 mm lenses, 20-80 m apart, facing by hand) at tap noise 1, 3 and 8 px: the projective
-   route (5 and 8 landmarks + the buddy tap e1), the camera-aware route with the phone prior
+   route (5 and 8 landmarks + the tap e1 on friend 2), the camera-aware route with the phone prior
    (3, 4, 5, 8 + e1) and with the EXIF focal length (3, 4, 5 + e1), against OpenCV's
    5-point essential matrix with the true intrinsics (5 and 8 landmarks) and its 8-point
    fundamental matrix: e2 error, failures, coverage of every claimed 95 % region.
@@ -141,9 +141,10 @@ def header(options: Options) -> str:
 
 COVERAGE_NOTE = (
     "Failures: refusals (`SolverError` code, or OpenCV returning no matrix) and answers "
-    "that put the seeker at no point of photo 2 (`epipole2` null: at infinity, behind the "
-    "buddy, or a curve only); all count as infinite error in the median and p90 (the true "
-    "seeker is always in front, inside photo 2). Coverage: of the answers that claim a 95 % region "
+    "that put friend 1 at no point of photo 2 (`epipole2` null: at infinity, behind "
+    "friend 2, or a curve only); all count as infinite error in the median and p90 (the "
+    "true friend 1 is always in front, inside photo 2). Coverage: of the answers that "
+    "claim a 95 % region "
     "(`result.uncertainty.ellipse` not null), the fraction whose true e2 is inside it "
     "(`result.uncertainty.covariance`, chi-square 2 dof 5.991), and how many claimed one; an "
     "answer without a region (ambiguous, or a method that claims none) claims nothing. "
@@ -170,7 +171,7 @@ def report(results: Results) -> str:
         "## 1. Phone scenes: accuracy of e2 against OpenCV (same scenes, same noisy taps)",
         "e2 error in px, **median / 90th percentile**. One phone scene of 8 landmarks and its "
         "noisy taps per trial (the same scene at every sigma); each method uses the first "
-        "3/4/5/8 landmarks. Ours also uses the noisy buddy tap e1; OpenCV does not. OpenCV's "
+        "3/4/5/8 landmarks. Ours also uses the noisy tap e1 on friend 2; OpenCV does not. OpenCV's "
         "essential matrix gets the **true intrinsics**: taps normalised with each camera's K, "
         "then `findEssentialMat(..., focal=1, pp=(0, 0), method=RANSAC, threshold=3 sigma / "
         "f)`. On 5 landmarks it returns every root of the 5-point solver, stacked: the table "
@@ -221,8 +222,8 @@ def report(results: Results) -> str:
         "## 5. Facing scenes: accuracy of e2 against OpenCV (same scenes, same noisy taps)",
         "The scenes of the first version, projective route only. e2 error in px, "
         "**median / 90th percentile**. One scene of 8 landmarks and its noisy taps per "
-        "trial; each method uses the first 5/6/7/8 landmarks. Ours also uses the noisy buddy "
-        "tap e1; OpenCV does not. OpenCV 7-point returns 1 or 3 roots: the table takes the "
+        "trial; each method uses the first 5/6/7/8 landmarks. Ours also uses the noisy tap "
+        "e1 on friend 2; OpenCV does not. OpenCV 7-point returns 1 or 3 roots: the table takes the "
         "**best root by oracle** (the one whose e2 is closest to the truth), which flatters "
         "OpenCV. OpenCV's e2 is the left null vector of F (F^T e2 = 0).",
         facing.accuracy_tables(results.facing_table),
@@ -233,7 +234,7 @@ def report(results: Results) -> str:
         "(`planar=True`) for planar. The line for six_point_line goes through the noisy e1 "
         "tap in a random direction. Errors in px. By design `six_point_line` and `seven_point` "
         "claim no region (first order and a bootstrap were both measured too optimistic "
-        "for them); their answers are graded 'poor' and ask for the buddy to be marked.",
+        "for them); their answers are graded 'poor' and ask for friend 2 to be marked.",
         facing.coverage_table(results.facing_coverage),
         facing.rank_lines(results.six_point_rank),
         "## 7. Speed (same process, interleaved)",

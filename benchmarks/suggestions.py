@@ -2,7 +2,7 @@
 
 Two friends photograph a hall from its two ends (``testbed.venue``: textured planes
 rendered by homography, the stored 2560 px photos, every landmark's true position known).
-The seeker marks the buddy and both tap 5 landmarks with 3 px of noise; ``solve`` answers
+Friend 1 marks friend 2 and both tap 5 landmarks with 3 px of noise; ``solve`` answers
 with phone cameras. Then, for other landmarks tapped in one photo only (up to 4 per kind
 of surface per scene, in both directions), it measures:
 
@@ -73,7 +73,7 @@ def header(arguments: argparse.Namespace) -> str:
             f"{arguments.evaluation} evaluation scenes (sections 1-3, 6, 7), the first "
             f"{arguments.compare} of them also in section 5. Taps: numpy "
             "`default_rng((SEED, stream, index, 1))`.",
-            f"- The answer: the buddy and {USED} landmarks at random, every tap with Gaussian "
+            f"- The answer: friend 2 and {USED} landmarks at random, every tap with Gaussian "
             f"noise of {SIGMA:g} px per axis, `solve(..., tap_sigma={SIGMA:g}, "
             'camera1="phone", camera2="phone", fundamental_covariance=True)`. Searched: up to '
             f"{PER_KIND} other landmarks per kind of surface per scene, tapped with the same "

@@ -267,6 +267,12 @@ def rate(values: list[bool | None]) -> tuple[str, int]:
     return f"{100 * sum(claimed) / len(claimed):.1f} %", len(claimed)
 
 
+def counts(values: list[bool | None]) -> dict[str, int]:
+    """How many regions were claimed and how many held the truth."""
+    claimed = [v for v in values if v is not None]
+    return {"claimed": len(claimed), "held": sum(claimed)}
+
+
 def report(results: list[Trial], seconds: float) -> str:
     held, claimed = rate([r.held for r in results])
     held_fixed, claimed_fixed = rate([r.held_fixed for r in results])
@@ -327,7 +333,14 @@ def main() -> None:
     results = run(args.trials)
     text = report(results, time.monotonic() - started)
     publish(text, args.out)
-    print(json.dumps({"held": rate([r.held for r in results])[0]}))
+    print(
+        json.dumps(
+            {
+                "app": counts([r.held for r in results]),
+                "fixed": counts([r.held_fixed for r in results]),
+            }
+        )
+    )
 
 
 if __name__ == "__main__":

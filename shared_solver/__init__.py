@@ -1,8 +1,8 @@
-"""Buddy Search geometry: find the seeker in the buddy's photo from a few shared landmarks.
+"""Buddy Search geometry: find friend 1 in friend 2's photo from a few shared landmarks.
 
-Kasten & Werman, "Two view constraints on the epipoles from few correspondences": with the
-buddy tapped in photo 1 (epipole ``e1``), 4 landmarks put the seeker on a conic in photo 2,
-5 fix the point ``e2``, and a line through the buddy with 6 landmarks fixes both epipoles.
+Kasten & Werman, "Two view constraints on the epipoles from few correspondences": with
+friend 2 tapped in photo 1 (epipole ``e1``), 4 landmarks put friend 1 on a conic in photo 2,
+5 fix the point ``e2``, and a line through friend 2 with 6 landmarks fixes both epipoles.
 
 Three layers, as in PoseLib: exact few-landmark solvers (:func:`epipole_conic`,
 :func:`epipole_from_five`, :func:`epipoles_from_six`, :func:`fundamental_from_epipoles`),

@@ -46,7 +46,7 @@ class Ellipse(_Frozen):
 
 
 class Uncertainty(_Frozen):
-    """Where the seeker is with probability ``level``, from the tap noise ``tap_sigma``."""
+    """Where friend 1 is with probability ``level``, from the tap noise ``tap_sigma``."""
 
     level: float = 0.95
     ellipse: Ellipse | None = Field(
@@ -93,7 +93,7 @@ class CameraEstimate(_Frozen):
 
 
 class SolveResult(_Frozen):
-    """Where the seeker stands in the buddy's photo, how sure that is, and why."""
+    """Where friend 1 stands in friend 2's photo, how sure that is, and why."""
 
     method: Method
     camera_model: CameraModel = Field(
@@ -108,10 +108,10 @@ class SolveResult(_Frozen):
     landmark_count: int
     tap_sigma: float = Field(description="The typical tap's standard deviation, px (rms).")
     epipole2: Pixel | None = Field(
-        description="The seeker in photo 2 (the answer), px; None at infinity or for a conic."
+        description="Friend 1 in photo 2 (the answer), px; None at infinity or for a conic."
     )
     epipole2_h: Homogeneous | None
-    epipole1: Pixel | None = Field(description="The buddy in photo 1, refined from the tap.")
+    epipole1: Pixel | None = Field(description="Friend 2 in photo 1, refined from the tap.")
     epipole1_h: Homogeneous | None
     fundamental: Matrix | None = None
     fundamental_covariance: Covariance9 | None = Field(

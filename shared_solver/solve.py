@@ -5,12 +5,12 @@ With a camera model for both photos (``camera1``/``camera2``: a phone, or a know
 length) the answer uses what a phone photo is (:mod:`.answers.pinhole`), and needs fewer
 landmarks; without one it is the paper's projective geometry (:mod:`.answers.projective`).
 
-| given                      | with a camera model | without      | answer                    |
-|----------------------------|---------------------|--------------|---------------------------|
-| buddy (e1) and seeker (e2) | >= 1 landmark       | >= 3         | position                  |
-| buddy (e1)                 | >= 3                | 4: curve, 5+ | position (+ curve at 4)   |
-| a line through the buddy   | >= 6                | >= 6         | position, candidates      |
-| nothing                    | >= 7                | >= 7         | position, candidates      |
+| given                   | with a camera model | without      | answer                  |
+|-------------------------|---------------------|--------------|-------------------------|
+| both friends (e1, e2)   | >= 1 landmark       | >= 3         | position                |
+| friend 2 (e1)           | >= 3                | 4: curve, 5+ | position (+ curve at 4) |
+| a line through friend 2 | >= 6                | >= 6         | position, candidates    |
+| nothing                 | >= 7                | >= 7         | position, candidates    |
 
 The camera-aware answer is used only where the taps agree with it; otherwise, if the
 projective geometry can answer, it does, and a warning says so. Every tap is noisy (each
@@ -66,7 +66,7 @@ def solve(
     epipole2_sigma: ArrayLike | None = None,
     fundamental_covariance: bool = False,
 ) -> SolveResult:
-    """Where the seeker stands in the buddy's photo, from whatever the two people tapped.
+    """Where friend 1 stands in friend 2's photo, from whatever the two people tapped.
 
     The route follows from the input (module docstring): ``conic`` is paper 3.1,
     ``five_point_epipole`` 3.2, ``six_point_line`` 3.3, ``two_epipoles`` the introduction's
@@ -75,13 +75,13 @@ def solve(
     ``pinhole_*`` methods add what a phone camera is (docs/geometry.md).
 
     Args:
-        points1: (N, 2) landmarks in photo 1 (the seeker's), pixels, x right, y down.
-        points2: (N, 2) the same landmarks, same order, in photo 2 (the buddy's).
-        epipole1: (2,) where the seeker tapped the buddy in photo 1.
-        epipole2: (2,) where the buddy tapped the seeker in photo 2 (both see each other);
+        points1: (N, 2) landmarks in photo 1 (friend 1's), pixels, x right, y down.
+        points2: (N, 2) the same landmarks, same order, in photo 2 (friend 2's).
+        epipole1: (2,) where friend 1 tapped friend 2 in photo 1.
+        epipole2: (2,) where friend 2 tapped friend 1 in photo 2 (both see each other);
             needs ``epipole1``.
-        epipolar_line1: (3,) line ``a x + b y + c = 0`` in photo 1 through the buddy, when
-            the seeker can only say "somewhere along here"; excludes ``epipole1``.
+        epipolar_line1: (3,) line ``a x + b y + c = 0`` in photo 1 through friend 2, when
+            friend 1 can only say "somewhere along here"; excludes ``epipole1``.
         tap_sigma: standard deviation of a tap, px per axis, for every tap whose own
             precision is not given.
         image_size1, image_size2: (width, height) of the photos, px; needed for a camera
@@ -123,14 +123,14 @@ def solve(
     count = len(taps)
     if taps.epipole1 is not None:
         pinhole_route, projective_route, minimum = (
-            (pinhole.buddy_marked, projective.both_epipoles, 3)
+            (pinhole.friend2_marked, projective.both_epipoles, 3)
             if taps.epipole2 is not None
-            else (pinhole.buddy_marked, _buddy_projective, 4)
+            else (pinhole.friend2_marked, _friend2_projective, 4)
         )
     elif taps.line1 is not None:
         pinhole_route, projective_route, minimum = (
-            pinhole.line_through_buddy,
-            projective.line_through_buddy,
+            pinhole.line_through_friend2,
+            projective.line_through_friend2,
             6,
         )
     else:
@@ -152,10 +152,10 @@ def solve(
     )
 
 
-def _buddy_projective(request: Request) -> SolveResult:
+def _friend2_projective(request: Request) -> SolveResult:
     if len(request.taps) == 4:
         return projective.conic(request)
-    return projective.buddy_tapped(request)
+    return projective.friend2_marked(request)
 
 
 def _parse(
@@ -251,13 +251,13 @@ def fewest_landmarks(
     return 6 if line else 7
 
 
-def _minimum(buddy: bool, seeker: bool, line: bool, modelled: bool) -> tuple[int, str]:
+def _minimum(friend2: bool, friend1: bool, line: bool, modelled: bool) -> tuple[int, str]:
     """Fewest landmarks for any answer, and the end of the sentence refusing fewer."""
     count = fewest_landmarks(
-        epipole1=buddy, epipole2=seeker, line=line, cameras=modelled, position=False
+        epipole1=friend2, epipole2=friend1, line=line, cameras=modelled, position=False
     )
-    if buddy:
-        return count, "when both friends are marked" if seeker else "with your friend marked"
+    if friend2:
+        return count, "when both friends are marked" if friend1 else "with your friend marked"
     if line:
         return count, "with a line through your friend"
     return count, "without marking your friend (tap your friend to need fewer)"

@@ -55,6 +55,11 @@ def mistapped(label: int, off_px: float) -> str:
     )
 
 
+def misfit(label: int) -> str:
+    """A landmark tapped far from where the others put it (outside its band)."""
+    return f"#{label} does not fit the others: check it in both photos."
+
+
 def outside_photo(beyond_px: float, side: Side) -> str:
     """The friend is beyond one edge of the photo."""
     return (
@@ -112,7 +117,7 @@ LINE_FITS_EVERYWHERE = (
     "Every point of the line fits these landmarks; add landmarks in other directions."
 )
 SEVEN_FIT_NOTHING = "No geometry fits these 7 landmarks; re-check them."
-ONE_SURFACE_WITHOUT_BUDDY = (
+ONE_SURFACE_UNMARKED = (
     "The landmarks all lie on one surface, which cannot locate your friend on its own; tap "
     "your friend if you can see them."
 )

@@ -2,7 +2,7 @@
 
 Two calibrated Middlebury temple views that face each other (templeSR0003 / templeSR0006)
 stand in for the two phones: landmarks are drawn inside the model's bounding box, projected
-with both real cameras, and tapped with 1 px noise, the buddy too. Prints the answer as the
+with both real cameras, and tapped with 1 px noise, friend 2 too. Prints the answer as the
 REST API will return it, how far it is from the truth, and writes both phones' overlays.
 """
 

@@ -4,7 +4,7 @@ The solver is built for two phones facing each other, but people will also feed 
 that are nothing like that, and its ranking of geometries must not force the facing model
 on them. Each kind here is a typical two-view set-up with its own epipolar geometry:
 
-- ``venue``: the buddy search itself (:func:`testbed.phones.phone_scene`): two phones 20-80 m
+- ``venue``: the search for a friend itself (:func:`testbed.phones.phone_scene`): two phones 20-80 m
   apart aimed at each other; both epipoles inside both photos.
 - ``room``: two fixed cameras high in two corners of a room, looking at its centre from
   60-120 degrees apart with wide lenses (surveillance, a room scanned from two tripods); the

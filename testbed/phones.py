@@ -1,4 +1,4 @@
-"""Realistic phone-photo scenes: the buddy search as two real phones would shoot it.
+"""Realistic phone-photo scenes: the search for a friend as two real phones would shoot it.
 
 ``facing_scene`` in ``scenes.py`` keeps the geometry simple (one focal length, centred
 principal points, one image size). Here each photo looks like what a current phone writes: a
@@ -231,7 +231,7 @@ def phone_scene(
             intrinsics(rng, focal_pixels(focals[1], sizes[1]), sizes[1], centre_sd=centre_sd),
             *aim(rng, centre2, centre1, jitter_deg=aim_jitter_deg, roll_deg=roll_deg),
         )
-        # The buddy search needs each phone in the other's photo.
+        # The search needs each phone in the other's photo.
         if not (
             in_photo(camera1, centre2[None], sizes[0])[0]
             and in_photo(camera2, centre1[None], sizes[1])[0]

@@ -1,6 +1,6 @@
 """Synthetic and calibrated two-camera scenes, for tests, benchmarks and the demo.
 
-A *facing scene* is the buddy search: two phones across a venue, each aimed at the other
+A *facing scene* is the search for a friend: two phones across a venue, each aimed at the other
 (so each sees the other: both epipoles are inside the photos), landmarks between them. The
 *temple* scenes use the real calibration of the Middlebury templeSparseRing set.
 """
@@ -65,12 +65,12 @@ class Scene:
 
     @property
     def epipole1(self) -> Array:
-        """(2,) where camera 2 (the buddy) appears in photo 1."""
+        """(2,) where camera 2 (friend 2) appears in photo 1."""
         return self.camera1.project(self.camera2.centre[None])[0]
 
     @property
     def epipole2(self) -> Array:
-        """(2,) where camera 1 (the seeker) appears in photo 2."""
+        """(2,) where camera 1 (friend 1) appears in photo 2."""
         return self.camera2.project(self.camera1.centre[None])[0]
 
     @property

@@ -30,7 +30,7 @@ class SessionRow(Base):
     id: Mapped[str] = mapped_column(String(32), primary_key=True)
     created_at: Mapped[datetime] = mapped_column(DateTime())
     expires_at: Mapped[datetime] = mapped_column(DateTime(), index=True)
-    # Single use: cleared when the buddy joins. Eight digits: the search's number, then
+    # Single use: cleared when the friend joins. Eight digits: the search's number, then
     # its secret.
     join_code: Mapped[str | None] = mapped_column(String(8), unique=True)
     join_code_expires_at: Mapped[datetime | None] = mapped_column(DateTime())

@@ -21,7 +21,8 @@ from backend.participants import ROLES, Role, other
 from backend.photos.lens import EXIF_UNCERTAINTY
 from shared_solver import Camera, SolverError, SolveResult, fewest_landmarks, solve, words
 
-from .schemas import Answer, FriendInPhoto, Taps
+from . import guidance
+from .schemas import Answer, FriendInPhoto, LandmarkBand, Taps
 
 Point = tuple[float, float]
 Line = tuple[float, float, float]
@@ -132,37 +133,68 @@ def solved(
     *,
     sizes: dict[Role, tuple[int, int]],
     cameras: dict[Role, Camera],
+    taps: dict[Role, Taps | None],
+    misfits: dict[Role, list[int]],
 ) -> dict[str, Any]:
     """The solver's answer to ``task`` as stored: ``{"answer": Answer, "solution": the
     solver's own JSON, "first": whose photo was photo 1}``, or ``{"error": {"code",
     "message"}}`` (messages naming photo 1 and photo 2; :func:`for_reader` says them to a
     phone)."""
-    second = task.second
     try:
-        result = solve(
-            task.points1,
-            task.points2,
-            epipole1=task.epipole1,
-            epipole2=task.epipole2,
-            epipolar_line1=task.line1,
-            tap_sigma=task.default_sigma,
-            image_size1=sizes[task.first],
-            image_size2=sizes[second],
-            landmark_ids=task.ids,
-            camera1=cameras[task.first],
-            camera2=cameras[second],
-            points1_sigma=task.sigmas1 or None,
-            points2_sigma=task.sigmas2 or None,
-            epipole1_sigma=task.epipole1_sigma,
-            epipole2_sigma=task.epipole2_sigma,
-        )
+        result = fit(task, sizes=sizes, cameras=cameras)
     except SolverError as error:
         return {"error": {"code": error.code.value, "message": error.message}}
-    return {
-        "answer": answer(task, result).model_dump(mode="json"),
-        "solution": result.model_dump(mode="json"),
-        "first": task.first,
-    }
+    solution = result.model_dump(mode="json")
+    guides = guidance.bands(result, task.first, taps, sizes, task.default_sigma)
+    told = answer(task, result)
+    for role, view in told.in_photo.items():
+        view.bands = [LandmarkBand(id=i, **band.model_dump()) for i, band in guides[role].items()]
+        view.misfits = misfits[role]
+        view.warnings = [words.misfit(i) for i in misfits[role]] + view.warnings
+    return {"answer": told.model_dump(mode="json"), "solution": solution, "first": task.first}
+
+
+def fit(
+    task: Problem, *, sizes: dict[Role, tuple[int, int]], cameras: dict[Role, Camera]
+) -> SolveResult:
+    """The solver's answer to ``task``, with the uncertainty of its geometry (for the bands
+    of the landmarks still to find). Raises SolverError."""
+    second = task.second
+    return solve(
+        task.points1,
+        task.points2,
+        epipole1=task.epipole1,
+        epipole2=task.epipole2,
+        epipolar_line1=task.line1,
+        tap_sigma=task.default_sigma,
+        image_size1=sizes[task.first],
+        image_size2=sizes[second],
+        landmark_ids=task.ids,
+        camera1=cameras[task.first],
+        camera2=cameras[second],
+        points1_sigma=task.sigmas1 or None,
+        points2_sigma=task.sigmas2 or None,
+        epipole1_sigma=task.epipole1_sigma,
+        epipole2_sigma=task.epipole2_sigma,
+        fundamental_covariance=True,
+    )
+
+
+def fitted(
+    taps: dict[Role, Taps | None],
+    default_sigma: float,
+    *,
+    sizes: dict[Role, tuple[int, int]],
+    cameras: dict[Role, Camera],
+) -> tuple[SolveResult, Role] | None:
+    """The answer these taps give and whose photo was photo 1; None without one."""
+    task = problem(taps, default_sigma)
+    if not task.solvable:
+        return None
+    try:
+        return fit(task, sizes=sizes, cameras=cameras), task.first
+    except SolverError:
+        return None
 
 
 def answer(task: Problem, result: SolveResult) -> Answer:

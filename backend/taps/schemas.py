@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, Strict
 
 from backend.limits import MAX_LANDMARK_ID
 from backend.participants import Role
+from shared_solver.matching.band import BandShape
 from shared_solver.result import Ellipse
 
 # A JSON number, nothing that converts to one ("12", true): a tap sent as anything else is
@@ -86,6 +87,13 @@ class Taps(BaseModel):
     )
 
 
+class LandmarkBand(BandShape):
+    """Where a landmark the other phone tapped must be in this photo, once there is an
+    answer: its epipolar line widened by the answer's uncertainty (docs/geometry.md)."""
+
+    id: int = Field(description="The landmark's number.")
+
+
 class FriendInPhoto(BaseModel):
     """Where the friend is in one phone's photo, and how that is known."""
 
@@ -121,6 +129,16 @@ class FriendInPhoto(BaseModel):
     warnings: list[str] = Field(
         default_factory=list, description="Sentences for you: what to check or do next."
     )
+    bands: list[LandmarkBand] = Field(
+        default_factory=list,
+        description="For each landmark only your friend has tapped: where it must be in "
+        "your photo.",
+    )
+    misfits: list[int] = Field(
+        default_factory=list,
+        description="Your landmarks tapped far outside their band: they do not fit the "
+        "others (check them).",
+    )
 
 
 class Answer(BaseModel):
@@ -142,3 +160,23 @@ class Answer(BaseModel):
         description="Per landmark of landmark_ids, its distance from the fitted geometry, px.",
     )
     in_photo: dict[Role, FriendInPhoto]
+
+
+class Spot(BaseModel):
+    """A point of a photo, px (x right, y down)."""
+
+    x: float
+    y: float
+
+
+class LandmarkSuggestion(BaseModel):
+    """A suggested spot for a landmark your friend tapped and you have not: their photo's
+    patch found along the landmark's band in your photo, shown only when the match is sure
+    (docs/suggestions.md)."""
+
+    id: int = Field(description="The landmark's number.")
+    answer_version: int = Field(description="The answer the search used (its band).")
+    spot: Spot | None = Field(
+        examples=[{"x": 1412.5, "y": 630.0}, None],
+        description="Where to tap, px of your photo; null: no sure match, find it by eye.",
+    )

@@ -10,7 +10,7 @@ from typing import Any
 from backend.clock import Clock
 from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
-from backend.participants import ROLES, Participant, Role
+from backend.participants import ROLES, Participant, Role, other
 from backend.photos.imaging import decode_photo, encode_image
 from backend.photos.repository import Photos
 from backend.photos.schemas import ImageFormat
@@ -20,9 +20,10 @@ from backend.storage.database import Database
 from backend.storage.snapshot import Snapshot, read_snapshot
 from shared_solver import SolveResult, draw_overlay
 
+from . import guidance
 from . import problem as problems
 from .repository import TapStore
-from .schemas import Taps
+from .schemas import LandmarkSuggestion, Spot, Taps
 
 
 class TapService:
@@ -44,6 +45,7 @@ class TapService:
         self.settings = settings
         self.notifier = notifier
         self.clock = clock
+        self.suggestions = guidance.Suggestions()
 
     def snapshot(self, session_id: str) -> Snapshot:
         snapshot = read_snapshot(self.database, session_id)
@@ -66,7 +68,7 @@ class TapService:
         after = replace(
             snapshot, members=snapshot.members | {member.role: replace(member, taps=tapped)}
         )
-        found = self._solve(after)
+        found = self._solve(after, previous=snapshot)
         answer = None if found is None else (snapshot.version, found)
         version, answered = self.taps.put_taps(participant, tapped, self.clock(), answer)
         self.notifier.notify(participant.session_id)
@@ -139,6 +141,47 @@ class TapService:
             )
         return crop
 
+    def suggestion(
+        self, participant: Participant, role: Role, landmark_id: int
+    ) -> LandmarkSuggestion:
+        """A suggested spot in ``role``'s photo for landmark ``landmark_id``, which the other
+        phone tapped: searched along its band once per answer, then kept."""
+        snapshot = self.due(self.snapshot(participant.session_id))
+        stored = snapshot.answer or {}
+        if "solution" not in stored or snapshot.answer_version is None:
+            raise RefusedError(
+                ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
+            )
+        taps = tap_sets(snapshot)
+        theirs = taps[other(role)]
+        if theirs is None or all(tap.id != landmark_id for tap in theirs.landmarks):
+            raise RefusedError(
+                ErrorCode.LANDMARK_NOT_FOUND,
+                f"The {other(role)} has no landmark #{landmark_id} to find.",
+            )
+        version = snapshot.answer_version
+
+        def search() -> tuple[float, float] | None:
+            photos = {r: self.photos.get(snapshot.id, r) for r in ROLES}
+            if any(photo is None for photo in photos.values()):
+                return None
+            return guidance.suggested(
+                stored["solution"],
+                stored["first"],
+                taps,
+                {r: decode_photo(photo.data) for r, photo in photos.items() if photo},
+                finder=role,
+                landmark_id=landmark_id,
+                default_sigma=self.settings.tap_sigma,
+            )
+
+        spot = self.suggestions.get((snapshot.id, version, role, landmark_id), search)
+        return LandmarkSuggestion(
+            id=landmark_id,
+            answer_version=version,
+            spot=None if spot is None else Spot(x=spot[0], y=spot[1]),
+        )
+
     def _check(self, taps: Taps, size: tuple[int, int]) -> None:
         if len(taps.landmarks) > self.settings.max_landmarks:
             raise RefusedError(
@@ -176,23 +219,32 @@ class TapService:
                     f"({width} x {height} px).",
                 )
 
-    def _solve(self, snapshot: Snapshot) -> dict[str, Any] | None:
+    def _solve(self, snapshot: Snapshot, previous: Snapshot | None = None) -> dict[str, Any] | None:
         """The answer for the session as ``snapshot`` has it; None when there is not enough
-        to answer (a friend or a photo missing, too few taps)."""
+        to answer (a friend or a photo missing, too few taps). ``previous``: the session
+        before this change, whose answer judges the landmarks tapped since (misfits)."""
         photos = snapshot.photos
         if set(snapshot.members) != set(ROLES) or set(photos) != set(ROLES):
             return None
-        task = problems.problem(tap_sets(snapshot), self.settings.tap_sigma)
+        taps = tap_sets(snapshot)
+        task = problems.problem(taps, self.settings.tap_sigma)
         if not task.solvable:
             return None
-        return problems.solved(
-            task,
-            sizes={role: (photos[role].width, photos[role].height) for role in ROLES},
-            cameras={
-                role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
-                for role in ROLES
-            },
+        sizes = {role: (photos[role].width, photos[role].height) for role in ROLES}
+        cameras = {
+            role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
+            for role in ROLES
+        }
+
+        def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, Role] | None:
+            return problems.fitted(some, self.settings.tap_sigma, sizes=sizes, cameras=cameras)
+
+        before = tap_sets(previous) if previous is not None else taps
+        earlier = previous.answer if previous is not None else snapshot.answer
+        judged = guidance.misfits(
+            earlier, before, taps, sizes=sizes, default_sigma=self.settings.tap_sigma, fit=fit
         )
+        return problems.solved(task, sizes=sizes, cameras=cameras, taps=taps, misfits=judged)
 
 
 def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:

@@ -107,7 +107,7 @@ class Summary:
 
     @property
     def points(self) -> int:
-        """Answers that put the seeker at a point of photo 2."""
+        """Answers that put friend 1 at a point of photo 2."""
         return self.trials - sum(self.failures.values())
 
 
@@ -287,7 +287,7 @@ def ours(
 
 
 def no_point(result: SolveResult) -> str | None:
-    """Why an answer puts the seeker at no point of photo 2; None when it does."""
+    """Why an answer puts friend 1 at no point of photo 2; None when it does."""
     if result.epipole2 is not None:
         return None
     if result.epipole2_h is None:
@@ -295,8 +295,8 @@ def no_point(result: SolveResult) -> str | None:
     h = np.asarray(result.epipole2_h)
     if to_pixel(h) is None:
         return "at infinity"
-    # "Behind you": the seeker behind the buddy's camera. Never true in these scenes.
-    return "behind the buddy"
+    # "Behind you": friend 1 behind friend 2's camera. Never true in these scenes.
+    return "behind friend 2"
 
 
 # --- cells of the tables ------------------------------------------------------------------
@@ -314,7 +314,7 @@ def percent(fraction: float) -> str:
 
 
 def failures(summary: Summary) -> str:
-    """Refusals (by code) and answers without a point (at infinity, behind the buddy, a curve
+    """Refusals (by code) and answers without a point (at infinity, behind friend 2, a curve
     only); all count as infinite error."""
     parts = [f"{count} {code}" for code, count in summary.failures.most_common()]
     return ", ".join(parts) if parts else "0"

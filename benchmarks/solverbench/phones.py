@@ -107,12 +107,12 @@ def exact_roots_true_k(scene: PhoneScene, taps: Taps, _sigma: float) -> Outcome:
     k1, k2 = scene.camera1.intrinsics, scene.camera2.intrinsics
     rays1 = np.column_stack([normalised(k1, taps.landmarks1[:3]), np.ones(3)])
     rays2 = np.column_stack([normalised(k2, taps.landmarks2[:3]), np.ones(3)])
-    buddy = np.append(normalised(k1, taps.epipole1[None])[0], 1.0)
-    rotations = rotations_from_three(buddy, rays1, rays2)
+    friend2 = np.append(normalised(k1, taps.epipole1[None])[0], 1.0)
+    rotations = rotations_from_three(friend2, rays1, rays2)
     if not rotations:
         return Outcome(math.inf, failure="no_solution")
     return Outcome(
-        min(pixel_error(k2 @ (-rotation @ buddy), scene.epipole2) for rotation in rotations)
+        min(pixel_error(k2 @ (-rotation @ friend2), scene.epipole2) for rotation in rotations)
     )
 
 
@@ -371,8 +371,8 @@ def error_target(summary: Summary, label: str, median: float, p90: float) -> Tar
 
 
 def accuracy_targets(table: PhoneTable) -> list[Target]:
-    """The issue's targets at 3 px. An answer that is no point (a curve only, behind the
-    buddy) or a refusal counts as infinitely wrong, so "a point" is part of each."""
+    """The issue's targets at 3 px. An answer that is no point (a curve only, behind
+    friend 2) or a refusal counts as infinitely wrong, so "a point" is part of each."""
     row = table[TARGET_SIGMA]
     four = row["phone prior 4+e1"]
     four_passed, four_line = error_target(four, "4 + e1 with the phone prior", 10.0, 30.0)

@@ -1,4 +1,4 @@
-"""Ranking on exact input: with a line through the buddy and 6 landmarks, or 7 landmarks and
+"""Ranking on exact input: with a line through friend 2 and 6 landmarks, or 7 landmarks and
 nothing marked, several geometries fit the taps exactly. Is ``solve``'s answer the true one,
 on every kind of scene of :data:`testbed.kinds.SCENE_KINDS`?
 

@@ -125,7 +125,7 @@ def band_table(runs: Sequence[SceneRun]) -> str:
         inside = sum(o <= z for o in offsets)
         rows.append(
             [
-                f"{used} landmarks + the buddy",
+                f"{used} landmarks + friend 2",
                 str(len(offsets)),
                 f"{inside} ({share(inside / len(offsets) if offsets else math.nan)})",
                 share(

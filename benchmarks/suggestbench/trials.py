@@ -1,6 +1,6 @@
 """One rendered hall, searched as the app would search it.
 
-The seeker marks the buddy and both tap 5 landmarks (3 px of noise each, the server's
+Friend 1 marks friend 2 and both tap 5 landmarks (3 px of noise each, the server's
 ``tap_sigma``); ``solve`` answers with phone cameras. Then, for other landmarks (up to 4 of
 each kind of surface), tapped with the same noise in one photo and not yet in the other,
 in both directions:
@@ -159,10 +159,10 @@ def run_scene(stream: str, index: int, *, compare: bool = False) -> SceneRun:
         return empty
     taps1 = scene.landmarks1 + rng.normal(0.0, SIGMA, (count, 2))
     taps2 = scene.landmarks2 + rng.normal(0.0, SIGMA, (count, 2))
-    buddy = scene.epipole1 + rng.normal(0.0, SIGMA, 2)
+    friend2 = scene.epipole1 + rng.normal(0.0, SIGMA, 2)
     order = rng.permutation(count)
     used, rest = order[:USED], order[USED:]
-    result = _answer(pair, taps1[used], taps2[used], buddy)
+    result = _answer(pair, taps1[used], taps2[used], friend2)
     if result is None:
         return empty
     tested = _by_kind(pair, rest)
@@ -201,7 +201,7 @@ def run_scene(stream: str, index: int, *, compare: bool = False) -> SceneRun:
         absent += _absent(context, rng)
     offsets = {USED: [s.offset for s in searched if s.direction == 1]}
     for also in ALSO_USED:
-        offsets[also] = _band_offsets(pair, (taps1, taps2), buddy, order, also)
+        offsets[also] = _band_offsets(pair, (taps1, taps2), friend2, order, also)
     return SceneRun(
         index,
         stream,
@@ -216,13 +216,15 @@ def run_scene(stream: str, index: int, *, compare: bool = False) -> SceneRun:
     )
 
 
-def _answer(pair: RenderedPair, points1: Array, points2: Array, buddy: Array) -> SolveResult | None:
+def _answer(
+    pair: RenderedPair, points1: Array, points2: Array, friend2: Array
+) -> SolveResult | None:
     scene = pair.scene
     try:
         result = solve(
             points1,
             points2,
-            epipole1=buddy,
+            epipole1=friend2,
             tap_sigma=SIGMA,
             image_size1=scene.image_size1,
             image_size2=scene.image_size2,
@@ -328,7 +330,7 @@ def _absent(context: _Direction, rng: np.random.Generator) -> list[Absent]:
 
 
 def _band_offsets(
-    pair: RenderedPair, taps: tuple[Array, Array], buddy: Array, order: Indices, used: int
+    pair: RenderedPair, taps: tuple[Array, Array], friend2: Array, order: Indices, used: int
 ) -> list[float]:
     """Offsets (sd) of the true landmarks from their bands when the answer used the first
     ``used`` landmarks of ``order`` (the rest are checked)."""
@@ -336,7 +338,7 @@ def _band_offsets(
     if len(order) < used + 1:
         return []
     chosen, rest = order[:used], order[used:]
-    result = _answer(pair, taps[0][chosen], taps[1][chosen], buddy)
+    result = _answer(pair, taps[0][chosen], taps[1][chosen], friend2)
     if result is None:
         return []
     epipolar = Epipolar.from_result(

@@ -8,6 +8,7 @@ import type {
   CreatedSession,
   Credentials,
   Joined,
+  LandmarkSuggestion,
   LensFields,
   PhotoStored,
   Role,
@@ -88,6 +89,11 @@ export function fetchState({ session_id, token }: Credentials): Promise<SessionS
 
 export function putTaps({ session_id, token }: Credentials, taps: Taps): Promise<SessionState> {
   return call(`/api/sessions/${session_id}/taps`, { method: "PUT", body: JSON.stringify(taps) }, token);
+}
+
+/** Where landmark `id`, tapped by the other phone, probably is in `role`'s photo. */
+export function fetchSuggestion({ session_id, token }: Credentials, role: Role, id: number): Promise<LandmarkSuggestion> {
+  return call(`/api/sessions/${session_id}/landmarks/${role}/${id}/suggestion`, {}, token);
 }
 
 export function deleteSession({ session_id, token }: Credentials): Promise<void> {

@@ -19,6 +19,8 @@ export type FriendLineTap = Schemas["FriendLine"];
 export type Answer = Schemas["Answer"];
 export type FriendInPhoto = Schemas["FriendInPhoto"];
 export type Ellipse = Schemas["Ellipse"];
+export type LandmarkBand = Schemas["LandmarkBand"];
+export type LandmarkSuggestion = Schemas["LandmarkSuggestion"];
 export type Quality = Answer["quality"];
 
 /** Who a phone is in its search: the friend who started it, or the one who joined it. */

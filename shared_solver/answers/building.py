@@ -1,6 +1,6 @@
 """From a fitted model to the :class:`..result.SolveResult` a person reads.
 
-Every route ends here: the seeker's oriented position, the 95 % region (as fitted, calibrated
+Every route ends here: friend 1's oriented position, the 95 % region (as fitted, calibrated
 or widened), the residuals, the quality grade and the sentences that go with them.
 """
 
@@ -19,7 +19,7 @@ from ..estimation.camera import focal_35mm
 from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
 from ..estimation.pinhole_fit import PinholeFit
 from ..estimation.planar import PlanarFit
-from ..estimation.plausibility import Plausibility, assess, orient_seeker
+from ..estimation.plausibility import Plausibility, assess, orient_epipole2
 from ..estimation.uncertainty import Fitted, consistent, ellipse, quality
 from ..projective import Array, canonical, canonical_matrix, homogeneous, skew, to_pixel
 from ..result import (
@@ -42,8 +42,8 @@ Geometry = tuple[Array, Array, Array]  # (e1, e2, F)
 class Answer:
     """What a fitted model says, before it becomes a :class:`SolveResult`."""
 
-    epipole1: Array  # (3,) the buddy in photo 1
-    epipole2: Array  # (3,) the seeker in photo 2; any sign unless ``oriented``
+    epipole1: Array  # (3,) friend 2 in photo 1
+    epipole2: Array  # (3,) friend 1 in photo 2; any sign unless ``oriented``
     covariance: Array | None  # (2, 2) px^2 of epipole2, None: no region claimed
     residuals: Array  # (N,) px
     fundamental: Array  # (3, 3); for the plane model the one it induces, [e2]x H
@@ -75,13 +75,13 @@ class Answer:
         taps = request.taps
         assert taps.epipole1 is not None
         assert taps.cov_e1 is not None
-        seeker, covariance = plane.seeker(taps.epipole1, taps.cov_e1)
+        friend1, covariance = plane.friend1(taps.epipole1, taps.cov_e1)
         mapped = homogeneous(taps.p) @ plane.homography.T
         transfer = np.linalg.norm(mapped[:, :2] / mapped[:, 2:] - taps.q, axis=1)
-        induced = skew(seeker) @ plane.homography
+        induced = skew(friend1) @ plane.homography
         return cls(
             np.append(taps.epipole1, 1.0),
-            seeker,
+            friend1,
             covariance,
             transfer,
             induced,
@@ -156,16 +156,16 @@ def result(
     if answer.oriented:
         e2, orientable = answer.epipole2, answer.orientable
     else:
-        # The buddy is seen in photo 1, so in front of the seeker's camera: that orients e1,
-        # and through the landmarks e2 (in front of the buddy's camera, behind it, or
+        # Friend 2 is seen in photo 1, so in front of friend 1's camera: that orients e1,
+        # and through the landmarks e2 (in front of friend 2's camera, behind it, or
         # sideways).
-        e2, orientable = orient_seeker(answer.fundamental, e1, answer.epipole2, taps.p, taps.q)
+        e2, orientable = orient_epipole2(answer.fundamental, e1, answer.epipole2, taps.p, taps.q)
     position = pixel(e2)
     uncertainty, semi_major = _uncertainty(position, answer.covariance)
     region = quality(semi_major, request.diagonal2)
     behind_you = "no"
     if position is not None and e2[2] < 0:
-        # Behind the buddy: nothing to mark in the photo. Only a pinned-down, physical answer
+        # Behind friend 2: nothing to mark in the photo. Only a pinned-down, physical answer
         # may say "behind you": a loose one may have crossed infinity, and a fit that breaks
         # the oriented constraint has no reliable side (both measured on 5-landmark taps).
         behind_you = "yes" if orientable and region != "poor" else "unsure"
@@ -208,9 +208,9 @@ def candidates(
     """Every geometry that fits, in rank order, with the cues that ranked it (one each)."""
     taps = request.taps
     listed = []
-    for rank, ((buddy, seeker, f), cue) in enumerate(zip(geometries, cues, strict=True), 1):
-        e1 = canonical(buddy)
-        e2, _ = orient_seeker(f, e1, seeker, taps.p, taps.q)
+    for rank, ((friend2, friend1, f), cue) in enumerate(zip(geometries, cues, strict=True), 1):
+        e1 = canonical(friend2)
+        e2, _ = orient_epipole2(f, e1, friend1, taps.p, taps.q)
         listed.append(
             Candidate(
                 rank=rank,
@@ -289,7 +289,7 @@ def calibrated(
     None when too many of them have no position for any ellipse to hold them.
 
     Args:
-        answer: (3,) the homogeneous seeker position the covariance belongs to.
+        answer: (3,) the homogeneous position of friend 1 that the covariance belongs to.
     """
     position = to_pixel(answer)
     if covariance is None or position is None:
@@ -305,9 +305,9 @@ def suspect_warnings(request: Request, suspects: list[int], fundamental: Array) 
 
 
 def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> list[str]:
-    """Sentences about where the seeker is relative to the buddy's photo (oriented e2).
+    """Sentences about where friend 1 is relative to friend 2's photo (oriented e2).
 
-    ``behind``: "no", "yes" (pinned down behind the buddy's camera) or "unsure"; ``loose``:
+    ``behind``: "no", "yes" (pinned down behind friend 2's camera) or "unsure"; ``loose``:
     the 95 % region is wider than a tenth of the photo.
     """
     warnings = []

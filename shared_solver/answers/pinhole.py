@@ -1,12 +1,12 @@
 """Answers that use what a phone camera is: square pixels, a centred principal point, and a
 prior on the focal length (:mod:`..estimation.camera`).
 
-| given                      | landmarks | method                 | starts from                  |
-|----------------------------|-----------|------------------------|------------------------------|
-| buddy (e1) and seeker (e2) | >= 1      | ``pinhole_two_epipoles`` | one landmark and both marks  |
-| buddy (e1)                 | >= 3      | ``pinhole_epipole``    | three landmarks and buddy    |
-| a line through the buddy   | >= 6      | ``pinhole_line``       | the cubic's roots (paper 3.3) |
-| nothing                    | >= 7      | ``pinhole_landmarks``  | the 7- or 8-point solutions  |
+| given                   | landmarks | method                   | starts from                   |
+|-------------------------|-----------|--------------------------|-------------------------------|
+| both friends (e1, e2)   | >= 1      | ``pinhole_two_epipoles`` | one landmark and both marks   |
+| friend 2 (e1)           | >= 3      | ``pinhole_epipole``      | three landmarks and friend 2  |
+| a line through friend 2 | >= 6      | ``pinhole_line``         | the cubic's roots (paper 3.3) |
+| nothing                 | >= 7      | ``pinhole_landmarks``    | the 7- or 8-point solutions   |
 
 Each is the maximum a posteriori fit over every tap (:mod:`..estimation.pinhole_fit`),
 started from every pose the exact solvers allow and kept where the taps fit best. The
@@ -29,8 +29,8 @@ from ..estimation.pinhole_fit import PinholeFit, PinholeModel, Poses, fit_pinhol
 from ..estimation.pinhole_mistaps import find_pinhole_mistaps
 from ..estimation.pinhole_starts import (
     behind,
-    buddy_starts,
     fundamental_starts,
+    marked_starts,
     unmarked_starts,
 )
 from ..estimation.taps import Taps
@@ -54,29 +54,29 @@ from .request import Request
 # Starts whose score is within this of the best are refined too (chi-square units: a
 # start this much worse can still be the right pose once refined).
 _REFINE_MARGIN = 9.0
-# Refined fits within this cost of the best, with a seeker elsewhere, make the answer
+# Refined fits within this cost of the best, with friend 1 elsewhere, make the answer
 # ambiguous (a difference of 4 is two sigmas of evidence).
 _AMBIGUOUS_COST = 4.0
-# Where along a drawn line (its part inside photo 1) the buddy is tried, as fractions.
+# Where along a drawn line (its part inside photo 1) friend 2 is tried, as fractions.
 _ALONG = (0.1, 0.3, 0.5, 0.7, 0.9)
 # Mis-taps are looked for from this many landmarks: six give the projective check that the
 # camera model is not what disagrees one degree of freedom, and the camera model's own
 # consensus two to spare.
 _MISTAPS_FROM = 6
 # At most this many degrees of freedom to spare, first order was measured too optimistic
-# (three or four landmarks and the buddy): the region is calibrated by a bootstrap.
+# (three or four landmarks and friend 2): the region is calibrated by a bootstrap.
 BOOTSTRAP_DOF = 1
-# Seekers closer than this many of their own sigmas are the same answer.
+# Fits that put friend 1 closer than this many of their own sigmas are the same answer.
 _SAME_ANSWER_SIGMAS = 3.0
 
 
-def buddy_marked(request: Request) -> SolveResult | None:
-    """The buddy marked as a point (and maybe the seeker too), one or more landmarks."""
+def friend2_marked(request: Request) -> SolveResult | None:
+    """Friend 2 marked as a point (and maybe friend 1 too), one or more landmarks."""
     taps, priors = request.taps, request.priors
     assert priors is not None
     assert taps.epipole1 is not None
     model = PinholeModel(taps, priors)
-    fits = _refined(model, buddy_starts(model))
+    fits = _refined(model, marked_starts(model))
     if not fits:
         return None
     fit = _likeliest(fits)
@@ -115,8 +115,8 @@ def buddy_marked(request: Request) -> SolveResult | None:
     return _ambiguous(request, model, method, fit, others, warnings=warnings)
 
 
-def line_through_buddy(request: Request) -> SolveResult | None:
-    """A line through the buddy and six or more landmarks: the cubic's roots, ranked by how
+def line_through_friend2(request: Request) -> SolveResult | None:
+    """A line through friend 2 and six or more landmarks: the cubic's roots, ranked by how
     well each fits a pair of phone cameras once refined over every tap."""
     taps, priors = request.taps, request.priors
     assert priors is not None
@@ -124,9 +124,11 @@ def line_through_buddy(request: Request) -> SolveResult | None:
     roots = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
     model = PinholeModel(taps, priors)
     fundamentals = [f for _, _, f in roots]
-    answer = _from_roots(request, model, "pinhole_line", fundamentals, np.array(_buddies(roots)))
+    answer = _from_roots(
+        request, model, "pinhole_line", fundamentals, np.array(_friend2_places(roots))
+    )
     if answer is None and request.size1 is not None:
-        # No pose near the roots fits: try the buddy spread along the line too.
+        # No pose near the roots fits: try friend 2 spread along the line too.
         along = np.array(_along(taps.line1, request.size1))
         if len(along):
             starts = unmarked_starts(model, fundamentals, along)
@@ -135,35 +137,44 @@ def line_through_buddy(request: Request) -> SolveResult | None:
 
 
 def landmarks_only(request: Request) -> SolveResult | None:
-    """No mark of the buddy: seven or more landmarks, the 7- or 8-point solutions ranked by
+    """No mark of friend 2: seven or more landmarks, the 7- or 8-point solutions ranked by
     how well each fits a pair of phone cameras once refined."""
     taps, priors = request.taps, request.priors
     assert priors is not None
     if len(taps) == 7:
         roots = seven_point_roots(taps.p, taps.q)
     else:
-        fit = refit(taps, use_buddy=False)
+        fit = refit(taps, use_friend2=False)
         roots = [(fit.epipole1, fit.epipole2, fit.fundamental)]
     model = PinholeModel(taps, priors)
     fundamentals = [f for _, _, f in roots]
-    return _from_roots(request, model, "pinhole_landmarks", fundamentals, np.array(_buddies(roots)))
+    return _from_roots(
+        request, model, "pinhole_landmarks", fundamentals, np.array(_friend2_places(roots))
+    )
 
 
 def _from_roots(
-    request: Request, model: PinholeModel, method: Method, fundamentals: list[Array], buddies: Array
+    request: Request,
+    model: PinholeModel,
+    method: Method,
+    fundamentals: list[Array],
+    friend2_places: Array,
 ) -> SolveResult | None:
     """The answer from projective solutions ``fundamentals`` (3, 3), read as poses first.
 
-    Only when none of those refines to a fit that puts the seeker in front of the buddy
-    are the three-landmark solver's poses at each solution's buddy ``buddies`` (B, 2) added:
-    with noisy taps a projective solution can be far from any pair of phone cameras while
-    its buddy is near the right place. Most taps need only the first, cheaper, search
-    (measured: the same accuracy, coverage and ranking, docs/geometry.md).
+    Only when none of those refines to a fit that puts friend 1 in front of friend 2
+    are the three-landmark solver's poses added, with friend 2 at each solution's own
+    ``friend2_places`` (B, 2): with noisy taps a projective solution can be far from any
+    pair of phone cameras while it puts friend 2 near the right place. Most taps need only
+    the first, cheaper, search (measured: the same accuracy, coverage and ranking,
+    docs/geometry.md).
     """
     first = _from_starts(request, model, method, fundamental_starts(model, fundamentals))
     if first is not None and first.epipole2 is not None:
         return first
-    wider = _from_starts(request, model, method, unmarked_starts(model, fundamentals, buddies))
+    wider = _from_starts(
+        request, model, method, unmarked_starts(model, fundamentals, friend2_places)
+    )
     return wider if wider is not None else first
 
 
@@ -191,14 +202,14 @@ def _from_starts(
     )
 
 
-def _buddies(roots: list[tuple[Array, Array, Array]]) -> list[Array]:
-    """The buddy's pixel in photo 1 of each projective solution (e1, e2, F) that has one."""
+def _friend2_places(roots: list[tuple[Array, Array, Array]]) -> list[Array]:
+    """Friend 2's pixel in photo 1 of each projective solution (e1, e2, F) that has one."""
     return [e1[:2] / e1[2] for e1, _, _ in roots if abs(e1[2]) > 1e-12 * linalg.norm(e1)]
 
 
 def _along(line: Array, size: tuple[float, float]) -> list[Array]:
     """Pixels spread along the part of ``line`` (a x + b y + c = 0) inside a photo of
-    ``size``: where the buddy may be, to start from."""
+    ``size``: where friend 2 may be, to start from."""
     a, b, c = line
     width, height = size
     ends = []
@@ -242,15 +253,15 @@ def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:
 
 
 def _likeliest(fits: list[PinholeFit]) -> PinholeFit:
-    """The best fit, or among those about as good (ambiguous ones) the best that puts the
-    seeker in front of the buddy's camera: the buddy photographs the seeker's side."""
+    """The best fit, or among those about as good (ambiguous ones) the best that puts
+    friend 1 in front of friend 2's camera: friend 2 photographs friend 1's side."""
     near = [fit for fit in fits if fit.cost <= fits[0].cost + _AMBIGUOUS_COST]
     in_front = [fit for fit in near if fit.epipole2[2] > 0]
     return (in_front or near)[0]
 
 
 def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
-    """Refined fits that explain the taps about as well but put the seeker elsewhere."""
+    """Refined fits that explain the taps about as well but put friend 1 elsewhere."""
     covariance = fit.covariance2
     position = fit.epipole2
     rivals = []

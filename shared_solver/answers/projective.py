@@ -1,13 +1,13 @@
 """Answers from the paper's projective geometry: any two cameras, nothing known about them.
 
-| given                          | landmarks | method                                         |
-|--------------------------------|-----------|------------------------------------------------|
-| buddy (e1) and seeker (e2)     | >= 3      | ``two_epipoles``                               |
-| buddy (e1)                     | 4         | ``conic`` (a curve, not a point)               |
-| buddy (e1)                     | 5         | ``five_point_epipole`` or ``planar``           |
-| buddy (e1)                     | >= 6      | ``least_squares_epipole`` or ``planar``        |
-| a line through the buddy       | >= 6      | ``six_point_line`` (ranked candidates)         |
-| nothing                        | 7 / >= 8  | ``seven_point`` / ``eight_point`` (OpenCV)     |
+| given                   | landmarks | method                                     |
+|-------------------------|-----------|--------------------------------------------|
+| both friends (e1, e2)   | >= 3      | ``two_epipoles``                           |
+| friend 2 (e1)           | 4         | ``conic`` (a curve, not a point)           |
+| friend 2 (e1)           | 5         | ``five_point_epipole`` or ``planar``       |
+| friend 2 (e1)           | >= 6      | ``least_squares_epipole`` or ``planar``    |
+| a line through friend 2 | >= 6      | ``six_point_line`` (ranked candidates)     |
+| nothing                 | 7 / >= 8  | ``seven_point`` / ``eight_point`` (OpenCV) |
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ from .request import Request
 
 
 def conic(request: Request) -> SolveResult:
-    """Paper 3.1: four landmarks and the buddy put the seeker on a curve."""
+    """Paper 3.1: four landmarks and friend 2 put friend 1 on a curve."""
     taps = request.taps
     assert taps.epipole1 is not None
     return SolveResult(
@@ -80,8 +80,8 @@ def conic_through(request: Request) -> Array:
     return canonical_matrix(t2.T @ curve @ t2)
 
 
-def buddy_tapped(request: Request) -> SolveResult:
-    """The paper's case: the buddy tapped in photo 1, five or more landmarks."""
+def friend2_marked(request: Request) -> SolveResult:
+    """The paper's case: friend 2 tapped in photo 1, five or more landmarks."""
     taps = request.taps
     assert taps.epipole1 is not None
     fit = fit_epipolar(
@@ -90,7 +90,7 @@ def buddy_tapped(request: Request) -> SolveResult:
     suspects: list[int] = []
     warnings: list[str] = []
     if not consistent(fit):
-        found = find_mistaps(taps, use_buddy=True) if len(taps) >= 7 else None
+        found = find_mistaps(taps, use_friend2=True) if len(taps) >= 7 else None
         if found is not None:
             suspects, fit = found
             warnings += suspect_warnings(request, suspects, fit.fundamental)
@@ -136,7 +136,7 @@ def both_epipoles(request: Request) -> SolveResult:
     )
 
 
-def line_through_buddy(request: Request) -> SolveResult:
+def line_through_friend2(request: Request) -> SolveResult:
     """Paper 3.3: the cubic's real roots on the first six landmarks, refined over all."""
     taps = request.taps
     assert taps.line1 is not None
@@ -147,10 +147,10 @@ def line_through_buddy(request: Request) -> SolveResult:
 
 
 def landmarks_only(request: Request) -> SolveResult:
-    """No buddy tap: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
+    """No tap on friend 2: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
     taps = request.taps
     if coplanar_fit(taps) is not None:
-        raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.ONE_SURFACE_WITHOUT_BUDDY)
+        raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.ONE_SURFACE_UNMARKED)
     if len(taps) == 7:
         geometries = seven_point_roots(taps.p, taps.q)
         if not geometries:
@@ -158,9 +158,9 @@ def landmarks_only(request: Request) -> SolveResult:
         return _likeliest(request, "seven_point", geometries, minimal=True)
     suspects: list[int] = []
     warnings: list[str] = []
-    fit = refit(taps, use_buddy=False)
+    fit = refit(taps, use_friend2=False)
     if not consistent(fit) and len(taps) >= 9:
-        found = find_mistaps(taps, use_buddy=False)
+        found = find_mistaps(taps, use_friend2=False)
         if found is not None:
             suspects, fit = found
             warnings += suspect_warnings(request, suspects, fit.fundamental)
@@ -171,7 +171,7 @@ def landmarks_only(request: Request) -> SolveResult:
             fit.epipole2,
             covariance,
             lambda: bootstrap.resolved_samples(
-                used, lambda again: pixel_or_nan(refit(again, use_buddy=False).epipole2)
+                used, lambda again: pixel_or_nan(refit(again, use_friend2=False).epipole2)
             ),
         )
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
@@ -197,10 +197,10 @@ def _likeliest(
     and says what would make it reliable.
     """
     taps = request.taps
-    use_buddy = taps.line1 is not None
+    use_friend2 = taps.line1 is not None
     fits: list[EpipolarFit] | None = None
     if not minimal:
-        fits = [fit_epipolar(taps, f, use_buddy=use_buddy) for _, _, f in geometries]
+        fits = [fit_epipolar(taps, f, use_friend2=use_friend2) for _, _, f in geometries]
         geometries = [(f.epipole1, f.epipole2, f.fundamental) for f in fits]
     fit_ok = [True] * len(geometries) if fits is None else [consistent(f) for f in fits]
     cues = [
@@ -215,7 +215,7 @@ def _likeliest(
     fit = (
         fits[top]
         if fits is not None
-        else fit_epipolar(taps, geometries[top][2], use_buddy=use_buddy)
+        else fit_epipolar(taps, geometries[top][2], use_friend2=use_friend2)
     )
     ambiguous = sum(cues[i].hard_cues() == cues[top].hard_cues() and fit_ok[i] for i in order) > 1
     marked: words.Marked = "line" if taps.line1 is not None else "none"

@@ -19,7 +19,7 @@ from ..linalg import cholesky2
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
 from .camera import FocalPrior
-from .pinhole_fit import PinholeFit, PinholeModel, seekers_after
+from .pinhole_fit import PinholeFit, PinholeModel, friend1_after_steps
 from .taps import Taps
 from .uncertainty import CHI2_2D, LEVEL
 
@@ -74,8 +74,8 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
     """(PINHOLE_SAMPLES, 2) answers of the pinhole model for re-made taps.
 
     Each is one Gauss-Newton step from the fit on its own taps, with the fit's Jacobian:
-    the taps' and the seeker's nonlinearity are kept, and measured on three landmarks and
-    the buddy it calibrates as well as a full re-solve (docs/geometry.md).
+    the taps' and friend 1's nonlinearity are kept, and measured on three landmarks and
+    friend 2 it calibrates as well as a full re-solve (docs/geometry.md).
     """
     count = PINHOLE_SAMPLES
     marks = [mark for mark in (taps.epipole1, taps.epipole2) if mark is not None]
@@ -95,7 +95,7 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
     )
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
     steps = -model.offsets(fit.pose) @ (fit.jacobian @ fit.covariance)
-    return seekers_after(fit.pose, steps, fit.centres[1])
+    return friend1_after_steps(fit.pose, steps, fit.centres[1])
 
 
 def resolved_samples(taps: Taps, resolve: Callable[[Taps], Array]) -> Array:

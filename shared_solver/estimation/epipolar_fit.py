@@ -2,14 +2,14 @@
 
 Each landmark contributes its Sampson distance (the first-order distance from the taps to
 the nearest pair of points that fit F exactly; Hartley & Zisserman 11.4.3) whitened by the
-covariances of its two taps, and the buddy's tap contributes its own whitened offset: the
-tap on the buddy is as noisy as any other. Every residual then has unit variance, so the
+covariances of its two taps, and friend 2's tap contributes its own whitened offset: the
+tap on friend 2 is as noisy as any other. Every residual then has unit variance, so the
 least-squares minimum is the maximum-likelihood estimate to first order, its cost a
 chi-square, and ``(J^T J)^-1`` its covariance.
 
 Parametrisation (normalised coordinates): ``F = [a1 | a2 | -(x a1 + y a2)]`` keeps
-``F (x, y, 1)^T = 0`` for any columns ``a1, a2`` and buddy position ``(x, y)``: seven degrees
-of freedom after the scale of ``(a1, a2)``, and ``e2 = a1 x a2``. When both friends tapped
+``F (x, y, 1)^T = 0`` for any columns ``a1, a2`` and friend 2's position ``(x, y)``: seven
+degrees of freedom after the scale of ``(a1, a2)``, and ``e2 = a1 x a2``. When both friends tapped
 each other, ``(a1, a2)`` is further tied to ``e2 = (x2, y2, 1)``.
 """
 
@@ -43,7 +43,7 @@ class EpipolarFit:
         covariance1, covariance2: (2, 2) px^2 covariance of each epipole's pixel position,
             None when that epipole is at infinity.
         parameters: what :attr:`fundamental_covariance` is computed from, when asked: the
-            normalised frame, (a1, a2, buddy), d(a1, a2, buddy)/d(theta) and theta's
+            normalised frame, (a1, a2, friend2), d(a1, a2, friend2)/d(theta) and theta's
             covariance (None: not available).
     """
 
@@ -144,15 +144,15 @@ def _unit_block(theta: Array, size: int) -> Array:
     return theta
 
 
-def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> EpipolarFit:
-    """Refine F over all taps, the buddy's tap (or line) included, and its uncertainty.
+def fit_epipolar(taps: Taps, start: Array, *, use_friend2: bool = True) -> EpipolarFit:
+    """Refine F over all taps, friend 2's tap (or line) included, and its uncertainty.
 
     Args:
-        taps: landmarks (N >= 7 - the friends' equations) with their covariances, and the
-            buddy's tap or a line through the buddy in photo 1 (the seeker's tap in photo 2
+        taps: landmarks (N >= 7 - the friends' equations) with their covariances, and
+            friend 2's tap or a line through friend 2 in photo 1 (friend 1's tap in photo 2
             is not used here: :func:`fit_two_epipoles`).
         start: (3, 3) initial F in pixels (a linear or minimal solution), with a finite e1.
-        use_buddy: whether the buddy's tap or line takes part (False: landmarks only).
+        use_friend2: whether friend 2's tap or line takes part (False: landmarks only).
     """
     frame = _Frame.of(taps)
     f0 = frame.normalised_f(start)
@@ -163,7 +163,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
             words.FRIEND_AT_INFINITY,
         )
     x0, y0 = e1[:2] / e1[2]
-    prior_rows, prior_target = _prior(frame, taps) if use_buddy else (None, np.zeros(0))
+    prior_rows, prior_target = _prior(frame, taps) if use_friend2 else (None, np.zeros(0))
 
     def residuals(theta: Array) -> tuple[Array, Array]:
         r, jacobian = _sampson(frame, theta[0:3], theta[3:6], theta[6], theta[7])
@@ -187,8 +187,8 @@ def fit_epipolar(taps: Taps, start: Array, *, use_buddy: bool = True) -> Epipola
         frame,
         a1,
         a2,
-        buddy=theta[6:8],
-        seeker=linalg.cross(a1, a2),
+        friend2=theta[6:8],
+        friend1=linalg.cross(a1, a2),
         derivatives=(d_e1, d_e2),
         residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([a1, a2, [0.0, 0.0]]),
@@ -200,7 +200,7 @@ def fit_two_epipoles(taps: Taps, start: Array) -> EpipolarFit:
     """Refine F when both friends tapped each other: both taps are refined with the landmarks.
 
     Args:
-        taps: landmarks (N >= 3), the taps on the buddy (photo 1) and on the seeker
+        taps: landmarks (N >= 3), the taps on friend 2 (photo 1) and on friend 1
             (photo 2), all with their covariances.
         start: (3, 3) initial F with finite epipoles (e.g. from both taps).
     """
@@ -270,8 +270,8 @@ def fit_two_epipoles(taps: Taps, start: Array) -> EpipolarFit:
         frame,
         a1,
         a2,
-        buddy=theta[4:6],
-        seeker=np.append(theta[6:8], 1.0),
+        friend2=theta[4:6],
+        friend1=np.append(theta[6:8], 1.0),
         derivatives=(d_e1, d_e2),
         residuals=(r, jacobian, len(taps)),
         gauge=np.concatenate([theta[:4], np.zeros(4)]),
@@ -284,8 +284,8 @@ def _fit(
     a1: Array,
     a2: Array,
     *,
-    buddy: Array,
-    seeker: Array,
+    friend2: Array,
+    friend1: Array,
     derivatives: tuple[Array, Array],
     residuals: tuple[Array, Array, int],
     gauge: Array,
@@ -294,32 +294,32 @@ def _fit(
     """The fit in pixels from its normalised parameters at the minimum.
 
     Args:
-        a1, a2: columns of F (normalised); buddy: (2,) e1 (normalised); seeker: (3,) e2.
+        a1, a2: columns of F (normalised); friend2: (2,) e1 (normalised); friend1: (3,) e2.
         derivatives: (3, P) Jacobians of e1 and e2 (homogeneous, normalised) w.r.t. theta.
         residuals: (r, J, number of landmarks) at the minimum; gauge: theta's null direction.
-        d_columns: (8, P) Jacobian of (a1, a2, buddy) w.r.t. theta.
+        d_columns: (8, P) Jacobian of (a1, a2, friend2) w.r.t. theta.
     """
     r, jacobian, landmarks = residuals
     covariance = gauge_free_covariance(jacobian, gauge, 1.0)
-    e1_n = np.append(buddy, 1.0)
-    x, y = buddy
+    e1_n = np.append(friend2, 1.0)
+    x, y = friend2
     return EpipolarFit(
         fundamental=frame.pixel_f(np.column_stack([a1, a2, -(x * a1 + y * a2)])),
         epipole1=linalg.solve(frame.t1, e1_n),
-        epipole2=linalg.solve(frame.t2, seeker),
+        epipole2=linalg.solve(frame.t2, friend1),
         distances=r[:landmarks],
         cost=float(r @ r),
         dof=len(r) - 7,
         covariance1=_pixel_covariance(frame.t1, e1_n, derivatives[0], covariance),
-        covariance2=_pixel_covariance(frame.t2, seeker, derivatives[1], covariance),
-        parameters=(frame, np.concatenate([a1, a2, buddy]), d_columns, covariance),
+        covariance2=_pixel_covariance(frame.t2, friend1, derivatives[1], covariance),
+        parameters=(frame, np.concatenate([a1, a2, friend2]), d_columns, covariance),
     )
 
 
-def _pixel_f_jacobian(frame: _Frame, a1: Array, a2: Array, buddy: Array) -> Array:
+def _pixel_f_jacobian(frame: _Frame, a1: Array, a2: Array, friend2: Array) -> Array:
     """(9, 8) derivative of the unit pixel F (row by row) w.r.t. (a1, a2, x, y), for
     ``F_n = [a1 | a2 | -(x a1 + y a2)]`` in normalised coordinates."""
-    x, y = buddy
+    x, y = friend2
     d_normalised = np.zeros((8, 3, 3))  # d F_n along each of the 8 parameters
     for i in range(3):
         d_normalised[i, i, 0], d_normalised[i, i, 2] = 1.0, -x
@@ -333,8 +333,8 @@ def _pixel_f_jacobian(frame: _Frame, a1: Array, a2: Array, buddy: Array) -> Arra
 
 
 def _prior(frame: _Frame, taps: Taps) -> tuple[Array | None, Array]:
-    """Rows R and target b so that ``R @ (x, y, 1) - b`` are the buddy-tap residuals,
-    whitened by the tap's covariance (a line: by its sigma across the line)."""
+    """Rows R and target b so that ``R @ (x, y, 1) - b`` are the residuals of
+    the tap on friend 2, whitened by the tap's covariance (a line: by its sigma across the line)."""
     if taps.epipole1 is not None and taps.cov_e1 is not None:
         tap = frame.t1 @ np.append(taps.epipole1, 1.0)
         rows = whitener(taps.cov_e1) @ np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) / frame.s1

@@ -1,7 +1,7 @@
 """Which landmark was mis-tapped? Consensus over minimal sets of five landmarks.
 
 Run only when the taps disagree more than tap noise explains (the fit's chi-square test
-fails). With the buddy's tap, every subset of five landmarks (all of them up to nine
+fails). With friend 2's tap, every subset of five landmarks (all of them up to nine
 landmarks, a fixed random sample beyond) proposes a geometry by the linear five-point route,
 and the one most landmarks agree with (truncated least squares, MSAC) defines the inliers;
 without it OpenCV's USAC does the same over sets of seven. The inliers are refitted. The
@@ -40,15 +40,15 @@ CONSENSUS_SIGMAS = 4.0
 _SEED = 5
 
 
-def find_mistaps(taps: Taps, *, use_buddy: bool) -> tuple[list[int], EpipolarFit] | None:
+def find_mistaps(taps: Taps, *, use_friend2: bool) -> tuple[list[int], EpipolarFit] | None:
     """Suspect landmarks and the fit without them, or None if no subset explains the taps.
 
     Args:
-        taps: landmarks (N >= 7 with the buddy's tap, N >= 9 without) with covariances.
-        use_buddy: whether the buddy's tap takes part (False: OpenCV's USAC finds the
+        taps: landmarks (N >= 7 with friend 2's tap, N >= 9 without) with covariances.
+        use_friend2: whether friend 2's tap takes part (False: OpenCV's USAC finds the
             consensus over 7-landmark sets, with a threshold of the typical tap's sigma).
     """
-    if use_buddy:
+    if use_friend2:
         assert taps.epipole1 is not None
         hypotheses = _hypotheses(np.append(taps.epipole1, 1.0), taps.p, taps.q, _subsets(len(taps)))
         distances = np.abs(whitened_distances(hypotheses, taps))
@@ -63,20 +63,20 @@ def find_mistaps(taps: Taps, *, use_buddy: bool) -> tuple[list[int], EpipolarFit
         if mask is None:
             return None
         inliers = mask.ravel().astype(bool)
-    minimum = _MIN_INLIERS[use_buddy]
+    minimum = _MIN_INLIERS[use_friend2]
     for _ in range(2):  # refit, then re-sort landmarks against the refit once
         if inliers.sum() < minimum:
             return None
-        fit = refit(taps.subset(np.flatnonzero(inliers)), use_buddy=use_buddy)
+        fit = refit(taps.subset(np.flatnonzero(inliers)), use_friend2=use_friend2)
         inliers = np.abs(whitened_distances(fit.fundamental, taps)) <= SUSPECT_SIGMAS
     if inliers.sum() < minimum or inliers.all() or not consistent(fit):
         return None
     return [int(i) for i in np.flatnonzero(~inliers)], fit
 
 
-def refit(taps: Taps, *, use_buddy: bool) -> EpipolarFit:
+def refit(taps: Taps, *, use_friend2: bool) -> EpipolarFit:
     """Linear start (five-point route with the tap, eight-point without) and ML refinement."""
-    if use_buddy:
+    if use_friend2:
         assert taps.epipole1 is not None
         start = fundamental_with_epipole(np.append(taps.epipole1, 1.0), taps.p, taps.q)
     else:
@@ -84,10 +84,10 @@ def refit(taps: Taps, *, use_buddy: bool) -> EpipolarFit:
         start = np.asarray(found, dtype=np.float64)
         if found is None or start.shape != (3, 3):
             raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.GEOMETRY_UNDETERMINED)
-    return fit_epipolar(taps, start, use_buddy=use_buddy)
+    return fit_epipolar(taps, start, use_friend2=use_friend2)
 
 
-# With the buddy's tap five landmarks fix the geometry, without it seven (eight for a
+# With friend 2's tap five landmarks fix the geometry, without it seven (eight for a
 # unique linear start): one more is needed to check a consensus.
 _MIN_INLIERS = {True: 6, False: 9}
 # A landmark this far (in its sigmas) from the refit is not tap noise (two-sided p < 0.001).

@@ -1,19 +1,19 @@
 """Maximum a posteriori two-view geometry of two pinhole cameras (square pixels, centred).
 
-The model: camera 1 (the seeker's) sees the buddy in the direction ``b1`` (unit, frame 1);
+The model: camera 1 (friend 1's) sees friend 2 in the direction ``b1`` (unit, frame 1);
 frame 2 is ``X2 = R X1 + t`` with ``t`` along ``-R b1``; each camera has its own focal
 length ``f_k`` (px) and its principal point at the photo's centre ``c_k``. Then
 
     F = K2^-T R [b1]x K1^-1,   e1 ~ K1 b1,   e2 ~ -K2 R b1   (oriented: w > 0 in front),
 
 and a landmark with rays ``p^ = K1^-1 p``, ``q^ = K2^-1 q`` fits when ``q^ . R (b1 x p^) = 0``
-(Hartley & Zisserman 9.6). Seven parameters: the rotation (3), the buddy's direction (2)
+(Hartley & Zisserman 9.6). Seven parameters: the rotation (3), friend 2's direction (2)
 and the two log focal lengths (2), the last with the cameras' priors (:mod:`.camera`).
 
-The buddy's direction is kept as a camera of a fixed reference focal length would see it,
-``u``, and ``b1 ~ diag(r, r, 1) u`` with ``r = f_reference / f1``: the buddy's pixel then
-does not move when the focal length does, and a step in ``f1`` does not fight the
-buddy's tap.
+Friend 2's direction is kept as a camera of a fixed reference focal length would see it,
+``u``, and ``b1 ~ diag(r, r, 1) u`` with ``r = f_reference / f1``: friend 2's pixel then
+does not move when the focal length does, and a step in ``f1`` does not fight
+friend 2's tap.
 
 Every tap counts with its own covariance: a landmark by its Sampson distance (H & Z 11.4.3)
 whitened by the covariances of its two taps, the friends' marks by their offset from the
@@ -40,7 +40,7 @@ from .camera import FocalPrior
 from .least_squares import levenberg_marquardt
 from .taps import Taps, whitener
 
-# Parameters: rotation step (3), buddy direction step in its tangent plane (2), log focal
+# Parameters: rotation step (3), friend 2's direction step in its tangent plane (2), log focal
 # steps (2).
 PARAMETERS = 7
 _ROTATION, _BASELINE, _FOCAL1, _FOCAL2 = slice(0, 3), slice(3, 5), 5, 6
@@ -52,7 +52,7 @@ _FOCAL_RANGE_SIGMAS = 10.0
 # Logarithms beyond this overflow (or underflow to zero) in math.exp: a fit that runs off to
 # such focal lengths gets non-finite residuals, and its step is rejected.
 _LOG_RANGE = 700.0
-# Below this |w| of the direction the seeker is seen in, they are at infinity in photo 2.
+# Below this |w| of the direction friend 1 is seen in, they are at infinity in photo 2.
 _AT_INFINITY = 1e-12
 
 
@@ -62,21 +62,21 @@ class Poses:
 
     Attributes:
         rotation: (K, 3, 3) R from frame 1 to frame 2.
-        buddy: (K, 3) unit u: the buddy's direction as seen with photo 1's reference focal
+        friend2: (K, 3) unit u: friend 2's direction as seen with photo 1's reference focal
             length (module docstring).
         log_focals: (K, 2) ln(f1), ln(f2), f in px.
         reference: ln of photo 1's reference focal length, px.
     """
 
     rotation: Array
-    buddy: Array
+    friend2: Array
     log_focals: Array
     reference: float
 
     @classmethod
     def one(cls, rotation: Array, baseline: Array, log_focals: Array) -> Poses:
         """A batch of one: R (3, 3), b1 (3,) (any length), (ln f1, ln f2); the reference is
-        this f1, so the buddy's direction is b1 itself."""
+        this f1, so friend 2's direction is b1 itself."""
         baseline = np.asarray(baseline, dtype=np.float64)
         log_focals = np.asarray(log_focals, dtype=np.float64)
         return cls(
@@ -90,10 +90,10 @@ class Poses:
         return len(self.rotation)
 
     def moved(self, steps: Array) -> Poses:
-        """A batch of one after a tangent step (1, 7): ``exp([w]x) R``, buddy, log focals;
+        """A batch of one after a tangent step (1, 7): ``exp([w]x) R``, friend 2, log focals;
         in plain floats and OpenCV (this runs at every step of every fit)."""
         step = steps[0]
-        x, y, z = self.buddy[0].tolist()
+        x, y, z = self.friend2[0].tolist()
         (fx, sx), (fy, sy), (fz, sz) = _tangent(x, y, z)
         a, b = step[3:5].tolist()
         x, y, z = x + fx * a + sx * b, y + fy * a + sy * b, z + fz * a + sz * b
@@ -114,7 +114,7 @@ class Poses:
     @functools.cached_property
     def baseline(self) -> Array:
         """(K, 3) b1 up to a positive scale: from camera 1 towards camera 2, frame 1."""
-        baseline = self.buddy.copy()
+        baseline = self.friend2.copy()
         baseline[:, :2] *= self.ratio[:, None]
         return baseline
 
@@ -122,7 +122,7 @@ class Poses:
         """The k-th pose as a batch of one."""
         return Poses(
             self.rotation[k : k + 1],
-            self.buddy[k : k + 1],
+            self.friend2[k : k + 1],
             self.log_focals[k : k + 1],
             self.reference,
         )
@@ -185,12 +185,12 @@ class PinholeFit:
 
     @functools.cached_property
     def epipole1(self) -> Array:
-        """(3,) the buddy in photo 1, oriented (w > 0: in front of the seeker's camera)."""
+        """(3,) friend 2 in photo 1, oriented (w > 0: in front of friend 1's camera)."""
         return self.intrinsics[0] @ self.pose.baseline[0]
 
     @functools.cached_property
     def epipole2(self) -> Array:
-        """(3,) the seeker in photo 2, oriented (w > 0: in front of the buddy's camera)."""
+        """(3,) friend 1 in photo 2, oriented (w > 0: in front of friend 2's camera)."""
         return self.intrinsics[1] @ (-self.pose.rotation[0] @ self.pose.baseline[0])
 
     @functools.cached_property
@@ -198,7 +198,7 @@ class PinholeFit:
         """(9, 9) first-order covariance of :attr:`fundamental` read row by row: F's
         derivatives along the 7 parameters, through the parameters' covariance, projected
         on the unit sphere (F is kept at unit norm, so it cannot vary along itself)."""
-        tangent = np.array(_tangent(*self.pose.buddy[0].tolist()))
+        tangent = np.array(_tangent(*self.pose.friend2[0].tolist()))
         (x1, y1), (x2, y2) = self.centres.tolist()
         stacked = fundamental_stack(self.pose, ((x1, y1), (x2, y2)), tangent).reshape(8, 9)
         norm = linalg.norm(stacked[0])
@@ -209,10 +209,10 @@ class PinholeFit:
 
     @functools.cached_property
     def covariance2(self) -> Array | None:
-        """(2, 2) px^2 covariance of the seeker's pixel position, None if it is at infinity."""
+        """(2, 2) px^2 covariance of friend 1's pixel position, None if it is at infinity."""
         centre = (float(self.centres[1, 0]), float(self.centres[1, 1]))
-        tangent = np.array(_tangent(*self.pose.buddy[0].tolist()))
-        position, jacobian = _seeker_pixel(self.pose, centre, tangent)
+        tangent = np.array(_tangent(*self.pose.friend2[0].tolist()))
+        position, jacobian = _friend1_pixel(self.pose, centre, tangent)
         if not np.isfinite(position[0]):
             return None
         return jacobian @ self.covariance @ jacobian.T
@@ -254,14 +254,16 @@ class PinholeModel:
         self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
         self.prior_jacobian = np.zeros((2, PARAMETERS))
         self.prior_jacobian[0, _FOCAL1], self.prior_jacobian[1, _FOCAL2] = 1.0 / self.prior_sigma
-        self.buddy = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
-        self.seeker = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
+        self.friend2 = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
+        self.friend1 = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
         self.line = None
         if taps.line1 is not None:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
         self.landmarks = len(taps)
         marks = (
-            2 * (self.buddy is not None) + (self.line is not None) + 2 * (self.seeker is not None)
+            2 * (self.friend2 is not None)
+            + (self.line is not None)
+            + 2 * (self.friend1 is not None)
         )
         self.residual_count = self.landmarks + marks + 2  # landmarks, marks, focal priors
 
@@ -274,13 +276,13 @@ class PinholeModel:
         if not max(abs(log_f1), abs(log_f2), abs(pose.reference - log_f1)) < _LOG_RANGE:
             r[:], jacobian[:] = np.nan, np.nan
             return r, jacobian
-        tangent = np.array(_tangent(*pose.buddy[0].tolist()))
+        tangent = np.array(_tangent(*pose.friend2[0].tolist()))
         row = self.landmarks
         r[:row], jacobian[:row] = _landmarks(pose, self, tangent)
-        if self.buddy is not None or self.line is not None:
-            position, d_position = _buddy_pixel(pose, self.centre_pixels[0], tangent)
-            if self.buddy is not None:
-                r[row : row + 2], jacobian[row : row + 2] = self.buddy.residuals(
+        if self.friend2 is not None or self.line is not None:
+            position, d_position = _friend2_pixel(pose, self.centre_pixels[0], tangent)
+            if self.friend2 is not None:
+                r[row : row + 2], jacobian[row : row + 2] = self.friend2.residuals(
                     position, d_position
                 )
                 row += 2
@@ -288,9 +290,9 @@ class PinholeModel:
                 r[row] = position @ self.line[:2] + self.line[2]
                 jacobian[row] = self.line[:2] @ d_position
                 row += 1
-        if self.seeker is not None:
-            position, d_position = _seeker_pixel(pose, self.centre_pixels[1], tangent)
-            r[row : row + 2], jacobian[row : row + 2] = self.seeker.residuals(position, d_position)
+        if self.friend1 is not None:
+            position, d_position = _friend1_pixel(pose, self.centre_pixels[1], tangent)
+            r[row : row + 2], jacobian[row : row + 2] = self.friend1.residuals(position, d_position)
             row += 2
         r[row:] = (pose.log_focals[0] - self.prior_mean) / self.prior_sigma
         jacobian[row:] = self.prior_jacobian
@@ -314,17 +316,19 @@ class PinholeModel:
         out = np.empty((count, self.residual_count))
         out[:, : self.landmarks] = eps / np.sqrt(np.einsum("kin,kin->kn", gradients, weighted))
         column = self.landmarks
-        if self.buddy is not None or self.line is not None:
-            position = _buddy_positions(poses, self.centres[0])
-            if self.buddy is not None:
-                out[:, column : column + 2] = (position - self.buddy.position) @ self.buddy.whiten.T
+        if self.friend2 is not None or self.line is not None:
+            position = _friend2_positions(poses, self.centres[0])
+            if self.friend2 is not None:
+                out[:, column : column + 2] = (
+                    position - self.friend2.position
+                ) @ self.friend2.whiten.T
                 column += 2
             if self.line is not None:
                 out[:, column] = position @ self.line[:2] + self.line[2]
                 column += 1
-        if self.seeker is not None:
-            position = seeker_positions(poses, self.centres[1])
-            out[:, column : column + 2] = (position - self.seeker.position) @ self.seeker.whiten.T
+        if self.friend1 is not None:
+            position = friend1_positions(poses, self.centres[1])
+            out[:, column : column + 2] = (position - self.friend1.position) @ self.friend1.whiten.T
             column += 2
         out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
         return out
@@ -383,13 +387,13 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
     )
 
 
-def _seeker_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
-    """The seeker in photo 2 at one pose, ``pi(-K2 R b1)``: pixel (2,) and Jacobian (2, 7),
-    NaN when the seeker is at infinity (in the buddy's image plane); ``tangent``: (3, 2)
-    the buddy direction's tangent basis."""
+def _friend1_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
+    """Friend 1 in photo 2 at one pose, ``pi(-K2 R b1)``: pixel (2,) and Jacobian (2, 7),
+    NaN when friend 1 is at infinity (in friend 2's image plane); ``tangent``: (3, 2)
+    tangent basis of friend 2's direction."""
     log_f1, log_f2 = pose.log_focals[0].tolist()
     f2, ratio = math.exp(log_f2), math.exp(pose.reference - log_f1)
-    ux, uy, uz = pose.buddy[0].tolist()
+    ux, uy, uz = pose.friend2[0].tolist()
     (ax, bx), (ay, by), (az, bz) = tangent.tolist()
     # b1, its steps along the tangent basis and d b1 / d ln f1, as columns; v = -R b1.
     columns = [
@@ -404,21 +408,21 @@ def _seeker_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> t
     d_project = np.array([[f2 / z, 0.0, -f2 * x / (z * z)], [0.0, f2 / z, -f2 * y / (z * z)]])
     jacobian = np.empty((2, PARAMETERS))
     jacobian[:, _ROTATION] = d_project @ np.array(_skew(-x, -y, -z))  # dv = dw x v
-    jacobian[:, 3:6] = d_project @ moved[:, 1:]  # the buddy's steps, then ln f1
+    jacobian[:, 3:6] = d_project @ moved[:, 1:]  # friend 2's steps, then ln f1
     jacobian[:, _FOCAL2] = f2 * x / z, f2 * y / z
     return np.array([centre[0] + f2 * x / z, centre[1] + f2 * y / z]), jacobian
 
 
-def seekers_after(pose: Poses, steps: Array, centre: Array) -> Array:
-    """(K, 2) the seeker in photo 2 after each of K tangent steps (K, 7) from one pose, NaN
-    at infinity (as :meth:`Poses.moved` then :func:`seeker_positions`, without building the
+def friend1_after_steps(pose: Poses, steps: Array, centre: Array) -> Array:
+    """(K, 2) friend 1 in photo 2 after each of K tangent steps (K, 7) from one pose, NaN
+    at infinity (as :meth:`Poses.moved` then :func:`friend1_positions`, without building the
     K poses): ``-exp([w]x) R b1`` by Rodrigues' formula on the vector."""
-    tangent = np.array(_tangent(*pose.buddy[0].tolist()))
-    buddy = pose.buddy[0] + steps[:, _BASELINE] @ tangent.T
-    buddy /= np.sqrt(np.einsum("ki,ki->k", buddy, buddy))[:, None]
+    tangent = np.array(_tangent(*pose.friend2[0].tolist()))
+    friend2 = pose.friend2[0] + steps[:, _BASELINE] @ tangent.T
+    friend2 /= np.sqrt(np.einsum("ki,ki->k", friend2, friend2))[:, None]
     log_focals = pose.log_focals[0] + steps[:, 5:7]
-    buddy[:, :2] *= np.exp(pose.reference - log_focals[:, :1])  # b1 = diag(r, r, 1) u
-    turned = buddy @ pose.rotation[0].T  # R b1
+    friend2[:, :2] *= np.exp(pose.reference - log_focals[:, :1])  # b1 = diag(r, r, 1) u
+    turned = friend2 @ pose.rotation[0].T  # R b1
     w = steps[:, _ROTATION]
     angle = np.sqrt(np.einsum("ki,ki->k", w, w))
     small = angle < 1e-8
@@ -431,26 +435,26 @@ def seekers_after(pose: Poses, steps: Array, centre: Array) -> Array:
     return centre + np.exp(log_focals[:, 1:]) * v[:, :2] / v[:, 2:]
 
 
-def seeker_positions(poses: Poses, centre: Array) -> Array:
-    """(K, 2) the seeker in photo 2, ``pi(-K2 R b1)``, without derivatives (NaN at infinity,
-    as :func:`_seeker_pixel`)."""
+def friend1_positions(poses: Poses, centre: Array) -> Array:
+    """(K, 2) friend 1 in photo 2, ``pi(-K2 R b1)``, without derivatives (NaN at infinity,
+    as :func:`_friend1_pixel`)."""
     f2 = np.exp(poses.log_focals[:, 1])
     v = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
     v[np.abs(v[:, 2]) <= _AT_INFINITY * np.sqrt(np.einsum("ki,ki->k", v, v)), 2] = np.nan
     return centre + f2[:, None] * v[:, :2] / v[:, 2:]
 
 
-def _buddy_positions(poses: Poses, centre: Array) -> Array:
-    """(K, 2) the buddy in photo 1, ``pi(K1 b1) = pi(K_reference u)``, without derivatives."""
-    u = poses.buddy
+def _friend2_positions(poses: Poses, centre: Array) -> Array:
+    """(K, 2) friend 2 in photo 1, ``pi(K1 b1) = pi(K_reference u)``, without derivatives."""
+    u = poses.friend2
     return centre + math.exp(poses.reference) * u[:, :2] / u[:, 2:]
 
 
-def _buddy_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
-    """The buddy in photo 1 at one pose, ``pi(K1 b1) = pi(K_reference u)``: pixel (2,) and
-    Jacobian (2, 7), which depends on the buddy's direction alone."""
+def _friend2_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> tuple[Array, Array]:
+    """Friend 2 in photo 1 at one pose, ``pi(K1 b1) = pi(K_reference u)``: pixel (2,) and
+    Jacobian (2, 7), which depends on friend 2's direction alone."""
     reference = math.exp(pose.reference)
-    x, y, z = pose.buddy[0].tolist()
+    x, y, z = pose.friend2[0].tolist()
     scale = reference / z
     d_project = np.array([[scale, 0.0, -scale * x / z], [0.0, scale, -scale * y / z]])
     jacobian = np.zeros((2, PARAMETERS))
@@ -463,7 +467,7 @@ def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array,
 
     F and its derivatives along the 7 parameters are stacked as eight pixel matrices, so
     every landmark's residual and gradient come from a few products (this runs at every
-    iteration of every fit). ``tangent``: (3, 2) the buddy direction's tangent basis.
+    iteration of every fit). ``tangent``: (3, 2) tangent basis of friend 2's direction.
     """
     stacked = fundamental_stack(pose, model.centre_pixels, tangent)
     lines2 = stacked @ model.p_t[0]  # (8, 3, N): F p and its derivatives
@@ -484,10 +488,10 @@ def fundamental_stack(
     pose: Poses, centres: tuple[tuple[float, float], tuple[float, float]], tangent: Array
 ) -> Array:
     """(8, 3, 3) F in pixels at one pose (not normalised), then its derivatives along the 7
-    tangent parameters (rotation, buddy direction, log focal lengths).
+    tangent parameters (rotation, friend 2's direction, log focal lengths).
 
-    ``centres``: the principal points of photo 1 and 2, px; ``tangent``: (3, 2) the buddy
-    direction's tangent basis.
+    ``centres``: the principal points of photo 1 and 2, px; ``tangent``: (3, 2) tangent
+    basis of friend 2's direction.
     """
     log_f1, log_f2 = pose.log_focals[0].tolist()
     f1, f2 = math.exp(log_f1), math.exp(log_f2)
@@ -497,7 +501,7 @@ def fundamental_stack(
     # b1 = diag(r, r, 1) u, its steps along the tangent basis, and d b1 / d ln f1, as one
     # call for all four cross-product matrices (plain floats: these are 3-vectors).
     ratio = math.exp(pose.reference - log_f1)
-    ux, uy, uz = pose.buddy[0].tolist()
+    ux, uy, uz = pose.friend2[0].tolist()
     (ax, bx), (ay, by), (az, bz) = tangent.tolist()
     skews = np.array(
         [
@@ -511,7 +515,7 @@ def fundamental_stack(
     essential = moved[0]
     # K2^-T M K1^-1 for each M below is F, then dF along each parameter. d K1^-1 / d ln f1
     # is -P K1^-1 and d K2^-T / d ln f2 is -K2^-T P, with P = diag(1, 1, 0); ln f1 also
-    # moves b1 (the buddy's pixel stays).
+    # moves b1 (friend 2's pixel stays).
     middle = np.empty((8, 3, 3))
     middle[0] = essential
     middle[1:4] = _BASIS_SKEWS @ essential  # d exp([w]x) R = [e_k]x R

@@ -1,6 +1,6 @@
 """Which landmark was mis-tapped, with the camera model? Consensus over sets of three.
 
-With both cameras modelled, three landmarks and the buddy fix the geometry
+With both cameras modelled, three landmarks and friend 2 fix the geometry
 (:mod:`..minimal.epipole_and_three`), so a consensus needs only four landmarks and one more
 to name a culprit: from five landmarks on, where the projective search needs seven. Run
 only when the camera-aware fit fails its chi-square test: every set of three landmarks (a
@@ -32,7 +32,7 @@ def find_pinhole_mistaps(model: PinholeModel) -> tuple[list[int], PinholeFit] | 
     explains the taps.
 
     Args:
-        model: every tap (the buddy marked as a point, N >= 5 landmarks) and the priors.
+        model: every tap (friend 2 marked as a point, N >= 5 landmarks) and the priors.
     """
     taps = model.taps
     count = len(taps)

@@ -1,9 +1,9 @@
 """Where the pinhole fit starts: every pose the exact solvers allow, ranked by the taps.
 
 The fit (:mod:`.pinhole_fit`) is local, so it starts from the exact solutions of a few
-minimal subsets at the priors' focal lengths: three landmarks and the buddy
+minimal subsets at the priors' focal lengths: three landmarks and friend 2
 (:mod:`..minimal.epipole_and_three`), one landmark and both friends
-(:mod:`..minimal.both_and_one`), or, when the buddy was not marked as a point, the
+(:mod:`..minimal.both_and_one`), or, when friend 2 was not marked as a point, the
 projective solutions turned into poses (the essential matrix of OpenCV's decomposition).
 Each candidate is scored on every tap: squared whitened residuals (each capped, so one
 mis-tap cannot veto the right pose) and the landmarks it would put behind a camera.
@@ -36,17 +36,17 @@ _BEHIND_PENALTY = _CAP_SIGMAS**2
 # tap noise leaves a set of three with no real pose, the next is tried, up to this many.
 _SUBSETS = 1
 _SUBSETS_TRIED = 4
-# Two candidates whose seekers are closer than this (radians apart, about 60 px at a phone's
+# Two candidates that put friend 1 closer than this (radians apart, about 60 px at a phone's
 # focal length) are the same start: different subsets of noisy taps give slightly different
 # poses of one basin.
 _SAME_DIRECTION = 0.02
 
 
-def buddy_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
-    """Scored candidate poses when the buddy is marked as a point (and maybe the seeker).
+def marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
+    """Scored candidate poses when friend 2 is marked as a point (and maybe friend 1).
 
     Returns:
-        ``(score, pose)`` pairs, best (lowest) first, one per distinct seeker direction.
+        ``(score, pose)`` pairs, best (lowest) first, one per distinct direction of friend 1.
     """
     taps = model.taps
     singles = _spread_indices(taps, 1, _SUBSETS) if taps.epipole2 is not None else []
@@ -64,50 +64,50 @@ def exact_poses(
     triples: Sequence[Sequence[int]],
     singles: Sequence[Sequence[int]] = (),
     *,
-    buddies: Array | None = None,
+    friend2_places: Array | None = None,
 ) -> Poses | None:
     """Every pose the minimal solvers give at the priors' focal lengths: three landmarks and
-    the buddy for each of ``triples``, one landmark and both friends for each of
+    friend 2 for each of ``triples``, one landmark and both friends for each of
     ``singles`` (landmark indices). None when they give none.
 
-    ``buddies``: (B, 2) pixels of photo 1 to try as the buddy (a line through the buddy
-    gives candidates); by default the buddy's tap.
+    ``friend2_places``: (B, 2) pixels of photo 1 to try as friend 2 (a line through friend 2
+    gives candidates); by default friend 2's tap.
     """
     taps, priors = model.taps, model.priors
-    if buddies is None:
+    if friend2_places is None:
         assert taps.epipole1 is not None
-        buddies = taps.epipole1[None]
+        friend2_places = taps.epipole1[None]
     rays1, rays2 = _rays(taps.p, priors[0]), _rays(taps.q, priors[1])
     rotations: list[Array] = []
     directions: list[Array] = []
-    for ray in _rays(buddies, priors[0]):
-        buddy = _unit(ray)
+    for ray in _rays(friend2_places, priors[0]):
+        friend2 = _unit(ray)
         found: list[Array] = []
         if taps.epipole2 is not None:
-            seeker = _unit(_rays(taps.epipole2[None], priors[1])[0])
+            friend1 = _unit(_rays(taps.epipole2[None], priors[1])[0])
             for (i,) in singles:
-                found += rotations_from_both(buddy, seeker, rays1[i], rays2[i])
+                found += rotations_from_both(friend2, friend1, rays1[i], rays2[i])
         for triple in triples:
             index = list(triple)
-            found += rotations_from_three(buddy, rays1[index], rays2[index])
+            found += rotations_from_three(friend2, rays1[index], rays2[index])
         rotations += found
-        directions += [buddy] * len(found)
+        directions += [friend2] * len(found)
     if not rotations:
         return None
     return _poses(model, np.array(rotations), np.array(directions))
 
 
 def unmarked_starts(
-    model: PinholeModel, fundamentals: list[Array], buddies: Array
+    model: PinholeModel, fundamentals: list[Array], friend2_places: Array
 ) -> list[tuple[float, Poses]]:
-    """Scored candidate poses when the buddy was not marked as a point: the poses of the
-    projective solutions ``fundamentals``, and the three-landmark solver with the buddy at
-    each of ``buddies`` (B, 2) pixels (the solutions' own, and places along a line through
-    the buddy if one was drawn). With noisy taps a projective solution can be far from any
-    pair of phone cameras while its buddy is near the right place."""
+    """Scored candidate poses when friend 2 was not marked as a point: the poses of the
+    projective solutions ``fundamentals``, and the three-landmark solver with friend 2 at
+    each of ``friend2_places`` (B, 2) pixels (the solutions' own, and places along a line
+    through friend 2 if one was drawn). With noisy taps a projective solution can be far
+    from any pair of phone cameras while it puts friend 2 near the right place."""
     found = [fundamental_poses(model, fundamentals)]
-    for triple in _spread_indices(model.taps, 3, _SUBSETS_TRIED) if len(buddies) else []:
-        poses = exact_poses(model, [triple], buddies=buddies)
+    for triple in _spread_indices(model.taps, 3, _SUBSETS_TRIED) if len(friend2_places) else []:
+        poses = exact_poses(model, [triple], friend2_places=friend2_places)
         if poses is not None:
             found.append(poses)
             break
@@ -128,7 +128,7 @@ def fundamental_poses(model: PinholeModel, fundamentals: list[Array]) -> Poses |
     for fundamental in fundamentals:
         first, second, translation = cv2.decomposeEssentialMat(k2.T @ fundamental @ k1)
         for rotation in (np.asarray(first, dtype=np.float64), np.asarray(second, dtype=np.float64)):
-            # t is the seeker's centre in frame 2, along -R b1: b1 = -R^T t, either sign.
+            # t is friend 1's centre in frame 2, along -R b1: b1 = -R^T t, either sign.
             along = rotation.T @ np.ravel(translation)
             rotations += [rotation, rotation]
             baselines += [-along, along]
@@ -159,20 +159,22 @@ def score(model: PinholeModel, poses: Poses) -> Array:
 
 
 def _ranked(model: PinholeModel, *batches: Poses | None) -> list[tuple[float, Poses]]:
-    """Candidate poses scored on every tap, best first, one per distinct seeker direction."""
+    """Candidate poses scored on every tap, best first, one per distinct direction of friend 1."""
     present = [batch for batch in batches if batch is not None]
     if not present:
         return []
     poses = Poses(
         np.concatenate([batch.rotation for batch in present]),
-        np.concatenate([batch.buddy for batch in present]),
+        np.concatenate([batch.friend2 for batch in present]),
         np.concatenate([batch.log_focals for batch in present]),
         present[0].reference,
     )
     scores = score(model, poses)
-    seekers = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
-    seekers /= np.sqrt(np.einsum("ki,ki->k", seekers, seekers))[:, None]
-    same = (seekers @ seekers.T >= math.cos(_SAME_DIRECTION)).tolist()
+    friend1_directions = -np.einsum("kij,kj->ki", poses.rotation, poses.baseline)
+    friend1_directions /= np.sqrt(np.einsum("ki,ki->k", friend1_directions, friend1_directions))[
+        :, None
+    ]
+    same = (friend1_directions @ friend1_directions.T >= math.cos(_SAME_DIRECTION)).tolist()
     kept: list[int] = []
     for k in np.argsort(scores, kind="stable").tolist():
         if not any(same[k][other] for other in kept):
@@ -181,10 +183,10 @@ def _ranked(model: PinholeModel, *batches: Poses | None) -> list[tuple[float, Po
 
 
 def behind(poses: Poses, model: PinholeModel) -> Array:
-    """(K,) how many landmarks each pose puts behind the seeker's or the buddy's camera.
+    """(K,) how many landmarks each pose puts behind friend 1's or friend 2's camera.
 
     The landmark is where the two rays pass closest (midpoint triangulation, with the
-    cameras a unit apart); a landmark beyond the buddy along the baseline has no sign.
+    cameras a unit apart); a landmark beyond friend 2 along the baseline has no sign.
     """
     taps, priors = model.taps, model.priors
     focals = np.exp(poses.log_focals)

@@ -1,8 +1,8 @@
 """Landmarks on one plane (floor, wall, stage front): ``e2 = H e1``.
 
-If every landmark is on one plane, ``q = H p`` and the seeker's position is ``e2 = H e1``
-exactly (the line from the seeker through the buddy meets the plane in a point seen at
-``e1`` by the seeker and at ``e2`` by the buddy). Measured here: with the buddy's tap the
+If every landmark is on one plane, ``q = H p`` and friend 1's position is ``e2 = H e1``
+exactly (the line from friend 1 through friend 2 meets the plane in a point seen at
+``e1`` by friend 1 and at ``e2`` by friend 2). Measured here: with friend 2's tap the
 F-based system stays well-posed on a plane (one null vector, unlike the classical system
 without ``e1``), but the homography has fewer degrees of freedom: on floor scenes at 1 px it
 gives a median error of 15 px against 24 px with five landmarks (8.5 against 10.6 with six),
@@ -49,10 +49,10 @@ class PlanarFit:
     t1: Array
     t2: Array
 
-    def seeker(self, epipole1_tap: Array, tap_covariance: Array) -> tuple[Array, Array | None]:
+    def friend1(self, epipole1_tap: Array, tap_covariance: Array) -> tuple[Array, Array | None]:
         """``e2 = H e1`` (3,) and its (2, 2) px^2 covariance (None at infinity).
 
-        The covariance combines H's and the buddy tap's (``tap_covariance``, (2, 2) px^2).
+        The covariance combines H's and the tap's on friend 2 (``tap_covariance``, (2, 2) px^2).
         """
         e1 = np.append(epipole1_tap, 1.0)
         e1_n = self.t1 @ e1

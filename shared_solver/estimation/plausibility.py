@@ -66,7 +66,7 @@ def oriented_violations(fundamental: Array, e2: Array, p: Array, q: Array) -> in
     return min(positive, len(signs) - positive)
 
 
-def orient_seeker(
+def orient_epipole2(
     fundamental: Array, e1: Array, e2: Array, p: Array, q: Array
 ) -> tuple[Array, bool]:
     """``e2`` with the sign of the true ``P2 C1``, given ``e1`` with the sign of ``P1 C2``.
@@ -74,8 +74,8 @@ def orient_seeker(
     For oriented epipoles the two oriented constraints, ``(e2 x q).(F p)`` and
     ``(e1 x p).(F^T q)``, have the same sign for every landmark in front of both cameras,
     whatever the sign of F (checked on facing and turned-away scenes). With ``e1`` oriented
-    (the buddy is in front of the seeker's camera: ``w > 0``) this fixes ``e2``: ``w > 0``
-    means the seeker is in front of the buddy's camera, ``w < 0`` behind it, and at ``w = 0``
+    (friend 2 is in front of friend 1's camera: ``w > 0``) this fixes ``e2``: ``w > 0``
+    means friend 1 is in front of friend 2's camera, ``w < 0`` behind it, and at ``w = 0``
     the direction ``(x, y)`` is the true one. The landmarks vote.
 
     Args:
@@ -89,10 +89,10 @@ def orient_seeker(
     """
     ph, qh = homogeneous(p), homogeneous(q)
     # e x r = [e]x r for every row r at once
-    seeker = np.sign(np.einsum("ij,ij->i", qh @ skew(e2).T, ph @ fundamental.T))
-    buddy = np.sign(np.einsum("ij,ij->i", ph @ skew(e1).T, qh @ fundamental))
-    orientable = bool(abs(seeker.sum()) == len(seeker) and abs(buddy.sum()) == len(buddy))
-    return (e2 if float(seeker @ buddy) >= 0 else -e2), orientable
+    signs2 = np.sign(np.einsum("ij,ij->i", qh @ skew(e2).T, ph @ fundamental.T))
+    signs1 = np.sign(np.einsum("ij,ij->i", ph @ skew(e1).T, qh @ fundamental))
+    orientable = bool(abs(signs2.sum()) == len(signs2) and abs(signs1.sum()) == len(signs1))
+    return (e2 if float(signs2 @ signs1) >= 0 else -e2), orientable
 
 
 def implied_focal_lengths(

@@ -45,11 +45,11 @@ def epipoles_from_six(
     image_size1: tuple[float, float] | None = None,
     image_size2: tuple[float, float] | None = None,
 ) -> list[EpipoleCandidate]:
-    """Every geometry with the buddy on ``line1`` that fits 6 landmarks (paper 3.3), ranked.
+    """Every geometry with friend 2 on ``line1`` that fits 6 landmarks (paper 3.3), ranked.
 
     Args:
-        line1: (3,) line ``(a, b, c)``, ``a x + b y + c = 0`` in photo-1 pixels, through the
-            buddy (epipole 1).
+        line1: (3,) line ``(a, b, c)``, ``a x + b y + c = 0`` in photo-1 pixels, through
+            friend 2 (epipole 1).
         pts1: (6, 2) landmarks in photo 1, pixels.
         pts2: (6, 2) the same landmarks in photo 2, pixels.
         image_size1, image_size2: (width, height) of the photos, for the plausibility of the

@@ -21,11 +21,11 @@ class Taps:
     """Landmarks in both photos and the friends' marks, each with its covariance.
 
     Attributes:
-        p, q: (N, 2) landmarks in photo 1 (the seeker's) and photo 2 (the buddy's), px.
+        p, q: (N, 2) landmarks in photo 1 (friend 1's) and photo 2 (friend 2's), px.
         cov_p, cov_q: (N, 2, 2) their covariances, px^2.
-        epipole1: (2,) the buddy tapped in photo 1, or None; cov_e1: (2, 2) px^2.
-        epipole2: (2,) the seeker tapped in photo 2, or None; cov_e2: (2, 2) px^2.
-        line1: (3,) a line through the buddy in photo 1 (a x + b y + c = 0), or None;
+        epipole1: (2,) friend 2 tapped in photo 1, or None; cov_e1: (2, 2) px^2.
+        epipole2: (2,) friend 1 tapped in photo 2, or None; cov_e2: (2, 2) px^2.
+        line1: (3,) a line through friend 2 in photo 1 (a x + b y + c = 0), or None;
             line_sigma: its standard deviation across the line, px.
     """
 

@@ -1,4 +1,4 @@
-"""How sure the answer is: the 95 % ellipse of the seeker's position, and its quality.
+"""How sure the answer is: the 95 % ellipse of friend 1's position, and its quality.
 
 The ellipse is first-order propagation of the tap noise through the maximum-likelihood fit;
 where that is measured to be too optimistic (minimal cases), :mod:`bootstrap` calibrates its

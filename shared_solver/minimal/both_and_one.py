@@ -1,7 +1,7 @@
 """Both friends' directions and one landmark, calibrated cameras: the relative rotation.
 
-With intrinsics known every tap is a ray. The relative pose is ``X2 = R X1 + t``; the
-seeker sees the buddy along the unit ``b1`` (frame 1) and the buddy sees the seeker along
+With intrinsics known every tap is a ray. The relative pose is ``X2 = R X1 + t``;
+friend 1 sees friend 2 along the unit ``b1`` (frame 1) and friend 2 sees friend 1 along
 the unit ``b2`` (frame 2), so ``R b1 = -b2``: that fixes two of the rotation's three degrees
 of freedom. The essential matrix ``E = [t]x R`` is, up to scale, ``R [b1]x`` (Hartley &
 Zisserman 9.6), and a landmark seen along ``p`` and ``q`` gives ``q . R (b1 x p) = 0``.
@@ -33,8 +33,8 @@ def rotations_from_both(b1: Array, b2: Array, ray1: Array, ray2: Array) -> list[
     """The two rotations ``R`` with ``R b1 = -b2`` and ``ray2 . R (b1 x ray1) = 0``.
 
     Args:
-        b1: (3,) unit direction from the seeker's centre to the buddy's, frame 1.
-        b2: (3,) unit direction from the buddy's centre to the seeker's, frame 2.
+        b1: (3,) unit direction from friend 1's centre to friend 2's, frame 1.
+        b2: (3,) unit direction from friend 2's centre to friend 1's, frame 2.
         ray1: (3,) one landmark's ray in frame 1 (any positive scale).
         ray2: (3,) the same landmark's ray in frame 2.
 

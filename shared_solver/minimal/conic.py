@@ -1,4 +1,4 @@
-"""Four landmarks and the buddy's position: the conic the seeker stands on (paper 3.1)."""
+"""Four landmarks and friend 2's position: the conic friend 1 stands on (paper 3.1)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ def conic_from_cross_ratio(e1: Array, p: Array, q: Array) -> Array:
     """The conic of paper eq. (3) in the coordinates of ``q``, without checks.
 
     Args:
-        e1: (3,) buddy position in photo 1, homogeneous.
+        e1: (3,) position of friend 2 in photo 1, homogeneous.
         p, q: (4, 3) homogeneous landmarks i, j, k, l of photo 1 and photo 2.
 
     Returns:
@@ -32,13 +32,13 @@ def conic_from_cross_ratio(e1: Array, p: Array, q: Array) -> Array:
 
 
 def epipole_conic(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> Array:
-    """The conic in photo 2 on which the seeker stands, from 4 landmarks (paper 3.1, eq. 3).
+    """The conic in photo 2 on which friend 1 stands, from 4 landmarks (paper 3.1, eq. 3).
 
     Equal cross ratios of the four epipolar lines through ``e1`` and through ``e2`` give one
     quadratic equation in ``e2``. The conic also passes through the four landmarks of photo 2.
 
     Args:
-        e1: (2,) pixel or (3,) homogeneous position of the buddy in photo 1.
+        e1: (2,) pixel or (3,) homogeneous position of friend 2 in photo 1.
         pts1: (4, 2) landmarks in photo 1, pixels.
         pts2: (4, 2) the same landmarks in photo 2, pixels.
 

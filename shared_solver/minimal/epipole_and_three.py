@@ -1,7 +1,7 @@
-"""The buddy's direction and three landmarks, calibrated cameras: every relative rotation.
+"""Friend 2's direction and three landmarks, calibrated cameras: every relative rotation.
 
-With intrinsics known every tap is a ray. The relative pose is ``X2 = R X1 + t``; the
-seeker sees the buddy along the unit ``b1`` (frame 1), so ``t`` is parallel to ``-R b1`` and
+With intrinsics known every tap is a ray. The relative pose is ``X2 = R X1 + t``;
+friend 1 sees friend 2 along the unit ``b1`` (frame 1), so ``t`` is parallel to ``-R b1`` and
 the essential matrix ``E = [t]x R`` is, up to scale, ``R [b1]x`` (Hartley & Zisserman 9.6).
 A landmark seen along ``p`` (frame 1) and ``q`` (frame 2) gives ``q . R (b1 x p) = 0``:
 three landmarks, three equations on the three degrees of freedom of ``R``.
@@ -14,8 +14,8 @@ so the equations are linear in ``(m1, m2)`` in R^6; three leave a 3-dimensional 
 Quadratic part: ``R`` is a rotation exactly when ``|m1| = |m2|`` and ``m1 . m2 = 0`` (then
 scale to unit length and ``R = [m1 m2 m1 x m2] [u v b1]^T``). These are two conics in
 ``(x : y : z)``, which meet in at most four points (Bezout). Each point gives two rotations,
-``(m1, m2)`` and ``(-m1, -m2)``, which differ by a half turn about ``b1`` and put the buddy's
-view of the seeker at the same ``b2 = -R b1``: at most eight rotations, in pairs.
+``(m1, m2)`` and ``(-m1, -m2)``, which differ by a half turn about ``b1`` and put friend 2's
+view of friend 1 at the same ``b2 = -R b1``: at most eight rotations, in pairs.
 
 The conics are intersected in closed form (Richter-Gebert, Perspectives on Projective
 Geometry, ch. 11, splitting a degenerate conic): the pencil ``s C1 + t C2`` has up to three
@@ -60,7 +60,7 @@ def rotations_from_three(b1: Array, rays1: Array, rays2: Array) -> list[Array]:
     """Every rotation ``R`` with ``rays2[i] . R (b1 x rays1[i]) = 0`` for three landmarks.
 
     Args:
-        b1: (3,) direction from the seeker's centre to the buddy's, frame 1 (unit; it is
+        b1: (3,) direction from friend 1's centre to friend 2's, frame 1 (unit; it is
             normalised anyway).
         rays1: (3, 3) rows are the landmarks' rays in frame 1 (any positive scale).
         rays2: (3, 3) rows are the same landmarks' rays in frame 2.

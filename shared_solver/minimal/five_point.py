@@ -1,4 +1,4 @@
-"""Five landmarks and the buddy's position: where the seeker stands (paper 3.2).
+"""Five landmarks and friend 2's position: where friend 1 stands (paper 3.2).
 
 Two routes to the same point, each a test oracle for the other:
 
@@ -59,10 +59,10 @@ _SINGULAR = 1e-10
 def epipole_from_five(
     e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike, method: FiveMethod = "cremona"
 ) -> Array:
-    """Where the seeker stands in photo 2, from 5 landmarks and the buddy's tap (paper 3.2).
+    """Where friend 1 stands in photo 2, from 5 landmarks and friend 2's tap (paper 3.2).
 
     Args:
-        e1: (2,) pixel or (3,) homogeneous position of the buddy in photo 1 (epipole 1).
+        e1: (2,) pixel or (3,) homogeneous position of friend 2 in photo 1 (epipole 1).
         pts1: (5, 2) landmarks in photo 1, pixels.
         pts2: (5, 2) the same landmarks in photo 2, pixels.
         method: ``"cremona"`` (the paper's reciprocal-Cremona closed form) or ``"linear"``
@@ -135,8 +135,8 @@ def cremona_epipole(
 ) -> tuple[float, float, float] | None:
     """The paper's closed form in plain floats: e1 (3,), p and q [xs, ys] -> homogeneous e2.
 
-    Returns None when the input may sit on a degeneracy (a landmark on the buddy, repeated
-    or collinear landmarks, all landmarks on one line through the buddy) unless ``checked``
+    Returns None when the input may sit on a degeneracy (a landmark on friend 2, repeated
+    or collinear landmarks, all landmarks on one line through friend 2) unless ``checked``
     says the full validation has already accepted it, and when every frame is singular.
     """
     brackets = _brackets(e1, p)
@@ -288,7 +288,7 @@ def _may_be_degenerate(e1: Floats, p: Columns, q: Columns, brackets: Floats, are
 
     * photo 2, repeated or collinear landmarks: the smallest of ``area2``;
     * photo 1, collinear landmarks: the triangle p_0 p_1 p_2 (every triangle is small);
-    * photo 1, repeated landmarks, one on the buddy ``e = (x, y) / w``, or all on one line
+    * photo 1, repeated landmarks, one on friend 2 ``e = (x, y) / w``, or all on one line
       through it (also at infinity): some bracket ``|e1 p_a p_b|``, which is
       ``|w| |(p_a - e) x (p_b - e)|``, is at most ``t`` times ``|w| |p_a - e|`` or ``|w| s``
       (``|(x, y)|`` at infinity), all at most ``r_0 + |w| s`` with ``r_0 = |w p_0 - (x, y)|``.

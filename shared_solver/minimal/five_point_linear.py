@@ -1,4 +1,4 @@
-"""Five landmarks and the buddy's position, the linear route (paper 3.2; Ito et al.).
+"""Five landmarks and friend 2's position, the linear route (paper 3.2; Ito et al.).
 
 ``F e1 = 0`` and ``q^T F p = 0``: writing ``F = A B^T`` with ``B`` spanning the plane
 orthogonal to ``e1`` leaves 6 unknowns (the columns of ``A``) and one linear equation per
@@ -32,7 +32,7 @@ def fundamental_with_epipole(e1: Array, p: Array, q: Array) -> Array:
     Hartley-normalised; the linear route of paper 3.2 (exact for N = 5).
 
     Args:
-        e1: (3,) homogeneous buddy position in photo 1.
+        e1: (3,) homogeneous position of friend 2 in photo 1.
         p, q: (N, 2) landmarks of photo 1 and photo 2.
 
     Returns:

@@ -1,4 +1,4 @@
-"""Six landmarks and a line through the buddy: both epipoles (paper 3.3).
+"""Six landmarks and a line through friend 2: both epipoles (paper 3.3).
 
 The six landmark equations ``q^T F p = 0`` leave a 3-dimensional family
 ``F = x F1 + y F2 + z F3``. With ``e1 = s a + t b`` on the given line, ``F e1 = 0`` is the
@@ -31,7 +31,7 @@ _RANK_TOLERANCE = 1e-9
 
 
 def six_point_line_roots(line: Array, p: Array, q: Array) -> list[tuple[Array, Array, Array]]:
-    """Every geometry with the buddy on ``line`` that fits 6 landmarks, unranked.
+    """Every geometry with friend 2 on ``line`` that fits 6 landmarks, unranked.
 
     Args:
         line: (3,) checked line ``(a, b, c)``, ``a x + b y + c = 0`` in photo-1 pixels.

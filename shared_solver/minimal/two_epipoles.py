@@ -33,8 +33,8 @@ def fundamental_from_epipoles(
     between the pencils of epipolar lines (3, fixed by three landmarks) make up F.
 
     Args:
-        e1: (2,) pixel or (3,) homogeneous buddy position in photo 1.
-        e2: (2,) pixel or (3,) homogeneous seeker position in photo 2.
+        e1: (2,) pixel or (3,) homogeneous position of friend 2 in photo 1.
+        e2: (2,) pixel or (3,) homogeneous position of friend 1 in photo 2.
         pts1, pts2: (N, 2) landmarks in photo 1 and photo 2, pixels, N >= 3.
 
     Returns:

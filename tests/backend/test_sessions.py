@@ -410,7 +410,7 @@ def test_both_friends_marked_one_landmark_is_enough(
 # these landmarks and the joiner where they were tapped); any two cameras can still answer.
 NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
 NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
-NO_PHONES_BUDDY = [397.0, 291.0]
+NO_PHONES_FRIEND = [397.0, 291.0]
 
 
 def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
@@ -419,7 +419,7 @@ def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
     """The solver falls back to the projective geometry, and says so: four landmarks give
     the curve the starter is on, and the counter asks for the fifth that fixes the spot."""
     photos_uploaded(starter, joiner, temple_photos)
-    starter.tap(landmarks=landmarks(NO_PHONES_1), friend=NO_PHONES_BUDDY)
+    starter.tap(landmarks=landmarks(NO_PHONES_1), friend=NO_PHONES_FRIEND)
     state = joiner.tap(landmarks=landmarks(NO_PHONES_2[:3])).json()
     assert state["answer"] is None
     assert state["answer_error"]["code"] == "degenerate_configuration"

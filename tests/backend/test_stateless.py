@@ -292,12 +292,12 @@ def temple_request() -> dict[str, object]:
 
 
 @pytest.mark.parametrize(("fmt", "magic"), [("png", b"\x89PNG"), ("jpeg", b"\xff\xd8\xff")])
-def test_overlay_draws_on_the_buddys_photo(client: TestClient, fmt: str, magic: bytes) -> None:
+def test_overlay_draws_on_photo_2(client: TestClient, fmt: str, magic: bytes) -> None:
     photo = (TEMPLE / "templeSR0006.png").read_bytes()
     response = client.post(
         "/api/overlay",
         params={"format": fmt},
-        files={"photo": ("buddy.png", photo, "image/png")},
+        files={"photo": ("photo2.png", photo, "image/png")},
         data={"request": json.dumps(temple_request())},
     )
     assert response.status_code == 200, response.text
@@ -327,7 +327,7 @@ def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> No
 
 
 def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -> None:
-    """The temple photos as two phone photos: three landmarks and the buddy are enough for
+    """The temple photos as two phone photos: three landmarks and friend 2 marked are enough for
     a drawing; a malformed camera is refused with the solver's code, as by /api/solve."""
     photo = (TEMPLE / "templeSR0006.png").read_bytes()
     three = (
@@ -341,7 +341,7 @@ def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -
     def overlay(request: dict[str, object]) -> httpx2.Response:
         return client.post(
             "/api/overlay",
-            files={"photo": ("buddy.png", photo, "image/png")},
+            files={"photo": ("photo2.png", photo, "image/png")},
             data={"request": json.dumps(request)},
         )
 

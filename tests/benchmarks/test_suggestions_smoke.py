@@ -51,7 +51,7 @@ def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> 
     assert positions == sorted(positions)
     for row in (
         "| evaluation |",
-        "| 5 landmarks + the buddy |",
+        "| 5 landmarks + friend 2 |",
         "| every landmark |",
         "| tapped in photo 2 |",
         "| 0.7 |",

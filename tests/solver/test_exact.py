@@ -45,7 +45,7 @@ def epipolar_distances(fundamental: np.ndarray, p: np.ndarray, q: np.ndarray) ->
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_conic_passes_through_the_seeker_and_the_landmarks(seed: int) -> None:
+def test_conic_passes_through_friend1_and_the_landmarks(seed: int) -> None:
     s = scene(seed, 4)
     conic = epipole_conic(s.epipole1, s.landmarks1, s.landmarks2)
     assert np.allclose(conic, conic.T)
@@ -58,7 +58,7 @@ def test_conic_passes_through_the_seeker_and_the_landmarks(seed: int) -> None:
 
 @pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("method", ["cremona", "linear"])
-def test_five_landmarks_give_the_seeker_exactly(seed: int, method: str) -> None:
+def test_five_landmarks_give_friend1_exactly(seed: int, method: str) -> None:
     s = scene(seed, 5)
     e2 = epipole_from_five(s.epipole1, s.landmarks1, s.landmarks2, method=method)  # type: ignore[arg-type]
     assert np.isclose(np.linalg.norm(e2), 1.0)
@@ -66,7 +66,7 @@ def test_five_landmarks_give_the_seeker_exactly(seed: int, method: str) -> None:
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_five_landmarks_accept_a_homogeneous_buddy(seed: int) -> None:
+def test_five_landmarks_accept_friend2_in_homogeneous_coordinates(seed: int) -> None:
     s = scene(seed, 5)
     scaled = -3.0 * np.append(s.epipole1, 1.0)
     assert (

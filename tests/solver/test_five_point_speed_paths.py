@@ -62,8 +62,8 @@ def test_fast_and_checked_paths_agree_on_noisy_taps(
         e1, p, q = taps.epipole1, taps.landmarks1[:5].copy(), taps.landmarks2[:5].copy()
         homogeneous = np.append(e1, 1.0) * rng.uniform(-3.0, 3.0)
         at_infinity = np.append(unit(rng), 0.0)
-        for buddy in (e1, homogeneous, at_infinity, e1.tolist()):
-            fast, checked = both_paths(monkeypatch, buddy, p, q)
+        for friend2 in (e1, homogeneous, at_infinity, e1.tolist()):
+            fast, checked = both_paths(monkeypatch, friend2, p, q)
             assert isinstance(fast, np.ndarray)
             assert_same(fast, checked)
 
@@ -95,14 +95,14 @@ def repeated_in_photo2(
     return e1, p, q
 
 
-def repeated_with_far_buddy(
+def repeated_with_friend2_far(
     rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
 ) -> Case:
     p[3] = p[0] + factor * 1e-9 * validation.spread(p) * unit(rng)
     return e1 + unit(rng) * 10 ** rng.uniform(4.0, 8.0), p, q
 
 
-def buddy_on_landmark(
+def friend2_on_landmark(
     rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
 ) -> Case:
     return p[2] + factor * 1e-9 * validation.spread(p) * unit(rng), p, q
@@ -130,13 +130,13 @@ def collinear_in_photo2(
     return e1, p, on_a_line(rng, q[0], factor * 1e-9 * 1200.0)
 
 
-def on_a_line_through_the_buddy(
+def on_a_line_through_friend2(
     rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
 ) -> Case:
     return e1, on_a_line(rng, e1, factor * 1e-9 * 1200.0), q
 
 
-def along_a_buddy_at_infinity(
+def along_friend2_at_infinity(
     rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
 ) -> Case:
     along = unit(rng)
@@ -158,12 +158,12 @@ def sub_pixel_photos(
     [
         repeated_in_photo1,
         repeated_in_photo2,
-        repeated_with_far_buddy,
-        buddy_on_landmark,
+        repeated_with_friend2_far,
+        friend2_on_landmark,
         collinear_in_photo1,
         collinear_in_photo2,
-        on_a_line_through_the_buddy,
-        along_a_buddy_at_infinity,
+        on_a_line_through_friend2,
+        along_friend2_at_infinity,
         sub_pixel_photos,
     ],
 )

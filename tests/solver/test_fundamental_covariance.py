@@ -36,7 +36,7 @@ def test_pinhole_derivatives_of_f_match_central_differences() -> None:
     centres = ((2016.0, 1512.0), (1512.0, 2016.0))
 
     def f_at(moved: Poses) -> np.ndarray:
-        return fundamental_stack(moved, centres, np.array(_tangent(*moved.buddy[0].tolist())))
+        return fundamental_stack(moved, centres, np.array(_tangent(*moved.friend2[0].tolist())))
 
     stack = f_at(pose)
     scale = np.abs(stack[0]).max()

@@ -13,7 +13,7 @@ from shared_solver.minimal.five_point_linear import fundamental_with_epipole
 from testbed.scenes import facing_scene, tap
 
 
-def test_seven_landmarks_without_the_buddy_claim_no_region() -> None:
+def test_seven_landmarks_without_friend2_claim_no_region() -> None:
     """The 7-point answer is listed with its candidates but no 95 % region: measured, no
     region for it held the truth often enough (see planar/solve docs and the benchmark)."""
     rng = np.random.default_rng(70)
@@ -36,7 +36,7 @@ def test_seven_landmarks_without_the_buddy_claim_no_region() -> None:
         assert [c.rank for c in result.candidates] == list(range(1, len(result.candidates) + 1))
 
 
-def test_a_line_through_the_buddy_claims_no_region() -> None:
+def test_a_line_through_friend2_claims_no_region() -> None:
     rng = np.random.default_rng(71)
     for n in (6, 8):
         s = facing_scene(rng, n)
@@ -52,7 +52,7 @@ def test_a_line_through_the_buddy_claims_no_region() -> None:
         assert "tap your friend instead of a line" in result.warnings[0]
 
 
-def test_eight_landmarks_without_the_buddy_claim_a_calibrated_region() -> None:
+def test_eight_landmarks_without_friend2_claim_a_calibrated_region() -> None:
     rng = np.random.default_rng(72)
     s = facing_scene(rng, 8)
     taps = tap(s, 1.0, rng)
@@ -84,9 +84,9 @@ def test_noisy_floor_landmarks_use_the_plane_and_beat_the_general_model() -> Non
     assert np.percentile(plane_errors, 90) < np.percentile(general_errors, 90)
 
 
-def general_fit(points1: np.ndarray, points2: np.ndarray, buddy: np.ndarray) -> np.ndarray:
+def general_fit(points1: np.ndarray, points2: np.ndarray, friend2: np.ndarray) -> np.ndarray:
     """e2 of the general model (the fit ``solve`` uses off the plane) on these taps."""
-    taps = Taps.isotropic(points1, points2, 1.0, epipole1=buddy)
-    start = fundamental_with_epipole(np.append(buddy, 1.0), points1, points2)
+    taps = Taps.isotropic(points1, points2, 1.0, epipole1=friend2)
+    start = fundamental_with_epipole(np.append(friend2, 1.0), points1, points2)
     e2 = fit_epipolar(taps, start).epipole2
     return np.asarray(e2[:2] / e2[2])

@@ -2,8 +2,8 @@
 
 Scenes are built here: two phone cameras (focal ~3000 px, 4032x3024 landscape or 3024x4032
 portrait) facing each other across a venue, landmarks between them in front of both.
-Convention: ``X2 = R X1 + t``; ``b1`` points from the seeker to the buddy (frame 1), ``b2``
-from the buddy to the seeker (frame 2), ``b2 = -R b1``.
+Convention: ``X2 = R X1 + t``; ``b1`` points from friend 1 to friend 2 (frame 1), ``b2``
+from friend 2 to friend 1 (frame 2), ``b2 = -R b1``.
 """
 
 from __future__ import annotations
@@ -28,11 +28,11 @@ class Scene:
     k1: np.ndarray  # (3, 3) intrinsics
     k2: np.ndarray
     rotation: np.ndarray  # (3, 3) relative rotation, X2 = R X1 + t
-    b1: np.ndarray  # (3,) unit, from the seeker's pixel of the buddy (e1)
-    b2: np.ndarray  # (3,) unit, from the buddy's pixel of the seeker (e2)
+    b1: np.ndarray  # (3,) unit, from friend 1's pixel of friend 2 (e1)
+    b2: np.ndarray  # (3,) unit, from friend 2's pixel of friend 1 (e2)
     rays1: np.ndarray  # (n, 3) rays K1^-1 (x, 1) of the landmarks' pixels
     rays2: np.ndarray
-    e2: np.ndarray  # (2,) the seeker's pixel in photo 2
+    e2: np.ndarray  # (2,) friend 1's pixel in photo 2
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:
@@ -155,7 +155,7 @@ def test_scenes_follow_the_convention():
         assert residuals(s.rotation, s.b1, s.rays1, s.rays2).max() <= 1e-12
 
 
-# --- the buddy's direction and three landmarks -------------------------------------------
+# --- friend 2's direction and three landmarks -------------------------------------------
 
 
 def test_three_true_rotation_is_a_root_and_every_root_fits():
@@ -232,7 +232,7 @@ def test_three_invariant_under_rotating_either_frame():
 def test_three_landmark_on_the_baseline_gives_no_roots():
     for s in scenes(5, count=10):
         rays1 = s.rays1.copy()
-        rays1[1] = 2.5 * s.b1  # the landmark is in line with the buddy
+        rays1[1] = 2.5 * s.b1  # the landmark is in line with friend 2
         assert rotations_from_three(s.b1, rays1, s.rays2) == []
 
 

@@ -75,8 +75,8 @@ def test_clean_taps_name_no_suspects() -> None:
     assert false_alarms <= 0.03 * TRIALS
 
 
-def test_a_mistap_is_found_without_the_buddy_too() -> None:
-    """Twelve landmarks and no buddy tap: OpenCV's consensus names the outlier."""
+def test_a_mistap_is_found_without_friend2_too() -> None:
+    """Twelve landmarks and no tap on friend 2: OpenCV's consensus names the outlier."""
     rng = np.random.default_rng(82)
     named = 0
     for trial in range(50):

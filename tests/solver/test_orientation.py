@@ -1,4 +1,4 @@
-"""Oriented answers: in front of the buddy, behind them, or far off to one side."""
+"""Oriented answers: in front of friend 2, behind them, or far off to one side."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ SIZE = (1600, 1200)
 
 
 def scene_with(centre2: np.ndarray, target2: np.ndarray, points: np.ndarray) -> Scene:
-    """The seeker at the origin looking at the buddy; the buddy at ``centre2`` looking at
+    """Friend 1 at the origin looking at friend 2; friend 2 at ``centre2`` looking at
     ``target2``; the landmarks that both see."""
     camera1 = Camera(INTRINSICS, *look_at(np.zeros(3), centre2 + np.array([2.0, 1.0, 0.0])))
     camera2 = Camera(INTRINSICS, *look_at(centre2, target2))
@@ -30,7 +30,7 @@ def scene_with(centre2: np.ndarray, target2: np.ndarray, points: np.ndarray) -> 
 
 
 def turned_away(rng: np.random.Generator) -> Scene:
-    """The buddy photographs the far side: the seeker is behind the buddy's camera."""
+    """Friend 2 photographs the far side: friend 1 is behind friend 2's camera."""
     centre2 = np.array([0.0, 0.0, 40.0])
     points = centre2 + np.column_stack(
         [rng.uniform(-8, 8, 200), rng.uniform(-4, 4, 200), rng.uniform(8, 30, 200)]
@@ -39,7 +39,7 @@ def turned_away(rng: np.random.Generator) -> Scene:
 
 
 def sideways(rng: np.random.Generator) -> Scene:
-    """The buddy looks at right angles to the line between them: the seeker is at infinity."""
+    """Friend 2 looks at right angles to the line between them: friend 1 is at infinity."""
     centre2 = np.array([0.0, 0.0, 40.0])
     points = np.column_stack(
         [rng.uniform(8, 25, 300), rng.uniform(-4, 4, 300), rng.uniform(28, 52, 300)]
@@ -54,7 +54,7 @@ def true_direction(s: Scene) -> np.ndarray:
 
 
 @pytest.mark.parametrize("seed", range(10))
-def test_a_seeker_behind_the_buddy_is_reported_as_behind(seed: int) -> None:
+def test_friend1_behind_friend2_is_reported_as_behind(seed: int) -> None:
     s = turned_away(np.random.default_rng(seed))
     assert len(s.points) == 8
     assert true_direction(s)[2] < 0
@@ -71,7 +71,7 @@ def test_a_seeker_behind_the_buddy_is_reported_as_behind(seed: int) -> None:
 
 
 @pytest.mark.parametrize("seed", range(10))
-def test_a_seeker_at_right_angles_gets_the_right_direction(seed: int) -> None:
+def test_friend1_at_right_angles_gets_the_right_direction(seed: int) -> None:
     s = sideways(np.random.default_rng(seed))
     truth = true_direction(s)
     assert abs(truth[2]) < 1e-9 * np.linalg.norm(truth)

@@ -243,7 +243,7 @@ def test_the_uncertainty_ellipse_is_drawn_where_opencv_draws_it() -> None:
     assert to_paint[oracle > 0].max() < 2  # and all of it is drawn
 
 
-def test_an_arrow_at_the_right_border_points_to_a_seeker_beyond_it() -> None:
+def test_an_arrow_at_the_right_border_points_to_friend1_beyond_it() -> None:
     s = scene(1)
     width, height = s.image_size2
     # Sliding photo 2's landmarks sideways slides the answer with them, off the photo.
@@ -257,7 +257,7 @@ def test_an_arrow_at_the_right_border_points_to_a_seeker_beyond_it() -> None:
     drawn = draw_overlay(photo, result)
     paint = pixels(changed(photo, drawn))
     assert paint[:, 0].min() > width / 2  # no frame, nothing on the far side
-    # The arrow lies on the ray from the photo's centre to the seeker, up to the border.
+    # The arrow lies on the ray from the photo's centre to friend 1, up to the border.
     arrow = pixels(painted(drawn, FRIEND_COLOUR_BGR))
     centre = np.array([width / 2, height / 2])
     on_ray = arrow[distance_to_line(arrow, centre, (x - centre[0], y - centre[1])) < 2]
@@ -269,7 +269,7 @@ def test_an_arrow_at_the_right_border_points_to_a_seeker_beyond_it() -> None:
     ("direction", "side"),
     [((1.0, 0.2), "right"), ((-1.0, 0.3), "left"), ((0.1, -1.0), "top")],
 )
-def test_a_seeker_at_infinity_gets_an_arrow_at_the_border_that_way(direction, side) -> None:
+def test_friend1_at_infinity_gets_an_arrow_at_the_border_that_way(direction, side) -> None:
     s = scene(2)
     norm = math.hypot(*direction)
     result = answer(s, 5).model_copy(
@@ -533,7 +533,7 @@ def test_strokes_markers_and_text_grow_with_the_photo() -> None:
         },
         {"uncertainty": Uncertainty(ellipse=Ellipse(center=(800, 600), axes=(0, 0), angle_deg=0))},
     ],
-    ids=["far-seeker", "needle-ellipse", "huge-far-ellipse", "point-ellipse"],
+    ids=["far-friend1", "needle-ellipse", "huge-far-ellipse", "point-ellipse"],
 )
 def test_extreme_answers_are_drawn_without_overflow(update) -> None:
     s = scene(2)

@@ -47,7 +47,7 @@ def line_through(point: np.ndarray, angle: float) -> np.ndarray:
 
 @pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("landmarks", [3, 4, 5, 8])
-def test_exact_taps_and_known_focal_give_the_exact_seeker(seed: int, landmarks: int) -> None:
+def test_exact_taps_and_known_focal_give_friend1_exactly(seed: int, landmarks: int) -> None:
     s = exact_scene(seed, landmarks)
     result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, tap_sigma=1.0, **known(s))
     assert result.camera_model == "pinhole"
@@ -80,7 +80,7 @@ def test_both_friends_marked_need_one_landmark(seed: int, landmarks: int) -> Non
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_a_line_and_six_landmarks_give_the_exact_seeker(seed: int) -> None:
+def test_a_line_and_six_landmarks_give_friend1_exactly(seed: int) -> None:
     s = exact_scene(seed, 6)
     line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
     result = solve(s.landmarks1, s.landmarks2, epipolar_line1=line, tap_sigma=1.0, **known(s))
@@ -91,7 +91,7 @@ def test_a_line_and_six_landmarks_give_the_exact_seeker(seed: int) -> None:
 
 @pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("landmarks", [7, 9])
-def test_landmarks_alone_give_the_exact_seeker(seed: int, landmarks: int) -> None:
+def test_landmarks_alone_give_friend1_exactly(seed: int, landmarks: int) -> None:
     s = exact_scene(seed, landmarks)
     result = solve(s.landmarks1, s.landmarks2, tap_sigma=1.0, **known(s))
     assert result.method == "pinhole_landmarks"
@@ -126,7 +126,7 @@ def test_the_result_names_its_model_and_the_focal_lengths() -> None:
     assert plain.cameras == []
 
 
-def test_three_landmarks_and_the_buddy_give_a_point_with_phones_and_refuse_without() -> None:
+def test_three_landmarks_and_friend2_give_a_point_with_phones_and_refuse_without() -> None:
     rng = np.random.default_rng(3)
     s = phone_scene(rng, 3)
     taps = tap(s, 3.0, rng)
@@ -208,8 +208,8 @@ def _sizes(s: PhoneScene) -> dict[str, object]:
 
 
 def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:
-    """Three landmarks and the buddy fit every pose of the exact solver: when two put the
-    landmarks in front of both cameras and the seeker in different places, the answer is the
+    """Three landmarks and friend 2 fit every pose of the exact solver: when two put the
+    landmarks in front of both cameras and friend 1 in different places, the answer is the
     likeliest, graded poor, with no region, both listed, and a sentence saying what decides."""
     seen = 0
     for seed in range(120):

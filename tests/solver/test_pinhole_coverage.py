@@ -29,7 +29,7 @@ class Case:
     """One way of tapping: how many landmarks, which friends' marks, which cameras."""
 
     landmarks: int
-    marks: str = "buddy"  # "buddy", "both", "line" or "none"
+    marks: str = "friend2"  # "friend2", "both", "line" or "none"
     exif: bool = False
     zoom: float = 1.0
     mixed: bool = False  # half the taps at 10 px, half at 2 px (and told so)
@@ -87,7 +87,7 @@ def _taps(s: PhoneScene, case: Case, rng: np.random.Generator) -> dict[str, obje
             "epipole1_sigma": marks_sigma[0],
             "epipole2_sigma": marks_sigma[1],
         }
-    if case.marks in ("buddy", "both"):
+    if case.marks in ("friend2", "both"):
         taps["epipole1"] = e1
     if case.marks == "both":
         taps["epipole2"] = e2

@@ -2,10 +2,11 @@
 
 The fit converges with any reasonable Jacobian, so a wrong one would only show as a wrong
 covariance (the 95 % region): it is checked here directly, against central differences
-along each tangent step (rotation, buddy direction, both log focal lengths), with each
+along each tangent step (rotation, friend 2's direction, both log focal lengths), with each
 kind of mark, with round and with elongated tap covariances. The batched residuals
 (``offsets``, used to score poses and by the bootstrap) must equal the fit's, and the
-bootstrap's seekers after many steps at once those of the poses each step makes.
+bootstrap's positions of friend 1 after many steps at once those of the poses each step
+makes.
 """
 
 from __future__ import annotations
@@ -18,8 +19,8 @@ from shared_solver.estimation.pinhole_fit import (
     PARAMETERS,
     PinholeModel,
     Poses,
-    seeker_positions,
-    seekers_after,
+    friend1_after_steps,
+    friend1_positions,
 )
 from shared_solver.estimation.taps import Taps
 from testbed.phones import phone_scene
@@ -79,7 +80,7 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
 
 
 @pytest.mark.parametrize("seed", range(4))
-@pytest.mark.parametrize("marks", ["buddy", "both", "line"])
+@pytest.mark.parametrize("marks", ["friend2", "both", "line"])
 @pytest.mark.parametrize("elongated", [False, True])
 def test_jacobian_matches_central_differences(seed: int, marks: str, elongated: bool) -> None:
     model, pose = model_and_pose(seed, marks, elongated)
@@ -94,16 +95,18 @@ def test_jacobian_matches_central_differences(seed: int, marks: str, elongated: 
         np.testing.assert_allclose(jacobian[:, k], numeric, atol=TOLERANCE, rtol=1e-5)
 
 
-@pytest.mark.parametrize("marks", ["buddy", "both", "line"])
+@pytest.mark.parametrize("marks", ["friend2", "both", "line"])
 def test_batched_residuals_equal_the_fits(marks: str) -> None:
     model, pose = model_and_pose(7, marks, elongated=True)
     r, _ = model.residuals(pose)
     np.testing.assert_allclose(model.offsets(pose)[0], r, atol=1e-12, rtol=1e-10)
 
 
-def test_seekers_after_steps_are_those_of_the_moved_poses() -> None:
-    model, pose = model_and_pose(11, "buddy", elongated=False)
+def test_friend1_after_steps_is_where_the_moved_poses_put_them() -> None:
+    model, pose = model_and_pose(11, "friend2", elongated=False)
     steps = np.random.default_rng(3).normal(0.0, 0.05, (20, PARAMETERS))
     steps[0] = 0.0  # no turn at all takes the formula's small-angle branch
-    one_by_one = [seeker_positions(pose.moved(step[None]), model.centres[1])[0] for step in steps]
-    np.testing.assert_allclose(seekers_after(pose, steps, model.centres[1]), one_by_one, rtol=1e-12)
+    one_by_one = [friend1_positions(pose.moved(step[None]), model.centres[1])[0] for step in steps]
+    np.testing.assert_allclose(
+        friend1_after_steps(pose, steps, model.centres[1]), one_by_one, rtol=1e-12
+    )

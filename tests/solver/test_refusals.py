@@ -135,14 +135,14 @@ def test_collinear_landmarks_are_refused(scene: Scene, photo: int) -> None:
         [[0, 0.3], [0, -0.2], [0, 0.1], [0, 0.0], [0, -0.3], [0, 0.2]]
     )
     p, q = (row, scene.landmarks2[:6]) if photo == 1 else (scene.landmarks1[:6], row)
-    buddy = np.array([700.0, 900.0])  # well off that row
-    refused(ErrorCode.COLLINEAR_LANDMARKS, lambda: solve(p, q, epipole1=buddy))
+    friend2 = np.array([700.0, 900.0])  # well off that row
+    refused(ErrorCode.COLLINEAR_LANDMARKS, lambda: solve(p, q, epipole1=friend2))
     exact_row = np.column_stack([100 + 900 * t, 200 + 500 * t])[:5]
     args = (exact_row, q[:5]) if photo == 1 else (p[:5], exact_row)
-    refused(ErrorCode.COLLINEAR_LANDMARKS, lambda: epipole_from_five(buddy, *args))
+    refused(ErrorCode.COLLINEAR_LANDMARKS, lambda: epipole_from_five(friend2, *args))
 
 
-def test_buddy_on_a_landmark_is_refused(scene: Scene) -> None:
+def test_friend2_on_a_landmark_is_refused(scene: Scene) -> None:
     p, q = scene.landmarks1, scene.landmarks2
     error = refused(ErrorCode.EPIPOLE_ON_LANDMARK, lambda: solve(p, q, epipole1=p[2] + 0.4))
     assert "#3" in error.message
@@ -154,7 +154,7 @@ def test_buddy_on_a_landmark_is_refused(scene: Scene) -> None:
     )
 
 
-def test_landmarks_all_on_one_line_through_the_buddy_are_refused(scene: Scene) -> None:
+def test_landmarks_all_on_one_line_through_friend2_are_refused(scene: Scene) -> None:
     e1 = scene.epipole1
     along = e1 + np.outer([-400, -250, -100, 80, 200, 320], [0.8, 0.6])
     error = refused(
@@ -196,14 +196,14 @@ def test_unknown_five_point_method_is_refused(scene: Scene) -> None:
     )
 
 
-def test_landmarks_on_one_plane_without_the_buddy_are_refused() -> None:
+def test_landmarks_on_one_plane_without_friend2_are_refused() -> None:
     """Without e1 a plane of landmarks does not fix the geometry: refuse, do not guess."""
     floor = facing_scene(np.random.default_rng(8), 10, planar=True)
     error = refused(
         ErrorCode.DEGENERATE_CONFIGURATION, lambda: solve(floor.landmarks1, floor.landmarks2)
     )
     assert "tap your friend" in error.message
-    # With the buddy marked the same landmarks are enough.
+    # With friend 2 marked the same landmarks are enough.
     assert solve(floor.landmarks1, floor.landmarks2, epipole1=floor.epipole1).method == "planar"
 
 

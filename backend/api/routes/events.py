@@ -19,11 +19,11 @@ router = APIRouter(prefix="/api/sessions", tags=["sessions"])
     responses={
         200: {
             "description": "text/event-stream: events joined, code (renewed), photo, taps, "
-            "result, left, expired; ': ping' comments keep it alive.",
+            "answer, left, expired; ': ping' comments keep it alive.",
             "content": {
                 "text/event-stream": {
-                    "example": 'retry: 3000\n\nid: 41\nevent: taps\ndata: {"role": "buddy", '
-                    '"version": 9}\n\nid: 42\nevent: result\ndata: {"version": 9}\n\n'
+                    "example": 'retry: 3000\n\nid: 41\nevent: taps\ndata: {"role": "joiner", '
+                    '"version": 9}\n\nid: 42\nevent: answer\ndata: {"version": 9}\n\n'
                     ": ping\n\n"
                 }
             },

@@ -13,7 +13,7 @@ from backend.api.responses import PICTURE, errors, json_answer
 from backend.limits import MAX_LANDMARK_ID
 from backend.photos.schemas import MEDIA_TYPES
 from backend.sessions.schemas import SessionState
-from backend.taps.schemas import Taps
+from backend.taps.schemas import LandmarkSuggestion, Taps
 
 router = APIRouter(prefix="/api/sessions", tags=["sessions"])
 
@@ -61,3 +61,19 @@ def landmark_crop(
     """A small JPEG around one landmark of that participant's photo: "find #3"."""
     data = taps.crop(participant, role, landmark_id)
     return Response(data, media_type="image/jpeg", headers={"Cache-Control": "private"})
+
+
+@router.get(
+    "/{session_id}/landmarks/{role}/{landmark_id}/suggestion",
+    response_model=LandmarkSuggestion,
+    responses=errors(401, 403, 404, 409, 503),
+)
+def landmark_suggestion(
+    role: RoleParam,
+    landmark_id: Annotated[int, Path(ge=1, le=MAX_LANDMARK_ID)],
+    participant: ViewerDep,
+    taps: TapsDep,
+) -> LandmarkSuggestion:
+    """Where landmark #n, tapped by the other phone, probably is in that participant's
+    photo: a sure match of the other photo's patch along its band, or none."""
+    return taps.suggestion(participant, role, landmark_id)

@@ -132,6 +132,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/sessions/{session_id}/landmarks/{role}/{landmark_id}/suggestion": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Landmark Suggestion
+         * @description Where landmark #n, tapped by the other phone, probably is in that participant's
+         *     photo: a sure match of the other photo's patch along its band, or none.
+         */
+        get: operations["landmark_suggestion_api_sessions__session_id__landmarks__role___landmark_id__suggestion_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/sessions/{session_id}/overlay/{role}": {
         parameters: {
             query?: never;
@@ -586,6 +607,11 @@ export interface components {
          */
         FriendInPhoto: {
             /**
+             * Bands
+             * @description For each landmark only your friend has tapped: where it must be in your photo.
+             */
+            bands?: components["schemas"]["LandmarkBand"][];
+            /**
              * Candidates
              * @description Other positions that fit the taps as well.
              */
@@ -630,6 +656,11 @@ export interface components {
              * @enum {string}
              */
             how: "marked" | "on_line" | "solved";
+            /**
+             * Misfits
+             * @description Your landmarks tapped far outside their band: they do not fit the others (check them).
+             */
+            misfits?: number[];
             /** @description Where your friend is with 95 % probability, when that is known. */
             region?: components["schemas"]["Ellipse"] | null;
             /**
@@ -714,6 +745,82 @@ export interface components {
              * @description Stored-photo pixels, y down.
              */
             y: number;
+        };
+        /**
+         * LandmarkBand
+         * @description Where a landmark the other phone tapped must be in this photo, once there is an
+         *     answer: its epipolar line widened by the answer's uncertainty (docs/geometry.md).
+         */
+        LandmarkBand: {
+            /**
+             * End
+             * @description The other end of the centre line.
+             */
+            end: [
+                number,
+                number
+            ];
+            /**
+             * Half Width
+             * @description Half the band's width at `start` and at `end`, px.
+             */
+            half_width: [
+                number,
+                number
+            ];
+            /**
+             * Id
+             * @description The landmark's number.
+             */
+            id: number;
+            /**
+             * Level
+             * @description Probability that the landmark is inside the band.
+             */
+            level: number;
+            /**
+             * Outline
+             * @description The band's outline, clipped to the photo.
+             */
+            outline: [
+                number,
+                number
+            ][];
+            /**
+             * Start
+             * @description One end of the centre line inside the photo (the end nearer the other friend when the geometry is oriented).
+             */
+            start: [
+                number,
+                number
+            ];
+        };
+        /**
+         * LandmarkSuggestion
+         * @description A suggested spot for a landmark your friend tapped and you have not: their photo's
+         *     patch found along the landmark's band in your photo, shown only when the match is sure
+         *     (docs/suggestions.md).
+         */
+        LandmarkSuggestion: {
+            /**
+             * Answer Version
+             * @description The answer the search used (its band).
+             */
+            answer_version: number;
+            /**
+             * Id
+             * @description The landmark's number.
+             */
+            id: number;
+            /**
+             * @description Where to tap, px of your photo; null: no sure match, find it by eye.
+             * @example {
+             *       "x": 1412.5,
+             *       "y": 630
+             *     }
+             * @example null
+             */
+            spot: components["schemas"]["Spot"] | null;
         };
         /**
          * LensInfo
@@ -1115,7 +1222,7 @@ export interface components {
         };
         /**
          * SolveResult
-         * @description Where the seeker stands in the buddy's photo, how sure that is, and why.
+         * @description Where friend 1 stands in friend 2's photo, how sure that is, and why.
          */
         SolveResult: {
             /**
@@ -1155,7 +1262,7 @@ export interface components {
             ] | null;
             /**
              * Epipole1
-             * @description The buddy in photo 1, refined from the tap.
+             * @description Friend 2 in photo 1, refined from the tap.
              */
             epipole1: [
                 number,
@@ -1169,7 +1276,7 @@ export interface components {
             ] | null;
             /**
              * Epipole2
-             * @description The seeker in photo 2 (the answer), px; None at infinity or for a conic.
+             * @description Friend 1 in photo 2 (the answer), px; None at infinity or for a conic.
              */
             epipole2: [
                 number,
@@ -1357,6 +1464,16 @@ export interface components {
             warnings?: string[];
         };
         /**
+         * Spot
+         * @description A point of a photo, px (x right, y down).
+         */
+        Spot: {
+            /** X */
+            x: number;
+            /** Y */
+            y: number;
+        };
+        /**
          * Taps
          * @description A phone's whole tap set (each PUT replaces it).
          * @example {
@@ -1397,7 +1514,7 @@ export interface components {
         };
         /**
          * Uncertainty
-         * @description Where the seeker is with probability ``level``, from the tap noise ``tap_sigma``.
+         * @description Where friend 1 is with probability ``level``, from the tap noise ``tap_sigma``.
          */
         Uncertainty: {
             /**
@@ -1902,7 +2019,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description text/event-stream: events joined, code (renewed), photo, taps, result, left, expired; ': ping' comments keep it alive. */
+            /** @description text/event-stream: events joined, code (renewed), photo, taps, answer, left, expired; ': ping' comments keep it alive. */
             200: {
                 headers: {
                     [name: string]: unknown;
@@ -1913,10 +2030,10 @@ export interface operations {
                      *
                      *     id: 41
                      *     event: taps
-                     *     data: {"role": "buddy", "version": 9}
+                     *     data: {"role": "joiner", "version": 9}
                      *
                      *     id: 42
-                     *     event: result
+                     *     event: answer
                      *     data: {"version": 9}
                      *
                      *     : ping
@@ -2068,6 +2185,136 @@ export interface operations {
                      *       "error": {
                      *         "code": "session_not_found",
                      *         "message": "This session has ended."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description The request does not have the documented form. */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "invalid_request",
+                     *         "message": "landmarks.0.x: Input should be a valid number."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "database_unavailable",
+                     *         "message": "The database does not answer."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+        };
+    };
+    landmark_suggestion_api_sessions__session_id__landmarks__role___landmark_id__suggestion_get: {
+        parameters: {
+            query?: {
+                /** @description The token, for EventSource and <img>, which cannot send headers. */
+                token?: string | null;
+            };
+            header?: never;
+            path: {
+                /** @description Whose photo: the friend who started the search, or who joined it. */
+                role: "starter" | "joiner";
+                landmark_id: number;
+                session_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LandmarkSuggestion"];
+                };
+            };
+            /** @description RefusedError */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "unauthorized",
+                     *         "message": "Send your session token: 'Authorization: Bearer <token>'."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "forbidden",
+                     *         "message": "This token opens another session."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "session_not_found",
+                     *         "message": "This session has ended."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "photo_missing",
+                     *         "message": "Upload your photo before tapping on it."
                      *       }
                      *     }
                      */

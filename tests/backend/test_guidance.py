@@ -1,0 +1,141 @@
+"""Guidance once there is an answer: the band where each landmark the other phone tapped
+must be, a flag on a tap far outside its band, and a suggested spot (docs/api.md)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cv2
+import numpy as np
+import pytest
+
+from testbed.venue import RenderedPair, rendered_pair
+from tests.backend.phones import Phone
+from tests.backend.test_sessions import error_of, landmarks, photos_uploaded, scene
+
+
+def inside(band: dict[str, Any], point: Any) -> bool:
+    """Whether ``point`` (x, y) lies in a band's outline."""
+    outline = np.array(band["outline"], dtype=np.float32).reshape(-1, 1, 2)
+    return cv2.pointPolygonTest(outline, (float(point[0]), float(point[1])), False) >= 0
+
+
+def answered(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> Any:
+    """Both photos, the starter's 7 landmarks and friend mark, the joiner's first 5."""
+    photos_uploaded(starter, joiner, photos)
+    s = scene(7, seed=4)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
+    return s
+
+
+def test_a_landmark_only_the_other_phone_tapped_gets_a_band_holding_it(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    s = answered(starter, joiner, temple_photos)
+    answer = joiner.state()["answer"]
+    bands = {band["id"]: band for band in answer["in_photo"]["joiner"]["bands"]}
+    assert set(bands) == {6, 7}
+    for i in (6, 7):
+        assert inside(bands[i], s.landmarks2[i - 1])
+        assert 0.9 <= bands[i]["level"] < 1
+        # A band, not the whole photo: a few percent of its 640 x 480 area.
+        area = cv2.contourArea(np.array(bands[i]["outline"], dtype=np.float32))
+        assert 0 < area < 0.1 * 640 * 480
+    # The starter has tapped every landmark the joiner has: nothing to find.
+    assert answer["in_photo"]["starter"]["bands"] == []
+    assert answer["in_photo"]["joiner"]["misfits"] == []
+
+
+def test_a_tap_far_outside_its_band_is_flagged_until_it_is_moved(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    s = answered(starter, joiner, temple_photos)
+    band = next(b for b in joiner.state()["answer"]["in_photo"]["joiner"]["bands"] if b["id"] == 6)
+    # Across the band, 60 px from the truth: a plausible finger on the wrong window.
+    (x0, y0), (x1, y1) = band["start"], band["end"]
+    across = np.array([y0 - y1, x1 - x0]) / np.hypot(x1 - x0, y1 - y0)
+    wrong = s.landmarks2[5] + 60 * across
+    assert not inside(band, wrong)
+    state = joiner.tap(landmarks=landmarks(np.vstack([s.landmarks2[:5], wrong]))).json()
+    mine = state["answer"]["in_photo"]["joiner"]
+    assert mine["misfits"] == [6]
+    assert mine["warnings"][0].startswith("#6 does not fit the others")
+    assert state["answer"]["in_photo"]["starter"]["misfits"] == []
+
+    # Unchanged, it stays flagged while the other phone changes its own taps.
+    state = starter.tap(landmarks=landmarks(s.landmarks1[:6]), friend=list(s.epipole1)).json()
+    assert state["answer"]["in_photo"]["joiner"]["misfits"] == [6]
+
+    # Moved to the truth, it fits.
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:6])).json()
+    assert state["answer"]["in_photo"]["joiner"]["misfits"] == []
+    assert not any("does not fit" in w for w in state["answer"]["in_photo"]["joiner"]["warnings"])
+
+
+def test_a_tap_inside_its_band_is_not_flagged(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    s = answered(starter, joiner, temple_photos)
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:6] + 1.5)).json()
+    assert state["answer"]["in_photo"]["joiner"]["misfits"] == []
+
+
+@pytest.fixture(scope="module")
+def hall() -> RenderedPair:
+    """A rendered hall seen from both ends, as the server stores phone photos."""
+    return rendered_pair(24)
+
+
+def jpeg(photo: np.ndarray) -> bytes:
+    ok, data = cv2.imencode(".jpg", photo, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    assert ok
+    return data.tobytes()
+
+
+def test_suggested_spots_are_where_the_landmarks_are(
+    starter: Phone, joiner: Phone, hall: RenderedPair
+) -> None:
+    """In a hall: the starter has tapped its friend and every landmark, the joiner the first
+    6. Spots are suggested for some of the others, at the landmarks (within 1 % of the
+    photo's diagonal). How often a suggestion is right over many halls is measured by
+    `make bench-suggest` (docs/suggestions.md); this checks the service end to end."""
+    for phone, photo in ((starter, hall.photo1), (joiner, hall.photo2)):
+        assert phone.upload(jpeg(photo)).status_code == 200
+    s = hall.scene
+    count = len(s.points)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:6])).json()
+    version = state["answer_version"]
+    to_find = range(7, count + 1)
+    bands = state["answer"]["in_photo"]["joiner"]["bands"]
+    assert {band["id"] for band in bands} == set(to_find)
+    diagonal = float(np.hypot(*s.image_size2))
+    errors = []
+    for i in to_find:
+        url = joiner.url(f"/landmarks/joiner/{i}/suggestion")
+        reply = joiner.client.get(url, headers=joiner.auth)
+        assert reply.status_code == 200, reply.text
+        body = reply.json()
+        assert (body["id"], body["answer_version"]) == (i, version)
+        if body["spot"] is not None:
+            spot = np.array([body["spot"]["x"], body["spot"]["y"]])
+            errors.append(float(np.hypot(*(spot - s.landmarks2[i - 1]))))
+        # Asked again (a phone reconnecting): the same reply, from the kept search.
+        assert joiner.client.get(url, headers=joiner.auth).json() == body
+    assert len(errors) >= 3
+    assert max(errors) < 0.01 * diagonal
+
+
+def test_a_suggestion_needs_an_answer_and_a_landmark_to_find(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    photos_uploaded(starter, joiner, temple_photos)
+    s = scene(7, seed=4)
+    starter.tap(landmarks=landmarks(s.landmarks1[:2]), friend=list(s.epipole1))
+    early = joiner.client.get(joiner.url("/landmarks/joiner/1/suggestion"), headers=joiner.auth)
+    assert (early.status_code, error_of(early)) == (409, "no_result")
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
+    missing = joiner.client.get(joiner.url("/landmarks/starter/6/suggestion"), headers=joiner.auth)
+    assert (missing.status_code, error_of(missing)) == (404, "landmark_not_found")
