@@ -1,7 +1,7 @@
 # The two commands of the README: `make run` and `make test`. Each sets up what it needs
 # from nothing (a virtualenv in .venv, pinned Python and npm packages, the built phone app,
-# Debian's Chromium and WebKitGTK for the browser tests, Debian's PostgreSQL server for the
-# replica tests) and is safe to run again.
+# Debian's Chromium and WebKitGTK for the browser tests, Debian's PostgreSQL server and nginx
+# for the replica and cluster tests) and is safe to run again.
 
 PYTHON ?= python3
 NPM ?= npm
@@ -22,12 +22,17 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run test lint typecheck api-types-check frontend-test screenshots browser webkit postgres bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network demo lock clean
+.PHONY: run run-cluster test lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
 
-test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres
+# The production topology on this machine: nginx (HTTPS) -> 2 replicas -> PostgreSQL
+# (deploy/cluster.py; python -m deploy.cluster --help for its options). Ctrl+C stops it.
+run-cluster: $(INSTALLED) $(APP) postgres nginx
+	$(BIN)/python -m deploy.cluster $(ARGS)
+
+test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
 	$(BIN)/python -m pytest
 
 api-types-check: $(INSTALLED) $(NODE_MODULES)
@@ -56,10 +61,16 @@ webkit:
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq webkit2gtk-driver xvfb )
 
 # Debian's PostgreSQL server binaries: the tests start their own throwaway server from them
-# on a loopback port (tests/postgres.py); the package's own cluster is not used.
+# on a loopback port (deploy/postgres.py); the package's own cluster is not used.
 postgres:
 	@ls /usr/lib/postgresql/*/bin/postgres >/dev/null 2>&1 || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq postgresql )
+
+# Debian's nginx, which make run-cluster, the cluster tests and the load benchmark run as a
+# plain process with deploy/nginx.conf; the package's own service is not used.
+nginx:
+	@command -v nginx >/dev/null || test -x /usr/sbin/nginx || ( $(SUDO) apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq nginx )
 
 # The README's screenshots: the two-phone, layout and guidance browser tests take them
 # (artifacts/screenshots/), then they are halved and saved as JPEG in docs/screenshots/.
@@ -81,8 +92,8 @@ bench-camera: $(INSTALLED)
 bench-taps: $(INSTALLED) $(APP) browser
 	$(BIN)/python benchmarks/taps.py
 
-bench-load: $(INSTALLED)
-	$(BIN)/python benchmarks/load.py --workers 2
+bench-load: $(INSTALLED) $(APP) postgres nginx
+	$(BIN)/python benchmarks/load.py
 
 bench-suggest: $(INSTALLED)
 	$(BIN)/python benchmarks/suggestions.py

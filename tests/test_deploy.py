@@ -1,299 +1,425 @@
-"""docker-compose.yml, the Dockerfile and deploy/nginx.conf agree with the app.
+"""docker-compose.yml, the Dockerfile and deploy/nginx.conf, checked by real tools and
+against the app and each other.
 
-No Docker engine runs where the tests run, and `docker compose` is not installed, so nothing
-is built or started: each test reads the files and checks one promise that `docker compose
-up` would otherwise break, often silently (an event stream held in a buffer, replicas each
-on a SQLite file of its own, photos refused by the proxy).
+No Docker engine runs here, so no image is built. What can run does: `nginx -t` on the
+shipped config, Debian's nginx serving it in front of a recording stand-in for the app,
+the compose file validated against the Compose specification's schema (check-jsonschema's
+copy; Debian's docker-compose is v1, which rejects today's spec), and the Dockerfile read
+by BuildKit's own parser (the ``dockerfile`` package). The cluster tests
+(tests/backend/test_cluster.py) run the same config in front of real replicas.
 """
 
 from __future__ import annotations
 
 import ast
 import json
-import re
+import ssl
 import subprocess
 import sys
 import threading
 import tomllib
 from collections.abc import Iterator
-from dataclasses import dataclass, field
-from http.server import BaseHTTPRequestHandler, HTTPServer
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import metadata
 from pathlib import Path
-from types import ModuleType
+from typing import Any
 from urllib.parse import urlsplit
 
+import dockerfile
+import httpx2
 import pytest
 import yaml
 from packaging.requirements import Requirement
 from packaging.utils import canonicalize_name
 from sqlalchemy.engine import make_url
 
-from backend.api.routes import events, health, photos
 from backend.settings import Settings
+from deploy import nginx, tls
+from testbed.loopback import free_port
 
 ROOT = Path(__file__).parents[1]
 COMPOSE = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
 SERVICES = COMPOSE["services"]
-BACKEND = SERVICES["backend"]
-POSTGRES = SERVICES["postgres"]
-NGINX = SERVICES["nginx"]
+BACKEND, POSTGRES, NGINX = (SERVICES[name] for name in ("backend", "postgres", "nginx"))
 PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
-# The settings as the compose file leaves them (not as this machine's environment has them).
 DEFAULTS = {name: field.default for name, field in Settings.model_fields.items()}
+SHIPPED = nginx.SHIPPED.read_text()
+EVENTS_PATH = "/api/sessions/Xk3_f9-2/events"  # the app's event stream route, filled in
 
 
-# --- docker-compose.yml ---------------------------------------------------------------------
-
-_VARIABLE = re.compile(r"\$\$|\$\{([^}]*)\}|\$(\w+)")
-
-
-def interpolate(value: str, dotenv: dict[str, str]) -> str:
-    """``value`` as Compose reads it, with ``dotenv`` as the environment (.env): ``$$``,
-    ``$NAME``, ``${NAME}``, ``${NAME:-default}``, ``${NAME-default}``; other forms refused
-    rather than misread."""
-
-    def substitute(match: re.Match[str]) -> str:
-        if match.group(0) == "$$":
-            return "$"
-        if match.group(2):
-            return dotenv.get(match.group(2), "")
-        spec = re.fullmatch(r"(\w+)(?:(:?-)(.*))?", match.group(1))
-        assert spec is not None, f"unsupported interpolation {match.group(0)}"
-        name, operator, default = spec.groups()
-        if operator == ":-" and not dotenv.get(name):
-            return default
-        if operator == "-" and name not in dotenv:
-            return default
-        return dotenv.get(name, "")
-
-    return _VARIABLE.sub(substitute, value)
+def stages() -> list[list[dockerfile.Command]]:
+    """The Dockerfile's instructions, one list per stage (each FROM starts one)."""
+    found: list[list[dockerfile.Command]] = []
+    for command in dockerfile.parse_file(str(ROOT / "Dockerfile")):
+        if command.cmd == "FROM":
+            found.append([])
+        found[-1].append(command)
+    return found
 
 
-def environment(service: dict, dotenv: dict[str, str]) -> dict[str, str]:
-    """A service's ``environment`` (mapping or list form), interpolated."""
-    raw = service.get("environment", {})
-    if isinstance(raw, list):
-        raw = dict(item.split("=", 1) for item in raw)
-    return {name: interpolate(str(value), dotenv) for name, value in raw.items()}
+def runtime(name: str) -> list[dockerfile.Command]:
+    """The final stage's ``name`` instructions (BuildKit spells them in capitals)."""
+    return [command for command in stages()[-1] if command.cmd == name.upper()]
 
 
-def published_ports(service: dict) -> list[tuple[str, int]]:
-    """(host, container) of each published port, short syntax, defaults interpolated."""
-    pairs = []
-    for entry in service.get("ports", []):
-        host, container = interpolate(str(entry), {}).rsplit(":", 1)
-        pairs.append((host, int(container.split("/")[0])))
-    return pairs
+(CMD,) = runtime("cmd")
+APP_PORT = int(CMD.value[CMD.value.index("--port") + 1])
 
 
-# --- Dockerfile -----------------------------------------------------------------------------
+# --- real tools -----------------------------------------------------------------------------
 
 
-@dataclass
-class Stage:
-    image: str
-    name: str | None
-    instructions: list[tuple[str, str]] = field(default_factory=list)
-
-    def all(self, keyword: str) -> list[str]:
-        return [args for key, args in self.instructions if key == keyword]
+@pytest.fixture(scope="module")
+def certificate(tmp_path_factory: pytest.TempPathFactory) -> tls.Certificate:
+    return tls.made_at_start_up(tmp_path_factory.mktemp("tls"), ["127.0.0.1"])
 
 
-def dockerfile_stages() -> list[Stage]:
-    """The Dockerfile's instructions (keyword, arguments), comments dropped and continued
-    lines joined, in one list per stage (each FROM starts one)."""
-    lines = (ROOT / "Dockerfile").read_text().splitlines()
-    text = "\n".join(line for line in lines if not line.lstrip().startswith("#"))
-    stages: list[Stage] = []
-    for line in re.sub(r"\\\n", " ", text).splitlines():
-        if not line.strip():
-            continue
-        keyword, args = line.strip().split(None, 1)
-        if keyword.upper() == "FROM":
-            image, *alias = args.split()
-            stages.append(Stage(image, alias[-1] if alias else None))
-        else:
-            stages[-1].instructions.append((keyword.upper(), args.strip()))
-    return stages
+@pytest.fixture(scope="module")
+def trusted(certificate: tls.Certificate) -> ssl.SSLContext:
+    """What a client that trusts the certificate verifies connections with."""
+    return ssl.create_default_context(cafile=certificate.authority)
 
 
-STAGES = dockerfile_stages()
-RUNTIME = STAGES[-1]
+def test_nginx_accepts_the_shipped_config(certificate: tls.Certificate) -> None:
+    """`nginx -t` on deploy/nginx.conf as make run-cluster templates it (loopback ports and
+    replicas instead of Docker's DNS name, this run's paths); a broken line fails it."""
+    listen = nginx.Listen("127.0.0.1", 8080, 8443, certificate.certificate, certificate.key)
+    with_folder = Path(certificate.certificate).parent
+    config = nginx.render(listen, ["127.0.0.1:8001", "127.0.0.1:8002"], with_folder)
+    done = nginx.check(config)
+    assert done.returncode == 0, done.stderr
+    assert "test is successful" in done.stderr
+    broken = nginx.check(config.replace("proxy_buffering off;", "proxy_buffering maybe;"))
+    assert broken.returncode != 0
+    assert "proxy_buffering" in broken.stderr
 
 
-def uvicorn_command() -> list[str]:
-    """The final stage's CMD, which must be the exec (JSON) form: in the shell form
-    /bin/sh is process 1 and does not pass SIGTERM on, so every stop waits for a kill."""
-    (cmd,) = RUNTIME.all("CMD")
-    assert cmd.startswith("["), "CMD must be the exec form"
-    return json.loads(cmd)
+def test_rendering_refuses_a_config_it_cannot_template() -> None:
+    """A machine-specific line the template does not know (a changed port) is an error, not
+    a config left pointing at Docker's addresses."""
+    listen = nginx.Listen("127.0.0.1", 8080, 8443, Path("c.pem"), Path("k.pem"))
+    with pytest.raises(ValueError, match="port 443"):
+        nginx.render(
+            listen,
+            ["127.0.0.1:1"],
+            Path("x"),
+            SHIPPED.replace("listen 443 ssl;", "listen 8443 ssl;"),
+        )
 
 
-def option(command: list[str], name: str) -> str:
-    assert name in command, f"the command lacks {name}: {command}"
-    return command[command.index(name) + 1]
+def compose_check(path: Path) -> subprocess.CompletedProcess[str]:
+    command = [str(Path(sys.executable).with_name("check-jsonschema"))]
+    command += ["--builtin-schema", "vendor.compose-spec", str(path)]
+    return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False)
 
 
-APP_PORT = int(option(uvicorn_command(), "--port"))
+def test_the_compose_file_follows_the_compose_specification(tmp_path: Path) -> None:
+    """Validated against the Compose specification's JSON schema; a misspelt key fails."""
+    done = compose_check(ROOT / "docker-compose.yml")
+    assert done.returncode == 0, done.stdout + done.stderr
+    misspelt = tmp_path / "docker-compose.yml"
+    misspelt.write_text(
+        (ROOT / "docker-compose.yml").read_text().replace("depends_on:", "depend_on:", 1)
+    )
+    assert compose_check(misspelt).returncode != 0
 
 
-def healthcheck_command() -> list[str]:
-    (check,) = RUNTIME.all("HEALTHCHECK")
-    command = re.fullmatch(r"(?:--\S+\s+)*CMD\s+(\[.*\])", check)
-    assert command is not None, f"HEALTHCHECK must be CMD [...] (exec form): {check}"
-    return json.loads(command.group(1))
+# --- the shipped nginx.conf, run in front of a recording stand-in for the app -----------------
 
 
-# --- deploy/nginx.conf ----------------------------------------------------------------------
+class Recorder(ThreadingHTTPServer):
+    """Answers every request 200 and keeps what it received (HTTP version, headers)."""
+
+    def __init__(self) -> None:
+        self.seen: list[dict[str, Any]] = []
+        recorder = self
+
+        class Handler(BaseHTTPRequestHandler):
+            protocol_version = "HTTP/1.1"
+
+            def do_GET(self) -> None:
+                recorder.seen.append(
+                    {
+                        "version": self.request_version,
+                        "path": self.path,
+                        **{name.lower(): value for name, value in self.headers.items()},
+                    }
+                )
+                self.send_response(200)
+                self.send_header("Content-Length", "2")
+                self.send_header("Strict-Transport-Security", "max-age=1")
+                self.end_headers()
+                self.wfile.write(b"{}")
+
+            def log_message(self, *args: object) -> None:
+                pass
+
+        super().__init__(("127.0.0.1", 0), Handler)
 
 
-@dataclass
-class Directive:
-    name: str
-    args: list[str]
-    block: list[Directive] | None = None
-
-    def children(self, name: str) -> list[Directive]:
-        return [child for child in self.block or [] if child.name == name]
-
-
-def parse_nginx(text: str) -> Directive:
-    """nginx.conf as a tree of directives (quotes removed, comments dropped)."""
-    root = Directive("main", [], [])
-    stack = [root]
-    words: list[str] = []
-    for token in re.findall(r"#[^\n]*|'[^']*'|\"[^\"]*\"|[{};]|[^\s{};'\"]+", text):
-        if token.startswith("#"):
-            continue
-        if token in ";{":
-            directive = Directive(words[0], words[1:], [] if token == "{" else None)
-            assert stack[-1].block is not None
-            stack[-1].block.append(directive)
-            if token == "{":
-                stack.append(directive)
-            words = []
-        elif token == "}":
-            stack.pop()
-        else:
-            words.append(token[1:-1] if token[0] in "'\"" else token)
-    assert len(stack) == 1, "unbalanced braces in nginx.conf"
-    return root
+@pytest.fixture
+def proxied(certificate: tls.Certificate) -> Iterator[tuple[str, Recorder, nginx.Nginx]]:
+    """nginx with the shipped config, its replicas one recorder; the HTTPS base URL."""
+    recorder = Recorder()
+    thread = threading.Thread(target=recorder.serve_forever, daemon=True)
+    thread.start()
+    listen = nginx.Listen(
+        "127.0.0.1", free_port(), free_port(), certificate.certificate, certificate.key
+    )
+    try:
+        with nginx.run(listen, [f"127.0.0.1:{recorder.server_address[1]}"]) as running:
+            yield f"https://127.0.0.1:{listen.https_port}", recorder, running
+    finally:
+        recorder.shutdown()
+        recorder.server_close()
 
 
-NGINX_CONF = parse_nginx((ROOT / "deploy" / "nginx.conf").read_text())
-(HTTP,) = NGINX_CONF.children("http")
-(SERVER,) = HTTP.children("server")
-(UPSTREAM,) = HTTP.children("upstream")
+@pytest.mark.parametrize("path", ["/", "/join/48291375", EVENTS_PATH, "/api/sessions/x/photo"])
+def test_every_request_reaches_the_app_with_the_phones_address_host_and_scheme(
+    proxied: tuple[str, Recorder, nginx.Nginx], trusted: ssl.SSLContext, path: str
+) -> None:
+    """In every location: HTTP/1.1 with no "Connection: close" (kept-alive connections,
+    streaming), the Host with the port the phone used (join links point back to it), and
+    X-Forwarded-For/Proto for uvicorn --proxy-headers, the address being the one nginx saw,
+    never one the client names (the app counts failed join codes per address)."""
+    base, recorder, _ = proxied
+    answer = httpx2.get(
+        f"{base}{path}",
+        headers={"X-Forwarded-For": "203.0.113.7"},
+        verify=trusted,
+    )
+    assert answer.status_code == 200
+    (seen,) = recorder.seen
+    assert seen["version"] == "HTTP/1.1"
+    assert seen.get("connection", "") != "close"
+    assert seen["host"] == urlsplit(base).netloc
+    assert seen["x-forwarded-for"] == "127.0.0.1"
+    assert seen["x-forwarded-proto"] == "https"
+    # One HSTS header, nginx's: the app's copy is dropped.
+    assert answer.headers.get_list("Strict-Transport-Security") == ["max-age=31536000"]
 
 
-def location_for(uri: str) -> Directive:
-    """The location nginx serves ``uri`` from: an exact match; else the longest prefix if it
-    is ``^~``; else the first regular expression that matches; else the longest prefix."""
-    prefixes: list[tuple[str, Directive]] = []
-    for location in SERVER.children("location"):
-        match location.args:
-            case ["=", path] if path == uri:
-                return location
-            case ["^~", path] | [path] if uri.startswith(path):
-                prefixes.append((path, location))
-    longest = max(prefixes, key=lambda pair: len(pair[0]), default=None)
-    if longest is not None and longest[1].args[0] == "^~":
-        return longest[1]
-    for location in SERVER.children("location"):
-        match location.args:
-            case ["~" | "~*" as operator, pattern]:
-                flags = re.IGNORECASE if operator == "~*" else 0
-                if re.search(pattern, uri, flags):
-                    return location
-    assert longest is not None, f"no location serves {uri}"
-    return longest[1]
+def test_nginx_logs_paths_without_their_tokens(
+    proxied: tuple[str, Recorder, nginx.Nginx], trusted: ssl.SSLContext
+) -> None:
+    base, _, running = proxied
+    httpx2.get(f"{base}{EVENTS_PATH}?token=s3cret-t0ken", verify=trusted)
+    log = running.folder / "access.log"
+    for _ in range(50):  # nginx writes the line after the answer
+        if log.exists() and EVENTS_PATH in log.read_text():
+            break
+        threading.Event().wait(0.05)
+    assert EVENTS_PATH in log.read_text()
+    assert "s3cret-t0ken" not in log.read_text()
 
 
-def effective(location: Directive, name: str) -> list[list[str]]:
-    """Every ``name`` directive in force in ``location``: those of the innermost level that
-    has any (nginx inherits a directive only into a level that sets none of its own)."""
-    for level in (location, SERVER, HTTP):
-        found = level.children(name)
-        if found:
-            return [directive.args for directive in found]
-    return []
+def test_with_no_replica_up_nginx_answers_in_the_apps_error_shape(
+    certificate: tls.Certificate, trusted: ssl.SSLContext
+) -> None:
+    """The phone app shows the message of {"error": {"code", "message"}}: nginx's own
+    refusal when no replica answers has that shape too."""
+    listen = nginx.Listen(
+        "127.0.0.1", free_port(), free_port(), certificate.certificate, certificate.key
+    )
+    with nginx.run(listen, [f"127.0.0.1:{free_port()}"]):
+        answer = httpx2.post(f"https://127.0.0.1:{listen.https_port}/api/sessions", verify=trusted)
+    assert answer.status_code == 503
+    assert answer.headers["content-type"] == "application/json"
+    assert answer.json()["error"]["code"] == "service_unavailable"
+    assert answer.json()["error"]["message"].endswith(".")
 
 
-def single(location: Directive, name: str, default: str) -> str:
-    found = effective(location, name)
-    return found[-1][0] if found else default
+# --- docker-compose.yml agrees with the app, the Dockerfile and nginx.conf -------------------
 
 
-def groups(pattern: str, text: str) -> tuple[str, ...]:
-    """The groups of ``pattern`` matching the start of ``text`` (which it must)."""
-    found = re.match(pattern, text)
-    assert found is not None, f"{text!r} does not match {pattern!r}"
-    return found.groups()
-
-
-def seconds(value: str) -> float:
-    number, unit = groups(r"(\d+)(ms|s|m|h|d)?$", value)
-    return int(number) * {"ms": 0.001, "s": 1, "m": 60, "h": 3600, "d": 86400}[unit or "s"]
-
-
-def size_bytes(value: str) -> int:
-    number, unit = groups(r"(\d+)([kKmMgG])?$", value)
-    return int(number) * {"k": 1024, "m": 1024**2, "g": 1024**3}.get((unit or "").lower(), 1)
-
-
-def sample_uri(path: str) -> str:
-    """A request path for a route path: every {parameter} filled in."""
-    return re.sub(r"\{[^}]+\}", "Xk3_f9-2", path)
-
-
-def route_path(router_module: ModuleType, ending: str) -> str:
-    """The one path of the module's router that ends with ``ending``."""
-    paths = [route.path for route in router_module.router.routes]
-    (path,) = [p for p in paths if p.endswith(ending)]
-    return path
-
-
-EVENTS_URI = sample_uri(route_path(events, "/events"))
-PHOTO_URI = sample_uri(route_path(photos, "/photo"))
-HEALTH_PATH = route_path(health, "/healthz")
-APP_URIS = ["/", "/join/482913", "/api/solve", PHOTO_URI, EVENTS_URI, HEALTH_PATH]
-
-
-# --- compose: settings and database ---------------------------------------------------------
-
-
-def test_compose_sets_only_real_settings_and_they_parse(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_compose_sets_only_real_settings(monkeypatch: pytest.MonkeyPatch) -> None:
     """Settings ignore unknown variables, so a misspelt BUDDY_DATABASE_URI would leave every
     replica on a SQLite file of its own: phones on different replicas would never meet."""
-    settings = {
-        name: value for name, value in environment(BACKEND, {}).items() if name.startswith("BUDDY_")
-    }
-    assert "BUDDY_DATABASE_URL" in settings
-    assert "BUDDY_PUBLIC_URL" in settings
-    fields = {f"BUDDY_{name.upper()}" for name in Settings.model_fields}
-    assert set(settings) <= fields, set(settings) - fields
-    for name, value in settings.items():
-        monkeypatch.setenv(name, value)
-    parsed = Settings(_env_file=None)
-    assert make_url(parsed.database_url).get_backend_name() == "postgresql"
+    settings = {name for name in BACKEND["environment"] if name.startswith("BUDDY_")}
+    assert {"BUDDY_DATABASE_URL", "BUDDY_PUBLIC_URL"} <= settings
+    assert settings <= {f"BUDDY_{name.upper()}" for name in Settings.model_fields}
 
 
-@pytest.mark.parametrize("dotenv", [{}, {"POSTGRES_PASSWORD": "s3cretFromDotEnv"}])
-def test_database_url_reaches_postgres_with_psycopg(dotenv: dict[str, str]) -> None:
-    """The URL names the psycopg 3 driver (plain postgresql:// means psycopg2, which is not
-    installed) and the postgres service with its user, database and password: also when
-    .env sets the password, which both places must then take."""
-    url = make_url(environment(BACKEND, dotenv)["BUDDY_DATABASE_URL"])
-    database = environment(POSTGRES, dotenv)
+def test_the_database_url_reaches_the_postgres_service_with_psycopg() -> None:
+    """psycopg 3 (plain postgresql:// means psycopg2, not installed), the postgres service's
+    host, user and database, and the very same password setting as that service."""
+    url = make_url(BACKEND["environment"]["BUDDY_DATABASE_URL"])
+    database = POSTGRES["environment"]
     assert url.drivername == "postgresql+psycopg"
-    assert url.host == "postgres"
-    assert url.host in SERVICES
-    assert url.port == 5432
-    assert url.username == database["POSTGRES_USER"]
-    assert url.database == database["POSTGRES_DB"]
-    assert url.password == database["POSTGRES_PASSWORD"]
-    assert url.password == dotenv.get("POSTGRES_PASSWORD", url.password)
+    assert (url.host, url.port) == ("postgres", 5432)
+    assert (url.username, url.database) == (database["POSTGRES_USER"], database["POSTGRES_DB"])
+    assert url.password == database["POSTGRES_PASSWORD"]  # the same ${...:-default}
+
+
+def test_postgres_is_ready_before_the_app_and_keeps_its_data() -> None:
+    """The app migrates the database at start-up, so it starts once pg_isready answers (as
+    the app's user: as "root" it logs a refusal every 5 s); the data is in a named volume."""
+    check = POSTGRES["healthcheck"]["test"]
+    assert check[check.index("-U") + 1] == POSTGRES["environment"]["POSTGRES_USER"]
+    assert BACKEND["depends_on"]["postgres"]["condition"] == "service_healthy"
+    assert "pgdata:/var/lib/postgresql/data" in POSTGRES["volumes"]
+    assert "pgdata" in COMPOSE["volumes"]
+
+
+def test_two_replicas_reachable_only_through_nginx_on_the_port_they_listen_on() -> None:
+    """Two replicas without published ports (only nginx sends the X-Forwarded-* headers they
+    trust) or a container name (two containers cannot share one); nginx's upstream is the
+    backend service on the port of the image's CMD and EXPOSE."""
+    assert BACKEND["deploy"]["replicas"] == 2
+    assert "ports" not in BACKEND
+    assert "container_name" not in BACKEND
+    assert [name for name, service in SERVICES.items() if service.get("ports")] == ["nginx"]
+    assert NGINX["depends_on"]["backend"]["condition"] == "service_healthy"
+    assert f"server backend:{APP_PORT} resolve;" in SHIPPED
+    assert [command.value for command in runtime("expose")] == [(str(APP_PORT),)]
+
+
+def test_nginx_gets_its_config_ports_and_certificate_where_the_config_says() -> None:
+    """The shipped config mounted as nginx's; the published ports lead to the ports it
+    listens on (80: the redirect, 443: TLS); the certificate and key files, required
+    settings, mounted at the paths it names."""
+    volumes = [volume.rsplit(":", 2) for volume in NGINX["volumes"]]
+    mounts = {inside: outside for outside, inside, _ in volumes}
+    assert mounts["/etc/nginx/nginx.conf"] == "./deploy/nginx.conf"
+    for directive, setting in (
+        ("ssl_certificate", "TLS_CERTIFICATE"),
+        ("ssl_certificate_key", "TLS_CERTIFICATE_KEY"),
+    ):
+        (path,) = [
+            line.split()[1].rstrip(";")
+            for line in SHIPPED.splitlines()
+            if line.split()[:1] == [directive]
+        ]
+        assert mounts[path].startswith(f"${{{setting}:?")
+    published = {int(port.rsplit(":", 1)[1]) for port in NGINX["ports"]}
+    assert published == {80, 443}
+    assert "listen 80;" in SHIPPED
+    assert "listen 443 ssl;" in SHIPPED
+
+
+# --- Dockerfile (BuildKit's parser) -----------------------------------------------------------
+
+
+def test_the_image_runs_uvicorn_as_a_user_behind_the_proxy() -> None:
+    """The exec form (in the shell form /bin/sh is process 1 and passes no SIGTERM on);
+    not root; uvicorn serves backend.main:app on all interfaces, takes the phone's address
+    and https from nginx's headers, keeps no access log (tokens in URLs) and stops in
+    seconds though event streams never end."""
+    assert CMD.json
+    command = list(CMD.value)
+    assert command[:2] == ["uvicorn", "backend.main:app"]
+    assert command[command.index("--host") + 1] == "0.0.0.0"
+    assert "--proxy-headers" in command
+    assert command[command.index("--forwarded-allow-ips") + 1] == "*"
+    assert "--no-access-log" in command
+    assert float(command[command.index("--timeout-graceful-shutdown") + 1]) <= 5
+    (user,) = [command.value[0] for command in runtime("user")][-1:]
+    assert user.split(":")[0] not in ("root", "0")
+
+
+def healthcheck() -> list[str]:
+    (check,) = runtime("healthcheck")
+    assert check.json
+    assert check.value[0] == "CMD"
+    return list(check.value[1:])
+
+
+@pytest.fixture
+def fake_app() -> Iterator[tuple[int, dict[str, int]]]:
+    """A loopback server answering GET /healthz with the status in ``answer["status"]``."""
+    answer = {"status": 200}
+
+    class Health(BaseHTTPRequestHandler):
+        def do_GET(self) -> None:
+            self.send_response(answer["status"] if self.path == "/healthz" else 404)
+            self.end_headers()
+
+        def log_message(self, *args: object) -> None:
+            pass
+
+    server = ThreadingHTTPServer(("127.0.0.1", 0), Health)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield server.server_address[1], answer
+    server.shutdown()
+    server.server_close()
+
+
+def test_the_healthcheck_asks_healthz_and_fails_when_the_database_does_not_answer(
+    fake_app: tuple[int, dict[str, int]],
+) -> None:
+    """The image's health (which nginx waits for) is GET /healthz on the app's port; it
+    answers 503 when the database is gone, and the check must then fail, or nginx keeps
+    sending phones to a replica that can only refuse them."""
+    program, flag, code = healthcheck()
+    assert program == "python"
+    assert f"http://127.0.0.1:{APP_PORT}/healthz" in code
+    port, answer = fake_app
+    for status, healthy in ((200, True), (503, False)):
+        answer["status"] = status
+        probe = [sys.executable, flag, code.replace(f":{APP_PORT}/", f":{port}/")]
+        run = subprocess.run(probe, check=False, capture_output=True, timeout=20)
+        assert (run.returncode == 0) == healthy, (status, run.stderr.decode())
+
+
+def test_the_image_builds_the_phone_app_with_node_and_serves_it() -> None:
+    """A Node stage (a version package.json accepts) runs `npm ci` then `npm run build`; the
+    runtime copies its dist/ to where the app looks by default (BUDDY_FRONTEND_DIR)."""
+    node = stages()[0]
+    image, _, name = node[0].value
+    engines = json.loads((ROOT / "frontend" / "package.json").read_text())["engines"]["node"]
+    assert int(image.split(":")[1].split("-")[0]) >= int(engines.lstrip(">= ").split(".")[0])
+    runs = [command.value[0] for command in node if command.cmd == "RUN"]
+    assert runs.index("npm run build") > next(
+        i for i, run in enumerate(runs) if run.startswith("npm ci")
+    )
+    (workdir,) = [command.value[0] for command in node if command.cmd == "WORKDIR"]
+    (copied,) = [command for command in runtime("copy") if command.flags == (f"--from={name}",)]
+    assert copied.value == (f"{workdir}/dist", DEFAULTS["frontend_dir"])
+    assert [command.value for command in runtime("workdir")] == [("/app",)]
+
+
+def test_the_runtime_is_slim_python_with_the_app_and_without_test_packages() -> None:
+    """python:3.11-slim; pyproject's runtime dependencies only (not pytest, mypy,
+    Playwright); every package of the project copied (one left out would be an ImportError
+    at start-up)."""
+    assert stages()[-1][0].value[0].startswith("python:3.11-slim")
+    installs = [command.value[0] for command in runtime("run") if "pip install" in command.value[0]]
+    assert installs
+    # The runtime lock (pyproject's dependencies, hashes checked), not the test extras.
+    sources = {
+        command.value[-1]: command.value[0] for command in runtime("copy") if not command.flags
+    }
+    locks = [sources[run.split("-r ")[1].split()[0]] for run in installs]
+    assert locks == ["requirements/runtime.txt"]
+    assert all("--require-hashes" in run and "[test]" not in run for run in installs)
+    copied = {command.value[0].rstrip("/") for command in runtime("copy") if not command.flags}
+    setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    for pattern in setuptools["packages"]["find"]["include"]:
+        assert pattern.rstrip("*") in copied, pattern
+
+
+def test_the_build_context_holds_only_what_the_dockerfile_copies() -> None:
+    """.dockerignore is an allow-list: everything out (`*`), then back in what a COPY names
+    (and pyproject.toml: the project's metadata, no secret), so .env (the database
+    password), .venv and var/ never enter an image."""
+    lines = [line.strip() for line in (ROOT / ".dockerignore").read_text().splitlines()]
+    patterns = [line for line in lines if line and not line.startswith("#")]
+    assert patterns[0] == "*"
+    allowed = {pattern[1:].rstrip("/") for pattern in patterns if pattern.startswith("!")}
+    sources = {
+        source.rstrip("/")
+        for command in dockerfile.parse_file(str(ROOT / "Dockerfile"))
+        if command.cmd == "COPY" and not command.flags
+        for source in command.value[:-1]
+    }
+
+    def within(path: str, folder: str) -> bool:
+        return path == folder or path.startswith(f"{folder}/")
+
+    assert all(any(within(source, entry) for entry in allowed) for source in sources)
+    unused = {entry for entry in allowed if not any(within(s, entry) for s in sources)}
+    assert unused <= {"pyproject.toml"}
 
 
 # The files of this project's modules that the app loads when it starts (its Alembic
@@ -352,7 +478,7 @@ def test_the_image_installs_everything_the_app_imports() -> None:
     into the development venv by hand does not count): every package the app's code imports
     when it starts, and the driver of the compose database URL with a libpq for it, must
     come from them, or each replica stops at start-up."""
-    url = environment(BACKEND, {})["BUDDY_DATABASE_URL"]
+    url = BACKEND["environment"]["BUDDY_DATABASE_URL"]
     probe = [sys.executable, "-c", _LOADED_AT_START, url]
     driver, *files = subprocess.run(
         probe, cwd=ROOT, capture_output=True, text=True, check=True
@@ -366,258 +492,4 @@ def test_the_image_installs_everything_the_app_imports() -> None:
     assert needed - installed == set()
     # psycopg needs a libpq: psycopg[binary] ships one, else the image must install it.
     libpq = {"psycopg-binary", "psycopg-c"} & installed
-    assert libpq or any("libpq" in args for args in RUNTIME.all("RUN"))
-
-
-def test_postgres_is_ready_before_the_app_and_keeps_its_data() -> None:
-    """The app migrates the database at start-up and gives up if it refuses, so it starts
-    only once pg_isready answers (as the app's user: as "root" it logs a refusal
-    every 5 s); the data lives in a named volume, not in a container that a rebuild drops."""
-    check = POSTGRES["healthcheck"]["test"]
-    assert "pg_isready" in check
-    user = environment(POSTGRES, {})["POSTGRES_USER"]
-    assert check[check.index("-U") + 1] == user
-    assert BACKEND["depends_on"]["postgres"]["condition"] == "service_healthy"
-    volumes = [str(volume).split(":") for volume in POSTGRES["volumes"]]
-    assert ["pgdata", "/var/lib/postgresql/data"] in volumes
-    assert "pgdata" in COMPOSE["volumes"]
-
-
-# --- compose: replicas and ports ------------------------------------------------------------
-
-
-def test_two_replicas_reachable_only_through_nginx() -> None:
-    """Two replicas share the load; they publish no port (so only nginx can send the
-    X-Forwarded-* headers they trust) and have no container_name (two containers cannot
-    share one); nginx, with this repository's config, starts once they are healthy."""
-    assert BACKEND["deploy"]["replicas"] == 2
-    assert "ports" not in BACKEND
-    assert "container_name" not in BACKEND
-    assert [name for name, service in SERVICES.items() if service.get("ports")] == ["nginx"]
-    assert NGINX["depends_on"]["backend"]["condition"] == "service_healthy"
-    assert "./deploy/nginx.conf:/etc/nginx/nginx.conf:ro" in NGINX["volumes"]
-
-
-def test_nginx_proxies_to_the_port_uvicorn_listens_on() -> None:
-    """Every location passes to the upstream, whose servers are the backend service on the
-    port of the image's CMD (and EXPOSE); its idle connections close before uvicorn's
-    keep-alive does (5 s), or nginx sends requests into closing sockets: sporadic 502s."""
-    (servers,) = [d.args for d in UPSTREAM.children("server")]
-    assert servers[0] == f"backend:{APP_PORT}"
-    assert "backend" in SERVICES
-    assert RUNTIME.all("EXPOSE") == [str(APP_PORT)]
-    for location in SERVER.children("location"):
-        if not location.args[0].startswith("@"):
-            assert location.children("proxy_pass")[0].args == [f"http://{UPSTREAM.args[0]}"]
-    uvicorn_keepalive = 5.0
-    if "--timeout-keep-alive" in uvicorn_command():
-        uvicorn_keepalive = float(option(uvicorn_command(), "--timeout-keep-alive"))
-    (timeout,) = UPSTREAM.children("keepalive_timeout")
-    assert seconds(timeout.args[0]) < uvicorn_keepalive
-
-
-def test_the_published_port_is_the_one_nginx_listens_on() -> None:
-    """The host port (8080 unless .env sets HTTP_PORT) leads to nginx's listening port."""
-    ((host, container),) = published_ports(NGINX)
-    (listen,) = SERVER.children("listen")
-    assert int(listen.args[0]) == container
-    assert host == "8080"
-    assert interpolate("${HTTP_PORT:-8080}", {"HTTP_PORT": "80"}) == "80"
-
-
-# --- Dockerfile -----------------------------------------------------------------------------
-
-
-def test_healthcheck_asks_healthz_on_the_app_port() -> None:
-    """The image's health (which nginx waits for) is GET /healthz, a route of the app, on
-    the port uvicorn listens on inside the container."""
-    command = healthcheck_command()
-    assert command[:2] == ["python", "-c"]
-    (url,) = re.findall(r"https?://[^'\"]+", command[2])
-    parts = urlsplit(url)
-    assert parts.hostname in ("127.0.0.1", "localhost")
-    assert parts.port == APP_PORT
-    assert parts.path == HEALTH_PATH == "/healthz"
-
-
-@pytest.fixture
-def fake_app() -> Iterator[tuple[int, dict[str, int]]]:
-    """A loopback server answering GET /healthz with the status in ``answer["status"]``."""
-    answer = {"status": 200}
-
-    class Health(BaseHTTPRequestHandler):
-        def do_GET(self) -> None:
-            self.send_response(answer["status"] if self.path == "/healthz" else 404)
-            self.end_headers()
-
-        def log_message(self, *args: object) -> None:
-            pass
-
-    server = HTTPServer(("127.0.0.1", 0), Health)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield server.server_address[1], answer
-    server.shutdown()
-    server.server_close()
-
-
-def test_healthcheck_fails_when_the_database_does_not_answer(
-    fake_app: tuple[int, dict[str, int]],
-) -> None:
-    """/healthz answers 503 when the database is gone: the check must then fail, or nginx
-    keeps sending phones to a replica that can only refuse them."""
-    port, answer = fake_app
-    _, flag, code = healthcheck_command()
-    code = code.replace(f":{APP_PORT}/", f":{port}/")
-    for status, healthy in ((200, True), (503, False)):
-        answer["status"] = status
-        command = [sys.executable, flag, code]
-        run = subprocess.run(command, check=False, capture_output=True, timeout=20)
-        assert (run.returncode == 0) == healthy, (status, run.stderr.decode())
-
-
-def test_dockerfile_builds_the_phone_app_with_node() -> None:
-    """A Node stage (a version package.json accepts) runs `npm ci` from the lock file and
-    `npm run build`; the runtime copies its dist/ to where the app looks by default
-    (BUDDY_FRONTEND_DIR, relative to the app's folder), or / answers "not built yet"."""
-    node = STAGES[0]
-    engines = json.loads((ROOT / "frontend" / "package.json").read_text())["engines"]["node"]
-    (node_major,) = groups(r"node:(\d+)", node.image)
-    (least_major,) = groups(r">=\s*(\d+)", engines)
-    assert int(node_major) >= int(least_major), (node.image, engines)
-    steps = [f"{key} {args}" for key, args in node.instructions]
-    lock = next(i for i, step in enumerate(steps) if "package-lock.json" in step)
-    npm_ci = next(i for i, step in enumerate(steps) if step.startswith("RUN npm ci"))
-    build = next(i for i, step in enumerate(steps) if step.startswith("RUN npm run build"))
-    assert lock < npm_ci < build
-    (workdir,) = node.all("WORKDIR")
-    copies = [args.split() for args in RUNTIME.all("COPY") if args.startswith("--from=")]
-    assert [f"--from={node.name}", f"{workdir}/dist"] in [copy[:2] for copy in copies]
-    (destination,) = [copy[2] for copy in copies if copy[1] == f"{workdir}/dist"]
-    (app_dir,) = RUNTIME.all("WORKDIR")
-    assert Path(app_dir, destination) == Path(app_dir, DEFAULTS["frontend_dir"])
-
-
-def test_runtime_is_slim_python_311_with_the_app_and_without_test_packages() -> None:
-    """The final image is python:3.11-slim, installs pyproject's runtime dependencies (not
-    the test extras: pytest, mypy, Playwright) and copies every package of the project (a
-    new top-level package left out would be an ImportError at start-up)."""
-    assert RUNTIME.image.startswith("python:3.11-slim")
-    installs = [args for args in RUNTIME.all("RUN") if "pip install" in args]
-    assert installs
-    assert not any("[test]" in args or ".[" in args for args in installs)
-    assert any("['dependencies']" in args or "requirements" in args for args in installs)
-    copied = {args.split()[0].rstrip("/") for args in RUNTIME.all("COPY")}
-    setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    for pattern in setuptools["packages"]["find"]["include"]:
-        assert pattern.rstrip("*") in copied, pattern
-
-
-def test_runtime_runs_uvicorn_as_a_user_behind_the_proxy() -> None:
-    """Not root; uvicorn serves backend.main:app on all interfaces, takes the client's
-    address and https from nginx's headers (from any address: nginx is on another
-    container), keeps no access log (tokens in URLs) and stops in seconds though event
-    streams never end."""
-    users = RUNTIME.all("USER")
-    assert users
-    assert users[-1].split(":")[0] not in ("root", "0")
-    command = uvicorn_command()
-    assert command[:2] == ["uvicorn", "backend.main:app"]
-    assert option(command, "--host") == "0.0.0.0"
-    assert "--proxy-headers" in command
-    assert option(command, "--forwarded-allow-ips") == "*"
-    assert "--no-access-log" in command
-    assert float(option(command, "--timeout-graceful-shutdown")) <= 5
-
-
-# --- .dockerignore --------------------------------------------------------------------------
-
-
-def dockerignored(path: str) -> bool:
-    """Whether .dockerignore keeps ``path`` out of the build context: the last pattern that
-    matches the path or one of its folders decides; ``!`` lets it back in."""
-    ignored = False
-    for line in (ROOT / ".dockerignore").read_text().splitlines():
-        pattern = line.strip()
-        if not pattern or pattern.startswith("#"):
-            continue
-        keep = pattern.startswith("!")
-        glob = re.escape(pattern.lstrip("!").strip("/"))
-        regex = glob.replace(r"\*\*/", "(?:.*/)?").replace(r"\*\*", ".*").replace(r"\*", "[^/]*")
-        parts = path.split("/")
-        if any(re.fullmatch(regex, "/".join(parts[:n])) for n in range(1, len(parts) + 1)):
-            ignored = not keep
-    return ignored
-
-
-def test_dockerignore_keeps_secrets_out_and_the_sources_in() -> None:
-    """.env (the database password) never enters an image; the host's node_modules and
-    .venv stay out (big, and built for the host); every file the Dockerfile copies is in."""
-    for private in (".env", ".venv/bin/python", "frontend/node_modules/vite/package.json"):
-        assert dockerignored(private), private
-    for local in ("var/buddy.db", "artifacts/x.png", "frontend/dist/index.html"):
-        assert dockerignored(local), local
-    copies = [args.split() for stage in STAGES for args in stage.all("COPY")]
-    from_context = [copy[:-1] for copy in copies if not copy[0].startswith("--from=")]
-    sources = [source.rstrip("/") for copy in from_context for source in copy]
-    tracked = subprocess.run(
-        ["git", "ls-files", *sources], cwd=ROOT, capture_output=True, text=True, check=True
-    ).stdout.split()
-    assert len(tracked) > 20
-    assert [path for path in tracked if dockerignored(path)] == []
-
-
-# --- deploy/nginx.conf ----------------------------------------------------------------------
-
-
-def test_event_streams_are_neither_buffered_nor_cut() -> None:
-    """The app's event stream path lands in a location that passes each event on at once
-    (with buffering, a phone would see "your buddy joined" minutes late) and waits far
-    longer than the ping interval before it calls an idle stream dead."""
-    location = location_for(EVENTS_URI)
-    assert single(location, "proxy_buffering", "on") == "off"
-    timeout = seconds(single(location, "proxy_read_timeout", "60s"))
-    assert timeout >= 10 * DEFAULTS["keepalive_seconds"]
-    assert timeout >= 3600
-    # ...and not every request: a hung upload or solve still ends after nginx's default.
-    assert seconds(single(location_for(PHOTO_URI), "proxy_read_timeout", "60s")) <= 300
-
-
-@pytest.mark.parametrize("uri", APP_URIS)
-def test_every_request_reaches_the_app_with_the_phones_host_and_scheme(uri: str) -> None:
-    """HTTP/1.1 with an empty Connection header (upstream keep-alive, streaming), the Host
-    with the port the phone used (join links point back to it) and X-Forwarded-For/Proto
-    for uvicorn --proxy-headers, in every location: a location that set one header of its
-    own would silently drop all the others (nginx's inheritance)."""
-    location = location_for(uri)
-    assert single(location, "proxy_http_version", "1.0") == "1.1"
-    headers = {args[0].lower(): args[1] for args in effective(location, "proxy_set_header")}
-    assert headers.get("connection") == ""
-    assert headers.get("host") == "$http_host"
-    # The address nginx sees, not appended to one the client sent: uvicorn (trusting every
-    # hop, --forwarded-allow-ips *) would take the client's, and a guesser of join codes
-    # could name a fresh address with each request.
-    assert headers.get("x-forwarded-for") == "$remote_addr"
-    assert headers.get("x-forwarded-proto") == "$scheme"
-
-
-def test_nginx_lets_through_every_body_the_app_accepts() -> None:
-    """nginx's default is 1 MB: every photo would get nginx's 413 instead of reaching the
-    app, which accepts up to BUDDY_MAX_BODY_BYTES."""
-    limit = single(location_for(PHOTO_URI), "client_max_body_size", "1m")
-    assert size_bytes(limit) >= DEFAULTS["max_body_bytes"]
-
-
-def test_nginx_refusals_have_the_apps_error_shape() -> None:
-    """When nginx answers instead of the app (body too large, no replica up), the phone
-    app still gets {"error": {"code", "message"}} and shows the message."""
-    handled = {code for args in effective(SERVER, "error_page") for code in args[:-1]}
-    assert {"413", "502", "503", "504"} <= handled
-    for location in SERVER.children("location"):
-        if location.args[0].startswith("@"):
-            (answer,) = location.children("return")
-            body = json.loads(answer.args[1])
-            assert set(body) == {"error"}
-            assert isinstance(body["error"]["code"], str)
-            assert body["error"]["message"].endswith(".")
-            assert location.children("default_type")[0].args == ["application/json"]
+    assert libpq or any("libpq" in command.value[0] for command in runtime("run"))

@@ -81,12 +81,15 @@ def connect(url: str) -> Engine:
         )
         event.listen(engine, "connect", _sqlite_pragmas)
         return engine
-    # 20 connections at most per replica: five replicas fit PostgreSQL's default 100.
+    # 20 connections per replica: five replicas fit PostgreSQL's default 100. A fixed pool:
+    # overflow connections (opened past the pool's size, closed when given back) made
+    # PostgreSQL start a backend and check a password for each, 8.5 times per search under
+    # load (benchmarks/load.py, 200 searches at once).
     return create_engine(
         parsed,
         pool_pre_ping=True,
-        pool_size=10,
-        max_overflow=10,
+        pool_size=20,
+        max_overflow=0,
         pool_timeout=10,
         connect_args={"connect_timeout": 5},
         hide_parameters=True,

@@ -7,12 +7,10 @@ answers at once and deletions close together are erased together.
 
 from __future__ import annotations
 
-import math
-import time
-
 from sqlalchemy.exc import DBAPIError
 
 from .database import SQLITE_BUSY_TIMEOUT_MS, Database, translated
+from .erasing import EraseTurn
 
 # What VACUUM FULL rewrites: everything of a session, and the failed joins' addresses.
 _ERASED_TABLES = ("sessions", "participants", "photos", "events", "join_failures")
@@ -26,8 +24,8 @@ class Eraser:
     def __init__(self, database: Database, interval_seconds: float = 0.0) -> None:
         self.database = database
         self._pending = False
-        self._interval = interval_seconds
-        self._erased_at = -math.inf  # time.monotonic() of the last VACUUM FULL
+        # PostgreSQL: one VACUUM FULL per erase interval for all replicas (erasing.py).
+        self._erase_turn = EraseTurn(database.engine, interval_seconds)
 
     def deleted(self) -> None:
         """Something was deleted: its bytes are for :meth:`erase_deleted` to erase."""
@@ -46,24 +44,28 @@ class Eraser:
         PostgreSQL leaves a deleted row's bytes in its table's files, and VACUUM only marks
         that space free: VACUUM FULL copies each table without them into a new file and
         deletes the old one. It locks each table while copying it (requests touching it
-        wait: about 1 s per 100 MB of photos kept), so it runs at most once per
-        ``interval_seconds``, after deletions only, giving up a table's lock after 5 s.
+        wait: the load benchmark reports how long), so it runs at most once per
+        ``interval_seconds`` for all replicas together (the one that erases takes the
+        turn: erasing.py), after deletions only, giving up a table's lock after 5 s.
         PostgreSQL's own write-ahead log (``pg_wal``, and any archive or backup of it)
         keeps the bytes until it is recycled: outside the app's reach.
         """
+        postgresql = self.database.postgresql
+        if postgresql:
+            with translated():
+                self._erase_turn.end_if_over()
         if not self._pending:
             return True
-        postgresql = self.database.postgresql
-        if postgresql and time.monotonic() - self._erased_at < self._interval:
-            return False
+        if postgresql:
+            with translated():
+                if not self._erase_turn.take():  # erased within the interval, here or not
+                    return False
         self._pending = False  # a deletion from here on sets it again
         try:
             done = self._vacuum_full() if postgresql else self._checkpoint()
         except BaseException:
             self._pending = True
             raise
-        if postgresql:
-            self._erased_at = time.monotonic()
         if not done:
             self._pending = True
         return done

@@ -1,5 +1,6 @@
-"""Test helpers for the service: the temple data, a controllable clock, one phone's API,
-a phone's event stream followed over HTTP."""
+"""Test helpers for the service: the temple data, a controllable clock, one phone's API
+(in-process, or over HTTP to a live server: a replica, or nginx in front of them), a
+phone's event stream followed over HTTP."""
 
 from __future__ import annotations
 
@@ -13,9 +14,13 @@ from pathlib import Path
 from typing import Any
 
 import httpx2
+import numpy as np
 from fastapi.testclient import TestClient
 
+from testbed.scenes import Scene, Taps, tap, temple_scene
+
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
+PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the joiner's
 
 
 class FakeClock:
@@ -144,3 +149,90 @@ class Listener(threading.Thread):
                 f"no {type_} {data} event in {seconds} s; got {self.types}"
             )
             time.sleep(0.02)
+
+
+@dataclass
+class HttpPhone:
+    """One phone over HTTP, talking to whatever ``base`` is: a replica, or nginx."""
+
+    base: str
+    session_id: str
+    token: str
+
+    @property
+    def auth(self) -> dict[str, str]:
+        return {"Authorization": f"Bearer {self.token}"}
+
+    def url(self, rest: str = "") -> str:
+        return f"{self.base}/api/sessions/{self.session_id}{rest}"
+
+    def call(
+        self, method: str, rest: str = "", headers: dict[str, str] | None = None, **options: Any
+    ) -> httpx2.Response:
+        headers = self.auth | (headers or {})
+        return httpx2.request(method, self.url(rest), headers=headers, timeout=30, **options)
+
+    def state(self) -> dict[str, Any]:
+        answer = self.call("GET")
+        assert answer.status_code == 200, answer.text
+        return dict(answer.json())
+
+    def upload(self, name: str) -> None:
+        answer = self.call("PUT", "/photo", files=photo_form(name))
+        assert answer.status_code == 200, answer.text
+
+    def tap(self, **taps: Any) -> dict[str, Any]:
+        answer = self.call("PUT", "/taps", json=taps)
+        assert answer.status_code == 200, answer.text
+        return dict(answer.json())
+
+    def listen(self, last_event_id: int | None = None) -> Listener:
+        listener = Listener(self.base, self.session_id, self.token, last_event_id)
+        listener.start()
+        return listener
+
+
+def photo_form(name: str) -> dict[str, tuple[str, bytes, str]]:
+    """The multipart form of a photo upload: a temple view by name."""
+    return {"photo": (f"{name}.png", (TEMPLE / f"{name}.png").read_bytes(), "image/png")}
+
+
+def pair(starter_base: str, joiner_base: str) -> tuple[HttpPhone, HttpPhone]:
+    """The starter starts through one address, the joiner joins with the code through the
+    other (the same one, through nginx)."""
+    created = httpx2.post(f"{starter_base}/api/sessions", timeout=30).json()
+    joined = httpx2.post(
+        f"{joiner_base}/api/sessions/join", json={"code": created["join_code"]}, timeout=30
+    )
+    assert joined.status_code == 200, joined.text
+    sid = created["session_id"]
+    return (
+        HttpPhone(starter_base, sid, created["token"]),
+        HttpPhone(joiner_base, sid, joined.json()["token"]),
+    )
+
+
+def follow(starter: HttpPhone, joiner: HttpPhone, seconds: float = 15) -> tuple[Listener, Listener]:
+    """Both phones' event streams. The starter's is open first (its own presence came
+    back), so the joiner coming online is news to it: within ``seconds``, from wherever the
+    joiner's stream is."""
+    starter_events = starter.listen()
+    starter_events.wait_for("joined", role="starter", online=True)
+    joiner_events = joiner.listen()
+    joiner_events.wait_for("joined", role="joiner", online=True)
+    starter_events.wait_for("joined", role="joiner", online=True, seconds=seconds)
+    return starter_events, joiner_events
+
+
+def landmarks(points: np.ndarray) -> list[dict[str, float]]:
+    """Landmarks as a phone sends them, numbered from 1, each tap with its precision (px)."""
+    return [
+        {"id": i + 1, "x": float(x), "y": float(y), "sigma": 2.0} for i, (x, y) in enumerate(points)
+    ]
+
+
+def scene_taps() -> tuple[Scene, Taps]:
+    """Six landmarks of the temple PAIR and the joiner, tapped with 1 px of noise."""
+    rng = np.random.default_rng(6)
+    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
+    return scene, tap(scene, 1.0, rng)

@@ -328,3 +328,20 @@ def test_plain_postgresql_urls_mean_psycopg() -> None:
             5432,
         )
     assert database_url("sqlite:///var/buddy.db").drivername == "sqlite"
+
+
+def test_postgresql_keeps_photo_bytes_uncompressed(fresh_postgres_url: str) -> None:
+    """Migration 0007: no compression is tried on the photos' JPEG bytes (which do not
+    compress), neither at an upload nor when VACUUM FULL copies the photos kept."""
+    engine = connect(fresh_postgres_url)
+    try:
+        with engine.connect() as connection:
+            storage = connection.execute(
+                text(
+                    "SELECT attstorage FROM pg_attribute "
+                    "WHERE attrelid = 'photos'::regclass AND attname = 'data'"
+                )
+            ).scalar_one()
+        assert storage == "e"  # EXTERNAL: out of line, never compressed
+    finally:
+        engine.dispose()

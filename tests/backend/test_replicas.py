@@ -10,22 +10,29 @@ import signal
 import time
 from collections.abc import Iterator
 from contextlib import ExitStack
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import httpx2
-import numpy as np
 import psycopg
 import pytest
-from phones import TEMPLE, Listener, in_region, mark
+from phones import (
+    PAIR,
+    HttpPhone,
+    Listener,
+    follow,
+    in_region,
+    landmarks,
+    mark,
+    pair,
+    scene_taps,
+)
 from postgres import PostgresServer
 
 from backend.storage.database import database_url
 from testbed.loopback import Server, serve
-from testbed.scenes import Scene, Taps, tap, temple_scene
+from testbed.scenes import Scene
 
-PAIR = ("templeSR0003", "templeSR0006")
 # Streams read the event table only when woken or every 30 s, and ping every 20 s: an
 # event that reaches the other replica's stream within CROSSING_SECONDS was carried by
 # LISTEN/NOTIFY, nothing else.
@@ -43,84 +50,6 @@ def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, 
             (tmp_path / name).mkdir()
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
         yield servers[0], servers[1]
-
-
-@dataclass
-class HttpPhone:
-    """One phone over HTTP, talking to whichever replica ``base`` is."""
-
-    base: str
-    session_id: str
-    token: str
-
-    @property
-    def auth(self) -> dict[str, str]:
-        return {"Authorization": f"Bearer {self.token}"}
-
-    def call(self, method: str, rest: str = "", **options: Any) -> httpx2.Response:
-        url = f"{self.base}/api/sessions/{self.session_id}{rest}"
-        return httpx2.request(method, url, headers=self.auth, timeout=30, **options)
-
-    def state(self) -> dict[str, Any]:
-        answer = self.call("GET")
-        assert answer.status_code == 200, answer.text
-        return dict(answer.json())
-
-    def upload(self, name: str) -> None:
-        photo = (TEMPLE / f"{name}.png").read_bytes()
-        answer = self.call("PUT", "/photo", files={"photo": (f"{name}.png", photo, "image/png")})
-        assert answer.status_code == 200, answer.text
-
-    def tap(self, **taps: Any) -> dict[str, Any]:
-        answer = self.call("PUT", "/taps", json=taps)
-        assert answer.status_code == 200, answer.text
-        return dict(answer.json())
-
-    def listen(self, last_event_id: int | None = None) -> Listener:
-        listener = Listener(self.base, self.session_id, self.token, last_event_id)
-        listener.start()
-        return listener
-
-
-def pair(starter_replica: Server, joiner_replica: Server) -> tuple[HttpPhone, HttpPhone]:
-    """The starter starts on one replica, the joiner joins with the code on the other."""
-    created = httpx2.post(f"{starter_replica.base_url}/api/sessions", timeout=30).json()
-    joined = httpx2.post(
-        f"{joiner_replica.base_url}/api/sessions/join",
-        json={"code": created["join_code"]},
-        timeout=30,
-    )
-    assert joined.status_code == 200, joined.text
-    sid = created["session_id"]
-    return (
-        HttpPhone(starter_replica.base_url, sid, created["token"]),
-        HttpPhone(joiner_replica.base_url, sid, joined.json()["token"]),
-    )
-
-
-def follow(starter: HttpPhone, joiner: HttpPhone) -> tuple[Listener, Listener]:
-    """Both phones' event streams, each on its own replica. The starter's is open first (its
-    own presence came back), so the joiner coming online is news to it, from the other
-    replica."""
-    starter_events = starter.listen()
-    starter_events.wait_for("joined", role="starter", online=True)
-    joiner_events = joiner.listen()
-    joiner_events.wait_for("joined", role="joiner", online=True)
-    starter_events.wait_for("joined", role="joiner", online=True, seconds=CROSSING_SECONDS)
-    return starter_events, joiner_events
-
-
-def scene_taps() -> tuple[Scene, Taps]:
-    rng = np.random.default_rng(6)
-    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
-    return scene, tap(scene, 1.0, rng)
-
-
-def landmarks(points: np.ndarray) -> list[dict[str, float]]:
-    """Landmarks as a phone sends them, each tap with its precision (px)."""
-    return [
-        {"id": i + 1, "x": float(x), "y": float(y), "sigma": 2.0} for i, (x, y) in enumerate(points)
-    ]
 
 
 def photos_and_taps_cross(
@@ -146,8 +75,8 @@ def test_phones_on_two_replicas_find_each_other(
     replicas: tuple[Server, Server], postgres: PostgresServer, fresh_postgres_url: str
 ) -> None:
     one, two = replicas
-    starter, joiner = pair(one, two)
-    starter_events, joiner_events = follow(starter, joiner)
+    starter, joiner = pair(one.base_url, two.base_url)
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
 
     scene, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
 
@@ -193,8 +122,8 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
         for name in ("worker1", "worker2"):
             (tmp_path / name).mkdir()
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
-        starter, joiner = pair(*servers)
-        starter_events, joiner_events = follow(starter, joiner)
+        starter, joiner = pair(servers[0].base_url, servers[1].base_url)
+        starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
         _, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
         assert starter.state()["answer"] == state["answer"]
         assert starter.call("DELETE").status_code == 204
@@ -206,8 +135,8 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
 
 def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
     one, two = replicas
-    starter, joiner = pair(one, two)
-    starter_events, joiner_events = follow(starter, joiner)
+    starter, joiner = pair(one.base_url, two.base_url)
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
     starter.upload(PAIR[0])
     joiner.upload(PAIR[1])
     scene, taps = scene_taps()
@@ -250,8 +179,8 @@ def test_postgresql_restarted_mid_search(
     replicas: tuple[Server, Server], postgres: PostgresServer
 ) -> None:
     one, two = replicas
-    starter, joiner = pair(one, two)
-    starter_events, joiner_events = follow(starter, joiner)
+    starter, joiner = pair(one.base_url, two.base_url)
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
     starter.upload(PAIR[0])
     joiner.upload(PAIR[1])
     scene, taps = scene_taps()

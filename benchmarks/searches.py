@@ -1,0 +1,422 @@
+"""One two-phone search as Locust plays it (``benchmarks/load.py``): both phones, their
+open event streams, people's pauses. Everything the load benchmark knows of the session
+API's requests and answers is in this module.
+
+Each Locust user runs searches back to back. The starter creates the search and opens its
+event stream; the joiner joins with the code and opens its own; both streams stay open to
+the end. Each phone fetches the state when an event tells it something newer than what it
+shows (at most one fetch at a time: its stream reader fetches, then reads on), loads its
+overlay once per new answer, and shows the state its own PUT /taps answers with. Once its
+stream is live, each phone uploads its photo and loads the stored one; the starter marks
+the joiner and taps 6 landmarks one PUT at a time; for each, the joiner waits until its
+state shows it, loads its crop ("find #n") and taps its own; both wait for the answer,
+read it, and the starter deletes the search, which must end both streams with 'expired'.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import random
+import time
+from collections import Counter
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import cv2
+import gevent
+import numpy as np
+from gevent.event import Event
+from locust import User, constant, task
+from locust.clients import HttpSession
+from locust.exception import StopUser
+from report import ROOT
+
+from testbed.scenes import Scene, tap, temple_scene
+
+TEMPLE = ROOT / "tests" / "data" / "temple"
+PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the joiner's
+LANDMARKS = 6
+SCENES = 64  # temple scenes drawn up front; each search adds its own tap noise
+TAP_SIGMA_PX = 2.0  # a finger's noise on the photo as sent
+# A person's pauses, seconds, uniform in each range (divided by the speed-up): the joiner
+# scans the code; each takes a photo; the starter picks and places a landmark; the joiner
+# finds it from its crop; both read the answer. A search then lasts about 1.5 minutes.
+PAUSES = {"join": (5, 15), "photo": (5, 15), "tap": (3, 8), "find": (5, 15), "read": (3, 10)}
+CALL_SECONDS = 30.0  # any one call
+STREAM_SILENCE_SECONDS = 45.0  # pings come every 15 s
+WAIT_SECONDS = 30.0  # the longest a phone waits for what it expects to see
+APP_MS: dict[str, list[float]] = {}  # each call's time in the app (its Server-Timing), by name
+
+
+@dataclass(frozen=True)
+class Crowd:
+    """What the people send: two photos as a phone shrinks them, and the scenes their taps
+    come from."""
+
+    photos: tuple[bytes, bytes]
+    scenes: list[Scene]
+    side: int  # the photos' long side, px
+
+    @staticmethod
+    def made(side: int, seed: int) -> Crowd:
+        """The temple views upscaled to ``side`` px (4:3) with sensor-like noise, as JPEG
+        quality 90 (the phone app's): real edges and the weight of a photo."""
+        rng = np.random.default_rng(seed)
+        size = (side, side * 3 // 4)
+        photos = []
+        for name in PAIR:
+            original = cv2.imread(str(TEMPLE / f"{name}.png"))
+            if original is None:
+                raise FileNotFoundError(TEMPLE / f"{name}.png")
+            image = cv2.resize(original, size, interpolation=cv2.INTER_CUBIC)
+            noisy = np.clip(image + rng.normal(0.0, 6.0, image.shape), 0, 255).astype(np.uint8)
+            photos.append(cv2.imencode(".jpg", noisy, [cv2.IMWRITE_JPEG_QUALITY, 90])[1].tobytes())
+        parameters = TEMPLE / "templeSR_par.txt"
+        scenes = [temple_scene(parameters, *PAIR, LANDMARKS, rng) for _ in range(SCENES)]
+        return Crowd((photos[0], photos[1]), scenes, side)
+
+    def taps(
+        self, rng: random.Random
+    ) -> tuple[list[dict[str, float]], list[dict[str, float]], dict[str, float]]:
+        """One search's taps in the photos' pixels: the starter's landmarks, the joiner's,
+        and the starter's mark of the joiner."""
+        scene = self.scenes[rng.randrange(len(self.scenes))]
+        scale = self.side / scene.image_size1[0]
+        noisy = tap(scene, TAP_SIGMA_PX / scale, np.random.default_rng(rng.randrange(2**32)))
+
+        def marks(points: np.ndarray) -> list[dict[str, float]]:
+            return [
+                {"id": n, "x": round(float(x) * scale, 1), "y": round(float(y) * scale, 1)}
+                | {"sigma": TAP_SIGMA_PX}
+                for n, (x, y) in enumerate(points, start=1)
+            ]
+
+        x, y = (round(float(v) * scale, 1) for v in noisy.epipole1)
+        mark = {"x": x, "y": y, "sigma": TAP_SIGMA_PX}
+        return marks(noisy.landmarks1), marks(noisy.landmarks2), mark
+
+
+class Phone:
+    """One phone: its own HTTP session (a browser's own connections; Locust times and
+    counts each call), its event stream read in a greenlet, the newest state it shows."""
+
+    def __init__(self, user: Search, role: str, created: dict[str, Any]) -> None:
+        self.user = user
+        self.role = role
+        self.http = user.session()
+        self.token = str(created["token"])
+        self.path = f"/api/sessions/{created['session_id']}"
+        self.state: dict[str, Any] | None = None
+        self.drawn: int | None = None  # the answer version of the overlay last loaded
+        self.news = Event()  # set whenever the state shown changes
+        self.live = Event()  # its stream announced this phone online
+        self.expired = Event()
+        self.sending = Event()  # a PUT /taps on its way: its answer will be the newest state
+        self.sending.set()  # (set: none on its way)
+        self.idle = Event()  # no state fetch (nor the overlay it loads) on its way
+        self.idle.set()
+        self.ending = False  # the search is being deleted: nothing more to fetch
+        self.reader = gevent.spawn(self._listen)
+
+    def call(
+        self, method: str, name: str, rest: str = "", expect: int = 200, **options: Any
+    ) -> Any:
+        """One call, timed and counted by Locust as ``name``; its JSON (or True) when it
+        answered ``expect``, else None (counted as a failure)."""
+        return call(
+            self.http, method, self.path + rest, name, expect=expect, token=self.token, **options
+        )
+
+    def show(self, state: dict[str, Any] | None) -> None:
+        """Keep the newest state; a new answer loads its overlay (the app's <img>)."""
+        if state is None or (self.state is not None and state["version"] < self.state["version"]):
+            return
+        self.state = state
+        self.news.set()
+        answer = state["answer_version"] if state.get("answer") else None
+        if answer is not None and answer != self.drawn:
+            self.drawn = answer
+            query = {"token": self.token, "v": answer}
+            self.call("GET", "GET /overlay/{own role}", f"/overlay/{self.role}", params=query)
+
+    def newer(self, event: str, data: dict[str, Any]) -> bool:
+        """Whether an event tells something the state shown does not hold yet."""
+        version, shown = data.get("version"), self.state
+        if not isinstance(version, int) or shown is None:
+            return True
+        if event == "answer":
+            return shown["version"] < version or shown.get("answer") is None
+        return bool(shown["version"] < version)
+
+    def fetch(self) -> None:
+        if self.ending:
+            return
+        self.idle.clear()
+        try:
+            self.show(self.call("GET", "GET /api/sessions/{id}"))
+        finally:
+            self.idle.set()
+
+    def settle(self) -> None:
+        """No new fetches from now on; the one on its way (if any) done: the search can go."""
+        self.ending = True
+        self.idle.wait(CALL_SECONDS)
+
+    def put_taps(self, body: dict[str, Any]) -> bool:
+        self.sending.clear()
+        try:
+            state = self.call("PUT", "PUT /taps", "/taps", json=body)
+        finally:
+            self.sending.set()
+        self.show(state)
+        return state is not None
+
+    def upload(self, photo: bytes) -> bool:
+        """Its photo, then the stored one as the app loads it to tap on."""
+        files = {"photo": ("photo.jpg", photo, "image/jpeg")}
+        return self.call("PUT", "PUT /photo", "/photo", files=files) is not None and (
+            self.call(
+                "GET",
+                "GET /photo/{own role}",
+                f"/photo/{self.role}",
+                params={"token": self.token, "v": 1},
+            )
+            is not None
+        )
+
+    def wait_until(self, shown: Callable[[dict[str, Any]], bool], what: str) -> bool:
+        """Until the state shows ``shown``; False (a flow error) after WAIT_SECONDS."""
+        deadline = time.monotonic() + WAIT_SECONDS
+        while self.state is None or not shown(self.state):
+            self.news.clear()
+            if not self.news.wait(deadline - time.monotonic()):
+                return self.user.flow_error(f"the {self.role} waited {WAIT_SECONDS:g} s for {what}")
+        return True
+
+    def wait_for(self, event: Event, what: str) -> bool:
+        if not event.wait(WAIT_SECONDS):
+            return self.user.flow_error(
+                f"the {self.role}'s stream: no {what} in {WAIT_SECONDS:g} s"
+            )
+        return True
+
+    def _listen(self) -> None:
+        """The event stream, for the whole search: Locust times it to its first byte."""
+        answer = self.http.get(
+            f"{self.path}/events",
+            name="GET /events (first byte)",
+            params={"token": self.token},
+            stream=True,
+            timeout=(CALL_SECONDS, STREAM_SILENCE_SECONDS),
+        )
+        if answer.status_code != 200:
+            return
+        self.fetch()  # the phone shows the state at once (the QR code, the other's photo)
+        event = ""
+        try:
+            for raw in answer.iter_lines():
+                line = raw.decode()
+                if line.startswith("event: "):
+                    event = line[7:]
+                    if event == "expired":
+                        self.expired.set()
+                        return
+                elif line.startswith("data: ") and event:
+                    data = json.loads(line[6:])
+                    if event == "joined" and data.get("role") == self.role and data.get("online"):
+                        self.live.set()
+                    self.sending.wait()  # the answer to its own PUT comes first
+                    if self.newer(event, data):
+                        self.fetch()
+            self.user.flow_error("stream ended without 'expired'")
+        except OSError as error:  # requests' and urllib3's errors, a read timeout among them
+            self.user.flow_error(f"stream dropped ({type(error).__name__})")
+        finally:
+            answer.close()
+
+    def close(self) -> None:
+        self.reader.kill(block=True, timeout=5)
+        self.http.close()
+
+
+def call(
+    http: HttpSession,
+    method: str,
+    path: str,
+    name: str,
+    *,
+    expect: int = 200,
+    token: str = "",
+    **options: Any,
+) -> Any:
+    """``method path``, timed and counted by Locust as ``name``: its JSON (or True) when it
+    answered ``expect``; else None, counted as a failure with its status and error code."""
+    headers = {"Authorization": f"Bearer {token}"} if token else {}
+    with http.request(
+        method,
+        path,
+        name=name,
+        catch_response=True,
+        headers=headers,
+        timeout=CALL_SECONDS,
+        **options,
+    ) as answer:
+        if answer.status_code != expect:
+            try:
+                code = answer.json()["error"]["code"]
+            except (ValueError, KeyError, TypeError):  # no answer, or not the app's
+                code = answer.reason or repr(answer.error)
+            answer.failure(f"{answer.status_code} {code}")
+            return None
+        answer.success()
+        if timing := answer.headers.get("server-timing"):  # the app's own time: app;dur=<ms>
+            APP_MS.setdefault(name, []).append(float(timing.split("dur=")[1].split(";")[0]))
+        if answer.headers.get("content-type", "").startswith("application/json"):
+            return answer.json()
+        return True
+
+
+class Search(User):
+    """A pair of friends running searches back to back, until ``stop_at``."""
+
+    wait_time = constant(0)
+    crowd: ClassVar[Crowd]
+    authority: ClassVar[str | None] = None  # the certificate to trust
+    speed: ClassVar[float] = 1.0  # people this many times quicker
+    stop_at: ClassVar[float] = float("inf")  # time.monotonic(): no search starts after
+    seed: ClassVar[int] = 0
+    counts: ClassVar[Counter[str]] = Counter()  # searches started, completed
+    durations: ClassVar[list[float]] = []  # of completed searches, s
+    numbers: ClassVar[Iterator[int]] = itertools.count()
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.number = next(Search.numbers)
+        self.searches = 0
+
+    def session(self) -> HttpSession:
+        """A new HTTP session (a phone's own connections) trusting ``authority``; the
+        environment's certificate bundle and proxies (requests reads them) do not apply."""
+        http = HttpSession(self.host, self.environment.events.request, self)
+        http.trust_env = False
+        http.verify = self.authority or True
+        return http
+
+    def flow_error(self, what: str) -> bool:
+        """Something a phone expected did not happen: a failure in Locust's table."""
+        self.environment.events.request.fire(
+            request_type="FLOW",
+            name=what,
+            response_time=0,
+            response_length=0,
+            exception=RuntimeError(what),
+        )
+        return False
+
+    def pause(self, rng: random.Random, step: str) -> None:
+        gevent.sleep(rng.uniform(*PAUSES[step]) / self.speed)
+
+    @task
+    def search(self) -> None:
+        if time.monotonic() >= self.stop_at:
+            raise StopUser
+        rng = random.Random(f"{self.seed}-{self.number}-{self.searches}")
+        self.searches += 1
+        Search.counts["started"] += 1
+        started = time.monotonic()
+        starter_taps, joiner_taps, mark = self.crowd.taps(rng)
+        lobby = self.session()
+        created = call(lobby, "POST", "/api/sessions", "POST /api/sessions", expect=201)
+        if created is None:
+            return
+        starter = Phone(self, "starter", created)
+        phones = [starter]
+        try:
+            self.pause(rng, "join")
+            joined = call(
+                lobby,
+                "POST",
+                "/api/sessions/join",
+                "POST /api/sessions/join",
+                json={"code": created["join_code"]},
+            )
+            if joined is None:
+                return
+            joiner = Phone(self, "joiner", joined)
+            phones.append(joiner)
+            starter_side = gevent.spawn(self.starter_side, starter, starter_taps, mark, rng)
+            joiner_side = gevent.spawn(self.joiner_side, joiner, joiner_taps, rng)
+            starter_side.join()
+            joiner_side.join()
+            answered = bool(starter_side.value and joiner_side.value) and all(
+                phone.wait_until(lambda state: state.get("answer") is not None, "the answer")
+                for phone in phones
+            )
+            if not answered:
+                return
+            self.pause(rng, "read")
+            for phone in phones:
+                phone.settle()
+            if starter.call("DELETE", "DELETE /api/sessions/{id}", expect=204) is None:
+                return
+            if all(phone.wait_for(phone.expired, "'expired'") for phone in phones):
+                Search.counts["completed"] += 1
+                Search.durations.append(time.monotonic() - started)
+        finally:
+            if not starter.expired.is_set():  # a failed search: deleted all the same
+                headers = {"Authorization": f"Bearer {starter.token}"}
+                lobby.delete(
+                    starter.path, headers=headers, name="DELETE (clean-up after a failure)"
+                )
+            for phone in phones:
+                phone.close()
+            lobby.close()
+
+    def starter_side(
+        self, phone: Phone, taps: list[dict[str, float]], mark: dict[str, float], rng: random.Random
+    ) -> bool:
+        if not self.photo_taken(phone, self.crowd.photos[0], rng):
+            return False
+        for n in range(1, LANDMARKS + 1):
+            self.pause(rng, "tap")
+            if not phone.put_taps({"landmarks": taps[:n], "friend": mark}):
+                return False
+        return True
+
+    def joiner_side(self, phone: Phone, taps: list[dict[str, float]], rng: random.Random) -> bool:
+        if not self.photo_taken(phone, self.crowd.photos[1], rng):
+            return False
+        for n in range(1, LANDMARKS + 1):
+
+            def tapped(state: dict[str, Any], n: int = n) -> bool:
+                starter = state["taps"].get("starter")
+                return starter is not None and any(t["id"] == n for t in starter["landmarks"])
+
+            if not phone.wait_until(tapped, f"the starter's landmark #{n}"):
+                return False
+            assert phone.state is not None
+            seen = next(t for t in phone.state["taps"]["starter"]["landmarks"] if t["id"] == n)
+            query = {"token": phone.token, "v": f"{seen['x']},{seen['y']}"}
+            if (
+                phone.call(
+                    "GET",
+                    "GET /landmarks/starter/{n}/crop",
+                    f"/landmarks/starter/{n}/crop",
+                    params=query,
+                )
+                is None
+            ):
+                return False
+            self.pause(rng, "find")
+            if not phone.put_taps({"landmarks": taps[:n]}):
+                return False
+        return True
+
+    def photo_taken(self, phone: Phone, photo: bytes, rng: random.Random) -> bool:
+        """Once its stream is live: a person's pause for the photo, then its upload."""
+        if not phone.wait_for(phone.live, "own 'joined'"):
+            return False
+        self.pause(rng, "photo")
+        return phone.upload(photo)
