@@ -5,9 +5,10 @@ API's requests and answers is in this module.
 Each Locust user runs searches back to back. The starter creates the search and opens its
 event stream; the joiner joins with the code and opens its own; both streams stay open to
 the end. Each phone fetches the state when an event tells it something newer than what it
-shows (at most one fetch at a time: its stream reader fetches, then reads on), loads its
-overlay once per new answer, and shows the state its own PUT /taps answers with. Once its
-stream is live, each phone uploads its photo and loads the stored one; the starter marks
+shows (at most one fetch at a time: its stream reader fetches, then reads on) and shows
+the state its own PUT /taps answers with; like the app, it draws the answer from that JSON
+and taps its own copy of its photo (no overlay, no photo downloaded). Once its stream is
+live, each phone uploads its photo; the starter marks
 the joiner and taps 6 landmarks one PUT at a time; for each, the joiner waits until its
 state shows it, loads its crop ("find #n") and taps its own; both wait for the answer,
 read it, and the starter deletes the search, which must end both streams with 'expired'.
@@ -109,13 +110,12 @@ class Phone:
         self.token = str(created["token"])
         self.path = f"/api/sessions/{created['session_id']}"
         self.state: dict[str, Any] | None = None
-        self.drawn: int | None = None  # the answer version of the overlay last loaded
         self.news = Event()  # set whenever the state shown changes
         self.live = Event()  # its stream announced this phone online
         self.expired = Event()
         self.sending = Event()  # a PUT /taps on its way: its answer will be the newest state
         self.sending.set()  # (set: none on its way)
-        self.idle = Event()  # no state fetch (nor the overlay it loads) on its way
+        self.idle = Event()  # no state fetch on its way
         self.idle.set()
         self.ending = False  # the search is being deleted: nothing more to fetch
         self.reader = gevent.spawn(self._listen)
@@ -130,16 +130,11 @@ class Phone:
         )
 
     def show(self, state: dict[str, Any] | None) -> None:
-        """Keep the newest state; a new answer loads its overlay (the app's <img>)."""
+        """Keep the newest state (the app draws its answer from it)."""
         if state is None or (self.state is not None and state["version"] < self.state["version"]):
             return
         self.state = state
         self.news.set()
-        answer = state["answer_version"] if state.get("answer") else None
-        if answer is not None and answer != self.drawn:
-            self.drawn = answer
-            query = {"token": self.token, "v": answer}
-            self.call("GET", "GET /overlay/{own role}", f"/overlay/{self.role}", params=query)
 
     def newer(self, event: str, data: dict[str, Any]) -> bool:
         """Whether an event tells something the state shown does not hold yet."""
@@ -174,17 +169,9 @@ class Phone:
         return state is not None
 
     def upload(self, photo: bytes) -> bool:
-        """Its photo, then the stored one as the app loads it to tap on."""
+        """Its photo (the app taps its own copy meanwhile: nothing downloaded back)."""
         files = {"photo": ("photo.jpg", photo, "image/jpeg")}
-        return self.call("PUT", "PUT /photo", "/photo", files=files) is not None and (
-            self.call(
-                "GET",
-                "GET /photo/{own role}",
-                f"/photo/{self.role}",
-                params={"token": self.token, "v": 1},
-            )
-            is not None
-        )
+        return self.call("PUT", "PUT /photo", "/photo", files=files) is not None
 
     def wait_until(self, shown: Callable[[dict[str, Any]], bool], what: str) -> bool:
         """Until the state shows ``shown``; False (a flow error) after WAIT_SECONDS."""
