@@ -29,20 +29,12 @@ from netbench.search import PhoneRun, SearchRun, hall_photos, play
 from playwright.sync_api import sync_playwright
 from report import ROOT, log, markdown_table, publish, source_state, verdict
 
+from testbed import chromium
 from testbed.loopback import serve
 
 DEFAULT_OUT = ROOT / "docs" / "network-benchmark.md"
 SEED = 20261125
 LANDMARKS = 6
-CHROMIUM = "/usr/bin/chromium"
-FLAGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 TAPPABLE_MS = 1500.0
 ANSWER_MS = {"loopback": 300.0, "venue": 1000.0}
 SEARCH_BYTES = 2.5e6
@@ -56,7 +48,7 @@ def run(runs: int, profiles: list[str]) -> list[SearchRun]:
         sync_playwright() as playwright,
     ):
         photos = hall_photos(Path(folder), SEED, LANDMARKS)
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        browser = chromium.launch(playwright)
         try:
             for index in range(runs):
                 for name in profiles:

@@ -39,6 +39,7 @@ from report import ROOT, markdown_table, publish, source_state
 
 from shared_solver import SolverError, solve
 from shared_solver.estimation.uncertainty import contains
+from testbed import chromium
 from testbed.loopback import serve
 from testbed.phones import PhoneScene, phone_scene
 
@@ -53,15 +54,6 @@ OLD_TAP_SIGMA = 3.0
 # may land on another landmark's number, which selects that landmark instead).
 APART = 0.1
 LEVEL = 0.95
-CHROMIUM = "/usr/bin/chromium"
-FLAGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 TIMEOUT_MS = 20_000
 
 
@@ -218,7 +210,7 @@ def in_region(region: dict[str, Any], point: np.ndarray) -> bool:
 
 
 def phones(playwright: Playwright) -> tuple[BrowserContext, BrowserContext]:
-    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+    browser = chromium.launch(playwright)
     contexts = []
     for model in ("Pixel 7", "iPhone 13"):
         device = dict(playwright.devices[model])

@@ -18,21 +18,13 @@ from phone import Phone
 from playwright.sync_api import Browser, Playwright, sync_playwright
 from webkit_phone import Screen, WebKitPhone
 
+from testbed import chromium
 from testbed.loopback import serve
 
 ROOT = Path(__file__).parents[2]
-CHROMIUM = "/usr/bin/chromium"  # Debian's package; `make test` installs it when missing
-FLAGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-    # A venue-like name for loopback (browsers treat "localhost" and 127.0.0.1 as secure even
-    # over plain HTTP; a phone on the LAN gets no such favour): tests/e2e/test_https.py.
-    "--host-resolver-rules=MAP buddy.test 127.0.0.1",
-]
+# A venue-like name for loopback (browsers treat "localhost" and 127.0.0.1 as secure even
+# over plain HTTP; a phone on the LAN gets no such favour): tests/e2e/test_https.py.
+VENUE_NAME = "--host-resolver-rules=MAP buddy.test 127.0.0.1"
 SCREENSHOTS = ROOT / "artifacts" / "screenshots"
 ENGINES = ("chromium", "webkit")
 
@@ -55,7 +47,7 @@ def playwright() -> Iterator[Playwright]:
 @pytest.fixture(scope="session")
 def browser(playwright: Playwright) -> Iterator[Browser]:
     assert (ROOT / "frontend" / "dist" / "index.html").is_file(), "build the app: make test does"
-    launched = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+    launched = chromium.launch(playwright, (VENUE_NAME,))
     yield launched
     launched.close()
 

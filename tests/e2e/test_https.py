@@ -18,7 +18,7 @@ from playwright.sync_api import Browser, Page, expect
 
 from deploy.cluster import Cluster, cluster
 
-VENUE = "buddy.test"  # 127.0.0.1 to the browser (conftest's FLAGS), but not a loopback name
+VENUE = "buddy.test"  # 127.0.0.1 to the browser (conftest's VENUE_NAME), but not a loopback name
 # The app's own requests for a wake lock, and what the browser answered, kept in the page.
 RECORD_WAKE_LOCKS = """
 window.wakeLocks = [];

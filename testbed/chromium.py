@@ -1,0 +1,22 @@
+"""Debian's Chromium as the browser tests and the browser benchmarks launch it (`make test`
+and `make browser` install the package when missing): no sandbox (root in CI), no GPU, and
+nothing that would reach the internet."""
+
+from __future__ import annotations
+
+from typing import Any
+
+CHROMIUM = "/usr/bin/chromium"
+FLAGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+
+
+def launch(playwright: Any, extra: tuple[str, ...] = ()) -> Any:
+    """A headless Chromium browser of ``playwright`` (a ``sync_playwright()`` object)."""
+    return playwright.chromium.launch(executable_path=CHROMIUM, args=[*FLAGS, *extra])
