@@ -19,6 +19,11 @@ CAMERA_MODEL_DISAGREES = (
     "These marks do not fit two ordinary phone photos (a cropped or edited photo, or a "
     "mis-tapped landmark), so the answer does not assume the camera's shape."
 )
+CAMERA_MODEL_UNSURE = (
+    "These marks do not quite fit two ordinary phone photos (a cropped or edited photo, or a "
+    "mis-tapped landmark): the frame is widened to hold your friend either way. Add landmarks "
+    "to narrow it down."
+)
 ON_THE_CURVE = (
     "Your friend is somewhere on the curve. Mark one more landmark in both photos to pin "
     "down the spot."

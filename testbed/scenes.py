@@ -20,6 +20,13 @@ from shared_solver.projective import Array, Mask, skew
 TEMPLE_BOX = (np.array([-0.073568, 0.021728, -0.012445]), np.array([0.028855, 0.181892, 0.062736]))
 TEMPLE_IMAGE_SIZE = (640, 480)
 _MAX_DRAWS = 200
+# Taps on two 640x480 photos that no two phone cameras explain (found by a search with
+# ``solve``'s own camera model and its wider search): no pose for the first three
+# landmarks, only the curve from four (the fit fails its test), the projective answer from
+# five. What a cropped or edited photo, or mixed-up landmarks, can give.
+NO_PHONES_LANDMARKS1 = np.array([[444, 193], [451, 121], [237, 360], [280, 244], [275, 61]], float)
+NO_PHONES_LANDMARKS2 = np.array([[325, 40], [115, 343], [466, 447], [470, 195], [143, 112]], float)
+NO_PHONES_FRIEND = (173.0, 422.0)
 
 
 @dataclass(frozen=True)
