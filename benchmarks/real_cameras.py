@@ -366,83 +366,59 @@ def pairs_table(pairs: Sequence[RealPair]) -> str:
     return markdown_table(header, rows)
 
 
-def near_table(run: Run) -> str:
+def case_table(run: Run, kind: str, error_header: str) -> str:
+    """One row per camera case, landmarks and tap noise, for pairs of one ``group``; for the
+    arrow, also how often the pairs with friend 1 behind camera 2 are told so."""
     rows = []
     for case in CAMERA_CASES:
         for count in LANDMARKS:
             for sigma in SIGMAS:
-                cell = run.cells.get(("near", "solve", case, f"{sigma:g}", str(count)))
+                key = ("solve", case, f"{sigma:g}", str(count))
+                cell = run.cells.get((kind, *key))
                 if cell is None:
                     continue
-                rows.append(
-                    [
-                        case,
-                        str(count),
-                        f"{sigma:g}",
-                        str(cell.trials),
-                        _errors(cell),
-                        _share(cell.held, cell.claimed),
-                        _share(cell.no_region, cell.answers),
-                        _share(cell.fallback, cell.answers),
-                        _share(cell.refused + cell.crashed, cell.trials),
-                    ]
-                )
+                row = [
+                    case,
+                    str(count),
+                    f"{sigma:g}",
+                    str(cell.trials),
+                    _errors(cell),
+                    _share(cell.held, cell.claimed),
+                    _share(cell.no_region, cell.answers),
+                    _share(cell.fallback, cell.answers),
+                    _share(cell.refused + cell.crashed, cell.trials),
+                ]
+                if kind == "arrow":
+                    behind = run.cells.get(("behind", *key))
+                    row.append("-" if behind is None else _share(behind.behind, behind.answers))
+                rows.append(row)
     header = [
         "camera",
         "landmarks",
         "tap px",
         "trials",
-        "error, % of diagonal (median / p90)",
+        error_header,
         "95 % region holds the truth",
         "no region",
         "fell back to projective",
         "refused",
     ]
-    return markdown_table(header, rows)
-
-
-def arrow_table(run: Run) -> str:
-    rows = []
-    for case in CAMERA_CASES:
-        for count in LANDMARKS:
-            for sigma in SIGMAS:
-                arrow = run.cells.get(("arrow", "solve", case, f"{sigma:g}", str(count)))
-                behind = run.cells.get(("behind", "solve", case, f"{sigma:g}", str(count)))
-                if arrow is None:
-                    continue
-                rows.append(
-                    [
-                        case,
-                        str(count),
-                        f"{sigma:g}",
-                        str(arrow.trials),
-                        _errors(arrow),
-                        _share(arrow.held, arrow.claimed),
-                        _share(arrow.fallback, arrow.answers),
-                        _share(arrow.refused + arrow.crashed, arrow.trials),
-                        "-" if behind is None else _share(behind.behind, behind.answers),
-                    ]
-                )
-    header = [
-        "camera",
-        "landmarks",
-        "tap px",
-        "trials",
-        "arrow off, deg (median / p90)",
-        "95 % region holds the truth",
-        "fell back to projective",
-        "refused",
-        "behind pairs: says behind",
-    ]
+    if kind == "arrow":
+        header.append("behind pairs: says behind")
     return markdown_table(header, rows)
 
 
 def zoom_table(run: Run) -> str:
     rows = []
-    for zoom in ZOOMS:
+    for zoom in (1.0, *ZOOMS):
         for count in LANDMARKS:
-            near = run.cells.get(("near", "zoom", f"{zoom:g}", str(count)))
-            arrow = run.cells.get(("arrow", "zoom", f"{zoom:g}", str(count)))
+            key = (
+                ("solve", "phone", f"{SIGMA:g}", str(count))
+                if zoom == 1.0
+                else ("zoom", f"{zoom:g}", str(count))
+            )
+            near = run.cells.get(("near", *key))
+            arrow = run.cells.get(("arrow", *key))
             cells = [c for c in (near, arrow) if c is not None]
             if not cells:
                 continue
@@ -584,11 +560,11 @@ def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, second
         "",
         "## 2. Friend 1 in or near photo 2: error, region, fallback",
         "",
-        near_table(run),
+        case_table(run, "near", "error, % of diagonal (median / p90)"),
         "",
         "## 3. Friend 1 outside photo 2: the arrow; friend 1 behind camera 2",
         "",
-        arrow_table(run),
+        case_table(run, "arrow", "arrow off, deg (median / p90)"),
         "",
         f"Per pair, {SIGMA:g} px, phone prior:",
         "",
