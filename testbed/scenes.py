@@ -104,7 +104,8 @@ def look_at(centre: Array, target: Array, roll: float = 0.0) -> tuple[Array, Arr
     return rotation, -rotation @ centre
 
 
-def _inside(pixels: Array, size: tuple[int, int]) -> Mask:
+def inside(pixels: Array, size: tuple[int, int]) -> Mask:
+    """(N,) whether each of (N, 2) pixels is inside a photo of ``size`` (width, height)."""
     return (
         (pixels[:, 0] >= 0)
         & (pixels[:, 0] <= size[0])
@@ -156,8 +157,8 @@ def facing_scene(
         )
         scene = Scene(camera1, camera2, np.zeros((0, 3)), image_size, image_size)
         if not (
-            _inside(scene.epipole1[None], image_size)[0]
-            and _inside(scene.epipole2[None], image_size)[0]
+            inside(scene.epipole1[None], image_size)[0]
+            and inside(scene.epipole2[None], image_size)[0]
         ):
             continue
         points = _visible(
@@ -193,8 +194,8 @@ def _visible(
         ok = (
             (camera1.depth(points) > 0)
             & (camera2.depth(points) > 0)
-            & _inside(camera1.project(points), size1)
-            & _inside(camera2.project(points), size2)
+            & inside(camera1.project(points), size1)
+            & inside(camera2.project(points), size2)
         )
         kept.append(points[ok])
         total += int(ok.sum())
