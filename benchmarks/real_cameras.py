@@ -54,7 +54,7 @@ from report import log, markdown_table, publish, source_state
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.estimation.uncertainty import contains
 from shared_solver.projective import Array
-from testbed.real_cameras import RealPair, Taps, load_pairs, tap, zoomed
+from testbed.real_cameras import RealPair, Taps, error, group, load_pairs, tap, zoomed
 
 DEFAULT_TRIALS = 50
 SEED = 20261126
@@ -67,9 +67,6 @@ SIGMA = 3.0  # the zoom and monotonicity sections
 LANDMARKS = (3, 4, 5, 8)
 NESTED = (3, 4, 5, 6, 7, 8)
 ZOOMS = (2.0, 3.0, 5.0)
-# Friend 1 this far outside photo 2 (fraction of the diagonal) is still "near": the app
-# draws the answer's distance, and a position error still means something.
-NEAR = 0.10
 # k + 1 landmarks "do worse" than k when their median error is this much larger.
 WORSE = 1.05
 
@@ -130,21 +127,6 @@ class Outcome:
 # --- the truth of a pair -------------------------------------------------------------------
 
 
-def group(pair: RealPair) -> Literal["near", "arrow", "behind"]:
-    """Where the answer is: in or near photo 2, outside it (an arrow), behind camera 2."""
-    if pair.kind == "behind":
-        return "behind"
-    if _outside_by(pair.epipole2, pair.image_size2) <= NEAR * pair.diagonal2:
-        return "near"
-    return "arrow"
-
-
-def _outside_by(pixel: Array, size: tuple[int, int]) -> float:
-    """How far a pixel is beyond the photo's border, px (0 inside)."""
-    x, y = pixel
-    return max(0.0, -x, x - size[0], -y, y - size[1])
-
-
 def judge(pair: RealPair, result: SolveResult, modelled: bool) -> Outcome:
     """``result`` against the pair's truth."""
     kind = group(pair)
@@ -161,37 +143,6 @@ def judge(pair: RealPair, result: SolveResult, modelled: bool) -> Outcome:
         fallback=modelled and result.camera_model == "projective",
         behind=result.epipole2_h is not None and result.epipole2_h[2] < 0,
     )
-
-
-def error(pair: RealPair, pixel: Point | None, homogeneous: Point | None) -> float:
-    """How far an answer (friend 1 in photo 2: its pixel, None at infinity or behind, and
-    its oriented homogeneous point) is from the truth: % of photo 2's diagonal when friend 1
-    is in or near photo 2; otherwise degrees between the arrow the answer draws (from photo
-    2's centre) and the true direction, 180 for an answer behind camera 2 (the app says turn
-    around); inf for no answer; nan when the truth is behind camera 2."""
-    kind = group(pair)
-    if kind == "behind":
-        return math.nan
-    if kind == "near":
-        if pixel is None:
-            return math.inf
-        offset = float(np.linalg.norm(np.array(pixel) - pair.epipole2))
-        return 100.0 * offset / pair.diagonal2
-    centre = np.array(pair.image_size2) / 2.0
-    if pixel is not None:
-        direction = np.array(pixel) - centre
-    elif homogeneous is not None and homogeneous[2] == 0.0:
-        direction = np.array(homogeneous[:2])
-    elif homogeneous is not None:
-        return 180.0
-    else:
-        return math.inf
-    return _angle(direction, pair.epipole2 - centre)
-
-
-def _angle(a: Array, b: Array) -> float:
-    cosine = float(a @ b) / (float(np.linalg.norm(a)) * float(np.linalg.norm(b)))
-    return math.degrees(math.acos(max(-1.0, min(1.0, cosine))))
 
 
 # --- solving -------------------------------------------------------------------------------

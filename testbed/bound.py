@@ -42,7 +42,8 @@ Marks = Literal["e1", "both", "line", "none"]
 
 _STEP = 1e-6
 # A gradient this far (relatively) outside the information's range is not determined.
-_IDENTIFIABLE = 1e-4  # central differences, relative to each unknown's scale
+_IDENTIFIABLE = 1e-4
+# central differences, relative to each unknown's scale
 # Fixed standard normal draws for the median of a 2-D Gaussian's length: deterministic.
 _DRAWS = np.random.default_rng(1903).normal(size=(20000, 2))
 
@@ -95,17 +96,25 @@ class _Model:
         return 5 + sum(self.intrinsic_counts) + 3 * self.count
 
     def truth(self) -> Array:
-        """The unknowns at the truth: zero steps of pose and intrinsics, then the points."""
+        """The unknowns at the truth: zero steps of pose and intrinsics, then each point as
+        (x / z, y / z, d / z) in frame 1, d the distance between the phones: every unknown
+        of order one (Levenberg-Marquardt crawled with points in metres)."""
         c1 = self.scene.camera1
         points = self.scene.points[: self.count] @ c1.rotation.T + c1.translation  # frame 1
-        return np.concatenate([np.zeros(5 + sum(self.intrinsic_counts)), points.ravel()])
+        inverse = np.column_stack([points[:, :2], np.full(len(points), self.distance)])
+        inverse /= points[:, 2:]
+        return np.concatenate([np.zeros(5 + sum(self.intrinsic_counts)), inverse.ravel()])
 
-    def scales(self) -> Array:
-        """A typical size of each unknown, for the difference steps."""
-        depth = float(np.abs(self.truth()[-3 * self.count :]).max(initial=1.0))
-        scales = np.ones(self.size)
-        scales[-3 * self.count :] = depth
-        return scales
+    @functools.cached_property
+    def distance(self) -> float:
+        return float(np.linalg.norm(self.scene.camera2.centre - self.scene.camera1.centre))
+
+    def points(self, theta: Array) -> Array:
+        """(N, 3) the landmarks in frame 1 from the unknowns."""
+        inverse = theta[-3 * self.count :].reshape(-1, 3)
+        return np.column_stack([inverse[:, :2], np.ones(len(inverse))]) * (
+            self.distance / inverse[:, 2:]
+        )
 
     @functools.cached_property
     def pose(self) -> tuple[Array, Array, Array]:
@@ -131,7 +140,7 @@ class _Model:
     def predicted(self, theta: Array) -> Array:
         """(M,) every tap's expected value: landmarks in photo 1 then 2, then the marks."""
         k1, k2, rotation, b = self.cameras(theta)
-        points = theta[-3 * self.count :].reshape(-1, 3)
+        points = self.points(theta)
         values = [_project(k1, points), _project(k2, (points - b) @ rotation.T)]
         friend2 = _project(k1, b[None])[0]
         if self.marks in ("e1", "both"):
@@ -148,19 +157,10 @@ class _Model:
         _, k2, rotation, b = self.cameras(theta)
         return _project(k2, (-rotation @ b)[None])[0]
 
-    def prior_information(self) -> Array:
-        """(P, P) the focal priors' information (log focal of each phone camera)."""
-        information = np.zeros((self.size, self.size))
-        n1, _ = self.intrinsic_counts
-        for index, prior in zip((5, 5 + n1), self.priors, strict=True):
-            if prior is not None:
-                information[index, index] = 1.0 / prior**2
-        return information
-
     def jacobian(self, function: Callable[[Array], Array], theta: Array) -> Array:
-        steps = _STEP * self.scales()
         columns = []
-        for index, step in enumerate(steps):
+        for index in range(self.size):
+            step = _STEP
             delta = np.zeros(self.size)
             delta[index] = step
             columns.append((function(theta + delta) - function(theta - delta)) / (2 * step))
@@ -197,26 +197,97 @@ def _model(
 
 
 def _weights(
-    model: _Model, sigma: float | tuple[Array, Array], mark_sigma: float | Array | None
+    count: int,
+    marks: Marks,
+    sigma: float | tuple[Array, Array],
+    mark_sigma: float | Array | None,
 ) -> Array:
-    """(M,) inverse variances of the taps, in :meth:`_Model.predicted`'s order.
+    """(M,) inverse variances of the taps of ``count`` landmarks and the ``marks``, in
+    :meth:`_Model.predicted`'s order.
 
     ``sigma``: one sigma for every landmark tap, or (N,) sigmas per landmark in photo 1 and
     in photo 2; ``mark_sigma``: one sigma for the marks, or one per mark, or None (as the
     landmarks, which must then have one sigma)."""
-    count = model.count
     if isinstance(sigma, tuple):
         per_photo = [np.repeat(np.asarray(s, dtype=np.float64)[:count], 2) for s in sigma]
         landmark = 1.0 / np.concatenate(per_photo) ** 2
     else:
         landmark = np.full(4 * count, 1.0 / sigma**2)
-    marks = {"e1": 1, "both": 2, "line": 1, "none": 0}[model.marks]
     if mark_sigma is None:
         assert not isinstance(sigma, tuple), "per-tap sigmas need the marks' sigma"
         mark_sigma = sigma
-    each = np.broadcast_to(np.asarray(mark_sigma, dtype=np.float64), (marks,))
-    per_mark = 1 if model.marks == "line" else 2
+    each = np.broadcast_to(np.asarray(mark_sigma, dtype=np.float64), (_MARKS[marks],))
+    per_mark = 1 if marks == "line" else 2
     return np.concatenate([landmark, np.repeat(1.0 / each**2, per_mark)])
+
+
+_MARKS = {"e1": 1, "both": 2, "line": 1, "none": 0}  # marks made
+
+
+class SceneBounds:
+    """The bound's ingredients for one scene, computed once: the Jacobians of every tap and
+    of friend 1's pixel at the truth. A bound for the scene's first n landmarks, any tap
+    noise and any priors of the same kind is then a slice and an inverse (a benchmark asks
+    for many on each scene).
+
+    Args:
+        scene: the truth.
+        modelled: the cameras have a model (one intrinsic each: a phone or EXIF prior);
+            False: the projective model (five free intrinsics each, no prior).
+        marks, line_angle: as for :func:`cramer_rao`.
+        landmarks: the most landmarks a bound will use (default: all the scene's).
+    """
+
+    def __init__(
+        self,
+        scene: Scene,
+        *,
+        modelled: bool,
+        marks: Marks = "e1",
+        line_angle: float = 0.0,
+        landmarks: int | None = None,
+    ) -> None:
+        count = len(scene.points) if landmarks is None else landmarks
+        kind: tuple[CameraPrior, CameraPrior] = (1.0, 1.0) if modelled else (None, None)
+        self.model = _model(scene, count, kind, marks, line_angle)
+        theta = self.model.truth()
+        self.jacobian = self.model.jacobian(self.model.predicted, theta)
+        self.g = self.model.jacobian(self.model.friend1, theta)
+
+    def bound(
+        self,
+        landmarks: int,
+        sigma: float | tuple[Array, Array],
+        priors: tuple[CameraPrior, CameraPrior],
+        mark_sigma: float | Array | None = None,
+    ) -> Bound:
+        """The bound from the first ``landmarks`` (arguments as :func:`cramer_rao`)."""
+        model = self.model
+        assert landmarks <= model.count
+        assert all(
+            (prior is None) == (count == 5)
+            for prior, count in zip(priors, model.intrinsic_counts, strict=True)
+        ), "priors of another kind of camera than these bounds were made for"
+        total, marks = model.count, 2 * _MARKS[model.marks] - (model.marks == "line")
+        rows = np.r_[0 : 2 * landmarks, 2 * total : 2 * total + 2 * landmarks]
+        rows = np.r_[rows, 4 * total : 4 * total + marks]
+        pose = 5 + sum(model.intrinsic_counts)
+        columns = np.r_[0:pose, pose : pose + 3 * landmarks]
+        jacobian = self.jacobian[np.ix_(rows, columns)]
+        weights = _weights(landmarks, model.marks, sigma, mark_sigma)
+        information = jacobian.T @ (jacobian * weights[:, None])
+        n1, _ = model.intrinsic_counts
+        for index, prior in zip((5, 5 + n1), priors, strict=True):
+            if prior is not None:
+                information[index, index] += 1.0 / prior**2
+        g = self.g[:, columns]
+        inverse = np.linalg.pinv(information, hermitian=True)
+        # Friend 1's pixel is determined only if its gradient lies in the information's
+        # range (with four landmarks and no camera model it is not: a curve, no point).
+        unseen = g - g @ inverse @ information
+        if np.abs(unseen).max() > _IDENTIFIABLE * np.abs(g).max():
+            return Bound(np.full((2, 2), np.inf))
+        return Bound(g @ inverse @ g.T)
 
 
 def cramer_rao(
@@ -237,25 +308,20 @@ def cramer_rao(
         sigma: every landmark tap's standard deviation, px per axis; or (N,) sigmas of
             each landmark's tap in photo 1 and in photo 2.
         priors: each camera's log-focal prior sigma (0.5 a phone, 0.02 EXIF), or None for
-            no camera model (five free intrinsics, no prior).
+            no camera model (five free intrinsics, no prior); both of one kind.
         marks: which friends are marked: friend 2 in photo 1 (``e1``), both, a line through
             friend 2 in photo 1 (at ``line_angle``, its normal's angle, radians), none.
         mark_sigma: a mark's standard deviation, px, or one per mark (friend 2's, then
             friend 1's); default ``sigma``.
     """
-    model = _model(scene, landmarks, priors, marks, line_angle)
-    theta = model.truth()
-    jacobian = model.jacobian(model.predicted, theta)
-    information = jacobian.T @ (jacobian * _weights(model, sigma, mark_sigma)[:, None])
-    information += model.prior_information()
-    g = model.jacobian(model.friend1, theta)
-    inverse = np.linalg.pinv(information, hermitian=True)
-    # Friend 1's pixel is determined only if its gradient lies in the information's range
-    # (with four landmarks and no camera model it is not: a curve, no point).
-    unseen = g - g @ inverse @ information
-    if np.abs(unseen).max() > _IDENTIFIABLE * np.abs(g).max():
-        return Bound(np.full((2, 2), np.inf))
-    return Bound(g @ inverse @ g.T)
+    bounds = SceneBounds(
+        scene,
+        modelled=priors[0] is not None,
+        marks=marks,
+        line_angle=line_angle,
+        landmarks=landmarks,
+    )
+    return bounds.bound(landmarks, sigma, priors, mark_sigma)
 
 
 def reference_fit(
@@ -276,7 +342,7 @@ def reference_fit(
         prior_offsets: (2,) each prior's mean minus the true log focal (default 0).
     """
     model = _model(scene, landmarks, priors, marks, 0.0)
-    whiten = np.sqrt(_weights(model, sigma, None))
+    whiten = np.sqrt(_weights(model.count, marks, sigma, None))
     offsets = np.zeros(2) if prior_offsets is None else prior_offsets
     n1, _ = model.intrinsic_counts
     prior_rows = [
@@ -285,16 +351,16 @@ def reference_fit(
         if prior is not None
     ]
 
-    def residuals(theta: Array) -> tuple[Array, Array]:
-        def whole(values: Array) -> Array:
-            r = whiten * (model.predicted(values) - taps)
-            priors_r = [(values[i] - offset) / prior for i, prior, offset in prior_rows]
-            return np.concatenate([r, np.array(priors_r)])
+    def whole(values: Array) -> Array:
+        r = whiten * (model.predicted(values) - taps)
+        priors_r = [(values[i] - offset) / prior for i, prior, offset in prior_rows]
+        return np.concatenate([r, np.array(priors_r)])
 
+    def residuals(theta: Array) -> tuple[Array, Array]:
         return whole(theta), model.jacobian(whole, theta)
 
     theta, _, _ = levenberg_marquardt(
-        residuals, model.truth(), max_iterations=30, gain_tolerance=(1e-9, 1e-12)
+        residuals, model.truth(), max_iterations=30, gain_tolerance=(1e-6, 1e-10)
     )
     return model.friend1(theta)
 

@@ -304,3 +304,61 @@ def _focal_35mm(camera: Camera, size: tuple[int, int]) -> float:
 
 def _inside(pixel: Array, size: tuple[int, int]) -> bool:
     return bool(inside(pixel[None], size)[0])
+
+
+# --- how far an answer is from the truth -----------------------------------------------
+
+# Friend 1 this far outside photo 2 (fraction of the diagonal) is still "near": the app
+# draws the answer's distance, and a position error (% of the diagonal) still means
+# something; further out it draws an arrow (an error in degrees).
+NEAR = 0.10
+
+
+def group(pair: RealPair) -> Literal["near", "arrow", "behind"]:
+    """Where the answer is: in or near photo 2, outside it (an arrow), behind camera 2."""
+    if pair.kind == "behind":
+        return "behind"
+    if _outside_by(pair.epipole2, pair.image_size2) <= NEAR * pair.diagonal2:
+        return "near"
+    return "arrow"
+
+
+def _outside_by(pixel: Array, size: tuple[int, int]) -> float:
+    """How far a pixel is beyond the photo's border, px (0 inside)."""
+    x, y = pixel
+    return max(0.0, -x, x - size[0], -y, y - size[1])
+
+
+def error(
+    pair: RealPair,
+    pixel: Sequence[float] | None,
+    homogeneous: Sequence[float] | None,
+) -> float:
+    """How far an answer (friend 1 in photo 2: its pixel, None at infinity or behind, and
+    its oriented homogeneous point) is from the truth: % of photo 2's diagonal when friend 1
+    is in or near photo 2; otherwise degrees between the arrow the answer draws (from photo
+    2's centre) and the true direction, 180 for an answer behind camera 2 (the app says turn
+    around); inf for no answer; nan when the truth is behind camera 2."""
+    kind = group(pair)
+    if kind == "behind":
+        return math.nan
+    if kind == "near":
+        if pixel is None:
+            return math.inf
+        offset = float(np.linalg.norm(np.array(pixel) - pair.epipole2))
+        return 100.0 * offset / pair.diagonal2
+    centre = np.array(pair.image_size2) / 2.0
+    if pixel is not None:
+        direction = np.array(pixel) - centre
+    elif homogeneous is not None and homogeneous[2] == 0.0:
+        direction = np.array(homogeneous[:2])
+    elif homogeneous is not None:
+        return 180.0
+    else:
+        return math.inf
+    return _angle(direction, pair.epipole2 - centre)
+
+
+def _angle(a: Array, b: Array) -> float:
+    cosine = float(a @ b) / (float(np.linalg.norm(a)) * float(np.linalg.norm(b)))
+    return math.degrees(math.acos(max(-1.0, min(1.0, cosine))))

@@ -23,7 +23,7 @@ from ..estimation.epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipole
 from ..estimation.mistaps import find_mistaps, refit
 from ..estimation.planar import PlanarFit, coplanar_fit
 from ..estimation.plausibility import assess
-from ..estimation.uncertainty import CHI2_2D, consistent, covering
+from ..estimation.uncertainty import chi2_quantile, consistent, covering
 from ..minimal.conic import conic_from_cross_ratio
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
@@ -53,6 +53,10 @@ from .building import (
     widen_if_inconsistent,
 )
 from .request import Request
+
+# The plane model's answer agrees with the general one when their gap is within this
+# chi-square (2 dof, 0.99) of what the general one's extra spread explains.
+_PLANE_AGREES = chi2_quantile(0.99, 2)
 
 
 def conic(request: Request) -> SolveResult:
@@ -113,7 +117,10 @@ def friend2_marked(request: Request) -> SolveResult:
     if plane is not None:
         planar = _on_the_plane(request, plane, fit.epipole2, covariance)
         if planar is not None:
-            return result("planar", request, planar, suspects=suspects, warnings=warnings)
+            answer = result("planar", request, planar, suspects=suspects, warnings=warnings)
+            # A plane that puts friend 1 behind friend 2 or nowhere does not replace a point.
+            if answer.epipole2 is not None:
+                return answer
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
     method: Method = "five_point_epipole" if len(used) == 5 else "least_squares_epipole"
     return result(
@@ -150,7 +157,7 @@ def _on_the_plane(
     try:
         if np.linalg.eigvalsh(extra)[0] <= 0.0:
             extra = covariance
-        if float(gap @ linalg.solve(extra, gap)) > CHI2_2D:
+        if float(gap @ linalg.solve(extra, gap)) > _PLANE_AGREES:
             return None
         region = covering((position, own), (centre, covariance))
     except linalg.LinAlgError:
