@@ -1,5 +1,5 @@
-"""The event log: "this changed" as rows of the events table, written in the transaction of
-the change they announce, read by the streams.
+"""The event log: each change as a row of the events table, written in the transaction of
+the change it announces, with what the other phone needs to show it; read by the streams.
 
 Events live in the database, so a phone that reconnects with ``Last-Event-ID`` gets what it
 missed, whichever replica it reaches; ids are never reused (migration 0004), so a reader
@@ -15,6 +15,7 @@ from datetime import datetime
 from enum import StrEnum
 from typing import Any
 
+from pydantic import BaseModel
 from sqlalchemy import bindparam, func, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
@@ -26,7 +27,7 @@ from .listener import CHANNEL
 
 
 class EventType(StrEnum):
-    """What a phone is told; it then fetches the state (the app reacts to each type)."""
+    """What a phone is told (each type's data: ``backend.sessions.schemas.SessionEvents``)."""
 
     JOINED = "joined"  # a phone opened its stream (or joined the search)
     CODE = "code"  # the join code was renewed after wrong guesses
@@ -62,9 +63,7 @@ _EVENTS_AFTER = (
 )
 
 
-def record(
-    tx: Session, session_id: str, type_: EventType, data: dict[str, Any], now: datetime
-) -> None:
+def record(tx: Session, session_id: str, type_: EventType, data: BaseModel, now: datetime) -> None:
     """Write an event in ``tx``, and tell every replica's streams of its session.
 
     The session's row is locked first (a no-op where the transaction changed it already):
@@ -74,7 +73,7 @@ def record(
     tx.execute(
         select(SessionRow.id).where(SessionRow.id == session_id).with_for_update(key_share=True)
     )
-    tx.add(EventRow(session_id=session_id, type=type_, data=json.dumps(data), created_at=now))
+    tx.add(EventRow(session_id=session_id, type=type_, data=data.model_dump_json(), created_at=now))
     notify_replicas(tx, session_id)
 
 
@@ -90,9 +89,7 @@ class EventLog:
     def __init__(self, database: Database) -> None:
         self.database = database
 
-    def publish(
-        self, session_id: str, type_: EventType, data: dict[str, Any], now: datetime
-    ) -> None:
+    def publish(self, session_id: str, type_: EventType, data: BaseModel, now: datetime) -> None:
         """An event with no change of state (a phone came or went)."""
         try:
             with self.database.write() as tx:

@@ -15,6 +15,9 @@ from backend.storage.database import Database
 from backend.storage.tables import ParticipantRow, SessionRow
 from backend.storage.versions import bump_version
 
+from .schemas import Taps, TapsChanged
+from .shown import Shown
+
 
 class TapStore:
     def __init__(self, database: Database) -> None:
@@ -23,51 +26,65 @@ class TapStore:
     def put_taps(
         self,
         participant: Participant,
-        taps: dict[str, Any],
+        taps: Taps,
         now: datetime,
-        answer: tuple[int, dict[str, Any]] | None = None,
+        *,
+        read: int,
+        needed: int,
+        answer: tuple[dict[str, Any], Shown] | None = None,
     ) -> tuple[int, bool]:
         """Replace a participant's taps (the answer goes with the old ones): the new
         version, and whether ``answer`` was recorded with them.
 
-        ``answer``: (the version it was computed after, the answer), computed from the
-        session at that version with these taps. It is recorded in the same transaction,
-        so with one write, unless another change came in between (then it is stale, and the
-        caller answers the new version afresh).
+        ``needed`` (the landmarks still needed, before an answer) and ``answer`` (the
+        answer as stored, and as the phones show it) were computed from the session at
+        version ``read`` with these taps. They are recorded in the same transaction, so with
+        one write, unless another change came in between: then they are stale, the taps'
+        event says it cannot tell the count, and the caller answers the new version afresh.
         """
         sid, role = participant.session_id, participant.role
         with self.database.write() as tx:
             tx.execute(
                 update(ParticipantRow)
                 .where(ParticipantRow.session_id == sid, ParticipantRow.role == role)
-                .values(taps=json.dumps(taps))
+                .values(taps=taps.model_dump_json())
             )
             version = bump_version(tx, sid)
-            record(tx, sid, EventType.TAPS, {"role": role, "version": version}, now)
-            answered = answer is not None and answer[0] + 1 == version
+            fresh = version == read + 1
+            told = TapsChanged(
+                role=role, version=version, taps=taps, landmarks_needed=needed if fresh else None
+            )
+            record(tx, sid, EventType.TAPS, told, now)
+            answered = fresh and answer is not None
             if answer is not None and answered:
-                _record_answer(tx, sid, version, answer[1], now)
+                _record_answer(tx, sid, version, answer=answer[0], shown=answer[1], now=now)
         return version, answered
 
     def put_answer(
-        self, session_id: str, version: int, answer: dict[str, Any] | None, now: datetime
+        self, session_id: str, version: int, answer: dict[str, Any], shown: Shown, now: datetime
     ) -> bool:
         """Record the answer computed for ``version``, unless the session has moved on since
         (then a newer computation records its own)."""
         with self.database.write() as tx:
-            return _record_answer(tx, session_id, version, answer, now)
+            return _record_answer(tx, session_id, version, answer=answer, shown=shown, now=now)
 
 
 def _record_answer(
-    tx: Session, session_id: str, version: int, answer: dict[str, Any] | None, now: datetime
+    tx: Session,
+    session_id: str,
+    version: int,
+    *,
+    answer: dict[str, Any],
+    shown: Shown,
+    now: datetime,
 ) -> bool:
     """The answer for ``version`` and its event, if the session is still at that version."""
     done = tx.execute(
         update(SessionRow)
         .where(SessionRow.id == session_id, SessionRow.version == version)
-        .values(answer=None if answer is None else json.dumps(answer), answer_version=version)
+        .values(answer=json.dumps(answer), answer_version=version)
     )
     if not done.rowcount:  # type: ignore[attr-defined]
         return False
-    record(tx, session_id, EventType.ANSWER, {"version": version}, now)
+    record(tx, session_id, EventType.ANSWER, shown.changed(version), now)
     return True
