@@ -16,12 +16,12 @@ from enum import StrEnum
 from typing import Any
 
 from pydantic import BaseModel
-from sqlalchemy import bindparam, func, select
+from sqlalchemy import bindparam, func, insert, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from backend.storage.database import Database
-from backend.storage.tables import EventRow, SessionRow
+from backend.storage.tables import EventRow, SessionRow, core
 
 from .listener import CHANNEL
 
@@ -45,7 +45,7 @@ class Event:
     data: dict[str, Any]
 
 
-_sessions, _events = SessionRow.__table__, EventRow.__table__
+_sessions, _events = core(SessionRow), core(EventRow)
 # The hot reads, built once (building a statement costs more than running it on SQLite).
 _ALIVE = select(_sessions.c.id).where(_sessions.c.id == bindparam("session_id"))
 _EXISTING = select(_sessions.c.id).where(_sessions.c.id.in_(bindparam("ids", expanding=True)))
@@ -56,6 +56,18 @@ _NEW_EVENTS = (
     .group_by(_events.c.session_id)
 )
 _LAST_EVENT = select(func.max(_events.c.id)).where(_events.c.session_id == bindparam("session_id"))
+_LOCK_SESSION = (
+    select(_sessions.c.id)
+    .where(_sessions.c.id == bindparam("session_id"))
+    .with_for_update(key_share=True)
+)
+# (Bound names other than the columns': SQLAlchemy keeps those for the values.)
+_ADD_EVENT = insert(_events).values(
+    session_id=bindparam("of"),
+    type=bindparam("kind"),
+    data=bindparam("told"),
+    created_at=bindparam("at"),
+)
 _EVENTS_AFTER = (
     select(_events.c.id, _events.c.type, _events.c.data)
     .where(_events.c.session_id == bindparam("session_id"), _events.c.id > bindparam("after"))
@@ -63,24 +75,39 @@ _EVENTS_AFTER = (
 )
 
 
-def record(tx: Session, session_id: str, type_: EventType, data: BaseModel, now: datetime) -> None:
+def record(
+    tx: Session,
+    session_id: str,
+    type_: EventType,
+    data: BaseModel,
+    now: datetime,
+    *,
+    locked: bool = False,
+) -> None:
     """Write an event in ``tx``, and tell every replica's streams of its session.
 
-    The session's row is locked first (a no-op where the transaction changed it already):
-    then the events of a session commit in the order of their ids, and a stream that has
-    read up to an id never misses a smaller one committed later by a concurrent writer.
+    The session's row is locked first, unless ``locked`` (the transaction changed it
+    already): then the events of a session commit in the order of their ids, and a stream
+    that has read up to an id never misses a smaller one committed later by a concurrent
+    writer. Core statements: the hottest write path, with no ORM work per event.
     """
+    if not locked:
+        tx.execute(_LOCK_SESSION, {"session_id": session_id})
     tx.execute(
-        select(SessionRow.id).where(SessionRow.id == session_id).with_for_update(key_share=True)
+        _ADD_EVENT, {"of": session_id, "kind": type_, "told": data.model_dump_json(), "at": now}
     )
-    tx.add(EventRow(session_id=session_id, type=type_, data=data.model_dump_json(), created_at=now))
     notify_replicas(tx, session_id)
 
 
 def notify_replicas(tx: Session, session_id: str) -> None:
-    """PostgreSQL: wake every replica's streams of this session, at commit."""
-    if tx.get_bind().dialect.name == "postgresql":
+    """PostgreSQL: wake every replica's streams of this session, at commit (once per
+    transaction: one notification wakes them to read all its events)."""
+    if tx.get_bind().dialect.name != "postgresql":
+        return
+    notified: set[str] = tx.info.setdefault("notified", set())
+    if session_id not in notified:
         tx.execute(select(func.pg_notify(CHANNEL, session_id)))
+        notified.add(session_id)
 
 
 class EventLog:

@@ -128,7 +128,7 @@ class Pairings:
                 )
             )
             joined = PresenceChanged(role="joiner", online=False, version=version)
-            record(tx, session_id, EventType.JOINED, joined, now)
+            record(tx, session_id, EventType.JOINED, joined, now, locked=True)
         return str(session_id)
 
     def participant(self, token_hash: str, now: datetime) -> Participant | None:
@@ -221,7 +221,7 @@ class Pairings:
                     .returning(SessionRow.version)
                 )
                 assert version is not None  # the row was just updated
-                record(tx, row.id, EventType.CODE, CodeRenewed(version=version), now)
+                record(tx, row.id, EventType.CODE, CodeRenewed(version=version), now, locked=True)
         return [row.id for row in renewed]
 
     def forget_join_failures(self, before: datetime) -> None:

@@ -78,7 +78,7 @@ class Photos:
                 photo=shown,
                 landmarks_needed=needed(role, None if theirs is None else json.loads(theirs)),
             )
-            record(tx, sid, EventType.PHOTO, told, now)
+            record(tx, sid, EventType.PHOTO, told, now, locked=True)
         return version
 
     def get(self, session_id: str, role: str) -> StoredPhoto | None:

@@ -6,17 +6,31 @@ import json
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import update
+from sqlalchemy import bindparam, update
 from sqlalchemy.orm import Session
 
 from backend.eventstream.log import EventType, record
 from backend.participants import Participant
 from backend.storage.database import Database
-from backend.storage.tables import ParticipantRow, SessionRow
+from backend.storage.tables import ParticipantRow, SessionRow, core
 from backend.storage.versions import bump_version
 
 from .schemas import Taps, TapsChanged
 from .shown import Shown
+
+_sessions, _participants = core(SessionRow), core(ParticipantRow)
+# Core, built once: every tap runs them.
+# (Bound names other than the columns': SQLAlchemy keeps those for the values.)
+_SET_TAPS = (
+    update(_participants)
+    .where(_participants.c.session_id == bindparam("of"), _participants.c.role == bindparam("who"))
+    .values(taps=bindparam("tapped"))
+)
+_SET_ANSWER = (
+    update(_sessions)
+    .where(_sessions.c.id == bindparam("of"), _sessions.c.version == bindparam("at"))
+    .values(answer=bindparam("found"), answer_version=bindparam("at"))
+)
 
 
 class TapStore:
@@ -44,17 +58,13 @@ class TapStore:
         """
         sid, role = participant.session_id, participant.role
         with self.database.write() as tx:
-            tx.execute(
-                update(ParticipantRow)
-                .where(ParticipantRow.session_id == sid, ParticipantRow.role == role)
-                .values(taps=taps.model_dump_json())
-            )
+            tx.execute(_SET_TAPS, {"of": sid, "who": role, "tapped": taps.model_dump_json()})
             version = bump_version(tx, sid)
             fresh = version == read + 1
             told = TapsChanged(
                 role=role, version=version, taps=taps, landmarks_needed=needed if fresh else None
             )
-            record(tx, sid, EventType.TAPS, told, now)
+            record(tx, sid, EventType.TAPS, told, now, locked=True)
             answered = fresh and answer is not None
             if answer is not None and answered:
                 _record_answer(tx, sid, version, answer=answer[0], shown=answer[1], now=now)
@@ -79,12 +89,8 @@ def _record_answer(
     now: datetime,
 ) -> bool:
     """The answer for ``version`` and its event, if the session is still at that version."""
-    done = tx.execute(
-        update(SessionRow)
-        .where(SessionRow.id == session_id, SessionRow.version == version)
-        .values(answer=json.dumps(answer), answer_version=version)
-    )
+    done = tx.execute(_SET_ANSWER, {"of": session_id, "at": version, "found": json.dumps(answer)})
     if not done.rowcount:  # type: ignore[attr-defined]
         return False
-    record(tx, session_id, EventType.ANSWER, shown.changed(version), now)
+    record(tx, session_id, EventType.ANSWER, shown.changed(version), now, locked=True)
     return True

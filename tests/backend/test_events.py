@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import json
 import time
 from collections.abc import AsyncIterator, Callable
@@ -19,6 +18,7 @@ from test_sessions import NO_PHONES_1, NO_PHONES_2, NO_PHONES_FRIEND, landmarks,
 from backend.eventstream.log import Event
 from backend.eventstream.stream import EventStreams
 from backend.participants import Participant, Role
+from testbed.changes import take_in
 
 
 @pytest.fixture
@@ -226,40 +226,12 @@ async def test_while_the_database_is_away_requests_get_503_and_streams_keep_ping
 
 
 def shown_after(state: dict[str, Any], events: list[Event]) -> dict[str, Any]:
-    """The state a phone shows after taking in ``events`` as the app does
-    (``frontend/src/changes.ts``), from the state it showed before: each change's event
-    applies to the version before it, an answer to its own version."""
-    state = copy.deepcopy(state)
+    """The state a phone shows after taking in ``events`` as the app does, from the state it
+    showed before; each must be taken in (none missing, none that cannot tell)."""
     for event in events:
-        data = event.data
-        if event.type in {"joined", "left"}:
-            state["participants"][data["role"]]["online"] = data["online"]
-            if data["version"] is None:
-                continue  # presence only
-        if event.type == "answer":
-            assert data["version"] == state["version"]
-            errors = data["answer_error"]
-            state |= {
-                "answer": data["answer"],
-                "answer_version": data["version"] if data["answer"] else None,
-                "answer_error": None if errors is None else errors[state["you"]],
-                "landmarks_needed": data["landmarks_needed"],
-            }
-            continue
-        assert data["version"] == state["version"] + 1, "a change missing: the phone fetches"
-        state |= {"version": data["version"], "answer": None, "answer_version": None}
-        state["answer_error"] = None
-        if event.type == "joined":
-            state["participants"]["joiner"]["joined"] = True
-            state |= {"join_code": None, "join_code_expires_at": None, "join_url": None}
-            continue
-        if event.type == "photo":
-            state["photos"][data["role"]] = data["photo"]
-            state["taps"][data["role"]] = None
-        else:
-            state["taps"][data["role"]] = data["taps"]
-        assert data["landmarks_needed"] is not None, "overtaken: the phone fetches"
-        state["landmarks_needed"] = data["landmarks_needed"]
+        taken = take_in(state, event.type, event.data)
+        assert taken is not None, f"the phone would fetch the state for {event}"
+        state = taken
     return state
 
 
