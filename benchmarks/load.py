@@ -11,7 +11,7 @@ nginx, the replicas, PostgreSQL, and this load generator, which shares the machi
 where the replicas' time goes, sampled by py-spy (``benchmarks/spy.py``).
 
     .venv/bin/python benchmarks/load.py [--concurrency N] [--duration S] [--ramp S]
-        [--speed X] [--photo-side PX] [--out PATH]                       (make bench-load)
+        [--speed X] [--photo-side PX] [--suggestions] [--out PATH]       (make bench-load)
 
 The report is printed and written as Markdown to ``docs/load-benchmark.md``.
 """
@@ -188,6 +188,7 @@ def load(
     Search.crowd = Crowd.made(setup.photo_side, setup.seed)
     Search.authority = str(running.authority)
     Search.speed, Search.seed = setup.speed, setup.seed
+    Search.suggestions = setup.suggestions
     environment = locust.env.Environment(user_classes=[Search], host=running.url)
     runner = environment.create_local_runner()
     database = Database(running.database_url)
@@ -290,7 +291,14 @@ def header(run: Run) -> list[str]:
         f" spread over {setup.ramp:g} s; those still running then get {DRAIN_SECONDS:g} s."
         f" People {setup.speed:g} times quicker than a brisk person (the pauses in"
         f" `benchmarks/searches.py`); photos {setup.photo_side} px wide ({photos} JPEG);"
-        " 6 landmarks and the starter's mark of the joiner per search.",
+        " 6 landmarks and the starter's mark of the joiner per search; "
+        + (
+            "the joiner asks for a suggested spot whenever the answer has a band for the"
+            " landmark it finds, as the app does."
+            if setup.suggestions
+            else "no suggested spot asked for (the app asks for one per landmark found with"
+            " an answer: `--suggestions`)."
+        ),
     ]
 
 
@@ -457,6 +465,12 @@ def main(argv: Sequence[str] | None = None) -> None:
     option("--speed", type=float, default=1.0, help="people this many times quicker")
     option("--photo-side", type=int, default=1600, help="the photos' long side, px")
     option("--seed", type=int, default=SEED)
+    option(
+        "--suggestions",
+        action="store_true",
+        help="the joiner also asks for a suggested spot, as the app does (not in the targets' "
+        "search: the issue's baseline had none)",
+    )
     option("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
     setup = parser.parse_args(argv)
     setup.argv = list(argv) if argv is not None else list(sys.argv[1:])

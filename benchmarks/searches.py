@@ -10,10 +10,10 @@ again only when an event cannot be taken in (a change missed); it shows the stat
 PUT /taps answers with, draws the answer from that JSON and taps its own copy of its photo
 (no overlay, no photo downloaded). Once its stream is live, each phone uploads its photo;
 the starter marks the joiner and taps 6 landmarks one PUT at a time; for each, the joiner
-waits until its state shows it, loads its crop ("find #n"), asks for a suggested spot when
-the answer has a band for it (as the app does, once per answer), and taps its own; both
-wait for the answer, read it, and the starter deletes the search, which must end both
-streams with 'expired'.
+waits until its state shows it, loads its crop ("find #n"), with ``--suggestions`` asks for
+a suggested spot when the answer has a band for it (as the app does, once per answer), and
+taps its own; both wait for the answer, read it, and the starter deletes the search, which
+must end both streams with 'expired'.
 """
 
 from __future__ import annotations
@@ -292,6 +292,7 @@ class Search(User):
     speed: ClassVar[float] = 1.0  # people this many times quicker
     stop_at: ClassVar[float] = float("inf")  # time.monotonic(): no search starts after
     seed: ClassVar[int] = 0
+    suggestions: ClassVar[bool] = False  # ask for a suggested spot, as the app does
     counts: ClassVar[Counter[str]] = Counter()  # searches started, completed
     durations: ClassVar[list[float]] = []  # of completed searches, s
     numbers: ClassVar[Iterator[int]] = itertools.count()
@@ -416,13 +417,17 @@ class Search(User):
                 is None
             ):
                 return False
-            if banded(phone.state, n) and (
-                phone.call(
-                    "GET",
-                    "GET /landmarks/joiner/{n}/suggestion",
-                    f"/landmarks/joiner/{n}/suggestion",
+            if (
+                self.suggestions
+                and banded(phone.state, n)
+                and (
+                    phone.call(
+                        "GET",
+                        "GET /landmarks/joiner/{n}/suggestion",
+                        f"/landmarks/joiner/{n}/suggestion",
+                    )
+                    is None
                 )
-                is None
             ):
                 return False
             self.pause(rng, "find")

@@ -47,7 +47,6 @@ class Event:
 
 _sessions, _events = core(SessionRow), core(EventRow)
 # The hot reads, built once (building a statement costs more than running it on SQLite).
-_ALIVE = select(_sessions.c.id).where(_sessions.c.id == bindparam("session_id"))
 _EXISTING = select(_sessions.c.id).where(_sessions.c.id.in_(bindparam("ids", expanding=True)))
 _NEWEST_EVENT = select(func.max(_events.c.id))
 _NEW_EVENTS = (
@@ -68,9 +67,16 @@ _ADD_EVENT = insert(_events).values(
     data=bindparam("told"),
     created_at=bindparam("at"),
 )
+# One query for a stream's every wake: the session (no row: gone) with its events after an
+# id (one row of nulls: none yet).
 _EVENTS_AFTER = (
     select(_events.c.id, _events.c.type, _events.c.data)
-    .where(_events.c.session_id == bindparam("session_id"), _events.c.id > bindparam("after"))
+    .select_from(_sessions)
+    .outerjoin(
+        _events,
+        (_events.c.session_id == _sessions.c.id) & (_events.c.id > bindparam("after")),
+    )
+    .where(_sessions.c.id == bindparam("session_id"))
     .order_by(_events.c.id)
 )
 
@@ -132,10 +138,12 @@ class EventLog:
     def events_after(self, session_id: str, after: int) -> list[Event] | None:
         """Events of a session newer than ``after``; None when the session is gone."""
         with self.database.query() as connection:
-            if connection.scalar(_ALIVE, {"session_id": session_id}) is None:
-                return None
-            rows = connection.execute(_EVENTS_AFTER, {"session_id": session_id, "after": after})
-            return [Event(row.id, row.type, json.loads(row.data)) for row in rows]
+            rows = connection.execute(
+                _EVENTS_AFTER, {"session_id": session_id, "after": after}
+            ).all()
+        if not rows:
+            return None
+        return [Event(row.id, row.type, json.loads(row.data)) for row in rows if row.id is not None]
 
     def changes_since(self, after: int | None, watched: Sequence[str]) -> tuple[int, set[str]]:
         """What other processes may have changed: the newest event id, and the sessions

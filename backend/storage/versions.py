@@ -6,6 +6,8 @@ from __future__ import annotations
 from sqlalchemy import bindparam, update
 from sqlalchemy.orm import Session
 
+from backend.errors import ErrorCode, RefusedError
+
 from .tables import SessionRow, core
 
 _sessions = core(SessionRow)
@@ -21,5 +23,6 @@ _BUMP = (
 def bump_version(tx: Session, session_id: str) -> int:
     """A new version; the answer was for the old one, so it goes."""
     version = tx.scalar(_BUMP, {"of": session_id})
-    assert version is not None  # the caller holds a valid token of this session
+    if version is None:  # deleted since the caller's token was checked (Delete now, say)
+        raise RefusedError(ErrorCode.SESSION_NOT_FOUND, "This session has ended.")
     return int(version)
