@@ -467,11 +467,11 @@ def overtake_the_joiner(
     write = store.put_taps
     got: list[httpx2.Response] = []
 
-    def overtaken(participant: Any, *args: Any) -> Any:
+    def overtaken(participant: Any, *args: Any, **options: Any) -> Any:
         if got or participant.role != "joiner":
-            return write(participant, *args)
+            return write(participant, *args, **options)
         got.append(starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)))
-        written = write(participant, *args)
+        written = write(participant, *args, **options)
         if then is not None:
             got.append(then())
         return written
@@ -497,6 +497,12 @@ def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
     assert reply["answer"]["landmark_ids"] == [1, 2, 3, 4, 5, 6]
     assert reply["answer_version"] == reply["version"] == sneaked[0].json()["version"] + 1
     assert reply == joiner.state()
+    # Its event cannot tell the starter the count it computed before being overtaken (the
+    # starter's phone fetches the state); the answer's event, computed afresh, can.
+    events = app.state.services.streams.log.events_after(joiner.session_id, 0)
+    told = {(event.type, event.data.get("version")): event.data for event in events}
+    assert told["taps", reply["version"]]["landmarks_needed"] is None
+    assert told["answer", reply["version"]]["answer"] == reply["answer"]
 
 
 def test_landmarks_tapped_in_one_photo_only_do_not_count(
