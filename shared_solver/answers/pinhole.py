@@ -71,8 +71,9 @@ BOOTSTRAP_DOF = 1
 # Fits that put friend 1 closer than this many of their own sigmas are the same answer.
 _SAME_ANSWER_SIGMAS = 3.0
 # The camera model is judged not to fit the taps when its fit's chi-square is beyond this
-# quantile: one honest search in a thousand is then told its photos do not look like two
-# phone photos (measured: docs/solver-benchmark.md).
+# quantile: about one honest search in ten thousand is then told its photos do not look
+# like two phone photos (0.99 told one in a hundred; measured in docs/solver-benchmark.md,
+# section 8). A wrong model still shows: a stretched photo is caught from five landmarks.
 LEVEL = 0.9999
 # Starts of the wider search refined at most (it runs when no first start fits).
 _WIDER_REFINED = 12
