@@ -13,12 +13,15 @@ import pytest
 from fastapi.sse import format_sse_event
 from fastapi.testclient import TestClient
 from phones import FakeClock, Phone
-from test_sessions import NO_PHONES_1, NO_PHONES_2, NO_PHONES_FRIEND, landmarks, scene
+from test_sessions import landmarks, scene
 
 from backend.eventstream.log import Event
 from backend.eventstream.stream import EventStreams
 from backend.participants import Participant, Role
 from testbed.changes import take_in
+from testbed.scenes import NO_PHONES_FRIEND as FRIEND
+from testbed.scenes import NO_PHONES_LANDMARKS1 as STARTERS
+from testbed.scenes import NO_PHONES_LANDMARKS2 as JOINERS
 
 
 @pytest.fixture
@@ -266,11 +269,11 @@ def test_each_change_carries_what_the_other_phone_shows(
     shown["joiner"] = joiner.state()
     changed(lambda: starter.upload(temple_photos[0], "a.png"))
     changed(lambda: joiner.upload(temple_photos[1], "b.png"))
-    changed(lambda: starter.tap(landmarks=landmarks(NO_PHONES_1), friend=NO_PHONES_FRIEND))
-    changed(lambda: joiner.tap(landmarks=landmarks(NO_PHONES_2[:2])))  # short of an answer
-    changed(lambda: joiner.tap(landmarks=landmarks(NO_PHONES_2[:3])))  # fails: said to each
+    changed(lambda: starter.tap(landmarks=landmarks(STARTERS), friend=list(FRIEND)))
+    changed(lambda: joiner.tap(landmarks=landmarks(JOINERS[:2])))  # short of an answer
+    changed(lambda: joiner.tap(landmarks=landmarks(JOINERS[:3])))  # fails: said to each
     assert shown["joiner"]["answer_error"]["code"] == "degenerate_configuration"
-    changed(lambda: joiner.tap(landmarks=landmarks(NO_PHONES_2[:4])))  # the curve
+    changed(lambda: joiner.tap(landmarks=landmarks(JOINERS[:4])))  # the curve
     assert shown["joiner"]["answer"]["method"] == "conic"
     s = scene(6)
     changed(lambda: starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)))
