@@ -72,6 +72,9 @@ WORSE = 1.05
 # The truth "far outside" an answer's 95 % region: beyond the chi-square's 0.9999 quantile.
 FAR_OUTSIDE = chi2_quantile(0.9999, 2)
 ZOOM_COVERAGE = 0.90  # the issue's floor for the regions of zoomed photos without EXIF
+# Honest taps told they do not fit two phone photos: the rendered scenes' target (make bench,
+# section 8). A test at level 0.9999 tells about one honest search in 10^4 by design.
+FALSE_ALARMS = 0.001
 DEFAULT_OUT = ROOT / "docs" / "real-cameras.md"
 
 CameraCase = Literal["phone", "exif", "unknown"]
@@ -551,9 +554,10 @@ def targets(run: Run, pairs: Sequence[RealPair]) -> list[str]:
     fell_back = sum(cell.fallback for cell in real)
     answers = sum(cell.answers for cell in real)
     lines.append(
-        f"{verdict(fell_back == 0)}: the camera model is kept on every real phone-like "
-        f"camera, friend 1 far outside photo 2 included (told the taps do not fit: "
-        f"{fell_back} of {answers} answers)"
+        f"{verdict(fell_back <= FALSE_ALARMS * answers)}: the camera model is kept on real "
+        f"phone-like cameras, friend 1 far outside photo 2 included: told the taps do not "
+        f"fit at most {100 * FALSE_ALARMS:g} % of the time, as on rendered scenes ({fell_back} "
+        f"of {answers} answers)"
     )
     zoom_cells = [cell for key, cell in run.cells.items() if key[1] == "zoom"]
     claimed = sum(cell.claimed for cell in zoom_cells)
