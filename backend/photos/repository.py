@@ -7,12 +7,12 @@ from collections.abc import Callable
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import insert, select, update
+from sqlalchemy import bindparam, insert, select, update
 
 from backend.eventstream.log import EventType, record
 from backend.participants import Participant, Role, other
 from backend.storage.database import Database
-from backend.storage.tables import ParticipantRow, PhotoRow
+from backend.storage.tables import ParticipantRow, PhotoRow, core
 from backend.storage.versions import bump_version
 
 from .imaging import StoredPhoto
@@ -22,6 +22,13 @@ from .schemas import PhotoChanged, PhotoStored
 # The landmarks still needed once a phone has a new photo (its taps gone), given the other
 # phone's taps as stored: the taps domain counts them (backend.taps.shown).
 NeededAfterPhoto = Callable[[Role, dict[str, Any] | None], int]
+
+
+_photos = core(PhotoRow)
+# Built once: every crop reads it.
+_PHOTO = select(_photos.c.data, _photos.c.width, _photos.c.height, _photos.c.scale).where(
+    _photos.c.session_id == bindparam("of"), _photos.c.role == bindparam("who")
+)
 
 
 class Photos:
@@ -82,8 +89,8 @@ class Photos:
         return version
 
     def get(self, session_id: str, role: str) -> StoredPhoto | None:
-        with self.database.read() as tx:
-            row = tx.get(PhotoRow, (session_id, role))
-            if row is None:
-                return None
-            return StoredPhoto(data=row.data, width=row.width, height=row.height, scale=row.scale)
+        with self.database.query() as connection:
+            row = connection.execute(_PHOTO, {"of": session_id, "who": role}).first()
+        if row is None:
+            return None
+        return StoredPhoto(data=row.data, width=row.width, height=row.height, scale=row.scale)
