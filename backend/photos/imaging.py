@@ -33,7 +33,7 @@ from PIL import ExifTags, Image, JpegImagePlugin
 from backend.errors import ErrorCode, RefusedError
 from shared_solver.drawing.palette import OUTLINE_COLOUR_BGR, Bgr
 
-from .jpeg_rows import row_index
+from .jpeg_rows import RowIndex, row_index
 from .lens import LensFacts
 
 # Registers the "HEIF" format with PIL (a global registry, so once, at import).
@@ -203,7 +203,9 @@ def encode_layer(drawn: NDArray[np.uint8], photo: NDArray[np.uint8]) -> bytes:
     return bytes(encoded.tobytes())
 
 
-def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
+def crop_around(
+    data: bytes, x: float, y: float, *, size: int = 240, rows: RowIndex | None = None
+) -> bytes:
     """JPEG of the ``size x size`` px of the stored photo ``data`` around ``(x, y)``.
 
     ``(x, y)`` (stored-photo pixels) lands on pixel ``(size // 2, size // 2)`` of the crop,
@@ -212,12 +214,14 @@ def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
     stored here only the rows the crop shows are decoded (:mod:`.jpeg_rows`), with the same
     pixels as the whole photo's.
 
+    ``rows``: ``row_index(data)``, when known already.
+
     Raises RefusedError ``outside_photo`` when the point is not on the photo (or not a number),
     ``invalid_photo`` when ``data`` is not an image; ValueError when ``size`` < 1.
     """
     if size < 1:
         raise ValueError(f"A crop is at least 1 px wide, not {size}.")
-    rows = row_index(data)
+    rows = rows or row_index(data)
     if rows is None:  # not a stored photo: all of it
         photo, top = decode_photo(data), 0
         height, width = photo.shape[:2]

@@ -12,6 +12,7 @@ from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
 from backend.participants import ROLES, Participant, Role, other
 from backend.photos.imaging import decode_photo, encode_image, encode_layer
+from backend.photos.kept import KeptPhoto
 from backend.photos.repository import Photos
 from backend.photos.schemas import ImageFormat
 from backend.photos.service import PhotoService
@@ -134,15 +135,15 @@ class TapService:
             raise RefusedError(
                 ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
             )
-        photo = self.photos.get(snapshot.id, role)
+        kept = self._photo(snapshot, role)
         member = snapshot.members.get(role)
-        if photo is None or member is None or member.taps is None:
+        if kept is None or member is None or member.taps is None:
             raise RefusedError(
                 ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
             )
         taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
         ids: list[int] = stored["answer"]["landmark_ids"]
-        pixels = decode_photo(photo.data)
+        pixels = decode_photo(kept.photo.data)
         drawn = draw_overlay(
             pixels,
             SolveResult.model_validate(stored["solution"]),
@@ -155,9 +156,15 @@ class TapService:
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
         """A small picture around one landmark of ``role``'s photo: "find this"."""
-        taps = tap_sets(self.snapshot(participant.session_id))[role]
+        snapshot = self.snapshot(participant.session_id)
+        taps = tap_sets(snapshot)[role]
         tap = next((t for t in taps.landmarks if t.id == landmark_id), None) if taps else None
-        crop = None if tap is None else self.photo_service.crop(participant, role, tap.x, tap.y)
+        info = snapshot.photos.get(role)
+        crop = (
+            None
+            if tap is None or info is None
+            else self.photo_service.crop(participant, role, tap.x, tap.y, info.version)
+        )
         if crop is None:
             raise RefusedError(
                 ErrorCode.LANDMARK_NOT_FOUND, f"The {role} has no landmark #{landmark_id}."
@@ -185,14 +192,14 @@ class TapService:
         version = snapshot.answer_version
 
         def search() -> tuple[float, float] | None:
-            photos = {r: self.photos.get(snapshot.id, r) for r in ROLES}
+            photos = {r: self._photo(snapshot, r) for r in ROLES}
             if any(photo is None for photo in photos.values()):
                 return None
             return guidance.suggested(
                 stored["solution"],
                 stored["first"],
                 taps,
-                {r: decode_photo(photo.data) for r, photo in photos.items() if photo},
+                {r: decode_photo(kept.photo.data) for r, kept in photos.items() if kept},
                 finder=role,
                 landmark_id=landmark_id,
                 default_sigma=self.settings.tap_sigma,
@@ -204,6 +211,11 @@ class TapService:
             answer_version=version,
             spot=None if spot is None else Spot(x=spot[0], y=spot[1]),
         )
+
+    def _photo(self, snapshot: Snapshot, role: Role) -> KeptPhoto | None:
+        """``role``'s photo as ``snapshot`` has it."""
+        info = snapshot.photos.get(role)
+        return None if info is None else self.photos.get(snapshot.id, role, info.version)
 
     def _check(self, taps: Taps, size: tuple[int, int]) -> None:
         if len(taps.landmarks) > self.settings.max_landmarks:
