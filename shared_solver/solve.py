@@ -170,7 +170,7 @@ def _parse(
     sigmas: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None, ArrayLike | None],
     with_fundamental_covariance: bool = False,
 ) -> Request:
-    sigma = validation.positive(tap_sigma, "tap_sigma")
+    sigma = validation.length(tap_sigma, "tap_sigma")
     e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
     e2 = None if epipole2 is None else validation.pixel(epipole2, "epipole2")
     line1 = None if epipolar_line1 is None else validation.line(epipolar_line1, "epipolar_line1")

@@ -392,10 +392,15 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
         gain_tolerance=_GAIN_TOLERANCE,
     )
     information = jacobian.T @ jacobian
-    try:
-        covariance = linalg.inv(information)
-    except linalg.LinAlgError:
-        covariance = np.linalg.pinv(information, hermitian=True)
+    if not np.all(np.isfinite(information)):
+        # Run off to where the model has no derivative (a focal length of e^-177 px, from a
+        # start far from any geometry): no covariance either, so the fit is not ``usable``.
+        covariance = np.full(information.shape, np.nan)
+    else:
+        try:
+            covariance = linalg.inv(information)
+        except linalg.LinAlgError:
+            covariance = np.linalg.pinv(information, hermitian=True)
     return PinholeFit(
         pose=pose,
         centres=model.centres,

@@ -14,6 +14,7 @@ from testbed.real_cameras import load_pairs
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "benchmarks" / "real_cameras.py"
 SECTIONS = (
+    "## Targets",
     "## 1. The pairs",
     "## 2. Friend 1 in or near photo 2",
     "## 3. Friend 1 outside photo 2",
@@ -39,3 +40,8 @@ def test_real_cameras_run_and_report_every_section(tmp_path: Path) -> None:
     for pair in load_pairs():
         assert f"| {pair.set_name} | {pair.camera_ids[0]} -> {pair.camera_ids[1]} |" in text
     assert "OpenCV 8-point" in text
+    targets = text.split("## Targets", 1)[1].split("## 1.", 1)[0]
+    lines = [line for line in targets.splitlines() if line.startswith("- ")]
+    assert [line.split(":", 1)[0] in ("- PASS", "- FAIL") for line in lines] == [True] * 3
+    for expected in ("a landmark more never", "camera model is kept", "never gets a confident"):
+        assert any(expected in line for line in lines), expected
