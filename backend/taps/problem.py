@@ -19,7 +19,15 @@ from typing import Any
 
 from backend.participants import ROLES, Role, other
 from backend.photos.lens import EXIF_UNCERTAINTY
-from shared_solver import Camera, SolverError, SolveResult, fewest_landmarks, solve, words
+from shared_solver import (
+    Camera,
+    ErrorCode,
+    SolverError,
+    SolveResult,
+    fewest_landmarks,
+    solve,
+    words,
+)
 
 from . import guidance
 from .schemas import Answer, FriendInPhoto, LandmarkBand, Taps
@@ -121,6 +129,40 @@ def _first(sets: dict[Role, Taps]) -> Role:
     return "starter"
 
 
+@dataclass
+class KnownFit:
+    """An answer computed before, as stored ({"solution", "first"} or {"error"}), and the
+    problem it answered: the solver is deterministic, so the same problem (the same taps,
+    photos and cameras) is answered from it instead of solving again. A change of taps
+    often leaves the problem as it was (a landmark the other phone has not tapped yet), and
+    judging a new landmark against the others asks the problem from before the change."""
+
+    task: Problem
+    stored: dict[str, Any]
+    _result: SolveResult | SolverError | None = None
+
+    def result(self) -> SolveResult:
+        """The stored answer as the solver gave it. Raises its SolverError."""
+        if self._result is None:
+            if "solution" in self.stored:
+                self._result = SolveResult.model_validate(self.stored["solution"])
+            else:
+                error = self.stored["error"]
+                self._result = SolverError(ErrorCode(error["code"]), error["message"])
+        if isinstance(self._result, SolverError):
+            raise self._result
+        return self._result
+
+
+def known_fit(
+    stored: dict[str, Any] | None, taps: dict[Role, Taps | None], default_sigma: float
+) -> KnownFit | None:
+    """``stored``, the answer to these taps (and the photos they were on), as a known fit."""
+    if stored is None or not ("solution" in stored or "error" in stored):
+        return None
+    return KnownFit(problem(taps, default_sigma), stored)
+
+
 def camera(focal_35mm: float | None, uncertainty: float | None = None) -> Camera:
     """A phone's camera: its lens's focal length when its photo said, else the phone prior."""
     if focal_35mm is None:
@@ -135,13 +177,14 @@ def solved(
     cameras: dict[Role, Camera],
     taps: dict[Role, Taps | None],
     misfits: dict[Role, list[int]],
+    known: KnownFit | None = None,
 ) -> dict[str, Any]:
     """The solver's answer to ``task`` as stored: ``{"answer": Answer, "solution": the
     solver's own JSON, "first": whose photo was photo 1}``, or ``{"error": {"code",
     "message"}}`` (messages naming photo 1 and photo 2; :func:`for_reader` says them to a
     phone)."""
     try:
-        result = fit(task, sizes=sizes, cameras=cameras)
+        result = fit(task, sizes=sizes, cameras=cameras, known=known)
     except SolverError as error:
         return {"error": {"code": error.code.value, "message": error.message}}
     solution = result.model_dump(mode="json")
@@ -157,10 +200,17 @@ def solved(
 
 
 def fit(
-    task: Problem, *, sizes: dict[Role, tuple[int, int]], cameras: dict[Role, Camera]
+    task: Problem,
+    *,
+    sizes: dict[Role, tuple[int, int]],
+    cameras: dict[Role, Camera],
+    known: KnownFit | None = None,
 ) -> SolveResult:
     """The solver's answer to ``task``, with the uncertainty of its geometry (for the bands
-    of the landmarks still to find). Raises SolverError."""
+    of the landmarks still to find); ``known``'s if it answered the same problem on the
+    same photos. Raises SolverError."""
+    if known is not None and known.task == task:
+        return known.result()
     second = task.second
     return solve(
         task.points1,
@@ -188,13 +238,14 @@ def fitted(
     *,
     sizes: dict[Role, tuple[int, int]],
     cameras: dict[Role, Camera],
+    known: KnownFit | None = None,
 ) -> tuple[SolveResult, Role] | None:
     """The answer these taps give and whose photo was photo 1; None without one."""
     task = problem(taps, default_sigma)
     if not task.solvable:
         return None
     try:
-        return fit(task, sizes=sizes, cameras=cameras), task.first
+        return fit(task, sizes=sizes, cameras=cameras, known=known), task.first
     except SolverError:
         return None
 
