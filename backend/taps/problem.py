@@ -94,10 +94,11 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
     def sigma(value: float | None) -> float:
         return default_sigma if value is None else value
 
-    friend1 = mine.friend
-    line1 = mine.friend_line if friend1 is None else None
+    # mark1: friend 2 as marked in photo 1 (e1); mark2: friend 1 in photo 2 (e2).
+    mark1 = mine.friend
+    line1 = mine.friend_line if mark1 is None else None
     # The other phone's mark is the solver's epipole2 only beside a point in photo 1.
-    friend2 = theirs.friend if friend1 is not None else None
+    mark2 = theirs.friend if mark1 is not None else None
     return Problem(
         first=first,
         default_sigma=default_sigma,
@@ -106,17 +107,17 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
         points2=[(two[i].x, two[i].y) for i in ids],
         sigmas1=[sigma(one[i].sigma) for i in ids],
         sigmas2=[sigma(two[i].sigma) for i in ids],
-        epipole1=None if friend1 is None else (friend1.x, friend1.y),
+        epipole1=None if mark1 is None else (mark1.x, mark1.y),
         epipole1_sigma=(
-            sigma(friend1.sigma)
-            if friend1 is not None
+            sigma(mark1.sigma)
+            if mark1 is not None
             else sigma(line1.sigma)
             if line1 is not None
             else None
         ),
         line1=None if line1 is None else (line1.a, line1.b, line1.c),
-        epipole2=None if friend2 is None else (friend2.x, friend2.y),
-        epipole2_sigma=None if friend2 is None else sigma(friend2.sigma),
+        epipole2=None if mark2 is None else (mark2.x, mark2.y),
+        epipole2_sigma=None if mark2 is None else sigma(mark2.sigma),
     )
 
 
