@@ -11,7 +11,7 @@ from backend.participants import ROLES, Participant
 from backend.photos.schemas import LensInfo, PhotoStored
 from backend.settings import Settings
 from backend.storage.snapshot import PhotoInfo
-from backend.taps.schemas import Taps
+from backend.taps.schemas import StoredAnswer, Taps
 from backend.taps.service import Answered, TapService, tap_sets
 from backend.taps.shown import shown
 
@@ -31,7 +31,7 @@ class StateService:
         """What ``participant``'s phone shows."""
         snapshot = self.taps.due(self.taps.snapshot(participant.session_id))
         taps = tap_sets(snapshot)
-        told = shown(taps, snapshot.answer, self.settings.tap_sigma)
+        told = shown(taps, StoredAnswer.read(snapshot.answer), self.settings.tap_sigma)
         return self._state(participant, base_url, Answered(snapshot, taps, told))
 
     def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:

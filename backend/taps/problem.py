@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Any
 
 from backend.participants import ROLES, Role, other
 from backend.photos.lens import EXIF_UNCERTAINTY
@@ -30,7 +29,7 @@ from shared_solver import (
 )
 
 from . import guidance
-from .schemas import Answer, FriendInPhoto, LandmarkBand, Taps
+from .schemas import Answer, FriendInPhoto, LandmarkBand, Refusal, StoredAnswer, Taps
 
 Point = tuple[float, float]
 Line = tuple[float, float, float]
@@ -132,34 +131,36 @@ def _first(sets: dict[Role, Taps]) -> Role:
 
 @dataclass
 class KnownFit:
-    """An answer computed before, as stored ({"solution", "first"} or {"error"}), and the
+    """An answer computed before, as stored (a solution or an error), and the
     problem it answered: the solver is deterministic, so the same problem (the same taps,
     photos and cameras) is answered from it instead of solving again. A change of taps
     often leaves the problem as it was (a landmark the other phone has not tapped yet), and
     judging a new landmark against the others asks the problem from before the change."""
 
     task: Problem
-    stored: dict[str, Any]
+    stored: StoredAnswer
     _result: SolveResult | SolverError | None = None
 
     def result(self) -> SolveResult:
         """The stored answer as the solver gave it. Raises its SolverError."""
         if self._result is None:
-            if "solution" in self.stored:
-                self._result = SolveResult.model_validate(self.stored["solution"])
+            solution, error = self.stored.solution, self.stored.error
+            if solution is not None:
+                self._result = SolveResult.model_validate(solution)
+            elif error is not None:
+                self._result = SolverError(ErrorCode(error.code), error.message)
             else:
-                error = self.stored["error"]
-                self._result = SolverError(ErrorCode(error["code"]), error["message"])
+                raise ValueError("a stored answer with neither a solution nor an error")
         if isinstance(self._result, SolverError):
             raise self._result
         return self._result
 
 
 def known_fit(
-    stored: dict[str, Any] | None, taps: dict[Role, Taps | None], default_sigma: float
+    stored: StoredAnswer | None, taps: dict[Role, Taps | None], default_sigma: float
 ) -> KnownFit | None:
     """``stored``, the answer to these taps (and the photos they were on), as a known fit."""
-    if stored is None or not ("solution" in stored or "error" in stored):
+    if stored is None or (stored.solution is None and stored.error is None):
         return None
     return KnownFit(problem(taps, default_sigma), stored)
 
@@ -179,15 +180,13 @@ def solved(
     taps: dict[Role, Taps | None],
     misfits: dict[Role, list[int]],
     known: KnownFit | None = None,
-) -> dict[str, Any]:
-    """The solver's answer to ``task`` as stored: ``{"answer": Answer, "solution": the
-    solver's own JSON, "first": whose photo was photo 1}``, or ``{"error": {"code",
-    "message"}}`` (messages naming photo 1 and photo 2; :func:`for_reader` says them to a
-    phone)."""
+) -> StoredAnswer:
+    """The solver's answer to ``task`` as stored, or its refusal (messages naming photo 1
+    and photo 2; :func:`for_reader` says them to a phone)."""
     try:
         result = fit(task, sizes=sizes, cameras=cameras, known=known)
     except SolverError as error:
-        return {"error": {"code": error.code.value, "message": error.message}}
+        return StoredAnswer(error=Refusal(code=error.code.value, message=error.message))
     solution = result.model_dump(mode="json")
     guides = guidance.bands(result, task.first, taps, sizes, task.default_sigma)
     told = answer(task, result)
@@ -197,7 +196,7 @@ def solved(
         # A misfit the fit left out already has its sentence ("looks mis-tapped"): one is enough.
         flagged = [i for i in misfits[role] if i not in told.suspects]
         view.warnings = [words.misfit(i) for i in flagged] + view.warnings
-    return {"answer": told.model_dump(mode="json"), "solution": solution, "first": task.first}
+    return StoredAnswer(answer=told, solution=solution, first=task.first)
 
 
 def fit(

@@ -24,7 +24,7 @@ from shared_solver import SolveResult, draw_overlay
 from . import guidance
 from . import problem as problems
 from .repository import TapStore
-from .schemas import LandmarkSuggestion, Spot, Taps
+from .schemas import Answer, LandmarkSuggestion, Spot, StoredAnswer, Taps
 from .shown import Shown, shown
 
 
@@ -87,7 +87,7 @@ class TapService:
         recorded = replace(
             after,
             version=version,
-            answer=found if answered else None,
+            answer=found.as_json() if answered and found is not None else None,
             answer_version=version if answered else None,
         )
         # Nothing more is due: the answer is recorded, or these taps give none.
@@ -107,9 +107,10 @@ class TapService:
         if not self.taps.put_answer(session_id, version, found, shown, self.clock()):
             return None
         self.notifier.notify(session_id)
-        return Answered(replace(snapshot, answer=found, answer_version=version), taps, shown)
+        recorded = replace(snapshot, answer=found.as_json(), answer_version=version)
+        return Answered(recorded, taps, shown)
 
-    def _shown(self, taps: dict[Role, Taps | None], answer: dict[str, Any] | None) -> Shown:
+    def _shown(self, taps: dict[Role, Taps | None], answer: StoredAnswer | None) -> Shown:
         """What the phones are shown of ``taps`` with ``answer`` (as stored)."""
         return shown(taps, answer, self.settings.tap_sigma)
 
@@ -130,11 +131,7 @@ class TapService:
         ``layer``: the drawing alone, a transparent PNG (``fmt`` aside), for a phone that
         has its photo already."""
         snapshot = self.due(self.snapshot(participant.session_id))
-        stored = snapshot.answer or {}
-        if "solution" not in stored or snapshot.answer_version is None:
-            raise RefusedError(
-                ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
-            )
+        stored = _solved(snapshot)
         kept = self._photo(snapshot, role)
         member = snapshot.members.get(role)
         if kept is None or member is None or member.taps is None:
@@ -142,13 +139,13 @@ class TapService:
                 ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
             )
         taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
-        ids: list[int] = stored["answer"]["landmark_ids"]
+        ids = stored.answer.landmark_ids
         pixels = decode_photo(kept.photo.data)
         drawn = draw_overlay(
             pixels,
-            SolveResult.model_validate(stored["solution"]),
+            SolveResult.model_validate(stored.solution),
             # The solver's photo 2 is the one it found the friend in.
-            photo=1 if role == stored["first"] else 2,
+            photo=1 if role == stored.first else 2,
             points=[taps[i] for i in ids],
             labels=ids,
         )
@@ -177,11 +174,7 @@ class TapService:
         """A suggested spot in ``role``'s photo for landmark ``landmark_id``, which the other
         phone tapped: searched along its band once per answer, then kept."""
         snapshot = self.due(self.snapshot(participant.session_id))
-        stored = snapshot.answer or {}
-        if "solution" not in stored or snapshot.answer_version is None:
-            raise RefusedError(
-                ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
-            )
+        stored = _solved(snapshot)
         taps = tap_sets(snapshot)
         theirs = taps[other(role)]
         if theirs is None or all(tap.id != landmark_id for tap in theirs.landmarks):
@@ -189,15 +182,15 @@ class TapService:
                 ErrorCode.LANDMARK_NOT_FOUND,
                 f"The {other(role)} has no landmark #{landmark_id} to find.",
             )
-        version = snapshot.answer_version
+        version = stored.version
 
         def search() -> tuple[float, float] | None:
             photos = {r: self._photo(snapshot, r) for r in ROLES}
             if any(photo is None for photo in photos.values()):
                 return None
             return guidance.suggested(
-                stored["solution"],
-                stored["first"],
+                stored.solution,
+                stored.first,
                 taps,
                 {r: decode_photo(kept.photo.data) for r, kept in photos.items() if kept},
                 finder=role,
@@ -259,7 +252,7 @@ class TapService:
         snapshot: Snapshot,
         taps: dict[Role, Taps | None],
         previous: tuple[Snapshot, dict[Role, Taps | None]] | None = None,
-    ) -> dict[str, Any] | None:
+    ) -> StoredAnswer | None:
         """The answer for the session as ``snapshot`` has it, with these ``taps``; None
         when there is not enough to answer (a friend or a photo missing, too few taps).
         ``previous``: the session before this change and its taps, whose answer judges the
@@ -278,7 +271,8 @@ class TapService:
         }
         # The photos are the same before and after a change of taps (a new photo is a change
         # of its own): the answer before it answers its problem again.
-        earlier, before = (previous[0].answer, previous[1]) if previous else (snapshot.answer, taps)
+        earlier = StoredAnswer.read(previous[0].answer if previous else snapshot.answer)
+        before = previous[1] if previous else taps
         known = problems.known_fit(earlier, before, sigma)
 
         def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, Role] | None:
@@ -298,6 +292,32 @@ class Answered:
     snapshot: Snapshot
     taps: dict[Role, Taps | None]
     shown: Shown
+
+
+@dataclass(frozen=True)
+class _Solved:
+    """A session's recorded answer that has a solution (not a refusal)."""
+
+    answer: Answer
+    solution: dict[str, Any]
+    first: Role
+    version: int
+
+
+def _solved(snapshot: Snapshot) -> _Solved:
+    """``snapshot``'s recorded answer with its solution, or the refusal that there is none."""
+    stored = StoredAnswer.read(snapshot.answer)
+    if (
+        stored is None
+        or stored.answer is None
+        or stored.solution is None
+        or stored.first is None
+        or snapshot.answer_version is None
+    ):
+        raise RefusedError(
+            ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
+        )
+    return _Solved(stored.answer, stored.solution, stored.first, snapshot.answer_version)
 
 
 def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:
