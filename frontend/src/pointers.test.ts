@@ -142,6 +142,19 @@ describe("two fingers", () => {
     expect(view.outcomes).toEqual([]);
     expect(view.calls).toEqual(["started", "ended"]);
   });
+  it("a pinch the system cancels leaves the view where the fingers had it", () => {
+    const view = new View();
+    const gestures = new PointerGestures(view);
+    gestures.down(pointer(1, 190, 290));
+    gestures.down(pointer(2, 210, 310));
+    gestures.move(pointer(2, 250, 350));
+    const pinched = view.transform;
+    // Some browsers send a cancel at the page's corner, not where the finger was.
+    gestures.up({ ...pointer(2, 0, 0), clientX: 0, clientY: 0 }, true);
+    gestures.up({ ...pointer(1, 0, 0), clientX: 0, clientY: 0 }, true);
+    expect(view.transform).toEqual(pinched);
+    expect(view.outcomes).toEqual([]);
+  });
 });
 
 describe("a mouse", () => {

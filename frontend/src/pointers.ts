@@ -119,8 +119,11 @@ export class PointerGestures {
   /** A pointer lifted (`cancelled`: the system took it away, as pointercancel says). */
   up(event: PointerInput, cancelled = false): boolean {
     if (!this.fingers.has(event.pointerId)) return false;
-    this.fingers.set(event.pointerId, this.local(event));
-    this.moved(); // the lift point counts (a drag's last position)
+    if (!cancelled) {
+      // The lift point counts (a drag's last position); a cancel's point need not be real.
+      this.fingers.set(event.pointerId, this.local(event));
+      this.moved();
+    }
     this.lift(event.pointerId, cancelled, event.timeStamp);
     return true;
   }
@@ -183,11 +186,17 @@ export function listen(element: EventTarget, scope: EventTarget, gestures: Point
   const onWheel = (event: Event): void => taken(gestures.wheel(event as WheelEvent), event);
   // iOS Safari's own page zoom would fight the pinch.
   const onGesture = (event: Event): void => event.preventDefault();
+  // Chromium moves a touch onto a nearby element that takes taps (its touch adjustment),
+  // and only click and mouse-button listeners make an element take taps, pointer listeners
+  // do not. The view listens for click, and does nothing with it, so that it competes: a
+  // touch on the photo beside a control (PhotoView.tsx) stays on the photo.
+  const onClick = (): void => undefined;
   const active = { passive: false } as const;
   const pairs: Array<[EventTarget, string, (event: Event) => void]> = [
     [element, "pointerdown", onDown],
     [element, "wheel", onWheel],
     [element, "gesturestart", onGesture],
+    [element, "click", onClick],
     [scope, "pointermove", onMove],
     [scope, "pointerup", onUp],
     [scope, "pointercancel", onCancel],

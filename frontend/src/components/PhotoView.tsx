@@ -10,7 +10,8 @@
  * finger's touch onto a nearby element that takes taps (Chromium's touch adjustment), and
  * they pass over an element that takes taps when an element inside it takes them too: were
  * the photo view the controls' parent, every touch near a control would go to the control.
- * As siblings they compete, and a touch on the photo beside a control stays on the photo.
+ * As siblings they compete (the view takes taps by listening for click: pointers.ts), and a
+ * touch on the photo beside a control stays on the photo.
  *
  * The parts, one job each: the transform over time (panZoom.ts, usePanZoom.ts), pointers and
  * the wheel (pointers.ts, useGestures.ts, the state machine in gestures.ts), the marks
