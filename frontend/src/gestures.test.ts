@@ -2,6 +2,7 @@ import { describe, expect, it } from "vitest";
 import {
   IDLE,
   LOUPE_AIM_MS,
+  editOf,
   fingerDown,
   fingerUp,
   fingersMove,
@@ -9,6 +10,7 @@ import {
   wheelFactor,
   type Gesture,
 } from "./gestures";
+import { tapSigma } from "./precision";
 import { fitTransform, zoomAbout, type Point } from "./viewTransform";
 
 const view = { width: 412, height: 560 };
@@ -117,5 +119,36 @@ describe("the mouse", () => {
     expect(wheelFactor(-100)).toBeGreaterThan(1);
     expect(wheelFactor(100)).toBeLessThan(1);
     expect(wheelFactor(-100) * wheelFactor(100)).toBeCloseTo(1);
+  });
+});
+
+describe("what a lift does to the marks", () => {
+  const zoomed = zoomAbout(fitted, 2, { x: 0, y: 0 }, view, photo);
+
+  it("a tap is placed in photo px with its precision at the zoom it was made at", () => {
+    const at = { x: fitted.tx + 100 * fitted.scale, y: fitted.ty + 50 * fitted.scale };
+    const edit = editOf({ kind: "place", at, aim: "finger" }, fitted, photo);
+    expect(edit?.kind).toBe("place");
+    const tap = edit?.kind === "place" ? edit.tap : null;
+    expect(tap?.x).toBeCloseTo(100);
+    expect(tap?.y).toBeCloseTo(50);
+    expect(tap?.sigma).toBe(tapSigma(fitted.scale, "finger"));
+    const closer = editOf({ kind: "place", at, aim: "finger" }, zoomed, photo);
+    expect(closer?.kind === "place" && closer.tap.sigma).toBeLessThan(tap?.sigma ?? 0);
+  });
+
+  it("a tap beside the photo places nothing", () => {
+    const above = { x: 100, y: fitted.ty - 5 };
+    expect(editOf({ kind: "place", at: above, aim: "finger" }, fitted, photo)).toBeNull();
+  });
+
+  it("a landmark dragged off the photo stays on its edge", () => {
+    const edit = editOf({ kind: "move", id: 2, to: { x: -50, y: 9999 }, aim: "loupe" }, fitted, photo);
+    expect(edit).toMatchObject({ kind: "move", id: 2, tap: { x: 0, y: photo.height } });
+  });
+
+  it("a tap on a label selects it; nothing does nothing", () => {
+    expect(editOf({ kind: "select", id: 4 }, fitted, photo)).toEqual({ kind: "select", id: 4 });
+    expect(editOf({ kind: "none" }, fitted, photo)).toBeNull();
   });
 });

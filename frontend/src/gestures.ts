@@ -7,11 +7,21 @@
  * moving them pans; nothing is placed, also not when the fingers lift one by one.
  * A mouse: click places, drag pans (when zoomed), the wheel zooms.
  *
- * Points are screen points relative to the view (see viewTransform).
+ * Points are screen points relative to the view (see viewTransform); {@link editOf} turns
+ * what a lift does into photo pixels. The events come in through pointers.ts.
  */
 
-import type { Aim } from "./precision";
-import { panBy, pinchTransform, type Point, type Size, type ViewTransform } from "./viewTransform";
+import { tapSigma, type Aim } from "./precision";
+import type { Tap } from "./session";
+import {
+  isInsidePhoto,
+  panBy,
+  pinchTransform,
+  toPhoto,
+  type Point,
+  type Size,
+  type ViewTransform,
+} from "./viewTransform";
 
 /** A finger that moved less than this (screen px) is a tap for a mouse, a pan threshold. */
 export const MOUSE_SLOP = 4;
@@ -198,4 +208,37 @@ export function loupeTarget(gesture: Gesture): Point | null {
 export function wheelFactor(deltaY: number, deltaMode = 0): number {
   const pixels = deltaMode === 1 ? deltaY * 16 : deltaMode === 2 ? deltaY * 400 : deltaY;
   return Math.exp(-Math.max(-300, Math.min(300, pixels)) * 0.002);
+}
+
+/** What a lift does to this phone's marks, in photo px. */
+export type Edit =
+  | { readonly kind: "place"; readonly tap: Tap }
+  | { readonly kind: "move"; readonly id: number; readonly tap: Tap }
+  | { readonly kind: "select"; readonly id: number };
+
+/**
+ * The edit an outcome makes at transform `t`, each tap with its precision at the zoom and aim
+ * it was made with; null: none (nothing happened, or a tap beside the photo). A landmark
+ * dragged off the photo stays on its edge.
+ */
+export function editOf(outcome: Outcome, t: ViewTransform, photo: Size): Edit | null {
+  switch (outcome.kind) {
+    case "place": {
+      const at = toPhoto(t, outcome.at);
+      return isInsidePhoto(at, photo) ? { kind: "place", tap: { ...at, sigma: tapSigma(t.scale, outcome.aim) } } : null;
+    }
+    case "move": {
+      const at = toPhoto(t, outcome.to);
+      const tap = {
+        x: Math.min(Math.max(at.x, 0), photo.width),
+        y: Math.min(Math.max(at.y, 0), photo.height),
+        sigma: tapSigma(t.scale, outcome.aim),
+      };
+      return { kind: "move", id: outcome.id, tap };
+    }
+    case "select":
+      return { kind: "select", id: outcome.id };
+    case "none":
+      return null;
+  }
 }

@@ -1,15 +1,15 @@
 """A phone in Debian's Chromium, driven by Playwright: a mobile-emulated browser context
-(viewport, device scale, touch, user agent) with one page; taps and pinches are real touch
-input through the DevTools protocol."""
+(viewport, device scale, touch, user agent) with one page; taps, drags and pinches are real
+touch input through the DevTools protocol (``Input.dispatchTouchEvent``)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-from fingers import pinch
-from phone import RESOLVE, Phone, Step
-from playwright.sync_api import Browser, BrowserContext, ElementHandle, Page, Playwright
+from phone import RESOLVE, Phone, Point, Step
+from playwright.sync_api import Browser, BrowserContext, CDPSession, ElementHandle, Page, Playwright
 from playwright.sync_api import Error as PlaywrightError
 
 NAVIGATION_TIMEOUT_MS = 30_000
@@ -27,6 +27,7 @@ class ChromiumPhone(Phone):
         self._context.set_default_navigation_timeout(NAVIGATION_TIMEOUT_MS)
         self._page = self._context.new_page()
         self._errors: list[str] = []
+        self._touch: CDPSession | None = None
         self._page.on(
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
@@ -58,8 +59,14 @@ class ChromiumPhone(Phone):
     def tap_at(self, x: float, y: float) -> None:
         self._page.touchscreen.tap(x, y)
 
+    def touch(self, kind: Literal["down", "move", "up"], points: Sequence[Point] = ()) -> None:
+        self._touch = self._touch or self._context.new_cdp_session(self._page)
+        fingers = [{"x": x, "y": y, "id": i} for i, (x, y) in enumerate(points)]
+        event = {"down": "touchStart", "move": "touchMove", "up": "touchEnd"}[kind]
+        self._touch.send("Input.dispatchTouchEvent", {"type": event, "touchPoints": fingers})
+
     def zoom(self, around: tuple[float, float], factor: float) -> None:
-        pinch(self._context, self._page, around, factor)
+        self.pinch(around, factor)
 
     def screenshot(self, path: Path) -> None:
         self._page.screenshot(path=path)

@@ -14,10 +14,11 @@ engine Debian ships; Selenium drives Debian's WebKitGTK (see docs/browsers.md).
 
 from __future__ import annotations
 
+import math
 import re
 import time
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar, Literal
@@ -29,6 +30,8 @@ POLL_S = 0.05
 # ("text", words) keeps those whose text contains the words (case and spaces ignored, as
 # Playwright's has_text), ("first", "") keeps the first.
 Step = tuple[str, str]
+# A client point (CSS px from the viewport's top-left corner).
+Point = tuple[float, float]
 
 # The page's side of every query: the steps -> matching elements, in document order.
 RESOLVE = r"""(steps) => {
@@ -118,8 +121,10 @@ class Phone(ABC):
 
     #: "chromium" or "webkit".
     engine: ClassVar[str]
-    #: What a tap is to the page: "touch" (touch events, as on a phone) or "mouse" (the
-    #: engine's automation has no touch input; the app's mouse handling gets the tap).
+    #: What a tap (``tap_at``) is to the page: "touch" (a finger, as on a phone) or "mouse"
+    #: (the engine's automation has no touch input: the tap is the mouse's). The app reads
+    #: both as Pointer Events, in one code path (frontend/src/pointers.ts); ``touch`` puts
+    #: fingers on the page in either engine.
     pointer: ClassVar[Literal["touch", "mouse"]]
 
     def __init__(self, model: str) -> None:
@@ -143,6 +148,11 @@ class Phone(ABC):
     @abstractmethod
     def tap_at(self, x: float, y: float) -> None:
         """One finger (or the engine's pointer) down and up at client point (x, y)."""
+
+    @abstractmethod
+    def touch(self, kind: Literal["down", "move", "up"], points: Sequence[Point] = ()) -> None:
+        """Fingers on the page as pointers of type "touch": "down" puts finger i at
+        ``points[i]`` (client px), "move" moves them there, "up" lifts them all where they are."""
 
     @abstractmethod
     def zoom(self, around: tuple[float, float], factor: float) -> None:
@@ -221,6 +231,29 @@ class Phone(ABC):
     def tap_photo(self, x: float, y: float) -> None:
         """A one-finger tap on the photo at pixel (x, y)."""
         self.tap_at(*self.photo_to_screen(x, y))
+
+    def drag(self, start: Point, end: Point, steps: int = 10) -> None:
+        """One finger down at ``start`` and moved to ``end`` in ``steps`` even steps (client
+        px); it stays down: ``touch("up")`` lifts it."""
+        (x0, y0), (x1, y1) = start, end
+        self.touch("down", [start])
+        for k in range(1, steps + 1):
+            self.touch("move", [(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps)])
+
+    def pinch(self, around: Point, factor: float, steps: int = 12) -> None:
+        """Two fingers spreading (factor > 1) or closing around a client point, in steps,
+        then lifted."""
+        cx, cy = around
+
+        def fingers(gap: float) -> list[Point]:
+            half = gap / 2 / math.sqrt(2)  # along the diagonal
+            return [(cx - half, cy - half), (cx + half, cy + half)]
+
+        start = 40.0
+        self.touch("down", fingers(start))
+        for k in range(1, steps + 1):
+            self.touch("move", fingers(start * factor ** (k / steps)))
+        self.touch("up")
 
     def __str__(self) -> str:
         return f"{self.model} ({self.engine})"

@@ -1,5 +1,5 @@
 """The phone driver itself, in each engine: the window is the phone's, a tap is the input
-the engine can give, errors the page reports are caught.
+the engine can give, fingers are touch pointers, errors the page reports are caught.
 
 These pin down what docs/browsers.md says of the engines: should WebKitGTK's driver gain
 touch input, the tap test fails and says so.
@@ -21,6 +21,9 @@ LISTEN = """() => {
   window.seen = [];
   for (const type of ["touchstart", "touchend", "mousedown", "mouseup", "click"]) {
     addEventListener(type, () => window.seen.push(type), true);
+  }
+  for (const type of ["pointerdown", "pointerup"]) {
+    addEventListener(type, (e) => window.seen.push(`${type}:${e.pointerType}`), true);
   }
 }"""
 
@@ -44,9 +47,33 @@ def test_a_tap_is_what_the_engine_can_give(server: str, iphone: Phone) -> None:
     iphone.wait_for(lambda: "click" in iphone.evaluate("() => window.seen"), "the click")
     seen = iphone.evaluate("() => window.seen")
     if iphone.pointer == "touch":  # a finger: touch events first, then the imitated mouse
-        assert seen[:2] == ["touchstart", "touchend"], seen
+        assert seen[:4] == ["pointerdown:touch", "touchstart", "pointerup:touch", "touchend"], seen
+        assert seen[4:] == ["mousedown", "mouseup", "click"], seen
     else:  # WebKitGTK's driver: a "touch" pointer arrives as the mouse
-        assert seen == ["mousedown", "mouseup", "click"], seen
+        assert seen == ["pointerdown:mouse", "mousedown", "pointerup:mouse", "mouseup", "click"], (
+            seen
+        )
+
+
+def test_fingers_are_touch_pointers(server: str, iphone: Phone) -> None:
+    """``touch``: Pointer Events of type "touch" in both engines (real touch input in
+    Chromium, dispatched by the page in WebKit), which is what the app reads."""
+    iphone.goto(f"{server}/")
+    iphone.evaluate(
+        """() => {
+          window.pointers = [];
+          for (const type of ["pointerdown", "pointerup"]) {
+            addEventListener(type, (e) => window.pointers.push(`${type}:${e.pointerType}`), true);
+          }
+        }"""
+    )
+    x, y = iphone.locator("h1").evaluate(
+        "(e) => { const r = e.getBoundingClientRect(); return [r.x + 20, r.y + r.height / 2]; }"
+    )
+    iphone.touch("down", [(x, y)])
+    iphone.touch("up")
+    iphone.wait_for(lambda: len(iphone.evaluate("() => window.pointers")) >= 2, "the lift")
+    assert iphone.evaluate("() => window.pointers") == ["pointerdown:touch", "pointerup:touch"]
 
 
 # A page of its own (the app's policy allows no inline script): its button does what a

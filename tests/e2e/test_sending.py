@@ -45,18 +45,10 @@ def test_nothing_is_sent_while_a_finger_drags_a_landmark(
     box = starter.page.get_by_test_id("landmark").bounding_box()
     assert box is not None
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-    touch = starter.context.new_cdp_session(starter.page)
-
-    def finger(kind: str, dx: float = 0.0) -> None:
-        points = [] if kind == "touchEnd" else [{"x": x + dx, "y": y, "id": 0}]
-        touch.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
-
-    finger("touchStart")
-    for step in range(1, 11):
-        finger("touchMove", 6.0 * step)  # 60 CSS px to the right, in steps
+    starter.drag((x, y), (x + 60.0, y))  # 60 CSS px to the right, in steps
     time.sleep(HOLD_S)
     assert count() == 1, "taps were sent while the finger was still dragging"
-    finger("touchEnd", 60.0)
+    starter.touch("up")
     starter.wait_for(lambda: count() == 2, "the moved landmark sent")
     saved(starter)
     moved = sent[1]["landmarks"][0]

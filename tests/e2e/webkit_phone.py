@@ -6,8 +6,11 @@ What the engine allows, found on WebKitGTK 2.50 (docs/browsers.md):
   window's minimum, 447 px), so the page gets the whole window, sized to the phone's
   viewport; GDK_SCALE gives an integer device pixel ratio (3 for an iPhone 13);
 - input: the GTK port builds WebKitWebDriver without touch (ENABLE_WEBDRIVER_TOUCH_INTERACTIONS
-  is off), so a W3C pointer of type "touch" arrives as the mouse: a tap is mousedown/mouseup
-  and click, and there is no second finger: zooming is the wheel;
+  is off), so a W3C pointer of type "touch" arrives as the mouse: a tap is pointerdown and
+  pointerup of type "mouse", then click, and there is no second finger: zooming is the
+  wheel. Fingers (:meth:`WebKitPhone.touch`) are therefore Pointer Events of type "touch"
+  that the page dispatches itself (:data:`FINGERS`): the app's one pointer path
+  (frontend/src/pointers.ts) gets them as it gets a phone's;
 - console: no log endpoint, no WebDriver BiDi, and MiniBrowser's
   --enable-write-console-messages-to-stdout is not applied to the automation view, so a
   small watcher is put into each page after it loads (:data:`WATCH`).
@@ -19,11 +22,12 @@ import glob
 import math
 import shutil
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-from phone import RESOLVE, Phone, Step
+from phone import RESOLVE, Phone, Point, Step
 from pyvirtualdisplay.display import Display
 from selenium import webdriver
 from selenium.webdriver.common.actions import interaction
@@ -67,6 +71,42 @@ WATCH = r"""() => {
     errors.push(`Content Security Policy: ${event.violatedDirective} refused ${event.blockedURI}`));
 }"""
 HARVEST = "() => (window.__phoneErrors ? window.__phoneErrors.splice(0) : [])"
+
+# Fingers the page dispatches as Pointer Events of type "touch", as a phone's browser does: a
+# finger's events go to the element it landed on (a touch pointer's implicit capture) and
+# bubble from there; the first finger down is the primary one. Not trusted events, so no
+# click or imitated mouse follows, and the page cannot capture them (which the app does not).
+FINGERS = r"""([kind, points]) => {
+  const fingers = (window.__fingers ??= []);
+  const send = (type, finger) => {
+    const down = type !== "pointerup";
+    finger.target.dispatchEvent(new PointerEvent(type, {
+      bubbles: true, cancelable: true, composed: true, view: window,
+      pointerId: finger.id, pointerType: "touch", isPrimary: finger.primary,
+      clientX: finger.x, clientY: finger.y, screenX: finger.x, screenY: finger.y,
+      button: type === "pointermove" ? -1 : 0, buttons: down ? 1 : 0,
+      width: 20, height: 20, pressure: down ? 0.5 : 0,
+    }));
+  };
+  if (kind === "down") {
+    points.forEach(([x, y], i) => {
+      const target = document.elementFromPoint(x, y);
+      if (!target) throw new Error(`no element at (${x}, ${y}) for finger ${i}`);
+      const finger = { id: 100 + i, primary: fingers.length === 0, target, x, y };
+      fingers.push(finger);
+      send("pointerdown", finger);
+    });
+  } else if (kind === "move") {
+    points.forEach(([x, y], i) => {
+      const finger = fingers[i];
+      if (!finger) throw new Error(`finger ${i} is not down`);
+      Object.assign(finger, { x, y });
+      send("pointermove", finger);
+    });
+  } else {
+    for (const finger of fingers.splice(0)) send("pointerup", finger);
+  }
+}"""
 
 
 @dataclass(frozen=True)
@@ -168,6 +208,9 @@ class WebKitPhone(Phone):
         actions = self._finger()
         actions.pointer_action.move_to_location(x, y).pointer_down().pointer_up()
         actions.perform()
+
+    def touch(self, kind: Literal["down", "move", "up"], points: Sequence[Point] = ()) -> None:
+        self.evaluate(FINGERS, [kind, [list(point) for point in points]])
 
     def zoom(self, around: tuple[float, float], factor: float) -> None:
         """Wheel notches at ``around``: up (in) for a factor above 1, down (out) below.

@@ -1,0 +1,46 @@
+/**
+ * The photo view's transform in Preact (panZoom.ts): measured before the first paint and on
+ * every resize, fitted again for a new photo, redrawn on every change.
+ */
+
+import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
+import { PanZoom, type Frames, type PanZoomState } from "../panZoom";
+import type { Insets } from "../reframe";
+import type { Size } from "../viewTransform";
+
+const BROWSER_FRAMES: Frames = {
+  request: (step) => requestAnimationFrame(step),
+  cancel: (id) => cancelAnimationFrame(id),
+  now: () => performance.now(),
+};
+
+/** The controller and its state now, for the view whose element `box` holds. */
+export function usePanZoom(
+  box: { current: HTMLElement | null },
+  photoUrl: string,
+  photoSize: Size,
+  insets: Insets,
+): { panZoom: PanZoom; state: PanZoomState } {
+  const [state, setState] = useState<PanZoomState>({ view: null, transform: null, gliding: false });
+  const made = useRef<PanZoom | null>(null);
+  made.current ??= new PanZoom(photoSize, setState, BROWSER_FRAMES);
+  const panZoom = made.current;
+  panZoom.insets = insets;
+
+  useLayoutEffect(() => {
+    const element = box.current;
+    if (!element) return;
+    const measure = (): void => {
+      const rect = element.getBoundingClientRect();
+      panZoom.resize({ width: rect.width, height: rect.height });
+    };
+    measure();
+    const observer = new ResizeObserver(measure);
+    observer.observe(element);
+    return () => observer.disconnect();
+  }, []);
+
+  useEffect(() => panZoom.showPhoto(photoSize), [photoUrl, photoSize.width, photoSize.height]);
+  useEffect(() => () => panZoom.stopGlide(), []);
+  return { panZoom, state };
+}

@@ -1,0 +1,170 @@
+import { describe, expect, it } from "vitest";
+import { FOCUS_ZOOM, PanZoom, type Frames, type PanZoomState } from "./panZoom";
+import { GLIDE_MS, boxInView, frameTarget, type Box } from "./reframe";
+import { fitTransform, isFitted, toScreen, zoomAbout, type Size } from "./viewTransform";
+
+const phone = { width: 412, height: 560 };
+const photo = { width: 640, height: 480 };
+const NO_INSETS = { top: 0, right: 0, bottom: 0, left: 0 };
+
+/** Animation frames run by hand: `run(ms)` lets that much time pass, frame by frame. */
+class ManualFrames implements Frames {
+  time = 0;
+  private waiting = new Map<number, (time: number) => void>();
+  private next = 1;
+  request(step: (time: number) => void): number {
+    this.waiting.set(this.next, step);
+    return this.next++;
+  }
+  cancel(id: number): void {
+    this.waiting.delete(id);
+  }
+  now(): number {
+    return this.time;
+  }
+  get pending(): number {
+    return this.waiting.size;
+  }
+  run(ms: number, frame = 16): void {
+    for (let passed = 0; passed < ms && this.waiting.size; passed += frame) {
+      this.time += frame;
+      const steps = [...this.waiting.values()];
+      this.waiting.clear();
+      for (const step of steps) step(this.time);
+    }
+  }
+}
+
+function made(size: Size | null = phone): { panZoom: PanZoom; frames: ManualFrames; states: PanZoomState[] } {
+  const frames = new ManualFrames();
+  const states: PanZoomState[] = [];
+  const panZoom = new PanZoom(photo, (state) => states.push(state), frames);
+  if (size) panZoom.resize(size);
+  return { panZoom, frames, states };
+}
+
+/** A small answer near the photo's top-left corner: out of a view zoomed in on the bottom-right. */
+const CORNER: Box = { centre: { x: 60, y: 50 }, half: { x: 10, y: 20 } };
+
+function zoomedOnBottomRight(panZoom: PanZoom): void {
+  const t = panZoom.state.transform!;
+  panZoom.set(zoomAbout(t, 4, toScreen(t, { x: 600, y: 450 }), phone, photo));
+}
+
+describe("the view's size", () => {
+  it("is unknown until measured, then the photo is fitted", () => {
+    const { panZoom } = made(null);
+    expect(panZoom.now()).toBeNull();
+    panZoom.resize({ width: 0, height: 300 }); // not laid out yet
+    expect(panZoom.now()).toBeNull();
+    panZoom.resize(phone);
+    expect(panZoom.state.transform).toEqual(fitTransform(phone, photo));
+    expect(panZoom.now()).toEqual({ size: phone, transform: fitTransform(phone, photo), photo });
+  });
+
+  it("a fitted view fits again when turned; a zoomed one stays zoomed", () => {
+    const { panZoom } = made();
+    const turned = { width: 560, height: 412 };
+    panZoom.resize(turned);
+    expect(panZoom.state.transform).toEqual(fitTransform(turned, photo));
+    panZoom.set(zoomAbout(panZoom.state.transform!, 3, { x: 280, y: 206 }, turned, photo));
+    const zoomed = panZoom.state.transform!.scale;
+    panZoom.resize(phone);
+    expect(panZoom.state.transform!.scale).toBeCloseTo(zoomed);
+    expect(isFitted(panZoom.state.transform!, phone, photo)).toBe(false);
+  });
+
+  it("a new photo is shown whole", () => {
+    const { panZoom } = made();
+    zoomedOnBottomRight(panZoom);
+    const portrait = { width: 480, height: 640 };
+    panZoom.showPhoto(portrait);
+    expect(panZoom.state.transform).toEqual(fitTransform(phone, portrait));
+  });
+
+  it("the whole-photo button fits the photo again", () => {
+    const { panZoom } = made();
+    zoomedOnBottomRight(panZoom);
+    panZoom.fit();
+    expect(panZoom.state.transform).toEqual(fitTransform(phone, photo));
+  });
+});
+
+describe("re-checking a landmark", () => {
+  it("zooms in on it, at least a few times the whole photo, and centres it", () => {
+    const { panZoom } = made();
+    const landmark = { x: 320, y: 240 };
+    panZoom.focus(landmark);
+    const t = panZoom.state.transform!;
+    expect(t.scale).toBeCloseTo(fitTransform(phone, photo).scale * FOCUS_ZOOM);
+    const at = toScreen(t, landmark);
+    expect(at.x).toBeCloseTo(phone.width / 2);
+    expect(at.y).toBeCloseTo(phone.height / 2);
+  });
+});
+
+describe("bringing the answer into view", () => {
+  it("glides to it, published as gliding until the glide ends", () => {
+    const { panZoom, frames } = made();
+    zoomedOnBottomRight(panZoom);
+    const from = panZoom.state.transform!;
+    expect(boxInView(CORNER, from, phone, NO_INSETS)).toBe(false);
+    panZoom.answer(CORNER, false);
+    expect(panZoom.state.gliding).toBe(true);
+    frames.run(GLIDE_MS / 2);
+    const halfway = panZoom.state.transform!;
+    expect(halfway).not.toEqual(from);
+    expect(panZoom.state.gliding).toBe(true);
+    frames.run(GLIDE_MS);
+    expect(panZoom.state.gliding).toBe(false);
+    expect(frames.pending).toBe(0);
+    expect(panZoom.state.transform).toEqual(frameTarget(CORNER, from, phone, photo, NO_INSETS));
+    expect(boxInView(CORNER, panZoom.state.transform!, phone, NO_INSETS)).toBe(true);
+  });
+
+  it("waits for the gesture in progress to end", () => {
+    const { panZoom, frames } = made();
+    zoomedOnBottomRight(panZoom);
+    const during = panZoom.state.transform;
+    panZoom.answer(CORNER, true);
+    frames.run(GLIDE_MS * 2);
+    expect(panZoom.state.transform).toEqual(during);
+    panZoom.gestureEnded();
+    frames.run(GLIDE_MS * 2);
+    expect(boxInView(CORNER, panZoom.state.transform!, phone, NO_INSETS)).toBe(true);
+  });
+
+  it("does not move for a refinement inside the answer's frame", () => {
+    const { panZoom, frames } = made();
+    zoomedOnBottomRight(panZoom);
+    panZoom.answer(CORNER, false);
+    frames.run(GLIDE_MS * 2);
+    zoomedOnBottomRight(panZoom);
+    const away = panZoom.state.transform;
+    panZoom.answer({ ...CORNER, centre: { x: 65, y: 55 } }, false);
+    expect(panZoom.state.gliding).toBe(false);
+    expect(panZoom.state.transform).toEqual(away);
+  });
+
+  it("stops where it is when a finger lands", () => {
+    const { panZoom, frames } = made();
+    zoomedOnBottomRight(panZoom);
+    panZoom.answer(CORNER, false);
+    frames.run(GLIDE_MS / 3);
+    const stopped = panZoom.state.transform;
+    panZoom.stopGlide();
+    frames.run(GLIDE_MS);
+    expect(panZoom.state.gliding).toBe(false);
+    expect(panZoom.state.transform).toEqual(stopped);
+  });
+
+  it("waits for the view to be measured", () => {
+    const { panZoom, frames } = made(null);
+    panZoom.answer(CORNER, false);
+    panZoom.resize(phone);
+    expect(panZoom.state.gliding).toBe(false);
+    panZoom.answer(CORNER, false); // the view's hook asks again once measured
+    frames.run(GLIDE_MS * 2);
+    expect(boxInView(CORNER, panZoom.state.transform!, phone, NO_INSETS)).toBe(true);
+  });
+});
