@@ -24,6 +24,10 @@ TARGET_OFFERED = 0.25
 # The rule's thresholds tried on the calibration scenes: least score, least margin.
 SCORES = (0.5, 0.6, 0.7, 0.8)
 MARGINS = (0.0, 0.03, 0.05, 0.08)
+# Least leads of a match in another view over the patch as read, tried the same way.
+VIEW_LEADS = (0.0, 0.1, 0.15, 0.2)
+# Stricter least leads over the runner-up, counted on the held-out arenas (trade-off).
+STRICTER_MARGINS = (0.06, 0.08, 0.1, 0.15)
 
 Rule = Callable[[Evidence], bool]
 
@@ -196,6 +200,31 @@ def rule_table(items: Sequence[Asked | Searched]) -> str:
             cells.append(_cell(count(items, now, by_rule(rules)), rules == RULES))
         rows.append(cells)
     return markdown_table(["least score", *[f"margin {m:g}" for m in MARGINS]], rows)
+
+
+def view_table(items: Sequence[Asked | Searched]) -> str:
+    """Offered / right / beyond 3 % for each least lead of a match in another view than as
+    read over the patch as read, and none offered (the rest as in the code)."""
+    leads_tried = [*VIEW_LEADS, math.inf]
+    cells = []
+    for lead in leads_tried:
+        rules = replace(RULES, min_view_lead=lead)
+        cells.append(_cell(count(items, now, by_rule(rules)), rules == RULES))
+    names = [f"lead {lead:g}" for lead in VIEW_LEADS] + ["none (as read alone)"]
+    return markdown_table(names, [cells])
+
+
+def tradeoff_table(asked: Sequence[Asked]) -> str:
+    """Held out: the rule in the code with a higher least lead over the runner-up (the
+    search back was made only for matches that lead under the rule in the code, so only
+    stricter rules can be counted)."""
+    rows = []
+    for margin in sorted({RULES.min_margin, *STRICTER_MARGINS}):
+        rules = replace(RULES, min_margin=margin)
+        result = count(asked, now, by_rule(rules))
+        name = f"{margin:g}" + (" (the rule)" if rules == RULES else "")
+        rows.append([name, *result.cells()])
+    return markdown_table(["least lead over the runner-up", *HEADER], rows)
 
 
 def _cell(result: Offered, chosen: bool) -> str:

@@ -16,11 +16,14 @@ front (the floor, a wall, a board) shows it *as read*. *Reversed along* the line
 surface seen from its two sides shows it (a banner hung between the phones, its print
 showing through), and how many look-alikes show it: a print that reads the same from both
 sides, the other corner of a mat whose print is the same turned 180 degrees, the other
-edge of a pillar alike. The best place as read is the match; the best place of either view
-further than ``exclusion`` along the band is its runner-up (a repeated pattern, a row of
-seats, a look-alike make the two close). A landmark seen from two sides is not offered:
-on the rendered halls and arenas its view found more look-alikes than landmarks
-(docs/suggestions.md).
+edge of a pillar alike. The best place of either view is the match; the best place of
+either view further than ``exclusion`` along the band is its runner-up (a repeated
+pattern, a row of seats, a look-alike make the two close); where both views find one spot,
+the place as read is the match. A match read reversed also carries the best score of the
+patch as read: the rule (:mod:`.suggestion`) can ask it to lead that, but by default does
+not offer it, since on the rendered halls and arenas that view found look-alikes (a box's
+corner, a floor marking, a pillar's edge read the other way) too often beside the banners
+seen from behind it finds (docs/geometry.md, "Finding a landmark in the other photo").
 """
 
 from __future__ import annotations
@@ -60,6 +63,11 @@ class Match:
         runner_up: the best score of any view further than ``exclusion`` along the band
             (-1 if none).
         stretch, shear: the local change of shape that matched best.
+        view: the view of the patch that matched (:data:`VIEWS`).
+        as_read: with a match of another view, the best score of the patch as read
+            anywhere along the band, near the match included (its own score otherwise).
+        as_read_apart: how far along the band that place is from the match, px (a
+            fraction of photo B's diagonal once :func:`.suggestion.search_band` has it).
     """
 
     point: Array
@@ -67,6 +75,9 @@ class Match:
     runner_up: float
     stretch: float
     shear: float
+    view: str = "as read"
+    as_read: float = -1.0
+    as_read_apart: float = 0.0
 
 
 @dataclass
@@ -147,15 +158,30 @@ def best_match(
             views, the patch was searched as read alone).
     """
     found = places(frame, t, exclusion=exclusion, views=views)
-    as_read = [place for place in found if place.view == "as read"]
-    if not as_read:
+    if not found:
         return None
-    best = max(as_read, key=lambda place: place.score)
+    best = max(found, key=lambda place: place.score)
+    read = max(
+        (place for place in found if place.view == "as read"),
+        key=lambda place: place.score,
+        default=best,
+    )
+    if abs(read.column - best.column) <= exclusion:
+        best = read  # both views find one spot: the patch as read places it
     runner_up = max(
         (place.score for place in found if abs(place.column - best.column) > exclusion),
         default=-1.0,
     )
-    return Match(point_of(frame, t, best), best.score, runner_up, best.stretch, best.shear)
+    return Match(
+        point_of(frame, t, best),
+        best.score,
+        runner_up,
+        best.stretch,
+        best.shear,
+        best.view,
+        read.score if read.view == "as read" else -1.0,
+        float(abs(read.column - best.column)),
+    )
 
 
 def point_of(frame: PolarFrame, t: Array, place: Place) -> Array:

@@ -13,6 +13,12 @@ on rendered halls and arenas, and are measured on others, in docs/suggestions.md
 - searched back from photo B along its own band in photo A, the same way, the match leads
   to the tapped point again (within 1 % of A's diagonal), and as clearly (the same least
   score and margin): the left-right check, which a look-alike in photo A also defeats;
+- the search back scores about as the match does (``max_score_gap``): both are the same
+  pair of patches;
+- it is the patch as read: a match read reversed along the lines (a banner seen from
+  behind, its print mirrored) would have to lead the patch as read anywhere by
+  ``min_view_lead`` and not be beside it, and is not offered by default (a box's corner,
+  a floor marking, a pillar's edge read the other way look alike too often);
 - it lies in the band (the tap check of :meth:`.band.Band.check`), as a tap there would.
 """
 
@@ -44,6 +50,15 @@ class Rules:
         radius: half size of the patch, px of the stored photo.
         max_margin: most rows searched on each side of the band's centre line.
         views: the views of the patch searched (:data:`.search.VIEWS`).
+        min_view_lead: least lead of a match in another view than as read over the best
+            place of the patch as read (infinite: never offered; docs/suggestions.md,
+            section 5, weighs others).
+        view_apart: least distance along the band between such a match and that place,
+            fraction of the diagonal (closer, the two views disagree about one spot: the
+            edge of a pillar, a mat's corner, read the other way).
+        max_score_gap: most difference between the scores of the match and of the search
+            back (the same pair of patches seen both ways should score alike; a search
+            back far surer than the match went from a look-alike to its own twin).
     """
 
     min_score: float = 0.7
@@ -52,6 +67,9 @@ class Rules:
     radius: int = 16
     max_margin: int = 16
     views: tuple[str, ...] = tuple(VIEWS)
+    min_view_lead: float = math.inf
+    view_apart: float = 0.015
+    max_score_gap: float = 0.2
 
 
 RULES = Rules()
@@ -175,6 +193,7 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
         or back is None
         or evidence.returned > rules.tolerance
         or not leads(back, rules)
+        or abs(match.score - back.score) > rules.max_score_gap
     ):
         return None
     return Suggestion(
@@ -185,8 +204,20 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
 
 
 def leads(match: Match, rules: Rules = RULES) -> bool:
-    """Whether a match scores high enough and clearly above anything else on its band."""
-    return match.score >= rules.min_score and match.score - match.runner_up >= rules.min_margin
+    """Whether a match scores high enough and clearly above anything else on its band,
+    and, in a view other than as read, clearly above the patch as read anywhere and not
+    beside it."""
+    return (
+        match.score >= rules.min_score
+        and match.score - match.runner_up >= rules.min_margin
+        and (
+            match.view == "as read"
+            or (
+                match.score - match.as_read >= rules.min_view_lead
+                and match.as_read_apart > rules.view_apart
+            )
+        )
+    )
 
 
 def search_back(
@@ -249,7 +280,7 @@ def search_band(
     if not found:
         return None
     found.sort(key=lambda match: -match.score)
-    best = found[0]
+    best = replace(found[0], as_read_apart=found[0].as_read_apart / math.hypot(width_b, height_b))
     if len(found) > 1:  # the other half-line's best competes as a runner-up
         best = replace(best, runner_up=max(best.runner_up, found[1].score))
     return best

@@ -63,6 +63,8 @@ def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> 
         "| **all** |",
         "| now (the rule in the code) |",
         "| 0.7 |",
+        "| 0.1 |",  # a stricter lead, held out
+        "| none (as read alone) |",
         "| template matching in epipolar coordinates, colour (the rule above) |",
         "| SIFT in the band, 2+ keypoints agreeing |",
         "| 3.5 sd (the rule) |",
