@@ -22,7 +22,7 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network demo lock clean
+.PHONY: run run-cluster test lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -97,6 +97,10 @@ bench-load: $(INSTALLED) $(APP) postgres nginx
 
 bench-suggest: $(INSTALLED)
 	$(BIN)/python benchmarks/suggestions.py
+
+# The solver on real calibrated photographs (tests/data/real_cameras/): a few minutes.
+bench-real: $(INSTALLED)
+	$(BIN)/python benchmarks/real_cameras.py $(ARGS)
 
 # The app on a venue's network: two phones in Chromium, loopback and an emulated congested
 # venue, in one run (docs/network-benchmark.md).

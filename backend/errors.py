@@ -84,6 +84,40 @@ STATUS: dict[ErrorCode, int] = {
 }
 
 
+# What each code means, in a line: docs/api.md's table of codes is generated from it
+# (python -m docsgen.error_codes; tests/test_docs_generated.py checks the committed copy).
+MEANING: dict[ErrorCode, str] = {
+    ErrorCode.BAD_REQUEST: "the request could not be read (a body that is not JSON, a bad header)",
+    ErrorCode.INVALID_REQUEST: "a field is missing, of the wrong type or out of its range",
+    ErrorCode.NOT_FOUND: "no such address",
+    ErrorCode.METHOD_NOT_ALLOWED: "the address does not take that method",
+    ErrorCode.BODY_TOO_LARGE: "the body is larger than the service takes",
+    ErrorCode.UNAUTHORIZED: "no token, or one that opens no session",
+    ErrorCode.FORBIDDEN: "the token opens another session",
+    ErrorCode.SESSION_NOT_FOUND: "the session ended or never was",
+    ErrorCode.INVALID_JOIN_CODE: "no search waits for that join code (wrong, used or expired)",
+    ErrorCode.TOO_MANY_ATTEMPTS: "too many wrong join codes; `Retry-After` says when to try again",
+    ErrorCode.BUSY: "too many searches are starting at once; try again",
+    ErrorCode.EMPTY_PHOTO: "the upload has no bytes",
+    ErrorCode.INVALID_PHOTO: "the upload is not a photo the service can read",
+    ErrorCode.PHOTO_TOO_LARGE: "the photo is larger than the service takes",
+    ErrorCode.UNSUPPORTED_MEDIA_TYPE: "not a JPEG, PNG, WebP or HEIC/HEIF file",
+    ErrorCode.HEIC_UNSUPPORTED: "a HEIC/HEIF photo this service cannot decode; send a JPEG",
+    ErrorCode.PHOTO_NOT_FOUND: "that phone has not uploaded a photo yet",
+    ErrorCode.PHOTO_MISSING: "taps sent before your photo: upload it first",
+    ErrorCode.TOO_MANY_LANDMARKS: "more landmarks than a search takes",
+    ErrorCode.DUPLICATE_LANDMARK: "two landmarks with the same number",
+    ErrorCode.OUTSIDE_PHOTO: "a tap outside the photo",
+    ErrorCode.INVALID_LINE: "the line through the friend does not cross the photo",
+    ErrorCode.CONFLICTING_INPUTS: "the friend marked both as a point and as a line",
+    ErrorCode.NOT_YOUR_MARK: "no longer sent (a code is never given another meaning)",
+    ErrorCode.LANDMARK_NOT_FOUND: "no landmark of that number (to crop, or to find)",
+    ErrorCode.NO_RESULT: "no answer yet, or the photo changed and it is being renewed",
+    ErrorCode.DATABASE_UNAVAILABLE: "the database did not answer; try again",
+    ErrorCode.INTERNAL_ERROR: "a fault of the service (logged); try again",
+}
+
+
 class RefusedError(Exception):
     """The service will not do what was asked: a stable ``code`` and a ``message`` to
     show. ``retry_after``: seconds until trying again may succeed (a limit)."""

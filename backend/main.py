@@ -114,7 +114,8 @@ def _secure_every_response(app: FastAPI) -> None:
 
 def _document_refusals(app: FastAPI) -> None:
     """FastAPI documents request errors as {"detail": [...]}; this API answers them in its
-    one shape, so the schema says that instead."""
+    one shape, so the schema says that instead. Also what the event stream's events carry
+    (FastAPI documents no data of a stream of ``ServerSentEvent``)."""
     build = app.openapi
 
     def openapi() -> dict[str, Any]:
@@ -127,6 +128,7 @@ def _document_refusals(app: FastAPI) -> None:
                         answers["422"] = api_responses.INVALID_REQUEST
             schema.get("components", {}).get("schemas", {}).pop("HTTPValidationError", None)
             schema.get("components", {}).get("schemas", {}).pop("ValidationError", None)
+            events.document_events(schema)
             app.openapi_schema = schema
         return app.openapi_schema
 

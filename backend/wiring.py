@@ -22,6 +22,7 @@ from backend.storage.database import Database
 from backend.storage.erase import Eraser
 from backend.taps.repository import TapStore
 from backend.taps.service import TapService
+from backend.taps.shown import needed_after_photo
 
 
 @dataclass
@@ -47,7 +48,7 @@ def build(engine: Engine, settings: Settings, clock: Clock) -> Services:
     eraser = Eraser(database, settings.erase_interval_seconds)
     pairing = PairingService(database, Pairings(database, eraser), settings, notifier, clock)
     photo_store = Photos(database)
-    photos = PhotoService(photo_store, settings, notifier, clock)
+    photos = PhotoService(photo_store, settings, notifier, clock, needed_after_photo)
     taps = TapService(
         database=database,
         taps=TapStore(database),

@@ -4,14 +4,16 @@ API's requests and answers is in this module.
 
 Each Locust user runs searches back to back. The starter creates the search and opens its
 event stream; the joiner joins with the code and opens its own; both streams stay open to
-the end. Each phone fetches the state when an event tells it something newer than what it
-shows (at most one fetch at a time: its stream reader fetches, then reads on) and shows
-the state its own PUT /taps answers with; like the app, it draws the answer from that JSON
-and taps its own copy of its photo (no overlay, no photo downloaded). Once its stream is
-live, each phone uploads its photo; the starter marks
-the joiner and taps 6 landmarks one PUT at a time; for each, the joiner waits until its
-state shows it, loads its crop ("find #n") and taps its own; both wait for the answer,
-read it, and the starter deletes the search, which must end both streams with 'expired'.
+the end. Like the app, each phone reads the state once its stream is open, then takes in
+each event's data (``testbed.changes``, as ``frontend/src/changes.ts``), reading the state
+again only when an event cannot be taken in (a change missed); it shows the state its own
+PUT /taps answers with, draws the answer from that JSON and taps its own copy of its photo
+(no overlay, no photo downloaded). Once its stream is live, each phone uploads its photo;
+the starter marks the joiner and taps 6 landmarks one PUT at a time; for each, the joiner
+waits until its state shows it, loads its crop ("find #n"), with ``--suggestions`` asks for
+a suggested spot when the answer has a band for it (as the app does, once per answer), and
+taps its own; both wait for the answer, read it, and the starter deletes the search, which
+must end both streams with 'expired'.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from locust.clients import HttpSession
 from locust.exception import StopUser
 from report import ROOT
 
+from testbed.changes import take_in
 from testbed.scenes import Scene, tap, temple_scene
 
 TEMPLE = ROOT / "tests" / "data" / "temple"
@@ -136,14 +139,13 @@ class Phone:
         self.state = state
         self.news.set()
 
-    def newer(self, event: str, data: dict[str, Any]) -> bool:
-        """Whether an event tells something the state shown does not hold yet."""
-        version, shown = data.get("version"), self.state
-        if not isinstance(version, int) or shown is None:
-            return True
-        if event == "answer":
-            return shown["version"] < version or shown.get("answer") is None
-        return bool(shown["version"] < version)
+    def take_in(self, event: str, data: Any) -> None:
+        """An event of its stream, taken in as the app does: shown, or the state read."""
+        taken = take_in(self.state, event, data)
+        if taken is None:
+            self.fetch()
+        elif taken is not self.state:
+            self.show(taken)
 
     def fetch(self) -> None:
         if self.ending:
@@ -215,8 +217,7 @@ class Phone:
                     if event == "joined" and data.get("role") == self.role and data.get("online"):
                         self.live.set()
                     self.sending.wait()  # the answer to its own PUT comes first
-                    if self.newer(event, data):
-                        self.fetch()
+                    self.take_in(event, data)
             self.user.flow_error("stream ended without 'expired'")
         except OSError as error:  # requests' and urllib3's errors, a read timeout among them
             self.user.flow_error(f"stream dropped ({type(error).__name__})")
@@ -265,6 +266,23 @@ def call(
         return True
 
 
+def answered(state: dict[str, Any]) -> bool:
+    """Whether the state has the answer its taps give: one, a refusal, or (more landmarks
+    needed) none to wait for."""
+    return (
+        state.get("answer") is not None
+        or state.get("answer_error") is not None
+        or state["landmarks_needed"] > 0
+    )
+
+
+def banded(state: dict[str, Any], n: int) -> bool:
+    """Whether the answer shows the joiner the band where the starter's landmark #n is."""
+    answer = state.get("answer")
+    bands = answer["in_photo"]["joiner"].get("bands", []) if answer else []
+    return any(band["id"] == n for band in bands)
+
+
 class Search(User):
     """A pair of friends running searches back to back, until ``stop_at``."""
 
@@ -274,6 +292,7 @@ class Search(User):
     speed: ClassVar[float] = 1.0  # people this many times quicker
     stop_at: ClassVar[float] = float("inf")  # time.monotonic(): no search starts after
     seed: ClassVar[int] = 0
+    suggestions: ClassVar[bool] = False  # ask for a suggested spot, as the app does
     counts: ClassVar[Counter[str]] = Counter()  # searches started, completed
     durations: ClassVar[list[float]] = []  # of completed searches, s
     numbers: ClassVar[Iterator[int]] = itertools.count()
@@ -381,7 +400,9 @@ class Search(User):
                 starter = state["taps"].get("starter")
                 return starter is not None and any(t["id"] == n for t in starter["landmarks"])
 
-            if not phone.wait_until(tapped, f"the starter's landmark #{n}"):
+            if not phone.wait_until(tapped, f"the starter's landmark #{n}") or not (
+                phone.wait_until(answered, f"the answer with the starter's landmark #{n}")
+            ):
                 return False
             assert phone.state is not None
             seen = next(t for t in phone.state["taps"]["starter"]["landmarks"] if t["id"] == n)
@@ -394,6 +415,19 @@ class Search(User):
                     params=query,
                 )
                 is None
+            ):
+                return False
+            if (
+                self.suggestions
+                and banded(phone.state, n)
+                and (
+                    phone.call(
+                        "GET",
+                        "GET /landmarks/joiner/{n}/suggestion",
+                        f"/landmarks/joiner/{n}/suggestion",
+                    )
+                    is None
+                )
             ):
                 return False
             self.pause(rng, "find")

@@ -45,7 +45,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 from report import ROOT, publish, source_state, timed
-from solverbench import facing, phones, ranking
+from solverbench import facing, limit, phones, ranking
 from solverbench.common import SCENE_STREAM, SEED, TAP_STREAM
 from solverbench.speed import (
     BATCH_SECONDS,
@@ -62,6 +62,7 @@ DEFAULT_TRIALS = 500
 DEFAULT_RANK_SCENES = 300
 DEFAULT_SPEED_SCENES = 20
 DEFAULT_SPEED_ROUNDS = 25
+DEFAULT_LIMIT_TRIALS = 1000
 
 
 @dataclass(frozen=True)
@@ -71,6 +72,7 @@ class Options:
     rank_scenes: int
     speed_scenes: int
     speed_rounds: int
+    limit_trials: int = DEFAULT_LIMIT_TRIALS
 
 
 @dataclass(frozen=True)
@@ -84,6 +86,7 @@ class Results:
     facing_coverage: facing.CoverageTable
     six_point_rank: facing.RankCount
     speed_result: SpeedResult
+    limit_table: limit.LimitTable
     seconds: dict[str, float]
 
 
@@ -114,7 +117,8 @@ def header(options: Options) -> str:
             f"- Trials: {options.trials} per cell in sections 1, 2, 5 and 6; "
             f"{options.coverage_trials} per case in section 3; {options.rank_scenes} scenes per "
             f"kind in section 4 and in the six_point_line rank check; speed: "
-            f"{options.speed_scenes} scenes per case, {options.speed_rounds} rounds"
+            f"{options.speed_scenes} scenes per case, {options.speed_rounds} rounds; "
+            f"{options.limit_trials} per case and tap noise in section 8"
             + (
                 " (the defaults: no section was cut short for time)."
                 if options == DEFAULTS
@@ -164,6 +168,7 @@ def report(results: Results) -> str:
         *ranking.rank_targets(results.rank_table),
         *speed_targets(results.speed_result.timings),
         (facing_passed, facing_target),
+        *limit.limit_targets(results.limit_table),
     ]
     seconds = ", ".join(f"{name} {s:.1f} s" for name, s in results.seconds.items())
     sections = [
@@ -253,6 +258,21 @@ def report(results: Results) -> str:
         f"7-point call took {REFERENCE_SEVEN_US:g} us, scaled by that call's time in this run "
         "(this machine's speed changes by up to 2.3 times between runs).",
         speed_table(results.speed_result.timings),
+        "## 8. At the limit: against the Cramér-Rao bound of the taps",
+        f"{options.limit_trials} trials per case and tap noise: the phone scenes and taps of "
+        "section 1 (trial i is the same; section 1 has the first of them). Each answer's "
+        "error is compared with the Cramér-Rao bound of its own scene and taps "
+        "(`testbed/bound.py`: the Fisher information of the tap model at the true geometry, "
+        "the landmarks' 3-D points as nuisance unknowns, the focal prior as information: log "
+        "sd 0.5 for the phone prior, 0.02 for EXIF; the camera-unknown bound has five free "
+        "intrinsics per camera and no prior). *Median ratio*: the median error over the "
+        "median of the bound's median errors; *RMS ratio*: the root mean square of error / "
+        "the bound's RMS over answers with a point (1.0 is the limit; wild answers show here "
+        "first); *area ratio*: the median of the 95 % region's area over the bound's 95 % "
+        "ellipse; *told the model does not fit*: honest searches whose answer says the taps "
+        "do not (quite) fit two phone photos (`CAMERA_MODEL_DISAGREES` or "
+        "`CAMERA_MODEL_UNSURE`), the camera model's false alarms.",
+        limit.limit_table(results.limit_table),
         "## Targets",
         "\n".join(f"- {line}" for _, line in targets),
         f"Wall time of the measurements: {sum(results.seconds.values()):.1f} s ({seconds}; "
@@ -272,6 +292,7 @@ def run(options: Options) -> Results:
     facing_covered = timed(seconds, "6. facing coverage", lambda: facing.coverage(n))
     six = timed(seconds, "6. rank check", lambda: facing.six_point_rank(options.rank_scenes))
     timings = timed(seconds, "7. speed", lambda: speed(options.speed_scenes, options.speed_rounds))
+    at_limit = timed(seconds, "8. limit", lambda: limit.limit(options.limit_trials))
     return Results(
         options,
         phone_table,
@@ -282,6 +303,7 @@ def run(options: Options) -> Results:
         facing_covered,
         six,
         timings,
+        at_limit,
         seconds,
     )
 
@@ -309,6 +331,12 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument(
         "--speed-rounds", type=int, default=DEFAULT_SPEED_ROUNDS, help="interleaved timing rounds"
     )
+    parser.add_argument(
+        "--limit-trials",
+        type=int,
+        default=DEFAULT_LIMIT_TRIALS,
+        help="trials per case and tap noise against the Cramér-Rao bound (section 8)",
+    )
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
     args = parser.parse_args(argv)
     options = Options(
@@ -317,6 +345,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         rank_scenes=args.rank_scenes,
         speed_scenes=args.speed_scenes,
         speed_rounds=args.speed_rounds,
+        limit_trials=args.limit_trials,
     )
     for name, value in vars(options).items():
         if value < 1:

@@ -28,6 +28,26 @@ class ErrorCode(StrEnum):
     NO_SOLUTION = "no_solution"
 
 
+# What each code means, in a line (docs/api.md's table of codes is generated from it).
+MEANING: dict[ErrorCode, str] = {
+    ErrorCode.INVALID_SHAPE: "a point is not two numbers, or a photo size not two",
+    ErrorCode.NOT_FINITE: "a coordinate is NaN or infinite",
+    ErrorCode.MISMATCHED_LENGTHS: "the two photos' landmark lists differ in length",
+    ErrorCode.TOO_FEW_LANDMARKS: "fewer landmarks than what was marked needs",
+    ErrorCode.TOO_MANY_LANDMARKS: "more landmarks than the solver takes",
+    ErrorCode.REPEATED_LANDMARKS: "two landmarks tapped at the same spot",
+    ErrorCode.COLLINEAR_LANDMARKS: "the landmarks lie on one line: they fix no geometry",
+    ErrorCode.EPIPOLE_ON_LANDMARK: "the friend marked on a landmark",
+    ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE: "the landmarks lie on one line through the friend",
+    ErrorCode.CONFLICTING_INPUTS: "the friend marked both as a point and as a line in photo 1",
+    ErrorCode.MISSING_EPIPOLE1: "the friend marked in photo 2 without the mark in photo 1",
+    ErrorCode.INVALID_PARAMETER: "a number out of what the solver honours (a sigma, a size, "
+    "a lens, a coordinate beyond 1e6 px)",
+    ErrorCode.DEGENERATE_CONFIGURATION: "the taps fit many geometries: no answer is honest",
+    ErrorCode.NO_SOLUTION: "no geometry fits the taps",
+}
+
+
 class SolverError(ValueError):
     """Input the solver cannot answer honestly.
 

@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike
 from pydantic import ValidationError
 
 from . import validation, words
-from .answers import pinhole, projective
+from .answers import disagreement, pinhole, projective
 from .answers.request import Request
 from .errors import ErrorCode, SolverError
 from .estimation.camera import Camera
@@ -142,14 +142,11 @@ def solve(
     if request.priors is None:
         return projective_route(request)
     answer = pinhole_route(request)
-    if answer is not None:
-        return answer
+    if answer.result is not None and answer.agrees:
+        return answer.result
     if count < minimum:
         raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.GEOMETRY_UNDETERMINED)
-    fallback = projective_route(request)
-    return fallback.model_copy(
-        update={"warnings": [words.CAMERA_MODEL_DISAGREES, *fallback.warnings]}
-    )
+    return disagreement.reconcile(request, answer.result, projective_route(request))
 
 
 def _friend2_projective(request: Request) -> SolveResult:
@@ -173,7 +170,7 @@ def _parse(
     sigmas: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None, ArrayLike | None],
     with_fundamental_covariance: bool = False,
 ) -> Request:
-    sigma = validation.positive(tap_sigma, "tap_sigma")
+    sigma = validation.length(tap_sigma, "tap_sigma")
     e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
     e2 = None if epipole2 is None else validation.pixel(epipole2, "epipole2")
     line1 = None if epipolar_line1 is None else validation.line(epipolar_line1, "epipolar_line1")

@@ -3,6 +3,13 @@
 Every check raises :class:`SolverError` with a stable code. Tolerances are in pixels: the
 exact solvers use a tiny one relative to the image spread (exact degeneracy), ``solve``
 uses the tap noise (degenerate at the precision of a finger).
+
+Lengths are a photo's pixels, within the range a double holds together with their squares
+and fourth powers (covariances, and F's covariance, which goes as the fourth power of the
+pixel scale): a position within :data:`LARGEST_PX` of the origin, a photo's side and a tap's
+sigma between :data:`FINEST_PX` and :data:`LARGEST_PX`. Beyond them the arithmetic
+over- or underflows (a landmark at 1e300 px made the Hartley normaliser singular), so they
+are refused with ``invalid_parameter``, never answered with a 500 or a NaN.
 """
 
 from __future__ import annotations
@@ -15,16 +22,29 @@ from numpy.typing import ArrayLike
 
 from . import words
 from .errors import ErrorCode, SolverError
-from .projective import Array
+from .projective import FAR_AWAY_PX, Array
 
 MAX_LANDMARKS = 256
 # Relative tolerance for exact degeneracy: far below any tap, far above float rounding.
 EXACT_TOLERANCE = 1e-9
+# The farthest a position may be from the origin, px: a tenth of where a point counts as at
+# infinity (FAR_AWAY_PX). The largest photos ever made are about 1e5 px a side.
+LARGEST_PX = FAR_AWAY_PX / 10
+# The finest precision (a tap's sigma) and the smallest photo side, px: a millionth of a
+# pixel, far finer than any finger, and still 1e-12 of LARGEST_PX, which a double resolves
+# (its 16 digits leave 4 to spare).
+FINEST_PX = 1e-6
+# How much sharper a tap may be along one axis than along the other (ratio of its sigmas):
+# beyond it, its covariance is too near singular for its Cholesky factor to be exact
+# (condition 1e8, where a double resolves 1e16).
+MOST_ELONGATED = 1e4
 
 
 def _array(value: ArrayLike, name: str) -> Array:
     try:
         array = np.asarray(value, dtype=np.float64)
+    except OverflowError as error:  # an integer beyond a float's range (JSON has them)
+        raise SolverError(ErrorCode.NOT_FINITE, words.beyond_floats(name)) from error
     except (TypeError, ValueError) as error:
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_number(name)) from error
     if not np.isfinite(array).all():
@@ -32,12 +52,19 @@ def _array(value: ArrayLike, name: str) -> Array:
     return array
 
 
+def _near(array: Array, name: str) -> Array:
+    """``array`` of pixel positions, refused when one is beyond :data:`LARGEST_PX`."""
+    if array.size and float(np.abs(array).max()) > LARGEST_PX:
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.too_far(name, LARGEST_PX))
+    return array
+
+
 def points(value: ArrayLike, name: str) -> Array:
-    """(N, 2) float array of pixel points, finite."""
+    """(N, 2) float array of pixel points, finite, within :data:`LARGEST_PX`."""
     array = _array(value, name)
     if array.ndim != 2 or array.shape[1] != 2:
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_points(name, array.shape))
-    return array
+    return _near(array, name)
 
 
 def point(value: ArrayLike, name: str) -> Array:
@@ -51,36 +78,59 @@ def point(value: ArrayLike, name: str) -> Array:
 
 
 def pixel(value: ArrayLike, name: str) -> Array:
-    """(2,) pixel position of a tap, finite."""
+    """(2,) pixel position of a tap, finite, within :data:`LARGEST_PX`."""
     array = _array(value, name)
     if array.shape != (2,):
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_pixel(name))
-    return array
+    return _near(array, name)
 
 
 def line(value: ArrayLike, name: str) -> Array:
-    """(3,) line (a, b, c) meaning a x + b y + c = 0, with (a, b) not both zero."""
+    """(3,) line (a, b, c) meaning a x + b y + c = 0, with (a, b) not both zero, scaled to
+    ``a^2 + b^2 = 1`` (the same line: ``c`` is then its distance from the origin, px),
+    refused when farther than :data:`LARGEST_PX`."""
     array = _array(value, name)
     if array.shape != (3,) or not np.any(array[:2] != 0):
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_line(name))
+    # In two steps, so that neither a subnormal nor a huge (a, b) over- or underflows.
+    with np.errstate(over="ignore"):
+        array = array / float(np.abs(array[:2]).max())
+        array = array / math.hypot(array[0], array[1])
+    if not abs(array[2]) <= LARGEST_PX:
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.too_far(name, LARGEST_PX))
     return array
 
 
 def positive(value: float, name: str) -> float:
     """A finite, strictly positive number."""
-    if not np.isfinite(value) or value <= 0:
+    try:
+        number = float(value)
+    except (TypeError, ValueError, OverflowError) as error:
+        raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name)) from error
+    if not math.isfinite(number) or number <= 0:
         raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name))
-    return float(value)
+    return number
+
+
+def length(value: float, name: str) -> float:
+    """A sigma or a side in px: positive, between :data:`FINEST_PX` and :data:`LARGEST_PX`."""
+    number = positive(value, name)
+    if not FINEST_PX <= number <= LARGEST_PX:
+        raise SolverError(
+            ErrorCode.INVALID_PARAMETER, words.not_a_length(name, FINEST_PX, LARGEST_PX)
+        )
+    return number
 
 
 def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None:
-    """(width, height) in pixels, both positive, or None."""
+    """(width, height) in pixels, both positive (between :data:`FINEST_PX` and
+    :data:`LARGEST_PX`), or None."""
     if value is None:
         return None
     array = _array(value, name)
     if array.shape != (2,) or (array <= 0).any():
         raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_size(name))
-    return float(array[0]), float(array[1])
+    return length(float(array[0]), name), length(float(array[1]), name)
 
 
 def spread(pts: Array) -> float:
@@ -206,8 +256,8 @@ def covariances(value: ArrayLike | None, count: int, default: float, name: str) 
         return round_
     array = _array(value, name)
     if array.shape == (count,):
-        if np.any(array <= 0):
-            raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name))
+        for sigma in array.tolist():
+            length(sigma, name)
         return array[:, None, None] ** 2 * np.eye(2)
     if array.shape == (count, 2, 2):
         return _positive_definite(array, name)
@@ -220,16 +270,33 @@ def covariance(value: ArrayLike | None, default: float, name: str) -> Array:
         return default**2 * np.eye(2)
     array = _array(value, name)
     if array.shape == ():
-        return positive(float(array), name) ** 2 * np.eye(2)
+        return length(float(array), name) ** 2 * np.eye(2)
     if array.shape == (2, 2):
         return _positive_definite(array[None], name)[0]
     raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_precision(name))
 
 
 def _positive_definite(array: Array, name: str) -> Array:
-    """(N, 2, 2) symmetric positive-definite covariances, or a refusal."""
-    symmetric = np.allclose(array, array.transpose(0, 2, 1), rtol=1e-9, atol=0.0)
-    determinant = array[:, 0, 0] * array[:, 1, 1] - array[:, 0, 1] * array[:, 1, 0]
-    if not symmetric or np.any(array[:, 0, 0] <= 0) or np.any(determinant <= 0):
+    """(N, 2, 2) symmetric positive-definite covariances whose sigmas (square roots of the
+    eigenvalues) are between :data:`FINEST_PX` and :data:`LARGEST_PX`, at most
+    :data:`MOST_ELONGATED` times apart; or a refusal."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        symmetric = np.allclose(array, array.transpose(0, 2, 1), rtol=1e-9, atol=0.0)
+        array = (array + array.transpose(0, 2, 1)) / 2.0
+        a, b, c = array[:, 0, 0], array[:, 0, 1], array[:, 1, 1]
+        # The 2x2 eigenvalues in closed form; the small one from the determinant (no
+        # cancellation), which is only trusted once the large one is within bounds.
+        largest = a / 2.0 + c / 2.0 + np.hypot(a / 2.0 - c / 2.0, b)
+        smallest = (a * c - b * b) / largest
+    if not symmetric or not np.all((a > 0) & (smallest > 0)):
         raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_a_covariance(name))
-    return (array + array.transpose(0, 2, 1)) / 2.0
+    if not np.all(
+        (largest <= LARGEST_PX**2)
+        & (smallest >= FINEST_PX**2)
+        & (smallest * MOST_ELONGATED**2 >= largest)
+    ):
+        raise SolverError(
+            ErrorCode.INVALID_PARAMETER,
+            words.not_a_usable_covariance(name, FINEST_PX, LARGEST_PX, MOST_ELONGATED),
+        )
+    return array

@@ -19,6 +19,11 @@ CAMERA_MODEL_DISAGREES = (
     "These marks do not fit two ordinary phone photos (a cropped or edited photo, or a "
     "mis-tapped landmark), so the answer does not assume the camera's shape."
 )
+CAMERA_MODEL_UNSURE = (
+    "These marks do not quite fit two ordinary phone photos (a cropped or edited photo, or a "
+    "mis-tapped landmark): the frame is widened to hold your friend either way. Add landmarks "
+    "to narrow it down."
+)
 ON_THE_CURVE = (
     "Your friend is somewhere on the curve. Mark one more landmark in both photos to pin "
     "down the spot."
@@ -188,6 +193,10 @@ def not_finite(name: str) -> str:
     return f"A value of {name} is not a finite number (NaN or infinity)."
 
 
+def beyond_floats(name: str) -> str:
+    return f"A value of {name} is too large to be a number here (beyond 1.8e308)."
+
+
 def not_points(name: str, shape: tuple[int, ...]) -> str:
     return f"The value of {name} must be a list of [x, y] pairs, not an array of shape {shape}."
 
@@ -211,6 +220,17 @@ def not_positive(name: str) -> str:
     return f"The value of {name} must be a positive number."
 
 
+def too_far(name: str, largest: float) -> str:
+    return (
+        f"A value of {name} is more than {largest:g} px from the origin; positions are a "
+        "photo's pixels, and no photo is that large."
+    )
+
+
+def not_a_length(name: str, finest: float, largest: float) -> str:
+    return f"The value of {name} must be between {finest:g} and {largest:g} px."
+
+
 def not_precisions(name: str, count: int) -> str:
     return (
         f"The value of {name} must be one sigma in px per tap ({count} numbers) or one 2x2 "
@@ -226,12 +246,20 @@ def not_a_covariance(name: str) -> str:
     return f"Each covariance in {name} must be symmetric and positive definite (px^2)."
 
 
+def not_a_usable_covariance(name: str, finest: float, largest: float, elongated: float) -> str:
+    return (
+        f"Each covariance in {name} must have its sigmas (the square roots of its "
+        f"eigenvalues) between {finest:g} and {largest:g} px, at most {elongated:g} times "
+        "apart."
+    )
+
+
 def camera_without_size(name: str) -> str:
     return f"A camera model needs the photo's size: give {name} as [width, height]."
 
 
 def not_a_camera(name: str, reason: str) -> str:
-    return f"The value of {name} is not a camera description: {reason}"
+    return f"The value of {name} is not a camera description: {reason.rstrip('.')}."
 
 
 def not_a_size(name: str) -> str:

@@ -1,11 +1,30 @@
-"""Shared test fixtures: the real temple calibration and reproducible random sources."""
+"""Shared test fixtures: the real temple calibration and reproducible random sources; the
+settings of every property-based test (Hypothesis)."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, settings
+
+# Every run draws the same examples (derandomize: a failure in CI is reproduced by running the
+# test again) and writes no example database (.hypothesis); no deadline, as a shared 2-core
+# machine makes timings noisy. Each test bounds its own examples (max_examples) to its share
+# of the suite's time. HYPOTHESIS_PROFILE=explore draws new examples on every run, ten times as
+# many (tests/absurd_inputs.py, examples()): to hunt for a failure by hand, never in CI.
+settings.register_profile(
+    "suite",
+    derandomize=True,
+    database=None,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
+settings.register_profile("explore", settings.get_profile("suite"), derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "suite"))
 
 DATA = Path(__file__).parent / "data"
 TEMPLE = DATA / "temple"

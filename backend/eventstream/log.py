@@ -1,5 +1,5 @@
-"""The event log: "this changed" as rows of the events table, written in the transaction of
-the change they announce, read by the streams.
+"""The event log: each change as a row of the events table, written in the transaction of
+the change it announces, with what the other phone needs to show it; read by the streams.
 
 Events live in the database, so a phone that reconnects with ``Last-Event-ID`` gets what it
 missed, whichever replica it reaches; ids are never reused (migration 0004), so a reader
@@ -15,18 +15,19 @@ from datetime import datetime
 from enum import StrEnum
 from typing import Any
 
-from sqlalchemy import bindparam, func, select
+from pydantic import BaseModel
+from sqlalchemy import bindparam, func, insert, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from backend.storage.database import Database
-from backend.storage.tables import EventRow, SessionRow
+from backend.storage.tables import EventRow, SessionRow, core
 
 from .listener import CHANNEL
 
 
 class EventType(StrEnum):
-    """What a phone is told; it then fetches the state (the app reacts to each type)."""
+    """What a phone is told (each type's data: ``backend.sessions.schemas.SessionEvents``)."""
 
     JOINED = "joined"  # a phone opened its stream (or joined the search)
     CODE = "code"  # the join code was renewed after wrong guesses
@@ -44,9 +45,8 @@ class Event:
     data: dict[str, Any]
 
 
-_sessions, _events = SessionRow.__table__, EventRow.__table__
+_sessions, _events = core(SessionRow), core(EventRow)
 # The hot reads, built once (building a statement costs more than running it on SQLite).
-_ALIVE = select(_sessions.c.id).where(_sessions.c.id == bindparam("session_id"))
 _EXISTING = select(_sessions.c.id).where(_sessions.c.id.in_(bindparam("ids", expanding=True)))
 _NEWEST_EVENT = select(func.max(_events.c.id))
 _NEW_EVENTS = (
@@ -55,33 +55,65 @@ _NEW_EVENTS = (
     .group_by(_events.c.session_id)
 )
 _LAST_EVENT = select(func.max(_events.c.id)).where(_events.c.session_id == bindparam("session_id"))
+_LOCK_SESSION = (
+    select(_sessions.c.id)
+    .where(_sessions.c.id == bindparam("session_id"))
+    .with_for_update(key_share=True)
+)
+# (Bound names other than the columns': SQLAlchemy keeps those for the values.)
+_ADD_EVENT = insert(_events).values(
+    session_id=bindparam("of"),
+    type=bindparam("kind"),
+    data=bindparam("told"),
+    created_at=bindparam("at"),
+)
+# One query for a stream's every wake: the session (no row: gone) with its events after an
+# id (one row of nulls: none yet).
 _EVENTS_AFTER = (
     select(_events.c.id, _events.c.type, _events.c.data)
-    .where(_events.c.session_id == bindparam("session_id"), _events.c.id > bindparam("after"))
+    .select_from(_sessions)
+    .outerjoin(
+        _events,
+        (_events.c.session_id == _sessions.c.id) & (_events.c.id > bindparam("after")),
+    )
+    .where(_sessions.c.id == bindparam("session_id"))
     .order_by(_events.c.id)
 )
 
 
 def record(
-    tx: Session, session_id: str, type_: EventType, data: dict[str, Any], now: datetime
+    tx: Session,
+    session_id: str,
+    type_: EventType,
+    data: BaseModel,
+    now: datetime,
+    *,
+    locked: bool = False,
 ) -> None:
     """Write an event in ``tx``, and tell every replica's streams of its session.
 
-    The session's row is locked first (a no-op where the transaction changed it already):
-    then the events of a session commit in the order of their ids, and a stream that has
-    read up to an id never misses a smaller one committed later by a concurrent writer.
+    The session's row is locked first, unless ``locked`` (the transaction changed it
+    already): then the events of a session commit in the order of their ids, and a stream
+    that has read up to an id never misses a smaller one committed later by a concurrent
+    writer. Core statements: the hottest write path, with no ORM work per event.
     """
+    if not locked:
+        tx.execute(_LOCK_SESSION, {"session_id": session_id})
     tx.execute(
-        select(SessionRow.id).where(SessionRow.id == session_id).with_for_update(key_share=True)
+        _ADD_EVENT, {"of": session_id, "kind": type_, "told": data.model_dump_json(), "at": now}
     )
-    tx.add(EventRow(session_id=session_id, type=type_, data=json.dumps(data), created_at=now))
     notify_replicas(tx, session_id)
 
 
 def notify_replicas(tx: Session, session_id: str) -> None:
-    """PostgreSQL: wake every replica's streams of this session, at commit."""
-    if tx.get_bind().dialect.name == "postgresql":
+    """PostgreSQL: wake every replica's streams of this session, at commit (once per
+    transaction: one notification wakes them to read all its events)."""
+    if tx.get_bind().dialect.name != "postgresql":
+        return
+    notified: set[str] = tx.info.setdefault("notified", set())
+    if session_id not in notified:
         tx.execute(select(func.pg_notify(CHANNEL, session_id)))
+        notified.add(session_id)
 
 
 class EventLog:
@@ -90,9 +122,7 @@ class EventLog:
     def __init__(self, database: Database) -> None:
         self.database = database
 
-    def publish(
-        self, session_id: str, type_: EventType, data: dict[str, Any], now: datetime
-    ) -> None:
+    def publish(self, session_id: str, type_: EventType, data: BaseModel, now: datetime) -> None:
         """An event with no change of state (a phone came or went)."""
         try:
             with self.database.write() as tx:
@@ -108,10 +138,12 @@ class EventLog:
     def events_after(self, session_id: str, after: int) -> list[Event] | None:
         """Events of a session newer than ``after``; None when the session is gone."""
         with self.database.query() as connection:
-            if connection.scalar(_ALIVE, {"session_id": session_id}) is None:
-                return None
-            rows = connection.execute(_EVENTS_AFTER, {"session_id": session_id, "after": after})
-            return [Event(row.id, row.type, json.loads(row.data)) for row in rows]
+            rows = connection.execute(
+                _EVENTS_AFTER, {"session_id": session_id, "after": after}
+            ).all()
+        if not rows:
+            return None
+        return [Event(row.id, row.type, json.loads(row.data)) for row in rows if row.id is not None]
 
     def changes_since(self, after: int | None, watched: Sequence[str]) -> tuple[int, set[str]]:
         """What other processes may have changed: the newest event id, and the sessions

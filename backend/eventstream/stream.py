@@ -1,4 +1,4 @@
-"""Server-sent events for one phone: "this changed" (the phone then fetches the state),
+"""Server-sent events for one phone: each change with what the phone needs to show it,
 pings, and presence. Served with FastAPI's own SSE support (``fastapi.sse``).
 
 A stream subscribes to its session's wake-ups before reading anything, so a change
@@ -26,6 +26,7 @@ from backend.storage.database import DatabaseUnavailableError
 from .log import Event, EventLog, EventType
 from .notifier import Notifier
 from .presence import Presence
+from .schemas import PresenceChanged, SessionEnded
 
 # Ask EventSource to reconnect after 3 s when the connection drops.
 RETRY_MS = 3000
@@ -34,7 +35,9 @@ T = TypeVar("T")
 
 
 def expired() -> ServerSentEvent:
-    return ServerSentEvent(event=EventType.EXPIRED, data={"reason": "The session ended."})
+    return ServerSentEvent(
+        event=EventType.EXPIRED, data=SessionEnded(reason="The session ended.").model_dump()
+    )
 
 
 class EventStreams:
@@ -81,7 +84,9 @@ class EventStreams:
                 yield expired()
                 return
             after = last_event_id
-            await self._presence(session_id, EventType.JOINED, {"role": role, "online": True})
+            await self._presence(
+                session_id, EventType.JOINED, PresenceChanged(role=role, online=True)
+            )
             self._listening[participant] += 1
             try:
                 pinged = time.monotonic()
@@ -137,7 +142,9 @@ class EventStreams:
         with suppress(DatabaseUnavailableError):
             await _in_thread(self.presence.seen, participant, None)
             await self._presence(
-                participant.session_id, EventType.LEFT, {"role": participant.role, "online": False}
+                participant.session_id,
+                EventType.LEFT,
+                PresenceChanged(role=participant.role, online=False),
             )
 
     async def _events_after(self, session_id: str, after: int) -> list[Event] | None:
@@ -148,7 +155,7 @@ class EventStreams:
         except DatabaseUnavailableError:
             return []
 
-    async def _presence(self, session_id: str, type_: EventType, data: dict[str, object]) -> None:
+    async def _presence(self, session_id: str, type_: EventType, data: PresenceChanged) -> None:
         """Tell the other phone this one came or went (skipped while the database is away:
         presence also shows in the state)."""
         with suppress(DatabaseUnavailableError):

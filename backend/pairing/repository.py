@@ -13,10 +13,13 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from backend.eventstream.log import EventType, notify_replicas, record
+from backend.eventstream.schemas import PresenceChanged
 from backend.participants import Participant, Role
 from backend.storage.database import Database
 from backend.storage.erase import Eraser
 from backend.storage.tables import JoinFailureRow, ParticipantRow, SessionRow
+
+from .schemas import CodeRenewed
 
 _CODE_DRAWS = 20  # codes drawn for a renewal before giving up
 
@@ -103,7 +106,7 @@ class Pairings:
         two phones race for it.
         """
         with self.database.write() as tx:
-            session_id = tx.scalar(
+            claimed = tx.execute(
                 update(SessionRow)
                 .where(
                     SessionRow.join_code == join_code,
@@ -111,10 +114,11 @@ class Pairings:
                     SessionRow.expires_at > now,
                 )
                 .values(join_code=None, join_code_expires_at=None, version=SessionRow.version + 1)
-                .returning(SessionRow.id)
-            )
-            if session_id is None:
+                .returning(SessionRow.id, SessionRow.version)
+            ).first()
+            if claimed is None:
                 return None
+            session_id, version = claimed
             tx.add(
                 ParticipantRow(
                     session_id=session_id,
@@ -123,8 +127,9 @@ class Pairings:
                     joined_at=now,
                 )
             )
-            record(tx, session_id, EventType.JOINED, {"role": "joiner"}, now)
-        return session_id
+            joined = PresenceChanged(role="joiner", online=False, version=version)
+            record(tx, session_id, EventType.JOINED, joined, now, locked=True)
+        return str(session_id)
 
     def participant(self, token_hash: str, now: datetime) -> Participant | None:
         """Who holds this token, if its session is still alive.
@@ -203,7 +208,7 @@ class Pairings:
             ).all()
             renewed = [row for row in charged if row.join_code_failures >= renewal.after_failures]
             for row in renewed:
-                tx.execute(
+                version = tx.scalar(
                     update(SessionRow)
                     .where(SessionRow.id == row.id)
                     .values(
@@ -213,8 +218,10 @@ class Pairings:
                         join_code_renewals=SessionRow.join_code_renewals + 1,
                         version=SessionRow.version + 1,
                     )
+                    .returning(SessionRow.version)
                 )
-                record(tx, row.id, EventType.CODE, {"renewed": True}, now)
+                assert version is not None  # the row was just updated
+                record(tx, row.id, EventType.CODE, CodeRenewed(version=version), now, locked=True)
         return [row.id for row in renewed]
 
     def forget_join_failures(self, before: datetime) -> None:

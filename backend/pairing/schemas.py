@@ -42,3 +42,11 @@ class Joined(BaseModel):
     )
     role: Role = "joiner"
     expires_at: datetime
+
+
+class CodeRenewed(BaseModel):
+    """Event ``code``: the join code was renewed after wrong guesses named its search (the
+    starter's phone fetches the state for the new one: codes go in no event)."""
+
+    renewed: bool = True
+    version: int = Field(description="The session's version the renewal made.")

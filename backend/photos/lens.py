@@ -57,7 +57,15 @@ def lens(facts: LensFacts, told_by: ToldBy) -> Lens | None:
         return None
     zoom = facts.digital_zoom
     apple = (facts.make or "").strip().lower() == "apple"
-    if zoom is None or not math.isfinite(zoom) or zoom <= 1.0 or apple:
+    # No zoom, or zoom included (Apple), or a zoom that cannot come on top of this lens (no
+    # phone's reaches that far): the focal length as read.
+    if (
+        zoom is None
+        or not math.isfinite(zoom)
+        or zoom <= 1.0
+        or apple
+        or focal * zoom > PLAUSIBLE_MM[1]
+    ):
         return Lens(focal, EXIF_UNCERTAINTY, told_by)
     # Zoom included or not: the geometric middle, one log-sd reaching each reading.
     spread = math.log(zoom) / 2.0

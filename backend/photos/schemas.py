@@ -6,6 +6,8 @@ from typing import Literal
 
 from pydantic import BaseModel, Field
 
+from backend.participants import Role
+
 ImageFormat = Literal["png", "jpeg"]
 ToldBy = Literal["photo", "phone"]
 MEDIA_TYPES: dict[ImageFormat, str] = {"png": "image/png", "jpeg": "image/jpeg"}
@@ -34,3 +36,13 @@ class PhotoStored(BaseModel):
         description="The lens, when the photo told it; else the answer assumes a phone's "
         "main camera, zoomed or not.",
     )
+
+
+class PhotoChanged(BaseModel):
+    """Event ``photo``: a phone uploaded (or replaced) its photo; its taps and the answer go
+    with the old one."""
+
+    role: Role = Field(description="Whose photo.")
+    version: int = Field(description="The session's version this change made.")
+    photo: PhotoStored
+    landmarks_needed: int = Field(description="As the state says it at this version.")

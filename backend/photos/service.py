@@ -10,18 +10,24 @@ from backend.settings import Settings
 
 from .imaging import crop_around, store_photo
 from .lens import LensFacts, lens
-from .repository import Photos
+from .repository import NeededAfterPhoto, Photos
 from .schemas import LensInfo, PhotoStored
 
 
 class PhotoService:
     def __init__(
-        self, photos: Photos, settings: Settings, notifier: Notifier, clock: Clock
+        self,
+        photos: Photos,
+        settings: Settings,
+        notifier: Notifier,
+        clock: Clock,
+        needed: NeededAfterPhoto,
     ) -> None:
         self.photos = photos
         self.settings = settings
         self.notifier = notifier
         self.clock = clock
+        self.needed = needed
 
     def put(
         self, participant: Participant, data: bytes, told: LensFacts | None = None
@@ -34,9 +40,7 @@ class PhotoService:
             max_side=self.settings.stored_photo_side,
         )
         found = lens(photo.lens, "photo") or (None if told is None else lens(told, "phone"))
-        self.photos.put(participant, photo, found, self.clock())
-        self.notifier.notify(participant.session_id)
-        return PhotoStored(
+        stored = PhotoStored(
             width=photo.width,
             height=photo.height,
             scale=photo.scale,
@@ -44,6 +48,9 @@ class PhotoService:
             if found is None
             else LensInfo(focal_35mm=found.focal_35mm, told_by=found.told_by),
         )
+        self.photos.put(participant, photo, found, self.clock(), shown=stored, needed=self.needed)
+        self.notifier.notify(participant.session_id)
+        return stored
 
     def get(self, participant: Participant, role: Role) -> bytes:
         """``role``'s photo as stored (upright JPEG): what that phone taps on."""

@@ -6,9 +6,11 @@ from datetime import datetime
 
 from pydantic import BaseModel, Field
 
+from backend.eventstream.schemas import PresenceChanged, SessionEnded
+from backend.pairing.schemas import CodeRenewed
 from backend.participants import Role
-from backend.photos.schemas import PhotoStored
-from backend.taps.schemas import Answer, Taps
+from backend.photos.schemas import PhotoChanged, PhotoStored
+from backend.taps.schemas import Answer, AnswerChanged, Taps, TapsChanged
 
 
 class ParticipantState(BaseModel):
@@ -22,7 +24,9 @@ class SessionState(BaseModel):
 
     session_id: str
     you: Role
-    version: int = Field(description="Bumped by every change; events say 'this changed'.")
+    version: int = Field(
+        description="Bumped by every change; each change's event names the version it made."
+    )
     expires_at: datetime
     join_code: str | None = Field(
         None, description="Shown to the starter until their friend joins."
@@ -53,3 +57,21 @@ class SessionState(BaseModel):
         description="Why there is no answer although enough landmarks are tapped "
         "({code, message}).",
     )
+
+
+class SessionEvents(BaseModel):
+    """The data of each event of a session's stream (``GET /api/sessions/{id}/events``), by
+    event type: JSON on the event's ``data:`` line.
+
+    A change's event carries what the other phone needs to show it: a phone whose state is
+    at the version before applies it, and reads nothing more; one that finds a version
+    missing (it was away, or the event cannot tell: ``landmarks_needed`` null, ``code``)
+    fetches the state. An ``answer`` event is for the version it names."""
+
+    joined: PresenceChanged
+    code: CodeRenewed
+    photo: PhotoChanged
+    taps: TapsChanged
+    answer: AnswerChanged
+    left: PresenceChanged
+    expired: SessionEnded

@@ -11,9 +11,9 @@ from backend.participants import ROLES, Participant
 from backend.photos.schemas import LensInfo, PhotoStored
 from backend.settings import Settings
 from backend.storage.snapshot import PhotoInfo, Snapshot
-from backend.taps import problem as problems
-from backend.taps.schemas import Answer, Taps
+from backend.taps.schemas import Taps
 from backend.taps.service import TapService, tap_sets
+from backend.taps.shown import shown
 
 from .schemas import ParticipantState, SessionState
 
@@ -35,13 +35,7 @@ class StateService:
         now = self.clock()
         online_after = now - timedelta(seconds=self.settings.online_seconds)
         taps = tap_sets(snapshot)
-        task = problems.problem(taps, self.settings.tap_sigma)
-        stored = snapshot.answer or {}
-        answer = Answer.model_validate(stored["answer"]) if "answer" in stored else None
-        error = stored.get("error")
-        if error is not None:
-            reader = 1 if participant.role == stored.get("first", task.first) else 2
-            error = {**error, "message": problems.for_reader(error["message"], reader)}
+        told = shown(taps, snapshot.answer, self.settings.tap_sigma)
         code = snapshot.join_code
         code_valid = (
             code is not None
@@ -73,10 +67,10 @@ class StateService:
             },
             photos={role: _photo(snapshot.photos.get(role)) for role in ROLES},
             taps=taps,
-            landmarks_needed=task.landmarks_needed(answer),
-            answer=answer,
-            answer_version=snapshot.answer_version if answer is not None else None,
-            answer_error=error,
+            landmarks_needed=told.landmarks_needed,
+            answer=told.answer,
+            answer_version=snapshot.answer_version if told.answer is not None else None,
+            answer_error=None if told.answer_error is None else told.answer_error[participant.role],
         )
 
     def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:

@@ -58,9 +58,11 @@ def connect(url: str) -> Engine:
     writer; ``synchronous=FULL`` so an acknowledged write survives a crash or power cut;
     foreign keys on, so deleting a session deletes all of it; ``secure_delete`` overwrites
     what is deleted with zeros (a deleted photo's pages are otherwise left as they were in
-    the file's free pages). PostgreSQL: each pooled connection is checked before use
-    (pre-ping), so the pool recovers by itself after the server restarts; connecting gives
-    up after 5 s, so requests fail fast while it is down.
+    the file's free pages). PostgreSQL: connecting gives up after 5 s, so requests fail fast
+    while it is down; after it restarts, the first query that finds its connection gone
+    fails (503, which the phones retry) and has the whole pool replaced, so the pool
+    recovers by itself. No check before each use (pre-ping): that cost a round trip to
+    the server before every query of every request.
 
     Either way statement parameters (join codes, taps, photos) are left out of errors and
     logs (``hide_parameters``): an error's message is logged.
@@ -87,7 +89,6 @@ def connect(url: str) -> Engine:
     # load (benchmarks/load.py, 200 searches at once).
     return create_engine(
         parsed,
-        pool_pre_ping=True,
         pool_size=20,
         max_overflow=0,
         pool_timeout=10,

@@ -6,14 +6,31 @@ import json
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import update
+from sqlalchemy import bindparam, update
 from sqlalchemy.orm import Session
 
 from backend.eventstream.log import EventType, record
 from backend.participants import Participant
 from backend.storage.database import Database
-from backend.storage.tables import ParticipantRow, SessionRow
+from backend.storage.tables import ParticipantRow, SessionRow, core
 from backend.storage.versions import bump_version
+
+from .schemas import Taps, TapsChanged
+from .shown import Shown
+
+_sessions, _participants = core(SessionRow), core(ParticipantRow)
+# Core, built once: every tap runs them.
+# (Bound names other than the columns': SQLAlchemy keeps those for the values.)
+_SET_TAPS = (
+    update(_participants)
+    .where(_participants.c.session_id == bindparam("of"), _participants.c.role == bindparam("who"))
+    .values(taps=bindparam("tapped"))
+)
+_SET_ANSWER = (
+    update(_sessions)
+    .where(_sessions.c.id == bindparam("of"), _sessions.c.version == bindparam("at"))
+    .values(answer=bindparam("found"), answer_version=bindparam("at"))
+)
 
 
 class TapStore:
@@ -23,51 +40,57 @@ class TapStore:
     def put_taps(
         self,
         participant: Participant,
-        taps: dict[str, Any],
+        taps: Taps,
         now: datetime,
-        answer: tuple[int, dict[str, Any]] | None = None,
+        *,
+        read: int,
+        needed: int,
+        answer: tuple[dict[str, Any], Shown] | None = None,
     ) -> tuple[int, bool]:
         """Replace a participant's taps (the answer goes with the old ones): the new
         version, and whether ``answer`` was recorded with them.
 
-        ``answer``: (the version it was computed after, the answer), computed from the
-        session at that version with these taps. It is recorded in the same transaction,
-        so with one write, unless another change came in between (then it is stale, and the
-        caller answers the new version afresh).
+        ``needed`` (the landmarks still needed, before an answer) and ``answer`` (the
+        answer as stored, and as the phones show it) were computed from the session at
+        version ``read`` with these taps. They are recorded in the same transaction, so with
+        one write, unless another change came in between: then they are stale, the taps'
+        event says it cannot tell the count, and the caller answers the new version afresh.
         """
         sid, role = participant.session_id, participant.role
         with self.database.write() as tx:
-            tx.execute(
-                update(ParticipantRow)
-                .where(ParticipantRow.session_id == sid, ParticipantRow.role == role)
-                .values(taps=json.dumps(taps))
-            )
+            tx.execute(_SET_TAPS, {"of": sid, "who": role, "tapped": taps.model_dump_json()})
             version = bump_version(tx, sid)
-            record(tx, sid, EventType.TAPS, {"role": role, "version": version}, now)
-            answered = answer is not None and answer[0] + 1 == version
+            fresh = version == read + 1
+            told = TapsChanged(
+                role=role, version=version, taps=taps, landmarks_needed=needed if fresh else None
+            )
+            record(tx, sid, EventType.TAPS, told, now, locked=True)
+            answered = fresh and answer is not None
             if answer is not None and answered:
-                _record_answer(tx, sid, version, answer[1], now)
+                _record_answer(tx, sid, version, answer=answer[0], shown=answer[1], now=now)
         return version, answered
 
     def put_answer(
-        self, session_id: str, version: int, answer: dict[str, Any] | None, now: datetime
+        self, session_id: str, version: int, answer: dict[str, Any], shown: Shown, now: datetime
     ) -> bool:
         """Record the answer computed for ``version``, unless the session has moved on since
         (then a newer computation records its own)."""
         with self.database.write() as tx:
-            return _record_answer(tx, session_id, version, answer, now)
+            return _record_answer(tx, session_id, version, answer=answer, shown=shown, now=now)
 
 
 def _record_answer(
-    tx: Session, session_id: str, version: int, answer: dict[str, Any] | None, now: datetime
+    tx: Session,
+    session_id: str,
+    version: int,
+    *,
+    answer: dict[str, Any],
+    shown: Shown,
+    now: datetime,
 ) -> bool:
     """The answer for ``version`` and its event, if the session is still at that version."""
-    done = tx.execute(
-        update(SessionRow)
-        .where(SessionRow.id == session_id, SessionRow.version == version)
-        .values(answer=None if answer is None else json.dumps(answer), answer_version=version)
-    )
+    done = tx.execute(_SET_ANSWER, {"of": session_id, "at": version, "found": json.dumps(answer)})
     if not done.rowcount:  # type: ignore[attr-defined]
         return False
-    record(tx, session_id, EventType.ANSWER, {"version": version}, now)
+    record(tx, session_id, EventType.ANSWER, shown.changed(version), now, locked=True)
     return True

@@ -180,3 +180,28 @@ class LandmarkSuggestion(BaseModel):
         examples=[{"x": 1412.5, "y": 630.0}, None],
         description="Where to tap, px of your photo; null: no sure match, find it by eye.",
     )
+
+
+class TapsChanged(BaseModel):
+    """Event ``taps``: a phone replaced its taps; the answer of the version before goes
+    (event ``answer`` brings the new one, often in the same breath)."""
+
+    role: Role = Field(description="Whose taps.")
+    version: int = Field(description="The session's version this change made.")
+    taps: Taps = Field(description="Their taps now.")
+    landmarks_needed: int | None = Field(
+        description="As the state says it at this version, before its answer. Null: another "
+        "change came in between, so this event cannot tell it: fetch the state."
+    )
+
+
+class AnswerChanged(BaseModel):
+    """Event ``answer``: the answer for a version, as the state then shows it."""
+
+    version: int = Field(description="The version it answers.")
+    answer: Answer | None = Field(description="As the state's answer (both phones' parts).")
+    answer_error: dict[Role, dict[str, str]] | None = Field(
+        description="Why there is no answer ({code, message}), said to each phone: "
+        "answer_error[you] is the state's answer_error."
+    )
+    landmarks_needed: int = Field(description="As the state says it with this answer.")

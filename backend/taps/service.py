@@ -24,6 +24,7 @@ from . import guidance
 from . import problem as problems
 from .repository import TapStore
 from .schemas import LandmarkSuggestion, Spot, Taps
+from .shown import Shown, shown
 
 
 class TapService:
@@ -63,14 +64,14 @@ class TapService:
         self._check(taps, (photo.width, photo.height))
         # Answered before writing, so that the taps and their answer are one write; unless
         # another change comes in between, which makes that answer stale.
-        tapped = taps.model_dump(mode="json")
-        member = snapshot.members[participant.role]
-        after = replace(
-            snapshot, members=snapshot.members | {member.role: replace(member, taps=tapped)}
-        )
+        member = replace(snapshot.members[participant.role], taps=taps.model_dump(mode="json"))
+        after = replace(snapshot, members=snapshot.members | {member.role: member})
         found = self._solve(after, previous=snapshot)
-        answer = None if found is None else (snapshot.version, found)
-        version, answered = self.taps.put_taps(participant, tapped, self.clock(), answer)
+        needed = self._shown(after, None).landmarks_needed
+        answer = None if found is None else (found, self._shown(after, found))
+        version, answered = self.taps.put_taps(
+            participant, taps, self.clock(), read=snapshot.version, needed=needed, answer=answer
+        )
         self.notifier.notify(participant.session_id)
         if version != snapshot.version + 1:  # overtaken: answer the session as it now is
             return self.answer(participant.session_id, version)
@@ -90,10 +91,15 @@ class TapService:
         found = self._solve(snapshot)
         if found is None:
             return snapshot
-        if not self.taps.put_answer(session_id, version, found, self.clock()):
+        shown = self._shown(snapshot, found)
+        if not self.taps.put_answer(session_id, version, found, shown, self.clock()):
             return None
         self.notifier.notify(session_id)
         return replace(snapshot, answer=found, answer_version=version)
+
+    def _shown(self, snapshot: Snapshot, answer: dict[str, Any] | None) -> Shown:
+        """What the phones are shown of the snapshot's taps with ``answer``."""
+        return shown(tap_sets(snapshot), answer, self.settings.tap_sigma)
 
     def due(self, snapshot: Snapshot) -> Snapshot:
         """The session with its answer. One may be due but not recorded: a change overtook

@@ -19,7 +19,8 @@ from playwright.sync_api import BrowserContext, CDPSession, Page
 
 @dataclass(frozen=True)
 class Profile:
-    """A network: its name, and the conditions to emulate (None: loopback, as it is)."""
+    """A network: its name, and the conditions to emulate (None: loopback, as it is). The
+    round trip is the phone's path's (``link.py``); Chromium limits the throughput."""
 
     name: str
     up_mbit: float | None = None
@@ -29,11 +30,11 @@ class Profile:
     def conditions(self) -> dict[str, Any] | None:
         if self.up_mbit is None or self.down_mbit is None:
             return None
-        # The protocol takes bytes per second, and "latency" as the delay added to each
-        # request's round trip, ms.
+        # The protocol takes bytes per second. Its "latency" (added to a request's response
+        # only) stays 0: the link delays both directions of every connection instead.
         return {
             "offline": False,
-            "latency": self.round_trip_ms,
+            "latency": 0,
             "downloadThroughput": self.down_mbit * 1e6 / 8,
             "uploadThroughput": self.up_mbit * 1e6 / 8,
         }
@@ -56,11 +57,14 @@ PROFILES = {profile.name: profile for profile in (LOOPBACK, VENUE)}
 class _Request:
     url: str = ""
     method: str = "GET"
+    sent_at: float = 0.0  # wall clock, ms since the epoch
+    server_ms: float | None = None  # the app's own time (its Server-Timing)
     sent_headers: int = 0
     body: int = 0
     response_headers: int = 0
     chunks: int = 0
     finished: int | None = None
+    failed: bool = False
 
     @property
     def sent(self) -> int:
@@ -77,11 +81,16 @@ class _Request:
 
 @dataclass
 class Meter:
-    """One page's network: emulated as ``profile`` from :meth:`attach` on, and counted."""
+    """One page's network: emulated as ``profile`` from :meth:`attach` on, and counted, with
+    when each request left and each event of a stream came (wall clock, ms)."""
 
     profile: Profile
     session: CDPSession | None = None
     requests: dict[str, _Request] = field(default_factory=dict)
+    events: list[tuple[str, float]] = field(default_factory=list)  # (type, when)
+    # The protocol stamps with a monotonic clock, and a request's departure also with the
+    # wall clock: their difference turns the one into the other.
+    _wall_offset: float | None = None
 
     def attach(self, context: BrowserContext, page: Page) -> None:
         session = context.new_cdp_session(page)
@@ -94,6 +103,8 @@ class Meter:
         session.on("Network.responseReceived", self._response)
         session.on("Network.dataReceived", self._data)
         session.on("Network.loadingFinished", self._finished)
+        session.on("Network.loadingFailed", self._failed)
+        session.on("Network.eventSourceMessageReceived", self._event)
         self.session = session
 
     def set_offline(self, offline: bool) -> None:
@@ -113,6 +124,8 @@ class Meter:
         request = self._request(event)
         request.url = event["request"]["url"]
         request.method = event["request"]["method"]
+        request.sent_at = event["wallTime"] * 1000
+        self._wall_offset = event["wallTime"] - event["timestamp"]
 
     def _sent_headers(self, event: dict[str, Any]) -> None:
         request = self._request(event)
@@ -122,13 +135,55 @@ class Meter:
         request.body = int(lengths[0]) if lengths else 0
 
     def _response(self, event: dict[str, Any]) -> None:
-        self._request(event).response_headers = int(event["response"].get("encodedDataLength", 0))
+        request = self._request(event)
+        request.response_headers = int(event["response"].get("encodedDataLength", 0))
+        headers = {k.lower(): v for k, v in event["response"].get("headers", {}).items()}
+        if timing := headers.get("server-timing"):  # app;dur=<ms>
+            request.server_ms = float(timing.split("dur=")[1].split(";")[0])
+
+    def _event(self, event: dict[str, Any]) -> None:
+        if self._wall_offset is not None:
+            self.events.append(
+                (event["eventName"], (event["timestamp"] + self._wall_offset) * 1000)
+            )
+
+    def first_sent(self, method: str, path_end: str, after: float) -> _Request:
+        """The first ``method`` request to a path ending in ``path_end`` sent after ``after``
+        (wall clock, ms)."""
+        return min(
+            (
+                r
+                for r in self.requests.values()
+                if r.method == method
+                and urlsplit(r.url).path.endswith(path_end)
+                and r.sent_at >= after
+            ),
+            key=lambda r: r.sent_at,
+        )
+
+    def first_event(self, type_: str, after: float) -> float:
+        """When the first event ``type_`` came after ``after`` (wall clock, ms)."""
+        return min(when for name, when in self.events if name == type_ and when >= after)
 
     def _data(self, event: dict[str, Any]) -> None:
         self._request(event).chunks += int(event.get("encodedDataLength", 0))
 
     def _finished(self, event: dict[str, Any]) -> None:
         self._request(event).finished = int(event.get("encodedDataLength", 0))
+
+    def _failed(self, event: dict[str, Any]) -> None:
+        self._request(event).failed = True
+
+    def waiting(self) -> list[str]:
+        """The requests on their way (event streams aside: they stay open), by path."""
+        return [
+            urlsplit(r.url).path
+            for r in self.requests.values()
+            if r.url.startswith("http")
+            and r.finished is None
+            and not r.failed
+            and _kind(urlsplit(r.url).path) != "events"
+        ]
 
     def totals(self) -> tuple[int, int]:
         """(sent, received) bytes so far."""

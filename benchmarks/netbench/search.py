@@ -32,6 +32,7 @@ ORIGINAL_QUALITY = 92
 APART = 0.1
 MARGIN = 0.05
 WAIT_MS = 60_000
+CLOCKS_MS = 50.0
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,13 @@ class SearchRun:
     joiner: PhoneRun
     answer_text_ms: float
     answer_drawn_ms: float
+    # Where that time went: the tap to its PUT leaving the starter, the PUT in the app (its
+    # Server-Timing), its leaving to the answer's event reaching the joiner, that event to
+    # the answer drawn.
+    tap_to_sent_ms: float
+    server_ms: float
+    sent_to_event_ms: float
+    event_to_drawn_ms: float
 
 
 def hall_photos(folder: Path, seed: int, landmarks: int) -> Photos:
@@ -147,6 +155,20 @@ def _landmark(page: Page, number: int) -> None:
     expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
 
 
+def _settled(*phones: tuple[Page, Meter]) -> None:
+    """Until no phone has a request on its way."""
+    deadline = time.monotonic() + WAIT_MS / 1000
+    while True:
+        for page, _ in phones:
+            page.evaluate("() => 0")  # Playwright delivers the protocol's events meanwhile
+        waiting = [path for _, meter in phones for path in meter.waiting()]
+        if not waiting:
+            return
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"requests still on their way: {waiting}")
+        time.sleep(0.05)
+
+
 def play(
     browser: Browser, playwright: Playwright, server: str, profile: Profile, photos: Photos
 ) -> SearchRun:
@@ -182,12 +204,14 @@ def play(
         for number, point in enumerate(photos.landmarks1, 1):
             expect(starter.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
             if number == last:
-                # Both settled: the answer before the last tap is drawn, nothing in flight.
+                # Both settled, as after a person's look at the screen: the answer before
+                # the last tap drawn, no request on its way (a suggested spot searched for
+                # the last landmark, say: it takes the server's CPU from the answer's).
                 saved(starter)
                 expect(joiner.get_by_test_id("result-position")).to_be_visible()
                 expect(joiner.locator("img.preload")).to_have_count(0)
+                _settled((starter, starter_meter), (joiner, joiner_meter))
                 joiner.evaluate(WATCH_ANSWER)
-                tapped = time.time() * 1000
             _tap(starter, point)
             _landmark(starter, number)
         joiner.wait_for_function(
@@ -197,16 +221,25 @@ def play(
             saved(page)
             page.wait_for_function("() => window.__bench.uploaded !== null", timeout=WAIT_MS)
         answer = stamps(joiner)
+        tapped = stamps(starter)["lifted"]  # the last tap placed, as the finger lifts
         runs = [
             _phone_run(page, meter)
             for page, meter in ((starter, starter_meter), (joiner, joiner_meter))
         ]
+        # The page's and the protocol's clocks may differ by a millisecond or two; the PUT
+        # before this one left seconds earlier.
+        put = starter_meter.first_sent("PUT", "/taps", tapped - CLOCKS_MS)
+        told = joiner_meter.first_event("answer", put.sent_at)
         return SearchRun(
             profile.name,
             runs[0],
             runs[1],
             answer["text"] - tapped,
             answer["drawn"] - tapped,
+            tap_to_sent_ms=put.sent_at - tapped,
+            server_ms=put.server_ms or float("nan"),
+            sent_to_event_ms=told - put.sent_at,
+            event_to_drawn_ms=answer["drawn"] - told,
         )
     finally:
         starter_context.close()

@@ -5,6 +5,7 @@ stamp, with the page's wall clock (``Date.now()``, the same clock as the benchma
 - ``chosen``: a photo was picked (the file input's ``change``);
 - ``tappable``: then the photo view shows it (its transform published, its picture decoded);
 - ``uploaded``: the photo's PUT answered (the browser's resource timing of the request);
+- ``lifted``: the last finger lifted off the screen (``touchend``): a tap is placed then;
 - ``text`` / ``drawn``: after :data:`WATCH_ANSWER`, the answer's position and its drawing
   on the photo (the server's image layer, ``result-overlay``, or an SVG the app draws,
   ``answer-layer``) changed from what they were.
@@ -19,8 +20,11 @@ from playwright.sync_api import Page
 INIT = """
 (() => {
   const stamps = (window.__bench = {
-    chosen: null, tappable: null, uploaded: null, text: null, drawn: null,
+    chosen: null, tappable: null, uploaded: null, lifted: null, text: null, drawn: null,
   });
+  document.addEventListener("touchend", (event) => {
+    stamps.lifted = performance.timeOrigin + event.timeStamp;
+  }, true);
   const tappable = () => {
     const view = document.querySelector('[data-testid="photo-view"]');
     const img = view && view.querySelector("img.layer");

@@ -1,12 +1,11 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { ApiError, isRetryable } from "./api";
+import type { Change } from "./changes";
 import {
   LiveStream,
   Refetcher,
-  alreadyShown,
   backoffDelay,
   withRetry,
-  type Change,
   type EventSourceLike,
   type StreamStatus,
 } from "./reconnect";
@@ -205,7 +204,7 @@ describe("the event stream", () => {
     return source;
   }
 
-  it("fetches the state when it opens and on every change event", () => {
+  it("tells of a change when it opens and on every change event", () => {
     stream();
     latest().open();
     expect(statuses).toEqual(["up"]);
@@ -214,7 +213,7 @@ describe("the event stream", () => {
     expect(changes).toBe(7);
   });
 
-  it("tells what changed and the version it made, when the event names one", () => {
+  it("tells what changed with the event's data", () => {
     stream();
     latest().open();
     latest().emit("taps", '{"role": "joiner", "version": 9}');
@@ -223,10 +222,10 @@ describe("the event stream", () => {
     latest().emit("photo", "not json");
     expect(told).toEqual([
       undefined, // opened: anything may have changed
-      { type: "taps", version: 9 },
-      { type: "answer", version: 9 },
-      { type: "joined", version: null },
-      { type: "photo", version: null },
+      { type: "taps", data: { role: "joiner", version: 9 } },
+      { type: "answer", data: { version: 9 } },
+      { type: "joined", data: { role: "joiner", online: true } },
+      { type: "photo", data: null },
     ]);
   });
 
@@ -307,33 +306,5 @@ describe("the event stream", () => {
     live.wake();
     expect(changes).toBe(0);
     expect(FakeSource.opened).toHaveLength(1);
-  });
-});
-
-describe("a change the screen already shows", () => {
-  const at = (version: number, answered = false) => ({
-    version,
-    answer: answered ? {} : null,
-    answer_error: null,
-  });
-
-  it("is a change up to the version shown", () => {
-    expect(alreadyShown({ type: "taps", version: 7 }, at(7))).toBe(true);
-    expect(alreadyShown({ type: "photo", version: 6 }, at(7))).toBe(true);
-    expect(alreadyShown({ type: "taps", version: 8 }, at(7))).toBe(false);
-  });
-
-  it("is an answer only when the state shown holds that version's answer, or is newer", () => {
-    expect(alreadyShown({ type: "answer", version: 7 }, at(7, true))).toBe(true);
-    expect(alreadyShown({ type: "answer", version: 7 }, at(7))).toBe(false);
-    expect(alreadyShown({ type: "answer", version: 7 }, at(8))).toBe(true);
-    const refused = { version: 7, answer: null, answer_error: { code: "degenerate" } };
-    expect(alreadyShown({ type: "answer", version: 7 }, refused)).toBe(true);
-  });
-
-  it("is never a change without a version, or when nothing is shown yet", () => {
-    expect(alreadyShown({ type: "joined", version: null }, at(7))).toBe(false);
-    expect(alreadyShown(undefined, at(7))).toBe(false);
-    expect(alreadyShown({ type: "taps", version: 1 }, null)).toBe(false);
   });
 });

@@ -1,12 +1,14 @@
 /**
  * Staying in touch over a weak network: backoff between retries, one state fetch at a time,
- * and the event stream that says "this changed" (EventSource), reopened when it closes.
+ * and the event stream of the session's changes (EventSource), reopened when it closes.
  *
- * Events only say that something changed; the phone then fetches the whole state. It also
- * fetches when the stream (re)opens (it may have missed something while down), when the
- * page becomes visible again and when the network comes back.
+ * Each change's event carries what the phone needs to show it (changes.ts takes it in). The
+ * phone fetches the whole state when an event cannot tell, when the stream (re)opens (it may
+ * have missed something while down), when the page becomes visible again and when the
+ * network comes back.
  */
 
+import type { Change } from "./changes";
 import { EVENTS } from "./limits";
 
 export interface BackoffOptions {
@@ -63,6 +65,11 @@ export class Refetcher {
 
   constructor(private readonly fetch: () => Promise<void>) {}
 
+  /** Whether a fetch is on its way (its answer may predate what is shown meanwhile). */
+  get busy(): boolean {
+    return this.running;
+  }
+
   request(): void {
     if (this.running) {
       this.again = true;
@@ -104,54 +111,19 @@ export interface EventSourceLike {
   close(): void;
 }
 
-/** What an event said changed: its type, and the session version it made (when it did). */
-export interface Change {
-  type: string;
-  version: number | null;
-}
-
-/** The parts of the state that tell which changes it already shows. */
-export interface ShownVersion {
-  version: number;
-  answer?: unknown;
-  answer_error?: unknown;
-}
-
-/**
- * Whether the state on screen already shows `change`, so that there is nothing to fetch: a
- * phone's own taps come back with their answer in the reply to its PUT, and their events
- * then tell it nothing new. Every change bumps the session's version and clears the answer,
- * so a state at version v with an answer holds the answer for v. Presence events (no
- * version) and anything unknown are always fetched.
- */
-export function alreadyShown(change: Change | undefined, shown: ShownVersion | null): boolean {
-  if (!change || change.version === null || !shown) return false;
-  if (change.type === "answer") {
-    const answered = (shown.answer ?? null) !== null || (shown.answer_error ?? null) !== null;
-    return shown.version > change.version || (shown.version === change.version && answered);
-  }
-  return shown.version >= change.version;
-}
-
-/** The version an event's data names, if any. */
+/** An event: its type, and its data parsed (null when it is not JSON). */
 function changeOf(type: string, event: Event): Change {
-  let version: number | null = null;
   try {
-    const data: unknown = JSON.parse((event as MessageEvent<string>).data);
-    if (typeof data === "object" && data !== null && "version" in data) {
-      const named = (data as { version: unknown }).version;
-      if (typeof named === "number" && Number.isInteger(named)) version = named;
-    }
+    return { type, data: JSON.parse((event as MessageEvent<string>).data) as unknown };
   } catch {
-    // no JSON: treat as a change without a version
+    return { type, data: null };
   }
-  return { type, version };
 }
 
 export interface LiveStreamOptions {
   url: string;
-  /** Something changed (`change`, from an event), or may have (none: the stream opened, the
-   * page came back): fetch the state unless it shows that already. */
+  /** Something changed (`change`, an event with its data), or may have (none: the stream
+   * opened, the page came back: fetch the state). */
   onChange: (change?: Change) => void;
   /** The session ended (deleted by a phone, or timed out). */
   onEnded: () => void;

@@ -31,13 +31,8 @@ import {
 } from "./landmarks";
 import { readLens } from "./lens";
 import { lineSigma } from "./precision";
-import {
-  LiveStream,
-  Refetcher,
-  alreadyShown,
-  type Change,
-  type StreamStatus,
-} from "./reconnect";
+import { takeIn, type Change } from "./changes";
+import { LiveStream, Refetcher, type StreamStatus } from "./reconnect";
 import { forgetSession, loadDraft, saveDraft } from "./storage";
 import { TapSaver, type SaveState } from "./tapSaver";
 import { otherRole, type Credentials, type LensFields, type SessionState } from "./types";
@@ -208,9 +203,11 @@ export class SessionController {
   }
 
   /**
-   * Something changed (or may have: no `change`): fetch the state, unless what is on screen
-   * already shows it. The phone's own change is told by the stream before the reply to its
-   * PUT brings it with its answer: such news waits for that reply.
+   * Something changed (`changes`, events with their data), or may have (none given: the
+   * stream opened, the page came back): take the events in, or fetch the state when one
+   * cannot be (a version missing, or an event that cannot tell). The phone's own change is
+   * told by the stream before the reply to its PUT brings it with its answer: such news
+   * waits for that reply, and is then shown already.
    */
   private changed(...changes: Array<Change | undefined>): void {
     if (changes.length === 0) return;
@@ -218,9 +215,21 @@ export class SessionController {
       this.heldChanges.push(...(changes as Change[]));
       return;
     }
-    if (changes.some((change) => !alreadyShown(change, this.view.state))) {
-      this.refetcher.request();
+    const before = this.view.state;
+    let state = before;
+    let fetch = false;
+    for (const change of changes) {
+      const outcome = change ? takeIn(state, change) : ({ kind: "fetch" } as const);
+      if (outcome.kind === "fetch") {
+        fetch = true;
+        break; // what comes after a gap is for the fetched state to show
+      }
+      if (outcome.kind === "applied") state = outcome.state;
     }
+    if (state && state !== before) this.applyState(state);
+    // A fetch on its way may have read before a change taken in here without a new version
+    // (a phone came or went): it would show that change undone, so one more follows it.
+    if (fetch || (state !== before && this.refetcher.busy)) this.refetcher.request();
   }
 
   private async load(): Promise<void> {
@@ -427,7 +436,6 @@ export class SessionController {
     this.saver.hold(false);
     this.saver.update(toServerTaps(editor.taps));
     this.keepDraft();
-    this.refetcher.request();
   }
 
   // --- taps ----------------------------------------------------------------------------------

@@ -38,7 +38,6 @@ describe("saving taps", () => {
       onStatus: (s) => statuses.push(s.status),
       onEnded: () => ended++,
       onSettled: () => settled.push(saver.sending),
-      debounceMs: 100,
       delay: (attempt) => 1000 * 2 ** attempt,
     });
   });
@@ -53,12 +52,9 @@ describe("saving taps", () => {
     await vi.advanceTimersByTimeAsync(0);
   }
 
-  it("sends a burst of changes once, the newest", async () => {
+  it("sends a placed tap at once, waiting for nothing", async () => {
     saver.update(taps(1));
-    saver.update(taps(1, 2));
-    saver.update(taps(1, 2, 3));
-    await vi.advanceTimersByTimeAsync(100);
-    expect(sent).toEqual([taps(1, 2, 3)]);
+    expect(sent).toEqual([taps(1)]); // sent before any timer runs
     await answer(STATE);
     expect(statuses).toEqual(["saving", "saved"]);
   });
@@ -66,7 +62,7 @@ describe("saving taps", () => {
   it("says while a PUT is on its way, and when its reply is in, saved or not", async () => {
     expect(saver.sending).toBe(false);
     saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     expect(saver.sending).toBe(true);
     await answer(new ApiError(0, "network", "offline"));
     expect(settled).toEqual([false]);
@@ -79,7 +75,7 @@ describe("saving taps", () => {
 
   it("sends one request at a time, then the newest taps", async () => {
     saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     saver.update(taps(1, 2));
     saver.update(taps(1, 2, 3));
     await vi.advanceTimersByTimeAsync(500);
@@ -93,7 +89,7 @@ describe("saving taps", () => {
 
   it("keeps the taps and retries with backoff when the network fails", async () => {
     saver.update(taps(1, 2));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     await answer(new ApiError(0, "network", "offline"));
     expect(statuses[statuses.length - 1]).toBe("error");
     expect(saver.pending).toBe(true);
@@ -112,7 +108,7 @@ describe("saving taps", () => {
 
   it("retries at once when the network is back", async () => {
     saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     await answer(new ApiError(0, "network", "offline"));
     saver.retryNow();
     await vi.advanceTimersByTimeAsync(0);
@@ -121,18 +117,18 @@ describe("saving taps", () => {
 
   it("does not resend taps the server refused, until they change", async () => {
     saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     await answer(new ApiError(422, "outside_photo", "Landmark #1 is outside the photo."));
     await vi.advanceTimersByTimeAsync(60_000);
     expect(sent).toHaveLength(1);
     saver.update(taps(2));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     expect(sent).toHaveLength(2);
   });
 
   it("reports the end of the session on 401", async () => {
     saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     await answer(new ApiError(401, "unauthorized", "This token opens no session."));
     expect(ended).toBe(1);
   });
@@ -164,7 +160,7 @@ describe("saving taps", () => {
 
   it("holds a retry after a failure until released", async () => {
     saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(100);
+    await vi.advanceTimersByTimeAsync(0);
     saver.hold(true);
     await answer(new ApiError(0, "network", "No connection."));
     await vi.advanceTimersByTimeAsync(60_000);

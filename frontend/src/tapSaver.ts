@@ -2,6 +2,11 @@
  * Every change of the taps PUTs the whole tap set, without ever losing a tap on a weak
  * network: one request at a time, the newest tap set wins, failures are retried with
  * backoff while the taps stay on the phone.
+ *
+ * A change goes at once: the answer reaches the other phone one round trip after the tap.
+ * Nothing waits for more changes to come, since every change is a placed one: a finger
+ * that drags a landmark or aims with the loupe changes nothing until it lets go
+ * (gestures.ts). Changes made while a PUT is on its way go together after it, the newest.
  */
 
 import { ApiError } from "./api";
@@ -25,8 +30,6 @@ export interface TapSaverOptions {
   onEnded: () => void;
   /** A PUT came back (saved or not): nothing is in flight now. */
   onSettled?: () => void;
-  /** Wait this long after a change before sending (a burst of changes sends once). */
-  debounceMs?: number;
   delay?: (attempt: number) => number;
   setTimer?: (run: () => void, ms: number) => unknown;
   clearTimer?: (timer: unknown) => void;
@@ -41,13 +44,11 @@ export class TapSaver {
   private failures = 0;
   private held = false;
   private state: SaveState = { status: "saved", message: null };
-  private readonly debounceMs: number;
   private readonly delay: (attempt: number) => number;
   private readonly setTimer: (run: () => void, ms: number) => unknown;
   private readonly clearTimer: (timer: unknown) => void;
 
   constructor(private readonly options: TapSaverOptions) {
-    this.debounceMs = options.debounceMs ?? 120;
     // At most ~4 s between tries: a phone back on the network saves within seconds even when
     // the browser says nothing of it (no "online" event after a dropped connection).
     this.delay = options.delay ?? ((attempt) => backoffDelay(attempt, { baseMs: 1000, maxMs: 4000 }));
@@ -61,7 +62,8 @@ export class TapSaver {
     this.sentJson = JSON.stringify(taps);
   }
 
-  /** The phone's taps changed: send them (soon). */
+  /** The phone's taps changed: send them now, before the screen is drawn again (a PUT on
+   * its way: after its reply). */
   update(taps: Taps): void {
     this.wanted = taps;
     this.wantedJson = JSON.stringify(taps);
@@ -72,7 +74,8 @@ export class TapSaver {
     }
     this.setState({ status: "saving", message: null });
     this.failures = 0;
-    this.schedule(this.debounceMs);
+    this.cancelTimer();
+    void this.flush();
   }
 
   /** Whether some taps are not on the server yet. */

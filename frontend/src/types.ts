@@ -22,6 +22,8 @@ export type Ellipse = Schemas["Ellipse"];
 export type LandmarkBand = Schemas["LandmarkBand"];
 export type LandmarkSuggestion = Schemas["LandmarkSuggestion"];
 export type Quality = Answer["quality"];
+/** The data of each event type of the session's stream (JSON), by type (changes.ts). */
+export type EventData = Schemas["SessionEvents"];
 
 /** Who a phone is in its search: the friend who started it, or the one who joined it. */
 export type Role = SessionState["you"];

@@ -341,6 +341,12 @@ def _uncertainty(
 ) -> tuple[Uncertainty, float | None]:
     if e2 is None or covariance is None or not np.all(np.isfinite(covariance)):
         return Uncertainty(ellipse=None), None
+    # A covariance inverted from nearly singular normal equations (taps far outside a photo
+    # seen through a camera model, ~90 degrees off its axis) can come out lopsided or
+    # indefinite: a region with a zero axis would be a false certainty, so there is none.
+    covariance = (covariance + covariance.T) / 2.0
+    if not (covariance[0, 0] > 0.0 and np.linalg.det(covariance) > 0.0):
+        return Uncertainty(ellipse=None), None
     centre, axes, angle = ellipse(np.array(e2), covariance)
     cov = (
         (float(covariance[0, 0]), float(covariance[0, 1])),

@@ -17,7 +17,8 @@ projective geometry instead, saying so.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -32,6 +33,7 @@ from ..estimation.pinhole_starts import (
     fundamental_starts,
     marked_starts,
     unmarked_starts,
+    wider_marked_starts,
 )
 from ..estimation.taps import Taps
 from ..estimation.uncertainty import consistent
@@ -68,17 +70,38 @@ _MISTAPS_FROM = 6
 BOOTSTRAP_DOF = 1
 # Fits that put friend 1 closer than this many of their own sigmas are the same answer.
 _SAME_ANSWER_SIGMAS = 3.0
+# The camera model is judged not to fit the taps when its fit's chi-square is beyond this
+# quantile: about one honest search in ten thousand is then told its photos do not look
+# like two phone photos (0.99 told one in a hundred; measured in docs/solver-benchmark.md,
+# section 8). A wrong model still shows: a stretched photo is caught from five landmarks.
+LEVEL = 0.9999
+# Starts of the wider search refined at most (it runs when no first start fits).
+_WIDER_REFINED = 12
 
 
-def friend2_marked(request: Request) -> SolveResult | None:
+@dataclass(frozen=True)
+class CameraAnswer:
+    """The camera model's answer, and whether the taps agree with the model.
+
+    Attributes:
+        result: the answer (None: no pose of two phone cameras fits at all).
+        agrees: its fit passed the chi-square test at ``LEVEL``; when it did not, ``solve``
+            weighs it against the projective answer (:mod:`.disagreement`).
+    """
+
+    result: SolveResult | None
+    agrees: bool
+
+
+def friend2_marked(request: Request) -> CameraAnswer:
     """Friend 2 marked as a point (and maybe friend 1 too), one or more landmarks."""
     taps, priors = request.taps, request.priors
     assert priors is not None
     assert taps.epipole1 is not None
     model = PinholeModel(taps, priors)
-    fits = _refined(model, marked_starts(model))
+    fits = _refined(model, marked_starts(model), wider=lambda: wider_marked_starts(model))
     if not fits:
-        return None
+        return CameraAnswer(None, agrees=False)
     fit = _likeliest(fits)
     suspects: list[int] = []
     warnings: list[str] = []
@@ -89,8 +112,9 @@ def friend2_marked(request: Request) -> SolveResult | None:
             suspects, fit = found
             warnings += suspect_warnings(request, suspects, fit.fundamental)
     both = taps.epipole2 is not None
-    if not consistent(fit) and len(taps) >= (3 if both else 5):
-        return None  # the projective geometry can answer without the camera model
+    # Tested where the projective geometry can answer too (a point or, from four
+    # landmarks and friend 2, the curve).
+    agrees = consistent(fit, LEVEL) or len(taps) < (3 if both else 4)
     others = _rivals(fit, [other for other in fits if other is not fit])
     covariance = fit.covariance2
     if fit.dof <= BOOTSTRAP_DOF:
@@ -104,18 +128,21 @@ def friend2_marked(request: Request) -> SolveResult | None:
     if len(taps) == 4 and not both:
         answer = _with_conic(answer, conic_through(request))
     if not others:
-        return result(
-            method,
-            request,
-            answer,
-            suspects=suspects,
-            warnings=warnings,
-            inconsistent=inconsistent,
+        return CameraAnswer(
+            result(
+                method,
+                request,
+                answer,
+                suspects=suspects,
+                warnings=warnings,
+                inconsistent=inconsistent,
+            ),
+            agrees,
         )
-    return _ambiguous(request, model, method, fit, others, warnings=warnings)
+    return CameraAnswer(_ambiguous(request, model, method, fit, others, warnings=warnings), agrees)
 
 
-def line_through_friend2(request: Request) -> SolveResult | None:
+def line_through_friend2(request: Request) -> CameraAnswer:
     """A line through friend 2 and six or more landmarks: the cubic's roots, ranked by how
     well each fits a pair of phone cameras once refined over every tap."""
     taps, priors = request.taps, request.priors
@@ -133,10 +160,10 @@ def line_through_friend2(request: Request) -> SolveResult | None:
         if len(along):
             starts = unmarked_starts(model, fundamentals, along)
             answer = _from_starts(request, model, "pinhole_line", starts)
-    return answer
+    return CameraAnswer(answer, agrees=answer is not None)
 
 
-def landmarks_only(request: Request) -> SolveResult | None:
+def landmarks_only(request: Request) -> CameraAnswer:
     """No mark of friend 2: seven or more landmarks, the 7- or 8-point solutions ranked by
     how well each fits a pair of phone cameras once refined."""
     taps, priors = request.taps, request.priors
@@ -148,9 +175,10 @@ def landmarks_only(request: Request) -> SolveResult | None:
         roots = [(fit.epipole1, fit.epipole2, fit.fundamental)]
     model = PinholeModel(taps, priors)
     fundamentals = [f for _, _, f in roots]
-    return _from_roots(
+    answer = _from_roots(
         request, model, "pinhole_landmarks", fundamentals, np.array(_friend2_places(roots))
     )
+    return CameraAnswer(answer, agrees=answer is not None)
 
 
 def _from_roots(
@@ -184,7 +212,7 @@ def _from_starts(
     """The best of ``starts`` refined (a line or nothing marked) as the answer, or None when
     no fit agrees with the taps."""
     fits = _refined(model, starts)
-    if not fits or not consistent(fits[0]):
+    if not fits or not consistent(fits[0], LEVEL):
         return None
     fit = _likeliest(fits)
     others = _rivals(fit, [other for other in fits if other is not fit])
@@ -233,17 +261,25 @@ def _projective_disagrees(taps: Taps) -> bool:
     return not consistent(fit_epipolar(taps, start))
 
 
-def _refined(model: PinholeModel, starts: list[tuple[float, Poses]]) -> list[PinholeFit]:
+def _refined(
+    model: PinholeModel,
+    starts: list[tuple[float, Poses]],
+    *,
+    wider: Callable[[], list[tuple[float, Poses]]] | None = None,
+) -> list[PinholeFit]:
     """The best start refined, and any other start close enough to it; all of them when
     those do not fit the taps (a start's score is read at the priors' focal lengths, and a
-    poor-looking start may be the right basin). Best fit first."""
-    if not starts:
-        return []
-    best = starts[0][0]
-    near = [pose for score, pose in starts if score <= best + _REFINE_MARGIN]
-    fits = [fit_pinhole(model, pose) for pose in near]
-    if not any(consistent(fit) for fit in fits):
-        fits += [fit_pinhole(model, pose) for _, pose in starts[len(near) :]]
+    poor-looking start may be the right basin), then the best few of the ``wider`` search's.
+    Best fit first."""
+    fits: list[PinholeFit] = []
+    if starts:
+        best = starts[0][0]
+        near = [pose for score, pose in starts if score <= best + _REFINE_MARGIN]
+        fits = [fit_pinhole(model, pose) for pose in near]
+        if not any(consistent(fit, LEVEL) for fit in fits):
+            fits += [fit_pinhole(model, pose) for _, pose in starts[len(near) :]]
+    if wider is not None and not any(fit.usable and consistent(fit, LEVEL) for fit in fits):
+        fits += [fit_pinhole(model, pose) for _, pose in wider()[:_WIDER_REFINED]]
     return sorted((fit for fit in fits if fit.usable), key=lambda fit: fit.cost)
 
 

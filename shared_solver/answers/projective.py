@@ -12,22 +12,31 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-from .. import words
+from .. import linalg, words
 from ..errors import ErrorCode, SolverError
 from ..estimation import bootstrap
 from ..estimation.epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles
 from ..estimation.mistaps import find_mistaps, refit
-from ..estimation.planar import coplanar_fit
+from ..estimation.planar import PlanarFit, coplanar_fit
 from ..estimation.plausibility import assess
-from ..estimation.uncertainty import consistent
+from ..estimation.uncertainty import chi2_quantile, consistent, covering
 from ..minimal.conic import conic_from_cross_ratio
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
 from ..minimal.two_epipoles import fundamental_between
-from ..projective import Array, canonical_matrix, hartley_normaliser, homogeneous, transform
+from ..projective import (
+    Array,
+    canonical_matrix,
+    hartley_normaliser,
+    homogeneous,
+    to_pixel,
+    transform,
+)
 from ..result import Method, SolveResult
 from .building import (
     Answer,
@@ -44,6 +53,10 @@ from .building import (
     widen_if_inconsistent,
 )
 from .request import Request
+
+# The plane model's answer agrees with the general one when their gap is within this
+# chi-square (2 dof, 0.99) of what the general one's extra spread explains.
+_PLANE_AGREES = chi2_quantile(0.99, 2)
 
 
 def conic(request: Request) -> SolveResult:
@@ -95,16 +108,19 @@ def friend2_marked(request: Request) -> SolveResult:
             suspects, fit = found
             warnings += suspect_warnings(request, suspects, fit.fundamental)
     used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
-    plane = coplanar_fit(used)
-    if plane is not None:
-        return result(
-            "planar", request, Answer.of_plane(request, plane), suspects=suspects, warnings=warnings
-        )
     covariance = fit.covariance2
     if len(used) == 5:  # minimal: first order is too optimistic near degenerate layouts
         covariance = calibrated(
             fit.epipole2, covariance, lambda: bootstrap.five_point_samples(used)
         )
+    plane = coplanar_fit(used)
+    if plane is not None:
+        planar = _on_the_plane(request, plane, fit.epipole2, covariance)
+        if planar is not None:
+            answer = result("planar", request, planar, suspects=suspects, warnings=warnings)
+            # A plane that puts friend 1 behind friend 2 or nowhere does not replace a point.
+            if answer.epipole2 is not None:
+                return answer
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
     method: Method = "five_point_epipole" if len(used) == 5 else "least_squares_epipole"
     return result(
@@ -115,6 +131,38 @@ def friend2_marked(request: Request) -> SolveResult:
         warnings=warnings,
         inconsistent=inconsistent,
     )
+
+
+def _on_the_plane(
+    request: Request, plane: PlanarFit, general: Array, covariance: Array | None
+) -> Answer | None:
+    """The plane model's answer ``e2 = H e1``, or None where the general one disagrees.
+
+    A few landmarks off a plane can fit one within tap noise by chance, and then the
+    plane's answer is off by more than its region says. So the plane is used only where the
+    general answer (3,) agrees with it (their gap within what the general one's extra
+    spread explains: a Hausman test), and its region also holds the general answer's
+    region (``covariance``, (2, 2)): a sharper point on a plane, never a region the general
+    answer would have held the truth outside of.
+    """
+    answer = Answer.of_plane(request, plane)
+    position, centre = to_pixel(answer.epipole2), to_pixel(general)
+    own = answer.covariance
+    if position is None or centre is None or own is None or covariance is None:
+        return None
+    if not (np.all(np.isfinite(covariance)) and np.all(np.isfinite(own))):
+        return None
+    gap = centre - position
+    extra: Array = covariance - own
+    try:
+        if np.linalg.eigvalsh(extra)[0] <= 0.0:
+            extra = covariance
+        if float(gap @ linalg.solve(extra, gap)) > _PLANE_AGREES:
+            return None
+        region = covering((position, own), (centre, covariance))
+    except linalg.LinAlgError:
+        return None
+    return replace(answer, covariance=region)
 
 
 def both_epipoles(request: Request) -> SolveResult:

@@ -19,13 +19,14 @@ from ..linalg import cholesky2
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
 from .camera import FocalPrior
-from .pinhole_fit import PinholeFit, PinholeModel, friend1_after_steps
+from .pinhole_fit import PinholeFit, PinholeModel, friend1_positions
 from .taps import Taps
 from .uncertainty import CHI2_2D, LEVEL
 
 SAMPLES = 200  # closed form, vectorised
-PINHOLE_SAMPLES = 32  # one Gauss-Newton step each, all at once
+PINHOLE_SAMPLES = 64  # a few Gauss-Newton steps each, all at once
 RESOLVES = 100  # one full solve each
+_CHORD_STEPS = 2  # Gauss-Newton steps after the first, for the pinhole samples
 _SEED = 2017
 
 
@@ -73,9 +74,12 @@ def five_point_samples(taps: Taps) -> Array:
 def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, FocalPrior]) -> Array:
     """(PINHOLE_SAMPLES, 2) answers of the pinhole model for re-made taps.
 
-    Each is one Gauss-Newton step from the fit on its own taps, with the fit's Jacobian:
-    the taps' and friend 1's nonlinearity are kept, and measured on three landmarks and
-    friend 2 it calibrates as well as a full re-solve (docs/geometry.md).
+    Each is refined from the fit on its own taps by Gauss-Newton steps with the fit's own
+    Jacobian (the chord method, all samples at once): the taps' and friend 1's nonlinearity
+    are kept. One step was not enough: where the focal lengths are left to their priors
+    (three or four landmarks) a straight step along them leaves the curved valley in which
+    friend 1 stays put, and the samples flew off (measured at 1 px: regions twice the
+    bound's area); the further steps bring them back to it.
     """
     count = PINHOLE_SAMPLES
     marks = [mark for mark in (taps.epipole1, taps.epipole2) if mark is not None]
@@ -94,8 +98,12 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
         else _remade(taps.epipole2, taps.cov_e2, next(noise)),
     )
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
-    steps = -model.offsets(fit.pose) @ (fit.jacobian @ fit.covariance)
-    return friend1_after_steps(fit.pose, steps, fit.centres[1])
+    gain = fit.jacobian @ fit.covariance
+    steps = -model.offsets(fit.pose) @ gain
+    for _ in range(_CHORD_STEPS):
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            steps = steps - model.offsets(fit.pose.after_steps(steps)) @ gain
+    return friend1_positions(fit.pose.after_steps(steps), fit.centres[1])
 
 
 def resolved_samples(taps: Taps, resolve: Callable[[Taps], Array]) -> Array:

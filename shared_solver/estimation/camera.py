@@ -39,6 +39,9 @@ MAIN_CAMERA_MM = 26.0
 PHONE_LOG_SIGMA = 0.5
 # EXIF focal lengths are whole millimetres and lenses vary a little: 2 % by default.
 KNOWN_FOCAL_UNCERTAINTY = 0.02
+# No focal length is known to better than a millionth: below it the prior's information
+# (1 / uncertainty^2) swamps the fit's normal equations, or overflows.
+FINEST_FOCAL_UNCERTAINTY = 1e-6
 
 CameraKind = Literal["unknown", "phone", "known_focal"]
 
@@ -63,7 +66,7 @@ class Camera(BaseModel):
     )
     focal_uncertainty: float = Field(
         KNOWN_FOCAL_UNCERTAINTY,
-        gt=0.0,
+        ge=FINEST_FOCAL_UNCERTAINTY,
         le=1.0,
         description="Relative standard deviation of focal_35mm (0.02 = 2 %).",
     )

@@ -106,6 +106,27 @@ class Poses:
             self.reference,
         )
 
+    def after_steps(self, steps: Array) -> Poses:
+        """K poses: this one (a batch of one) after each of K tangent steps (K, 7), as
+        :meth:`moved` does one (Rodrigues' formula on the rotations, in a batch)."""
+        tangent = np.array(_tangent(*self.friend2[0].tolist()))
+        friend2 = self.friend2[0] + steps[:, _BASELINE] @ tangent.T
+        friend2 /= np.sqrt(np.einsum("ki,ki->k", friend2, friend2))[:, None]
+        w = steps[:, _ROTATION]
+        angle = np.sqrt(np.einsum("ki,ki->k", w, w))
+        small = angle < 1e-8
+        safe = np.where(small, 1.0, angle)
+        first = np.where(small, 1.0, np.sin(safe) / safe)[:, None, None]
+        second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))[:, None, None]
+        cross = _skews(w)
+        turn = np.eye(3) + first * cross + second * (cross @ cross)
+        return Poses(
+            turn @ self.rotation[0],
+            friend2,
+            self.log_focals[0] + steps[:, 5:7],
+            self.reference,
+        )
+
     @functools.cached_property
     def ratio(self) -> Array:
         """(K,) f_reference / f1."""
@@ -371,10 +392,15 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
         gain_tolerance=_GAIN_TOLERANCE,
     )
     information = jacobian.T @ jacobian
-    try:
-        covariance = linalg.inv(information)
-    except linalg.LinAlgError:
-        covariance = np.linalg.pinv(information, hermitian=True)
+    if not np.all(np.isfinite(information)):
+        # Run off to where the model has no derivative (a focal length of e^-177 px, from a
+        # start far from any geometry): no covariance either, so the fit is not ``usable``.
+        covariance = np.full(information.shape, np.nan)
+    else:
+        try:
+            covariance = linalg.inv(information)
+        except linalg.LinAlgError:
+            covariance = np.linalg.pinv(information, hermitian=True)
     return PinholeFit(
         pose=pose,
         centres=model.centres,
@@ -411,28 +437,6 @@ def _friend1_pixel(pose: Poses, centre: tuple[float, float], tangent: Array) -> 
     jacobian[:, 3:6] = d_project @ moved[:, 1:]  # friend 2's steps, then ln f1
     jacobian[:, _FOCAL2] = f2 * x / z, f2 * y / z
     return np.array([centre[0] + f2 * x / z, centre[1] + f2 * y / z]), jacobian
-
-
-def friend1_after_steps(pose: Poses, steps: Array, centre: Array) -> Array:
-    """(K, 2) friend 1 in photo 2 after each of K tangent steps (K, 7) from one pose, NaN
-    at infinity (as :meth:`Poses.moved` then :func:`friend1_positions`, without building the
-    K poses): ``-exp([w]x) R b1`` by Rodrigues' formula on the vector."""
-    tangent = np.array(_tangent(*pose.friend2[0].tolist()))
-    friend2 = pose.friend2[0] + steps[:, _BASELINE] @ tangent.T
-    friend2 /= np.sqrt(np.einsum("ki,ki->k", friend2, friend2))[:, None]
-    log_focals = pose.log_focals[0] + steps[:, 5:7]
-    friend2[:, :2] *= np.exp(pose.reference - log_focals[:, :1])  # b1 = diag(r, r, 1) u
-    turned = friend2 @ pose.rotation[0].T  # R b1
-    w = steps[:, _ROTATION]
-    angle = np.sqrt(np.einsum("ki,ki->k", w, w))
-    small = angle < 1e-8
-    safe = np.where(small, 1.0, angle)
-    first = np.where(small, 1.0, np.sin(safe) / safe)[:, None]
-    second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))[:, None]
-    once = linalg.cross_rows(w, turned)
-    v = -(turned + first * once + second * linalg.cross_rows(w, once))
-    v[np.abs(v[:, 2]) <= _AT_INFINITY * np.sqrt(np.einsum("ki,ki->k", v, v)), 2] = np.nan
-    return centre + np.exp(log_focals[:, 1:]) * v[:, :2] / v[:, 2:]
 
 
 def friend1_positions(poses: Poses, centre: Array) -> Array:

@@ -31,15 +31,25 @@ from .taps import Taps
 _CAP_SIGMAS = 6.0
 # Each landmark behind a camera costs as much as a capped residual.
 _BEHIND_PENALTY = _CAP_SIGMAS**2
-# Minimal subsets used: the best-spread one (up to 8 rotations). A second changed no answer
-# on phone scenes; a mis-tap in it is the mis-tap search's to find (pinhole_mistaps). When
-# tap noise leaves a set of three with no real pose, the next is tried, up to this many.
+# Minimal subsets used: one landmark (both friends marked); the two best-spread sets of
+# three (up to 8 rotations each). One changed no answer on main-camera phone scenes, but on
+# photos zoomed 5x it led every start into a basin 1260 px off while a better one fit (3 in
+# 300 searches; the second set found it every time). A mis-tap in them is the mis-tap
+# search's to find (pinhole_mistaps). When tap noise leaves a set of three with no real
+# pose, the next is tried, up to _SUBSETS_TRIED.
 _SUBSETS = 1
-_SUBSETS_TRIED = 4
+_TRIPLES = 2
+_SUBSETS_TRIED = 5
 # Two candidates that put friend 1 closer than this (radians apart, about 60 px at a phone's
 # focal length) are the same start: different subsets of noisy taps give slightly different
 # poses of one basin.
 _SAME_DIRECTION = 0.02
+# When no fit from those starts agrees with the taps (about 1 in 1000 honest taps on phone
+# scenes: the best-spread set of three can lead every start into a wrong basin), the search
+# widens: more sets of three, each also read at focal lengths from the ultra-wide to a 5x
+# zoom on either photo, since a start at the priors' median can miss a zoomed photo's basin.
+_WIDER_SUBSETS = 6
+_WIDER_ZOOMS = ((1.0, 1.0), (1.0, 2.0), (2.0, 1.0), (1.0, 4.0), (4.0, 1.0), (0.5, 0.5), (2.0, 2.0))
 
 
 def marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
@@ -51,12 +61,30 @@ def marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     taps = model.taps
     singles = _spread_indices(taps, 1, _SUBSETS) if taps.epipole2 is not None else []
     triples = _spread_indices(taps, 3, _SUBSETS_TRIED) if len(taps) >= 3 else []
-    # The best-spread set of three, or the next when noise leaves it no real pose.
+    # The best-spread sets of three, skipping those that noise leaves with no real pose.
+    found: list[Poses] = []
     for triple in triples:
         poses = exact_poses(model, [triple], singles)
         if poses is not None:
-            return _ranked(model, poses)
+            found.append(poses)
+            if len(found) == _TRIPLES:
+                break
+    if found:
+        return _ranked(model, *found)
     return _ranked(model, exact_poses(model, [], singles))
+
+
+def wider_marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
+    """More candidate poses (friend 2 marked as a point), for when none of
+    :func:`marked_starts` refines to a fit that agrees with the taps: more sets of three,
+    each at several focal lengths of either photo (``_WIDER_ZOOMS``). Best first, one per
+    distinct direction of friend 1."""
+    taps = model.taps
+    singles = _spread_indices(taps, 1, _WIDER_SUBSETS) if taps.epipole2 is not None else []
+    triples = _spread_indices(taps, 3, _WIDER_SUBSETS) if len(taps) >= 3 else []
+    return _ranked(
+        model, *(exact_poses(model, triples, singles, zoom=zoom) for zoom in _WIDER_ZOOMS)
+    )
 
 
 def exact_poses(
@@ -65,26 +93,31 @@ def exact_poses(
     singles: Sequence[Sequence[int]] = (),
     *,
     friend2_places: Array | None = None,
+    zoom: tuple[float, float] = (1.0, 1.0),
 ) -> Poses | None:
     """Every pose the minimal solvers give at the priors' focal lengths: three landmarks and
     friend 2 for each of ``triples``, one landmark and both friends for each of
     ``singles`` (landmark indices). None when they give none.
 
     ``friend2_places``: (B, 2) pixels of photo 1 to try as friend 2 (a line through friend 2
-    gives candidates); by default friend 2's tap.
+    gives candidates); by default friend 2's tap. ``zoom``: the focal lengths used, as
+    multiples of the priors' medians (photo 1, photo 2).
     """
     taps, priors = model.taps, model.priors
     if friend2_places is None:
         assert taps.epipole1 is not None
         friend2_places = taps.epipole1[None]
-    rays1, rays2 = _rays(taps.p, priors[0]), _rays(taps.q, priors[1])
+    focal1 = np.array([priors[0].focal_px * zoom[0]])
+    focal2 = np.array([priors[1].focal_px * zoom[1]])
+    rays1 = _rays_at(taps.p, priors[0].centre, focal1)[0]
+    rays2 = _rays_at(taps.q, priors[1].centre, focal2)[0]
     rotations: list[Array] = []
     directions: list[Array] = []
-    for ray in _rays(friend2_places, priors[0]):
+    for ray in _rays_at(friend2_places, priors[0].centre, focal1)[0]:
         friend2 = _unit(ray)
         found: list[Array] = []
         if taps.epipole2 is not None:
-            friend1 = _unit(_rays(taps.epipole2[None], priors[1])[0])
+            friend1 = _unit(_rays_at(taps.epipole2[None], priors[1].centre, focal2)[0, 0])
             for (i,) in singles:
                 found += rotations_from_both(friend2, friend1, rays1[i], rays2[i])
         for triple in triples:
@@ -94,7 +127,7 @@ def exact_poses(
         directions += [friend2] * len(found)
     if not rotations:
         return None
-    return _poses(model, np.array(rotations), np.array(directions))
+    return _poses(model, np.array(rotations), np.array(directions), zoom)
 
 
 def unmarked_starts(
@@ -139,14 +172,22 @@ def fundamental_poses(model: PinholeModel, fundamentals: list[Array]) -> Poses |
     return _poses(model, np.array(rotations), units)
 
 
-def _poses(model: PinholeModel, rotations: Array, baselines: Array) -> Poses:
-    """(K, 3, 3) rotations and (K, 3) unit baselines as poses at the priors' focal lengths."""
-    log_focals = np.array([model.priors[0].log_focal, model.priors[1].log_focal])
+def _poses(
+    model: PinholeModel, rotations: Array, baselines: Array, zoom: tuple[float, float] = (1.0, 1.0)
+) -> Poses:
+    """(K, 3, 3) rotations and (K, 3) unit baselines (friend 2's direction) as poses at the
+    priors' focal lengths times ``zoom``; photo 1's reference focal length is its prior's."""
+    priors = model.priors
+    log_focals = np.array([priors[0].log_focal, priors[1].log_focal]) + np.log(zoom)
+    directions = np.array(baselines, dtype=np.float64)
+    # Friend 2's direction is kept as the reference focal length sees it: u ~ diag(z, z, 1) b1.
+    directions[:, :2] *= zoom[0]
+    directions /= np.sqrt(np.einsum("ki,ki->k", directions, directions))[:, None]
     return Poses(
         rotations,
-        np.ascontiguousarray(baselines),
+        np.ascontiguousarray(directions),
         np.tile(log_focals, (len(rotations), 1)),
-        float(log_focals[0]),
+        float(priors[0].log_focal),
     )
 
 
@@ -241,11 +282,6 @@ def _areas(triangles: Array) -> Array:
     return np.abs(
         (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
     )
-
-
-def _rays(points: Array, prior: FocalPrior) -> Array:
-    """(N, 3) rays of pixels (N, 2) at the prior's median focal length."""
-    return _rays_at(points, prior.centre, np.array([prior.focal_px]))[0]
 
 
 def _rays_at(points: Array, centre: tuple[float, float], focals: Array) -> Array:

@@ -12,6 +12,8 @@ import math
 from statistics import NormalDist
 from typing import Protocol
 
+import numpy as np
+
 from .. import linalg
 from ..projective import Array
 from ..result import Quality
@@ -21,6 +23,13 @@ LEVEL = 0.95
 CHI2_2D = -2.0 * math.log(1.0 - LEVEL)  # = chi2_quantile(LEVEL, 2)
 
 _STANDARD_NORMAL = NormalDist()
+
+# Points on each ellipse's boundary that a region over two must hold, and a margin for the
+# arcs between them.
+_BOUNDARY_POINTS = 72
+_MARGIN = 1.02
+_ANGLES = np.linspace(0.0, 2.0 * math.pi, _BOUNDARY_POINTS, endpoint=False)
+_CIRCLE = np.column_stack([np.cos(_ANGLES), np.sin(_ANGLES)])
 
 # Quality bands: the 95 % ellipse's longer semi-axis as a fraction of photo 2's diagonal.
 GOOD_FRACTION = 0.03
@@ -72,6 +81,26 @@ def contains(centre: Array, covariance: Array, point: Array) -> bool:
     """Whether ``point`` lies inside the LEVEL ellipse of (centre, covariance)."""
     offset = point - centre
     return bool(offset @ linalg.solve(covariance, offset) <= CHI2_2D)
+
+
+def covering(own: tuple[Array, Array], other: tuple[Array, Array]) -> Array:
+    """(2, 2) a covariance about ``own``'s centre whose 95 % ellipse holds both answers'
+    95 % ellipses, each given as (centre (2,), covariance (2, 2)): the shape of both
+    spreads and the gap between them, scaled to hold every point on the two boundaries.
+    For an answer that may be either of two readings: the truth is in one of them."""
+    (a, cov_a), (b, cov_b) = own, other
+    gap = b - a
+    shape = cov_a + cov_b + np.outer(gap, gap) / CHI2_2D
+    points = np.vstack([_boundary(a, cov_a), _boundary(b, cov_b)]) - a
+    inverse = linalg.inv(shape)
+    scale = float(np.einsum("ki,ij,kj->k", points, inverse, points).max()) / CHI2_2D
+    return shape * scale * _MARGIN
+
+
+def _boundary(centre: Array, covariance: Array) -> Array:
+    """(K, 2) points on the 95 % ellipse of (centre, covariance)."""
+    root = linalg.cholesky2(covariance)
+    return centre + math.sqrt(CHI2_2D) * _CIRCLE @ root.T
 
 
 def quality(semi_major: float | None, diagonal: float) -> Quality:

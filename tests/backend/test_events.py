@@ -6,15 +6,22 @@ import json
 import time
 from collections.abc import AsyncIterator, Callable
 from contextlib import AbstractContextManager, aclosing
+from typing import Any
 
 import anyio
 import pytest
 from fastapi.sse import format_sse_event
 from fastapi.testclient import TestClient
 from phones import FakeClock, Phone
+from test_sessions import landmarks, scene
 
+from backend.eventstream.log import Event
 from backend.eventstream.stream import EventStreams
 from backend.participants import Participant, Role
+from testbed.changes import take_in
+from testbed.scenes import NO_PHONES_FRIEND as FRIEND
+from testbed.scenes import NO_PHONES_LANDMARKS1 as STARTERS
+from testbed.scenes import NO_PHONES_LANDMARKS2 as JOINERS
 
 
 @pytest.fixture
@@ -219,3 +226,58 @@ async def test_while_the_database_is_away_requests_get_503_and_streams_keep_ping
     frames = await next_frames(stream, "photo")
     assert '"role": "joiner"' in frames[-1]
     await stream.aclose()
+
+
+def shown_after(state: dict[str, Any], events: list[Event]) -> dict[str, Any]:
+    """The state a phone shows after taking in ``events`` as the app does, from the state it
+    showed before; each must be taken in (none missing, none that cannot tell)."""
+    for event in events:
+        taken = take_in(state, event.type, event.data)
+        assert taken is not None, f"the phone would fetch the state for {event}"
+        state = taken
+    return state
+
+
+def test_each_change_carries_what_the_other_phone_shows(
+    client: TestClient, starter: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """A phone that takes in the events of each change shows what reading the state would:
+    the join, each photo, taps short of an answer, an answer that fails (said to each phone
+    of its own photo), a curve, a point, and a photo replaced."""
+    log = streams_of(client).log
+    sid = starter.session_id
+    phones = [starter]
+    shown = {"starter": starter.state()}
+    after = log.last_event_id(sid)
+
+    def changed(change: Callable[[], Any]) -> None:
+        nonlocal after
+        change()
+        events = log.events_after(sid, after)
+        assert events, "the change has its events"
+        after = events[-1].id
+        for phone in phones:
+            read = phone.state()
+            assert shown_after(shown[phone.role], events) == read
+            shown[phone.role] = read
+
+    code = shown["starter"]["join_code"]
+    joined: list[Any] = []
+    changed(lambda: joined.append(client.post("/api/sessions/join", json={"code": code})))
+    joiner = Phone(client, sid, joined[0].json()["token"], "joiner")
+    phones.append(joiner)
+    shown["joiner"] = joiner.state()
+    changed(lambda: starter.upload(temple_photos[0], "a.png"))
+    changed(lambda: joiner.upload(temple_photos[1], "b.png"))
+    changed(lambda: starter.tap(landmarks=landmarks(STARTERS), friend=list(FRIEND)))
+    changed(lambda: joiner.tap(landmarks=landmarks(JOINERS[:2])))  # short of an answer
+    changed(lambda: joiner.tap(landmarks=landmarks(JOINERS[:3])))  # fails: said to each
+    assert shown["joiner"]["answer_error"]["code"] == "degenerate_configuration"
+    changed(lambda: joiner.tap(landmarks=landmarks(JOINERS[:4])))  # the curve
+    assert shown["joiner"]["answer"]["method"] == "conic"
+    s = scene(6)
+    changed(lambda: starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)))
+    changed(lambda: joiner.tap(landmarks=landmarks(s.landmarks2)))  # a point
+    assert shown["starter"]["answer"]["method"] == "pinhole_epipole"
+    changed(lambda: joiner.upload(temple_photos[1], "c.png"))  # its taps go
+    assert shown["starter"]["taps"]["joiner"] is None

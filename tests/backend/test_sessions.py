@@ -21,7 +21,13 @@ from sqlalchemy import text
 from backend.pairing.tokens import token_hash
 from backend.participants import ROLES
 from backend.storage.tables import Base
-from testbed.scenes import Scene, temple_scene
+from testbed.scenes import (
+    NO_PHONES_FRIEND,
+    NO_PHONES_LANDMARKS1,
+    NO_PHONES_LANDMARKS2,
+    Scene,
+    temple_scene,
+)
 
 
 def error_of(response: Any) -> str:
@@ -406,25 +412,18 @@ def test_both_friends_marked_one_landmark_is_enough(
         assert np.linalg.norm(np.array(answer["in_photo"][role]["friend"]) - truth) < 3.0
 
 
-# Taps that fit no two phone photos (found by search: no pose of two phone cameras puts
-# these landmarks and the joiner where they were tapped); any two cameras can still answer.
-NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
-NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
-NO_PHONES_FRIEND = [397.0, 291.0]
-
-
 def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
     starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The solver falls back to the projective geometry, and says so: four landmarks give
     the curve the starter is on, and the counter asks for the fifth that fixes the spot."""
     photos_uploaded(starter, joiner, temple_photos)
-    starter.tap(landmarks=landmarks(NO_PHONES_1), friend=NO_PHONES_FRIEND)
-    state = joiner.tap(landmarks=landmarks(NO_PHONES_2[:3])).json()
+    starter.tap(landmarks=landmarks(NO_PHONES_LANDMARKS1), friend=list(NO_PHONES_FRIEND))
+    state = joiner.tap(landmarks=landmarks(NO_PHONES_LANDMARKS2[:3])).json()
     assert state["answer"] is None
     assert state["answer_error"]["code"] == "degenerate_configuration"
 
-    state = joiner.tap(landmarks=landmarks(NO_PHONES_2[:4])).json()
+    state = joiner.tap(landmarks=landmarks(NO_PHONES_LANDMARKS2[:4])).json()
     answer = state["answer"]
     assert answer["method"] == "conic"
     assert answer["camera_model"] == "projective"
@@ -435,7 +434,7 @@ def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
     assert state["landmarks_needed"] == 1  # the curve: one more for a position
     assert starter.state()["landmarks_needed"] == 1
 
-    state = joiner.tap(landmarks=landmarks(NO_PHONES_2)).json()
+    state = joiner.tap(landmarks=landmarks(NO_PHONES_LANDMARKS2)).json()
     assert state["answer"]["method"] == "five_point_epipole"
     assert state["answer"]["camera_model"] == "projective"
     assert state["landmarks_needed"] == 0
@@ -468,11 +467,11 @@ def overtake_the_joiner(
     write = store.put_taps
     got: list[httpx2.Response] = []
 
-    def overtaken(participant: Any, *args: Any) -> Any:
+    def overtaken(participant: Any, *args: Any, **options: Any) -> Any:
         if got or participant.role != "joiner":
-            return write(participant, *args)
+            return write(participant, *args, **options)
         got.append(starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)))
-        written = write(participant, *args)
+        written = write(participant, *args, **options)
         if then is not None:
             got.append(then())
         return written
@@ -498,6 +497,12 @@ def test_taps_overtaken_by_the_other_phone_are_answered_afresh(
     assert reply["answer"]["landmark_ids"] == [1, 2, 3, 4, 5, 6]
     assert reply["answer_version"] == reply["version"] == sneaked[0].json()["version"] + 1
     assert reply == joiner.state()
+    # Its event cannot tell the starter the count it computed before being overtaken (the
+    # starter's phone fetches the state); the answer's event, computed afresh, can.
+    events = app.state.services.streams.log.events_after(joiner.session_id, 0)
+    told = {(event.type, event.data.get("version")): event.data for event in events}
+    assert told["taps", reply["version"]]["landmarks_needed"] is None
+    assert told["answer", reply["version"]]["answer"] == reply["answer"]
 
 
 def test_landmarks_tapped_in_one_photo_only_do_not_count(

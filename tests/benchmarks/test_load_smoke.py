@@ -36,7 +36,8 @@ def test_load_benchmark_runs_every_search_through_the_cluster(tmp_path: Path) ->
     assert done.returncode == 0, done.stderr[-4000:]
     report = out.read_text()
     assert done.stdout == report  # printed and written alike
-    for section in ("# Load benchmark", "## Targets", "## Calls", "## Per search", "## Errors"):
+    sections = ("# Load benchmark", "## Targets", "## Calls", "## Per search", "## Errors")
+    for section in (*sections, "## Where the replicas' time goes"):
         assert f"\n{section}\n" in f"\n{report}", section
 
     started, completed = found(r"\| searches started / completed \| (\d+) / (\d+) \|", report)

@@ -23,6 +23,8 @@ TINY = [
     "2",
     "--speed-rounds",
     "1",
+    "--limit-trials",
+    "3",
 ]
 SECTIONS = (
     "## 1. Phone scenes: accuracy of e2 against OpenCV",
@@ -32,6 +34,7 @@ SECTIONS = (
     "## 5. Facing scenes: accuracy of e2 against OpenCV",
     "## 6. Facing scenes: every projective method",
     "## 7. Speed",
+    "## 8. At the limit",
     "## Targets",
 )
 # One target line each, in the order of the issue: 5 + e1, 4 + e1, 3 + e1 with EXIF, zoomed,
@@ -50,6 +53,11 @@ TARGETS = (
     "8 landmarks + e1, median call within the budget",
     "solve's median call within the budget in every one of the",
     "median e2 error <= half of OpenCV 8-point's",
+    "RMS error <= 1.25x the bound's in every phone case",
+    "the 95 % region holds the truth 93.0 %-97.0 % of the time in every case",
+    "the region's area <= 1.1x the bound's",
+    "honest phone taps told they do not fit two phone photos at most 0.1 %",
+    "the plane model never chosen on 3-D scenes where the general one's region holds",
 )
 
 
@@ -83,6 +91,9 @@ def test_solver_benchmark_runs_and_reports_every_section(tmp_path: Path) -> None
         "| street | line + 6 | projective (cameras unknown) |",
         "| phones: solve phone prior 7, nothing marked |",
         "| epipole_from_five (cremona, default) |",
+        "| phone prior: 4 + e1 | 3 px |",
+        "| EXIF focal: 5 + e1 | 8 px |",
+        "| camera unknown: 5 + e1 | 1 px |",
     ):
         assert row in text, row
 

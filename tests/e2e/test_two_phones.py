@@ -24,7 +24,14 @@ from phone import Phone, expect
 from PIL import Image
 
 from shared_solver.estimation.camera import focal_35mm
-from testbed.scenes import Scene, temple_cameras, temple_scene
+from testbed.scenes import (
+    NO_PHONES_FRIEND,
+    NO_PHONES_LANDMARKS1,
+    NO_PHONES_LANDMARKS2,
+    Scene,
+    temple_cameras,
+    temple_scene,
+)
 
 ROOT = Path(__file__).parents[2]
 TEMPLE = ROOT / "tests" / "data" / "temple"
@@ -400,13 +407,6 @@ def test_a_code_typed_wrong_five_times_is_renewed_on_the_starters_phone(
     expect(joiner.get_by_test_id("photo-input")).to_be_attached()
 
 
-# Taps that fit no two phone photos (tests/backend/test_sessions.py): the server answers
-# them without the camera model, as for any two cameras.
-NO_PHONES_1 = np.array([[350, 196], [408, 130], [302, 41], [424, 386], [200, 300]], float)
-NO_PHONES_2 = np.array([[521, 390], [150, 433], [349, 114], [91, 68], [300, 250]], float)
-NO_PHONES_FRIEND = (397.0, 291.0)
-
-
 def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
@@ -417,17 +417,18 @@ def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
     upload(starter, temple(PAIR[0]))
     upload(joiner, temple(PAIR[1]))
     mark_friend(starter, *NO_PHONES_FRIEND)
-    tap_landmarks(starter, NO_PHONES_1)
+    tap_landmarks(starter, NO_PHONES_LANDMARKS1)
     cannot_see(joiner)
-    find_landmarks(joiner, NO_PHONES_2[:4])
+    find_landmarks(joiner, NO_PHONES_LANDMARKS2[:4])
     expect(joiner.get_by_test_id("answer-curve")).to_be_visible()
     expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
     expect(joiner.get_by_test_id("result-text")).to_contain_text("curve")
     expect(joiner.get_by_test_id("result-position")).to_have_count(0)
-    expect(joiner.get_by_test_id("warning").first).to_contain_text("do not fit two ordinary phone")
+    unfit = joiner.get_by_test_id("warning").filter(has_text="do not fit two ordinary phone")
+    expect(unfit).to_be_visible()
     needed(joiner, 1)
     joiner.screenshot(path=screenshots / "8b-curve-joiner.png")
-    find_landmarks(joiner, NO_PHONES_2[4:], first_id=5)
+    find_landmarks(joiner, NO_PHONES_LANDMARKS2[4:], first_id=5)
     expect(joiner.get_by_test_id("result-position")).to_be_visible()
     needed(joiner, 0)
 

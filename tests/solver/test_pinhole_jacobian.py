@@ -19,7 +19,6 @@ from shared_solver.estimation.pinhole_fit import (
     PARAMETERS,
     PinholeModel,
     Poses,
-    friend1_after_steps,
     friend1_positions,
 )
 from shared_solver.estimation.taps import Taps
@@ -102,11 +101,15 @@ def test_batched_residuals_equal_the_fits(marks: str) -> None:
     np.testing.assert_allclose(model.offsets(pose)[0], r, atol=1e-12, rtol=1e-10)
 
 
-def test_friend1_after_steps_is_where_the_moved_poses_put_them() -> None:
+def test_poses_after_steps_are_the_moved_poses() -> None:
     model, pose = model_and_pose(11, "friend2", elongated=False)
     steps = np.random.default_rng(3).normal(0.0, 0.05, (20, PARAMETERS))
     steps[0] = 0.0  # no turn at all takes the formula's small-angle branch
+    batch = pose.after_steps(steps)
+    for k, step in enumerate(steps):
+        one = pose.moved(step[None])
+        np.testing.assert_allclose(batch.rotation[k], one.rotation[0], atol=1e-14)
+        np.testing.assert_allclose(batch.friend2[k], one.friend2[0], atol=1e-14)
+        np.testing.assert_allclose(batch.log_focals[k], one.log_focals[0], atol=1e-14)
     one_by_one = [friend1_positions(pose.moved(step[None]), model.centres[1])[0] for step in steps]
-    np.testing.assert_allclose(
-        friend1_after_steps(pose, steps, model.centres[1]), one_by_one, rtol=1e-12
-    )
+    np.testing.assert_allclose(friend1_positions(batch, model.centres[1]), one_by_one, rtol=1e-12)

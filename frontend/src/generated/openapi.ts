@@ -351,6 +351,33 @@ export interface components {
              */
             suspects?: number[];
         };
+        /**
+         * AnswerChanged
+         * @description Event ``answer``: the answer for a version, as the state then shows it.
+         */
+        AnswerChanged: {
+            /** @description As the state's answer (both phones' parts). */
+            answer: components["schemas"]["Answer"] | null;
+            /**
+             * Answer Error
+             * @description Why there is no answer ({code, message}), said to each phone: answer_error[you] is the state's answer_error.
+             */
+            answer_error: {
+                [key: string]: {
+                    [key: string]: string;
+                };
+            } | null;
+            /**
+             * Landmarks Needed
+             * @description As the state says it with this answer.
+             */
+            landmarks_needed: number;
+            /**
+             * Version
+             * @description The version it answers.
+             */
+            version: number;
+        };
         /** Body_draw_on_photo_api_overlay_post */
         Body_draw_on_photo_api_overlay_post: {
             /**
@@ -515,6 +542,23 @@ export interface components {
              * @description 1 = most plausible.
              */
             rank: number;
+        };
+        /**
+         * CodeRenewed
+         * @description Event ``code``: the join code was renewed after wrong guesses named its search (the
+         *     starter's phone fetches the state for the new one: codes go in no event).
+         */
+        CodeRenewed: {
+            /**
+             * Renewed
+             * @default true
+             */
+            renewed: boolean;
+            /**
+             * Version
+             * @description The session's version the renewal made.
+             */
+            version: number;
         };
         /** CreatedSession */
         CreatedSession: {
@@ -868,6 +912,30 @@ export interface components {
             /** Online */
             online: boolean;
         };
+        /**
+         * PhotoChanged
+         * @description Event ``photo``: a phone uploaded (or replaced) its photo; its taps and the answer go
+         *     with the old one.
+         */
+        PhotoChanged: {
+            /**
+             * Landmarks Needed
+             * @description As the state says it at this version.
+             */
+            landmarks_needed: number;
+            photo: components["schemas"]["PhotoStored"];
+            /**
+             * Role
+             * @description Whose photo.
+             * @enum {string}
+             */
+            role: "starter" | "joiner";
+            /**
+             * Version
+             * @description The session's version this change made.
+             */
+            version: number;
+        };
         /** PhotoStored */
         PhotoStored: {
             /**
@@ -889,6 +957,59 @@ export interface components {
              * @example 2560
              */
             width: number;
+        };
+        /**
+         * PresenceChanged
+         * @description Events ``joined`` and ``left``: a phone's event stream opened or closed; ``joined``
+         *     also when the joiner joins the search.
+         */
+        PresenceChanged: {
+            /**
+             * Online
+             * @description Whether that phone's event stream is open now.
+             */
+            online: boolean;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "starter" | "joiner";
+            /**
+             * Version
+             * @description Set when the joiner joined the search: the version that made (the starter's join code is gone). Unset: presence only, no change of the session.
+             * @default null
+             */
+            version: number | null;
+        };
+        /**
+         * SessionEnded
+         * @description Event ``expired``: the session ended (deleted, or its time is up); sent, not stored.
+         */
+        SessionEnded: {
+            /**
+             * Reason
+             * @example The session ended.
+             */
+            reason: string;
+        };
+        /**
+         * SessionEvents
+         * @description The data of each event of a session's stream (``GET /api/sessions/{id}/events``), by
+         *     event type: JSON on the event's ``data:`` line.
+         *
+         *     A change's event carries what the other phone needs to show it: a phone whose state is
+         *     at the version before applies it, and reads nothing more; one that finds a version
+         *     missing (it was away, or the event cannot tell: ``landmarks_needed`` null, ``code``)
+         *     fetches the state. An ``answer`` event is for the version it names.
+         */
+        SessionEvents: {
+            answer: components["schemas"]["AnswerChanged"];
+            code: components["schemas"]["CodeRenewed"];
+            expired: components["schemas"]["SessionEnded"];
+            joined: components["schemas"]["PresenceChanged"];
+            left: components["schemas"]["PresenceChanged"];
+            photo: components["schemas"]["PhotoChanged"];
+            taps: components["schemas"]["TapsChanged"];
         };
         /**
          * SessionState
@@ -954,7 +1075,7 @@ export interface components {
             };
             /**
              * Version
-             * @description Bumped by every change; events say 'this changed'.
+             * @description Bumped by every change; each change's event names the version it made.
              */
             version: number;
             /**
@@ -1513,6 +1634,31 @@ export interface components {
             landmarks?: components["schemas"]["Landmark"][];
         };
         /**
+         * TapsChanged
+         * @description Event ``taps``: a phone replaced its taps; the answer of the version before goes
+         *     (event ``answer`` brings the new one, often in the same breath).
+         */
+        TapsChanged: {
+            /**
+             * Landmarks Needed
+             * @description As the state says it at this version, before its answer. Null: another change came in between, so this event cannot tell it: fetch the state.
+             */
+            landmarks_needed: number | null;
+            /**
+             * Role
+             * @description Whose taps.
+             * @enum {string}
+             */
+            role: "starter" | "joiner";
+            /** @description Their taps now. */
+            taps: components["schemas"]["Taps"];
+            /**
+             * Version
+             * @description The session's version this change made.
+             */
+            version: number;
+        };
+        /**
          * Uncertainty
          * @description Where friend 1 is with probability ``level``, from the tap noise ``tap_sigma``.
          */
@@ -2019,7 +2165,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description text/event-stream: events joined, code (renewed), photo, taps, answer, left, expired; ': ping' comments keep it alive. */
+            /** @description text/event-stream: events joined, code (renewed), photo, taps, answer, left, expired, each with its data (SessionEvents); ': ping' comments keep it alive. */
             200: {
                 headers: {
                     [name: string]: unknown;
@@ -2030,11 +2176,11 @@ export interface operations {
                      *
                      *     id: 41
                      *     event: taps
-                     *     data: {"role": "joiner", "version": 9}
+                     *     data: {"role": "joiner", "version": 9, "taps": {"landmarks": [...], "friend": null, "friend_line": null}, "landmarks_needed": 0}
                      *
                      *     id: 42
                      *     event: answer
-                     *     data: {"version": 9}
+                     *     data: {"version": 9, "answer": {...}, "answer_error": null, "landmarks_needed": 0}
                      *
                      *     : ping
                      */

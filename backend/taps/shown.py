@@ -1,0 +1,64 @@
+"""What the phones are shown of the taps and the answer: the part of a phone's state
+(``backend.sessions.state``) that a change of taps or an answer makes. Computed here for
+both the state a phone reads and the events that bring a change to the other phone
+(``TapsChanged``, ``AnswerChanged``, ``PhotoChanged``), so that the two always agree and a
+phone shows an event's change without reading the state again."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from backend.participants import ROLES, Role, other
+
+from . import problem as problems
+from .schemas import Answer, AnswerChanged, Taps
+
+
+@dataclass(frozen=True)
+class Shown:
+    """The answer as the phones show it, and the landmarks still needed with it."""
+
+    answer: Answer | None
+    answer_error: dict[Role, dict[str, str]] | None  # by the phone it is said to
+    landmarks_needed: int
+
+    def changed(self, version: int) -> AnswerChanged:
+        """Event ``answer``'s data, for the answer of ``version``."""
+        return AnswerChanged(
+            version=version,
+            answer=self.answer,
+            answer_error=self.answer_error,
+            landmarks_needed=self.landmarks_needed,
+        )
+
+
+def shown(taps: dict[Role, Taps | None], stored: dict[str, Any] | None, sigma: float) -> Shown:
+    """What ``stored`` (the answer as the sessions table keeps it: {"answer", "solution",
+    "first"} or {"error"}; None: none yet) shows, with these taps. An error names photo 1
+    and photo 2 as the solver does: each phone is told it of "your photo" and "your
+    friend's photo"."""
+    task = problems.problem(taps, sigma)
+    stored = stored or {}
+    answer = Answer.model_validate(stored["answer"]) if "answer" in stored else None
+    error: dict[str, str] | None = stored.get("error")
+    errors = None
+    if error is not None:
+        first = stored.get("first", task.first)
+        errors = {
+            role: {**error, "message": problems.for_reader(error["message"], reader(role, first))}
+            for role in ROLES
+        }
+    return Shown(answer, errors, task.landmarks_needed(answer))
+
+
+def reader(role: Role, first: Role) -> int:
+    """Which photo of the solver's is ``role``'s: 1 or 2."""
+    return 1 if role == first else 2
+
+
+def needed_after_photo(role: Role, theirs: dict[str, Any] | None) -> int:
+    """Landmarks needed once ``role`` has a new photo: its taps are gone, the other phone's
+    (``theirs``, as stored) stay. A count: the taps' precision plays no part."""
+    kept = None if theirs is None else Taps.model_validate(theirs)
+    return problems.problem({role: None, other(role): kept}, 1.0).landmarks_needed()

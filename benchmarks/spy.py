@@ -1,0 +1,71 @@
+"""Where the replicas' time goes under load: py-spy samples each replica from outside while
+the load runs (``py-spy record``, 100 samples a second, without pausing it), and each
+sample of a busy thread is put to what it was doing: the call whose route function is on
+its stack, an event stream, or the HTTP work around them (uvicorn, Starlette, FastAPI).
+"""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+from collections import Counter
+from pathlib import Path
+
+RATE = 100  # samples a second
+STREAMS = "event streams (reading and sending events, presence)"
+AROUND = "HTTP around the calls (uvicorn, middleware, routing, JSON)"
+BACKGROUND = "background (sweeper, online keeper, listener)"
+OTHER = "other"
+
+
+class Sampler:
+    """``py-spy record`` on each of ``pids`` from :meth:`start` to :meth:`stop`."""
+
+    def __init__(self, pids: list[int], folder: Path) -> None:
+        self.outputs = [folder / f"py-spy-{pid}.txt" for pid in pids]
+        self.pids = pids
+        self.running: list[subprocess.Popen[bytes]] = []
+        self.problem: str | None = None
+        self.shares: Counter[str] = Counter()  # busy samples by what they were doing
+
+    def start(self) -> None:
+        spy = Path(sys.executable).with_name("py-spy")
+        for pid, output in zip(self.pids, self.outputs, strict=True):
+            command = [str(spy), "record", "--pid", str(pid), "--rate", str(RATE)]
+            command += ["--format", "raw", "--output", str(output), "--nonblocking"]
+            self.running.append(
+                subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+            )
+
+    def stop(self) -> None:
+        """Ends the recordings (py-spy writes its samples on SIGINT) and reads them."""
+        for process in self.running:
+            if process.poll() is None:
+                process.send_signal(signal.SIGINT)
+        for process, output in zip(self.running, self.outputs, strict=True):
+            _, error = process.communicate(timeout=60)
+            if not output.exists():  # no permission to read the process, say
+                said = error.decode(errors="replace").strip().splitlines()
+                self.problem = said[-1] if said else f"py-spy exited with {process.returncode}"
+                continue
+            for line in output.read_text().splitlines():
+                stack, _, count = line.rpartition(" ")
+                self.shares[what(stack.split(";"))] += int(count)
+
+
+def what(frames: list[str]) -> str:
+    """What a sampled stack was doing: ``routes/<module>.py``'s function on it, or else."""
+    for frame in frames:
+        if "backend/api/routes/" in frame:
+            function = frame.strip().split(" (")[0]
+            module = frame.split("backend/api/routes/")[1].split(".py")[0]
+            return f"`{module}.{function}`" if module != "events" else STREAMS
+    text = ";".join(frames)
+    if "backend/eventstream/" in text:
+        return STREAMS
+    if "backend/background.py" in text or "eventstream/listener.py" in text:
+        return BACKGROUND
+    if any(name in text for name in ("uvicorn/", "starlette/", "fastapi/", "backend/middleware")):
+        return AROUND
+    return OTHER

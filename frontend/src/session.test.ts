@@ -1,0 +1,107 @@
+import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { answer, joinerAt7, taps } from "./fixtures/joiner";
+import { SessionController } from "./session";
+import type { Taps } from "./types";
+
+/** The browser's EventSource, driven by the test. */
+class FakeSource {
+  static opened: FakeSource[] = [];
+  readyState = 0;
+  onopen: ((event: Event) => void) | null = null;
+  onerror: ((event: Event) => void) | null = null;
+  private readonly listeners = new Map<string, Array<(event: Event) => void>>();
+
+  constructor(readonly url: string) {
+    FakeSource.opened.push(this);
+  }
+
+  addEventListener(type: string, listener: (event: Event) => void): void {
+    this.listeners.set(type, [...(this.listeners.get(type) ?? []), listener]);
+  }
+
+  close(): void {
+    this.readyState = 2;
+  }
+
+  open(): void {
+    this.readyState = 1;
+    this.onopen?.(new Event("open"));
+  }
+
+  emit(type: string, data: unknown): void {
+    const event = { data: JSON.stringify(data) } as MessageEvent<string>;
+    for (const listener of this.listeners.get(type) ?? []) listener(event);
+  }
+}
+
+const AT_7 = joinerAt7();
+
+describe("a phone in its session", () => {
+  let calls: string[];
+  let controller: SessionController;
+
+  beforeEach(() => {
+    vi.useFakeTimers();
+    FakeSource.opened = [];
+    calls = [];
+    const stored = new Map<string, string>();
+    vi.stubGlobal("EventSource", FakeSource);
+    vi.stubGlobal("document", { visibilityState: "visible", addEventListener: () => undefined, removeEventListener: () => undefined });
+    vi.stubGlobal("window", { addEventListener: () => undefined, removeEventListener: () => undefined });
+    vi.stubGlobal("localStorage", {
+      getItem: (key: string) => stored.get(key) ?? null,
+      setItem: (key: string, value: string) => stored.set(key, value),
+      removeItem: (key: string) => stored.delete(key),
+    });
+    vi.stubGlobal("fetch", (path: string, init: RequestInit = {}) => {
+      const method = init.method ?? "GET";
+      calls.push(`${method} ${path}`);
+      const body = method === "PUT" ? { ...AT_7, version: 9, taps: { ...AT_7.taps, joiner: JSON.parse(String(init.body)) as Taps } } : AT_7;
+      return Promise.resolve(new Response(JSON.stringify(body), { status: 200, headers: { "Content-Type": "application/json" } }));
+    });
+    controller = new SessionController({ session_id: "s", token: "t", role: "joiner" });
+  });
+
+  afterEach(() => {
+    controller.stop();
+    vi.unstubAllGlobals();
+    vi.useRealTimers();
+  });
+
+  const stateReads = (): number => calls.filter((call) => call === "GET /api/sessions/s").length;
+
+  async function live(): Promise<void> {
+    controller.start();
+    FakeSource.opened[0]?.open();
+    await vi.advanceTimersByTimeAsync(0);
+    expect(controller.view.state?.version).toBe(7);
+  }
+
+  it("draws the answer its event brings, reading no state", async () => {
+    await live();
+    const reads = stateReads();
+    const stream = FakeSource.opened[0]!;
+    stream.emit("taps", { role: "starter", version: 8, taps: taps(1, 2, 3, 4), landmarks_needed: 0 });
+    stream.emit("answer", { version: 8, answer: answer(1, 2, 3, 4), answer_error: null, landmarks_needed: 0 });
+    await vi.advanceTimersByTimeAsync(0);
+    expect(controller.view.answerState?.answer?.landmark_ids).toEqual([1, 2, 3, 4]);
+    expect(controller.view.state?.taps.starter).toEqual(taps(1, 2, 3, 4));
+    expect(stateReads()).toBe(reads);
+  });
+
+  it("reads the state when it finds a change missing", async () => {
+    await live();
+    const reads = stateReads();
+    FakeSource.opened[0]!.emit("answer", { version: 9, answer: answer(1, 2, 3, 4), answer_error: null, landmarks_needed: 0 });
+    await vi.advanceTimersByTimeAsync(0);
+    expect(stateReads()).toBe(reads + 1);
+  });
+
+  it("sends a placed tap at once", async () => {
+    await live();
+    controller.setMode("landmark");
+    controller.tap({ x: 40, y: 40, sigma: 2 });
+    await vi.advanceTimersByTimeAsync(0);
+    expect(calls.filter((call) => call.startsWith("PUT "))).toEqual(["PUT /api/sessions/s/taps"]);
+  });
+});

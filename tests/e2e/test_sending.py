@@ -1,0 +1,63 @@
+"""When a phone sends its taps: a placed tap goes at once, and nothing goes while a finger
+drags a landmark; the landmark moved goes once the finger lets go (frontend/src/tapSaver.ts).
+
+Chromium only: WebKitGTK's driver gives no touch input (docs/browsers.md).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from typing import Any
+
+from chromium_phone import ChromiumPhone
+from phone import Phone, expect
+from playwright.sync_api import Request
+from test_two_phones import PAIR, cannot_see, saved, start_and_join, temple, upload
+
+HOLD_S = 1.0  # a finger resting mid-drag: far longer than any wait before sending
+
+
+def test_nothing_is_sent_while_a_finger_drags_a_landmark(
+    server: str, pixel: Phone, iphone: Phone
+) -> None:
+    starter, joiner = start_and_join(server, pixel, iphone)
+    assert isinstance(starter, ChromiumPhone)
+    upload(starter, temple(PAIR[0]))
+    upload(joiner, temple(PAIR[1]))
+    cannot_see(starter)
+    sent: list[dict[str, Any]] = []
+
+    def taps_sent(request: Request) -> None:
+        if request.method == "PUT" and request.url.endswith("/taps"):
+            sent.append(json.loads(request.post_data or "{}"))
+
+    def count() -> int:
+        starter.evaluate("() => 0")  # Playwright delivers its events while a call is made
+        return len(sent)
+
+    starter.page.on("request", taps_sent)
+    starter.tap_photo(200, 200)  # placed: sent
+    expect(starter.locator('[data-testid="landmark"][data-id="1"]')).to_be_visible()
+    starter.wait_for(lambda: count() == 1, "the placed landmark sent")
+    saved(starter)
+
+    box = starter.page.get_by_test_id("landmark").bounding_box()
+    assert box is not None
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    touch = starter.context.new_cdp_session(starter.page)
+
+    def finger(kind: str, dx: float = 0.0) -> None:
+        points = [] if kind == "touchEnd" else [{"x": x + dx, "y": y, "id": 0}]
+        touch.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
+
+    finger("touchStart")
+    for step in range(1, 11):
+        finger("touchMove", 6.0 * step)  # 60 CSS px to the right, in steps
+    time.sleep(HOLD_S)
+    assert count() == 1, "taps were sent while the finger was still dragging"
+    finger("touchEnd", 60.0)
+    starter.wait_for(lambda: count() == 2, "the moved landmark sent")
+    saved(starter)
+    moved = sent[1]["landmarks"][0]
+    assert moved["x"] > 200 + 10  # moved right by the drag (60 CSS px, in photo px)
