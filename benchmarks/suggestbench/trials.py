@@ -329,7 +329,9 @@ def timed_search(
     if not (counted or always_back):
         return Timed(evidence, *forward)
     wall, cpu = time.perf_counter(), time.process_time()
-    checked = check_back(evidence, photo_a, photo_b, point, epipolar, point_covariance=covariance)
+    checked = check_back(
+        evidence, photo_a, photo_b, point, epipolar, point_covariance=covariance, rules=rules
+    )
     back = (time.perf_counter() - wall, time.process_time() - cpu)
     share = 1.0 if counted else 0.0
     return Timed(checked, forward[0] + share * back[0], forward[1] + share * back[1])
