@@ -22,7 +22,7 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real demo lock clean
+.PHONY: run run-cluster test test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -34,6 +34,23 @@ run-cluster: $(INSTALLED) $(APP) postgres nginx
 
 test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
 	$(BIN)/python -m pytest
+
+# Faster subsets for a change to one layer; `make test` stays the whole suite.
+# The solver: its lint, types and tests on both cores (pytest-xdist).
+test-solver: $(INSTALLED)
+	$(BIN)/ruff check shared_solver tests/solver
+	$(BIN)/mypy shared_solver
+	$(BIN)/python -m pytest -q -n 2 tests/solver
+
+# The service: its tests on SQLite and PostgreSQL, the cluster behind nginx included.
+test-backend: $(INSTALLED) postgres nginx
+	$(BIN)/ruff check backend deploy tests/backend
+	$(BIN)/mypy backend deploy
+	$(BIN)/python -m pytest -q tests/backend tests/test_docs_generated.py
+
+# The phone app: its types and unit tests, the build, and the two phones in both browsers.
+test-app: $(INSTALLED) api-types-check frontend-test $(APP) browser webkit
+	$(BIN)/python -m pytest -q tests/e2e
 
 api-types-check: $(INSTALLED) $(NODE_MODULES)
 	$(BIN)/python -m pytest -q tests/test_api_types.py

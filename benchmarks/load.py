@@ -11,7 +11,8 @@ nginx, the replicas, PostgreSQL, and this load generator, which shares the machi
 where the replicas' time goes, sampled by py-spy (``benchmarks/spy.py``).
 
     .venv/bin/python benchmarks/load.py [--concurrency N] [--duration S] [--ramp S]
-        [--speed X] [--photo-side PX] [--suggestions] [--out PATH]       (make bench-load)
+        [--speed X] [--photo-side PX] [--suggestions] [--out PATH] [--stacks PATH]
+                                                                        (make bench-load)
 
 The report is printed and written as Markdown to ``docs/load-benchmark.md``.
 """
@@ -472,6 +473,11 @@ def main(argv: Sequence[str] | None = None) -> None:
         "search: the issue's baseline had none)",
     )
     option("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
+    option(
+        "--stacks",
+        type=Path,
+        help="also write the replicas' sampled stacks there, collapsed (for a flame graph)",
+    )
     setup = parser.parse_args(argv)
     setup.argv = list(argv) if argv is not None else list(sys.argv[1:])
     if not (1 <= setup.concurrency <= 2000 and 0 < setup.duration <= 3600):
@@ -497,6 +503,8 @@ def main(argv: Sequence[str] | None = None) -> None:
                 run = load(setup, running, processes, Sampler(replicas, Path(folder)))
         finally:
             postgres.remove()
+    if setup.stacks is not None:
+        run.sampler.write_stacks(setup.stacks)
     publish(report(run), setup.out)
 
 

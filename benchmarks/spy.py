@@ -28,6 +28,7 @@ class Sampler:
         self.running: list[subprocess.Popen[bytes]] = []
         self.problem: str | None = None
         self.shares: Counter[str] = Counter()  # busy samples by what they were doing
+        self.stacks: Counter[str] = Counter()  # busy samples by stack (collapsed, all replicas)
 
     def start(self) -> None:
         spy = Path(sys.executable).with_name("py-spy")
@@ -52,6 +53,13 @@ class Sampler:
             for line in output.read_text().splitlines():
                 stack, _, count = line.rpartition(" ")
                 self.shares[what(stack.split(";"))] += int(count)
+                self.stacks[stack] += int(count)
+
+    def write_stacks(self, path: Path) -> None:
+        """Every busy sample's stack, collapsed (``frame;frame;... count``, all replicas
+        together): what flame graph tools read."""
+        lines = [f"{stack} {count}" for stack, count in self.stacks.most_common()]
+        path.write_text("\n".join(lines) + "\n")
 
 
 def what(frames: list[str]) -> str:

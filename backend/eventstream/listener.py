@@ -1,9 +1,9 @@
 """PostgreSQL's LISTEN/NOTIFY: "this session changed", from whichever replica changed it.
 
 Every transaction that writes an event or deletes a session sends ``pg_notify(CHANNEL,
-session_id)`` (:func:`.log.notify_replicas`); PostgreSQL delivers it at commit, so never
-before the change is visible. Each replica runs one :class:`ChangeListener`, which hears
-them all on a connection of its own.
+session_id)`` (:func:`.log.record`, :func:`.log.notify_replicas`); PostgreSQL delivers it
+at commit, so never before the change is visible. Each replica runs one
+:class:`ChangeListener`, which hears them all on a connection of its own.
 """
 
 from __future__ import annotations

@@ -42,7 +42,12 @@ class EventType(StrEnum):
 class Event:
     id: int
     type: str
-    data: dict[str, Any]
+    json: str  # its data as written (JSON): what the stream sends, as is
+
+    @property
+    def data(self) -> dict[str, Any]:
+        data: dict[str, Any] = json.loads(self.json)
+        return data
 
 
 _sessions, _events = core(SessionRow), core(EventRow)
@@ -67,6 +72,8 @@ _ADD_EVENT = insert(_events).values(
     data=bindparam("told"),
     created_at=bindparam("at"),
 )
+# PostgreSQL: the event's insert also notifies the replicas (at commit), in its one round trip.
+_ADD_EVENT_NOTIFYING = _ADD_EVENT.returning(func.pg_notify(CHANNEL, _events.c.session_id))
 # One query for a stream's every wake: the session (no row: gone) with its events after an
 # id (one row of nulls: none yet).
 _EVENTS_AFTER = (
@@ -99,21 +106,29 @@ def record(
     """
     if not locked:
         tx.execute(_LOCK_SESSION, {"session_id": session_id})
-    tx.execute(
-        _ADD_EVENT, {"of": session_id, "kind": type_, "told": data.model_dump_json(), "at": now}
-    )
-    notify_replicas(tx, session_id)
+    event = {"of": session_id, "kind": type_, "told": data.model_dump_json(), "at": now}
+    if _first_notice(tx, session_id):
+        tx.execute(_ADD_EVENT_NOTIFYING, event).close()
+    else:
+        tx.execute(_ADD_EVENT, event)
 
 
 def notify_replicas(tx: Session, session_id: str) -> None:
-    """PostgreSQL: wake every replica's streams of this session, at commit (once per
-    transaction: one notification wakes them to read all its events)."""
-    if tx.get_bind().dialect.name != "postgresql":
-        return
-    notified: set[str] = tx.info.setdefault("notified", set())
-    if session_id not in notified:
+    """PostgreSQL: wake every replica's streams of this session, at commit."""
+    if _first_notice(tx, session_id):
         tx.execute(select(func.pg_notify(CHANNEL, session_id)))
-        notified.add(session_id)
+
+
+def _first_notice(tx: Session, session_id: str) -> bool:
+    """Whether to notify the replicas of this session in ``tx``: on PostgreSQL, once per
+    transaction (one notification wakes the streams to read all its events)."""
+    if tx.get_bind().dialect.name != "postgresql":
+        return False
+    notified: set[str] = tx.info.setdefault("notified", set())
+    if session_id in notified:
+        return False
+    notified.add(session_id)
+    return True
 
 
 class EventLog:
@@ -143,7 +158,7 @@ class EventLog:
             ).all()
         if not rows:
             return None
-        return [Event(row.id, row.type, json.loads(row.data)) for row in rows if row.id is not None]
+        return [Event(row.id, row.type, row.data) for row in rows if row.id is not None]
 
     def changes_since(self, after: int | None, watched: Sequence[str]) -> tuple[int, set[str]]:
         """What other processes may have changed: the newest event id, and the sessions

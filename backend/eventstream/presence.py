@@ -11,11 +11,17 @@ from sqlalchemy import bindparam, select, tuple_, update
 
 from backend.participants import Participant
 from backend.storage.database import Database
-from backend.storage.tables import ParticipantRow, SessionRow
+from backend.storage.tables import ParticipantRow, SessionRow, core
 
 _SEEN_BATCH = 500  # participants per statement (SQLite binds at most 32766 values)
-_sessions = SessionRow.__table__
+_sessions, _participants = core(SessionRow), core(ParticipantRow)
+# Built once: every stream runs them.
 _EXPIRES = select(_sessions.c.expires_at).where(_sessions.c.id == bindparam("session_id"))
+_SEEN = (
+    update(_participants)
+    .where(_participants.c.session_id == bindparam("of"), _participants.c.role == bindparam("who"))
+    .values(last_seen_at=bindparam("at"))
+)
 
 
 class Presence:
@@ -25,14 +31,7 @@ class Presence:
     def seen(self, participant: Participant, when: datetime | None) -> None:
         """Mark a participant's event stream alive at ``when`` (None: gone offline)."""
         with self.database.write() as tx:
-            tx.execute(
-                update(ParticipantRow)
-                .where(
-                    ParticipantRow.session_id == participant.session_id,
-                    ParticipantRow.role == participant.role,
-                )
-                .values(last_seen_at=when)
-            )
+            tx.execute(_SEEN, {"of": participant.session_id, "who": participant.role, "at": when})
 
     def seen_all(self, participants: Sequence[Participant], when: datetime) -> None:
         """Mark all these participants' event streams alive at ``when``, in one write."""

@@ -99,7 +99,11 @@ class EventStreams:
                         yield expired()
                         return
                     for event in events:
-                        yield ServerSentEvent(id=str(event.id), event=event.type, data=event.data)
+                        # Sent as written: parsing and writing its JSON again would
+                        # change nothing the phone reads.
+                        yield ServerSentEvent(
+                            id=str(event.id), event=event.type, raw_data=event.json
+                        )
                         after = event.id
                     # Until a change, the next poll or the end of the session; pinging.
                     while True:

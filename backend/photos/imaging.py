@@ -33,6 +33,7 @@ from PIL import ExifTags, Image, JpegImagePlugin
 from backend.errors import ErrorCode, RefusedError
 from shared_solver.drawing.palette import OUTLINE_COLOUR_BGR, Bgr
 
+from .jpeg_rows import RowIndex, row_index
 from .lens import LensFacts
 
 # Registers the "HEIF" format with PIL (a global registry, so once, at import).
@@ -127,7 +128,10 @@ def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
     # the stored photo keeps none of what came in.
     upright.info = {}
     buffer = io.BytesIO()
-    upright.save(buffer, format="JPEG", quality=_STORED_QUALITY, optimize=False)
+    # A restart marker after every row of MCUs: a crop decodes only its rows (.jpeg_rows).
+    upright.save(
+        buffer, format="JPEG", quality=_STORED_QUALITY, optimize=False, restart_marker_rows=1
+    )
     width, height = upright.size
     return StoredPhoto(data=buffer.getvalue(), width=width, height=height, scale=scale, lens=lens)
 
@@ -199,20 +203,30 @@ def encode_layer(drawn: NDArray[np.uint8], photo: NDArray[np.uint8]) -> bytes:
     return bytes(encoded.tobytes())
 
 
-def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
+def crop_around(
+    data: bytes, x: float, y: float, *, size: int = 240, rows: RowIndex | None = None
+) -> bytes:
     """JPEG of the ``size x size`` px of the stored photo ``data`` around ``(x, y)``.
 
     ``(x, y)`` (stored-photo pixels) lands on pixel ``(size // 2, size // 2)`` of the crop,
     sub-pixel positions included, also near the photo's edges, where the crop is padded with
-    grey. A thin white ring with four ticks, open in the middle, marks the point.
+    grey. A thin white ring with four ticks, open in the middle, marks the point. Of a photo
+    stored here only the rows the crop shows are decoded (:mod:`.jpeg_rows`), with the same
+    pixels as the whole photo's.
+
+    ``rows``: ``row_index(data)``, when known already.
 
     Raises RefusedError ``outside_photo`` when the point is not on the photo (or not a number),
     ``invalid_photo`` when ``data`` is not an image; ValueError when ``size`` < 1.
     """
     if size < 1:
         raise ValueError(f"A crop is at least 1 px wide, not {size}.")
-    photo = decode_photo(data)
-    height, width = photo.shape[:2]
+    rows = rows or row_index(data)
+    if rows is None:  # not a stored photo: all of it
+        photo, top = decode_photo(data), 0
+        height, width = photo.shape[:2]
+    else:
+        width, height = rows.width, rows.height
     if not (math.isfinite(x) and math.isfinite(y) and 0 <= x <= width and 0 <= y <= height):
         raise RefusedError(
             ErrorCode.OUTSIDE_PHOTO,
@@ -220,11 +234,18 @@ def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
             "tap a point on the photo.",
         )
     centre = size // 2
-    # One warp does the crop, the grey padding and the sub-pixel shift; an integer shift
-    # (a whole-pixel tap) copies pixels exactly.
-    shift = np.array([[1.0, 0.0, centre - x], [0.0, 1.0, centre - y]])
+    left, top = math.floor(x) - centre, math.floor(y) - centre  # the crop's first pixel
+    if rows is not None:  # a stored photo: only the rows the crop shows
+        band, first = rows.band(top, top + size + 1)
+        photo = decode_photo(band)
+    else:
+        first = 0
+    # The whole pixels first (grey beyond the photo), one more row and column to
+    # interpolate from; then the sub-pixel shift, which a whole-pixel tap does not need.
+    window = _window(photo, left, top - first, size + 1)
+    shift = np.array([[1.0, 0.0, left - x + centre], [0.0, 1.0, top - y + centre]])
     warped = cv2.warpAffine(
-        photo,
+        window,
         shift,
         (size, size),
         flags=cv2.INTER_LINEAR,
@@ -234,6 +255,21 @@ def crop_around(data: bytes, x: float, y: float, *, size: int = 240) -> bytes:
     crop: NDArray[np.uint8] = np.asarray(warped, dtype=np.uint8)
     _draw_crosshair(crop, centre)
     return encode_image(crop, format="jpeg")
+
+
+def _window(pixels: NDArray[np.uint8], left: int, top: int, side: int) -> NDArray[np.uint8]:
+    """(side, side, 3): ``pixels`` from ``(left, top)`` on, grey where they end."""
+    height, width = pixels.shape[:2]
+    x0, y0 = min(max(left, 0), width), min(max(top, 0), height)
+    x1, y1 = max(min(left + side, width), x0), max(min(top + side, height), y0)
+    grey = (_PAD_GREY, _PAD_GREY, _PAD_GREY)
+    if x1 == x0 or y1 == y0:
+        return np.full((side, side, 3), _PAD_GREY, np.uint8)
+    below, right = top + side - y1, left + side - x1
+    padded = cv2.copyMakeBorder(
+        pixels[y0:y1, x0:x1], y0 - top, below, x0 - left, right, cv2.BORDER_CONSTANT, value=grey
+    )
+    return np.asarray(padded, dtype=np.uint8)
 
 
 # --- recognising the upload -------------------------------------------------------------

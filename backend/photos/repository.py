@@ -7,15 +7,17 @@ from collections.abc import Callable
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import insert, select, update
+from sqlalchemy import bindparam, select, update
+from sqlalchemy.dialects import postgresql, sqlite
 
 from backend.eventstream.log import EventType, record
 from backend.participants import Participant, Role, other
 from backend.storage.database import Database
-from backend.storage.tables import ParticipantRow, PhotoRow
+from backend.storage.tables import ParticipantRow, PhotoRow, core
 from backend.storage.versions import bump_version
 
 from .imaging import StoredPhoto
+from .kept import KeptPhoto, KeptPhotos
 from .lens import Lens
 from .schemas import PhotoChanged, PhotoStored
 
@@ -24,9 +26,28 @@ from .schemas import PhotoChanged, PhotoStored
 NeededAfterPhoto = Callable[[Role, dict[str, Any] | None], int]
 
 
+_photos, _participants = core(PhotoRow), core(ParticipantRow)
+# Built once: every crop reads it, every upload writes them.
+_PHOTO = select(
+    _photos.c.data, _photos.c.width, _photos.c.height, _photos.c.scale, _photos.c.version
+).where(_photos.c.session_id == bindparam("of"), _photos.c.role == bindparam("who"))
+_KEY = ("session_id", "role")
+_UPSERT = {
+    name: (insert := dialect.insert(_photos)).on_conflict_do_update(
+        index_elements=list(_KEY),
+        set_={c.name: insert.excluded[c.name] for c in _photos.columns if c.name not in _KEY},
+    )
+    for name, dialect in (("postgresql", postgresql), ("sqlite", sqlite))
+}
+_MINE = (_participants.c.session_id == bindparam("of")) & (_participants.c.role == bindparam("who"))
+_CLEAR_TAPS = update(_participants).where(_MINE).values(taps=None)
+_TAPS = select(_participants.c.taps).where(_MINE)
+
+
 class Photos:
-    def __init__(self, database: Database) -> None:
+    def __init__(self, database: Database, kept: KeptPhotos | None = None) -> None:
         self.database = database
+        self.kept = kept or KeptPhotos()
 
     def put(
         self,
@@ -57,21 +78,11 @@ class Photos:
             # The version first: it locks the session, so a second upload of the same photo
             # waits here and then finds this one's row instead of inserting it twice.
             version = bump_version(tx, sid)
-            # Replaced in place, or added: never read (the old bytes are of no use here).
-            mine = (PhotoRow.session_id == sid) & (PhotoRow.role == role)
-            replaced = tx.execute(update(PhotoRow).where(mine).values(row))
-            if not replaced.rowcount:  # type: ignore[attr-defined]
-                tx.execute(insert(PhotoRow).values(session_id=sid, role=role, **row))
-            tx.execute(
-                update(ParticipantRow)
-                .where(ParticipantRow.session_id == sid, ParticipantRow.role == role)
-                .values(taps=None)
-            )
-            theirs = tx.scalar(
-                select(ParticipantRow.taps).where(
-                    ParticipantRow.session_id == sid, ParticipantRow.role == other(role)
-                )
-            )
+            # Added, or replaced in place: never read (the old bytes are of no use here).
+            upsert = _UPSERT[tx.get_bind().dialect.name]
+            tx.execute(upsert, {"session_id": sid, "role": role, "version": version, **row})
+            tx.execute(_CLEAR_TAPS, {"of": sid, "who": role})
+            theirs = tx.scalar(_TAPS, {"of": sid, "who": other(role)})
             told = PhotoChanged(
                 role=role,
                 version=version,
@@ -81,9 +92,21 @@ class Photos:
             record(tx, sid, EventType.PHOTO, told, now, locked=True)
         return version
 
-    def get(self, session_id: str, role: str) -> StoredPhoto | None:
-        with self.database.read() as tx:
-            row = tx.get(PhotoRow, (session_id, role))
-            if row is None:
-                return None
-            return StoredPhoto(data=row.data, width=row.width, height=row.height, scale=row.scale)
+    def get(self, session_id: str, role: str, version: int | None = None) -> KeptPhoto | None:
+        """``role``'s photo; ``version``, the session's version that stored it (the
+        snapshot's ``PhotoInfo.version``), names it: then a replica keeps it a minute, and
+        a photo replaced since is not that one (None)."""
+        if version is None:
+            photo = self._read(session_id, role, None)
+            return None if photo is None else KeptPhoto(photo, 0.0)
+        return self.kept.get(
+            (session_id, role, version), lambda: self._read(session_id, role, version)
+        )
+
+    def _read(self, session_id: str, role: str, version: int | None) -> StoredPhoto | None:
+        """The stored photo (None: none), or only the one ``version`` stored (not None)."""
+        with self.database.query() as connection:
+            row = connection.execute(_PHOTO, {"of": session_id, "who": role}).first()
+        if row is None or (version is not None and row.version != version):
+            return None
+        return StoredPhoto(data=row.data, width=row.width, height=row.height, scale=row.scale)

@@ -54,14 +54,17 @@ class PhotoService:
 
     def get(self, participant: Participant, role: Role) -> bytes:
         """``role``'s photo as stored (upright JPEG): what that phone taps on."""
-        photo = self.photos.get(participant.session_id, role)
-        if photo is None:
+        kept = self.photos.get(participant.session_id, role)
+        if kept is None:
             raise RefusedError(
                 ErrorCode.PHOTO_NOT_FOUND, f"The {role} has not uploaded a photo yet."
             )
-        return photo.data
+        return kept.photo.data
 
-    def crop(self, participant: Participant, role: Role, x: float, y: float) -> bytes | None:
-        """A small picture around ``(x, y)`` of ``role``'s photo; None without a photo."""
-        photo = self.photos.get(participant.session_id, role)
-        return None if photo is None else crop_around(photo.data, x, y)
+    def crop(
+        self, participant: Participant, role: Role, x: float, y: float, version: int | None
+    ) -> bytes | None:
+        """A small picture around ``(x, y)`` of ``role``'s photo, the one stored at the
+        session's ``version`` (None: unknown); None without a photo."""
+        kept = self.photos.get(participant.session_id, role, version)
+        return None if kept is None else crop_around(kept.photo.data, x, y, rows=kept.rows)

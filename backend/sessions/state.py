@@ -10,9 +10,9 @@ from backend.pairing.service import PairingService
 from backend.participants import ROLES, Participant
 from backend.photos.schemas import LensInfo, PhotoStored
 from backend.settings import Settings
-from backend.storage.snapshot import PhotoInfo, Snapshot
-from backend.taps.schemas import Taps
-from backend.taps.service import TapService, tap_sets
+from backend.storage.snapshot import PhotoInfo
+from backend.taps.schemas import StoredAnswer, Taps
+from backend.taps.service import Answered, TapService, tap_sets
 from backend.taps.shown import shown
 
 from .schemas import ParticipantState, SessionState
@@ -27,15 +27,24 @@ class StateService:
         self.settings = settings
         self.clock = clock
 
-    def state(
-        self, participant: Participant, base_url: str, snapshot: Snapshot | None = None
-    ) -> SessionState:
-        """What ``participant``'s phone shows, from ``snapshot`` if it was just read."""
-        snapshot = self.taps.due(snapshot or self.taps.snapshot(participant.session_id))
+    def state(self, participant: Participant, base_url: str) -> SessionState:
+        """What ``participant``'s phone shows."""
+        snapshot = self.taps.due(self.taps.snapshot(participant.session_id))
+        taps = tap_sets(snapshot)
+        told = shown(taps, StoredAnswer.read(snapshot.answer), self.settings.tap_sigma)
+        return self._state(participant, base_url, Answered(snapshot, taps, told))
+
+    def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:
+        """Replace the caller's taps; the state with the answer they give."""
+        answered = self.taps.put(participant, taps)
+        if answered is None:  # overtaken by a newer change: the session as it now is
+            return self.state(participant, base_url)
+        return self._state(participant, base_url, answered)
+
+    def _state(self, participant: Participant, base_url: str, answered: Answered) -> SessionState:
+        snapshot, taps, told = answered.snapshot, answered.taps, answered.shown
         now = self.clock()
         online_after = now - timedelta(seconds=self.settings.online_seconds)
-        taps = tap_sets(snapshot)
-        told = shown(taps, snapshot.answer, self.settings.tap_sigma)
         code = snapshot.join_code
         code_valid = (
             code is not None
@@ -72,10 +81,6 @@ class StateService:
             answer_version=snapshot.answer_version if told.answer is not None else None,
             answer_error=None if told.answer_error is None else told.answer_error[participant.role],
         )
-
-    def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:
-        """Replace the caller's taps; the state with the answer they give."""
-        return self.state(participant, base_url, self.taps.put(participant, taps))
 
 
 def _photo(info: PhotoInfo | None) -> PhotoStored | None:

@@ -92,9 +92,19 @@ def connect(url: str) -> Engine:
         pool_size=20,
         max_overflow=0,
         pool_timeout=10,
-        connect_args={"connect_timeout": 5},
+        connect_args={"connect_timeout": 5, **PREPARED},
         hide_parameters=True,
     )
+
+
+# Every statement prepared on its first run on a connection (psycopg's default waits for
+# the fifth) and planned once for all its parameters: the app's statements are a few dozen
+# lookups by key, each run thousands of times, and parsing and planning them afresh was a
+# third of PostgreSQL's CPU under load (docs/load-benchmark.md).
+PREPARED: dict[str, Any] = {
+    "prepare_threshold": 0,
+    "options": "-c plan_cache_mode=force_generic_plan",
+}
 
 
 def migrate(engine: Engine) -> None:
@@ -190,17 +200,27 @@ class Database:
         self.engine = engine
         self.postgresql = engine.dialect.name == "postgresql"
         self._sessions = sessionmaker(engine, expire_on_commit=False)
+        # Reads outside a transaction on PostgreSQL (autocommit): each read is one statement,
+        # which PostgreSQL runs on a snapshot of its own, and a transaction around it cost
+        # two more round trips (BEGIN, ROLLBACK), more of PostgreSQL's CPU than the read.
+        # SQLite begins no transaction for a read anyway.
+        self._reads = (
+            engine.execution_options(isolation_level="AUTOCOMMIT") if self.postgresql else engine
+        )
+        self._read_sessions = sessionmaker(self._reads, expire_on_commit=False)
         path = sqlite_file(engine)
         self._writer = None if path is None else WriterLock(path)
 
     @contextmanager
     def read(self) -> Iterator[Session]:
-        with translated(), self._sessions() as tx:
+        """An ORM session for reading: each statement sees the database as it then is."""
+        with translated(), self._read_sessions() as tx:
             yield tx
 
     @contextmanager
     def query(self) -> Iterator[Connection]:
-        with translated(), self.engine.connect() as connection:
+        """A plain connection for reading: each statement sees the database as it then is."""
+        with translated(), self._reads.connect() as connection:
             yield connection
 
     @contextmanager

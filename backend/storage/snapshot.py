@@ -22,6 +22,7 @@ class PhotoInfo:
     lens_focal_35mm: float | None = None
     lens_uncertainty: float | None = None
     lens_told_by: str | None = None
+    version: int | None = None  # the session's version that stored it: names its bytes
 
 
 @dataclass(frozen=True)
@@ -76,6 +77,7 @@ _SNAPSHOT = (
         _photos.c.lens_focal_35mm,
         _photos.c.lens_uncertainty,
         _photos.c.lens_told_by,
+        _photos.c.version.label("photo_version"),
     )
     .join(_participants, _participants.c.session_id == _sessions.c.id)
     .outerjoin(
@@ -121,6 +123,7 @@ def read_snapshot(database: Database, session_id: str) -> Snapshot | None:
                 row.lens_focal_35mm,
                 row.lens_uncertainty,
                 row.lens_told_by,
+                row.photo_version,
             )
             for row in rows
             if row.width is not None

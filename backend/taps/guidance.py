@@ -26,7 +26,7 @@ from shared_solver import SolveResult
 from shared_solver.matching import Epipolar, epipolar_band, guide_landmark
 from shared_solver.matching.band import BandShape
 
-from .schemas import Landmark, Taps
+from .schemas import Landmark, StoredAnswer, Taps
 
 Point = tuple[float, float]
 # How many answers' suggestions a process keeps (a few per search being tapped).
@@ -70,7 +70,7 @@ def bands(
 
 
 def misfits(
-    previous: Mapping[str, Any] | None,
+    previous: StoredAnswer | None,
     before: Mapping[Role, Taps | None],
     after: Mapping[Role, Taps | None],
     *,
@@ -86,7 +86,8 @@ def misfits(
     ``previous``, the stored answer before this change (one solve per changed tap, not per
     tap).
     """
-    views = (previous or {}).get("answer", {}).get("in_photo", {})
+    told = None if previous is None else previous.answer
+    views = {} if told is None else told.in_photo
     verdicts: dict[Role, list[int]] = {}
     for role in ROLES:
         now, was, theirs = after[role], before[role], after[other(role)]
@@ -95,7 +96,8 @@ def misfits(
             continue
         old = {t.id: (t.x, t.y) for t in was.landmarks} if was is not None else {}
         partners = {t.id: t for t in theirs.landmarks}
-        flagged = set(views.get(role, {}).get("misfits", []))
+        view = views.get(role)
+        flagged = set() if view is None else set(view.misfits)
         for tap in now.landmarks:
             if old.get(tap.id) == (tap.x, tap.y):
                 continue  # unchanged: its verdict stands

@@ -15,14 +15,21 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Any
 
 from backend.participants import ROLES, Role, other
 from backend.photos.lens import EXIF_UNCERTAINTY
-from shared_solver import Camera, SolverError, SolveResult, fewest_landmarks, solve, words
+from shared_solver import (
+    Camera,
+    ErrorCode,
+    SolverError,
+    SolveResult,
+    fewest_landmarks,
+    solve,
+    words,
+)
 
 from . import guidance
-from .schemas import Answer, FriendInPhoto, LandmarkBand, Taps
+from .schemas import Answer, FriendInPhoto, LandmarkBand, Refusal, StoredAnswer, Taps
 
 Point = tuple[float, float]
 Line = tuple[float, float, float]
@@ -86,10 +93,11 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
     def sigma(value: float | None) -> float:
         return default_sigma if value is None else value
 
-    friend1 = mine.friend
-    line1 = mine.friend_line if friend1 is None else None
+    # mark1: friend 2 as marked in photo 1 (e1); mark2: friend 1 in photo 2 (e2).
+    mark1 = mine.friend
+    line1 = mine.friend_line if mark1 is None else None
     # The other phone's mark is the solver's epipole2 only beside a point in photo 1.
-    friend2 = theirs.friend if friend1 is not None else None
+    mark2 = theirs.friend if mark1 is not None else None
     return Problem(
         first=first,
         default_sigma=default_sigma,
@@ -98,17 +106,17 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
         points2=[(two[i].x, two[i].y) for i in ids],
         sigmas1=[sigma(one[i].sigma) for i in ids],
         sigmas2=[sigma(two[i].sigma) for i in ids],
-        epipole1=None if friend1 is None else (friend1.x, friend1.y),
+        epipole1=None if mark1 is None else (mark1.x, mark1.y),
         epipole1_sigma=(
-            sigma(friend1.sigma)
-            if friend1 is not None
+            sigma(mark1.sigma)
+            if mark1 is not None
             else sigma(line1.sigma)
             if line1 is not None
             else None
         ),
         line1=None if line1 is None else (line1.a, line1.b, line1.c),
-        epipole2=None if friend2 is None else (friend2.x, friend2.y),
-        epipole2_sigma=None if friend2 is None else sigma(friend2.sigma),
+        epipole2=None if mark2 is None else (mark2.x, mark2.y),
+        epipole2_sigma=None if mark2 is None else sigma(mark2.sigma),
     )
 
 
@@ -119,6 +127,42 @@ def _first(sets: dict[Role, Taps]) -> Role:
             if getattr(sets[role], mark) is not None:
                 return role
     return "starter"
+
+
+@dataclass
+class KnownFit:
+    """An answer computed before, as stored (a solution or an error), and the
+    problem it answered: the solver is deterministic, so the same problem (the same taps,
+    photos and cameras) is answered from it instead of solving again. A change of taps
+    often leaves the problem as it was (a landmark the other phone has not tapped yet), and
+    judging a new landmark against the others asks the problem from before the change."""
+
+    task: Problem
+    stored: StoredAnswer
+    _result: SolveResult | SolverError | None = None
+
+    def result(self) -> SolveResult:
+        """The stored answer as the solver gave it. Raises its SolverError."""
+        if self._result is None:
+            solution, error = self.stored.solution, self.stored.error
+            if solution is not None:
+                self._result = SolveResult.model_validate(solution)
+            elif error is not None:
+                self._result = SolverError(ErrorCode(error.code), error.message)
+            else:
+                raise ValueError("a stored answer with neither a solution nor an error")
+        if isinstance(self._result, SolverError):
+            raise self._result
+        return self._result
+
+
+def known_fit(
+    stored: StoredAnswer | None, taps: dict[Role, Taps | None], default_sigma: float
+) -> KnownFit | None:
+    """``stored``, the answer to these taps (and the photos they were on), as a known fit."""
+    if stored is None or (stored.solution is None and stored.error is None):
+        return None
+    return KnownFit(problem(taps, default_sigma), stored)
 
 
 def camera(focal_35mm: float | None, uncertainty: float | None = None) -> Camera:
@@ -135,15 +179,14 @@ def solved(
     cameras: dict[Role, Camera],
     taps: dict[Role, Taps | None],
     misfits: dict[Role, list[int]],
-) -> dict[str, Any]:
-    """The solver's answer to ``task`` as stored: ``{"answer": Answer, "solution": the
-    solver's own JSON, "first": whose photo was photo 1}``, or ``{"error": {"code",
-    "message"}}`` (messages naming photo 1 and photo 2; :func:`for_reader` says them to a
-    phone)."""
+    known: KnownFit | None = None,
+) -> StoredAnswer:
+    """The solver's answer to ``task`` as stored, or its refusal (messages naming photo 1
+    and photo 2; :func:`for_reader` says them to a phone)."""
     try:
-        result = fit(task, sizes=sizes, cameras=cameras)
+        result = fit(task, sizes=sizes, cameras=cameras, known=known)
     except SolverError as error:
-        return {"error": {"code": error.code.value, "message": error.message}}
+        return StoredAnswer(error=Refusal(code=error.code.value, message=error.message))
     solution = result.model_dump(mode="json")
     guides = guidance.bands(result, task.first, taps, sizes, task.default_sigma)
     told = answer(task, result)
@@ -153,14 +196,21 @@ def solved(
         # A misfit the fit left out already has its sentence ("looks mis-tapped"): one is enough.
         flagged = [i for i in misfits[role] if i not in told.suspects]
         view.warnings = [words.misfit(i) for i in flagged] + view.warnings
-    return {"answer": told.model_dump(mode="json"), "solution": solution, "first": task.first}
+    return StoredAnswer(answer=told, solution=solution, first=task.first)
 
 
 def fit(
-    task: Problem, *, sizes: dict[Role, tuple[int, int]], cameras: dict[Role, Camera]
+    task: Problem,
+    *,
+    sizes: dict[Role, tuple[int, int]],
+    cameras: dict[Role, Camera],
+    known: KnownFit | None = None,
 ) -> SolveResult:
     """The solver's answer to ``task``, with the uncertainty of its geometry (for the bands
-    of the landmarks still to find). Raises SolverError."""
+    of the landmarks still to find); ``known``'s if it answered the same problem on the
+    same photos. Raises SolverError."""
+    if known is not None and known.task == task:
+        return known.result()
     second = task.second
     return solve(
         task.points1,
@@ -188,13 +238,14 @@ def fitted(
     *,
     sizes: dict[Role, tuple[int, int]],
     cameras: dict[Role, Camera],
+    known: KnownFit | None = None,
 ) -> tuple[SolveResult, Role] | None:
     """The answer these taps give and whose photo was photo 1; None without one."""
     task = problem(taps, default_sigma)
     if not task.solvable:
         return None
     try:
-        return fit(task, sizes=sizes, cameras=cameras), task.first
+        return fit(task, sizes=sizes, cameras=cameras, known=known), task.first
     except SolverError:
         return None
 

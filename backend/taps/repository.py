@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 from datetime import datetime
-from typing import Any
 
 from sqlalchemy import bindparam, update
 from sqlalchemy.orm import Session
@@ -15,7 +14,7 @@ from backend.storage.database import Database
 from backend.storage.tables import ParticipantRow, SessionRow, core
 from backend.storage.versions import bump_version
 
-from .schemas import Taps, TapsChanged
+from .schemas import StoredAnswer, Taps, TapsChanged
 from .shown import Shown
 
 _sessions, _participants = core(SessionRow), core(ParticipantRow)
@@ -45,7 +44,7 @@ class TapStore:
         *,
         read: int,
         needed: int,
-        answer: tuple[dict[str, Any], Shown] | None = None,
+        answer: tuple[StoredAnswer, Shown] | None = None,
     ) -> tuple[int, bool]:
         """Replace a participant's taps (the answer goes with the old ones): the new
         version, and whether ``answer`` was recorded with them.
@@ -71,7 +70,7 @@ class TapStore:
         return version, answered
 
     def put_answer(
-        self, session_id: str, version: int, answer: dict[str, Any], shown: Shown, now: datetime
+        self, session_id: str, version: int, answer: StoredAnswer, shown: Shown, now: datetime
     ) -> bool:
         """Record the answer computed for ``version``, unless the session has moved on since
         (then a newer computation records its own)."""
@@ -84,12 +83,14 @@ def _record_answer(
     session_id: str,
     version: int,
     *,
-    answer: dict[str, Any],
+    answer: StoredAnswer,
     shown: Shown,
     now: datetime,
 ) -> bool:
     """The answer for ``version`` and its event, if the session is still at that version."""
-    done = tx.execute(_SET_ANSWER, {"of": session_id, "at": version, "found": json.dumps(answer)})
+    done = tx.execute(
+        _SET_ANSWER, {"of": session_id, "at": version, "found": json.dumps(answer.as_json())}
+    )
     if not done.rowcount:  # type: ignore[attr-defined]
         return False
     record(tx, session_id, EventType.ANSWER, shown.changed(version), now, locked=True)

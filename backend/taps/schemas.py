@@ -3,7 +3,7 @@ friend if this phone can see them, each tap with how precise it is."""
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, Strict
 
@@ -160,6 +160,37 @@ class Answer(BaseModel):
         description="Per landmark of landmark_ids, its distance from the fitted geometry, px.",
     )
     in_photo: dict[Role, FriendInPhoto]
+
+
+class Refusal(BaseModel):
+    """Why the solver gave no answer: its stable code and its sentence (naming photo 1 and
+    photo 2, which each phone is told as "your photo" and "your friend's photo")."""
+
+    code: str
+    message: str
+
+
+class StoredAnswer(BaseModel):
+    """The answer as the sessions table keeps it (JSON), for the version it was computed
+    for: what each phone is told, the solver's own answer and whose photo was its photo 1;
+    or why there is none.
+
+    ``solution`` stays the solver's JSON until it is used (the overlay, a known fit, a
+    suggested spot): every read of a phone's state would otherwise validate it again.
+    """
+
+    answer: Answer | None = None
+    solution: dict[str, Any] | None = None
+    first: Role | None = None
+    error: Refusal | None = None
+
+    @classmethod
+    def read(cls, stored: dict[str, Any] | None) -> StoredAnswer | None:
+        """The answer as the storage layer hands it (parsed JSON; None: none yet)."""
+        return None if stored is None else cls.model_validate(stored)
+
+    def as_json(self) -> dict[str, Any]:
+        return self.model_dump(mode="json")
 
 
 class Spot(BaseModel):

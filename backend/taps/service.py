@@ -4,7 +4,7 @@ answer drawn on a photo, and a landmark's crop ("find #3")."""
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from backend.clock import Clock
@@ -12,6 +12,7 @@ from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
 from backend.participants import ROLES, Participant, Role, other
 from backend.photos.imaging import decode_photo, encode_image, encode_layer
+from backend.photos.kept import KeptPhoto
 from backend.photos.repository import Photos
 from backend.photos.schemas import ImageFormat
 from backend.photos.service import PhotoService
@@ -23,7 +24,7 @@ from shared_solver import SolveResult, draw_overlay
 from . import guidance
 from . import problem as problems
 from .repository import TapStore
-from .schemas import LandmarkSuggestion, Spot, Taps
+from .schemas import Answer, LandmarkSuggestion, Spot, StoredAnswer, Taps
 from .shown import Shown, shown
 
 
@@ -54,7 +55,7 @@ class TapService:
             raise RefusedError(ErrorCode.SESSION_NOT_FOUND, "This session has ended.")
         return snapshot
 
-    def put(self, participant: Participant, taps: Taps) -> Snapshot | None:
+    def put(self, participant: Participant, taps: Taps) -> Answered | None:
         """Replace the caller's taps, answering again when both photos allow it: the
         session as it then is (None: overtaken by a newer change, being answered)."""
         snapshot = self.snapshot(participant.session_id)
@@ -64,42 +65,54 @@ class TapService:
         self._check(taps, (photo.width, photo.height))
         # Answered before writing, so that the taps and their answer are one write; unless
         # another change comes in between, which makes that answer stale.
-        member = replace(snapshot.members[participant.role], taps=taps.model_dump(mode="json"))
+        stored = taps.model_dump(mode="json")
+        member = replace(snapshot.members[participant.role], taps=stored)
         after = replace(snapshot, members=snapshot.members | {member.role: member})
-        found = self._solve(after, previous=snapshot)
-        needed = self._shown(after, None).landmarks_needed
-        answer = None if found is None else (found, self._shown(after, found))
+        before = tap_sets(snapshot)
+        now = before | {participant.role: Taps.model_validate(stored)}
+        found = self._solve(after, now, previous=(snapshot, before))
+        unanswered = self._shown(now, None)
+        told = None if found is None else self._shown(now, found)
         version, answered = self.taps.put_taps(
-            participant, taps, self.clock(), read=snapshot.version, needed=needed, answer=answer
+            participant,
+            taps,
+            self.clock(),
+            read=snapshot.version,
+            needed=unanswered.landmarks_needed,
+            answer=None if found is None or told is None else (found, told),
         )
         self.notifier.notify(participant.session_id)
         if version != snapshot.version + 1:  # overtaken: answer the session as it now is
             return self.answer(participant.session_id, version)
-        return replace(
+        recorded = replace(
             after,
             version=version,
-            answer=found if answered else None,
+            answer=found.as_json() if answered and found is not None else None,
             answer_version=version if answered else None,
         )
+        # Nothing more is due: the answer is recorded, or these taps give none.
+        return Answered(recorded, now, told if answered and told else unanswered)
 
-    def answer(self, session_id: str, version: int) -> Snapshot | None:
+    def answer(self, session_id: str, version: int) -> Answered | None:
         """Solve for this version if there is enough; record it unless overtaken. The
         session as it then is (None: overtaken by a newer change)."""
         snapshot = self.snapshot(session_id)
         if snapshot.version != version:
             return None  # a newer change is being answered
-        found = self._solve(snapshot)
+        taps = tap_sets(snapshot)
+        found = self._solve(snapshot, taps)
+        shown = self._shown(taps, found)
         if found is None:
-            return snapshot
-        shown = self._shown(snapshot, found)
+            return Answered(snapshot, taps, shown)
         if not self.taps.put_answer(session_id, version, found, shown, self.clock()):
             return None
         self.notifier.notify(session_id)
-        return replace(snapshot, answer=found, answer_version=version)
+        recorded = replace(snapshot, answer=found.as_json(), answer_version=version)
+        return Answered(recorded, taps, shown)
 
-    def _shown(self, snapshot: Snapshot, answer: dict[str, Any] | None) -> Shown:
-        """What the phones are shown of the snapshot's taps with ``answer``."""
-        return shown(tap_sets(snapshot), answer, self.settings.tap_sigma)
+    def _shown(self, taps: dict[Role, Taps | None], answer: StoredAnswer | None) -> Shown:
+        """What the phones are shown of ``taps`` with ``answer`` (as stored)."""
+        return shown(taps, answer, self.settings.tap_sigma)
 
     def due(self, snapshot: Snapshot) -> Snapshot:
         """The session with its answer. One may be due but not recorded: a change overtook
@@ -107,7 +120,8 @@ class TapService:
         it. Answered here rather than sending a phone away empty."""
         if snapshot.answer is not None:
             return snapshot
-        return self.answer(snapshot.id, snapshot.version) or snapshot
+        answered = self.answer(snapshot.id, snapshot.version)
+        return snapshot if answered is None else answered.snapshot
 
     def overlay(
         self, participant: Participant, role: Role, fmt: ImageFormat, layer: bool = False
@@ -117,25 +131,21 @@ class TapService:
         ``layer``: the drawing alone, a transparent PNG (``fmt`` aside), for a phone that
         has its photo already."""
         snapshot = self.due(self.snapshot(participant.session_id))
-        stored = snapshot.answer or {}
-        if "solution" not in stored or snapshot.answer_version is None:
-            raise RefusedError(
-                ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
-            )
-        photo = self.photos.get(snapshot.id, role)
+        stored = _solved(snapshot)
+        kept = self._photo(snapshot, role)
         member = snapshot.members.get(role)
-        if photo is None or member is None or member.taps is None:
+        if kept is None or member is None or member.taps is None:
             raise RefusedError(
                 ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
             )
         taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
-        ids: list[int] = stored["answer"]["landmark_ids"]
-        pixels = decode_photo(photo.data)
+        ids = stored.answer.landmark_ids
+        pixels = decode_photo(kept.photo.data)
         drawn = draw_overlay(
             pixels,
-            SolveResult.model_validate(stored["solution"]),
+            SolveResult.model_validate(stored.solution),
             # The solver's photo 2 is the one it found the friend in.
-            photo=1 if role == stored["first"] else 2,
+            photo=1 if role == stored.first else 2,
             points=[taps[i] for i in ids],
             labels=ids,
         )
@@ -143,9 +153,15 @@ class TapService:
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
         """A small picture around one landmark of ``role``'s photo: "find this"."""
-        taps = tap_sets(self.snapshot(participant.session_id))[role]
+        snapshot = self.snapshot(participant.session_id)
+        taps = tap_sets(snapshot)[role]
         tap = next((t for t in taps.landmarks if t.id == landmark_id), None) if taps else None
-        crop = None if tap is None else self.photo_service.crop(participant, role, tap.x, tap.y)
+        info = snapshot.photos.get(role)
+        crop = (
+            None
+            if tap is None or info is None
+            else self.photo_service.crop(participant, role, tap.x, tap.y, info.version)
+        )
         if crop is None:
             raise RefusedError(
                 ErrorCode.LANDMARK_NOT_FOUND, f"The {role} has no landmark #{landmark_id}."
@@ -158,11 +174,7 @@ class TapService:
         """A suggested spot in ``role``'s photo for landmark ``landmark_id``, which the other
         phone tapped: searched along its band once per answer, then kept."""
         snapshot = self.due(self.snapshot(participant.session_id))
-        stored = snapshot.answer or {}
-        if "solution" not in stored or snapshot.answer_version is None:
-            raise RefusedError(
-                ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
-            )
+        stored = _solved(snapshot)
         taps = tap_sets(snapshot)
         theirs = taps[other(role)]
         if theirs is None or all(tap.id != landmark_id for tap in theirs.landmarks):
@@ -170,17 +182,17 @@ class TapService:
                 ErrorCode.LANDMARK_NOT_FOUND,
                 f"The {other(role)} has no landmark #{landmark_id} to find.",
             )
-        version = snapshot.answer_version
+        version = stored.version
 
         def search() -> tuple[float, float] | None:
-            photos = {r: self.photos.get(snapshot.id, r) for r in ROLES}
+            photos = {r: self._photo(snapshot, r) for r in ROLES}
             if any(photo is None for photo in photos.values()):
                 return None
             return guidance.suggested(
-                stored["solution"],
-                stored["first"],
+                stored.solution,
+                stored.first,
                 taps,
-                {r: decode_photo(photo.data) for r, photo in photos.items() if photo},
+                {r: decode_photo(kept.photo.data) for r, kept in photos.items() if kept},
                 finder=role,
                 landmark_id=landmark_id,
                 default_sigma=self.settings.tap_sigma,
@@ -192,6 +204,11 @@ class TapService:
             answer_version=version,
             spot=None if spot is None else Spot(x=spot[0], y=spot[1]),
         )
+
+    def _photo(self, snapshot: Snapshot, role: Role) -> KeptPhoto | None:
+        """``role``'s photo as ``snapshot`` has it."""
+        info = snapshot.photos.get(role)
+        return None if info is None else self.photos.get(snapshot.id, role, info.version)
 
     def _check(self, taps: Taps, size: tuple[int, int]) -> None:
         if len(taps.landmarks) > self.settings.max_landmarks:
@@ -230,15 +247,21 @@ class TapService:
                     f"({width} x {height} px).",
                 )
 
-    def _solve(self, snapshot: Snapshot, previous: Snapshot | None = None) -> dict[str, Any] | None:
-        """The answer for the session as ``snapshot`` has it; None when there is not enough
-        to answer (a friend or a photo missing, too few taps). ``previous``: the session
-        before this change, whose answer judges the landmarks tapped since (misfits)."""
+    def _solve(
+        self,
+        snapshot: Snapshot,
+        taps: dict[Role, Taps | None],
+        previous: tuple[Snapshot, dict[Role, Taps | None]] | None = None,
+    ) -> StoredAnswer | None:
+        """The answer for the session as ``snapshot`` has it, with these ``taps``; None
+        when there is not enough to answer (a friend or a photo missing, too few taps).
+        ``previous``: the session before this change and its taps, whose answer judges the
+        landmarks tapped since (misfits) and answers again what it answered already."""
         photos = snapshot.photos
         if set(snapshot.members) != set(ROLES) or set(photos) != set(ROLES):
             return None
-        taps = tap_sets(snapshot)
-        task = problems.problem(taps, self.settings.tap_sigma)
+        sigma = self.settings.tap_sigma
+        task = problems.problem(taps, sigma)
         if not task.solvable:
             return None
         sizes = {role: (photos[role].width, photos[role].height) for role in ROLES}
@@ -246,16 +269,55 @@ class TapService:
             role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
             for role in ROLES
         }
+        # The photos are the same before and after a change of taps (a new photo is a change
+        # of its own): the answer before it answers its problem again.
+        earlier = StoredAnswer.read(previous[0].answer if previous else snapshot.answer)
+        before = previous[1] if previous else taps
+        known = problems.known_fit(earlier, before, sigma)
 
         def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, Role] | None:
-            return problems.fitted(some, self.settings.tap_sigma, sizes=sizes, cameras=cameras)
+            return problems.fitted(some, sigma, sizes=sizes, cameras=cameras, known=known)
 
-        before = tap_sets(previous) if previous is not None else taps
-        earlier = previous.answer if previous is not None else snapshot.answer
-        judged = guidance.misfits(
-            earlier, before, taps, sizes=sizes, default_sigma=self.settings.tap_sigma, fit=fit
+        judged = guidance.misfits(earlier, before, taps, sizes=sizes, default_sigma=sigma, fit=fit)
+        return problems.solved(
+            task, sizes=sizes, cameras=cameras, taps=taps, misfits=judged, known=known
         )
-        return problems.solved(task, sizes=sizes, cameras=cameras, taps=taps, misfits=judged)
+
+
+@dataclass(frozen=True)
+class Answered:
+    """A session as a change of taps (or its answer) left it, and what its phones are
+    shown of it: nothing more is due."""
+
+    snapshot: Snapshot
+    taps: dict[Role, Taps | None]
+    shown: Shown
+
+
+@dataclass(frozen=True)
+class _Solved:
+    """A session's recorded answer that has a solution (not a refusal)."""
+
+    answer: Answer
+    solution: dict[str, Any]
+    first: Role
+    version: int
+
+
+def _solved(snapshot: Snapshot) -> _Solved:
+    """``snapshot``'s recorded answer with its solution, or the refusal that there is none."""
+    stored = StoredAnswer.read(snapshot.answer)
+    if (
+        stored is None
+        or stored.answer is None
+        or stored.solution is None
+        or stored.first is None
+        or snapshot.answer_version is None
+    ):
+        raise RefusedError(
+            ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
+        )
+    return _Solved(stored.answer, stored.solution, stored.first, snapshot.answer_version)
 
 
 def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:

@@ -12,7 +12,7 @@ from typing import Any
 from backend.participants import ROLES, Role, other
 
 from . import problem as problems
-from .schemas import Answer, AnswerChanged, Taps
+from .schemas import Answer, AnswerChanged, StoredAnswer, Taps
 
 
 @dataclass(frozen=True)
@@ -33,20 +33,21 @@ class Shown:
         )
 
 
-def shown(taps: dict[Role, Taps | None], stored: dict[str, Any] | None, sigma: float) -> Shown:
-    """What ``stored`` (the answer as the sessions table keeps it: {"answer", "solution",
-    "first"} or {"error"}; None: none yet) shows, with these taps. An error names photo 1
+def shown(taps: dict[Role, Taps | None], stored: StoredAnswer | None, sigma: float) -> Shown:
+    """What ``stored`` (None: no answer yet) shows, with these taps. An error names photo 1
     and photo 2 as the solver does: each phone is told it of "your photo" and "your
     friend's photo"."""
     task = problems.problem(taps, sigma)
-    stored = stored or {}
-    answer = Answer.model_validate(stored["answer"]) if "answer" in stored else None
-    error: dict[str, str] | None = stored.get("error")
+    answer: Answer | None = None if stored is None else stored.answer
+    error = None if stored is None else stored.error
     errors = None
-    if error is not None:
-        first = stored.get("first", task.first)
+    if stored is not None and error is not None:
+        first = stored.first or task.first
         errors = {
-            role: {**error, "message": problems.for_reader(error["message"], reader(role, first))}
+            role: {
+                "code": error.code,
+                "message": problems.for_reader(error.message, reader(role, first)),
+            }
             for role in ROLES
         }
     return Shown(answer, errors, task.landmarks_needed(answer))

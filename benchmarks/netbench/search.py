@@ -43,7 +43,7 @@ class Photos:
     original2: Path
     landmarks1: Array  # (K, 2)
     landmarks2: Array  # (K, 2)
-    friend1: Array  # (2,): the joiner in photo 1, which the starter marks
+    friend2: Array  # (2,): the joiner in photo 1, which the starter marks
 
 
 @dataclass(frozen=True)
@@ -198,7 +198,7 @@ def play(
             _landmark(joiner, number)
 
         expect(starter.get_by_test_id("friend-prompt")).to_be_visible()
-        _tap(starter, photos.friend1)
+        _tap(starter, photos.friend2)
         expect(starter.get_by_test_id("friend-mark")).to_be_visible()
         last = len(photos.landmarks1)
         for number, point in enumerate(photos.landmarks1, 1):

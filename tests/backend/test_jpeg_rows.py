@@ -1,0 +1,83 @@
+"""A crop decodes only the rows it shows, and shows what a crop of the whole photo shows."""
+
+from __future__ import annotations
+
+import io
+from functools import cache
+
+import cv2
+import numpy as np
+import pytest
+from PIL import Image
+
+from backend.photos.imaging import crop_around, decode_photo, encode_image, store_photo
+from backend.photos.jpeg_rows import row_index
+
+
+@cache
+def noisy_photo(width: int, height: int, grey: bool = False) -> bytes:
+    """A stored photo of smooth colour and noise (every MCU row has detail to decode)."""
+    rng = np.random.default_rng(width * height)
+    ys, xs = np.mgrid[0:height, 0:width]
+    smooth = np.stack([xs * 255 // width, ys * 255 // height, (xs + ys) % 256], axis=2)
+    pixels = np.clip(smooth + rng.normal(0, 20, smooth.shape), 0, 255).astype(np.uint8)
+    image = Image.fromarray(pixels).convert("L") if grey else Image.fromarray(pixels)
+    buffer = io.BytesIO()
+    image.save(buffer, format="PNG")
+    return store_photo(buffer.getvalue(), max_pixels=50_000_000, max_side=2560).data
+
+
+SIZES = [(320, 240), (333, 250), (250, 333), (1600, 1200)]
+
+
+@pytest.mark.parametrize(("width", "height"), SIZES)
+def test_a_band_of_a_stored_photo_is_its_rows_bit_for_bit(width: int, height: int) -> None:
+    data = noisy_photo(width, height)
+    rows = row_index(data)
+    assert rows is not None
+    assert (rows.width, rows.height) == (width, height)
+    whole = decode_photo(data)
+    for top, bottom in [(0, 1), (0, 40), (17, 100), (height - 50, height), (height - 1, height)]:
+        band, first = rows.band(top, bottom)
+        pixels = decode_photo(band)
+        assert first <= top
+        assert first + pixels.shape[0] >= min(bottom, height)
+        assert pixels.shape[0] < height or (top, bottom) == (0, height)  # not the whole photo
+        assert np.array_equal(pixels[top - first : bottom - first], whole[top:bottom])
+
+
+def test_a_grey_photo_is_stored_with_rows_too() -> None:
+    rows = row_index(noisy_photo(200, 150, grey=True))
+    assert rows is not None
+    assert len(rows.rows) == 150 // 16 + 1  # stored as RGB: 16 px rows of MCUs
+
+
+@pytest.mark.parametrize(
+    ("x", "y"),
+    [(800, 600), (800.5, 600.25), (0, 0), (1600, 1200), (3.7, 1198.2), (1599, 117), (640, 119)],
+)
+def test_a_crop_of_a_stored_photo_is_the_crop_of_the_whole_photo(x: float, y: float) -> None:
+    data = noisy_photo(1600, 1200)
+    whole = encode_image(decode_photo(data), format="png")  # lossless: no rows to pick
+    assert row_index(whole) is None
+    assert crop_around(data, x, y) == crop_around(whole, x, y)
+
+
+def test_what_is_not_a_stored_photo_has_no_row_index() -> None:
+    image = Image.fromarray(np.full((64, 96, 3), 90, np.uint8))
+
+    def jpeg(**options: object) -> bytes:
+        buffer = io.BytesIO()
+        image.save(buffer, format="JPEG", **options)
+        return buffer.getvalue()
+
+    assert row_index(jpeg()) is None  # no restart markers
+    assert row_index(jpeg(progressive=True, restart_marker_rows=1)) is None
+    assert row_index(jpeg(restart_marker_blocks=2)) is None  # markers, but not per row
+    assert row_index(jpeg(restart_marker_rows=1)) is not None
+    assert row_index(b"") is None
+    assert row_index(b"\xff\xd8\xff") is None
+    png = cv2.imencode(".png", np.zeros((8, 8, 3), np.uint8))[1].tobytes()
+    assert row_index(png) is None
+    cut = jpeg(restart_marker_rows=1)
+    assert row_index(cut[: len(cut) // 2]) is None  # truncated: rows missing

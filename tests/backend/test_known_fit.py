@@ -1,0 +1,60 @@
+"""A change of taps that leaves the solver's problem as it was is answered from the answer
+before it (backend.taps.problem.KnownFit): what the phones are told is what solving
+again tells them."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+from phones import Phone
+
+from backend.taps import problem
+from tests.backend.test_sessions import landmarks, photos_uploaded, scene
+
+SHOWN = ("answer", "answer_error", "landmarks_needed", "taps")
+
+
+def played(client: TestClient, photos: tuple[bytes, bytes]) -> list[dict[str, Any]]:
+    """A search tapped one landmark at a time (the starter first, then the joiner finding
+    it), a landmark mistapped and moved back: what each PUT answered."""
+    created = client.post("/api/sessions").json()
+    starter = Phone(client, created["session_id"], created["token"], "starter")
+    joined = client.post("/api/sessions/join", json={"code": created["join_code"]}).json()
+    joiner = Phone(client, created["session_id"], joined["token"], "joiner")
+    photos_uploaded(starter, joiner, photos)
+    s = scene(6, seed=3)
+    mistapped = s.landmarks2.copy()
+    mistapped[4] += (0.0, 60.0)  # #5 60 px off: flagged until moved back
+    answers = []
+    for n in range(1, 7):
+        answers.append(starter.tap(landmarks=landmarks(s.landmarks1[:n]), friend=list(s.epipole1)))
+        answers.append(joiner.tap(landmarks=landmarks(mistapped[:n])))
+    answers.append(joiner.tap(landmarks=landmarks(s.landmarks2)))
+    answers.append(starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1)))
+    for answer in answers:
+        assert answer.status_code == 200, answer.text
+    return [{key: answer.json()[key] for key in SHOWN} for answer in answers]
+
+
+def test_answers_from_a_known_fit_are_those_of_solving_again(
+    client: TestClient, temple_photos: tuple[bytes, bytes], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    used = []
+    remembered = problem.KnownFit.result
+
+    def result(known: problem.KnownFit) -> Any:
+        used.append(known.task)
+        return remembered(known)
+
+    monkeypatch.setattr(problem.KnownFit, "result", result)
+    with_known = played(client, temple_photos)
+    assert len(used) >= 6  # the starter's unmatched landmarks, the joiner's judged ones
+    monkeypatch.setattr(problem, "known_fit", lambda *_: None)
+    solved_again = played(client, temple_photos)
+    assert with_known == solved_again
+    flagged = [shown["answer"]["in_photo"]["joiner"]["misfits"] for shown in with_known[9:]]
+    assert flagged == [[5], [5], [5], [], []]
+    assert np.isfinite(with_known[-1]["answer"]["in_photo"]["joiner"]["friend"]).all()
