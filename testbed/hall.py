@@ -40,7 +40,7 @@ Maker = Callable[[tuple[int, int], float], Texture]
 Paint = tuple[Maker, float]  # how to make a texture, and at how many texels per metre
 
 
-def _rect(kind: str, origin: Array, across: Array, down: Array, paint: Paint) -> Surface:
+def rect(kind: str, origin: Array, across: Array, down: Array, paint: Paint) -> Surface:
     """A surface whose texture is made by ``paint`` (maker, texels per metre)."""
     make, density = paint
     shape = (
@@ -59,25 +59,25 @@ def box_faces(
     height = np.array([0.0, y1 - y0, 0.0])
     faces = [
         # -z face (seen from smaller z), +x, +z, -x: going round, each read upright.
-        _rect(kind, np.array([x0, y0, z0]), np.array([x1 - x0, 0.0, 0.0]), height, paint),
-        _rect(kind, np.array([x1, y0, z0]), np.array([0.0, 0.0, z1 - z0]), height, paint),
-        _rect(kind, np.array([x1, y0, z1]), np.array([x0 - x1, 0.0, 0.0]), height, paint),
-        _rect(kind, np.array([x0, y0, z1]), np.array([0.0, 0.0, z0 - z1]), height, paint),
+        rect(kind, np.array([x0, y0, z0]), np.array([x1 - x0, 0.0, 0.0]), height, paint),
+        rect(kind, np.array([x1, y0, z0]), np.array([0.0, 0.0, z1 - z0]), height, paint),
+        rect(kind, np.array([x1, y0, z1]), np.array([x0 - x1, 0.0, 0.0]), height, paint),
+        rect(kind, np.array([x0, y0, z1]), np.array([0.0, 0.0, z0 - z1]), height, paint),
     ]
     flat_x = np.array([x1 - x0, 0.0, 0.0])
     if top:  # seen from above (smaller y)
         faces.append(
-            _rect(kind, np.array([x0, y0, z1]), flat_x, np.array([0.0, 0.0, z0 - z1]), paint)
+            rect(kind, np.array([x0, y0, z1]), flat_x, np.array([0.0, 0.0, z0 - z1]), paint)
         )
     if bottom:  # seen from below
         faces.append(
-            _rect(kind, np.array([x0, y1, z0]), flat_x, np.array([0.0, 0.0, z1 - z0]), paint)
+            rect(kind, np.array([x0, y1, z0]), flat_x, np.array([0.0, 0.0, z1 - z0]), paint)
         )
     return faces
 
 
 @dataclass(frozen=True)
-class _Layout:
+class Layout:
     """The hall's dimensions (m; y down, phone 1 at z = 0, phone 2 at z = length)."""
 
     floor_y: float
@@ -104,15 +104,25 @@ def build_hall(rng: np.random.Generator, camera1: Camera, camera2: Camera) -> li
     Elements that would stand between the phones (a pillar, the scoreboard, the stage) are
     left out: each phone must see the other.
     """
-    layout = _layout(rng, camera1.centre, camera2.centre)
-    surfaces = _shell(rng, layout)
-    for element in _furniture(rng, layout):
-        if not any(_blocks(surface, camera1.centre, camera2.centre) for surface in element):
-            surfaces += element
-    return surfaces
+    hall = layout(rng, camera1.centre, camera2.centre)
+    surfaces = shell(hall, hall_paints(rng))
+    return surfaces + clear_of_sight(furniture(rng, hall), camera1, camera2)
 
 
-def _layout(rng: np.random.Generator, c1: Array, c2: Array) -> _Layout:
+def clear_of_sight(
+    elements: list[list[Surface]], camera1: Camera, camera2: Camera
+) -> list[Surface]:
+    """The faces of the elements (each a list of faces) that do not stand between the
+    phones: each phone must see the other."""
+    return [
+        face
+        for element in elements
+        if not any(blocks(face, camera1.centre, camera2.centre) for face in element)
+        for face in element
+    ]
+
+
+def layout(rng: np.random.Generator, c1: Array, c2: Array) -> Layout:
     length = float(c2[2] - c1[2])
     floor_y = max(c1[1], c2[1]) + rng.uniform(3.0, 9.0)  # y is down: the floor is below both
     heights = (floor_y - c1[1], floor_y - c2[1])
@@ -128,7 +138,7 @@ def _layout(rng: np.random.Generator, c1: Array, c2: Array) -> _Layout:
     side_rise = rng.uniform(8.0, 18.0)
     roof_y = min(c1[1], c2[1], floor_y - side_rise) - rng.uniform(8.0, 20.0)
     back1, back2 = c1[2] - rng.uniform(6.0, 12.0), c2[2] + rng.uniform(6.0, 12.0)
-    return _Layout(
+    return Layout(
         floor_y=floor_y,
         floor_start=floor_start,
         floor_end=floor_end,
@@ -143,29 +153,47 @@ def _layout(rng: np.random.Generator, c1: Array, c2: Array) -> _Layout:
     )
 
 
-def _shell(rng: np.random.Generator, hall: _Layout) -> list[Surface]:
-    """The floor, the roof, the stands, walls and boards of both sides and both ends."""
-    seats: Paint = (lambda shape, density: textures.seating(rng, shape, density), COARSE)
-    posters: Paint = (
-        lambda shape, density: textures.wall_with_posters(rng, shape, density),
-        COARSE,
+@dataclass(frozen=True)
+class Paints:
+    """How each part of a hall's shell is painted."""
+
+    floor: Paint
+    roof: Paint
+    stand: Paint
+    wall: Paint
+    boards: Paint
+
+
+def hall_paints(rng: np.random.Generator) -> Paints:
+    """The hall's: a wooden court, a dark roof with lamps, seated stands, walls with
+    posters, advertising boards (each a different poster)."""
+    return Paints(
+        floor=(lambda shape, density: textures.court_floor(rng, shape, density), COARSE),
+        roof=(lambda shape, density: textures.ceiling(rng, shape, density), ROOF),
+        stand=(lambda shape, density: textures.seating(rng, shape, density), COARSE),
+        wall=(lambda shape, density: textures.wall_with_posters(rng, shape, density), COARSE),
+        boards=(lambda shape, density: textures.boards(rng, shape, density), FINE),
     )
-    boards: Paint = (lambda shape, density: textures.boards(rng, shape, density), FINE)
+
+
+def shell(hall: Layout, paints: Paints) -> list[Surface]:
+    """The floor, the roof, the stands, walls and boards of both sides and both ends."""
+    seats, posters, boards = paints.stand, paints.wall, paints.boards
     outer = hall.outer
     surfaces = [
-        _rect(  # the floor, read from phone 1's end
+        rect(  # the floor, read from phone 1's end
             "floor",
             np.array([-hall.half_width, hall.floor_y, hall.floor_end]),
             np.array([2 * hall.half_width, 0.0, 0.0]),
             np.array([0.0, 0.0, hall.floor_start - hall.floor_end]),
-            (lambda shape, density: textures.court_floor(rng, shape, density), COARSE),
+            paints.floor,
         ),
-        _rect(  # the roof, seen from below
+        rect(  # the roof, seen from below
             "roof",
             np.array([-outer, hall.roof_y, hall.back1]),
             np.array([2 * outer, 0.0, 0.0]),
             np.array([0.0, 0.0, hall.back2 - hall.back1]),
-            (lambda shape, density: textures.ceiling(rng, shape, density), ROOF),
+            paints.roof,
         ),
     ]
     stand_top = hall.floor_y - hall.side_rise
@@ -175,21 +203,21 @@ def _shell(rng: np.random.Generator, hall: _Layout) -> list[Surface]:
         start, stop = (hall.back1, hall.back2) if side < 0 else (hall.back2, hall.back1)
         along = np.array([0.0, 0.0, stop - start])
         surfaces += [
-            _rect(  # the side stand, from its back row (top) to the floor's edge
+            rect(  # the side stand, from its back row (top) to the floor's edge
                 "stand",
                 np.array([side * outer, stand_top, start]),
                 along,
                 np.array([-side * hall.side_run, hall.side_rise, 0.0]),
                 seats,
             ),
-            _rect(  # the side wall above the stand
+            rect(  # the side wall above the stand
                 "wall",
                 np.array([side * outer, hall.roof_y, start]),
                 along,
                 np.array([0.0, stand_top - hall.roof_y, 0.0]),
                 posters,
             ),
-            _rect(  # advertising boards around the floor, 1 m high
+            rect(  # advertising boards around the floor, 1 m high
                 "boards",
                 np.array([side * hall.half_width, hall.floor_y - 1.0, start]),
                 along,
@@ -205,14 +233,14 @@ def _shell(rng: np.random.Generator, hall: _Layout) -> list[Surface]:
         # Seen from the other end: "across" runs to that phone's right.
         across = np.array([-2 * sign * outer, 0.0, 0.0])
         surfaces += [
-            _rect(  # the end stand behind the phone
+            rect(  # the end stand behind the phone
                 "stand",
                 np.array([sign * outer, top, back]),
                 across,
                 np.array([0.0, hall.floor_y - top, edge - back]),
                 seats,
             ),
-            _rect(  # the end wall above it
+            rect(  # the end wall above it
                 "wall",
                 np.array([sign * outer, hall.roof_y, back]),
                 across,
@@ -223,7 +251,7 @@ def _shell(rng: np.random.Generator, hall: _Layout) -> list[Surface]:
     return surfaces
 
 
-def _furniture(rng: np.random.Generator, hall: _Layout) -> list[list[Surface]]:
+def furniture(rng: np.random.Generator, hall: Layout) -> list[list[Surface]]:
     """Boxes in the hall, each a list of faces: pillars, equipment, a stage, a scoreboard."""
     paint: Paint = (lambda shape, density: textures.painted(rng, shape, density), FINE)
     screen: Paint = (lambda shape, density: textures.screen(rng, shape, density), FINE / 2)
@@ -263,7 +291,7 @@ def _furniture(rng: np.random.Generator, hall: _Layout) -> list[list[Surface]]:
     return boxes
 
 
-def _blocks(surface: Surface, start: Array, end: Array) -> bool:
+def blocks(surface: Surface, start: Array, end: Array) -> bool:
     """Whether the segment from ``start`` to ``end`` (3,) crosses the surface's rectangle."""
     normal = surface.normal
     a, b = normal @ (start - surface.origin), normal @ (end - surface.origin)

@@ -43,6 +43,12 @@ class Surface:
     its centre at (i + 0.5, j + 0.5)) is the world point
     ``origin + s / W * across + t / H * down`` for a texture of W x H texels: looked at from
     the front, ``across`` runs right and ``down`` runs down, so text reads as drawn.
+
+    A hanging banner is seen from both sides: ``back`` is what its other side shows, on the
+    same texel grid (texel (s, t) of ``back`` is at the same world point as that of
+    ``texture``). A print that shows through (a mesh banner) has ``back`` equal to
+    ``texture`` and reads mirrored from behind; a banner printed on both sides to read
+    from each has ``back`` the mirror image of ``texture``.
     """
 
     origin: Array  # (3,) m
@@ -50,6 +56,7 @@ class Surface:
     down: Array  # (3,) m, the texture's full height
     texture: Texture
     kind: str = ""  # what it is ("floor", "stand", ...), for reports
+    back: Image | None = None  # the other side's print, when seen from both sides
 
     @property
     def normal(self) -> Array:
@@ -72,16 +79,29 @@ class Surface:
         )
 
     def faces(self, camera: Camera) -> bool:
-        """Whether the camera is on the drawn side."""
+        """Whether the camera is on the drawn side (the front)."""
         return bool(self.normal @ (camera.centre - self.origin) > 0)
+
+    @property
+    def two_sided(self) -> bool:
+        return self.back is not None
 
     @functools.cached_property
     def pyramid(self) -> list[Image]:
         """The texture and its halvings (``cv2.pyrDown``), down to a few texels."""
-        levels = [self.texture.image]
-        while min(levels[-1].shape[:2]) > 8:
-            levels.append(np.asarray(cv2.pyrDown(levels[-1]), dtype=np.uint8))
-        return levels
+        return _pyramid(self.texture.image)
+
+    @functools.cached_property
+    def back_pyramid(self) -> list[Image]:
+        """The same for the back (empty for a surface drawn on one side)."""
+        return [] if self.back is None else _pyramid(self.back)
+
+
+def _pyramid(image: Image) -> list[Image]:
+    levels = [image]
+    while min(levels[-1].shape[:2]) > 8:
+        levels.append(np.asarray(cv2.pyrDown(levels[-1]), dtype=np.uint8))
+    return levels
 
 
 def texel_homography(surface: Surface, camera: Camera) -> Array:
@@ -121,10 +141,15 @@ def render(surfaces: list[Surface], camera: Camera, size: tuple[int, int]) -> tu
     image = np.zeros((height, width, 3), np.float32)
     inverse_depth = np.zeros((height, width))
     for surface in surfaces:
-        if not surface.faces(camera):
+        front = surface.faces(camera)
+        if not front and not surface.two_sided:
             continue
         seen = _Seen(
-            surface, camera, texel_homography(surface, camera), inverse_depth_plane(surface, camera)
+            surface,
+            camera,
+            texel_homography(surface, camera),
+            inverse_depth_plane(surface, camera),
+            surface.pyramid if front else surface.back_pyramid,
         )
         rows, cols = surface.shape
         for t0 in range(0, rows, TILE):
@@ -136,12 +161,14 @@ def render(surfaces: list[Surface], camera: Camera, size: tuple[int, int]) -> tu
 
 @dataclass(frozen=True)
 class _Seen:
-    """A surface as one camera sees it: texel -> pixel homography, inverse-depth plane."""
+    """A surface as one camera sees it: texel -> pixel homography, inverse-depth plane,
+    and the pyramid of the side it sees."""
 
     surface: Surface
     camera: Camera
     homography: Array
     plane: Array
+    pyramid: list[Image]
 
 
 def _draw_tile(
@@ -164,11 +191,11 @@ def _draw_tile(
     x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, width), min(y1, height)
     if x1 <= x0 or y1 <= y0:
         return
-    level = _mip_level(homography, pixels, len(surface.pyramid) - 1)
+    level = _mip_level(homography, pixels, len(seen.pyramid) - 1)
     scale = 2.0**level
     # Level-L texel index u is plane position 2^L (u + 0.5) in level-0 texels (pyrDown
     # averages texels 2u and 2u + 1, whose centres are at 2u + 0.5 and 2u + 1.5).
-    texels = surface.pyramid[level]
+    texels = seen.pyramid[level]
     u0 = max(0, int(s0 / scale) - _MARGIN)
     v0 = max(0, int(t0 / scale) - _MARGIN)
     u1 = min(texels.shape[1], math.ceil(s1 / scale) + _MARGIN)
@@ -228,3 +255,37 @@ def _clip_near(camera: Camera, polygon: Array) -> Array:
         if (da >= 0) != (db >= 0):
             kept.append(a + (b - a) * (da / (da - db)))
     return np.array(kept).reshape(-1, 3)
+
+
+@dataclass(frozen=True)
+class Light:
+    """A pool of light a spotlight throws on the scene: brighter by ``gain`` (a fraction)
+    at ``centre`` (3,) m, falling off as a Gaussian of sd ``radius`` m. Spotlights move
+    between two photos taken seconds apart, so each photo has its own."""
+
+    centre: Array
+    radius: float
+    gain: float
+
+
+def lit(radiance: Array, inverse_depth: Array, camera: Camera, lights: list[Light]) -> Array:
+    """(H, W, 3) float32: ``radiance`` under the pools of ``lights``, each pixel by the
+    world point it shows (from ``inverse_depth``, as :func:`render` returns it)."""
+    if not lights:
+        return radiance
+    height, width = inverse_depth.shape
+    xs, ys = np.meshgrid(np.arange(width, dtype=np.float32), np.arange(height, dtype=np.float32))
+    # A pixel's ray R^T K^-1 (x, y, 1) has depth 1 along the optical axis.
+    rays = np.linalg.inv(camera.intrinsics).astype(np.float32)
+    depth = np.where(inverse_depth > 0, 1.0 / np.maximum(inverse_depth, 1e-9), 0.0)
+    depth = depth.astype(np.float32)
+    camera_frame = [(rays[i, 0] * xs + rays[i, 1] * ys + rays[i, 2]) * depth for i in range(3)]
+    gain = np.ones((height, width), np.float32)
+    centre = camera.centre
+    for light in lights:
+        # The light's centre in the camera's frame, so the world point needs no rotation.
+        target = camera.rotation @ (light.centre - centre)
+        distance2 = sum((camera_frame[i] - np.float32(target[i])) ** 2 for i in range(3))
+        gain += np.float32(light.gain) * np.exp(distance2 * np.float32(-0.5 / light.radius**2))
+    gain[inverse_depth <= 0] = 1.0
+    return radiance * gain[:, :, None]

@@ -14,7 +14,7 @@ them must come back empty.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -22,9 +22,10 @@ import numpy as np
 
 from shared_solver.projective import Array, Indices, Mask
 
+from .arena import Arena, build_arena
 from .hall import build_hall
 from .phones import EDGE_MARGIN, in_photo, phone_scene
-from .render import Surface, render
+from .render import Surface, lit, render
 from .scenes import Camera, Scene
 from .textures import Image
 
@@ -77,16 +78,37 @@ def rendered_pair(seed: int | Sequence[int], *, max_landmarks: int = 400) -> Ren
         max_landmarks: at most this many landmarks (and spots seen by one photo only) are
             kept, drawn at random from those found.
     """
-    rng = np.random.default_rng(seed)
+
+    def hall(rng: np.random.Generator, camera1: Camera, camera2: Camera) -> Arena:
+        surfaces = build_hall(rng, camera1, camera2)
+        return Arena(surfaces, surfaces, [], [])
+
+    return _rendered(np.random.default_rng(seed), hall, max_landmarks)
+
+
+def rendered_arena(seed: int | Sequence[int], *, max_landmarks: int = 400) -> RenderedPair:
+    """Both photos of an arena full of look-alikes (:mod:`testbed.arena`: banners seen
+    from both sides, mats, signs and posters alike, pillars alike, a video board, moving
+    spotlights), as :func:`rendered_pair` renders a hall."""
+    return _rendered(np.random.default_rng(seed), build_arena, max_landmarks)
+
+
+def _rendered(
+    rng: np.random.Generator,
+    build: Callable[[np.random.Generator, Camera, Camera], Arena],
+    max_landmarks: int,
+) -> RenderedPair:
     phones = phone_scene(rng, 4)
     camera1, size1 = stored_camera(phones.camera1, phones.image_size1)
     camera2, size2 = stored_camera(phones.camera2, phones.image_size2)
-    surfaces = build_hall(rng, camera1, camera2)
-    radiance1, depth1 = render(surfaces, camera1, size1)
-    radiance2, depth2 = render(surfaces, camera2, size2)
-    spots, normals, kinds, inner = _salient(surfaces)
-    seen1 = _seen(spots, normals, camera1, size1, depth1)
-    seen2 = _seen(spots, normals, camera2, size2, depth2)
+    venue = build(rng, camera1, camera2)
+    radiance1, depth1 = render(venue.surfaces1, camera1, size1)
+    radiance2, depth2 = render(venue.surfaces2, camera2, size2)
+    radiance1 = lit(radiance1, depth1, camera1, venue.lights1)
+    radiance2 = lit(radiance2, depth2, camera2, venue.lights2)
+    spots, normals, kinds, inner, two_sided = _salient(venue.surfaces1)
+    seen1 = _seen(spots, normals, two_sided, camera=camera1, size=size1, inverse_depth=depth1)
+    seen2 = _seen(spots, normals, two_sided, camera=camera2, size=size2, inverse_depth=depth2)
 
     def pick(mask: Mask) -> Indices:
         chosen = np.flatnonzero(mask)
@@ -131,11 +153,12 @@ def photograph(rng: np.random.Generator, radiance: Array) -> Image:
     return np.asarray(cv2.imdecode(jpeg, cv2.IMREAD_COLOR), dtype=np.uint8)
 
 
-def _salient(surfaces: list[Surface]) -> tuple[Array, Array, list[str], Mask]:
+def _salient(surfaces: list[Surface]) -> tuple[Array, Array, list[str], Mask, Mask]:
     """(K, 3) world points of every surface's salient texels, (K, 3) the normal of the
-    surface each lies on, that surface's kind, and (K,) whether the point is off its
-    surface's edges (by more than a texel)."""
-    points, normals, kinds, inner = [], [], [], []
+    surface each lies on, that surface's kind, (K,) whether the point is off its
+    surface's edges (by more than a texel), and (K,) whether its surface is seen from both
+    sides."""
+    points, normals, kinds, inner, two_sided = [], [], [], [], []
     for surface in surfaces:
         salient = surface.texture.salient
         if len(salient):
@@ -147,18 +170,31 @@ def _salient(surfaces: list[Surface]) -> tuple[Array, Array, list[str], Mask]:
             normals.append(np.broadcast_to(surface.normal, (len(salient), 3)))
             kinds += [surface.kind] * len(salient)
             inner.append(((plane > 1.0) & (plane < [width - 1.0, height - 1.0])).all(axis=1))
-    return np.vstack(points), np.vstack(normals), kinds, np.concatenate(inner)
+            two_sided.append(np.full(len(salient), surface.two_sided))
+    return (
+        np.vstack(points),
+        np.vstack(normals),
+        kinds,
+        np.concatenate(inner),
+        np.concatenate(two_sided),
+    )
 
 
 def _seen(
-    points: Array, normals: Array, camera: Camera, size: tuple[int, int], inverse_depth: Array
+    points: Array,
+    normals: Array,
+    two_sided: Mask,
+    *,
+    camera: Camera,
+    size: tuple[int, int],
+    inverse_depth: Array,
 ) -> Mask:
-    """(K,) which points the camera shows: inside the frame with the usual margin, on the
-    side of their surface that faces it, their own surface drawn at or next to their pixel
-    and nothing nearer around it (3 x 3 pixels: a corner on a silhouette is seen, one that
-    something passes in front of is not)."""
+    """(K,) which points the camera shows: inside the frame with the usual margin, on a
+    side of their surface that is drawn and faces it, their own surface drawn at or next
+    to their pixel and nothing nearer around it (3 x 3 pixels: a corner on a silhouette is
+    seen, one that something passes in front of is not)."""
     inside = in_photo(camera, points, size, EDGE_MARGIN)
-    facing = np.einsum("ki,ki->k", normals, camera.centre - points) > 0
+    facing = two_sided | (np.einsum("ki,ki->k", normals, camera.centre - points) > 0)
     seen = inside & facing
     pixels = np.round(camera.project(points[seen])).astype(int)
     own = 1.0 / camera.depth(points[seen])

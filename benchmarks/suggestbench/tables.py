@@ -16,9 +16,6 @@ from shared_solver.matching.suggestion import RULES, Rules, decide
 from .trials import Absent, SceneRun, Searched, Timed
 
 TARGET_PRECISION = 0.90
-# Score and margin thresholds tried on the calibration scenes.
-SCORES = (0.5, 0.6, 0.7, 0.8)
-MARGINS = (0.0, 0.03, 0.05, 0.08)
 SIFT_SUPPORT = (1, 2, 3)
 FLAGS = (3.0, FLAG_SIGMAS, 4.0)
 
@@ -51,27 +48,24 @@ def share(value: float) -> str:
     return "-" if math.isnan(value) else f"{100 * value:.1f} %"
 
 
-def suggested(timed: Timed | None, rules: Rules, *, back_check: bool = True) -> bool:
+def suggested(timed: Timed | None, rules: Rules) -> bool:
     """Whether the search's evidence gives a suggestion under ``rules``."""
-    if timed is None or timed.evidence is None:
-        return False
-    evidence = timed.evidence
-    if not back_check:
-        evidence = type(evidence)(evidence.match, 0.0)
-    return decide(evidence, rules) is not None
+    return (
+        timed is not None
+        and timed.evidence is not None
+        and decide(timed.evidence, rules) is not None
+    )
 
 
 def shown(
     searched: Sequence[Searched],
     pick: Callable[[Searched], Timed | None],
     rules: Rules = RULES,
-    *,
-    back_check: bool = True,
 ) -> Shown:
     count = right = 0
     for item in searched:
         timed = pick(item)
-        if suggested(timed, rules, back_check=back_check):
+        if suggested(timed, rules):
             count += 1
             right += item.error(timed) <= 0.01
     return Shown(len(searched), count, right)
@@ -214,28 +208,6 @@ def kinds_table(searched: Sequence[Searched]) -> str:
     )
 
 
-def rule_table(searched: Sequence[Searched]) -> str:
-    header = [
-        "least score",
-        *[f"margin {margin:g}" for margin in MARGINS],
-        "margin 0.05, no search back",
-    ]
-    rows = []
-    for score in SCORES:
-        cells = [f"{score:g}"]
-        for margin in MARGINS:
-            result = shown(searched, lambda s: s.colour, Rules(min_score=score, min_margin=margin))
-            chosen = score == RULES.min_score and margin == RULES.min_margin
-            text = f"{share(result.coverage)} / {share(result.precision)}"
-            cells.append(f"**{text}**" if chosen else text)
-        loose = shown(
-            searched, lambda s: s.colour, Rules(min_score=score, min_margin=0.05), back_check=False
-        )
-        cells.append(f"{share(loose.coverage)} / {share(loose.precision)}")
-        rows.append(cells)
-    return markdown_table(header, rows)
-
-
 def methods_table(searched: Sequence[Searched], sift_seconds: Sequence[float]) -> str:
     compared = [s for s in searched if s.grey is not None and s.sift is not None]
     if not compared:
@@ -306,9 +278,7 @@ def _flagged(checked: Sequence[Searched], value: Callable[[Searched], float], li
     return f"{flagged} of {len(checked)} ({share(fraction)})"
 
 
-def time_table(searched: Sequence[Searched], absent: Sequence[Absent]) -> str:
-    timed = [s.colour for s in searched if s.colour is not None]
-    timed += [a.colour for a in absent if a.colour is not None]
+def time_table(timed: Sequence[Timed]) -> str:
     rows = []
     for name, values in (
         ("wall", [t.seconds * 1000 for t in timed]),

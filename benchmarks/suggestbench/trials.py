@@ -31,7 +31,14 @@ from shared_solver import SolverError, SolveResult, solve
 from shared_solver.matching import Epipolar, epipolar_band
 from shared_solver.matching.band import Band
 from shared_solver.matching.polar import Image
-from shared_solver.matching.suggestion import RULES, Evidence, leads, search_back, search_band
+from shared_solver.matching.suggestion import (
+    RULES,
+    Evidence,
+    Rules,
+    check_back,
+    gather,
+    leads,
+)
 from shared_solver.projective import Array, Indices
 from testbed.venue import RenderedPair, rendered_pair
 
@@ -46,6 +53,9 @@ ABSENT = 6  # spots of one photo only searched per scene and direction
 WRONG_OFFSET = (0.02, 0.10)  # a wrong tap's distance from the truth, fraction of the diagonal
 ALSO_USED = (3, 8)  # other numbers of landmarks whose bands are checked (no image work)
 TAP = SIGMA**2 * np.eye(2)
+# The search before it had two views: the patch as read alone; its rule then: a score of 0.7
+# and a lead of 0.05 (no other view), the search back landing within 1 % of the tap.
+BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",))
 
 
 @dataclass(frozen=True)
@@ -162,7 +172,7 @@ def run_scene(stream: str, index: int, *, compare: bool = False) -> SceneRun:
     friend2 = scene.epipole1 + rng.normal(0.0, SIGMA, 2)
     order = rng.permutation(count)
     used, rest = order[:USED], order[USED:]
-    result = _answer(pair, taps1[used], taps2[used], friend2)
+    result = answer(pair, taps1[used], taps2[used], friend2)
     if result is None:
         return empty
     tested = _by_kind(pair, rest)
@@ -216,16 +226,18 @@ def run_scene(stream: str, index: int, *, compare: bool = False) -> SceneRun:
     )
 
 
-def _answer(
-    pair: RenderedPair, points1: Array, points2: Array, friend2: Array
+def answer(
+    pair: RenderedPair, points1: Array, points2: Array, friend2: Array, sigma: float = SIGMA
 ) -> SolveResult | None:
+    """``solve``'s answer with phone cameras from these taps (noise ``sigma`` px), or None
+    when it has no uncertainty of F (no band to search)."""
     scene = pair.scene
     try:
         result = solve(
             points1,
             points2,
             epipole1=friend2,
-            tap_sigma=SIGMA,
+            tap_sigma=sigma,
             image_size1=scene.image_size1,
             image_size2=scene.image_size2,
             camera1="phone",
@@ -268,10 +280,10 @@ def _searched(context: _Direction, k: int, tested: list[int], rng: np.random.Gen
             diagonal, None, nan, nan, nan,
         )  # fmt: skip
     offset = abs(band.line[:2] @ truth + band.line[2]) / float(band.sd(truth[None])[0])
-    colour = _timed_search(context.photo_a, context.photo_b, point, context.epipolar, band)
+    colour = timed_search(context.photo_a, context.photo_b, point, context.epipolar, band)
     grey = sift = None
     if context.grey is not None and context.features is not None:
-        grey = _timed_search(*context.grey, point, context.epipolar, band)
+        grey = timed_search(*context.grey, point, context.epipolar, band)
         sift = sift_match(*context.features, point, context.epipolar, band)
     return Searched(
         context.index,
@@ -291,23 +303,38 @@ def _searched(context: _Direction, k: int, tested: list[int], rng: np.random.Gen
     )
 
 
-def _timed_search(
-    photo_a: Image, photo_b: Image, point: Array, epipolar: Epipolar, band: Band
+def timed_search(
+    photo_a: Image,
+    photo_b: Image,
+    point: Array,
+    epipolar: Epipolar,
+    band: Band,
+    *,
+    covariance: Array = TAP,
+    always_back: bool = True,
+    rules: Rules = RULES,
 ) -> Timed:
     """The evidence, and the wall and CPU time ``suggest`` spends on it: the search along
-    the band, and the search back only when the match leads (as ``suggest`` does)."""
+    the band, and the search back only when the match leads (as ``suggest`` does). The
+    search back is made for every match with ``always_back`` (to weigh other rules), but
+    timed only as ``suggest`` would make it."""
     wall, cpu = time.perf_counter(), time.process_time()
-    match = search_band(photo_a, photo_b, point, epipolar, band)
-    forward = (time.perf_counter() - wall, time.process_time() - cpu)
-    if match is None:
-        return Timed(None, *forward)
-    wall, cpu = time.perf_counter(), time.process_time()
-    returned = search_back(photo_a, photo_b, point, epipolar, match, point_covariance=TAP)
-    back = (time.perf_counter() - wall, time.process_time() - cpu)
-    counted = 1.0 if leads(match, RULES) else 0.0
-    return Timed(
-        Evidence(match, returned), forward[0] + counted * back[0], forward[1] + counted * back[1]
+    evidence = gather(
+        photo_a, photo_b, point, epipolar, band, point_covariance=covariance, rules=rules
     )
+    forward = (time.perf_counter() - wall, time.process_time() - cpu)
+    if evidence is None:
+        return Timed(None, *forward)
+    counted = leads(evidence.match, rules)
+    if not (counted or always_back):
+        return Timed(evidence, *forward)
+    wall, cpu = time.perf_counter(), time.process_time()
+    checked = check_back(
+        evidence, photo_a, photo_b, point, epipolar, point_covariance=covariance, rules=rules
+    )
+    back = (time.perf_counter() - wall, time.process_time() - cpu)
+    share = 1.0 if counted else 0.0
+    return Timed(checked, forward[0] + share * back[0], forward[1] + share * back[1])
 
 
 def _absent(context: _Direction, rng: np.random.Generator) -> list[Absent]:
@@ -323,7 +350,7 @@ def _absent(context: _Direction, rng: np.random.Generator) -> list[Absent]:
         colour = (
             None
             if band is None
-            else _timed_search(context.photo_a, context.photo_b, point, context.epipolar, band)
+            else timed_search(context.photo_a, context.photo_b, point, context.epipolar, band)
         )
         spots.append(Absent(context.index, context.direction, band is not None, colour))
     return spots
@@ -338,7 +365,7 @@ def _band_offsets(
     if len(order) < used + 1:
         return []
     chosen, rest = order[:used], order[used:]
-    result = _answer(pair, taps[0][chosen], taps[1][chosen], friend2)
+    result = answer(pair, taps[0][chosen], taps[1][chosen], friend2)
     if result is None:
         return []
     epipolar = Epipolar.from_result(

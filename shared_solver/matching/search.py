@@ -8,11 +8,22 @@ search tries a grid of both with OpenCV's normalised cross-correlation
 white balance), in colour:
 
 1. at half resolution, every stretch and shear of a coarse grid, over the whole band;
-2. at full resolution, a finer grid around each of the few best places found that are
-   more than ``exclusion`` px apart.
+2. at full resolution, a finer grid around the few best places found (each more than
+   ``exclusion`` px from the others of its view), and the best of each view.
 
-The best refined place is the match; the best other one, further than ``exclusion`` along
-the band, is its runner-up (a repeated pattern, a row of seats, makes the two close).
+The patch is matched in two **views** (:data:`VIEWS`). A surface both phones see from its
+front (the floor, a wall, a board) shows it *as read*. *Reversed along* the lines is how a
+surface seen from its two sides shows it (a banner hung between the phones, its print
+showing through), and how many look-alikes show it: a print that reads the same from both
+sides, the other corner of a mat whose print is the same turned 180 degrees, the other
+edge of a pillar alike. The best place of either view is the match; the best place of
+either view further than ``exclusion`` along the band is its runner-up (a repeated
+pattern, a row of seats, a look-alike make the two close); where both views find one spot,
+the place as read is the match. A match read reversed also carries the best score of the
+patch as read: the rule (:mod:`.suggestion`) can ask it to lead that, but by default does
+not offer it, since on the rendered halls and arenas that view found look-alikes (a box's
+corner, a floor marking, a pillar's edge read the other way) too often beside the banners
+seen from behind it finds (docs/geometry.md, "Finding a landmark in the other photo").
 """
 
 from __future__ import annotations
@@ -37,6 +48,11 @@ _CANDIDATES = 4  # places refined at full resolution
 _REFINE_REACH = 12  # px: how far a refined place may move from its coarse one
 
 
+# How the patch is read against photo B: the step along its columns (its rows are the
+# epipolar lines, which correspond one to one whatever the surface).
+VIEWS: dict[str, int] = {"as read": 1, "reversed along": -1}
+
+
 @dataclass(frozen=True)
 class Match:
     """The best place for the patch along the band.
@@ -44,8 +60,14 @@ class Match:
     Attributes:
         point: (2,) in photo B, px.
         score: its normalised cross-correlation (-1 to 1).
-        runner_up: the best score further than ``exclusion`` along the band (-1 if none).
+        runner_up: the best score of any view further than ``exclusion`` along the band
+            (-1 if none).
         stretch, shear: the local change of shape that matched best.
+        view: the view of the patch that matched (:data:`VIEWS`).
+        as_read: with a match of another view, the best score of the patch as read
+            anywhere along the band, near the match included (its own score otherwise).
+        as_read_apart: how far along the band that place is from the match, px (a
+            fraction of photo B's diagonal once :func:`.suggestion.search_band` has it).
     """
 
     point: Array
@@ -53,6 +75,9 @@ class Match:
     runner_up: float
     stretch: float
     shear: float
+    view: str = "as read"
+    as_read: float = -1.0
+    as_read_apart: float = 0.0
 
 
 @dataclass
@@ -103,48 +128,101 @@ class _Best:
             self.shear[chosen] = shear
 
 
-def best_match(frame: PolarFrame, t: Array, *, exclusion: float) -> Match | None:
+@dataclass(frozen=True)
+class Place:
+    """A refined place along the band, in one view (``column``: index into the band's
+    distances ``t``; ``row``: the template's top row in the strip)."""
+
+    score: float
+    column: int
+    row: int
+    stretch: float
+    shear: float
+    view: str
+
+
+def best_match(
+    frame: PolarFrame,
+    t: Array,
+    *,
+    exclusion: float,
+    views: tuple[str, ...] = tuple(VIEWS),
+) -> Match | None:
     """The best place for ``frame.patch`` at distances ``t`` (1 px apart) from ``e_B``.
 
     Args:
         frame: the landmark's patch and photo B in epipolar coordinates.
         t: (N,) distances along the band, px, increasing by 1.
         exclusion: px along the band within which two places are the same one.
+        views: the views searched, "as read" among them (:data:`VIEWS`; before there were
+            views, the patch was searched as read alone).
     """
-    if len(t) < 2 * frame.radius + 2:
+    found = places(frame, t, exclusion=exclusion, views=views)
+    if not found:
         return None
-    coarse = _Best.empty((len(t) + 1) // 2)
-    small_patch = coarse_view(frame.patch)
+    best = max(found, key=lambda place: place.score)
+    read = max(
+        (place for place in found if place.view == "as read"),
+        key=lambda place: place.score,
+        default=best,
+    )
+    if abs(read.column - best.column) <= exclusion:
+        best = read  # both views find one spot: the patch as read places it
+    runner_up = max(
+        (place.score for place in found if abs(place.column - best.column) > exclusion),
+        default=-1.0,
+    )
+    return Match(
+        point_of(frame, t, best),
+        best.score,
+        runner_up,
+        best.stretch,
+        best.shear,
+        best.view,
+        read.score if read.view == "as read" else -1.0,
+        float(abs(read.column - best.column)),
+    )
+
+
+def point_of(frame: PolarFrame, t: Array, place: Place) -> Array:
+    """(2,) the photo-B pixel of a place: the template's centre row is ``radius`` below its
+    top row."""
+    return frame.point(place.row + frame.radius, float(t[place.column]))
+
+
+def places(
+    frame: PolarFrame, t: Array, *, exclusion: float, views: tuple[str, ...] = tuple(VIEWS)
+) -> list[Place]:
+    """The best places along the band, refined (see :func:`best_match`): the
+    ``_CANDIDATES`` best coarse places over both views, and the best of each view."""
+    if len(t) < 2 * frame.radius + 2:
+        return []
     reach = frame.reach(t)
     coarse_reach = (reach[::2] + 1) // 2  # rows at half resolution
-    for shear in COARSE_SHEARS:
-        coarse.add(
-            coarse_view(frame.strip(t, shear)), small_patch, COARSE_STRETCHES, shear, coarse_reach
+    strips = {shear: half(frame.strip(t, shear)) for shear in COARSE_SHEARS}
+    patches = {view: np.ascontiguousarray(frame.patch[:, :: VIEWS[view]]) for view in views}
+    coarse = {view: _Best.empty((len(t) + 1) // 2) for view in views}
+    peaks: list[tuple[float, str, int]] = []
+    for view, patch in patches.items():
+        small = half(patch)
+        for shear, strip in strips.items():
+            coarse[view].add(strip, small, COARSE_STRETCHES, shear, coarse_reach)
+        scores = coarse[view].score
+        peaks += [(float(scores[c]), view, c) for c in _distinct_peaks(scores, exclusion / 2)]
+    peaks.sort(reverse=True)
+    chosen = peaks[:_CANDIDATES]
+    for view in views:
+        best = next((peak for peak in peaks if peak[1] == view), None)
+        if best is not None and best not in chosen:
+            chosen.append(best)
+    found: list[Place] = []
+    for _, view, column in chosen:
+        place = _refine(
+            frame, patches[view], t, reach, coarse=coarse[view], coarse_column=column, view=view
         )
-    refined = [
-        found
-        for column in _distinct_peaks(coarse.score, exclusion / 2)
-        if (found := _refine(frame, t, reach, coarse=coarse, coarse_column=column)) is not None
-    ]
-    if not refined:
-        return None
-    refined.sort(key=lambda found: -found[0])
-    score, column, row, stretch, shear = refined[0]
-    runner_up = max(
-        (other[0] for other in refined[1:] if abs(other[1] - column) > exclusion), default=-1.0
-    )
-    # The template's centre row is ``radius`` below its top row.
-    point = frame.point(row + frame.radius, float(t[column]))
-    return Match(point, score, runner_up, stretch, shear)
-
-
-COARSE_GREY = False
-
-
-def coarse_view(image: Image) -> Image:
-    if COARSE_GREY and image.ndim == 3:
-        image = np.asarray(cv2.cvtColor(image, cv2.COLOR_BGR2GRAY), dtype=np.uint8)
-    return half(image)
+        if place is not None:
+            found.append(place)
+    return found
 
 
 def half(image: Image) -> Image:
@@ -167,34 +245,41 @@ def _distinct_peaks(scores: Array, exclusion: float) -> list[int]:
 
 
 def _refine(
-    frame: PolarFrame, t: Array, reach: Array, *, coarse: _Best, coarse_column: int
-) -> tuple[float, int, int, float, float] | None:
-    """(score, column, row, stretch, shear) of the best place within ``_REFINE_REACH`` of a
-    coarse one, over a finer grid around its stretch and shear, at full resolution."""
+    frame: PolarFrame,
+    patch: Image,
+    t: Array,
+    reach: Array,
+    *,
+    coarse: _Best,
+    coarse_column: int,
+    view: str,
+) -> Place | None:
+    """The best place for ``patch`` (``frame.patch`` in ``view``) within ``_REFINE_REACH``
+    of a coarse one, over a finer grid around its stretch and shear, at full
+    resolution."""
     column = 2 * coarse_column
     stretch, shear = float(coarse.stretch[coarse_column]), float(coarse.shear[coarse_column])
     half = int(frame.radius * max(stretch * _FINE_STRETCH_STEP, 1.0)) + 1
     low = max(0, column - _REFINE_REACH - half)
     high = min(len(t), column + _REFINE_REACH + half + 1)
     stretches = (stretch / _FINE_STRETCH_STEP, stretch, stretch * _FINE_STRETCH_STEP)
-    best: tuple[float, int, int, float, float] | None = None
+    best: Place | None = None
     for sheared in (shear - _FINE_SHEAR_STEP, shear, shear + _FINE_SHEAR_STEP):
         window = _Best.empty(high - low)
-        window.add(
-            frame.strip(t[low:high], sheared), frame.patch, stretches, sheared, reach[low:high]
-        )
+        window.add(frame.strip(t[low:high], sheared), patch, stretches, sheared, reach[low:high])
         near = np.arange(high - low) + low
         reachable = np.abs(near - column) <= _REFINE_REACH
         if not reachable.any():
             continue
         index = int(np.flatnonzero(reachable)[np.argmax(window.score[reachable])])
         score = float(window.score[index])
-        if score > -1.0 and (best is None or score > best[0]):
-            best = (
+        if score > -1.0 and (best is None or score > best.score):
+            best = Place(
                 score,
                 low + index,
                 int(window.row[index]),
                 float(window.stretch[index]),
                 float(window.shear[index]),
+                view,
             )
     return best

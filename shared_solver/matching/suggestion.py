@@ -1,14 +1,25 @@
 """A suggested spot for a landmark in the other photo, or none when the match is not sure.
 
-A wrong suggestion is worse than none: a person may accept it with one tap. So a match is
-suggested only when three things agree (the rule and its thresholds were calibrated on
-rendered halls, and are measured on others, in docs/suggestions.md):
+A wrong suggestion is worse than none: a person may accept it with one tap, and a spot
+along the band fits the answer wherever it is on it, so nothing flags it afterwards. A
+match is suggested only when everything agrees (the rule and its thresholds were chosen
+on rendered halls and arenas, and are measured on others, in docs/suggestions.md):
 
 - its correlation is high (``min_score``);
 - nothing else along the band comes close (``min_margin`` over the runner-up, beyond 1 %
-  of the diagonal): a row of seats or a repeated poster gives two places almost alike;
-- searched back from photo B along its own band in photo A, the match leads to the tapped
-  point again (within 1 % of A's diagonal): the classical left-right check.
+  of the diagonal), the patch read as it is or reversed along the lines (:mod:`.search`):
+  a row of seats, a repeated sign, a banner's mirrored print, the other corner of a mat
+  turned 180 degrees give two places almost alike;
+- searched back from photo B along its own band in photo A, the same way, the match leads
+  to the tapped point again (within 1 % of A's diagonal), and as clearly (the same least
+  score and margin): the left-right check, which a look-alike in photo A also defeats;
+- the search back scores about as the match does (``max_score_gap``): both are the same
+  pair of patches;
+- it is the patch as read: a match read reversed along the lines (a banner seen from
+  behind, its print mirrored) would have to lead the patch as read anywhere by
+  ``min_view_lead`` and not be beside it, and is not offered by default (a box's corner,
+  a floor marking, a pillar's edge read the other way look alike too often);
+- it lies in the band (the tap check of :meth:`.band.Band.check`), as a tap there would.
 """
 
 from __future__ import annotations
@@ -21,10 +32,10 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from ..projective import Array
 from ..result import Pixel
-from .band import Band, epipolar_band
+from .band import FLAG_SIGMAS, Band, epipolar_band
 from .epipolar import Epipolar
 from .polar import Image, polar_frame
-from .search import Match, best_match
+from .search import VIEWS, Match, best_match
 
 
 @dataclass(frozen=True)
@@ -38,6 +49,16 @@ class Rules:
             (the runner-up's exclusion, and the back-check's distance).
         radius: half size of the patch, px of the stored photo.
         max_margin: most rows searched on each side of the band's centre line.
+        views: the views of the patch searched (:data:`.search.VIEWS`).
+        min_view_lead: least lead of a match in another view than as read over the best
+            place of the patch as read (infinite: never offered; docs/suggestions.md,
+            section 5, weighs others).
+        view_apart: least distance along the band between such a match and that place,
+            fraction of the diagonal (closer, the two views disagree about one spot: the
+            edge of a pillar, a mat's corner, read the other way).
+        max_score_gap: most difference between the scores of the match and of the search
+            back (the same pair of patches seen both ways should score alike; a search
+            back far surer than the match went from a look-alike to its own twin).
     """
 
     min_score: float = 0.7
@@ -45,6 +66,10 @@ class Rules:
     tolerance: float = 0.01
     radius: int = 16
     max_margin: int = 16
+    views: tuple[str, ...] = tuple(VIEWS)
+    min_view_lead: float = math.inf
+    view_apart: float = 0.015
+    max_score_gap: float = 0.2
 
 
 RULES = Rules()
@@ -66,13 +91,18 @@ class Evidence:
 
     Attributes:
         match: the best place along the band (:func:`search_band`).
-        returned: how far the search back from it lands from the tapped point, as a
-            fraction of photo A's diagonal (:func:`search_back`; infinite when it finds
-            nothing).
+        sigmas: its distance from the band's centre line, in standard deviations of the
+            line there and of a tap (what the tap check measures).
+        back: the best place of the search back from it along its own band in photo A
+            (:func:`search_back`; None when it finds nothing).
+        returned: how far that lands from the tapped point, as a fraction of photo A's
+            diagonal (infinite when it finds nothing).
     """
 
     match: Match
-    returned: float
+    sigmas: float
+    back: Match | None = None
+    returned: float = math.inf
 
 
 def suggest(
@@ -92,26 +122,79 @@ def suggest(
         point: where the landmark was tapped in A, px.
         epipolar: the answer's geometry from A to B, oriented by the shared landmarks.
         band: the landmark's band in B (:func:`.band.epipolar_band`).
-        point_covariance: (2, 2) the tap's covariance, px^2 (for the band of the search
-            back from B to A).
+        point_covariance: (2, 2) the tap's covariance, px^2 (for the tap check and the
+            band of the search back from B to A).
         rules: the thresholds (the default is the calibrated one).
 
     Returns:
         The suggestion, or None when no place along the band is a sure match.
     """
-    match = search_band(photo_a, photo_b, point, epipolar, band, rules=rules)
-    if match is None or not leads(match, rules):
-        return None  # the search back is only worth its time for a match that leads
-    returned = search_back(
-        photo_a, photo_b, point, epipolar, match, point_covariance=point_covariance, rules=rules
+    evidence = gather(
+        photo_a, photo_b, point, epipolar, band, point_covariance=point_covariance, rules=rules
     )
-    return decide(Evidence(match, returned), rules)
+    if evidence is None or not leads(evidence.match, rules):
+        return None  # the search back is only worth its time for a match that leads
+    checked = check_back(
+        evidence, photo_a, photo_b, point, epipolar, point_covariance=point_covariance, rules=rules
+    )
+    return decide(checked, rules)
+
+
+def gather(
+    photo_a: Image,
+    photo_b: Image,
+    point: Array,
+    epipolar: Epipolar,
+    band: Band,
+    *,
+    point_covariance: Array,
+    rules: Rules = RULES,
+) -> Evidence | None:
+    """The search along the band (arguments as :func:`suggest`'s): the evidence before
+    the search back; None when the band gives no place at all."""
+    match = search_band(photo_a, photo_b, point, epipolar, band, rules=rules)
+    if match is None:
+        return None
+    return Evidence(match, band.check(match.point, point_covariance).sigmas)
+
+
+def check_back(
+    evidence: Evidence,
+    photo_a: Image,
+    photo_b: Image,
+    point: Array,
+    epipolar: Epipolar,
+    *,
+    point_covariance: Array,
+    rules: Rules = RULES,
+) -> Evidence:
+    """The evidence with the search back from its match (:func:`search_back`)."""
+    found = search_back(
+        photo_a,
+        photo_b,
+        epipolar,
+        evidence.match,
+        point_covariance=point_covariance,
+        rules=rules,
+    )
+    if found is None:
+        return evidence
+    height, width = photo_a.shape[:2]
+    returned = float(np.hypot(*(found.point - point))) / math.hypot(width, height)
+    return replace(evidence, back=found, returned=returned)
 
 
 def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
     """The suggestion the evidence allows under ``rules``, or None."""
-    match = evidence.match
-    if not leads(match, rules) or evidence.returned > rules.tolerance:
+    match, back = evidence.match, evidence.back
+    if (
+        not leads(match, rules)
+        or evidence.sigmas > FLAG_SIGMAS
+        or back is None
+        or evidence.returned > rules.tolerance
+        or not leads(back, rules)
+        or abs(match.score - back.score) > rules.max_score_gap
+    ):
         return None
     return Suggestion(
         point=(float(match.point[0]), float(match.point[1])),
@@ -121,33 +204,41 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
 
 
 def leads(match: Match, rules: Rules = RULES) -> bool:
-    """Whether a match scores high enough and clearly above anything else on its band."""
-    return match.score >= rules.min_score and match.score - match.runner_up >= rules.min_margin
+    """Whether a match scores high enough and clearly above anything else on its band,
+    and, in a view other than as read, clearly above the patch as read anywhere and not
+    beside it."""
+    return (
+        match.score >= rules.min_score
+        and match.score - match.runner_up >= rules.min_margin
+        and (
+            match.view == "as read"
+            or (
+                match.score - match.as_read >= rules.min_view_lead
+                and match.as_read_apart > rules.view_apart
+            )
+        )
+    )
 
 
 def search_back(
     photo_a: Image,
     photo_b: Image,
-    point: Array,
     epipolar: Epipolar,
     match: Match,
     *,
     point_covariance: Array,
     rules: Rules = RULES,
-) -> float:
-    """How far (fraction of A's diagonal) the search from ``match`` back along its own
-    band in A lands from ``point``; infinite when it finds nothing."""
+) -> Match | None:
+    """The best place in A for the patch of B at ``match``, along its own band in A
+    (None when that band misses A or holds no place)."""
     back = epipolar.transposed()
     height_a, width_a = photo_a.shape[:2]
     back_band = epipolar_band(
         back, match.point, image_size=(width_a, height_a), point_covariance=point_covariance
     )
     if back_band is None:
-        return math.inf
-    returned = search_band(photo_b, photo_a, match.point, back, back_band, rules=rules)
-    if returned is None:
-        return math.inf
-    return float(np.hypot(*(returned.point - point))) / math.hypot(width_a, height_a)
+        return None
+    return search_band(photo_b, photo_a, match.point, back, back_band, rules=rules)
 
 
 def search_band(
@@ -183,13 +274,13 @@ def search_band(
         low, high = max(0.0, float(ends.min())), float(ends.max())
         if high - low < 1.0:
             continue
-        match = best_match(frame, np.arange(low, high, 1.0), exclusion=exclusion)
+        match = best_match(frame, np.arange(low, high, 1.0), exclusion=exclusion, views=rules.views)
         if match is not None:
             found.append(match)
     if not found:
         return None
     found.sort(key=lambda match: -match.score)
-    best = found[0]
+    best = replace(found[0], as_read_apart=found[0].as_read_apart / math.hypot(width_b, height_b))
     if len(found) > 1:  # the other half-line's best competes as a runner-up
         best = replace(best, runner_up=max(best.runner_up, found[1].score))
     return best

@@ -1,6 +1,6 @@
 """The suggestion benchmark (``benchmarks/suggestions.py``) at a tiny scale, in a subprocess as
 ``make bench-suggest`` runs it: it exits cleanly, and the report has every section, every
-table's rows and the targets. No figure and no timing is asserted: three scenes measure
+table's rows and the targets. No figure and no timing is asserted: four scenes measure
 nothing."""
 
 from __future__ import annotations
@@ -13,13 +13,14 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "benchmarks" / "suggestions.py"
 SECTIONS = (
-    "## 1. The rendered halls",
+    "## 1. The rendered venues",
     "## 2. The band",
-    "## 3. Suggestions",
-    "## 4. Choosing the rule",
-    "## 5. Against SIFT in the band, and without colour",
-    "## 6. The tap check",
-    "## 7. Time",
+    "## 3. Suggestions in the halls",
+    "## 4. Suggestions in the arenas, held out",
+    "## 5. Choosing the rule",
+    "## 6. Against SIFT in the band, and without colour",
+    "## 7. The tap check",
+    "## 8. Time",
     "## Targets",
 )
 
@@ -35,6 +36,10 @@ def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> 
             "--evaluation",
             "2",
             "--compare",
+            "1",
+            "--arena-calibration",
+            "0",
+            "--arena-evaluation",
             "1",
             "--out",
             str(out),
@@ -54,7 +59,12 @@ def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> 
         "| 5 landmarks + friend 2 |",
         "| every landmark |",
         "| tapped in photo 2 |",
+        "| 3 | 8 px |",
+        "| **all** |",
+        "| now (the rule in the code) |",
         "| 0.7 |",
+        "| 0.1 |",  # a stricter lead, held out
+        "| none (as read alone) |",
         "| template matching in epipolar coordinates, colour (the rule above) |",
         "| SIFT in the band, 2+ keypoints agreeing |",
         "| 3.5 sd (the rule) |",
@@ -63,6 +73,9 @@ def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> 
         assert row in text, row
     targets = text.split("## Targets", 1)[1]
     lines = [line for line in targets.splitlines() if line.startswith("- ")]
-    assert len(lines) == 3
-    assert re.match(r"- (PASS|FAIL): at least 90 % of shown suggestions", lines[0])
-    assert "**" in text.split("## 4. Choosing the rule", 1)[1].split("## 5.", 1)[0]
+    assert len(lines) == 6
+    assert re.match(r"- (PASS|FAIL): at least 95 % of offered spots within 1 %", lines[0])
+    assert re.match(r"- (PASS|FAIL): none beyond 3 %", lines[1])
+    assert re.match(r"- (PASS|FAIL): at least 25 % of landmarks offered a spot", lines[2])
+    assert re.match(r"- (PASS|FAIL): at least 90 % of shown suggestions", lines[3])
+    assert "**" in text.split("## 5. Choosing the rule", 1)[1].split("## 6.", 1)[0]
