@@ -32,8 +32,11 @@ run: $(INSTALLED) $(APP)
 run-cluster: $(INSTALLED) $(APP) postgres nginx
 	$(BIN)/python -m deploy.cluster $(ARGS)
 
+# The solver's tests are pure computation: on both cores (pytest-xdist); the rest, which
+# starts servers and browsers with timeouts, one at a time.
 test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -q -n 2 tests/solver
+	$(BIN)/python -m pytest --ignore=tests/solver
 
 # Faster subsets for a change to one layer; `make test` stays the whole suite.
 # The solver: its lint, types and tests on both cores (pytest-xdist).
