@@ -64,8 +64,8 @@ from report import (
 )
 
 from backend.settings import Settings
+from deploy.replica import Server, serve
 from shared_solver import solve
-from testbed.loopback import Server, serve
 from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
