@@ -66,6 +66,7 @@ from report import (
 from backend.settings import Settings
 from deploy.replica import Server, serve
 from shared_solver import solve
+from testbed.client import Phone
 from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
@@ -322,36 +323,18 @@ def photo_like_jpeg(name: str, rng: np.random.Generator) -> bytes:
     return bytes(encoded.tobytes())
 
 
-@dataclass(frozen=True)
-class Phone:
-    """One participant: a client with its bearer token."""
-
-    http: httpx2.Client
-    session_id: str
-    token: str
-
-    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx2.Response, Sample]:
-        """A request to the session (``path`` after its id), timed; fails on an error."""
-        started = time.perf_counter()
-        response = self.http.request(
-            method,
-            f"/api/sessions/{self.session_id}{path}",
-            headers={"Authorization": f"Bearer {self.token}"},
-            **kwargs,
-        )
-        elapsed = (time.perf_counter() - started) * 1000
-        if not response.is_success:
-            raise RuntimeError(f"{method} {path}: {response.status_code} {response.text[:300]}")
-        return response, Sample(elapsed, server_timing_ms(response))
-
-    def upload(self, photo: bytes) -> tuple[dict[str, Any], Sample]:
-        files = {"photo": ("photo.jpg", photo, "image/jpeg")}
-        response, sample = self.request("PUT", "/photo", files=files)
-        return response.json(), sample
-
-    def put_taps(self, taps: dict[str, Any]) -> tuple[dict[str, Any], Sample]:
-        response, sample = self.request("PUT", "/taps", json=taps)
-        return response.json(), sample
+def measured(
+    call: Callable[..., httpx2.Response], *args: Any, **kwargs: Any
+) -> tuple[httpx2.Response, Sample]:
+    """A phone's call (:class:`testbed.client.Phone`'s ``call(*args, **kwargs)``), timed;
+    fails on an error."""
+    started = time.perf_counter()
+    response = call(*args, **kwargs)
+    elapsed = (time.perf_counter() - started) * 1000
+    if not response.is_success:
+        request = response.request
+        raise RuntimeError(f"{request.method} {request.url.path}: {response.text[:300]}")
+    return response, Sample(elapsed, server_timing_ms(response))
 
 
 @dataclass(frozen=True)
@@ -366,7 +349,8 @@ def uploads(starter: Phone, photo: bytes) -> Uploads:
     samples = []
     stored: dict[str, Any] = {}
     for _ in range(UPLOADS):
-        stored, sample = starter.upload(photo)
+        response, sample = measured(starter.upload, photo)
+        stored = response.json()
         samples.append(sample)
     return Uploads(len(photo), stored, samples)
 
@@ -404,14 +388,10 @@ def tap_both(
     rng = np.random.default_rng(SESSION_SCENE_SEED)
     scene = facing_scene(rng, SOLVE_LANDMARKS, image_size=size, focal=SESSION_FOCAL)
     noisy = tap(scene, SOLVE_SIGMA, rng)
-    starter.put_taps(
-        {
-            "landmarks": landmark_taps(noisy.landmarks1, size),
-            "friend": dict(zip("xy", noisy.epipole1.clip(0, size).tolist(), strict=True)),
-        }
-    )
+    friend = noisy.epipole1.clip(0, size).tolist()
+    starter.tapped(landmarks=landmark_taps(noisy.landmarks1, size), friend=friend)
     joiner_landmarks = landmark_taps(noisy.landmarks2, size)
-    state, _ = joiner.put_taps({"landmarks": joiner_landmarks})
+    state = joiner.tapped(landmarks=joiner_landmarks)
     if state.get("answer") is None:
         raise RuntimeError(f"no answer from the session's taps: {state.get('answer_error')}")
     return state, joiner_landmarks
@@ -428,12 +408,13 @@ def renders(starter: Phone, joiner: Phone, size: tuple[int, int]) -> Renders:
         nudge = TAP_NUDGE_PX if render % 2 == 0 else -TAP_NUDGE_PX
         landmarks[0]["x"] = float(np.clip(landmarks[0]["x"] + nudge, 0, size[0]))
         before = state["answer_version"]
-        state, sample = joiner.put_taps({"landmarks": landmarks})
+        response, sample = measured(joiner.tap, landmarks=landmarks)
+        state = response.json()
         drawn["taps"].append(sample)
         if state.get("answer") is None or state["answer_version"] == before:
             raise RuntimeError(f"the move made no new answer: {state.get('answer_error')}")
         fmt = "jpeg" if render < RENDERS else "png"
-        first, sample = joiner.request("GET", "/overlay/joiner", params={"format": fmt})
+        first, sample = measured(joiner.call, "GET", "/overlay/joiner", params={"format": fmt})
         decoded_overlay(first.content, size)
         sizes[fmt] = len(first.content)
         drawn[fmt].append(sample)
@@ -454,16 +435,15 @@ def session(server: Server) -> SessionFigures:
     with httpx2.Client(base_url=server.base_url, timeout=60) as http:
         created = http.post("/api/sessions")
         created.raise_for_status()
-        starter = Phone(http, created.json()["session_id"], created.json()["token"])
+        starter = Phone(http, created.json()["session_id"], created.json()["token"], "starter")
         uploaded = uploads(starter, starter_photo)
-        state, _ = starter.request("GET", "")
-        joined = http.post("/api/sessions/join", json={"code": state.json()["join_code"]})
+        joined = http.post("/api/sessions/join", json={"code": starter.state()["join_code"]})
         joined.raise_for_status()
-        joiner = Phone(http, starter.session_id, joined.json()["token"])
-        stored, _ = joiner.upload(joiner_photo)
+        joiner = Phone(http, starter.session_id, joined.json()["token"], "joiner")
+        stored = joiner.uploaded(joiner_photo)
         size = (int(stored["width"]), int(stored["height"]))
         drawn = renders(starter, joiner, size)
-        starter.request("DELETE", "")
+        starter.ok("DELETE", expect=204)
     return SessionFigures(uploaded, drawn)
 
 
