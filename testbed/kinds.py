@@ -28,15 +28,8 @@ from collections.abc import Callable
 import numpy as np
 
 from shared_solver.projective import Array
-from testbed.phones import (
-    aim,
-    focal_pixels,
-    intrinsics,
-    phone_scene,
-    photo_size,
-    visible_points,
-)
-from testbed.scenes import Camera, Scene
+from testbed.phones import EDGE_MARGIN, aim, focal_pixels, intrinsics, phone_scene, photo_size
+from testbed.scenes import Camera, Scene, visible_points
 
 _MAX_DRAWS = 200
 ROOM_IMAGE_SIZE = (1920, 1080)
@@ -228,6 +221,7 @@ def _scene(
         image_size1=size1,
         image_size2=size2,
         count=landmarks,
+        margin=EDGE_MARGIN,
     )
     return None if points is None else Scene(camera1, camera2, points, size1, size2)
 

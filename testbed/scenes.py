@@ -161,12 +161,12 @@ def facing_scene(
             and inside(scene.epipole2[None], image_size)[0]
         ):
             continue
-        points = _visible(
+        points = visible_points(
             lambda: draw(4 * landmarks),
             camera1=camera1,
             camera2=camera2,
-            size1=image_size,
-            size2=image_size,
+            image_size1=image_size,
+            image_size2=image_size,
             count=landmarks,
         )
         if points is not None:
@@ -174,28 +174,45 @@ def facing_scene(
     raise RuntimeError("could not aim the cameras at each other over the landmarks")
 
 
-def _visible(
+def in_photo(
+    camera: Camera, points: Array, image_size: tuple[int, int], margin: float = 0.0
+) -> Mask:
+    """(N,) which of the (N, 3) world points the camera sees in its photo.
+
+    Seen: in front of the camera and at least ``margin`` (fraction of each side) inside the
+    borders of the ``image_size`` (width, height) px photo. A point behind the camera also
+    projects somewhere, so the depth test matters.
+    """
+    front = camera.depth(points) > 0
+    pixels = np.full((len(points), 2), np.nan)
+    pixels[front] = camera.project(points[front])
+    low = margin * np.asarray(image_size, dtype=float)
+    high = (1.0 - margin) * np.asarray(image_size, dtype=float)
+    return front & np.all((pixels >= low) & (pixels <= high), axis=1)
+
+
+def visible_points(
     draw: Callable[[], Array],
     *,
     camera1: Camera,
     camera2: Camera,
-    size1: tuple[int, int],
-    size2: tuple[int, int],
+    image_size1: tuple[int, int],
+    image_size2: tuple[int, int],
     count: int,
+    margin: float = 0.0,
 ) -> Array | None:
-    """Draw points until ``count`` are in front of both cameras and inside both photos.
+    """(count, 3) points from repeated ``draw()`` calls that both cameras see.
 
-    None when the cameras see too little of the region the points are drawn from.
+    ``draw`` returns (M, 3) candidate world points (m); the first ``count`` that pass
+    :func:`in_photo` for both cameras with ``margin`` are kept, in draw order. None when a
+    bounded number of draws does not find enough (the cameras share too little of the view).
     """
     kept: list[Array] = []
     total = 0
     for _ in range(_MAX_DRAWS // 10):
         points = draw()
-        ok = (
-            (camera1.depth(points) > 0)
-            & (camera2.depth(points) > 0)
-            & inside(camera1.project(points), size1)
-            & inside(camera2.project(points), size2)
+        ok = in_photo(camera1, points, image_size1, margin) & in_photo(
+            camera2, points, image_size2, margin
         )
         kept.append(points[ok])
         total += int(ok.sum())
@@ -226,12 +243,12 @@ def temple_scene(
     cameras = temple_cameras(parameters)
     camera1, camera2 = cameras[name1], cameras[name2]
     low, high = TEMPLE_BOX
-    points = _visible(
+    points = visible_points(
         lambda: rng.uniform(low, high, (4 * landmarks, 3)),
         camera1=camera1,
         camera2=camera2,
-        size1=TEMPLE_IMAGE_SIZE,
-        size2=TEMPLE_IMAGE_SIZE,
+        image_size1=TEMPLE_IMAGE_SIZE,
+        image_size2=TEMPLE_IMAGE_SIZE,
         count=landmarks,
     )
     if points is None:

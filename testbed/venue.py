@@ -23,9 +23,9 @@ import numpy as np
 from shared_solver.projective import Array, Indices, Mask
 
 from .hall import build_hall
-from .phones import EDGE_MARGIN, in_photo, phone_scene
+from .phones import EDGE_MARGIN, phone_scene
 from .render import Surface, render
-from .scenes import Camera, Scene
+from .scenes import Camera, Scene, in_photo
 from .textures import Image
 
 STORED_SIDE = 2560  # backend/settings.py stored_photo_side: the photos the server keeps
