@@ -11,10 +11,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from shared_solver import solve
 from shared_solver.projective import Array, Mask, skew
+from shared_solver.result import SolveResult
 
 # Tight bounding box of the templeSparseRing model (metres), from the dataset's README.
 TEMPLE_BOX = (np.array([-0.073568, 0.021728, -0.012445]), np.array([0.028855, 0.181892, 0.062736]))
@@ -274,4 +277,18 @@ def tap(scene: Scene, sigma: float, rng: np.random.Generator) -> Taps:
         scene.landmarks2 + rng.normal(0.0, sigma, (n, 2)),
         scene.epipole1 + rng.normal(0.0, sigma, 2),
         scene.epipole2 + rng.normal(0.0, sigma, 2),
+    )
+
+
+def solved(scene: Scene, taps: Taps | None = None, **options: Any) -> SolveResult:
+    """``shared_solver.solve`` on the scene: its exact landmarks and friend 1's mark (e1),
+    or ``taps`` of them, with the photos' sizes; ``options`` as ``solve`` takes them."""
+    seen: Scene | Taps = scene if taps is None else taps
+    return solve(
+        seen.landmarks1,
+        seen.landmarks2,
+        epipole1=seen.epipole1,
+        image_size1=scene.image_size1,
+        image_size2=scene.image_size2,
+        **options,
     )

@@ -13,7 +13,7 @@ from phones import TEMPLE
 
 from shared_solver import Camera, solve
 from testbed.phones import phone_scene
-from testbed.scenes import facing_scene, temple_scene
+from testbed.scenes import facing_scene, solved, temple_scene
 
 
 def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:
@@ -71,12 +71,8 @@ def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> N
     assert result["camera_model"] == "pinhole"
     assert [c["known"] for c in result["cameras"]] == ["phone", "known_focal"]
     assert result["cameras"][1]["focal_35mm"] == pytest.approx(s.focal_35mm2, rel=0.05)
-    expected = solve(
-        s.landmarks1,
-        s.landmarks2,
-        epipole1=s.epipole1,
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
+    expected = solved(
+        s,
         camera1="phone",
         camera2=Camera.with_focal(s.focal_35mm2),
         points1_sigma=[1.0, 2.0, 1.0],
