@@ -23,7 +23,7 @@ import numpy as np
 
 from shared_solver.estimation.camera import PHONE_LOG_SIGMA
 from shared_solver.projective import Array
-from testbed.scenes import Camera, Scene, in_photo, look_at, visible_points
+from testbed.scenes import Camera, Scene, in_photo, look_at, seen_scene
 
 # The 35 mm equivalent focal length scales a lens to the 36 x 24 mm frame by the diagonal,
 # whatever the photo's aspect ratio.
@@ -197,23 +197,11 @@ def phone_scene(
             reach=(_half_field(camera1, sizes[0]) + 0.1, _half_field(camera2, sizes[1]) + 0.1),
             count=4 * landmarks,
         )
-        points = visible_points(
-            draw,
-            camera1=camera1,
-            camera2=camera2,
-            image_size1=sizes[0],
-            image_size2=sizes[1],
-            count=landmarks,
-            margin=EDGE_MARGIN,
-        )
-        if points is None:
+        seen = seen_scene(draw, (camera1, camera2), sizes, landmarks, EDGE_MARGIN)
+        if seen is None:
             continue
         return PhoneScene(
-            camera1,
-            camera2,
-            points,
-            sizes[0],
-            sizes[1],
+            **vars(seen),
             focal_35mm1=focals[0],
             focal_35mm2=focals[1],
             exif_focal_35mm1=round(focals[0]),

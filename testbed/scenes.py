@@ -164,16 +164,10 @@ def facing_scene(
             and inside(scene.epipole2[None], image_size)[0]
         ):
             continue
-        points = visible_points(
-            lambda: draw(4 * landmarks),
-            camera1=camera1,
-            camera2=camera2,
-            image_size1=image_size,
-            image_size2=image_size,
-            count=landmarks,
-        )
-        if points is not None:
-            return Scene(camera1, camera2, points, image_size, image_size)
+        sizes = (image_size, image_size)
+        found = seen_scene(lambda: draw(4 * landmarks), (camera1, camera2), sizes, landmarks)
+        if found is not None:
+            return found
     raise RuntimeError("could not aim the cameras at each other over the landmarks")
 
 
@@ -224,6 +218,31 @@ def visible_points(
     return None
 
 
+def seen_scene(
+    draw: Callable[[], Array],
+    cameras: tuple[Camera, Camera],
+    sizes: tuple[tuple[int, int], tuple[int, int]],
+    landmarks: int,
+    margin: float = 0.0,
+) -> Scene | None:
+    """The scene of ``landmarks`` points from ``draw`` that both cameras see in their
+    photos of ``sizes`` (width, height), ``margin`` inside the borders (:func:`in_photo`).
+
+    None when the cameras share too little of the region ``draw`` samples.
+    """
+    camera1, camera2 = cameras
+    points = visible_points(
+        draw,
+        camera1=camera1,
+        camera2=camera2,
+        image_size1=sizes[0],
+        image_size2=sizes[1],
+        count=landmarks,
+        margin=margin,
+    )
+    return None if points is None else Scene(camera1, camera2, points, *sizes)
+
+
 def temple_cameras(parameters: Path) -> dict[str, Camera]:
     """Cameras of ``templeSR_par.txt`` by image name without extension (``templeSR0003``)."""
     cameras = {}
@@ -246,17 +265,13 @@ def temple_scene(
     cameras = temple_cameras(parameters)
     camera1, camera2 = cameras[name1], cameras[name2]
     low, high = TEMPLE_BOX
-    points = visible_points(
-        lambda: rng.uniform(low, high, (4 * landmarks, 3)),
-        camera1=camera1,
-        camera2=camera2,
-        image_size1=TEMPLE_IMAGE_SIZE,
-        image_size2=TEMPLE_IMAGE_SIZE,
-        count=landmarks,
+    sizes = (TEMPLE_IMAGE_SIZE, TEMPLE_IMAGE_SIZE)
+    scene = seen_scene(
+        lambda: rng.uniform(low, high, (4 * landmarks, 3)), (camera1, camera2), sizes, landmarks
     )
-    if points is None:
+    if scene is None:
         raise ValueError(f"{name1} and {name2} see too little of the temple in common")
-    return Scene(camera1, camera2, points, TEMPLE_IMAGE_SIZE, TEMPLE_IMAGE_SIZE)
+    return scene
 
 
 @dataclass(frozen=True)
@@ -284,11 +299,5 @@ def solved(scene: Scene, taps: Taps | None = None, **options: Any) -> SolveResul
     """``shared_solver.solve`` on the scene: its exact landmarks and friend 1's mark (e1),
     or ``taps`` of them, with the photos' sizes; ``options`` as ``solve`` takes them."""
     seen: Scene | Taps = scene if taps is None else taps
-    return solve(
-        seen.landmarks1,
-        seen.landmarks2,
-        epipole1=seen.epipole1,
-        image_size1=scene.image_size1,
-        image_size2=scene.image_size2,
-        **options,
-    )
+    sizes: dict[str, Any] = {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
+    return solve(seen.landmarks1, seen.landmarks2, epipole1=seen.epipole1, **sizes, **options)
