@@ -131,12 +131,18 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
         assert not joiner_events.dropped
 
 
-def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
-    one, two = replicas
+def photos_taken(one: Server, two: Server) -> tuple[Phone, Phone, Listener, Listener]:
+    """A search begun on replica one, joined on two: both streams open, both photos up."""
     starter, joiner = pair(live(one.base_url), live(two.base_url))
     starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
     starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
+    return starter, joiner, starter_events, joiner_events
+
+
+def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
+    one, two = replicas
+    starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
     starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)}
     starter.tapped(**starter_taps)
@@ -177,10 +183,7 @@ def test_postgresql_restarted_mid_search(
     replicas: tuple[Server, Server], postgres: PostgresServer
 ) -> None:
     one, two = replicas
-    starter, joiner = pair(live(one.base_url), live(two.base_url))
-    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
-    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
-    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
+    starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
     starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
     joiner_events.wait_for("taps", role="starter")
