@@ -4,8 +4,9 @@ Everything runs against one real uvicorn process (``backend.main:app``, one work
 in a temporary folder) that this script starts on a free loopback port and stops at the end:
 
 1. ``POST /api/solve`` (8 landmarks + the tap e1 on friend 2 of a ``facing_scene``, 1 px
-   tap noise) against ``GET /api/version`` (no database: the cheapest endpoint), from a Python
-   load generator (httpx, one keep-alive connection per worker thread) in interleaved
+   tap noise) against ``GET /api/version`` (no database: the cheapest endpoint), from the
+   load generator of the load benchmark, Locust (one keep-alive connection per worker, a
+   greenlet each, in this process) in interleaved
    rounds, so both endpoints see the same machine state; 8 workers, then 1 (no queueing).
    Per endpoint: requests/s, client latency, the server's own time (the ``Server-Timing``
    header) and the CPU time the server process and the load generator spent per request
@@ -36,17 +37,21 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from contextlib import closing
 from dataclasses import dataclass, field
 from datetime import datetime
 from importlib.metadata import version
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
+import locust.env  # first of the third-party imports: Locust patches the standard library
+
+# isort: split
 import cv2
+import gevent
 import httpx2
 import numpy as np
+from locust import FastHttpUser, constant, task
 from report import (
     ROOT,
     cpu_snapshot,
@@ -64,8 +69,9 @@ from report import (
 )
 
 from backend.settings import Settings
+from deploy.replica import Server, serve
 from shared_solver import solve
-from testbed.loopback import Server, serve
+from testbed.client import Phone
 from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
@@ -79,7 +85,6 @@ ROUNDS = 5  # each endpoint's load time is split into this many interleaved slic
 CONCURRENCY = 8
 SEQUENTIAL_SLICE_SECONDS = 0.2  # one worker, for the server's time without queueing
 IN_PROCESS_SOLVES = 300
-MAX_REQUESTS_PER_SLICE = 200_000  # per worker: a bound, far above what a slice can reach
 SOLVE_THROUGHPUT_TARGET = 0.6  # /api/solve requests/s at least this share of /api/version's
 
 VERSION = "GET /api/version"
@@ -163,45 +168,80 @@ class Load:
         return seconds / self.seconds
 
 
-Call = Callable[[httpx2.Client], httpx2.Response]
+@dataclass(frozen=True)
+class Call:
+    """One endpoint's request; the solve request's JSON is encoded once, outside the timing."""
+
+    method: str
+    path: str
+    body: str | None = None
 
 
-def hammer(client: httpx2.Client, call: Call, deadline: float) -> tuple[list[Sample], int]:
-    """One worker: requests back to back on its keep-alive connection until ``deadline``."""
-    samples: list[Sample] = []
-    errors = 0
-    for _ in range(MAX_REQUESTS_PER_SLICE):
-        if time.perf_counter() >= deadline:
-            break
-        started = time.perf_counter()
-        response = call(client)
-        elapsed = (time.perf_counter() - started) * 1000
-        if response.status_code == 200:
-            samples.append(Sample(elapsed, server_timing_ms(response)))
+class Worker(FastHttpUser):
+    """One worker of the load generator (Locust, as the load benchmark): requests of
+    ``call`` back to back on its own keep-alive connection."""
+
+    wait_time = constant(0)
+    call: ClassVar[Call]
+
+    @task
+    def send(self) -> None:
+        headers = {"Content-Type": "application/json"} if self.call.body else {}
+        self.client.request(self.call.method, self.call.path, data=self.call.body, headers=headers)
+
+
+class Workers:
+    """Locust's workers in this process, started on one endpoint for each slice; each
+    answer kept as a :class:`Sample` (an error when not 200)."""
+
+    def __init__(self, server: Server) -> None:
+        self.server = server
+        self.environment = locust.env.Environment(user_classes=[Worker], host=server.base_url)
+        self.runner = self.environment.create_local_runner()
+        self.samples: list[Sample] = []
+        self.errors = 0
+        self.environment.events.request.add_listener(self._heard)  # type: ignore[no-untyped-call]
+
+    def _heard(self, response_time: float, response: Any, exception: Any, **_: Any) -> None:
+        if exception is None and response.status_code == 200:
+            self.samples.append(Sample(response_time, server_timing_ms(response)))
         else:
-            errors += 1
-    return samples, errors
+            self.errors += 1
 
+    def load_slice(self, call: Call, workers: int, s: float) -> Load:
+        """``workers`` on one endpoint for ``s`` seconds (once all have started); the CPU
+        spent meanwhile."""
+        Worker.call = call
+        self.runner.start(workers, spawn_rate=workers * 1000)
+        while self.runner.user_count < workers:
+            gevent.sleep(0.001)
+        self.samples, self.errors = [], 0
+        before = cpu_snapshot([self.server.pid])
+        started = time.perf_counter()
+        gevent.sleep(s)
+        elapsed = time.perf_counter() - started
+        after = cpu_snapshot([self.server.pid])
+        samples, errors = self.samples, self.errors
+        self.runner.stop()
+        return Load(
+            samples=samples,
+            errors=errors,
+            seconds=elapsed,
+            server_cpu=after.server - before.server,
+            client_cpu=after.client - before.client,
+            machine_busy=after.machine_busy - before.machine_busy,
+            machine_total=after.machine_total - before.machine_total,
+        )
 
-def load_slice(
-    server: Server, pool: ThreadPoolExecutor, clients: Sequence[httpx2.Client], call: Call, s: float
-) -> Load:
-    """All workers on one endpoint for ``s`` seconds; the CPU spent meanwhile."""
-    before = cpu_snapshot([server.pid])
-    started = time.perf_counter()
-    futures = [pool.submit(hammer, client, call, started + s) for client in clients]
-    results = [future.result() for future in futures]
-    elapsed = time.perf_counter() - started
-    after = cpu_snapshot([server.pid])
-    return Load(
-        samples=[sample for samples, _ in results for sample in samples],
-        errors=sum(errors for _, errors in results),
-        seconds=elapsed,
-        server_cpu=after.server - before.server,
-        client_cpu=after.client - before.client,
-        machine_busy=after.machine_busy - before.machine_busy,
-        machine_total=after.machine_total - before.machine_total,
-    )
+    def interleaved(self, calls: dict[str, Call], workers: int, s: float) -> dict[str, Load]:
+        """``ROUNDS`` rounds; each gives each endpoint one slice, the order alternating
+        between rounds, so slow drift of the machine hits both endpoints alike."""
+        loads = {name: Load() for name in calls}
+        for round_ in range(ROUNDS):
+            order = list(calls) if round_ % 2 == 0 else list(reversed(calls))
+            for name in order:
+                add(loads[name], self.load_slice(calls[name], workers, s))
+        return loads
 
 
 def add(total: Load, part: Load) -> None:
@@ -229,15 +269,6 @@ def solve_request() -> dict[str, Any]:
     }
 
 
-def endpoint_calls(body: bytes) -> dict[str, Call]:
-    """The two endpoints; the solve request's JSON is encoded once, outside the timing."""
-    headers = {"Content-Type": "application/json"}
-    return {
-        VERSION: lambda client: client.get("/api/version"),
-        SOLVE: lambda client: client.post("/api/solve", content=body, headers=headers),
-    }
-
-
 @dataclass(frozen=True)
 class Throughput:
     loaded: dict[str, Load]  # CONCURRENCY workers
@@ -245,23 +276,6 @@ class Throughput:
     solve_method: str
     slice_seconds: float
     solve_in_process_ms: float  # shared_solver.solve alone, in this process
-
-
-def interleaved(
-    server: Server,
-    pool: ThreadPoolExecutor,
-    clients: Sequence[httpx2.Client],
-    calls: dict[str, Call],
-    slice_seconds: float,
-) -> dict[str, Load]:
-    """``ROUNDS`` rounds; each gives each endpoint one slice, the order alternating between
-    rounds, so slow drift of the machine hits both endpoints alike."""
-    loads = {name: Load() for name in calls}
-    for round_ in range(ROUNDS):
-        order = list(calls) if round_ % 2 == 0 else list(reversed(calls))
-        for name in order:
-            add(loads[name], load_slice(server, pool, clients, calls[name], slice_seconds))
-    return loads
 
 
 def solve_in_process_ms(request: dict[str, Any]) -> float:
@@ -281,20 +295,21 @@ def throughput(server: Server, seconds: float) -> Throughput:
     """A warm-up of each endpoint, interleaved rounds with ``CONCURRENCY`` workers, then
     shorter interleaved rounds with one worker."""
     request = solve_request()
-    calls = endpoint_calls(json.dumps(request).encode())
+    calls = {
+        VERSION: Call("GET", "/api/version"),
+        SOLVE: Call("POST", "/api/solve", json.dumps(request)),
+    }
     slice_seconds = seconds / ROUNDS
-    clients = [httpx2.Client(base_url=server.base_url, timeout=30) for _ in range(CONCURRENCY)]
+    answer = httpx2.post(f"{server.base_url}/api/solve", json=request, timeout=30)
+    answer.raise_for_status()
+    workers = Workers(server)
     try:
-        answer = calls[SOLVE](clients[0])
-        answer.raise_for_status()
-        with ThreadPoolExecutor(max_workers=CONCURRENCY) as pool:
-            for call in calls.values():
-                load_slice(server, pool, clients, call, WARMUP_SECONDS)
-            loaded = interleaved(server, pool, clients, calls, slice_seconds)
-            sequential = interleaved(server, pool, clients[:1], calls, SEQUENTIAL_SLICE_SECONDS)
+        for call in calls.values():
+            workers.load_slice(call, CONCURRENCY, WARMUP_SECONDS)
+        loaded = workers.interleaved(calls, CONCURRENCY, slice_seconds)
+        sequential = workers.interleaved(calls, 1, SEQUENTIAL_SLICE_SECONDS)
     finally:
-        for client in clients:
-            client.close()
+        workers.runner.quit()
     return Throughput(
         loaded,
         sequential,
@@ -322,36 +337,18 @@ def photo_like_jpeg(name: str, rng: np.random.Generator) -> bytes:
     return bytes(encoded.tobytes())
 
 
-@dataclass(frozen=True)
-class Phone:
-    """One participant: a client with its bearer token."""
-
-    http: httpx2.Client
-    session_id: str
-    token: str
-
-    def request(self, method: str, path: str, **kwargs: Any) -> tuple[httpx2.Response, Sample]:
-        """A request to the session (``path`` after its id), timed; fails on an error."""
-        started = time.perf_counter()
-        response = self.http.request(
-            method,
-            f"/api/sessions/{self.session_id}{path}",
-            headers={"Authorization": f"Bearer {self.token}"},
-            **kwargs,
-        )
-        elapsed = (time.perf_counter() - started) * 1000
-        if not response.is_success:
-            raise RuntimeError(f"{method} {path}: {response.status_code} {response.text[:300]}")
-        return response, Sample(elapsed, server_timing_ms(response))
-
-    def upload(self, photo: bytes) -> tuple[dict[str, Any], Sample]:
-        files = {"photo": ("photo.jpg", photo, "image/jpeg")}
-        response, sample = self.request("PUT", "/photo", files=files)
-        return response.json(), sample
-
-    def put_taps(self, taps: dict[str, Any]) -> tuple[dict[str, Any], Sample]:
-        response, sample = self.request("PUT", "/taps", json=taps)
-        return response.json(), sample
+def measured(
+    call: Callable[..., httpx2.Response], *args: Any, **kwargs: Any
+) -> tuple[httpx2.Response, Sample]:
+    """A phone's call (:class:`testbed.client.Phone`'s ``call(*args, **kwargs)``), timed;
+    fails on an error."""
+    started = time.perf_counter()
+    response = call(*args, **kwargs)
+    elapsed = (time.perf_counter() - started) * 1000
+    if not response.is_success:
+        request = response.request
+        raise RuntimeError(f"{request.method} {request.url.path}: {response.text[:300]}")
+    return response, Sample(elapsed, server_timing_ms(response))
 
 
 @dataclass(frozen=True)
@@ -366,7 +363,8 @@ def uploads(starter: Phone, photo: bytes) -> Uploads:
     samples = []
     stored: dict[str, Any] = {}
     for _ in range(UPLOADS):
-        stored, sample = starter.upload(photo)
+        response, sample = measured(starter.upload, photo)
+        stored = response.json()
         samples.append(sample)
     return Uploads(len(photo), stored, samples)
 
@@ -404,14 +402,10 @@ def tap_both(
     rng = np.random.default_rng(SESSION_SCENE_SEED)
     scene = facing_scene(rng, SOLVE_LANDMARKS, image_size=size, focal=SESSION_FOCAL)
     noisy = tap(scene, SOLVE_SIGMA, rng)
-    starter.put_taps(
-        {
-            "landmarks": landmark_taps(noisy.landmarks1, size),
-            "friend": dict(zip("xy", noisy.epipole1.clip(0, size).tolist(), strict=True)),
-        }
-    )
+    friend = noisy.epipole1.clip(0, size).tolist()
+    starter.tapped(landmarks=landmark_taps(noisy.landmarks1, size), friend=friend)
     joiner_landmarks = landmark_taps(noisy.landmarks2, size)
-    state, _ = joiner.put_taps({"landmarks": joiner_landmarks})
+    state = joiner.tapped(landmarks=joiner_landmarks)
     if state.get("answer") is None:
         raise RuntimeError(f"no answer from the session's taps: {state.get('answer_error')}")
     return state, joiner_landmarks
@@ -428,12 +422,13 @@ def renders(starter: Phone, joiner: Phone, size: tuple[int, int]) -> Renders:
         nudge = TAP_NUDGE_PX if render % 2 == 0 else -TAP_NUDGE_PX
         landmarks[0]["x"] = float(np.clip(landmarks[0]["x"] + nudge, 0, size[0]))
         before = state["answer_version"]
-        state, sample = joiner.put_taps({"landmarks": landmarks})
+        response, sample = measured(joiner.tap, landmarks=landmarks)
+        state = response.json()
         drawn["taps"].append(sample)
         if state.get("answer") is None or state["answer_version"] == before:
             raise RuntimeError(f"the move made no new answer: {state.get('answer_error')}")
         fmt = "jpeg" if render < RENDERS else "png"
-        first, sample = joiner.request("GET", "/overlay/joiner", params={"format": fmt})
+        first, sample = measured(joiner.call, "GET", "/overlay/joiner", params={"format": fmt})
         decoded_overlay(first.content, size)
         sizes[fmt] = len(first.content)
         drawn[fmt].append(sample)
@@ -454,16 +449,15 @@ def session(server: Server) -> SessionFigures:
     with httpx2.Client(base_url=server.base_url, timeout=60) as http:
         created = http.post("/api/sessions")
         created.raise_for_status()
-        starter = Phone(http, created.json()["session_id"], created.json()["token"])
+        starter = Phone(http, created.json()["session_id"], created.json()["token"], "starter")
         uploaded = uploads(starter, starter_photo)
-        state, _ = starter.request("GET", "")
-        joined = http.post("/api/sessions/join", json={"code": state.json()["join_code"]})
+        joined = http.post("/api/sessions/join", json={"code": starter.state()["join_code"]})
         joined.raise_for_status()
-        joiner = Phone(http, starter.session_id, joined.json()["token"])
-        stored, _ = joiner.upload(joiner_photo)
+        joiner = Phone(http, starter.session_id, joined.json()["token"], "joiner")
+        stored = joiner.uploaded(joiner_photo)
         size = (int(stored["width"]), int(stored["height"]))
         drawn = renders(starter, joiner, size)
-        starter.request("DELETE", "")
+        starter.ok("DELETE", expect=204)
     return SessionFigures(uploaded, drawn)
 
 
@@ -644,8 +638,9 @@ def header(settings: Settings, database: str) -> str:
 def throughput_section(result: Throughput, seconds: float) -> list[str]:
     return [
         "## 1. `/api/solve` against `/api/version`, under load",
-        f"Load generator: this Python process, {CONCURRENCY} threads, each with its own httpx2 "
-        "client and keep-alive connection, sending requests back to back, **on the same "
+        f"Load generator: Locust {version('locust')} in this Python process, {CONCURRENCY} "
+        "workers (FastHttpUser greenlets), each with its own keep-alive connection, sending "
+        "requests back to back, **on the same "
         f"2-core machine as the server**. After a {WARMUP_SECONDS:g} s warm-up of each "
         f"endpoint, {ROUNDS} interleaved rounds (order alternating) of "
         f"{result.slice_seconds:g} s per endpoint: {seconds:g} s each. Then {ROUNDS} shorter "
@@ -657,7 +652,7 @@ def throughput_section(result: Throughput, seconds: float) -> list[str]:
         "this process's CPU time, and the machine's busy time over all cores.",
         throughput_table(result),
         "\n".join(f"- {line}" for line in throughput_notes(result)),
-        "What limits the numbers: one Python process, threads or not, runs Python on about "
+        "What limits the numbers: one Python process runs Python on about "
         "one core at a time (the GIL), and the load generator and the server share 2 cores. "
         "A side near 1.00 cores is saturated; when the machine is near 100 %, the two sides "
         "slow each other. Where the load generator's CPU per request is close to the "

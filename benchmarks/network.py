@@ -36,8 +36,8 @@ from netbench.search import PhoneRun, SearchRun, hall_photos, play
 from playwright.sync_api import sync_playwright
 from report import ROOT, log, markdown_table, publish, source_state, verdict
 
+from deploy.replica import serve
 from testbed import chromium
-from testbed.loopback import serve
 
 DEFAULT_OUT = ROOT / "docs" / "network-benchmark.md"
 SEED = 20261125

@@ -19,7 +19,6 @@ must end both streams with 'expired'.
 from __future__ import annotations
 
 import itertools
-import json
 import random
 import time
 from collections import Counter
@@ -37,6 +36,7 @@ from locust.exception import StopUser
 from report import ROOT
 
 from testbed.changes import take_in
+from testbed.client import EventStream
 from testbed.scenes import Scene, tap, temple_scene
 
 TEMPLE = ROOT / "tests" / "data" / "temple"
@@ -203,21 +203,16 @@ class Phone:
         if answer.status_code != 200:
             return
         self.fetch()  # the phone shows the state at once (the QR code, the other's photo)
-        event = ""
         try:
-            for raw in answer.iter_lines():
-                line = raw.decode()
-                if line.startswith("event: "):
-                    event = line[7:]
-                    if event == "expired":
-                        self.expired.set()
-                        return
-                elif line.startswith("data: ") and event:
-                    data = json.loads(line[6:])
-                    if event == "joined" and data.get("role") == self.role and data.get("online"):
-                        self.live.set()
-                    self.sending.wait()  # the answer to its own PUT comes first
-                    self.take_in(event, data)
+            for event in EventStream(answer.iter_content(chunk_size=None)):
+                if event.type == "expired":
+                    self.expired.set()
+                    return
+                online = event.data.get("role") == self.role and event.data.get("online")
+                if event.type == "joined" and online:
+                    self.live.set()
+                self.sending.wait()  # the answer to its own PUT comes first
+                self.take_in(event.type, event.data)
             self.user.flow_error("stream ended without 'expired'")
         except OSError as error:  # requests' and urllib3's errors, a read timeout among them
             self.user.flow_error(f"stream dropped ({type(error).__name__})")

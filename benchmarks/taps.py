@@ -37,10 +37,10 @@ from PIL import Image
 from playwright.sync_api import BrowserContext, Page, Playwright, expect, sync_playwright
 from report import ROOT, markdown_table, publish, source_state
 
+from deploy.replica import serve
 from shared_solver import SolverError, solve
 from shared_solver.estimation.uncertainty import contains
 from testbed import chromium
-from testbed.loopback import serve
 from testbed.phones import PhoneScene, phone_scene
 
 DEFAULT_OUT = ROOT / "docs" / "tap-precision.md"

@@ -24,7 +24,7 @@ from typing import TypeVar
 from backend.__main__ import lan_address
 from deploy import nginx, tls
 from deploy.postgres import PostgresServer
-from testbed.loopback import Server, free_port, serve
+from deploy.replica import Server, free_port, serve
 
 REPLICAS = 2
 T = TypeVar("T")

@@ -19,7 +19,7 @@ from pathlib import Path
 import psycopg
 from psycopg import sql
 
-from testbed.loopback import free_port
+from deploy.replica import free_port
 
 USER = "buddy"
 PASSWORD = "test-only-password"  # a password, so URLs with one are exercised

@@ -15,9 +15,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from shared_solver import draw_overlay, solve
+from shared_solver import draw_overlay
 
-from .scenes import tap, temple_scene
+from .scenes import solved, tap, temple_scene
 
 TEMPLE = Path(__file__).resolve().parents[1] / "tests" / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")
@@ -34,14 +34,7 @@ def main() -> None:
     rng = np.random.default_rng(args.seed)
     scene = temple_scene(args.data / "templeSR_par.txt", *PAIR, args.landmarks, rng)
     taps = tap(scene, 1.0, rng)
-    result = solve(
-        taps.landmarks1,
-        taps.landmarks2,
-        epipole1=taps.epipole1,
-        tap_sigma=1.0,
-        image_size1=scene.image_size1,
-        image_size2=scene.image_size2,
-    )
+    result = solved(scene, taps, tap_sigma=1.0)
     print(json.dumps(result.model_dump(mode="json"), indent=2))
     if result.epipole2 is not None:
         error = np.linalg.norm(np.array(result.epipole2) - scene.epipole2)

@@ -28,15 +28,8 @@ from collections.abc import Callable
 import numpy as np
 
 from shared_solver.projective import Array
-from testbed.phones import (
-    aim,
-    focal_pixels,
-    intrinsics,
-    phone_scene,
-    photo_size,
-    visible_points,
-)
-from testbed.scenes import Camera, Scene
+from testbed.phones import EDGE_MARGIN, aim, focal_pixels, intrinsics, phone_scene, photo_size
+from testbed.scenes import Camera, Scene, seen_scene
 
 _MAX_DRAWS = 200
 ROOM_IMAGE_SIZE = (1920, 1080)
@@ -89,14 +82,7 @@ def room_scene(rng: np.random.Generator, landmarks: int) -> Scene:
                 ]
             )
 
-        scene = _scene(
-            draw,
-            camera1=cameras[0],
-            camera2=cameras[1],
-            size1=size,
-            size2=size,
-            landmarks=landmarks,
-        )
+        scene = seen_scene(draw, (cameras[0], cameras[1]), (size, size), landmarks, EDGE_MARGIN)
         if scene is not None:
             return scene
     raise RuntimeError("could not find a room both cameras see enough of")
@@ -142,14 +128,7 @@ def turntable_scene(rng: np.random.Generator, landmarks: int) -> Scene:
         def draw() -> Array:
             return rng.uniform(-0.15, 0.15, (4 * landmarks, 3))
 
-        scene = _scene(
-            draw,
-            camera1=cameras[0],
-            camera2=cameras[1],
-            size1=size,
-            size2=size,
-            landmarks=landmarks,
-        )
+        scene = seen_scene(draw, (cameras[0], cameras[1]), (size, size), landmarks, EDGE_MARGIN)
         if scene is not None:
             return scene
     raise RuntimeError("could not find turntable views that share the object")
@@ -195,41 +174,10 @@ def street_scene(rng: np.random.Generator, landmarks: int) -> Scene:
             across = rng.uniform(-1.0, 1.0, count) * np.minimum(20.0, 0.8 * ahead)
             return np.column_stack([across, -rng.uniform(0.0, 25.0, count), lead + ahead])
 
-        scene = _scene(
-            draw,
-            camera1=cameras[0],
-            camera2=cameras[1],
-            size1=sizes[0],
-            size2=sizes[1],
-            landmarks=landmarks,
-        )
+        scene = seen_scene(draw, (cameras[0], cameras[1]), sizes, landmarks, EDGE_MARGIN)
         if scene is not None:
             return scene
     raise RuntimeError("could not find a street view both walkers share")
-
-
-def _scene(
-    draw: Callable[[], Array],
-    *,
-    camera1: Camera,
-    camera2: Camera,
-    size1: tuple[int, int],
-    size2: tuple[int, int],
-    landmarks: int,
-) -> Scene | None:
-    """The scene of ``landmarks`` points from ``draw`` that both cameras see.
-
-    None when the cameras share too little of the region ``draw`` samples.
-    """
-    points = visible_points(
-        draw,
-        camera1=camera1,
-        camera2=camera2,
-        image_size1=size1,
-        image_size2=size2,
-        count=landmarks,
-    )
-    return None if points is None else Scene(camera1, camera2, points, size1, size2)
 
 
 SCENE_KINDS: dict[str, Callable[[np.random.Generator, int], Scene]] = {

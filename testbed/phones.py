@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from shared_solver.estimation.camera import PHONE_LOG_SIGMA
-from shared_solver.projective import Array, Mask
-from testbed.scenes import Camera, Scene, look_at
+from shared_solver.projective import Array
+from testbed.scenes import Camera, Scene, in_photo, look_at, seen_scene
 
 # The 35 mm equivalent focal length scales a lens to the 36 x 24 mm frame by the diagonal,
 # whatever the photo's aspect ratio.
@@ -35,7 +35,6 @@ MAIN_CAMERA_35MM = 26.0
 # the very edge of a photo, and a point on the border may be cut off by the preview.
 EDGE_MARGIN = 0.02
 _MAX_DRAWS = 200
-_BATCHES = 20
 _UP = np.array([0.0, -1.0, 0.0])
 
 
@@ -91,53 +90,6 @@ def intrinsics(
             [0.0, 0.0, 1.0],
         ]
     )
-
-
-def in_photo(
-    camera: Camera, points: Array, image_size: tuple[int, int], margin: float = 0.0
-) -> Mask:
-    """(N,) which of the (N, 3) world points the camera sees in its photo.
-
-    Seen: in front of the camera and at least ``margin`` (fraction of each side) inside the
-    borders of the ``image_size`` (width, height) px photo. A point behind the camera also
-    projects somewhere, so the depth test matters.
-    """
-    front = camera.depth(points) > 0
-    pixels = np.full((len(points), 2), np.nan)
-    pixels[front] = camera.project(points[front])
-    low = margin * np.asarray(image_size, dtype=float)
-    high = (1.0 - margin) * np.asarray(image_size, dtype=float)
-    return front & np.all((pixels >= low) & (pixels <= high), axis=1)
-
-
-def visible_points(
-    draw: Callable[[], Array],
-    *,
-    camera1: Camera,
-    camera2: Camera,
-    image_size1: tuple[int, int],
-    image_size2: tuple[int, int],
-    count: int,
-    margin: float = EDGE_MARGIN,
-) -> Array | None:
-    """(count, 3) points from repeated ``draw()`` calls that both cameras see.
-
-    ``draw`` returns (M, 3) candidate world points (m); the first ``count`` that pass
-    :func:`in_photo` for both cameras with ``margin`` are kept, in draw order. None when a
-    bounded number of draws does not find enough (the cameras share too little of the view).
-    """
-    kept: list[Array] = []
-    total = 0
-    for _ in range(_BATCHES):
-        points = draw()
-        ok = in_photo(camera1, points, image_size1, margin) & in_photo(
-            camera2, points, image_size2, margin
-        )
-        kept.append(points[ok])
-        total += int(ok.sum())
-        if total >= count:
-            return np.vstack(kept)[:count]
-    return None
 
 
 def aim(
@@ -245,22 +197,11 @@ def phone_scene(
             reach=(_half_field(camera1, sizes[0]) + 0.1, _half_field(camera2, sizes[1]) + 0.1),
             count=4 * landmarks,
         )
-        points = visible_points(
-            draw,
-            camera1=camera1,
-            camera2=camera2,
-            image_size1=sizes[0],
-            image_size2=sizes[1],
-            count=landmarks,
-        )
-        if points is None:
+        seen = seen_scene(draw, (camera1, camera2), sizes, landmarks, EDGE_MARGIN)
+        if seen is None:
             continue
         return PhoneScene(
-            camera1,
-            camera2,
-            points,
-            sizes[0],
-            sizes[1],
+            **vars(seen),
             focal_35mm1=focals[0],
             focal_35mm2=focals[1],
             exif_focal_35mm1=round(focals[0]),

@@ -11,10 +11,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from shared_solver import solve
 from shared_solver.projective import Array, Mask, skew
+from shared_solver.result import SolveResult
 
 # Tight bounding box of the templeSparseRing model (metres), from the dataset's README.
 TEMPLE_BOX = (np.array([-0.073568, 0.021728, -0.012445]), np.array([0.028855, 0.181892, 0.062736]))
@@ -161,47 +164,83 @@ def facing_scene(
             and inside(scene.epipole2[None], image_size)[0]
         ):
             continue
-        points = _visible(
-            lambda: draw(4 * landmarks),
-            camera1=camera1,
-            camera2=camera2,
-            size1=image_size,
-            size2=image_size,
-            count=landmarks,
-        )
-        if points is not None:
-            return Scene(camera1, camera2, points, image_size, image_size)
+        sizes = (image_size, image_size)
+        found = seen_scene(lambda: draw(4 * landmarks), (camera1, camera2), sizes, landmarks)
+        if found is not None:
+            return found
     raise RuntimeError("could not aim the cameras at each other over the landmarks")
 
 
-def _visible(
+def in_photo(
+    camera: Camera, points: Array, image_size: tuple[int, int], margin: float = 0.0
+) -> Mask:
+    """(N,) which of the (N, 3) world points the camera sees in its photo.
+
+    Seen: in front of the camera and at least ``margin`` (fraction of each side) inside the
+    borders of the ``image_size`` (width, height) px photo. A point behind the camera also
+    projects somewhere, so the depth test matters.
+    """
+    front = camera.depth(points) > 0
+    pixels = np.full((len(points), 2), np.nan)
+    pixels[front] = camera.project(points[front])
+    low = margin * np.asarray(image_size, dtype=float)
+    high = (1.0 - margin) * np.asarray(image_size, dtype=float)
+    return front & np.all((pixels >= low) & (pixels <= high), axis=1)
+
+
+def visible_points(
     draw: Callable[[], Array],
     *,
     camera1: Camera,
     camera2: Camera,
-    size1: tuple[int, int],
-    size2: tuple[int, int],
+    image_size1: tuple[int, int],
+    image_size2: tuple[int, int],
     count: int,
+    margin: float = 0.0,
 ) -> Array | None:
-    """Draw points until ``count`` are in front of both cameras and inside both photos.
+    """(count, 3) points from repeated ``draw()`` calls that both cameras see.
 
-    None when the cameras see too little of the region the points are drawn from.
+    ``draw`` returns (M, 3) candidate world points (m); the first ``count`` that pass
+    :func:`in_photo` for both cameras with ``margin`` are kept, in draw order. None when a
+    bounded number of draws does not find enough (the cameras share too little of the view).
     """
     kept: list[Array] = []
     total = 0
     for _ in range(_MAX_DRAWS // 10):
         points = draw()
-        ok = (
-            (camera1.depth(points) > 0)
-            & (camera2.depth(points) > 0)
-            & inside(camera1.project(points), size1)
-            & inside(camera2.project(points), size2)
+        ok = in_photo(camera1, points, image_size1, margin) & in_photo(
+            camera2, points, image_size2, margin
         )
         kept.append(points[ok])
         total += int(ok.sum())
         if total >= count:
             return np.vstack(kept)[:count]
     return None
+
+
+def seen_scene(
+    draw: Callable[[], Array],
+    cameras: tuple[Camera, Camera],
+    sizes: tuple[tuple[int, int], tuple[int, int]],
+    landmarks: int,
+    margin: float = 0.0,
+) -> Scene | None:
+    """The scene of ``landmarks`` points from ``draw`` that both cameras see in their
+    photos of ``sizes`` (width, height), ``margin`` inside the borders (:func:`in_photo`).
+
+    None when the cameras share too little of the region ``draw`` samples.
+    """
+    camera1, camera2 = cameras
+    points = visible_points(
+        draw,
+        camera1=camera1,
+        camera2=camera2,
+        image_size1=sizes[0],
+        image_size2=sizes[1],
+        count=landmarks,
+        margin=margin,
+    )
+    return None if points is None else Scene(camera1, camera2, points, *sizes)
 
 
 def temple_cameras(parameters: Path) -> dict[str, Camera]:
@@ -226,17 +265,13 @@ def temple_scene(
     cameras = temple_cameras(parameters)
     camera1, camera2 = cameras[name1], cameras[name2]
     low, high = TEMPLE_BOX
-    points = _visible(
-        lambda: rng.uniform(low, high, (4 * landmarks, 3)),
-        camera1=camera1,
-        camera2=camera2,
-        size1=TEMPLE_IMAGE_SIZE,
-        size2=TEMPLE_IMAGE_SIZE,
-        count=landmarks,
+    sizes = (TEMPLE_IMAGE_SIZE, TEMPLE_IMAGE_SIZE)
+    scene = seen_scene(
+        lambda: rng.uniform(low, high, (4 * landmarks, 3)), (camera1, camera2), sizes, landmarks
     )
-    if points is None:
+    if scene is None:
         raise ValueError(f"{name1} and {name2} see too little of the temple in common")
-    return Scene(camera1, camera2, points, TEMPLE_IMAGE_SIZE, TEMPLE_IMAGE_SIZE)
+    return scene
 
 
 @dataclass(frozen=True)
@@ -258,3 +293,11 @@ def tap(scene: Scene, sigma: float, rng: np.random.Generator) -> Taps:
         scene.epipole1 + rng.normal(0.0, sigma, 2),
         scene.epipole2 + rng.normal(0.0, sigma, 2),
     )
+
+
+def solved(scene: Scene, taps: Taps | None = None, **options: Any) -> SolveResult:
+    """``shared_solver.solve`` on the scene: its exact landmarks and friend 1's mark (e1),
+    or ``taps`` of them, with the photos' sizes; ``options`` as ``solve`` takes them."""
+    seen: Scene | Taps = scene if taps is None else taps
+    sizes: dict[str, Any] = {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
+    return solve(seen.landmarks1, seen.landmarks2, epipole1=seen.epipole1, **sizes, **options)

@@ -24,9 +24,9 @@ from shared_solver.projective import Array, Indices, Mask
 
 from .arena import Arena, build_arena
 from .hall import build_hall
-from .phones import EDGE_MARGIN, in_photo, phone_scene
+from .phones import EDGE_MARGIN, phone_scene
 from .render import Surface, lit, render
-from .scenes import Camera, Scene
+from .scenes import Camera, Scene, in_photo
 from .textures import Image
 
 STORED_SIDE = 2560  # backend/settings.py stored_photo_side: the photos the server keeps

@@ -35,7 +35,7 @@ from sqlalchemy.engine import make_url
 
 from backend.settings import Settings
 from deploy import nginx, tls
-from testbed.loopback import free_port
+from deploy.replica import free_port
 
 ROOT = Path(__file__).parents[1]
 COMPOSE = yaml.safe_load((ROOT / "docker-compose.yml").read_text())

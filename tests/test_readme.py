@@ -15,7 +15,7 @@ from fastapi.testclient import TestClient
 
 from backend.main import create_app
 from backend.settings import Settings
-from testbed.loopback import serve
+from deploy.replica import serve
 
 ROOT = Path(__file__).parents[1]
 README = ROOT / "README.md"

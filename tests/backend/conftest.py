@@ -11,13 +11,14 @@ from pathlib import Path
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, Phone
+from phones import TEMPLE, FakeClock
 from postgres import PostgresServer
 from sqlalchemy.engine import make_url
 
 from backend.main import create_app
 from backend.settings import Settings
 from backend.storage.database import make_engine
+from testbed.client import Phone
 
 
 @pytest.fixture(scope="session")

@@ -19,10 +19,11 @@ import numpy as np
 import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, Phone
+from phones import TEMPLE, FakeClock
 from PIL import ExifTags, Image
 
 from backend.settings import Settings
+from testbed.client import Phone
 from testbed.scenes import temple_scene
 
 pillow_heif.register_heif_opener()

@@ -20,19 +20,16 @@ import httpx2
 import pytest
 from phones import (
     PAIR,
-    HttpPhone,
-    Listener,
-    follow,
+    TEMPLE,
     in_region,
     landmarks,
     mark,
-    pair,
-    photo_form,
     scene_taps,
 )
 from postgres import PostgresServer
 
 from deploy.cluster import Cluster, cluster
+from testbed.client import Listener, Phone, follow, live, pair
 
 REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"}
 CROSSING_SECONDS = 2.0
@@ -72,9 +69,9 @@ def own(tmp_path: Path, postgres: PostgresServer, migrated_database: str) -> Ite
         yield running
 
 
-def through_nginx(running: Cluster) -> tuple[HttpPhone, HttpPhone, Listener, Listener]:
+def through_nginx(running: Cluster) -> tuple[Phone, Phone, Listener, Listener]:
     """Two phones paired through nginx, both streams open through it."""
-    starter, joiner = pair(running.url, running.url)
+    starter, joiner = pair(live(running.url))
     return starter, joiner, *follow(starter, joiner, CROSSING_SECONDS)
 
 
@@ -85,17 +82,17 @@ def test_streams_through_nginx_hear_changes_made_on_either_replica(running: Clus
     starter, joiner, starter_events, joiner_events = through_nginx(running)
     scene, taps = scene_taps()
     one, two = (replica.base_url for replica in running.replicas)
-    on_one = HttpPhone(one, starter.session_id, starter.token)
-    on_two = HttpPhone(two, joiner.session_id, joiner.token)
+    on_one = Phone(live(one), starter.session_id, starter.token)
+    on_two = Phone(live(two), joiner.session_id, joiner.token)
 
-    on_one.upload(PAIR[0])
+    on_one.uploaded(TEMPLE / f"{PAIR[0]}.png")
     for events in (starter_events, joiner_events):
         events.wait_for("photo", role="starter", seconds=CROSSING_SECONDS)
-    on_two.upload(PAIR[1])
+    on_two.uploaded(TEMPLE / f"{PAIR[1]}.png")
     for events in (starter_events, joiner_events):
         events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
-    on_one.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
-    state = on_two.tap(landmarks=landmarks(taps.landmarks2))
+    on_one.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    state = on_two.tapped(landmarks=landmarks(taps.landmarks2))
     for events in (starter_events, joiner_events):
         events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
 
@@ -110,10 +107,10 @@ def test_nginx_passes_each_event_on_as_it_comes(running: Cluster) -> None:
     is written. A proxy that buffered the stream would hold them until a buffer filled."""
     starter, joiner, starter_events, _ = through_nginx(running)
     _, taps = scene_taps()
-    joiner.upload(PAIR[1])
+    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     for n in range(1, 6):
-        joiner.tap(landmarks=landmarks(taps.landmarks2[:n]))
+        joiner.tapped(landmarks=landmarks(taps.landmarks2[:n]))
         starter_events.wait_for("taps", count=n, role="joiner", seconds=CROSSING_SECONDS)
     assert starter_events.pings == 0  # nothing but the events themselves pushed them through
     end(starter, starter_events)
@@ -124,11 +121,11 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     through nginx with its last event id, reaching the other replica; the other stream
     never notices; every call goes on answering; no event and no write is lost."""
     starter, joiner, starter_events, joiner_events = through_nginx(own)
-    starter.upload(PAIR[0])
-    joiner.upload(PAIR[1])
+    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
+    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     scene, taps = scene_taps()
-    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
-    joiner.tap(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     before = starter.state()
     photos = [starter.call("GET", f"/photo/{role}").content for role in ROLES]
@@ -150,7 +147,7 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     assert [
         starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")
     ] == photos
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
     (kept,) = [events for role, events in streams.items() if role != dropped]
     assert not kept.dropped  # still the same connection
     for events in (resumed, kept):
@@ -174,8 +171,10 @@ def test_a_slow_upload_through_nginx_is_neither_cut_nor_holding_a_replica(
     """A phone on a poor network sends its photo in dribbles over 6 s: nginx takes it all
     and passes it on at once, so the upload succeeds and the replica spends only the
     photo's own processing on it (its Server-Timing), not the 6 s."""
-    starter, _ = pair(running.url, running.url)
-    form = httpx2.Request("PUT", starter.url("/photo"), files=photo_form(PAIR[0]))
+    starter, _ = pair(live(running.url))
+    photo = TEMPLE / f"{PAIR[0]}.png"
+    files = {"photo": (photo.name, photo.read_bytes(), "image/png")}
+    form = starter.client.build_request("PUT", starter.url("/photo"), files=files)
     body = form.read()
     chunks = [body[i : i + len(body) // 12 + 1] for i in range(0, len(body), len(body) // 12 + 1)]
 
@@ -185,11 +184,8 @@ def test_a_slow_upload_through_nginx_is_neither_cut_nor_holding_a_replica(
             yield chunk
 
     started = time.monotonic()
-    answer = httpx2.put(
-        starter.url("/photo"),
-        content=dribble(),
-        headers={**starter.auth, "Content-Type": form.headers["Content-Type"]},
-        timeout=30,
+    answer = starter.call(
+        "PUT", "/photo", content=dribble(), headers={"Content-Type": form.headers["Content-Type"]}
     )
     took = time.monotonic() - started
     assert answer.status_code == 200, answer.text
@@ -206,7 +202,7 @@ def test_bodies_up_to_the_apps_limit_reach_it_and_larger_get_the_apps_error_shap
     """nginx lets through every body the app accepts (30,000,000 bytes; its own limit is
     30 MiB), so the app refuses one just over its limit itself; nginx refuses larger ones,
     in the app's error shape, with HSTS like every answer over HTTPS."""
-    starter, _ = pair(running.url, running.url)
+    starter, _ = pair(live(running.url))
     app_limit = 30_000_000
     for size, who in ((app_limit + 1, "app"), (31 * 1024 * 1024, "nginx")):
         answer = starter.call(
@@ -231,7 +227,7 @@ def test_plain_http_leads_to_https_which_carries_hsts_once(running: Cluster) -> 
     assert created.json()["join_url"].startswith(f"{running.url}/join/")
 
 
-def end(phone: HttpPhone, *streams: Listener) -> None:
+def end(phone: Phone, *streams: Listener) -> None:
     """Delete now, through nginx: every stream of the session ends with 'expired'."""
     assert phone.call("DELETE").status_code == 204
     for stream in streams:

@@ -28,7 +28,7 @@ import signal
 import sqlite3
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -41,7 +41,8 @@ from backend.photos.imaging import store_photo
 from backend.settings import Settings
 from backend.storage.database import connect
 from backend.taps.schemas import Taps
-from testbed.loopback import Server, serve
+from deploy.replica import Server, serve
+from testbed.client import Phone, live, pair
 
 SEARCHES = 4
 KILLS = 3
@@ -98,22 +99,19 @@ class PhoneState:
 
 
 @dataclass
-class Phone:
-    session_id: str
-    role: str
-    token: str
+class Writer:
+    """One phone's writes: what it sent, and what it was told."""
+
+    phone: Phone  # who it is (its client replaced by one of the server of the moment)
     known: PhoneState = PhoneState(None, None)  # as of the last acknowledged change
     in_flight: Change | None = None  # sent, unanswered when the server died
     stored: int = 0  # changes known to be stored: acknowledged, or in flight and found
     acknowledged: int = 0  # changes answered 2xx in this round
     acknowledged_version: int = 0  # the highest version an answer told this phone
 
-    @property
-    def auth(self) -> dict[str, str]:
-        return {"Authorization": f"Bearer {self.token}"}
-
-    def path(self, rest: str = "") -> str:
-        return f"/api/sessions/{self.session_id}{rest}"
+    def on(self, http: httpx2.Client) -> Phone:
+        """The phone, calling through ``http``."""
+        return replace(self.phone, client=http)
 
 
 @dataclass
@@ -121,7 +119,7 @@ class Traffic:
     """Every phone's thread sending changes, one after the other, until the server is gone."""
 
     base: str
-    phones: list[Phone]
+    phones: list[Writer]
     rng: np.random.Generator
     failures: list[str] = field(default_factory=list)
 
@@ -137,21 +135,21 @@ class Traffic:
             thread.start()
         return threads
 
-    def _send(self, phone: Phone, seed: int) -> None:
+    def _send(self, phone: Writer, seed: int) -> None:
         rng = np.random.default_rng(seed)
-        with httpx2.Client(base_url=self.base, headers=phone.auth, timeout=30) as http:
+        with httpx2.Client(base_url=self.base, timeout=30) as http:
+            sender = phone.on(http)
             while True:
                 change = phone.in_flight = self._change(phone, rng)
                 try:
                     if change.photo is not None:
-                        upload = {"photo": ("photo.jpg", PHOTOS[change.photo], "image/jpeg")}
-                        answer = http.put(phone.path("/photo"), files=upload)
+                        answer = sender.upload(PHOTOS[change.photo])
                     else:
-                        answer = http.put(phone.path("/taps"), json=change.taps)
+                        answer = sender.tap(**(change.taps or {}))
                 except httpx2.TransportError:
                     return  # the server is gone: this change may or may not have been stored
                 if answer.status_code != 200:
-                    self.failures.append(f"{phone.role} of {phone.session_id}: {answer.text}")
+                    self.failures.append(f"{sender.role} of {sender.session_id}: {answer.text}")
                     return
                 phone.known, phone.in_flight = change.applied_to(phone.known), None
                 phone.stored += 1
@@ -161,7 +159,7 @@ class Traffic:
                     phone.acknowledged_version = max(phone.acknowledged_version, version)
 
     @staticmethod
-    def _change(phone: Phone, rng: np.random.Generator) -> Change:
+    def _change(phone: Writer, rng: np.random.Generator) -> Change:
         """A new photo (never the one it has) or a new tap set: every change shows."""
         if phone.known.photo is None or rng.random() < 0.3:
             others = [n for n in range(len(PHOTOS)) if n != phone.known.photo]
@@ -170,21 +168,13 @@ class Traffic:
         taps: dict[str, Any] = {
             "landmarks": [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points.tolist(), 1)]
         }
-        if phone.role == "starter":
+        if phone.phone.role == "starter":
             x, y = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
             taps["friend"] = {"x": x, "y": y}
         return Change(taps=taps)
 
 
-def pair(base: str) -> list[Phone]:
-    created = httpx2.post(f"{base}/api/sessions", timeout=30).json()
-    code = {"code": created["join_code"]}
-    joined = httpx2.post(f"{base}/api/sessions/join", json=code, timeout=30).json()
-    sid = created["session_id"]
-    return [Phone(sid, "starter", created["token"]), Phone(sid, "joiner", joined["token"])]
-
-
-def kill_mid_traffic(server: Server, phones: list[Phone], rng: np.random.Generator) -> None:
+def kill_mid_traffic(server: Server, phones: list[Writer], rng: np.random.Generator) -> None:
     """Traffic from every phone, then SIGKILL at a random moment in it."""
     traffic = Traffic(server.base_url, phones, rng)
     threads = traffic.start()
@@ -204,27 +194,26 @@ def kill_mid_traffic(server: Server, phones: list[Phone], rng: np.random.Generat
     assert any(phone.in_flight for phone in phones), "nothing was in flight at the kill"
 
 
-def check_acknowledged_writes(server: Server, phones: list[Phone]) -> None:
+def check_acknowledged_writes(server: Server, phones: list[Writer]) -> None:
     """Each phone's photo and taps are what it last had acknowledged, or what it had in
     flight (then that counts as stored from now on)."""
     for phone in phones:
-        with httpx2.Client(base_url=server.base_url, headers=phone.auth, timeout=30) as http:
-            state, stored = http.get(phone.path()), http.get(phone.path(f"/photo/{phone.role}"))
-        assert state.status_code == 200, state.text
-        assert stored.status_code == 200, stored.text
-        body = state.json()
-        session = [p.acknowledged_version for p in phones if p.session_id == phone.session_id]
+        role, session_id = phone.phone.role, phone.phone.session_id
+        with live(server.base_url) as http:
+            reader = phone.on(http)
+            body, stored = reader.state(), reader.ok("GET", f"/photo/{role}")
+        session = [p.acknowledged_version for p in phones if p.phone.session_id == session_id]
         assert body["version"] >= max(session)
         found = PhoneState(
             photo=next(n for n, photo in enumerate(STORED) if photo.data == stored.content),
-            taps=body["taps"][phone.role],
+            taps=body["taps"][role],
         )
         allowed = [phone.known]
         if phone.in_flight is not None:
             allowed.append(phone.in_flight.applied_to(phone.known))
-        assert found in allowed, (phone.role, phone.session_id, found, allowed)
+        assert found in allowed, (role, session_id, found, allowed)
         width, height = PHOTO_SIZES[found.photo]
-        assert body["photos"][phone.role] == {
+        assert body["photos"][role] == {
             "width": width,
             "height": height,
             "scale": 1.0,
@@ -244,7 +233,7 @@ def check_database_intact(database_url: str) -> None:
             assert db.execute("PRAGMA foreign_key_check").fetchall() == []
 
 
-def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
+def check_nothing_half_written(database_url: str, phones: list[Writer]) -> None:
     """Every row is whole, and every stored change has its version and its event."""
     engine = connect(database_url)
     try:
@@ -265,8 +254,8 @@ def check_nothing_half_written(database_url: str, phones: list[Phone]) -> None:
                 # One event per version bump (joining made 2; then each photo or tap set).
                 assert [c["version"] for c in changes] == list(range(3, session.version + 1))
                 for phone in phones:
-                    if phone.session_id == session.id:
-                        events_of_phone = sum(c["role"] == phone.role for c in changes)
+                    if phone.phone.session_id == session.id:
+                        events_of_phone = sum(c["role"] == phone.phone.role for c in changes)
                         assert events_of_phone == phone.stored, "a change without its event"
                 answered = [json.loads(e.data)["version"] for e in events if e.type == "answer"]
                 assert answered == sorted(answered)
@@ -281,7 +270,7 @@ def test_kill_9_mid_traffic_loses_no_acknowledged_write(
     tmp_path: Path, database_url: str, rng: np.random.Generator
 ) -> None:
     environment = {"BUDDY_DATABASE_URL": database_url}
-    phones: list[Phone] = []
+    phones: list[Writer] = []
     for process in range(KILLS + 1):
         folder = tmp_path / f"process{process}"
         folder.mkdir()
@@ -290,7 +279,8 @@ def test_kill_9_mid_traffic_loses_no_acknowledged_write(
                 check_acknowledged_writes(server, phones)
                 check_nothing_half_written(database_url, phones)
             else:
-                phones = [phone for _ in range(SEARCHES) for phone in pair(server.base_url)]
+                with live(server.base_url) as http:
+                    phones = [Writer(phone) for _ in range(SEARCHES) for phone in pair(http)]
             if process < KILLS:
                 kill_mid_traffic(server, phones, rng)
         check_database_intact(database_url)

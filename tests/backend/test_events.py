@@ -12,13 +12,15 @@ import anyio
 import pytest
 from fastapi.sse import format_sse_event
 from fastapi.testclient import TestClient
-from phones import FakeClock, Phone
+from phones import FakeClock
 from test_sessions import landmarks, scene
 
 from backend.eventstream.log import Event
 from backend.eventstream.stream import EventStreams
 from backend.participants import Participant, Role
 from testbed.changes import take_in
+from testbed.client import Event as Heard
+from testbed.client import Phone, frame
 from testbed.scenes import NO_PHONES_FRIEND as FRIEND
 from testbed.scenes import NO_PHONES_LANDMARKS1 as STARTERS
 from testbed.scenes import NO_PHONES_LANDMARKS2 as JOINERS
@@ -54,28 +56,16 @@ async def open_stream(
             ).decode()
 
 
-async def next_frames(stream: AsyncIterator[str], *types: str) -> list[str]:
-    """Frames until one of each ``types`` has arrived (pings skipped)."""
+async def next_frames(stream: AsyncIterator[str], *types: str) -> list[Heard]:
+    """Events until one of each ``types`` has arrived (pings skipped)."""
     frames, waiting = [], set(types)
     while waiting:
         chunk = await anext(stream)
         if chunk.startswith(":"):
             continue
-        frames.append(chunk)
-        waiting.discard(_type(chunk))
+        frames.append(frame(chunk))
+        waiting.discard(frames[-1].type)
     return frames
-
-
-def _type(chunk: str) -> str:
-    return next((line[7:] for line in chunk.splitlines() if line.startswith("event: ")), "")
-
-
-def _data(chunk: str) -> Any:
-    return json.loads(next(line[6:] for line in chunk.splitlines() if line.startswith("data: ")))
-
-
-def _id(chunk: str) -> int:
-    return int(next(line[4:] for line in chunk.splitlines() if line.startswith("id: ")))
 
 
 @pytest.mark.anyio
@@ -89,10 +79,10 @@ async def test_changes_reach_the_other_phone_in_order(
     joiner_token = client.post("/api/sessions/join", json={"code": code}).json()["token"]
     joiner = Phone(client, starter.session_id, joiner_token, "joiner")
     frames = await next_frames(stream, "joined")
-    assert _data(frames[-1])["role"] == "joiner"
+    assert frames[-1].data["role"] == "joiner"
     assert joiner.upload(temple_photos[1], "b.png").status_code == 200
     frames += await next_frames(stream, "photo")
-    ids = [_id(f) for f in joined + frames]
+    ids = [f.id for f in joined + frames]
     assert ids == sorted(ids)
     assert len(set(ids)) == len(ids)
 
@@ -100,12 +90,12 @@ async def test_changes_reach_the_other_phone_in_order(
     resumed = open_stream(client, starter.session_id, "starter", ids[0])
     await anext(resumed)
     replay = await next_frames(resumed, "photo")
-    assert [_id(f) for f in replay] == ids[1:]
+    assert [f.id for f in replay] == ids[1:]
     await resumed.aclose()
 
     assert client.delete(joiner.url(), headers=joiner.auth).status_code == 204
     last = await next_frames(stream, "expired")
-    assert _type(last[-1]) == "expired"
+    assert last[-1].type == "expired"
     with pytest.raises(StopAsyncIteration):
         await anext(stream)
 
@@ -124,7 +114,7 @@ async def test_a_phone_that_goes_away_is_shown_offline(
     watcher = open_stream(client, starter.session_id, "starter", 0)
     await anext(watcher)
     history = await next_frames(watcher, "left")
-    assert _data(history[-1])["role"] == "joiner"
+    assert history[-1].data["role"] == "joiner"
     await watcher.aclose()
 
 
@@ -189,7 +179,7 @@ async def test_a_stream_ends_when_its_session_runs_out_of_time(
     await next_frames(stream, "joined")
     clock.advance(7200)
     rest = [chunk async for chunk in stream]
-    assert _type(rest[-1]) == "expired"
+    assert frame(rest[-1]).type == "expired"
 
 
 @pytest.mark.anyio
@@ -231,7 +221,7 @@ async def test_while_the_database_is_away_requests_get_503_and_streams_keep_ping
         await anyio.sleep(0.1)
     assert joiner.upload(temple_photos[1], "b.png").status_code == 200
     frames = await next_frames(stream, "photo")
-    assert _data(frames[-1])["role"] == "joiner"
+    assert frames[-1].data["role"] == "joiner"
     await stream.aclose()
 
 

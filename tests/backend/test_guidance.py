@@ -9,8 +9,8 @@ import cv2
 import numpy as np
 import pytest
 
+from testbed.client import Phone
 from testbed.venue import RenderedPair, rendered_pair
-from tests.backend.phones import Phone
 from tests.backend.test_sessions import error_of, landmarks, photos_uploaded, scene
 
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 from fastapi.testclient import TestClient
-from phones import Phone
 
 from backend.photos.imaging import StoredPhoto, decode_photo, encode_image
 from backend.photos.kept import KeptPhotos
 from backend.photos.repository import Photos
+from testbed.client import Phone
 from tests.backend.test_sessions import landmarks, photos_uploaded, scene
 
 

@@ -9,9 +9,9 @@ from typing import Any
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import Phone
 
 from backend.taps import problem
+from testbed.client import Phone
 from tests.backend.test_sessions import landmarks, photos_uploaded, scene
 
 SHOWN = ("answer", "answer_error", "landmarks_needed", "taps")

@@ -7,15 +7,13 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import cv2
-import httpx2
 import numpy as np
 import pytest
-from phones import TEMPLE, Listener, in_region, mark
+from phones import PAIR, TEMPLE, in_region, mark
 
-from testbed.loopback import serve
+from deploy.replica import serve
+from testbed.client import Phone, live
 from testbed.scenes import tap, temple_scene
-
-PAIR = ("templeSR0003", "templeSR0006")
 
 
 @pytest.fixture
@@ -26,31 +24,22 @@ def server(tmp_path: Path, database_url: str) -> Iterator[str]:
 
 
 def test_two_phones_find_each_other(server: str) -> None:
-    http = httpx2.Client(base_url=server, timeout=30)
+    http = live(server)
     created = http.post("/api/sessions").json()
-    starter = {"Authorization": f"Bearer {created['token']}"}
-    sid = created["session_id"]
-    starter_events = Listener(server, sid, created["token"])
-    starter_events.start()
+    starter = Phone(http, created["session_id"], created["token"], "starter")
+    starter_events = starter.listen()
     starter_events.wait_for("joined")  # its own presence
 
     # The joiner opens the join link: the code is its last part.
     code = created["join_url"].rsplit("/", 1)[-1]
     joined = http.post("/api/sessions/join", json={"code": code}).json()
-    joiner = {"Authorization": f"Bearer {joined['token']}"}
-    joiner_events = Listener(server, sid, joined["token"])
-    joiner_events.start()
+    joiner = Phone(http, starter.session_id, joined["token"], "joiner")
+    joiner_events = joiner.listen()
     starter_events.wait_for("joined", 3)  # joiner joined, joiner online
 
-    for headers, name in ((starter, PAIR[0]), (joiner, PAIR[1])):
-        photo = (TEMPLE / f"{name}.png").read_bytes()
-        stored = http.put(
-            f"/api/sessions/{sid}/photo",
-            headers=headers,
-            files={"photo": (f"{name}.png", photo, "image/png")},
-        )
-        assert stored.status_code == 200
-        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
+    for phone, name in ((starter, PAIR[0]), (joiner, PAIR[1])):
+        stored = phone.uploaded(TEMPLE / f"{name}.png")
+        assert stored == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
     starter_events.wait_for("photo", 2)
 
     rng = np.random.default_rng(6)
@@ -60,31 +49,25 @@ def test_two_phones_find_each_other(server: str) -> None:
     def landmarks(points: np.ndarray) -> list[dict[str, float]]:
         return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
 
-    http.put(
-        f"/api/sessions/{sid}/taps",
-        headers=starter,
-        json={"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)},
-    )
-    state = http.put(
-        f"/api/sessions/{sid}/taps", headers=joiner, json={"landmarks": landmarks(taps.landmarks2)}
-    ).json()
+    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    state = joiner.tap(landmarks=landmarks(taps.landmarks2)).json()
     starter_events.wait_for("answer")
     joiner_events.wait_for("answer")
 
     answer = state["answer"]
     assert answer["method"] == "pinhole_epipole"  # phone cameras: the camera model answers
     assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
-    assert http.get(f"/api/sessions/{sid}", headers=starter).json()["answer"] == answer
+    assert starter.state()["answer"] == answer
 
     for role in ("starter", "joiner"):
-        picture = http.get(f"/api/sessions/{sid}/overlay/{role}", headers=joiner)
+        picture = joiner.call("GET", f"/overlay/{role}")
         assert picture.status_code == 200
         image = cv2.imdecode(np.frombuffer(picture.content, np.uint8), cv2.IMREAD_COLOR)
         assert image.shape == (480, 640, 3)
 
     assert starter_events.ids == sorted(starter_events.ids)
     assert {"joined", "photo", "taps", "answer"} <= set(starter_events.types)
-    assert http.delete(f"/api/sessions/{sid}", headers=starter).status_code == 204
+    assert starter.call("DELETE").status_code == 204
     assert starter_events.ended.wait(15)
     assert joiner_events.ended.wait(15)
     assert starter_events.types[-1] == joiner_events.types[-1] == "expired"
@@ -96,9 +79,9 @@ def test_the_server_stops_promptly_with_a_phone_listening(
     """Event streams never end by themselves: stopping (SIGTERM) must not wait for them
     (nor for the thread listening to PostgreSQL)."""
     with serve(tmp_path, {"BUDDY_DATABASE_URL": database_url}) as running:
-        created = httpx2.post(f"{running.base_url}/api/sessions").json()
-        listener = Listener(running.base_url, created["session_id"], created["token"])
-        listener.start()
+        http = live(running.base_url)
+        created = http.post("/api/sessions").json()
+        listener = Phone(http, created["session_id"], created["token"]).listen()
         listener.wait_for("joined")
         stopping = time.monotonic()
     assert time.monotonic() - stopping < 10  # the 3 s grace, not the 20 s kill

@@ -10,11 +10,11 @@ import io
 import cv2
 import numpy as np
 import pytest
-from phones import Phone
 from PIL import Image
 from test_sessions import landmarks, photos_uploaded, scene
 
 from backend.limits import STORED_PHOTO_SIDE
+from testbed.client import Phone
 
 
 def phone_jpeg(width: int, height: int) -> bytes:

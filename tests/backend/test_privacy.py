@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import FakeClock, Phone
+from phones import FakeClock
 from PIL import ExifTags, Image
 from postgres import PostgresServer
 from sqlalchemy import Engine
@@ -30,6 +30,7 @@ from sqlalchemy import Engine
 from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
 from backend.wiring import Services
+from testbed.client import Phone
 
 # The temple landmarks of the README's example, and where the joiner is in photo 1.
 IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]

@@ -18,19 +18,17 @@ import psycopg
 import pytest
 from phones import (
     PAIR,
-    HttpPhone,
-    Listener,
-    follow,
+    TEMPLE,
     in_region,
     landmarks,
     mark,
-    pair,
     scene_taps,
 )
 from postgres import PostgresServer
 
 from backend.storage.database import database_url
-from testbed.loopback import Server, serve
+from deploy.replica import Server, serve
+from testbed.client import Listener, Phone, follow, live, pair
 from testbed.scenes import Scene
 
 # Streams read the event table only when woken or every 30 s, and ping every 20 s: an
@@ -53,19 +51,19 @@ def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, 
 
 
 def photos_and_taps_cross(
-    starter: HttpPhone, joiner: HttpPhone, starter_events: Listener, joiner_events: Listener
+    starter: Phone, joiner: Phone, starter_events: Listener, joiner_events: Listener
 ) -> tuple[Scene, dict[str, Any]]:
     """Both photos and both tap sets, each phone on its own process: each change reaches
     the other phone's stream within CROSSING_SECONDS. The scene, and the joiner's state with
     the answer (computed in the joiner's process)."""
-    starter.upload(PAIR[0])
+    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
     joiner_events.wait_for("photo", role="starter", seconds=CROSSING_SECONDS)
-    joiner.upload(PAIR[1])
+    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     scene, taps = scene_taps()
-    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
     joiner_events.wait_for("taps", role="starter", seconds=CROSSING_SECONDS)
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2))
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     starter_events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     return scene, state
@@ -75,7 +73,7 @@ def test_phones_on_two_replicas_find_each_other(
     replicas: tuple[Server, Server], postgres: PostgresServer, fresh_postgres_url: str
 ) -> None:
     one, two = replicas
-    starter, joiner = pair(one.base_url, two.base_url)
+    starter, joiner = pair(live(one.base_url), live(two.base_url))
     starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
 
     scene, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
@@ -122,7 +120,7 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
         for name in ("worker1", "worker2"):
             (tmp_path / name).mkdir()
             servers.append(stack.enter_context(serve(tmp_path / name, environment)))
-        starter, joiner = pair(servers[0].base_url, servers[1].base_url)
+        starter, joiner = pair(live(servers[0].base_url), live(servers[1].base_url))
         starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
         _, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
         assert starter.state()["answer"] == state["answer"]
@@ -133,16 +131,22 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
         assert not joiner_events.dropped
 
 
+def photos_taken(one: Server, two: Server) -> tuple[Phone, Phone, Listener, Listener]:
+    """A search begun on replica one, joined on two: both streams open, both photos up."""
+    starter, joiner = pair(live(one.base_url), live(two.base_url))
+    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
+    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
+    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
+    return starter, joiner, starter_events, joiner_events
+
+
 def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Server]) -> None:
     one, two = replicas
-    starter, joiner = pair(one.base_url, two.base_url)
-    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
-    starter.upload(PAIR[0])
-    joiner.upload(PAIR[1])
+    starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
     starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)}
-    starter.tap(**starter_taps)
-    joiner.tap(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
+    starter.tapped(**starter_taps)
+    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     before = starter.state()
     photos = [starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")]
@@ -152,7 +156,7 @@ def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Serve
     assert starter_events.dropped
 
     # The starter's phone reconnects to replica 2 with the same token, from its last event.
-    starter.base = two.base_url
+    starter = Phone(live(two.base_url), starter.session_id, starter.token, starter.role)
     after = starter.state()
     assert after["photos"] == before["photos"]
     assert [
@@ -164,7 +168,7 @@ def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Serve
     resumed = starter.listen(last_event_id=starter_events.ids[-1])
     resumed.wait_for("joined", role="starter", online=True)
 
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
     resumed.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     answer = starter.state()["answer"]
     assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
@@ -179,12 +183,9 @@ def test_postgresql_restarted_mid_search(
     replicas: tuple[Server, Server], postgres: PostgresServer
 ) -> None:
     one, two = replicas
-    starter, joiner = pair(one.base_url, two.base_url)
-    starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
-    starter.upload(PAIR[0])
-    joiner.upload(PAIR[1])
+    starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
     joiner_events.wait_for("taps", role="starter")
 
     postgres.stop()
@@ -201,7 +202,7 @@ def test_postgresql_restarted_mid_search(
     for replica in (one, two):  # back by themselves, neither restarted
         wait_until_healthy(replica)
         os.kill(replica.pid, 0)  # still the same process
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2))
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))
     starter_events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     assert starter.state()["answer"] == state["answer"]
     assert in_region(state["answer"]["in_photo"]["joiner"]["region"], scene.epipole2)
@@ -212,7 +213,7 @@ def test_postgresql_restarted_mid_search(
     end(joiner, starter_events, joiner_events)
 
 
-def end(phone: HttpPhone, *streams: Listener) -> None:
+def end(phone: Phone, *streams: Listener) -> None:
     """Delete now: every stream of the session ends (and the replicas stop promptly)."""
     assert phone.call("DELETE").status_code == 204
     for stream in streams:

@@ -16,14 +16,15 @@ import httpx2
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from phones import FakeClock, Phone
+from phones import FakeClock
 
 from backend.main import create_app
 from backend.pairing import guessing
 from backend.pairing.guessing import client_key
 from backend.security import APP_POLICY
 from backend.settings import Settings
-from testbed.loopback import serve
+from deploy.replica import serve
+from testbed.client import Phone
 
 PER_CLIENT = 5
 OVERALL = 12

@@ -14,13 +14,14 @@ import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, Phone, in_region
+from phones import TEMPLE, FakeClock, in_region
 from PIL import ExifTags, Image
 from sqlalchemy import text
 
 from backend.pairing.tokens import token_hash
 from backend.participants import ROLES
 from backend.storage.tables import Base
+from testbed.client import Phone
 from testbed.scenes import (
     NO_PHONES_FRIEND,
     NO_PHONES_LANDMARKS1,

@@ -13,7 +13,7 @@ from phones import TEMPLE
 
 from shared_solver import Camera, solve
 from testbed.phones import phone_scene
-from testbed.scenes import facing_scene, temple_scene
+from testbed.scenes import facing_scene, solved, temple_scene
 
 
 def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:
@@ -33,14 +33,7 @@ def test_solve_returns_exactly_what_the_solver_returns(client: TestClient, seed:
     body = request_for(seed)
     response = client.post("/api/solve", json=body)
     assert response.status_code == 200
-    expected = solve(
-        body["points1"],  # type: ignore[arg-type]
-        body["points2"],  # type: ignore[arg-type]
-        epipole1=body["epipole1"],  # type: ignore[arg-type]
-        tap_sigma=1.5,
-        image_size1=body["image_size1"],  # type: ignore[arg-type]
-        image_size2=body["image_size2"],  # type: ignore[arg-type]
-    )
+    expected = solve(**body)  # the request's fields are solve's arguments
     assert response.json() == json.loads(json.dumps(expected.model_dump(mode="json")))
 
 
@@ -71,12 +64,8 @@ def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> N
     assert result["camera_model"] == "pinhole"
     assert [c["known"] for c in result["cameras"]] == ["phone", "known_focal"]
     assert result["cameras"][1]["focal_35mm"] == pytest.approx(s.focal_35mm2, rel=0.05)
-    expected = solve(
-        s.landmarks1,
-        s.landmarks2,
-        epipole1=s.epipole1,
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
+    expected = solved(
+        s,
         camera1="phone",
         camera2=Camera.with_focal(s.focal_35mm2),
         points1_sigma=[1.0, 2.0, 1.0],
@@ -135,17 +124,7 @@ def test_each_taps_own_precision_weighs_in(client: TestClient) -> None:
     }
     response = client.post("/api/solve", json=precise)
     assert response.status_code == 200, response.text
-    expected = solve(
-        body["points1"],  # type: ignore[arg-type]
-        body["points2"],  # type: ignore[arg-type]
-        epipole1=body["epipole1"],  # type: ignore[arg-type]
-        tap_sigma=1.5,
-        image_size1=body["image_size1"],  # type: ignore[arg-type]
-        image_size2=body["image_size2"],  # type: ignore[arg-type]
-        points1_sigma=sharp,
-        points2_sigma=[[[s**2, 0.0], [0.0, 1.0]] for s in sharp],
-        epipole1_sigma=0.5,
-    )
+    expected = solve(**precise)
     assert response.json() == json.loads(json.dumps(expected.model_dump(mode="json")))
     plain = client.post("/api/solve", json=body).json()
     assert response.json()["uncertainty"]["covariance"] != plain["uncertainty"]["covariance"]

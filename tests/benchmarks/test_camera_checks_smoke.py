@@ -4,24 +4,14 @@ a row for every variant. No figure is asserted: a handful of trials measure noth
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "camera_checks.py"
+from benchmark_scripts import run_benchmark
 
 
 def test_camera_checks_run_and_report_every_section(tmp_path: Path) -> None:
     out = tmp_path / "camera-checks.md"
-    subprocess.run(
-        [sys.executable, str(SCRIPT), "--trials", "3", "--out", str(out)],
-        cwd=ROOT,
-        check=True,
-        capture_output=True,
-        timeout=120,
-    )
-    text = out.read_text()
+    _, text = run_benchmark("camera_checks", "--trials", "3", out=out, timeout=120)
     for title in (
         "## 1. The focal-length prior",
         "## 2. The principal point at the centre",

@@ -6,12 +6,10 @@ every search it started completed without an error. No timing is asserted."""
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "load.py"
+from benchmark_scripts import run_benchmark
+
 # 3 pairs of friends, 50 times quicker than people, starting searches for 8 s.
 TINY = ["--concurrency", "3", "--duration", "8", "--ramp", "1", "--speed", "50"]
 HUNG_SECONDS = 120  # a run this small takes about 25 s: beyond this it hangs
@@ -25,17 +23,8 @@ def found(pattern: str, text: str) -> tuple[str, ...]:
 
 def test_load_benchmark_runs_every_search_through_the_cluster(tmp_path: Path) -> None:
     out = tmp_path / "load-benchmark.md"
-    done = subprocess.run(
-        [sys.executable, str(SCRIPT), *TINY, "--out", str(out)],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=HUNG_SECONDS,
-        check=False,
-    )
-    assert done.returncode == 0, done.stderr[-4000:]
-    report = out.read_text()
-    assert done.stdout == report  # printed and written alike
+    printed, report = run_benchmark("load", *TINY, out=out, timeout=HUNG_SECONDS)
+    assert printed == report  # printed and written alike
     sections = ("# Load benchmark", "## Targets", "## Calls", "## Per search", "## Errors")
     for section in (*sections, "## Where the replicas' time goes"):
         assert f"\n{section}\n" in f"\n{report}", section

@@ -6,28 +6,17 @@ search measures nothing."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "network.py"
+from benchmark_scripts import run_benchmark
+
 HUNG_SECONDS = 300  # one search per profile takes about 30 s: beyond this it hangs
 
 
 def test_network_benchmark_runs_both_profiles_and_reports(tmp_path: Path) -> None:
     out = tmp_path / "network.md"
-    done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--runs", "1", "--out", str(out)],
-        check=False,
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=HUNG_SECONDS,
-    )
-    assert done.returncode == 0, done.stderr[-3000:]
-    report = out.read_text()
-    assert report == done.stdout.split("{", 1)[0]  # printed, then the JSON summary line
+    printed, report = run_benchmark("network", "--runs", "1", out=out, timeout=HUNG_SECONDS)
+    assert report == printed.split("{", 1)[0]  # printed, then the JSON summary line
     for profile in ("loopback", "venue"):
         for phone in ("starter (Pixel 7)", "joiner (iPhone 13)"):
             assert f"| {profile} | {phone} | " in report

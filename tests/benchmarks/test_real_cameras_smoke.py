@@ -5,14 +5,12 @@ one trial measures nothing."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
+
+from benchmark_scripts import run_benchmark
 
 from testbed.real_cameras import load_pairs
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "real_cameras.py"
 SECTIONS = (
     "## Targets",
     "## 1. The pairs",
@@ -26,14 +24,7 @@ SECTIONS = (
 
 def test_real_cameras_run_and_report_every_section(tmp_path: Path) -> None:
     out = tmp_path / "real-cameras.md"
-    subprocess.run(
-        [sys.executable, str(SCRIPT), "--trials", "1", "--out", str(out)],
-        cwd=ROOT,
-        check=True,
-        capture_output=True,
-        timeout=300,
-    )
-    text = out.read_text()
+    _, text = run_benchmark("real_cameras", "--trials", "1", out=out, timeout=300)
     for title in SECTIONS:
         assert title in text
     assert "Crashes (exceptions other than SolverError): 0." in text

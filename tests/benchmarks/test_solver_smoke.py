@@ -6,12 +6,10 @@ trials measure nothing."""
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "solver.py"
+from benchmark_scripts import run_benchmark
+
 TINY = [
     "--trials",
     "3",
@@ -63,16 +61,8 @@ TARGETS = (
 
 def test_solver_benchmark_runs_and_reports_every_section(tmp_path: Path) -> None:
     out = tmp_path / "solver-benchmark.md"
-    done = subprocess.run(
-        [sys.executable, str(SCRIPT), *TINY, "--out", str(out)],
-        cwd=ROOT,
-        check=True,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    text = out.read_text()
-    assert done.stdout == text  # printed and written alike
+    printed, text = run_benchmark("solver", *TINY, out=out, timeout=120)
+    assert printed == text  # printed and written alike
     positions = [text.index(title) for title in SECTIONS]
     assert positions == sorted(positions)
 

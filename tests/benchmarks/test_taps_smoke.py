@@ -8,26 +8,15 @@ fixed 3 px for every tap (ten searches: at least 7 of 10, against a 95 % level).
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "taps.py"
+from benchmark_scripts import run_benchmark
 
 
 def test_the_apps_tap_precision_gives_honest_regions(tmp_path: Path) -> None:
     out = tmp_path / "tap-precision.md"
-    done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--trials", "10", "--out", str(out)],
-        cwd=ROOT,
-        check=True,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    held = json.loads(done.stdout.strip().splitlines()[-1])
-    text = out.read_text()
+    printed, text = run_benchmark("taps", "--trials", "10", out=out, timeout=600)
+    held = json.loads(printed.strip().splitlines()[-1])
     assert text.startswith("# Tap precision through the app")
     assert "| the app's (each tap's own, docs/app.md) |" in text
     app, fixed = held["app"], held["fixed"]

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from shared_solver import draw_overlay, solve
-from testbed.scenes import Camera, Scene, facing_scene, look_at, tap
+from testbed.scenes import Camera, Scene, facing_scene, look_at, solved, tap
 
 INTRINSICS = np.array([[1400.0, 0.0, 800.0], [0.0, 1400.0, 600.0], [0.0, 0.0, 1.0]])
 SIZE = (1600, 1200)
@@ -92,14 +92,7 @@ def test_facing_friends_are_never_told_to_turn_around() -> None:
         n = 5 if trial % 2 else 8
         s = facing_scene(rng, n)
         taps = tap(s, 1.0, rng)
-        result = solve(
-            taps.landmarks1,
-            taps.landmarks2,
-            epipole1=taps.epipole1,
-            tap_sigma=1.0,
-            image_size1=s.image_size1,
-            image_size2=s.image_size2,
-        )
+        result = solved(s, taps, tap_sigma=1.0)
         told += any("behind you" in w for w in result.warnings)
     assert told == 0
 

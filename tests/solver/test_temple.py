@@ -6,9 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from shared_solver import solve
 from shared_solver.estimation.uncertainty import contains
-from testbed.scenes import tap, temple_cameras, temple_scene
+from testbed.scenes import solved, tap, temple_cameras, temple_scene
 
 PAIR = ("templeSR0003", "templeSR0006")
 
@@ -26,13 +25,7 @@ def test_exact_temple_landmarks_give_the_exact_friend(temple_parameters: Path) -
     rng = np.random.default_rng(1)
     for n in (4, 5, 6, 8):
         s = temple_scene(temple_parameters, *PAIR, n, rng)
-        result = solve(
-            s.landmarks1,
-            s.landmarks2,
-            epipole1=s.epipole1,
-            image_size1=s.image_size1,
-            image_size2=s.image_size2,
-        )
+        result = solved(s)
         if n == 4:
             conic = np.array(result.conic2)
             x = np.append(s.epipole2, 1.0)
@@ -54,14 +47,7 @@ def test_tapped_temple_landmarks_find_the_friend_within_the_ellipse(
         for _ in range(trials):
             s = temple_scene(temple_parameters, *PAIR, n, rng)
             taps = tap(s, 1.0, rng)
-            result = solve(
-                taps.landmarks1,
-                taps.landmarks2,
-                epipole1=taps.epipole1,
-                tap_sigma=1.0,
-                image_size1=s.image_size1,
-                image_size2=s.image_size2,
-            )
+            result = solved(s, taps, tap_sigma=1.0)
             if result.epipole2 is None:  # no position claimed: a miss for coverage
                 errors.append(np.inf)
                 continue
