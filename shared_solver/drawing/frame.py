@@ -13,7 +13,7 @@ from ..projective import Array
 from ..result import Ellipse
 from .curves import conic_polylines
 from .shapes import FrameShape, Point, Polyline, SightShape
-from .sizes import BRACKET_ARM, OUTLINED_REGION, Sizes
+from .sizes import BRACKET_ARM, LONG_REGION, OUTLINED_REGION, Sizes
 
 # A zero axis would make the ellipse's matrix infinite; thinner than this is a line anyway.
 _THINNEST_AXIS_PX = 1e-3
@@ -63,8 +63,10 @@ def frame_box(ellipse: Ellipse | None, sizes: Sizes) -> tuple[Array, bool]:
         # The axis-aligned half-sizes of the ellipse, a little room added.
         reach = np.array([math.hypot(a * cos, b * sin), math.hypot(a * sin, b * cos)])
         half = np.maximum(half, 1.1 * reach + sizes.room)
-        # A region smaller than a person is inside the brackets: its outline would cover them.
-        outlined = max(a, b) >= OUTLINED_REGION * sizes.frame_half
+        # Not across the person the brackets frame, unless the region is long enough for its
+        # outline to be the answer (a line to look along).
+        wide = min(a, b) >= OUTLINED_REGION * sizes.frame_half
+        outlined = wide or max(a, b) >= LONG_REGION * sizes.frame_half
     return np.minimum(half, [sizes.width + sizes.height] * 2), outlined
 
 

@@ -13,10 +13,13 @@ from ..projective import Array
 
 # A bracket's arm, as a fraction of the frame's shorter half-side.
 BRACKET_ARM = 0.4
-# The region's outline is drawn when its long semi-axis is at least this many frame
-# half-sizes: smaller, it would run over the friend, whom the brackets frame anyway. (The
-# phone once asked this of the short semi-axis; one rule now holds for both drawings.)
+# The region's outline is drawn when its short semi-axis is at least this many frame
+# half-sizes: narrower, its outline would run over the friend standing in it, whom the
+# brackets frame anyway ...
 OUTLINED_REGION = 0.6
+# ... or when its long semi-axis is at least this many: then the brackets, around most of the
+# photo, say little, and the outline shows along which line to look.
+LONG_REGION = 5.0
 # An arrow's head: its length as a fraction of the arrow's, and as wide as it is long.
 ARROW_HEAD = 0.3
 # A suspect's red ring: its radius in landmark rings.
