@@ -15,6 +15,9 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
 
 from backend.participants import ROLES, Role, other
 from backend.photos.lens import EXIF_UNCERTAINTY
@@ -27,6 +30,8 @@ from shared_solver import (
     solve,
     words,
 )
+from shared_solver.drawing.layout import answer_drawing
+from shared_solver.drawing.shapes import AnswerDrawing
 
 from . import guidance
 from .schemas import Answer, FriendInPhoto, LandmarkBand, Refusal, StoredAnswer, Taps
@@ -189,7 +194,7 @@ def solved(
         return StoredAnswer(error=Refusal(code=error.code.value, message=error.message))
     solution = result.model_dump(mode="json")
     guides = guidance.bands(result, task.first, taps, sizes, task.default_sigma)
-    told = answer(task, result)
+    told = answer(task, result, sizes)
     for role, view in told.in_photo.items():
         view.bands = [LandmarkBand(id=i, **band.model_dump()) for i, band in guides[role].items()]
         view.misfits = misfits[role]
@@ -250,11 +255,19 @@ def fitted(
         return None
 
 
-def answer(task: Problem, result: SolveResult) -> Answer:
+def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]]) -> Answer:
     """What each phone is told: where its friend is in its own photo. Photo 1's friend is
     the mark its phone tapped (refined by the fit), or the point the fit puts on its line,
-    or (nothing marked) where the landmarks put them; photo 2's is what the fit found."""
+    or (nothing marked) where the landmarks put them; photo 2's is what the fit found. Each
+    gets the answer's drawing on its photo (``sizes``: width, height px), which it renders."""
     first, second = task.first, task.second
+
+    def drawing(photo: Literal[1, 2], role: Role, points: list[Point]) -> AnswerDrawing:
+        landmarks = np.array(points, np.float64).reshape(-1, 2)
+        return answer_drawing(
+            result, photo=photo, size=sizes[role], landmarks=landmarks, labels=task.ids
+        )
+
     focal = [camera.focal_35mm for camera in result.cameras] or [None, None]
     suspects = {task.ids[i] for i in result.suspect_landmarks}
     one = FriendInPhoto(
@@ -264,6 +277,7 @@ def answer(task: Problem, result: SolveResult) -> Answer:
         candidates=_others([c.epipole1 for c in result.candidates], result.epipole1),
         focal_35mm=focal[0],
         warnings=[for_reader(w, 1) for w in result.warnings if not words.about_photo2(w)],
+        drawing=drawing(1, first, task.points1),
     )
     ellipse = result.uncertainty.ellipse if result.uncertainty else None
     two = FriendInPhoto(
@@ -275,6 +289,7 @@ def answer(task: Problem, result: SolveResult) -> Answer:
         candidates=_others([c.epipole2 for c in result.candidates], result.epipole2),
         focal_35mm=focal[1],
         warnings=[for_reader(w, 2) for w in result.warnings],
+        drawing=drawing(2, second, task.points2),
     )
     return Answer(
         method=result.method,

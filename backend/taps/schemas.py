@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, Strict
 
 from backend.limits import MAX_LANDMARK_ID
 from backend.participants import Role
+from shared_solver.drawing.shapes import AnswerDrawing
 from shared_solver.matching.band import BandShape
 from shared_solver.result import Ellipse
 
@@ -138,6 +139,11 @@ class FriendInPhoto(BaseModel):
         default_factory=list,
         description="Your landmarks tapped far outside their band: they do not fit the "
         "others (check them).",
+    )
+    drawing: AnswerDrawing | None = Field(
+        None,
+        description="What to draw of the answer on your photo, px: the frame, the curve, "
+        "the arrow at the border (the overlay draws the same).",
     )
 
 

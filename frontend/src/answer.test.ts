@@ -1,15 +1,18 @@
 import { describe, expect, it } from "vitest";
 import { CURVE_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
-import { personSize } from "./answerLayer";
 import type { Answer, FriendInPhoto, SessionState } from "./types";
 
 const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
+
+/** The server's drawing on a 640 x 480 photo: what the sureness is measured in (a person far
+ * across the hall, px). */
+const DRAWING = { width: 640, height: 480, person: 800 / 55 };
 
 /** Where each phone's friend is in its own photo: the starter marked, the joiner was told. */
 function inPhoto(starter: Partial<FriendInPhoto> = {}, joiner: Partial<FriendInPhoto> = {}): Answer["in_photo"] {
   return {
     starter: { how: "marked", friend: [10, 10], friend_h: [0.1, 0.1, 0.01], ...starter },
-    joiner: { how: "solved", friend: [300, 200], friend_h: [0.8, 0.6, 0.001], region: RING, ...joiner },
+    joiner: { how: "solved", friend: [300, 200], friend_h: [0.8, 0.6, 0.001], region: RING, drawing: DRAWING, ...joiner },
   };
 }
 
@@ -134,12 +137,12 @@ describe("the answer on each phone", () => {
   });
 
   it("says how sure the frame is in people, never in pixels", () => {
-    const photo = { width: 640, height: 480 };
-    const person = personSize(photo);
+    // A person far across the hall, px, as the answer's drawing says it.
+    const person = 800 / 55;
     const region = (across: number) => ({ center: [0, 0] as [number, number], axes: [across / 2, 2] as [number, number], angle_deg: 0 });
-    expect(surenessText(region(person), "good", photo)).toBe("Good: the frame is about one person across.");
-    expect(surenessText(region(5 * person), "good", photo)).toBe("Rough: the frame is about 5 people across.");
-    expect(surenessText(region(person), "poor", photo)).toMatch(/^Rough: /);
-    expect(surenessText(null, "good", photo)).toMatch(/^Rough: no sure region/);
+    expect(surenessText(region(person), "good", person)).toBe("Good: the frame is about one person across.");
+    expect(surenessText(region(5 * person), "good", person)).toBe("Rough: the frame is about 5 people across.");
+    expect(surenessText(region(person), "poor", person)).toMatch(/^Rough: /);
+    expect(surenessText(null, "good", person)).toMatch(/^Rough: no sure region/);
   });
 });

@@ -4,10 +4,8 @@
  * geometry is the server's; this only chooses words.
  */
 
-import { personSize } from "./answerLayer";
-import type { Ellipse, FriendInPhoto, Quality, Role, SessionState } from "./types";
+import type { AnswerDrawing, Ellipse, FriendInPhoto, Quality, Role, SessionState } from "./types";
 import { otherRole } from "./types";
-import type { Size } from "./viewTransform";
 
 export interface Position {
   x: number;
@@ -40,6 +38,8 @@ export interface AnswerView {
   sureness: string | null;
   /** The curve the friend is on (3x3 conic, row by row), when there is no point yet. */
   curve: number[][] | null;
+  /** What to draw on this phone's photo, as the server computed it (AnswerLayer renders it). */
+  drawing: AnswerDrawing | null;
 }
 
 export const CURVE_TEXT =
@@ -60,6 +60,7 @@ const NOTHING: AnswerView = {
   suspects: [],
   sureness: null,
   curve: null,
+  drawing: null,
 };
 
 function isInside(x: number, y: number, size: { width: number; height: number } | null | undefined): boolean {
@@ -79,6 +80,7 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     warnings: mine.warnings ?? [],
     suspects: answer.suspects ?? [],
     curve: mine.curve ?? null,
+    drawing: mine.drawing ?? null,
     // The other phone found where this phone's owner is (not only refined its own mark).
     seen: theirs?.how === "solved" && (theirs.friend != null || theirs.curve != null),
   };
@@ -88,10 +90,10 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
   const position: Position | null = mine.friend
     ? { x, y, ellipse: region, quality: answer.quality, how: mine.how }
     : null;
-  const photo = state.photos[role];
+  const person = mine.drawing?.person;
   // This phone's own mark is what it tapped, drawn as it was (no frame): no sureness to say.
   const own = mine.how === "marked";
-  const sureness = position && photo && !own ? surenessText(region, answer.quality, photo) : null;
+  const sureness = position && person && !own ? surenessText(region, answer.quality, person) : null;
 
   if (mine.how !== "solved") {
     // This phone marked its friend (or drew a line through them): its mark, refined.
@@ -127,11 +129,11 @@ export const GOOD_PEOPLE = 2;
 
 /**
  * How sure the frame is, in people rather than pixels of someone's photo: the 95 % region's
- * long diameter in persons far across a hall (answerLayer.ts, `personSize`).
+ * long diameter in persons far across a hall (`person` px: the answer's drawing says it).
  */
-export function surenessText(region: Ellipse | null, quality: Quality, photo: Size): string {
+export function surenessText(region: Ellipse | null, quality: Quality, person: number): string {
   if (region === null) return "Rough: no sure region yet.";
-  const people = (2 * Math.max(...region.axes)) / personSize(photo);
+  const people = (2 * Math.max(...region.axes)) / person;
   if (people <= GOOD_PEOPLE) {
     return quality === "poor" ? "Rough: the landmarks disagree; re-check them." : "Good: the frame is about one person across.";
   }

@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { boxInView, clipToPhoto, easeInOut, frameTarget, glide, movedNoticeably, type Box } from "./reframe";
+import { boxInView, clipToPhoto, easeInOut, edgeArrow, frameTarget, glide, movedNoticeably, type Box } from "./reframe";
 import { centreOn, fitTransform, toScreen } from "./viewTransform";
 
 const VIEW = { width: 400, height: 600 };
@@ -54,5 +54,16 @@ describe("bringing the answer into view", () => {
     expect(end.ty).toBeCloseTo(to.ty);
     expect(easeInOut(0)).toBe(0);
     expect(easeInOut(2)).toBe(1);
+  });
+});
+
+describe("the arrow to an answer out of sight", () => {
+  it("points from the middle towards a target outside, on the box's border", () => {
+    const box = { left: 0, top: 0, right: 400, bottom: 300 };
+    expect(edgeArrow({ x: 200, y: 150 }, box, 20)).toBeNull();
+    const arrow = edgeArrow({ x: 1000, y: 150 }, box, 20);
+    expect(arrow?.at).toEqual({ x: 380, y: 150 });
+    expect(arrow?.angle).toBeCloseTo(0);
+    expect(edgeArrow({ x: 200, y: -500 }, box, 20)?.at.y).toBeCloseTo(20);
   });
 });

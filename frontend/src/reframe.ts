@@ -2,7 +2,7 @@
  * Bringing the answer into view: when it first arrives, or moves noticeably, the view
  * glides to show it with some room around it (unless the person is in the middle of a
  * gesture: then it waits); when it is out of sight, an arrow at the view's edge points to
- * it (answerLayer.ts, `edgeArrow`).
+ * it (`edgeArrow`).
  */
 
 import {
@@ -129,4 +129,25 @@ export function glide(from: ViewTransform, to: ViewTransform, k: number, view: S
 export function easeInOut(k: number): number {
   const c = Math.min(Math.max(k, 0), 1);
   return c * c * (3 - 2 * c);
+}
+
+/**
+ * Where the arrow to a point out of sight goes: on the border of `box` (inset by `inset`),
+ * on the ray from the box's centre towards `target`, with the ray's direction (radians, 0
+ * along x, y down). Null when `target` is inside the box.
+ */
+export function edgeArrow(
+  target: Point,
+  box: { left: number; top: number; right: number; bottom: number },
+  inset: number,
+): { at: Point; angle: number } | null {
+  if (target.x >= box.left && target.x <= box.right && target.y >= box.top && target.y <= box.bottom) return null;
+  const centre = { x: (box.left + box.right) / 2, y: (box.top + box.bottom) / 2 };
+  const dx = target.x - centre.x;
+  const dy = target.y - centre.y;
+  const halfW = Math.max(1, (box.right - box.left) / 2 - inset);
+  const halfH = Math.max(1, (box.bottom - box.top) / 2 - inset);
+  // The ray leaves the inset box where the first of its two slabs ends.
+  const t = Math.min(dx === 0 ? Infinity : halfW / Math.abs(dx), dy === 0 ? Infinity : halfH / Math.abs(dy));
+  return { at: { x: centre.x + t * dx, y: centre.y + t * dy }, angle: Math.atan2(dy, dx) };
 }

@@ -20,6 +20,11 @@ export type Answer = Schemas["Answer"];
 export type FriendInPhoto = Schemas["FriendInPhoto"];
 export type Ellipse = Schemas["Ellipse"];
 export type LandmarkBand = Schemas["LandmarkBand"];
+/** What to draw of the answer on one photo, px (shared_solver/drawing/shapes.py). */
+export type AnswerDrawing = Schemas["AnswerDrawing"];
+export type FrameShape = Schemas["FrameShape"];
+export type CurveShape = Schemas["CurveShape"];
+export type ArrowShape = Schemas["ArrowShape"];
 export type LandmarkSuggestion = Schemas["LandmarkSuggestion"];
 export type Quality = Answer["quality"];
 /** The data of each event type of the session's stream (JSON), by type (changes.ts). */

@@ -407,13 +407,10 @@ def test_a_code_typed_wrong_five_times_is_renewed_on_the_starters_phone(
     expect(joiner.get_by_test_id("photo-input")).to_be_attached()
 
 
-def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
-    server: str, pixel: Phone, iphone: Phone, screenshots: Path
-) -> None:
-    """The curve the friend stands on is still shown when the taps fit no two phone
-    photos (a cropped or edited photo, landmarks mixed up): four landmarks give it, with a
-    warning, and the counter asks for one more, which gives a position."""
-    starter, joiner = start_and_join(server, pixel, iphone)
+def to_the_curve(server: str, starter: Phone, joiner: Phone) -> Phone:
+    """A search whose taps fit no two phone photos, played to its curve: the starter marks
+    the friend and 5 landmarks, the joiner finds 4 of them and sees the curve; the joiner."""
+    start_and_join(server, starter, joiner)
     upload(starter, temple(PAIR[0]))
     upload(joiner, temple(PAIR[1]))
     mark_friend(starter, *NO_PHONES_FRIEND)
@@ -421,6 +418,16 @@ def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
     cannot_see(joiner)
     find_landmarks(joiner, NO_PHONES_LANDMARKS2[:4])
     expect(joiner.get_by_test_id("answer-curve")).to_be_visible()
+    return joiner
+
+
+def test_taps_that_fit_no_phones_show_the_curve_at_four_landmarks(
+    server: str, pixel: Phone, iphone: Phone, screenshots: Path
+) -> None:
+    """The curve the friend stands on is still shown when the taps fit no two phone
+    photos (a cropped or edited photo, landmarks mixed up): four landmarks give it, with a
+    warning, and the counter asks for one more, which gives a position."""
+    joiner = to_the_curve(server, pixel, iphone)
     expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
     expect(joiner.get_by_test_id("result-text")).to_contain_text("curve")
     expect(joiner.get_by_test_id("result-position")).to_have_count(0)

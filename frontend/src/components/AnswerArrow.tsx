@@ -4,10 +4,9 @@
  */
 
 import type { AnswerView } from "../answer";
-import { edgeArrow } from "../answerLayer";
-import { clearArea, clipToPhoto, type Insets } from "../reframe";
+import { clearArea, clipToPhoto, edgeArrow, type Insets } from "../reframe";
 import { toScreen, type Size, type ViewTransform } from "../viewTransform";
-import { frameOf } from "./AnswerLayer";
+import { answerBox } from "./AnswerLayer";
 import { ArrowIcon } from "./icons";
 import { at } from "./Marks";
 
@@ -24,9 +23,9 @@ interface Props {
 }
 
 export function AnswerArrow({ answer, photoSize, transform: t, view, insets, onShow }: Props) {
-  const frame = frameOf(answer, photoSize);
-  if (!frame) return null;
-  const target = toScreen(t, clipToPhoto({ centre: frame.centre, half: frame.half }, photoSize).centre);
+  const box = answerBox(answer);
+  if (!box) return null;
+  const target = toScreen(t, clipToPhoto(box, photoSize).centre);
   // Out of the view, not merely under the status (which lets the photo show through).
   const arrow = edgeArrow(target, clearArea(view, { ...insets, top: insets.left }), ARROW_INSET);
   if (!arrow) return null;

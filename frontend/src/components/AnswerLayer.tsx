@@ -1,102 +1,124 @@
 /**
- * The answer, drawn by the phone over its own photo from the state's JSON, in the design of
- * the server's overlay (answerLayer.ts): an open frame of corner brackets around where the
- * friend is, the region's outline only when it is larger than a person, "friend" on a short
- * leader beside it; the curve they are on when there is no point yet; an arrow at the photo's
- * border when they are outside it. Strokes and labels keep their size on the screen at every
- * zoom, so they never grow over the friend; the frame is drawn last, on top.
+ * The answer, drawn by the phone over its own photo: a thin SVG renderer of the shapes the
+ * server computed for this photo (`answer.in_photo[you].drawing`, shared_solver/drawing:
+ * the same shapes its OpenCV overlay draws). Corner brackets around where the friend is, the
+ * region's outline inside when it is larger than a person, "friend" on a short leader beside;
+ * the curve they are on when there is no point yet; an arrow at the photo's border when they
+ * are outside it. Only stroke widths, font sizes and screen lengths are chosen here: they keep
+ * their size on the screen at every zoom, so they never grow over the friend; the frame is
+ * drawn last, on top.
  *
  * It also publishes what it drew (data attributes, photo px), which the browser tests read.
  */
 
 import type { AnswerView } from "../answer";
-import { answerFrame, bracketPath, conicPoints, edgeArrow, screenFrame, type Frame } from "../answerLayer";
 import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
-import type { Ellipse } from "../types";
+import type { ArrowShape, CurveShape, FrameShape } from "../types";
 import { toScreen, type Point, type Size, type ViewTransform } from "../viewTransform";
 
 /** Screen px: the friend's strokes and their dark outline (it reads on bright photos). */
 const STROKE = 2.5;
 const OUTLINE = 5;
+/** The region's outline, thinner. */
+const REGION_STROKE = 1.5;
+const REGION_OUTLINE = 3.5;
 /** The leader from the frame to its label, and the label's font size, screen px. */
 const LEADER = 12;
 const FONT = 15;
-/** The curve is dotted, a dot about every this many screen px: it runs through the friend,
- * who shows between the dots. */
+/** The least half-size of the frame on screen, CSS px: a frame is never a dot. */
+const MIN_FRAME_CSS = 12;
+/** The curve is dotted, a dot every this many screen px: it runs through the friend, who
+ * shows between the dots. */
 const CURVE_STEP_CSS = 7;
 const CURVE_DOT = 3;
 const CURVE_OUTLINE = 4.5;
-/** The arrow at the photo's border: its length, and its distance inside the border. */
+/** The arrow at the photo's border: its length, and its head's. */
 const BORDER_ARROW = 44;
-const BORDER_INSET = 30;
+const ARROW_HEAD = 14;
 
-/** The frame to draw for an answer, or null when there is no point. */
-export function frameOf(answer: AnswerView, photo: Size): Frame | null {
-  const position = answer.position;
-  return position ? answerFrame(position, position.ellipse, photo) : null;
+/** The box the view brings into sight for this answer, photo px (the frame's, also when the
+ * friend is outside the photo), or null when there is no point. */
+export function answerBox(answer: AnswerView): { centre: Point; half: Point } | null {
+  const focus = answer.position ? answer.drawing?.focus : null;
+  return focus ? { centre: point(focus.centre), half: point(focus.half) } : null;
 }
 
-/**
- * The frame's label: "friend" around a 95 % region, "friend?" around a likely spot. Null: no
- * frame, on this phone's own mark, refined (its thin ring, "Friend", is the answer: a frame
- * around it would only hide more of the person).
- */
-export function frameLabel(answer: AnswerView, frame: Frame): string | null {
-  if (answer.position?.how === "marked") return null;
-  return frame.sure ? "friend" : "friend?";
+function point([x, y]: readonly number[]): Point {
+  return { x: x ?? Number.NaN, y: y ?? Number.NaN };
 }
 
 interface Props {
   answer: AnswerView;
   transform: ViewTransform;
   view: Size;
-  photo: Size;
   /** Screen px at the view's top covered by the status: no label goes there. */
   clearTop: number;
 }
 
-export function AnswerLayer({ answer, transform: t, view, photo, clearTop }: Props) {
-  const frame = frameOf(answer, photo);
-  const label = frame ? frameLabel(answer, frame) : null;
-  const inPhoto = frame
-    ? frame.centre.x >= 0 && frame.centre.y >= 0 && frame.centre.x <= photo.width && frame.centre.y <= photo.height
-    : false;
+export function AnswerLayer({ answer, transform: t, view, clearTop }: Props) {
+  const drawing = answer.drawing;
+  // On this phone's own mark, refined, no frame: its thin ring ("Friend") is the answer, and
+  // a frame around it would only hide more of the person.
+  const frame = answer.position?.how === "marked" ? null : (drawing?.frame ?? null);
   return (
     <svg class="answer-layer" width={view.width} height={view.height} aria-hidden="true" data-testid="answer-layer">
-      {answer.curve && <Curve conic={answer.curve} transform={t} photo={photo} />}
-      {frame && inPhoto && label !== null && (
-        <FrameMark frame={frame} label={label} clearTop={clearTop} transform={t} />
-      )}
-      {frame && !inPhoto && <BorderArrow target={frame.centre} transform={t} photo={photo} />}
+      {drawing?.curve && <Curve curve={drawing.curve} transform={t} />}
+      {frame && <FrameMark frame={frame} clearTop={clearTop} transform={t} />}
+      {drawing?.arrow && <BorderArrow arrow={drawing.arrow} transform={t} />}
     </svg>
   );
 }
 
+/** Polylines in photo px as one SVG path, each point placed on the screen by `map`. */
+function pathOf(lines: ReadonlyArray<ReadonlyArray<readonly number[]>>, map: (p: Point) => Point): string {
+  return lines
+    .map((line) =>
+      line
+        .map((p, i) => {
+          const s = map(point(p));
+          return `${i === 0 ? "M" : "L"}${s.x.toFixed(1)} ${s.y.toFixed(1)}`;
+        })
+        .join(""),
+    )
+    .join("");
+}
+
 interface FrameProps {
-  frame: Frame;
-  label: string;
+  frame: FrameShape;
   clearTop: number;
   transform: ViewTransform;
 }
 
 /** Brackets around the region (its outline inside when larger than a person), labelled. */
-function FrameMark({ frame, label, clearTop, transform }: FrameProps) {
-  const { centre, half } = screenFrame(frame, transform);
-  const box = {
-    "data-x0": String(frame.centre.x - frame.half.x),
-    "data-y0": String(frame.centre.y - frame.half.y),
-    "data-x1": String(frame.centre.x + frame.half.x),
-    "data-y1": String(frame.centre.y + frame.half.y),
+function FrameMark({ frame, clearTop, transform: t }: FrameProps) {
+  const centre = toScreen(t, point(frame.centre));
+  const [hx, hy] = frame.half;
+  // A frame far smaller than a finger on screen is spread to the least size about its centre.
+  const spread = (h: number): number => Math.max(1, MIN_FRAME_CSS / (t.scale * h));
+  const sx = spread(hx);
+  const sy = spread(hy);
+  const bracket = (p: Point): Point => {
+    const s = toScreen(t, p);
+    return { x: centre.x + sx * (s.x - centre.x), y: centre.y + sy * (s.y - centre.y) };
   };
-  const path = bracketPath(centre, half);
-  // The label above the frame, else below when there is no room above (the top of the view,
-  // or under the status).
-  const above = centre.y - half.y - LEADER - FONT >= clearTop;
+  const box = {
+    "data-x0": String(frame.centre[0] - hx),
+    "data-y0": String(frame.centre[1] - hy),
+    "data-x1": String(frame.centre[0] + hx),
+    "data-y1": String(frame.centre[1] + hy),
+  };
+  const path = pathOf(frame.brackets, bracket);
+  const half = { x: sx * t.scale * hx, y: sy * t.scale * hy };
+  // The label where the drawing puts it (above the frame when there is room on the photo),
+  // below when above is off the view or under the status.
+  const above = frame.label_above && centre.y - half.y - LEADER - FONT >= clearTop;
   const edge = above ? centre.y - half.y : centre.y + half.y;
   const end = above ? edge - LEADER : edge + LEADER;
+  const outline = frame.outline ?? [];
+  const outlined = outline.length > 0;
   return (
-    <g data-testid="answer-frame" data-sure={String(frame.sure)} data-outlined={String(frame.outlined)} {...box}>
-      {frame.outlined && frame.region && <Outline region={frame.region} transform={transform} />}
+    <g data-testid="answer-frame" data-sure={String(frame.sure)} data-outlined={String(outlined)} {...box}>
+      {outlined && <Outline lines={outline} transform={t} />}
       <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
       <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
       <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
@@ -112,62 +134,47 @@ function FrameMark({ frame, label, clearTop, transform }: FrameProps) {
         stroke-width="4"
         paint-order="stroke"
       >
-        {label}
+        {frame.label}
       </text>
     </g>
   );
 }
 
 /** The 95 % region's outline, thin. */
-function Outline({ region, transform: t }: { region: Ellipse; transform: ViewTransform }) {
-  const c = toScreen(t, { x: region.center[0], y: region.center[1] });
-  const attributes = {
-    cx: c.x,
-    cy: c.y,
-    rx: region.axes[0] * t.scale,
-    ry: region.axes[1] * t.scale,
-    transform: `rotate(${region.angle_deg} ${c.x} ${c.y})`,
-    fill: "none",
-  };
+function Outline({ lines, transform: t }: { lines: ReadonlyArray<ReadonlyArray<readonly number[]>>; transform: ViewTransform }) {
+  const path = pathOf(lines, (p) => toScreen(t, p));
   return (
     <g data-testid="answer-region">
-      <ellipse {...attributes} stroke={OUTLINE_COLOUR} stroke-width={3.5} />
-      <ellipse {...attributes} stroke={FRIEND_COLOUR} stroke-width={1.5} />
+      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={REGION_OUTLINE} stroke-linejoin="round" />
+      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={REGION_STROKE} stroke-linejoin="round" />
     </g>
   );
 }
 
-/** The curve the friend is on, dotted: dots where it crosses the photo's rows and columns. */
-function Curve({ conic, transform: t, photo }: { conic: number[][]; transform: ViewTransform; photo: Size }) {
-  const points = conicPoints(conic, photo, CURVE_STEP_CSS / t.scale);
-  const path = points
-    .map((p) => toScreen(t, p))
-    .map((p) => `M${p.x.toFixed(1)} ${p.y.toFixed(1)}h0`)
-    .join("");
+/** The curve the friend is on, dotted: a round dot every {@link CURVE_STEP_CSS} screen px. */
+function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTransform }) {
+  const path = pathOf(curve.polylines, (p) => toScreen(t, p));
+  const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
   return (
-    <g data-testid="answer-curve" data-points={String(points.length)}>
-      <path d={path} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} stroke-linecap="round" />
-      <path d={path} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} stroke-linecap="round" />
+    <g data-testid="answer-curve" data-pieces={String(curve.polylines.length)}>
+      <path d={path} {...dots} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} />
+      <path d={path} {...dots} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} />
     </g>
   );
 }
 
-/** An arrow inside the photo's border, pointing from the photo's centre towards the friend. */
-function BorderArrow({ target, transform: t, photo }: { target: Point; transform: ViewTransform; photo: Size }) {
-  const corner = toScreen(t, { x: 0, y: 0 });
-  const far = toScreen(t, { x: photo.width, y: photo.height });
-  const box = { left: corner.x, top: corner.y, right: far.x, bottom: far.y };
-  const arrow = edgeArrow(toScreen(t, target), box, BORDER_INSET);
-  if (!arrow) return null;
-  const { at, angle } = arrow;
+/** The arrow inside the photo's border, pointing from the photo's centre towards the friend. */
+function BorderArrow({ arrow, transform: t }: { arrow: ArrowShape; transform: ViewTransform }) {
+  const at = toScreen(t, point(arrow.tip));
+  const angle = Math.atan2(arrow.direction[1], arrow.direction[0]);
   const back = { x: at.x - BORDER_ARROW * Math.cos(angle), y: at.y - BORDER_ARROW * Math.sin(angle) };
   const head = (side: number): Point => ({
-    x: at.x - 14 * Math.cos(angle + side * 0.5),
-    y: at.y - 14 * Math.sin(angle + side * 0.5),
+    x: at.x - ARROW_HEAD * Math.cos(angle + side * 0.5),
+    y: at.y - ARROW_HEAD * Math.sin(angle + side * 0.5),
   });
   const path = `M${back.x} ${back.y}L${at.x} ${at.y}M${head(1).x} ${head(1).y}L${at.x} ${at.y}L${head(-1).x} ${head(-1).y}`;
   return (
-    <g data-testid="answer-border-arrow">
+    <g data-testid="answer-border-arrow" data-tip-x={String(arrow.tip[0])} data-tip-y={String(arrow.tip[1])}>
       <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE + 1} stroke-linecap="round" />
       <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE + 1} stroke-linecap="round" />
       <text

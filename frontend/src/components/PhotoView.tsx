@@ -27,7 +27,7 @@ import type { Box, Insets } from "../reframe";
 import type { Tap } from "../session";
 import { isFitted, type Point, type Size, type ViewTransform } from "../viewTransform";
 import { AnswerArrow } from "./AnswerArrow";
-import { AnswerLayer, frameOf } from "./AnswerLayer";
+import { AnswerLayer, answerBox } from "./AnswerLayer";
 import { GuideLayer, type Guide } from "./GuideLayer";
 import { FitIcon } from "./icons";
 import { Loupe } from "./Loupe";
@@ -82,11 +82,11 @@ export function PhotoView(props: Props) {
 
   // A new answer, or one that moved noticeably: brought into view, after the gesture in
   // progress if there is one.
-  const frame = frameOf(props.answer, photoSize);
-  const answerBox: Box | null = frame && props.answer.news ? { centre: frame.centre, half: frame.half } : null;
-  const boxKey = answerBox ? `${answerBox.centre.x},${answerBox.centre.y},${answerBox.half.x}` : "";
+  const focus = answerBox(props.answer);
+  const shownBox: Box | null = focus && props.answer.news ? focus : null;
+  const boxKey = shownBox ? `${shownBox.centre.x},${shownBox.centre.y},${shownBox.half.x}` : "";
   useEffect(() => {
-    if (answerBox) panZoom.answer(answerBox, gestures.active);
+    if (shownBox) panZoom.answer(shownBox, gestures.active);
   }, [boxKey, view !== null && transform !== null]);
 
   const ready = view !== null && transform !== null;
@@ -133,7 +133,7 @@ export function PhotoView(props: Props) {
             transform={transform}
             view={view}
             insets={props.insets}
-            onShow={() => answerBox && panZoom.bringIntoView(answerBox)}
+            onShow={() => shownBox && panZoom.bringIntoView(shownBox)}
           />
           {zoomed && (
             <button
@@ -191,7 +191,7 @@ function Drawing(props: DrawingProps) {
         view={view}
         transform={t}
       />
-      <AnswerLayer answer={props.answer} transform={t} view={view} photo={photoSize} clearTop={props.insets.top} />
+      <AnswerLayer answer={props.answer} transform={t} view={view} clearTop={props.insets.top} />
       {target && props.image.current && (
         <Loupe
           target={target}

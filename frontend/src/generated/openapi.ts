@@ -378,6 +378,82 @@ export interface components {
              */
             version: number;
         };
+        /**
+         * AnswerDrawing
+         * @description Everything drawn of the answer on one photo, in drawing order (the friend last).
+         */
+        AnswerDrawing: {
+            /** @description The arrow at the border, when the friend is out of the photo. */
+            arrow?: components["schemas"]["ArrowShape"] | null;
+            /**
+             * Banner
+             * @description Instead of a position: 'friend is behind you' and the like.
+             */
+            banner?: string | null;
+            /** Candidates */
+            candidates?: components["schemas"]["CandidateRing"][];
+            curve?: components["schemas"]["CurveShape"] | null;
+            /** Epipolar Lines */
+            epipolar_lines?: components["schemas"]["EpipolarLineShape"][];
+            /** @description The frame's box around the friend, also when they are outside the photo (not clipped to it): what the phone brings into view. */
+            focus?: components["schemas"]["Box"] | null;
+            /** @description The frame around the friend, when they are inside the photo. */
+            frame?: components["schemas"]["FrameShape"] | null;
+            /** Height */
+            height: number;
+            /** Landmarks */
+            landmarks?: components["schemas"]["LandmarkRing"][];
+            /**
+             * Person
+             * @description How tall a person far across a hall is in this photo, px: the frame's least half-size, and the unit the phone states the region's size in.
+             */
+            person: number;
+            /** @description Photo 1's sight on the tapped friend (the overlay draws it). */
+            sight?: components["schemas"]["SightShape"] | null;
+            /**
+             * Width
+             * @description The photo's size, px.
+             */
+            width: number;
+        };
+        /**
+         * ArrowShape
+         * @description An arrow at the photo's border, on the ray from its centre towards a friend out of
+         *     the photo (or at infinity that way).
+         */
+        ArrowShape: {
+            /**
+             * Direction
+             * @description Unit vector from the photo's centre to the friend.
+             */
+            direction: [
+                number,
+                number
+            ];
+            /**
+             * Head
+             * @description The head's length (and width), px.
+             */
+            head: number;
+            /** Tail */
+            tail: [
+                number,
+                number
+            ];
+            /**
+             * Text
+             * @description What it says: 'friend N px off', 'friend far off this way'.
+             */
+            text: string;
+            /**
+             * Tip
+             * @description Where it points, inset from the border, px.
+             */
+            tip: [
+                number,
+                number
+            ];
+        };
         /** Body_draw_on_photo_api_overlay_post */
         Body_draw_on_photo_api_overlay_post: {
             /**
@@ -425,6 +501,22 @@ export interface components {
              * @description JPEG, PNG, WebP or HEIC; any size.
              */
             photo: string;
+        };
+        /**
+         * Box
+         * @description A box in photo px: its centre and half-sizes.
+         */
+        Box: {
+            /** Centre */
+            centre: [
+                number,
+                number
+            ];
+            /** Half */
+            half: [
+                number,
+                number
+            ];
         };
         /**
          * Camera
@@ -544,6 +636,19 @@ export interface components {
             rank: number;
         };
         /**
+         * CandidateRing
+         * @description Another position that fits the taps as well: a thin circle with '?'.
+         */
+        CandidateRing: {
+            /** Centre */
+            centre: [
+                number,
+                number
+            ];
+            /** Radius */
+            radius: number;
+        };
+        /**
          * CodeRenewed
          * @description Event ``code``: the join code was renewed after wrong guesses named its search (the
          *     starter's phone fetches the state for the new one: codes go in no event).
@@ -602,6 +707,30 @@ export interface components {
             token: string;
         };
         /**
+         * CurveShape
+         * @description The curve the friend is on (4 landmarks, cameras unknown), clipped to the photo.
+         */
+        CurveShape: {
+            /**
+             * Label At
+             * @description Where its label goes: above the curve's point nearest the photo's centre.
+             */
+            label_at: [
+                number,
+                number
+            ] | null;
+            /**
+             * Polylines
+             * @description Its visible pieces, points at most ~1.4 px apart before simplification (within 0.25 px of the curve).
+             */
+            polylines: [
+                number,
+                number
+            ][][];
+            /** Text */
+            text: string;
+        };
+        /**
          * Ellipse
          * @description A region in photo 2: semi-axes in px, ``angle_deg`` of the first axis from x, y down.
          */
@@ -626,6 +755,24 @@ export interface components {
             ];
         };
         /**
+         * EpipolarLineShape
+         * @description A landmark's epipolar line through this photo (drawn on request only).
+         */
+        EpipolarLineShape: {
+            /** End */
+            end: [
+                number,
+                number
+            ];
+            /** Label */
+            label: number;
+            /** Start */
+            start: [
+                number,
+                number
+            ];
+        };
+        /**
          * Error
          * @description The one shape of every refusal.
          */
@@ -644,6 +791,75 @@ export interface components {
              * @description A sentence a person can act on.
              */
             message: string;
+        };
+        /**
+         * FrameShape
+         * @description The open frame around the friend: four corner brackets around their 95 % region
+         *     (never smaller than a person far across a hall), the region's outline inside when it is
+         *     larger than a person, and a label on a short leader above the frame (else below).
+         */
+        FrameShape: {
+            /**
+             * Brackets
+             * @description Four corner brackets, each an L: arm end, corner, arm end, px.
+             */
+            brackets: [
+                number,
+                number
+            ][][];
+            /**
+             * Centre
+             * @description Where the friend is, px.
+             */
+            centre: [
+                number,
+                number
+            ];
+            /**
+             * Half
+             * @description Half the frame's width and height, px.
+             */
+            half: [
+                number,
+                number
+            ];
+            /**
+             * Label
+             * @description 'friend' or 'friend?'.
+             */
+            label: string;
+            /**
+             * Label Above
+             * @description The label goes above the frame (there is room); else below it.
+             */
+            label_above: boolean;
+            /**
+             * Leader
+             * @description The leader from the frame's edge (first) towards the label, px.
+             */
+            leader: [
+                [
+                    number,
+                    number
+                ],
+                [
+                    number,
+                    number
+                ]
+            ];
+            /**
+             * Outline
+             * @description The 95 % region's outline, clipped to the photo; empty when the region is no larger than a person (the brackets frame it) or unknown.
+             */
+            outline?: [
+                number,
+                number
+            ][][];
+            /**
+             * Sure
+             * @description A 95 % region is known ('friend'), else a likely spot.
+             */
+            sure: boolean;
         };
         /**
          * FriendInPhoto
@@ -672,6 +888,8 @@ export interface components {
                 number,
                 number
             ][] | null;
+            /** @description What to draw of the answer on your photo, px: the frame, the curve, the arrow at the border (the overlay draws the same). */
+            drawing?: components["schemas"]["AnswerDrawing"] | null;
             /**
              * Focal 35Mm
              * @description The focal length of your photo's lens the answer used, 35 mm mm.
@@ -838,6 +1056,29 @@ export interface components {
                 number,
                 number
             ];
+        };
+        /**
+         * LandmarkRing
+         * @description A landmark: a thin ring with a centre dot in its number's colour, the number beside;
+         *     a mis-tap suspect has a red ring around it too.
+         */
+        LandmarkRing: {
+            /** Centre */
+            centre: [
+                number,
+                number
+            ];
+            /**
+             * Label
+             * @description The number people see.
+             */
+            label: number;
+            /** Radius */
+            radius: number;
+            /** Suspect */
+            suspect: boolean;
+            /** Suspect Radius */
+            suspect_radius: number;
         };
         /**
          * LandmarkSuggestion
@@ -1083,6 +1324,36 @@ export interface components {
              * @enum {string}
              */
             you: "starter" | "joiner";
+        };
+        /**
+         * SightShape
+         * @description A ring with four ticks on the tapped friend (photo 1), open in the middle.
+         */
+        SightShape: {
+            /** Centre */
+            centre: [
+                number,
+                number
+            ];
+            /**
+             * Radius
+             * @description The ring's radius, px.
+             */
+            radius: number;
+            /**
+             * Ticks
+             * @description Four ticks, each (start, end), px.
+             */
+            ticks: [
+                [
+                    number,
+                    number
+                ],
+                [
+                    number,
+                    number
+                ]
+            ][];
         };
         /**
          * SolveRequest
