@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from ..projective import Array
-from .shapes import Point, Polyline
+from .shapes import Polyline
 
 # Points of a scan closer than this across (px, one column apart) belong to one stretch:
 # a little over 1 so that the column and row stretches overlap where the curve is at 45 deg.
@@ -42,17 +42,16 @@ def conic_polylines(
     """
     ox, oy = (0.0, 0.0) if origin is None else (float(origin[0]), float(origin[1]))
     swap = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
-    pieces = [
-        [(s, t) for s, t in run] for run in _stretches(_crossings(conic, width, height, ox, oy))
-    ]
+    pieces = _stretches(_crossings(conic, width, height, ox, oy))
     rows = _crossings(swap @ conic @ swap, height, width, oy, ox)
-    pieces += [[(t, s) for s, t in run] for run in _stretches(rows)]
+    pieces += [piece[:, ::-1] for piece in _stretches(rows)]
     return [_simplified(piece) for piece in pieces]
 
 
 def _crossings(conic: Array, count: int, extent: int, along: float, across: float) -> Array:
     """(count, 2) the conic's two crossings t of each pixel line s = 0 .. count - 1, NaN
-    where it has none with -0.5 <= t <= extent - 0.5; relative to the point (along, across)."""
+    where it has none with -0.5 <= t <= extent - 0.5; relative to the point (along, across).
+    Each line's crossings are in ascending order, NaN last."""
     s = np.arange(count, dtype=np.float64)
     x = s - along
     # C(x, y) = a y^2 + b y + c on each line; the stable pair of roots (Numerical Recipes 5.6).
@@ -63,31 +62,60 @@ def _crossings(conic: Array, count: int, extent: int, along: float, across: floa
         q = -0.5 * (b + np.copysign(np.sqrt(b * b - 4.0 * a * c), b))
         t = np.column_stack([q / a, c / q]) + across
     keep = np.isfinite(t) & (t >= -0.5) & (t <= extent - 0.5)
-    return np.where(keep, t, np.nan)
+    return np.sort(np.where(keep, t, np.nan), axis=1)
 
 
-def _stretches(roots: Array) -> list[list[tuple[float, float]]]:
-    """Runs of crossings (s, t) one line apart and at most ``_DENSE`` px apart across: the
-    stretches of the curve this scan samples densely (the other scan samples the rest)."""
-    done: list[list[tuple[float, float]]] = []
-    running: list[list[tuple[float, float]]] = []
-    for s, pair in enumerate(roots.tolist()):
-        going: list[list[tuple[float, float]]] = []
-        for t in sorted(t for t in pair if not math.isnan(t)):
-            nearest = min(running, key=lambda run: abs(run[-1][1] - t), default=None)
-            if nearest is not None and abs(nearest[-1][1] - t) <= _DENSE:
-                running.remove(nearest)
-                nearest.append((float(s), t))
-                going.append(nearest)
-            else:
-                going.append([(float(s), t)])
-        done += running
-        running = going
-    return [run for run in done + running if len(run) > 1]
+def _stretches(roots: Array) -> list[Array]:
+    """(k, 2) runs of crossings (s, t), one line apart and at most ``_DENSE`` px apart
+    across: the stretches of the curve this scan samples densely (the other scan samples
+    the rest), in the order they end.
+
+    Each crossing on line s + 1, in ascending order, continues the nearest unclaimed one on
+    line s within ``_DENSE``. A line has at most two crossings, so this greedy matching is
+    a few array operations over all lines at once; the runs are then the chains of links,
+    labelled by pointer jumping (log of the photo's side passes).
+    """
+    crossed = np.flatnonzero(~np.isnan(roots[:, 0]))
+    if len(crossed) < 2:
+        return []
+    offset = crossed[0]  # only the lines the curve crosses, from the first to the last
+    roots = roots[offset : crossed[-1] + 1]
+    count = len(roots)
+    here, there = roots[:-1], roots[1:]  # line s, line s + 1
+    gaps = np.abs(there[:, :, None] - here[:, None, :])  # (count - 1, next slot, slot)
+    gaps = np.where(np.isnan(gaps), np.inf, gaps)
+    rows = np.arange(count - 1)
+    first = np.argmin(gaps[:, 0, :], axis=1)  # the first crossing claims its nearest
+    first_linked = gaps[rows, 0, first] <= _DENSE
+    second_gaps = gaps[:, 1, :].copy()
+    second_gaps[rows[first_linked], first[first_linked]] = np.inf  # already claimed
+    second = np.argmin(second_gaps, axis=1)
+    second_linked = second_gaps[rows, second] <= _DENSE
+    # Crossing (s, slot) has node number 2 s + slot; each node's predecessor, or itself.
+    nodes = np.arange(2 * count)
+    before = nodes.copy()
+    before[2 * rows[first_linked] + 2] = 2 * rows[first_linked] + first[first_linked]
+    before[2 * rows[second_linked] + 3] = 2 * rows[second_linked] + second[second_linked]
+    start = before
+    while True:  # pointer jumping: each node's run starts where its chain does
+        further = start[start]
+        if np.array_equal(further, start):
+            break
+        start = further
+    present = ~np.isnan(roots.reshape(-1))
+    nodes, start = nodes[present], start[present]
+    order = np.lexsort((nodes, start))  # by run, then along it
+    nodes, start = nodes[order], start[order]
+    cuts = np.flatnonzero(np.diff(start)) + 1
+    points = np.column_stack([(nodes // 2 + offset).astype(np.float64), roots.reshape(-1)[nodes]])
+    bounds = np.r_[0, cuts, len(nodes)]
+    last = nodes[bounds[1:] - 1]  # each run's last node: where it ends
+    long = np.flatnonzero(np.diff(bounds) > 1)  # a lone crossing is sampled by the other scan
+    return [points[bounds[i] : bounds[i + 1]] for i in long[np.argsort(last[long], kind="stable")]]
 
 
-def _simplified(points: list[Point]) -> Polyline:
-    line = np.asarray(points, np.float64).reshape(-1, 1, 2).astype(np.float32)
+def _simplified(points: Array) -> Polyline:
+    line = points.reshape(-1, 1, 2).astype(np.float32)
     kept = cv2.approxPolyDP(line, _TOLERANCE, False).reshape(-1, 2)
     return [(float(x), float(y)) for x, y in kept]
 
