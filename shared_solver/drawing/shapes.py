@@ -9,9 +9,16 @@ finite and in stored-photo px (x right, y down), clipped to the photo where it i
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Annotated
 
-Point = tuple[float, float]
+from pydantic import BaseModel, ConfigDict, Field, PlainSerializer
+
+# Drawn coordinates go to the phones at 0.01 px: a hundredth of the finest stroke, and the
+# JSON of an answer's drawing half as long as at full precision (it rides on every answer's
+# event, on a venue's slow link). The answer itself (``friend``, ``region``) keeps its
+# precision; the OpenCV overlay draws from these objects, unrounded.
+Px = Annotated[float, PlainSerializer(lambda value: round(value, 2), when_used="json")]
+Point = tuple[Px, Px]
 Polyline = list[Point]
 
 
@@ -55,7 +62,7 @@ class SightShape(_Shape):
     """A ring with four ticks on the tapped friend (photo 1), open in the middle."""
 
     centre: Point
-    radius: float = Field(description="The ring's radius, px.")
+    radius: Px = Field(description="The ring's radius, px.")
     ticks: list[tuple[Point, Point]] = Field(description="Four ticks, each (start, end), px.")
 
 
@@ -66,7 +73,7 @@ class ArrowShape(_Shape):
     tail: Point
     tip: Point = Field(description="Where it points, inset from the border, px.")
     direction: Point = Field(description="Unit vector from the photo's centre to the friend.")
-    head: float = Field(description="The head's length (and width), px.")
+    head: Px = Field(description="The head's length (and width), px.")
     text: str = Field(description="What it says: 'friend N px off', 'friend far off this way'.")
 
 
@@ -88,17 +95,17 @@ class LandmarkRing(_Shape):
     a mis-tap suspect has a red ring around it too."""
 
     centre: Point
-    radius: float
+    radius: Px
     label: int = Field(description="The number people see.")
     suspect: bool
-    suspect_radius: float
+    suspect_radius: Px
 
 
 class CandidateRing(_Shape):
     """Another position that fits the taps as well: a thin circle with '?'."""
 
     centre: Point
-    radius: float
+    radius: Px
 
 
 class EpipolarLineShape(_Shape):
@@ -114,7 +121,7 @@ class AnswerDrawing(_Shape):
 
     width: int = Field(description="The photo's size, px.")
     height: int
-    person: float = Field(
+    person: Px = Field(
         description="How tall a person far across a hall is in this photo, px: the frame's "
         "least half-size, and the unit the phone states the region's size in."
     )
