@@ -32,11 +32,11 @@ run: $(INSTALLED) $(APP)
 run-cluster: $(INSTALLED) $(APP) postgres nginx
 	$(BIN)/python -m deploy.cluster $(ARGS)
 
-# The solver's tests are pure computation: on both cores (pytest-xdist); the rest, which
-# starts servers and browsers with timeouts, one at a time.
+# The solver's and the service's tests on both cores (pytest-xdist: each worker starts its
+# own servers on free ports); the rest, which drives browsers with timeouts, one at a time.
 test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
-	$(BIN)/python -m pytest -q -n 2 tests/solver
-	$(BIN)/python -m pytest --ignore=tests/solver
+	$(BIN)/python -m pytest -q -n 2 tests/solver tests/backend
+	$(BIN)/python -m pytest --ignore=tests/solver --ignore=tests/backend
 
 # Faster subsets for a change to one layer; `make test` stays the whole suite.
 # The solver: its lint, types and tests on both cores (pytest-xdist).
@@ -49,7 +49,7 @@ test-solver: $(INSTALLED)
 test-backend: $(INSTALLED) postgres nginx
 	$(BIN)/ruff check backend deploy tests/backend
 	$(BIN)/mypy backend deploy
-	$(BIN)/python -m pytest -q tests/backend tests/test_docs_generated.py
+	$(BIN)/python -m pytest -q -n 2 tests/backend tests/test_docs_generated.py
 
 # The phone app: its types and unit tests, the build, and the two phones in both browsers.
 test-app: $(INSTALLED) api-types-check frontend-test $(APP) browser webkit

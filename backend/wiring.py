@@ -20,6 +20,8 @@ from backend.sessions.state import StateService
 from backend.settings import Settings
 from backend.storage.database import Database
 from backend.storage.erase import Eraser
+from backend.taps.answers import AnswerService
+from backend.taps.pictures import PictureService
 from backend.taps.repository import TapStore
 from backend.taps.service import TapService
 from backend.taps.shown import needed_after_photo
@@ -32,7 +34,9 @@ class Services:
     eraser: Eraser
     pairing: PairingService
     photos: PhotoService
+    answers: AnswerService
     taps: TapService
+    pictures: PictureService
     state: StateService
     streams: EventStreams
     listener: ChangeListener | None
@@ -49,14 +53,15 @@ def build(engine: Engine, settings: Settings, clock: Clock) -> Services:
     pairing = PairingService(database, Pairings(database, eraser), settings, notifier, clock)
     photo_store = Photos(database)
     photos = PhotoService(photo_store, settings, notifier, clock, needed_after_photo)
+    tap_store = TapStore(database)
+    answers = AnswerService(
+        database=database, taps=tap_store, settings=settings, notifier=notifier, clock=clock
+    )
     taps = TapService(
-        database=database,
-        taps=TapStore(database),
-        photos=photo_store,
-        photo_service=photos,
-        settings=settings,
-        notifier=notifier,
-        clock=clock,
+        answers=answers, taps=tap_store, settings=settings, notifier=notifier, clock=clock
+    )
+    pictures = PictureService(
+        answers=answers, photos=photo_store, photo_service=photos, settings=settings
     )
     streams = EventStreams(
         EventLog(database),
@@ -78,8 +83,10 @@ def build(engine: Engine, settings: Settings, clock: Clock) -> Services:
         eraser=eraser,
         pairing=pairing,
         photos=photos,
+        answers=answers,
         taps=taps,
-        state=StateService(taps, pairing, settings, clock),
+        pictures=pictures,
+        state=StateService(answers, taps, pairing, settings, clock),
         streams=streams,
         listener=listener,
     )

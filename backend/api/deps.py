@@ -18,7 +18,7 @@ from backend.participants import Participant
 from backend.photos.service import PhotoService
 from backend.sessions.state import StateService
 from backend.settings import Settings
-from backend.taps.service import TapService
+from backend.taps.pictures import PictureService
 from backend.wiring import Services
 
 _bearer = HTTPBearer(
@@ -39,8 +39,8 @@ async def get_photos(request: Request) -> PhotoService:
     return (await get_services(request)).photos
 
 
-async def get_taps(request: Request) -> TapService:
-    return (await get_services(request)).taps
+async def get_pictures(request: Request) -> PictureService:
+    return (await get_services(request)).pictures
 
 
 async def get_state(request: Request) -> StateService:
@@ -70,7 +70,7 @@ async def client_address(request: Request) -> str:
 ServicesDep = Annotated[Services, Depends(get_services)]
 PairingDep = Annotated[PairingService, Depends(get_pairing)]
 PhotosDep = Annotated[PhotoService, Depends(get_photos)]
-TapsDep = Annotated[TapService, Depends(get_taps)]
+PicturesDep = Annotated[PictureService, Depends(get_pictures)]
 StateDep = Annotated[StateService, Depends(get_state)]
 StreamsDep = Annotated[EventStreams, Depends(get_streams)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]

@@ -3,6 +3,7 @@ the answer, and how many landmarks are still needed."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from datetime import timedelta
 
 from backend.clock import Clock, aware
@@ -11,25 +12,25 @@ from backend.participants import ROLES, Participant
 from backend.photos.schemas import LensInfo, PhotoStored
 from backend.settings import Settings
 from backend.storage.snapshot import PhotoInfo
+from backend.taps.answers import Answered, AnswerService, tap_sets
 from backend.taps.schemas import StoredAnswer, Taps
-from backend.taps.service import Answered, TapService, tap_sets
+from backend.taps.service import TapService
 from backend.taps.shown import shown
 
 from .schemas import ParticipantState, SessionState
 
 
+@dataclass
 class StateService:
-    def __init__(
-        self, taps: TapService, pairing: PairingService, settings: Settings, clock: Clock
-    ) -> None:
-        self.taps = taps
-        self.pairing = pairing
-        self.settings = settings
-        self.clock = clock
+    answers: AnswerService
+    taps: TapService
+    pairing: PairingService
+    settings: Settings
+    clock: Clock
 
     def state(self, participant: Participant, base_url: str) -> SessionState:
         """What ``participant``'s phone shows."""
-        snapshot = self.taps.due(self.taps.snapshot(participant.session_id))
+        snapshot = self.answers.due(self.answers.snapshot(participant.session_id))
         taps = tap_sets(snapshot)
         told = shown(taps, StoredAnswer.read(snapshot.answer), self.settings.tap_sigma)
         return self._state(participant, base_url, Answered(snapshot, taps, told))

@@ -96,12 +96,12 @@ def test_a_photo_replaced_since_the_snapshot_is_not_kept_under_the_old_name(
 ) -> None:
     photos_uploaded(starter, joiner, temple_photos)
     services = client.app.state.services  # type: ignore[attr-defined]
-    store: Photos = services.taps.photos
-    old = services.taps.snapshot(starter.session_id).photos["starter"].version
+    store: Photos = services.pictures.photos
+    old = services.answers.snapshot(starter.session_id).photos["starter"].version
     assert old is not None
     assert starter.upload(temple_photos[1], "again.png").status_code == 200
     assert store.get(starter.session_id, "starter", old) is None  # read after the snapshot
-    new = services.taps.snapshot(starter.session_id).photos["starter"].version
+    new = services.answers.snapshot(starter.session_id).photos["starter"].version
     kept = store.get(starter.session_id, "starter", new)
     assert kept is not None
     assert new != old

@@ -295,7 +295,7 @@ def test_logs_hold_no_token_code_or_position(
         answer = client.get(joiner.url(path), params={"token": joiner.token})
         assert answer.status_code == 200
     # An unexpected error on a URL with ?token=: logged with the route, not the URL.
-    monkeypatch.setattr(services.taps, "overlay", lambda *_: 1 / 0)
+    monkeypatch.setattr(services.pictures, "overlay", lambda *_: 1 / 0)
     failed = client.get(starter.url("/overlay/starter"), params={"token": starter.token})
     assert failed.status_code == 500
     monkeypatch.undo()

@@ -7,7 +7,7 @@ from typing import Annotated
 from fastapi import APIRouter, Path, Query
 from fastapi.responses import Response
 
-from backend.api.deps import BaseUrlDep, ParticipantDep, StateDep, TapsDep, ViewerDep
+from backend.api.deps import BaseUrlDep, ParticipantDep, PicturesDep, StateDep, ViewerDep
 from backend.api.params import FormatParam, RoleParam
 from backend.api.responses import PICTURE, errors, json_answer
 from backend.limits import MAX_LANDMARK_ID
@@ -39,7 +39,7 @@ def put_taps(
 def overlay(
     role: RoleParam,
     participant: ViewerDep,
-    taps: TapsDep,
+    pictures: PicturesDep,
     format: FormatParam = "jpeg",
     layer: Annotated[
         bool,
@@ -50,7 +50,7 @@ def overlay(
     ] = False,
 ) -> Response:
     """That participant's photo with the answer drawn for their phone."""
-    data = taps.overlay(participant, role, format, layer)
+    data = pictures.overlay(participant, role, format, layer)
     media_type = MEDIA_TYPES["png" if layer else format]
     return Response(data, media_type=media_type, headers={"Cache-Control": "private"})
 
@@ -64,10 +64,10 @@ def landmark_crop(
     role: RoleParam,
     landmark_id: Annotated[int, Path(ge=1, le=MAX_LANDMARK_ID)],
     participant: ViewerDep,
-    taps: TapsDep,
+    pictures: PicturesDep,
 ) -> Response:
     """A small JPEG around one landmark of that participant's photo: "find #3"."""
-    data = taps.crop(participant, role, landmark_id)
+    data = pictures.crop(participant, role, landmark_id)
     return Response(data, media_type="image/jpeg", headers={"Cache-Control": "private"})
 
 
@@ -80,8 +80,8 @@ def landmark_suggestion(
     role: RoleParam,
     landmark_id: Annotated[int, Path(ge=1, le=MAX_LANDMARK_ID)],
     participant: ViewerDep,
-    taps: TapsDep,
+    pictures: PicturesDep,
 ) -> LandmarkSuggestion:
     """Where landmark #n, tapped by the other phone, probably is in that participant's
     photo: a sure match of the other photo's patch along its band, or none."""
-    return taps.suggestion(participant, role, landmark_id)
+    return pictures.suggestion(participant, role, landmark_id)

@@ -1,0 +1,118 @@
+"""The pictures a session's answer and taps give: the answer drawn on a photo, a
+landmark's crop ("find #3"), and a suggested spot for a landmark (searched in the photos'
+pixels)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from backend.errors import ErrorCode, RefusedError
+from backend.participants import ROLES, Participant, Role, other
+from backend.photos.imaging import decode_photo, encode_image, encode_layer
+from backend.photos.kept import KeptPhoto
+from backend.photos.repository import Photos
+from backend.photos.schemas import ImageFormat
+from backend.photos.service import PhotoService
+from backend.settings import Settings
+from backend.storage.snapshot import Snapshot
+from shared_solver import SolveResult, draw_overlay
+
+from . import guidance
+from .answers import AnswerService, solved, tap_sets
+from .schemas import LandmarkSuggestion, Spot, Taps
+
+
+@dataclass(kw_only=True)
+class PictureService:
+    answers: AnswerService
+    photos: Photos
+    photo_service: PhotoService
+    settings: Settings
+    suggestions: guidance.Suggestions = field(default_factory=guidance.Suggestions)
+
+    def overlay(
+        self, participant: Participant, role: Role, fmt: ImageFormat, layer: bool = False
+    ) -> bytes:
+        """``role``'s photo with the answer drawn for that phone, drawn for each request and
+        never kept (a phone loads each answer's overlay once; its own cache keeps it).
+        ``layer``: the drawing alone, a transparent PNG (``fmt`` aside), for a phone that
+        has its photo already."""
+        snapshot = self.answers.due(self.answers.snapshot(participant.session_id))
+        stored = solved(snapshot)
+        kept = self._photo(snapshot, role)
+        member = snapshot.members.get(role)
+        if kept is None or member is None or member.taps is None:
+            raise RefusedError(
+                ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
+            )
+        taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
+        ids = stored.answer.landmark_ids
+        pixels = decode_photo(kept.photo.data)
+        drawn = draw_overlay(
+            pixels,
+            SolveResult.model_validate(stored.solution),
+            # The solver's photo 2 is the one it found the friend in.
+            photo=1 if role == stored.first else 2,
+            points=[taps[i] for i in ids],
+            labels=ids,
+        )
+        return encode_layer(drawn, pixels) if layer else encode_image(drawn, format=fmt)
+
+    def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
+        """A small picture around one landmark of ``role``'s photo: "find this"."""
+        snapshot = self.answers.snapshot(participant.session_id)
+        taps = tap_sets(snapshot)[role]
+        tap = next((t for t in taps.landmarks if t.id == landmark_id), None) if taps else None
+        info = snapshot.photos.get(role)
+        crop = (
+            None
+            if tap is None or info is None
+            else self.photo_service.crop(participant, role, tap.x, tap.y, info.version)
+        )
+        if crop is None:
+            raise RefusedError(
+                ErrorCode.LANDMARK_NOT_FOUND, f"The {role} has no landmark #{landmark_id}."
+            )
+        return crop
+
+    def suggestion(
+        self, participant: Participant, role: Role, landmark_id: int
+    ) -> LandmarkSuggestion:
+        """A suggested spot in ``role``'s photo for landmark ``landmark_id``, which the other
+        phone tapped: searched along its band once per answer, then kept."""
+        snapshot = self.answers.due(self.answers.snapshot(participant.session_id))
+        stored = solved(snapshot)
+        taps = tap_sets(snapshot)
+        theirs = taps[other(role)]
+        if theirs is None or all(tap.id != landmark_id for tap in theirs.landmarks):
+            raise RefusedError(
+                ErrorCode.LANDMARK_NOT_FOUND,
+                f"The {other(role)} has no landmark #{landmark_id} to find.",
+            )
+        version = stored.version
+
+        def search() -> tuple[float, float] | None:
+            photos = {r: self._photo(snapshot, r) for r in ROLES}
+            if any(photo is None for photo in photos.values()):
+                return None
+            return guidance.suggested(
+                stored.solution,
+                stored.first,
+                taps,
+                {r: decode_photo(kept.photo.data) for r, kept in photos.items() if kept},
+                finder=role,
+                landmark_id=landmark_id,
+                default_sigma=self.settings.tap_sigma,
+            )
+
+        spot = self.suggestions.get((snapshot.id, version, role, landmark_id), search)
+        return LandmarkSuggestion(
+            id=landmark_id,
+            answer_version=version,
+            spot=None if spot is None else Spot(x=spot[0], y=spot[1]),
+        )
+
+    def _photo(self, snapshot: Snapshot, role: Role) -> KeptPhoto | None:
+        """``role``'s photo as ``snapshot`` has it."""
+        info = snapshot.photos.get(role)
+        return None if info is None else self.photos.get(snapshot.id, role, info.version)
