@@ -23,6 +23,7 @@ from shared_solver import SolveResult, draw_overlay
 
 from . import guidance
 from . import problem as problems
+from .photo_order import PhotoOrder
 from .repository import TapStore
 from .schemas import Answer, LandmarkSuggestion, Spot, StoredAnswer, Taps
 from .shown import Shown, shown
@@ -145,7 +146,7 @@ class TapService:
             pixels,
             SolveResult.model_validate(stored.solution),
             # The solver's photo 2 is the one it found the friend in.
-            photo=1 if role == stored.first else 2,
+            photo=stored.order.number(role),
             points=[taps[i] for i in ids],
             labels=ids,
         )
@@ -190,7 +191,7 @@ class TapService:
                 return None
             return guidance.suggested(
                 stored.solution,
-                stored.first,
+                stored.order,
                 taps,
                 {r: decode_photo(kept.photo.data) for r, kept in photos.items() if kept},
                 finder=role,
@@ -275,7 +276,7 @@ class TapService:
         before = previous[1] if previous else taps
         known = problems.known_fit(earlier, before, sigma)
 
-        def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, Role] | None:
+        def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, PhotoOrder] | None:
             return problems.fitted(some, sigma, sizes=sizes, cameras=cameras, known=known)
 
         judged = guidance.misfits(earlier, before, taps, sizes=sizes, default_sigma=sigma, fit=fit)
@@ -300,7 +301,7 @@ class _Solved:
 
     answer: Answer
     solution: dict[str, Any]
-    first: Role
+    order: PhotoOrder
     version: int
 
 
@@ -317,7 +318,9 @@ def _solved(snapshot: Snapshot) -> _Solved:
         raise RefusedError(
             ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
         )
-    return _Solved(stored.answer, stored.solution, stored.first, snapshot.answer_version)
+    return _Solved(
+        stored.answer, stored.solution, PhotoOrder(stored.first), snapshot.answer_version
+    )
 
 
 def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:
