@@ -15,13 +15,20 @@ Pixels everywhere: x right, y down, origin at the top-left (OpenCV's convention)
 
 from .drawing.overlay import draw_overlay
 from .drawing.palette import landmark_colour, landmark_colour_hex
-from .errors import ErrorCode, SolverError
+from .errors import ErrorCode, SolverError, WarningCode
 from .estimation.camera import Camera
 from .estimation.ranking import EpipoleCandidate, epipoles_from_six
 from .minimal.conic import epipole_conic
 from .minimal.five_point import epipole_from_five
 from .minimal.two_epipoles import fundamental_from_epipoles
-from .result import CameraEstimate, Candidate, Ellipse, SolveResult, Uncertainty
+from .result import (
+    CameraEstimate,
+    Candidate,
+    Ellipse,
+    SolveResult,
+    SolverWarning,
+    Uncertainty,
+)
 from .solve import fewest_landmarks, solve
 
 __all__ = [
@@ -33,7 +40,9 @@ __all__ = [
     "ErrorCode",
     "SolveResult",
     "SolverError",
+    "SolverWarning",
     "Uncertainty",
+    "WarningCode",
     "draw_overlay",
     "epipole_conic",
     "epipole_from_five",

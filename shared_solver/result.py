@@ -10,6 +10,9 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from . import words
+from .errors import WARNING_OF_ONE_PHOTO, WARNING_PHOTO, WarningCode
+
 Method = Literal[
     "conic",
     "five_point_epipole",
@@ -92,6 +95,66 @@ class CameraEstimate(_Frozen):
     )
 
 
+class SolverWarning(_Frozen):
+    """Something to check or do about an answer: a stable ``code`` (docs/api.md lists them),
+    its parameters, and its sentence (``message``, made from the two by ``words.warning``).
+    A phone is told it by the photo it is about, never by its sentence."""
+
+    code: WarningCode
+    photo: Literal[1, 2] | None = Field(
+        None,
+        description="The photo it is about, said only to that photo's phone (2: where the "
+        "friend is in the answer's photo); null: the taps as a whole, said to both.",
+    )
+    landmark: int | None = Field(None, description="The landmark's number (#3).")
+    distance_px: float | None = Field(
+        None,
+        description="mistapped: how far the landmark is from where the others put it; "
+        "outside_photo: how far beyond the photo's edge the friend is, px.",
+    )
+    side: words.Side | None = Field(None, description="The edge of the photo the friend is past.")
+    marked: words.Marked | None = Field(
+        None, description="How the friend was marked in photo 1: what would decide."
+    )
+    message: str = Field(description="The sentence a person reads.")
+
+    @classmethod
+    def of(
+        cls,
+        code: WarningCode,
+        *,
+        photo: Literal[1, 2] | None = None,
+        landmark: int | None = None,
+        distance_px: float | None = None,
+        side: words.Side | None = None,
+        marked: words.Marked | None = None,
+    ) -> SolverWarning:
+        """The warning ``code`` with these parameters and its sentence; about ``photo``, or
+        the photo the code is always about (``errors.WARNING_PHOTO``).
+
+        Raises:
+            ValueError: a parameter the code's sentence names is missing, or the photo of a
+                code about one photo.
+        """
+        if photo is None and code in WARNING_OF_ONE_PHOTO:
+            raise ValueError(f"the warning {code.value!r} is about one photo: name it")
+        return cls(
+            code=code,
+            photo=photo or WARNING_PHOTO.get(code),
+            landmark=landmark,
+            distance_px=distance_px,
+            side=side,
+            marked=marked,
+            message=words.warning(
+                code, landmark=landmark, distance_px=distance_px, side=side, marked=marked
+            ),
+        )
+
+    def told_to(self, photo: Literal[1, 2]) -> bool:
+        """Whether the phone of ``photo`` is told it: everything not about the other photo."""
+        return self.photo in (None, photo)
+
+
 class SolveResult(_Frozen):
     """Where friend 1 stands in friend 2's photo, how sure that is, and why."""
 
@@ -136,4 +199,4 @@ class SolveResult(_Frozen):
         description="Per landmark (input order), its distance from the fitted geometry, px.",
     )
     quality: Quality
-    warnings: list[str] = Field(default_factory=list)
+    warnings: list[SolverWarning] = Field(default_factory=list)

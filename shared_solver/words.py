@@ -1,17 +1,22 @@
 """Every sentence the solver says to a person: warnings on an answer and reasons for a refusal.
 
 They reach a phone's screen, so they are written for the two friends: "your friend", "the
-friend mark", "landmark #3", and a next step to take. Photos are named "photo 1" and "photo
-2" and nothing else, so that a session can say them to each phone as "your photo" and "your
-friend's photo". Kept in one place so the voice stays one, and so a change of wording never
-hides in the geometry.
+friend mark", "landmark #3", and a next step to take. A refusal names photos "photo 1" and
+"photo 2" and nothing else, so that a session can say them to each phone as "your photo" and
+"your friend's photo". A warning names none by number ("this photo" is said only to the
+phone whose photo it is), so one sentence serves both phones; which phone is told it is the
+photo it is about (``errors.WARNING_PHOTO``), not its wording (:func:`warning`). Kept in
+one place so the voice stays one, and so a change of wording never hides in the geometry.
 """
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Literal, TypeVar
+
+from .errors import WarningCode
 
 Side = Literal["left", "right", "up", "down"]
+_T = TypeVar("_T")
 
 # --- warnings on an answer -----------------------------------------------------------------
 
@@ -97,14 +102,50 @@ def _decide(marked: Marked) -> str:
     }[marked]
 
 
-# The warnings about where the friend is in photo 2 (the answer's photo): the friend who
-# marked the other in photo 1 sees them there, so they are not said to that phone.
-_ABOUT_PHOTO2 = (ON_THE_CURVE, FAR_TO_THE_SIDE, BEHIND_YOU, UNCERTAIN)
+_FIXED: dict[WarningCode, str] = {
+    WarningCode.CAMERA_MODEL_DISAGREES: CAMERA_MODEL_DISAGREES,
+    WarningCode.CAMERA_MODEL_UNSURE: CAMERA_MODEL_UNSURE,
+    WarningCode.ON_THE_CURVE: ON_THE_CURVE,
+    WarningCode.MARKS_DISAGREE: MARKS_DISAGREE,
+    WarningCode.FAR_TO_THE_SIDE: FAR_TO_THE_SIDE,
+    WarningCode.NOT_PINNED_DOWN: NOT_PINNED_DOWN,
+    WarningCode.BEHIND_YOU: BEHIND_YOU,
+    WarningCode.UNCERTAIN: UNCERTAIN,
+}
 
 
-def about_photo2(sentence: str) -> bool:
-    """Whether a warning is about where the friend is in photo 2 only."""
-    return sentence in _ABOUT_PHOTO2 or sentence.startswith("Your friend is outside this photo")
+def warning(
+    code: WarningCode,
+    *,
+    landmark: int | None = None,
+    distance_px: float | None = None,
+    side: Side | None = None,
+    marked: Marked | None = None,
+) -> str:
+    """A warning's sentence, from its code and its parameters: the one wording of each code
+    (``shared_solver.result.SolverWarning`` carries all three). Which phone is told it is
+    the warning's ``photo``, never its sentence, so rewording one moves it nowhere.
+
+    Raises:
+        ValueError: a parameter the code's sentence names is missing.
+    """
+    if code in _FIXED:
+        return _FIXED[code]
+    if code is WarningCode.MISTAPPED:
+        return mistapped(_given(landmark, code), _given(distance_px, code))
+    if code is WarningCode.MISFIT:
+        return misfit(_given(landmark, code))
+    if code is WarningCode.OUTSIDE_PHOTO:
+        return outside_photo(_given(distance_px, code), _given(side, code))
+    if code is WarningCode.AMBIGUOUS:
+        return ambiguous(marked=_given(marked, code))
+    return no_margin(marked=_given(marked, code))
+
+
+def _given(value: _T | None, code: WarningCode) -> _T:
+    if value is None:
+        raise ValueError(f"the warning {code.value!r} lacks a parameter its sentence names")
+    return value
 
 
 # --- refusals: input that cannot be answered honestly ----------------------------------------

@@ -18,6 +18,7 @@ from shared_solver import SolveResult
 
 from . import guidance
 from . import problem as problems
+from .photo_order import PhotoOrder
 from .repository import TapStore
 from .schemas import Answer, StoredAnswer, Taps
 from .shown import Shown, shown
@@ -95,7 +96,7 @@ class AnswerService:
         before = previous[1] if previous else taps
         known = problems.known_fit(earlier, before, sigma)
 
-        def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, Role] | None:
+        def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, PhotoOrder] | None:
             return problems.fitted(some, sigma, sizes=sizes, cameras=cameras, known=known)
 
         judged = guidance.misfits(earlier, before, taps, sizes=sizes, default_sigma=sigma, fit=fit)
@@ -120,7 +121,7 @@ class Solved:
 
     answer: Answer
     solution: dict[str, Any]
-    first: Role
+    order: PhotoOrder
     version: int
 
 
@@ -137,7 +138,7 @@ def solved(snapshot: Snapshot) -> Solved:
         raise RefusedError(
             ErrorCode.NO_RESULT, "There is no answer yet; tap more landmarks in both photos."
         )
-    return Solved(stored.answer, stored.solution, stored.first, snapshot.answer_version)
+    return Solved(stored.answer, stored.solution, PhotoOrder(stored.first), snapshot.answer_version)
 
 
 def tap_sets(snapshot: Snapshot) -> dict[Role, Taps | None]:

@@ -9,7 +9,7 @@ answer from before that tap, which the tap has not pulled yet. A **suggested spo
 other photo's patch found along the band, costs an image search (tens of ms), so it is
 computed only when a phone asks for it (:class:`Suggestions`, kept per answer).
 
-All positions are in stored-photo pixels; the answer's photo 1 is ``first``'s.
+All positions are in stored-photo pixels; ``order`` says whose photo is the answer's photo 1.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections import OrderedDict
 from collections.abc import Callable, Mapping
 from threading import Lock
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
@@ -26,6 +26,7 @@ from shared_solver import SolveResult
 from shared_solver.matching import Epipolar, epipolar_band, guide_landmark
 from shared_solver.matching.band import BandShape
 
+from .photo_order import PhotoOrder
 from .schemas import Landmark, StoredAnswer, Taps
 
 Point = tuple[float, float]
@@ -35,22 +36,21 @@ _KEPT_ANSWERS = 256
 
 def bands(
     result: SolveResult,
-    first: Role,
+    order: PhotoOrder,
     taps: Mapping[Role, Taps | None],
     sizes: Mapping[Role, tuple[int, int]],
     default_sigma: float,
 ) -> dict[Role, dict[int, BandShape]]:
     """For each phone, the bands in its photo of the landmarks only the other phone tapped."""
-    shared1, shared2 = _shared(taps, first)
+    shared1, shared2 = _shared(taps, order)
     found: dict[Role, dict[int, BandShape]] = {role: {} for role in ROLES}
     for role in ROLES:
         mine, theirs = taps[role], taps[other(role)]
         if theirs is None:
             continue
         have = {tap.id for tap in mine.landmarks} if mine is not None else set()
-        tapped_in: Literal[1, 2] = 1 if other(role) == first else 2
         epipolar = Epipolar.from_result(
-            result, tapped_in=tapped_in, landmarks1=shared1, landmarks2=shared2
+            result, tapped_in=order.number(other(role)), landmarks1=shared1, landmarks2=shared2
         )
         if epipolar is None:
             continue
@@ -76,7 +76,7 @@ def misfits(
     *,
     sizes: Mapping[Role, tuple[int, int]],
     default_sigma: float,
-    fit: Callable[[dict[Role, Taps | None]], tuple[SolveResult, Role] | None],
+    fit: Callable[[dict[Role, Taps | None]], tuple[SolveResult, PhotoOrder] | None],
 ) -> dict[Role, list[int]]:
     """Each phone's landmark taps that do not fit the others.
 
@@ -125,7 +125,7 @@ def _fits(
     taps: Mapping[Role, Taps | None],
     sizes: Mapping[Role, tuple[int, int]],
     default_sigma: float,
-    fit: Callable[[dict[Role, Taps | None]], tuple[SolveResult, Role] | None],
+    fit: Callable[[dict[Role, Taps | None]], tuple[SolveResult, PhotoOrder] | None],
 ) -> bool:
     """Whether ``role``'s ``tap`` lies in the band of its ``partner`` under the answer of
     the other landmarks (True when they give none: nothing to judge it by)."""
@@ -138,11 +138,11 @@ def _fits(
     answered = fit(others)
     if answered is None:
         return True
-    result, first = answered
-    shared1, shared2 = _shared(others, first)
+    result, order = answered
+    shared1, shared2 = _shared(others, order)
     epipolar = Epipolar.from_result(
         result,
-        tapped_in=1 if other(role) == first else 2,
+        tapped_in=order.number(other(role)),
         landmarks1=shared1,
         landmarks2=shared2,
     )
@@ -158,9 +158,9 @@ def _fits(
     return band is None or band.check(np.array([tap.x, tap.y]), sigma**2 * np.eye(2)).fits
 
 
-def _shared(taps: Mapping[Role, Taps | None], first: Role) -> tuple[np.ndarray, np.ndarray]:
+def _shared(taps: Mapping[Role, Taps | None], order: PhotoOrder) -> tuple[np.ndarray, np.ndarray]:
     """(N, 2), (N, 2): the landmarks both photos share, in photo 1 and in photo 2."""
-    one, two = taps.get(first), taps.get(other(first))
+    one, two = taps.get(order.first), taps.get(order.second)
     if one is None or two is None:
         return np.zeros((0, 2)), np.zeros((0, 2))
     mine = {t.id: (t.x, t.y) for t in one.landmarks}
@@ -196,7 +196,7 @@ class Suggestions:
 
 def suggested(
     solution: Mapping[str, Any],
-    first: Role,
+    order: PhotoOrder,
     taps: Mapping[Role, Taps | None],
     photos: Mapping[Role, np.ndarray],
     *,
@@ -210,15 +210,14 @@ def suggested(
     tap = next((t for t in theirs.landmarks if t.id == landmark_id), None) if theirs else None
     if tap is None:
         return None
-    shared1, shared2 = _shared(taps, first)
-    tapped_in: Literal[1, 2] = 1 if other(finder) == first else 2
-    photo1, photo2 = photos[first], photos[other(first)]
+    shared1, shared2 = _shared(taps, order)
+    photo1, photo2 = photos[order.first], photos[order.second]
     guide = guide_landmark(
         SolveResult.model_validate(solution),
         photo1,
         photo2,
         np.array([tap.x, tap.y]),
-        tapped_in=tapped_in,
+        tapped_in=order.number(other(finder)),
         tap_sigma=tap.sigma or default_sigma,
         landmarks1=shared1,
         landmarks2=shared2,

@@ -52,7 +52,7 @@ class PictureService:
             pixels,
             SolveResult.model_validate(stored.solution),
             # The solver's photo 2 is the one it found the friend in.
-            photo=1 if role == stored.first else 2,
+            photo=stored.order.number(role),
             points=[taps[i] for i in ids],
             labels=ids,
         )
@@ -97,7 +97,7 @@ class PictureService:
                 return None
             return guidance.suggested(
                 stored.solution,
-                stored.first,
+                stored.order,
                 taps,
                 {r: decode_photo(kept.photo.data) for r, kept in photos.items() if kept},
                 finder=role,

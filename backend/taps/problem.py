@@ -3,11 +3,12 @@ each phone is told: where its friend is in its own photo.
 
 The solver speaks of photo 1 and photo 2 (``epipole1`` in photo 1, ``epipole2`` in photo
 2); the friends do not. Photo 1 is the photo of a friend who marked the other: the starter's
-if it has a mark, else the joiner's; a point before a line. Landmarks are matched by id (#3
-in one photo is #3 in the other); only ids tapped in both photos count, in ascending order.
-Every photo of a session comes from a phone, so each camera is a phone's: its lens's 35 mm
-focal length when the photo told it (``known_focal``), else the phone prior. The counts
-come from the solver itself (``fewest_landmarks``). docs/geometry.md has the geometry.
+if it has a mark, else the joiner's; a point before a line (:class:`PhotoOrder`). Landmarks
+are matched by id (#3 in one photo is #3 in the other); only ids tapped in both photos count,
+in ascending order. Every photo of a session comes from a phone, so each camera is a
+phone's: its lens's 35 mm focal length when the photo told it (``known_focal``), else the
+phone prior. The counts come from the solver itself (``fewest_landmarks``).
+docs/geometry.md has the geometry.
 """
 
 from __future__ import annotations
@@ -15,25 +16,26 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 
-from backend.participants import ROLES, Role, other
+from backend.participants import ROLES, Role
 from backend.photos.lens import EXIF_UNCERTAINTY
 from shared_solver import (
     Camera,
     ErrorCode,
     SolverError,
     SolveResult,
+    SolverWarning,
+    WarningCode,
     fewest_landmarks,
     solve,
-    words,
 )
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.drawing.shapes import AnswerDrawing
 
 from . import guidance
+from .photo_order import PhotoNumber, PhotoOrder
 from .schemas import Answer, FriendInPhoto, LandmarkBand, Refusal, StoredAnswer, Taps
 
 Point = tuple[float, float]
@@ -42,9 +44,10 @@ Line = tuple[float, float, float]
 
 @dataclass(frozen=True)
 class Problem:
-    """What the solver is asked, in stored-photo pixels; ``first``'s photo is photo 1."""
+    """What the solver is asked, in stored-photo pixels; ``order`` says whose photo is
+    photo 1."""
 
-    first: Role
+    order: PhotoOrder
     default_sigma: float
     ids: list[int]
     points1: list[Point]
@@ -56,10 +59,6 @@ class Problem:
     line1: Line | None = None
     epipole2: Point | None = None
     epipole2_sigma: float | None = None
-
-    @property
-    def second(self) -> Role:
-        return other(self.first)
 
     def fewest(self, *, position: bool, cameras: bool = True) -> int:
         """Landmarks (common to both photos) the solver needs, phone cameras given (or,
@@ -89,8 +88,8 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
     """The common landmarks and the friends' marks, with each tap's precision (a tap sent
     without one has ``default_sigma``)."""
     sets = {role: taps.get(role) or Taps() for role in ROLES}
-    first = _first(sets)
-    mine, theirs = sets[first], sets[other(first)]
+    order = _order(sets)
+    mine, theirs = sets[order.first], sets[order.second]
     one = {tap.id: tap for tap in mine.landmarks}
     two = {tap.id: tap for tap in theirs.landmarks}
     ids = sorted(one.keys() & two.keys())
@@ -104,7 +103,7 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
     # The other phone's mark is the solver's epipole2 only beside a point in photo 1.
     mark2 = theirs.friend if mark1 is not None else None
     return Problem(
-        first=first,
+        order=order,
         default_sigma=default_sigma,
         ids=ids,
         points1=[(one[i].x, one[i].y) for i in ids],
@@ -125,13 +124,13 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
     )
 
 
-def _first(sets: dict[Role, Taps]) -> Role:
+def _order(sets: dict[Role, Taps]) -> PhotoOrder:
     """Whose photo is photo 1: a point marked before a line, the starter before the joiner."""
     for mark in ("friend", "friend_line"):
         for role in ROLES:
             if getattr(sets[role], mark) is not None:
-                return role
-    return "starter"
+                return PhotoOrder(role)
+    return PhotoOrder("starter")
 
 
 @dataclass
@@ -186,22 +185,25 @@ def solved(
     misfits: dict[Role, list[int]],
     known: KnownFit | None = None,
 ) -> StoredAnswer:
-    """The solver's answer to ``task`` as stored, or its refusal (messages naming photo 1
-    and photo 2; :func:`for_reader` says them to a phone)."""
+    """The solver's answer to ``task`` as stored, or its refusal (a message naming photo 1
+    and photo 2; :func:`for_reader` says it to a phone)."""
     try:
         result = fit(task, sizes=sizes, cameras=cameras, known=known)
     except SolverError as error:
         return StoredAnswer(error=Refusal(code=error.code.value, message=error.message))
     solution = result.model_dump(mode="json")
-    guides = guidance.bands(result, task.first, taps, sizes, task.default_sigma)
+    guides = guidance.bands(result, task.order, taps, sizes, task.default_sigma)
     told = answer(task, result, sizes)
     for role, view in told.in_photo.items():
         view.bands = [LandmarkBand(id=i, **band.model_dump()) for i, band in guides[role].items()]
         view.misfits = misfits[role]
         # A misfit the fit left out already has its sentence ("looks mis-tapped"): one is enough.
         flagged = [i for i in misfits[role] if i not in told.suspects]
-        view.warnings = [words.misfit(i) for i in flagged] + view.warnings
-    return StoredAnswer(answer=told, solution=solution, first=task.first)
+        view.warnings = [
+            SolverWarning.of(WarningCode.MISFIT, photo=task.order.number(role), landmark=i)
+            for i in flagged
+        ] + view.warnings
+    return StoredAnswer(answer=told, solution=solution, first=task.order.first)
 
 
 def fit(
@@ -216,7 +218,7 @@ def fit(
     same photos. Raises SolverError."""
     if known is not None and known.task == task:
         return known.result()
-    second = task.second
+    order = task.order
     return solve(
         task.points1,
         task.points2,
@@ -224,11 +226,11 @@ def fit(
         epipole2=task.epipole2,
         epipolar_line1=task.line1,
         tap_sigma=task.default_sigma,
-        image_size1=sizes[task.first],
-        image_size2=sizes[second],
+        image_size1=sizes[order.first],
+        image_size2=sizes[order.second],
         landmark_ids=task.ids,
-        camera1=cameras[task.first],
-        camera2=cameras[second],
+        camera1=cameras[order.first],
+        camera2=cameras[order.second],
         points1_sigma=task.sigmas1 or None,
         points2_sigma=task.sigmas2 or None,
         epipole1_sigma=task.epipole1_sigma,
@@ -244,13 +246,13 @@ def fitted(
     sizes: dict[Role, tuple[int, int]],
     cameras: dict[Role, Camera],
     known: KnownFit | None = None,
-) -> tuple[SolveResult, Role] | None:
+) -> tuple[SolveResult, PhotoOrder] | None:
     """The answer these taps give and whose photo was photo 1; None without one."""
     task = problem(taps, default_sigma)
     if not task.solvable:
         return None
     try:
-        return fit(task, sizes=sizes, cameras=cameras, known=known), task.first
+        return fit(task, sizes=sizes, cameras=cameras, known=known), task.order
     except SolverError:
         return None
 
@@ -259,14 +261,17 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
     """What each phone is told: where its friend is in its own photo. Photo 1's friend is
     the mark its phone tapped (refined by the fit), or the point the fit puts on its line,
     or (nothing marked) where the landmarks put them; photo 2's is what the fit found. Each
-    gets the answer's drawing on its photo (``sizes``: width, height px), which it renders."""
-    first, second = task.first, task.second
+    gets the answer's drawing on its photo (``sizes``: width, height px), which it renders,
+    and the warnings about its photo or about both (never by their sentences)."""
+    order = task.order
 
-    def drawing(photo: Literal[1, 2], role: Role, points: list[Point]) -> AnswerDrawing:
+    def drawing(photo: PhotoNumber, points: list[Point]) -> AnswerDrawing:
         landmarks = np.array(points, np.float64).reshape(-1, 2)
-        return answer_drawing(
-            result, photo=photo, size=sizes[role], landmarks=landmarks, labels=task.ids
-        )
+        size = sizes[order.role(photo)]
+        return answer_drawing(result, photo=photo, size=size, landmarks=landmarks, labels=task.ids)
+
+    def warnings(photo: PhotoNumber) -> list[SolverWarning]:
+        return [warning for warning in result.warnings if warning.told_to(photo)]
 
     focal = [camera.focal_35mm for camera in result.cameras] or [None, None]
     suspects = {task.ids[i] for i in result.suspect_landmarks}
@@ -276,8 +281,8 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         how="marked" if task.epipole1 is not None else "on_line" if task.line1 else "solved",
         candidates=_others([c.epipole1 for c in result.candidates], result.epipole1),
         focal_35mm=focal[0],
-        warnings=[for_reader(w, 1) for w in result.warnings if not words.about_photo2(w)],
-        drawing=drawing(1, first, task.points1),
+        warnings=warnings(1),
+        drawing=drawing(1, task.points1),
     )
     ellipse = result.uncertainty.ellipse if result.uncertainty else None
     two = FriendInPhoto(
@@ -288,8 +293,8 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         curve=result.conic2,
         candidates=_others([c.epipole2 for c in result.candidates], result.epipole2),
         focal_35mm=focal[1],
-        warnings=[for_reader(w, 2) for w in result.warnings],
-        drawing=drawing(2, second, task.points2),
+        warnings=warnings(2),
+        drawing=drawing(2, task.points2),
     )
     return Answer(
         method=result.method,
@@ -298,7 +303,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         landmark_ids=task.ids,
         suspects=sorted(suspects),
         residuals=result.residuals,
-        in_photo={first: one, second: two},
+        in_photo={order.first: one, order.second: two},
     )
 
 
@@ -312,9 +317,10 @@ def _others(positions: list[Point | None], answer: Point | None) -> list[Point]:
 _PHOTO = re.compile(r"\b([Pp])hoto ([12])\b")
 
 
-def for_reader(sentence: str, reader: int) -> str:
-    """A sentence of the solver naming photo 1 and photo 2, said to the phone whose photo is
-    ``reader``: "your photo" and "your friend's photo"."""
+def for_reader(sentence: str, reader: PhotoNumber) -> str:
+    """A refusal of the solver naming photo 1 and photo 2, said to the phone whose photo is
+    ``reader``: "your photo" and "your friend's photo". (A warning names no photo by number:
+    its code and parameters say which photo it is about.)"""
 
     def name(match: re.Match[str]) -> str:
         whose = "your" if int(match.group(2)) == reader else "your friend's"

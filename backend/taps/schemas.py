@@ -11,7 +11,9 @@ from backend.limits import MAX_LANDMARK_ID
 from backend.participants import Role
 from shared_solver.drawing.shapes import AnswerDrawing
 from shared_solver.matching.band import BandShape
-from shared_solver.result import Ellipse
+from shared_solver.result import Ellipse, SolverWarning
+
+from .photo_order import PhotoOrder
 
 # A JSON number, nothing that converts to one ("12", true): a tap sent as anything else is
 # a bug of the client, refused rather than guessed at.
@@ -127,8 +129,10 @@ class FriendInPhoto(BaseModel):
     focal_35mm: float | None = Field(
         None, description="The focal length of your photo's lens the answer used, 35 mm mm."
     )
-    warnings: list[str] = Field(
-        default_factory=list, description="Sentences for you: what to check or do next."
+    warnings: list[SolverWarning] = Field(
+        default_factory=list,
+        description="What to check or do next, said to you: the warnings about your photo "
+        "or about both, each a code, its parameters and its sentence (message).",
     )
     bands: list[LandmarkBand] = Field(
         default_factory=list,
@@ -194,6 +198,11 @@ class StoredAnswer(BaseModel):
     def read(cls, stored: dict[str, Any] | None) -> StoredAnswer | None:
         """The answer as the storage layer hands it (parsed JSON; None: none yet)."""
         return None if stored is None else cls.model_validate(stored)
+
+    @property
+    def order(self) -> PhotoOrder | None:
+        """Whose photo was the solver's photo 1 (``first``, as stored); None: no answer."""
+        return None if self.first is None else PhotoOrder(self.first)
 
     def as_json(self) -> dict[str, Any]:
         return self.model_dump(mode="json")

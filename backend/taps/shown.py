@@ -42,20 +42,15 @@ def shown(taps: dict[Role, Taps | None], stored: StoredAnswer | None, sigma: flo
     error = None if stored is None else stored.error
     errors = None
     if stored is not None and error is not None:
-        first = stored.first or task.first
+        order = stored.order or task.order
         errors = {
             role: {
                 "code": error.code,
-                "message": problems.for_reader(error.message, reader(role, first)),
+                "message": problems.for_reader(error.message, order.number(role)),
             }
             for role in ROLES
         }
     return Shown(answer, errors, task.landmarks_needed(answer))
-
-
-def reader(role: Role, first: Role) -> int:
-    """Which photo of the solver's is ``role``'s: 1 or 2."""
-    return 1 if role == first else 2
 
 
 def needed_after_photo(role: Role, theirs: dict[str, Any] | None) -> int:

@@ -20,7 +20,7 @@ from unittest import mock
 import numpy as np
 from report import markdown_table, verdict
 
-from shared_solver import SolverError, words
+from shared_solver import SolverError, WarningCode
 from shared_solver.answers import projective as projective_answers
 from shared_solver.estimation.camera import KNOWN_FOCAL_UNCERTAINTY, PHONE_LOG_SIGMA
 from testbed.bound import Bound, CameraPrior, Marks, SceneBounds
@@ -36,7 +36,7 @@ RMS_TARGET = 1.25
 COVERAGE_TARGET = (0.93, 0.97)
 AREA_TARGET = 1.1
 FALSE_ALARM_TARGET = 0.001
-_DISAGREES = (words.CAMERA_MODEL_DISAGREES, words.CAMERA_MODEL_UNSURE)
+_DISAGREES = (WarningCode.CAMERA_MODEL_DISAGREES, WarningCode.CAMERA_MODEL_UNSURE)
 
 
 @dataclass(frozen=True)
@@ -162,7 +162,7 @@ def _record(
         assert result.uncertainty.covariance is not None
         determinant = float(np.linalg.det(np.array(result.uncertainty.covariance)))
         cell.areas.append(math.sqrt(max(determinant, 0.0) / np.linalg.det(bound.covariance)))
-    cell.false_alarms += any(warning in _DISAGREES for warning in result.warnings)
+    cell.false_alarms += any(warning.code in _DISAGREES for warning in result.warnings)
     if result.method == "planar":
         cell.planes += 1
         if covered is not True:

@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import { CURVE_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
-import type { Answer, FriendInPhoto, SessionState } from "./types";
+import type { Answer, FriendInPhoto, SessionState, SolverWarning } from "./types";
 
 const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
 
@@ -120,10 +120,12 @@ describe("the answer on each phone", () => {
   });
 
   it("passes on the warnings said to this phone, and the suspects by number", () => {
-    const answer = state(inPhoto({ warnings: ["Re-check #2 in your photo."] }, { warnings: ["Re-check #2 in your friend's photo."] }));
+    const misfit: SolverWarning = { code: "misfit", photo: 1, landmark: 2, message: "#2 does not fit the others: check it in both photos." };
+    const uncertain: SolverWarning = { code: "uncertain", photo: 2, message: "The position is uncertain." };
+    const answer = state(inPhoto({ warnings: [misfit] }, { warnings: [uncertain] }));
     if (answer.answer) answer.answer.suspects = [2, 5];
-    expect(describeAnswer(answer, "starter").warnings).toEqual(["Re-check #2 in your photo."]);
-    expect(describeAnswer(answer, "joiner").warnings).toEqual(["Re-check #2 in your friend's photo."]);
+    expect(describeAnswer(answer, "starter").warnings).toEqual([misfit.message]);
+    expect(describeAnswer(answer, "joiner").warnings).toEqual([uncertain.message]);
     expect(describeAnswer(answer, "joiner").suspects).toEqual([2, 5]);
   });
 

@@ -31,6 +31,8 @@ export interface AnswerView {
   /** Whether the answer tells this phone something new (where the friend is found): the
    * view then brings it into sight. */
   news: boolean;
+  /** The sentences of the warnings the server said to this phone (it chose them by the photo
+   * each is about, and worded them). */
   warnings: string[];
   /** Numbers (as people see them) of landmarks that look mis-tapped. */
   suspects: number[];
@@ -77,7 +79,7 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
   if (!answer || !mine) return NOTHING;
   const theirs = answer.in_photo[otherRole(role)];
   const base = {
-    warnings: mine.warnings ?? [],
+    warnings: (mine.warnings ?? []).map((warning) => warning.message),
     suspects: answer.suspects ?? [],
     curve: mine.curve ?? null,
     drawing: mine.drawing ?? null,

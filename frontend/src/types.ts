@@ -18,6 +18,8 @@ export type MarkTap = Schemas["Mark"];
 export type FriendLineTap = Schemas["FriendLine"];
 export type Answer = Schemas["Answer"];
 export type FriendInPhoto = Schemas["FriendInPhoto"];
+/** A warning said to this phone: its code, parameters and sentence (docs/api.md, "Warning codes"). */
+export type SolverWarning = Schemas["SolverWarning"];
 export type Ellipse = Schemas["Ellipse"];
 export type LandmarkBand = Schemas["LandmarkBand"];
 /** What to draw of the answer on one photo, px (shared_solver/drawing/shapes.py). */

@@ -14,6 +14,7 @@ from typing import cast
 import numpy as np
 
 from .. import linalg, words
+from ..errors import WarningCode
 from ..estimation import bootstrap
 from ..estimation.camera import focal_35mm
 from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
@@ -31,6 +32,7 @@ from ..result import (
     Matrix,
     Method,
     SolveResult,
+    SolverWarning,
     Uncertainty,
 )
 from .request import Request
@@ -146,7 +148,7 @@ def result(
     answer: Answer,
     *,
     suspects: list[int],
-    warnings: list[str],
+    warnings: list[SolverWarning],
     inconsistent: bool = False,
     candidates: list[Candidate] | None = None,
 ) -> SolveResult:
@@ -261,7 +263,7 @@ def pinhole_candidates(request: Request, fits: list[PinholeFit]) -> list[Candida
 
 
 def widen_if_inconsistent(
-    fit: Fitted, covariance: Array | None, warnings: list[str]
+    fit: Fitted, covariance: Array | None, warnings: list[SolverWarning]
 ) -> tuple[Array | None, bool]:
     """Taps noisier than their precisions say (and no culprit found): widen the ellipse by
     the reduced chi-square and add a warning.
@@ -270,7 +272,7 @@ def widen_if_inconsistent(
     """
     if consistent(fit):
         return covariance, False
-    warnings.append(words.MARKS_DISAGREE)
+    warnings.append(SolverWarning.of(WarningCode.MARKS_DISAGREE))
     return _widened(fit, covariance), True
 
 
@@ -299,13 +301,20 @@ def calibrated(
     return covariance * factor if math.isfinite(factor) else None
 
 
-def suspect_warnings(request: Request, suspects: list[int], fundamental: Array) -> list[str]:
+def suspect_warnings(
+    request: Request, suspects: list[int], fundamental: Array
+) -> list[SolverWarning]:
     off = np.abs(sampson_distances(fundamental, request.taps.p, request.taps.q))
-    return [words.mistapped(request.labels[i], off[i]) for i in suspects]
+    return [
+        SolverWarning.of(
+            WarningCode.MISTAPPED, landmark=request.labels[i], distance_px=float(off[i])
+        )
+        for i in suspects
+    ]
 
 
-def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> list[str]:
-    """Sentences about where friend 1 is relative to friend 2's photo (oriented e2).
+def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> list[SolverWarning]:
+    """Warnings about where friend 1 is relative to friend 2's photo (oriented e2).
 
     ``behind``: "no", "yes" (pinned down behind friend 2's camera) or "unsure"; ``loose``:
     the 95 % region is wider than a tenth of the photo.
@@ -313,10 +322,10 @@ def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> 
     warnings = []
     position = to_pixel(e2)
     if position is None:
-        warnings.append(words.FAR_TO_THE_SIDE)
+        warnings.append(SolverWarning.of(WarningCode.FAR_TO_THE_SIDE))
     elif behind != "no":
-        warnings.append(words.NOT_PINNED_DOWN if behind == "unsure" else words.BEHIND_YOU)
-        return warnings
+        code = WarningCode.NOT_PINNED_DOWN if behind == "unsure" else WarningCode.BEHIND_YOU
+        return [SolverWarning.of(code)]
     elif request.size2 is not None:
         width, height = request.size2
         x, y = position
@@ -327,9 +336,11 @@ def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> 
                 if max(-x, x - width) >= max(-y, y - height)
                 else ("up" if y < 0 else "down")
             )
-            warnings.append(words.outside_photo(beyond, side))
+            warnings.append(
+                SolverWarning.of(WarningCode.OUTSIDE_PHOTO, distance_px=float(beyond), side=side)
+            )
     if loose:
-        warnings.append(words.UNCERTAIN)
+        warnings.append(SolverWarning.of(WarningCode.UNCERTAIN))
     return warnings
 
 

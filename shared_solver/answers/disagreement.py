@@ -18,10 +18,11 @@ import math
 
 import numpy as np
 
-from .. import linalg, words
+from .. import linalg
+from ..errors import WarningCode
 from ..estimation.uncertainty import covering, ellipse, quality
 from ..projective import Array
-from ..result import Ellipse, Quality, SolveResult, Uncertainty
+from ..result import Ellipse, Quality, SolveResult, SolverWarning, Uncertainty
 from .building import covariance9
 from .request import Request
 
@@ -39,7 +40,12 @@ def reconcile(request: Request, camera: SolveResult | None, projective: SolveRes
         projective: the paper's answer on the same taps.
     """
     fallback = projective.model_copy(
-        update={"warnings": [words.CAMERA_MODEL_DISAGREES, *projective.warnings]}
+        update={
+            "warnings": [
+                SolverWarning.of(WarningCode.CAMERA_MODEL_DISAGREES),
+                *projective.warnings,
+            ]
+        }
     )
     if camera is None or projective.epipole2 is None:
         return fallback  # no camera answer, or the projective one is the curve: say so
@@ -51,9 +57,9 @@ def reconcile(request: Request, camera: SolveResult | None, projective: SolveRes
     centre, covariance = own[0], covering(own, other)
     centre_xy, axes, angle = ellipse(centre, covariance)
     grade = quality(axes[0], request.diagonal2)
-    warnings = [words.CAMERA_MODEL_UNSURE, *camera.warnings]
-    if grade == "poor" and words.UNCERTAIN not in warnings:
-        warnings.append(words.UNCERTAIN)
+    warnings = [SolverWarning.of(WarningCode.CAMERA_MODEL_UNSURE), *camera.warnings]
+    if grade == "poor" and WarningCode.UNCERTAIN not in {w.code for w in warnings}:
+        warnings.append(SolverWarning.of(WarningCode.UNCERTAIN))
     spread = _growth(own[1], covariance)
     return camera.model_copy(
         update={

@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .. import linalg, words
+from ..errors import WarningCode
 from ..estimation import bootstrap
 from ..estimation.epipolar_fit import fit_epipolar
 from ..estimation.mistaps import refit
@@ -41,7 +42,7 @@ from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
 from ..projective import Array
-from ..result import Method, SolveResult
+from ..result import Method, SolveResult, SolverWarning
 from .building import (
     Answer,
     calibrated,
@@ -104,7 +105,7 @@ def friend2_marked(request: Request) -> CameraAnswer:
         return CameraAnswer(None, agrees=False)
     fit = _likeliest(fits)
     suspects: list[int] = []
-    warnings: list[str] = []
+    warnings: list[SolverWarning] = []
     if not consistent(fit) and len(taps) >= _MISTAPS_FROM and _projective_disagrees(taps):
         # The taps disagree whatever the cameras: look for the landmark to blame.
         found = find_pinhole_mistaps(model)
@@ -216,7 +217,7 @@ def _from_starts(
         return None
     fit = _likeliest(fits)
     others = _rivals(fit, [other for other in fits if other is not fit])
-    warnings: list[str] = []
+    warnings: list[SolverWarning] = []
     if others:
         return _ambiguous(request, model, method, fit, others, warnings=warnings)
     covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
@@ -323,7 +324,7 @@ def _ambiguous(
     fit: PinholeFit,
     others: list[PinholeFit],
     *,
-    warnings: list[str],
+    warnings: list[SolverWarning],
 ) -> SolveResult:
     """Several poses fit: the likeliest is marked, every one is listed, no region claimed."""
     marked: words.Marked = (
@@ -338,7 +339,7 @@ def _ambiguous(
         request,
         Answer.of_pinhole(request, fit, None, orientable=_orientable(model, fit)),
         suspects=[],
-        warnings=[*warnings, words.ambiguous(marked=marked)],
+        warnings=[*warnings, SolverWarning.of(WarningCode.AMBIGUOUS, marked=marked)],
         inconsistent=True,
         candidates=pinhole_candidates(request, [fit, *others]),
     )

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from .. import linalg, words
-from ..errors import ErrorCode, SolverError
+from ..errors import ErrorCode, SolverError, WarningCode
 from ..estimation import bootstrap
 from ..estimation.epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles
 from ..estimation.mistaps import find_mistaps, refit
@@ -37,7 +37,7 @@ from ..projective import (
     to_pixel,
     transform,
 )
-from ..result import Method, SolveResult
+from ..result import Method, SolveResult, SolverWarning
 from .building import (
     Answer,
     Geometry,
@@ -75,7 +75,7 @@ def conic(request: Request) -> SolveResult:
         conic2=matrix(conic_through(request)),
         residuals=[0.0] * len(taps),
         quality="fair",
-        warnings=[words.ON_THE_CURVE],
+        warnings=[SolverWarning.of(WarningCode.ON_THE_CURVE)],
     )
 
 
@@ -101,7 +101,7 @@ def friend2_marked(request: Request) -> SolveResult:
         taps, fundamental_with_epipole(np.append(taps.epipole1, 1.0), taps.p, taps.q)
     )
     suspects: list[int] = []
-    warnings: list[str] = []
+    warnings: list[SolverWarning] = []
     if not consistent(fit):
         found = find_mistaps(taps, use_friend2=True) if len(taps) >= 7 else None
         if found is not None:
@@ -172,7 +172,7 @@ def both_epipoles(request: Request) -> SolveResult:
     assert taps.epipole2 is not None
     e1h, e2h = np.append(taps.epipole1, 1.0), np.append(taps.epipole2, 1.0)
     fit = fit_two_epipoles(taps, fundamental_between(e1h, e2h, taps.p, taps.q))
-    warnings: list[str] = []
+    warnings: list[SolverWarning] = []
     covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
     return result(
         "two_epipoles",
@@ -205,7 +205,7 @@ def landmarks_only(request: Request) -> SolveResult:
             raise SolverError(ErrorCode.NO_SOLUTION, words.SEVEN_FIT_NOTHING)
         return _likeliest(request, "seven_point", geometries, minimal=True)
     suspects: list[int] = []
-    warnings: list[str] = []
+    warnings: list[SolverWarning] = []
     fit = refit(taps, use_friend2=False)
     if not consistent(fit) and len(taps) >= 9:
         found = find_mistaps(taps, use_friend2=False)
@@ -267,7 +267,8 @@ def _likeliest(
     )
     ambiguous = sum(cues[i].hard_cues() == cues[top].hard_cues() and fit_ok[i] for i in order) > 1
     marked: words.Marked = "line" if taps.line1 is not None else "none"
-    warnings = [words.ambiguous(marked=marked) if ambiguous else words.no_margin(marked=marked)]
+    code = WarningCode.AMBIGUOUS if ambiguous else WarningCode.NO_MARGIN
+    warnings = [SolverWarning.of(code, marked=marked)]
     _, inconsistent = widen_if_inconsistent(fit, None, warnings)
     return result(
         method,

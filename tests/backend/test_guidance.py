@@ -61,7 +61,7 @@ def test_a_tap_far_outside_its_band_is_flagged_until_it_is_moved(
     mine = state["answer"]["in_photo"]["joiner"]
     assert mine["misfits"] == [6]
     # One sentence names it: the flag's, or the fit's when it left the tap out.
-    sentences = [w for w in mine["warnings"] if "#6" in w]
+    sentences = [w["message"] for w in mine["warnings"] if w.get("landmark") == 6]
     assert len(sentences) == 1
     assert sentences[0].startswith(
         "#6 does not fit the others" if 6 not in state["answer"]["suspects"] else "Landmark #6"
@@ -75,7 +75,8 @@ def test_a_tap_far_outside_its_band_is_flagged_until_it_is_moved(
     # Moved to the truth, it fits.
     state = joiner.tap(landmarks=landmarks(s.landmarks2[:6])).json()
     assert state["answer"]["in_photo"]["joiner"]["misfits"] == []
-    assert not any("does not fit" in w for w in state["answer"]["in_photo"]["joiner"]["warnings"])
+    told = state["answer"]["in_photo"]["joiner"]["warnings"]
+    assert not any("does not fit" in w["message"] for w in told)
 
 
 def test_a_tap_inside_its_band_is_not_flagged(
@@ -171,7 +172,8 @@ def test_a_taken_suggestion_is_a_tap_like_any_other_flagged_when_it_does_not_fit
     starter.tap(landmarks=landmarks(moved), friend=list(s.epipole1))
     state = joiner.tap(landmarks=taken).json()
     assert state["answer"]["in_photo"]["joiner"]["misfits"] == [i]
-    assert any(f"#{i}" in warning for warning in state["answer"]["in_photo"]["joiner"]["warnings"])
+    told = state["answer"]["in_photo"]["joiner"]["warnings"]
+    assert any(f"#{i}" in warning["message"] for warning in told)
 
 
 def test_a_suggestion_needs_an_answer_and_a_landmark_to_find(

@@ -153,6 +153,31 @@ def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(
         engine.dispose()
 
 
+def test_answers_with_warnings_as_sentences_are_cleared(empty_database: str) -> None:
+    """Migration 0009: a stored answer whose warnings are bare sentences is cleared (the
+    state answers again); the session stays."""
+    engine = make_engine(empty_database)
+    answer = {"answer": {"in_photo": {"joiner": {"warnings": ["The position is uncertain."]}}}}
+    try:
+        with engine.begin() as connection:
+            config = alembic_config(connection)
+            command.downgrade(config, "0008")
+            connection.execute(
+                text(
+                    "INSERT INTO sessions (id, created_at, expires_at, version, answer, "
+                    "answer_version) VALUES ('s1', :now, :end, 7, :answer, 7)"
+                ),
+                {"now": datetime(2026, 11, 26), "end": datetime(2099, 1, 1)}
+                | {"answer": json.dumps(answer)},
+            )
+            command.upgrade(config, "0009")
+        with engine.connect() as connection:
+            row = connection.execute(text("SELECT version, answer, answer_version FROM sessions"))
+            assert tuple(row.one()) == (7, None, None)
+    finally:
+        engine.dispose()
+
+
 def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
     empty_database: str, tmp_path: Path
 ) -> None:

@@ -429,7 +429,9 @@ def test_taps_that_fit_no_phones_are_answered_without_the_camera_model(
     assert answer["method"] == "conic"
     assert answer["camera_model"] == "projective"
     for role in ROLES:  # said to both phones
-        assert "do not fit two ordinary phone photos" in answer["in_photo"][role]["warnings"][0]
+        told = answer["in_photo"][role]["warnings"][0]
+        assert told["code"] == "camera_model_disagrees"
+        assert "do not fit two ordinary phone photos" in told["message"]
     assert answer["in_photo"]["joiner"]["curve"] is not None
     assert answer["in_photo"]["joiner"]["friend"] is None
     assert state["landmarks_needed"] == 1  # the curve: one more for a position

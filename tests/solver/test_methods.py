@@ -32,7 +32,7 @@ def test_seven_landmarks_without_friend2_claim_no_region() -> None:
         assert result.uncertainty.ellipse is None
         assert result.quality == "poor"
         assert result.warnings
-        assert "tap your friend" in result.warnings[0]
+        assert "tap your friend" in result.warnings[0].message
         assert [c.rank for c in result.candidates] == list(range(1, len(result.candidates) + 1))
 
 
@@ -49,7 +49,7 @@ def test_a_line_through_friend2_claims_no_region() -> None:
         assert result.uncertainty is not None
         assert result.uncertainty.ellipse is None
         assert result.quality == "poor"
-        assert "tap your friend instead of a line" in result.warnings[0]
+        assert "tap your friend instead of a line" in result.warnings[0].message
 
 
 def test_eight_landmarks_without_friend2_claim_a_calibrated_region() -> None:

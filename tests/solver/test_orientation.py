@@ -64,7 +64,7 @@ def test_friend1_behind_friend2_is_reported_as_behind(seed: int) -> None:
     assert result.epipole2 is None  # nowhere in the photo is right
     assert result.epipole2_h is not None
     assert result.epipole2_h[2] < 0
-    assert any("behind you" in w for w in result.warnings)
+    assert any("behind you" in w.message for w in result.warnings)
     assert result.uncertainty is not None
     assert result.uncertainty.ellipse is None
     assert result.quality != "poor"  # a sure answer: turn around
@@ -82,7 +82,7 @@ def test_friend1_at_right_angles_gets_the_right_direction(seed: int) -> None:
     assert result.epipole2_h is not None
     x, y, _ = result.epipole2_h
     assert np.array([x, y]) @ truth[:2] > 0.999 * np.hypot(x, y) * np.linalg.norm(truth[:2])
-    assert any("far off" in w for w in result.warnings)
+    assert any("far off" in w.message for w in result.warnings)
 
 
 def test_facing_friends_are_never_told_to_turn_around() -> None:
@@ -93,7 +93,7 @@ def test_facing_friends_are_never_told_to_turn_around() -> None:
         s = facing_scene(rng, n)
         taps = tap(s, 1.0, rng)
         result = solved(s, taps, tap_sigma=1.0)
-        told += any("behind you" in w for w in result.warnings)
+        told += any("behind you" in w.message for w in result.warnings)
     assert told == 0
 
 

@@ -179,7 +179,7 @@ def test_a_stretched_photo_falls_back_to_the_projective_answer() -> None:
         )
         if result.camera_model == "projective":
             fell_back += 1
-            assert result.warnings[0] == words.CAMERA_MODEL_DISAGREES
+            assert result.warnings[0].message == words.CAMERA_MODEL_DISAGREES
             assert result.epipole2 is not None
             assert np.linalg.norm(np.array(result.epipole2) - s.epipole2 * stretch) < 60
     assert fell_back >= 18
@@ -232,7 +232,7 @@ def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:
         assert result.uncertainty.ellipse is None
         assert len(result.candidates) >= 2
         assert result.candidates[0].epipole2_h == pytest.approx(result.epipole2_h)
-        assert words.ambiguous(marked="point") in result.warnings
+        assert words.ambiguous(marked="point") in [w.message for w in result.warnings]
         assert words.ambiguous(marked="point").endswith("To decide, add a landmark.")
     assert seen >= 3  # about one search in twenty
 
@@ -254,7 +254,7 @@ def test_a_mistapped_landmark_is_named_and_left_out() -> None:
         assert result.suspect_landmarks in ([], [wrong])
         if result.suspect_landmarks:
             named += 1
-            assert f"#{wrong + 1} looks mis-tapped" in result.warnings[0]
+            assert f"#{wrong + 1} looks mis-tapped" in result.warnings[0].message
         assert result.uncertainty is not None
         assert result.uncertainty.covariance is not None
         assert result.epipole2 is not None

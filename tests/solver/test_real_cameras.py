@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from shared_solver import Camera, SolverError, SolveResult, solve, words
+from shared_solver import Camera, SolverError, SolveResult, WarningCode, solve
 from shared_solver.estimation.uncertainty import CHI2_2D, chi2_quantile
 from testbed.real_cameras import RealPair, error, group, load_pairs, tap, zoomed
 
@@ -51,7 +51,7 @@ def _answer(pair: RealPair, result: SolveResult | None) -> Answer:
         offset = np.array(result.epipole2) - pair.epipole2
         distance = float(offset @ np.linalg.solve(np.array(covariance), offset))
     fits = result.camera_model == "pinhole" and not any(
-        warning in (words.CAMERA_MODEL_DISAGREES, words.CAMERA_MODEL_UNSURE)
+        warning.code in (WarningCode.CAMERA_MODEL_DISAGREES, WarningCode.CAMERA_MODEL_UNSURE)
         for warning in result.warnings
     )
     return Answer(error(pair, result.epipole2, result.epipole2_h), distance, result.quality, fits)

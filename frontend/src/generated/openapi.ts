@@ -927,9 +927,9 @@ export interface components {
             region?: components["schemas"]["Ellipse"] | null;
             /**
              * Warnings
-             * @description Sentences for you: what to check or do next.
+             * @description What to check or do next, said to you: the warnings about your photo or about both, each a code, its parameters and its sentence (message).
              */
-            warnings?: string[];
+            warnings?: components["schemas"]["SolverWarning"][];
         };
         /**
          * FriendLine
@@ -1853,7 +1853,46 @@ export interface components {
             tap_sigma: number;
             uncertainty?: components["schemas"]["Uncertainty"] | null;
             /** Warnings */
-            warnings?: string[];
+            warnings?: components["schemas"]["SolverWarning"][];
+        };
+        /**
+         * SolverWarning
+         * @description Something to check or do about an answer: a stable ``code`` (docs/api.md lists them),
+         *     its parameters, and its sentence (``message``, made from the two by ``words.warning``).
+         *     A phone is told it by the photo it is about, never by its sentence.
+         */
+        SolverWarning: {
+            code: components["schemas"]["WarningCode"];
+            /**
+             * Distance Px
+             * @description mistapped: how far the landmark is from where the others put it; outside_photo: how far beyond the photo's edge the friend is, px.
+             */
+            distance_px?: number | null;
+            /**
+             * Landmark
+             * @description The landmark's number (#3).
+             */
+            landmark?: number | null;
+            /**
+             * Marked
+             * @description How the friend was marked in photo 1: what would decide.
+             */
+            marked?: ("point" | "line" | "none") | null;
+            /**
+             * Message
+             * @description The sentence a person reads.
+             */
+            message: string;
+            /**
+             * Photo
+             * @description The photo it is about, said only to that photo's phone (2: where the friend is in the answer's photo); null: the taps as a whole, said to both.
+             */
+            photo?: (1 | 2) | null;
+            /**
+             * Side
+             * @description The edge of the photo the friend is past.
+             */
+            side?: ("left" | "right" | "up" | "down") | null;
         };
         /**
          * Spot
@@ -1956,6 +1995,12 @@ export interface components {
              */
             level: number;
         };
+        /**
+         * WarningCode
+         * @description What an answer warns of. The values are a public contract: never rename one.
+         * @enum {string}
+         */
+        WarningCode: "camera_model_disagrees" | "camera_model_unsure" | "on_the_curve" | "marks_disagree" | "far_to_the_side" | "not_pinned_down" | "behind_you" | "outside_photo" | "uncertain" | "mistapped" | "misfit" | "ambiguous" | "no_margin";
     };
     responses: never;
     parameters: never;
