@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from .mistaps import CONSENSUS_SIGMAS, SUSPECT_SIGMAS
-from .pinhole_fit import PinholeFit, PinholeModel, fit_pinhole
+from .pinhole.fit import PinholeFit, fit_pinhole
+from .pinhole.model import PinholeModel
 from .pinhole_starts import behind, combinations_of, exact_poses
 from .uncertainty import consistent
 

@@ -1,6 +1,6 @@
 """Where the pinhole fit starts: every pose the exact solvers allow, ranked by the taps.
 
-The fit (:mod:`.pinhole_fit`) is local, so it starts from the exact solutions of a few
+The fit (:mod:`.pinhole.fit`) is local, so it starts from the exact solutions of a few
 minimal subsets at the priors' focal lengths: three landmarks and friend 2
 (:mod:`..minimal.epipole_and_three`), one landmark and both friends
 (:mod:`..minimal.both_and_one`), or, when friend 2 was not marked as a point, the
@@ -24,7 +24,8 @@ from ..minimal.both_and_one import rotations_from_both
 from ..minimal.epipole_and_three import rotations_from_three
 from ..projective import Array, Indices
 from .camera import FocalPrior
-from .pinhole_fit import PinholeModel, Poses
+from .pinhole.model import PinholeModel
+from .pinhole.pose import Poses
 from .taps import Taps
 
 # A residual beyond this many sigmas counts as this many: an outlier, not a veto.
