@@ -27,10 +27,10 @@ from ..estimation import bootstrap
 from ..estimation.epipolar_fit import fit_epipolar
 from ..estimation.mistaps import refit
 from ..estimation.pinhole.fit import PinholeFit, fit_pinhole
+from ..estimation.pinhole.mistaps import find_pinhole_mistaps
 from ..estimation.pinhole.model import PinholeModel
 from ..estimation.pinhole.pose import Poses
-from ..estimation.pinhole_mistaps import find_pinhole_mistaps
-from ..estimation.pinhole_starts import (
+from ..estimation.pinhole.starts import (
     behind,
     fundamental_starts,
     marked_starts,

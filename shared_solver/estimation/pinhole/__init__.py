@@ -16,5 +16,7 @@ By job, each importing only those before it:
 - :mod:`.predictions`: where a pose puts each friend, and its F, with derivatives;
 - :mod:`.model`: every tap's whitened residual against those predictions;
 - :mod:`.propagation`: first-order covariances of the predictions;
-- :mod:`.fit`: the fit (Levenberg-Marquardt) and what it gives.
+- :mod:`.fit`: the fit (Levenberg-Marquardt) and what it gives;
+- :mod:`.starts`: where the fit starts, every pose the exact solvers allow, ranked;
+- :mod:`.mistaps`: the mis-tapped landmarks, found by consensus over sets of three.
 """

@@ -7,7 +7,7 @@ offset from the camera's prior (:mod:`..camera`). The sum of their squares is th
 :mod:`.fit` minimises.
 
 Everything runs on a batch of K poses and K sets of taps at once: K = 1 for a fit, several
-for scoring the exact solvers' poses (:mod:`..pinhole_starts`), and K sets of re-made taps
+for scoring the exact solvers' poses (:mod:`.starts`), and K sets of re-made taps
 for the bootstrap (:mod:`..bootstrap`), so all use the same code.
 """
 
