@@ -23,13 +23,8 @@ from hypothesis import strategies as st
 from PIL import ExifTags, Image, ImageCms, PngImagePlugin
 
 from backend.errors import RefusedError
-from backend.photos.imaging import (
-    StoredPhoto,
-    crop_around,
-    decode_photo,
-    encode_image,
-    store_photo,
-)
+from backend.photos.intake import StoredPhoto, store_photo
+from backend.photos.pictures import crop_around, decode_photo, encode_image
 
 pillow_heif.register_heif_opener()
 
