@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
-from .imaging import StoredPhoto
+from .intake import StoredPhoto
 from .jpeg_rows import RowIndex, row_index
 
 KEPT_SECONDS = 60.0

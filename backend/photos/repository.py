@@ -16,7 +16,7 @@ from backend.storage.database import Database
 from backend.storage.tables import ParticipantRow, PhotoRow, core
 from backend.storage.versions import bump_version
 
-from .imaging import StoredPhoto
+from .intake import StoredPhoto
 from .kept import KeptPhoto, KeptPhotos
 from .lens import Lens
 from .schemas import PhotoChanged, PhotoStored

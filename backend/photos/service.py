@@ -8,8 +8,9 @@ from backend.eventstream.notifier import Notifier
 from backend.participants import Participant, Role
 from backend.settings import Settings
 
-from .imaging import crop_around, store_photo
+from .intake import store_photo
 from .lens import LensFacts, lens
+from .pictures import crop_around
 from .repository import NeededAfterPhoto, Photos
 from .schemas import LensInfo, PhotoStored
 

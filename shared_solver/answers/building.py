@@ -18,7 +18,7 @@ from ..errors import WarningCode
 from ..estimation import bootstrap
 from ..estimation.camera import focal_35mm
 from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
-from ..estimation.pinhole_fit import PinholeFit
+from ..estimation.pinhole.fit import PinholeFit
 from ..estimation.planar import PlanarFit
 from ..estimation.plausibility import Plausibility, assess, orient_epipole2
 from ..estimation.uncertainty import Fitted, consistent, ellipse, quality

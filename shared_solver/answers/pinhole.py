@@ -8,7 +8,7 @@ prior on the focal length (:mod:`..estimation.camera`).
 | a line through friend 2 | >= 6      | ``pinhole_line``         | the cubic's roots (paper 3.3) |
 | nothing                 | >= 7      | ``pinhole_landmarks``    | the 7- or 8-point solutions   |
 
-Each is the maximum a posteriori fit over every tap (:mod:`..estimation.pinhole_fit`),
+Each is the maximum a posteriori fit over every tap (:mod:`..estimation.pinhole`),
 started from every pose the exact solvers allow and kept where the taps fit best. The
 answer is used only where the taps agree with the model (a chi-square test on its
 residuals); otherwise these functions return None and ``solve`` answers with the
@@ -27,9 +27,11 @@ from ..errors import WarningCode
 from ..estimation import bootstrap
 from ..estimation.epipolar_fit import fit_epipolar
 from ..estimation.mistaps import refit
-from ..estimation.pinhole_fit import PinholeFit, PinholeModel, Poses, fit_pinhole
-from ..estimation.pinhole_mistaps import find_pinhole_mistaps
-from ..estimation.pinhole_starts import (
+from ..estimation.pinhole.fit import PinholeFit, fit_pinhole
+from ..estimation.pinhole.mistaps import find_pinhole_mistaps
+from ..estimation.pinhole.model import PinholeModel
+from ..estimation.pinhole.pose import Poses
+from ..estimation.pinhole.starts import (
     behind,
     fundamental_starts,
     marked_starts,

@@ -19,7 +19,9 @@ from ..linalg import cholesky2
 from ..minimal.five_point import cremona_batch
 from ..projective import Array
 from .camera import FocalPrior
-from .pinhole_fit import PinholeFit, PinholeModel, friend1_positions
+from .pinhole.fit import PinholeFit
+from .pinhole.model import PinholeModel
+from .pinhole.predictions import friend1_positions
 from .taps import Taps
 from .uncertainty import CHI2_2D, LEVEL
 

@@ -37,7 +37,7 @@ import numpy as np
 from PIL import Image
 from sqlalchemy import text
 
-from backend.photos.imaging import store_photo
+from backend.photos.intake import store_photo
 from backend.settings import Settings
 from backend.storage.database import connect
 from backend.taps.schemas import Taps

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from backend.photos.imaging import crop_around, decode_photo, encode_image, store_photo
+from backend.photos.intake import store_photo
 from backend.photos.jpeg_rows import row_index
+from backend.photos.pictures import crop_around, decode_photo, encode_image
 
 
 @cache

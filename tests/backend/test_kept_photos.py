@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 from fastapi.testclient import TestClient
 
-from backend.photos.imaging import StoredPhoto, decode_photo, encode_image
+from backend.photos.intake import StoredPhoto
 from backend.photos.kept import KeptPhotos
+from backend.photos.pictures import decode_photo, encode_image
 from backend.photos.repository import Photos
 from testbed.client import Phone
 from tests.backend.test_sessions import landmarks, photos_uploaded, scene

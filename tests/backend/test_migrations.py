@@ -24,7 +24,7 @@ from sqlalchemy.types import TypeEngine
 
 from backend.main import create_app
 from backend.pairing.tokens import token_hash
-from backend.photos.imaging import store_photo
+from backend.photos.intake import store_photo
 from backend.settings import Settings
 from backend.storage.database import (
     MIGRATIONS,

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from shared_solver import SolverError, solve
-from shared_solver.estimation.pinhole_fit import PARAMETERS, Poses, _tangent, fundamental_stack
+from shared_solver.estimation.pinhole.pose import PARAMETERS, Poses, tangent_basis
+from shared_solver.estimation.pinhole.predictions import fundamental_stack
 from shared_solver.matching import Epipolar, epipolar_band
 from testbed.phones import phone_scene
 from testbed.scenes import facing_scene
@@ -36,7 +37,9 @@ def test_pinhole_derivatives_of_f_match_central_differences() -> None:
     centres = ((2016.0, 1512.0), (1512.0, 2016.0))
 
     def f_at(moved: Poses) -> np.ndarray:
-        return fundamental_stack(moved, centres, np.array(_tangent(*moved.friend2[0].tolist())))
+        return fundamental_stack(
+            moved, centres, np.array(tangent_basis(*moved.friend2[0].tolist()))
+        )
 
     stack = f_at(pose)
     scale = np.abs(stack[0]).max()

@@ -15,12 +15,9 @@ import numpy as np
 import pytest
 
 from shared_solver.estimation.camera import Camera, focal_prior
-from shared_solver.estimation.pinhole_fit import (
-    PARAMETERS,
-    PinholeModel,
-    Poses,
-    friend1_positions,
-)
+from shared_solver.estimation.pinhole.model import PinholeModel
+from shared_solver.estimation.pinhole.pose import PARAMETERS, Poses
+from shared_solver.estimation.pinhole.predictions import friend1_positions
 from shared_solver.estimation.taps import Taps
 from testbed.phones import phone_scene
 

@@ -16,7 +16,8 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue, PlainValidator, Va
 from backend.api.deps import SettingsDep
 from backend.api.responses import PICTURE, errors, json_answer
 from backend.errors import ErrorCode, RefusedError
-from backend.photos.imaging import decode_photo, encode_image, store_photo
+from backend.photos.intake import store_photo
+from backend.photos.pictures import decode_photo, encode_image
 from backend.photos.schemas import MEDIA_TYPES, ImageFormat
 from shared_solver import Camera, SolveResult, draw_overlay, solve
 

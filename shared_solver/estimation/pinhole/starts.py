@@ -1,9 +1,9 @@
 """Where the pinhole fit starts: every pose the exact solvers allow, ranked by the taps.
 
-The fit (:mod:`.pinhole_fit`) is local, so it starts from the exact solutions of a few
+The fit (:mod:`.fit`) is local, so it starts from the exact solutions of a few
 minimal subsets at the priors' focal lengths: three landmarks and friend 2
-(:mod:`..minimal.epipole_and_three`), one landmark and both friends
-(:mod:`..minimal.both_and_one`), or, when friend 2 was not marked as a point, the
+(:mod:`...minimal.epipole_and_three`), one landmark and both friends
+(:mod:`...minimal.both_and_one`), or, when friend 2 was not marked as a point, the
 projective solutions turned into poses (the essential matrix of OpenCV's decomposition).
 Each candidate is scored on every tap: squared whitened residuals (each capped, so one
 mis-tap cannot veto the right pose) and the landmarks it would put behind a camera.
@@ -19,13 +19,14 @@ from itertools import combinations
 import cv2
 import numpy as np
 
-from .. import linalg
-from ..minimal.both_and_one import rotations_from_both
-from ..minimal.epipole_and_three import rotations_from_three
-from ..projective import Array, Indices
-from .camera import FocalPrior
-from .pinhole_fit import PinholeModel, Poses
-from .taps import Taps
+from ... import linalg
+from ...minimal.both_and_one import rotations_from_both
+from ...minimal.epipole_and_three import rotations_from_three
+from ...projective import Array, Indices
+from ..camera import FocalPrior
+from ..taps import Taps
+from .model import PinholeModel
+from .pose import Poses
 
 # A residual beyond this many sigmas counts as this many: an outlier, not a veto.
 _CAP_SIGMAS = 6.0
@@ -35,7 +36,7 @@ _BEHIND_PENALTY = _CAP_SIGMAS**2
 # three (up to 8 rotations each). One changed no answer on main-camera phone scenes, but on
 # photos zoomed 5x it led every start into a basin 1260 px off while a better one fit (3 in
 # 300 searches; the second set found it every time). A mis-tap in them is the mis-tap
-# search's to find (pinhole_mistaps). When tap noise leaves a set of three with no real
+# search's to find (mistaps.py). When tap noise leaves a set of three with no real
 # pose, the next is tried, up to _SUBSETS_TRIED.
 _SUBSETS = 1
 _TRIPLES = 2

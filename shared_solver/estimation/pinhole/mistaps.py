@@ -1,7 +1,7 @@
 """Which landmark was mis-tapped, with the camera model? Consensus over sets of three.
 
 With both cameras modelled, three landmarks and friend 2 fix the geometry
-(:mod:`..minimal.epipole_and_three`), so a consensus needs only four landmarks and one more
+(:mod:`...minimal.epipole_and_three`), so a consensus needs only four landmarks and one more
 to name a culprit: from five landmarks on, where the projective search needs seven. Run
 only when the camera-aware fit fails its chi-square test: every set of three landmarks (a
 fixed random sample of them for many landmarks) proposes its poses, the one most landmarks
@@ -14,10 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mistaps import CONSENSUS_SIGMAS, SUSPECT_SIGMAS
-from .pinhole_fit import PinholeFit, PinholeModel, fit_pinhole
-from .pinhole_starts import behind, combinations_of, exact_poses
-from .uncertainty import consistent
+from ..mistaps import CONSENSUS_SIGMAS, SUSPECT_SIGMAS
+from ..uncertainty import consistent
+from .fit import PinholeFit, fit_pinhole
+from .model import PinholeModel
+from .starts import behind, combinations_of, exact_poses
 
 # Three landmarks fix the pose, one more checks it: a consensus needs four.
 _MIN_INLIERS = 4

@@ -1,0 +1,196 @@
+"""The pinhole model's whitened residuals: how far every tap is from what a pose predicts.
+
+Every tap counts with its own covariance: a landmark by its Sampson distance (Hartley &
+Zisserman 11.4.3) whitened by the covariances of its two taps, the friends' marks by their
+offset from the model's epipoles (:mod:`.predictions`), and each log focal length by its
+offset from the camera's prior (:mod:`..camera`). The sum of their squares is the cost that
+:mod:`.fit` minimises.
+
+Everything runs on a batch of K poses and K sets of taps at once: K = 1 for a fit, several
+for scoring the exact solvers' poses (:mod:`.starts`), and K sets of re-made taps
+for the bootstrap (:mod:`..bootstrap`), so all use the same code.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...projective import Array
+from ..camera import FocalPrior
+from ..taps import Taps, whitener
+from .pose import FOCAL1, FOCAL2, LOG_RANGE, PARAMETERS, Poses, skews, tangent_basis
+from .predictions import (
+    friend1_pixel,
+    friend1_positions,
+    friend2_pixel,
+    friend2_positions,
+    fundamental_stack,
+)
+
+
+class PinholeModel:
+    """Whitened residuals and their Jacobian for K sets of taps under one pair of priors.
+
+    Args:
+        taps: the taps; their covariances are shared by the whole batch.
+        priors: the focal priors of photo 1 and photo 2 (centres = principal points).
+        p, q: (K, N, 2) landmark positions per batch member (default: the taps', K = 1).
+        epipole1, epipole2: (K, 2) the friends' marks per member (default: the taps').
+    """
+
+    def __init__(
+        self,
+        taps: Taps,
+        priors: tuple[FocalPrior, FocalPrior],
+        *,
+        p: Array | None = None,
+        q: Array | None = None,
+        epipole1: Array | None = None,
+        epipole2: Array | None = None,
+    ) -> None:
+        self.taps, self.priors = taps, priors
+        p = taps.p[None] if p is None else p
+        q = taps.q[None] if q is None else q
+        count = len(p)
+        self.p_t = np.concatenate([p.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
+        self.q_t = np.concatenate([q.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
+        self.cov_p_t = taps.cov_p.transpose(1, 2, 0)  # (2, 2, N)
+        self.cov_q_t = taps.cov_q.transpose(1, 2, 0)
+        self.cov_t = np.zeros((4, 4, len(taps)))  # both taps' covariances, block diagonal
+        self.cov_t[:2, :2], self.cov_t[2:, 2:] = self.cov_p_t, self.cov_q_t
+        self.centres = np.array([priors[0].centre, priors[1].centre])
+        self.centre_pixels = (priors[0].centre, priors[1].centre)
+        self.prior_mean = np.array([priors[0].log_focal, priors[1].log_focal])
+        self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
+        self.prior_jacobian = np.zeros((2, PARAMETERS))
+        self.prior_jacobian[0, FOCAL1], self.prior_jacobian[1, FOCAL2] = 1.0 / self.prior_sigma
+        self.friend2 = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
+        self.friend1 = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
+        self.line = None
+        if taps.line1 is not None:
+            self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
+        self.landmarks = len(taps)
+        marks = (
+            2 * (self.friend2 is not None)
+            + (self.line is not None)
+            + 2 * (self.friend1 is not None)
+        )
+        self.residual_count = self.landmarks + marks + 2  # landmarks, marks, focal priors
+
+    def residuals(self, pose: Poses) -> tuple[Array, Array]:
+        """(r (M,), J (M, 7)) at one pose: landmarks first, then the friends' marks and the
+        priors."""
+        r = np.empty(self.residual_count)
+        jacobian = np.empty((self.residual_count, PARAMETERS))
+        log_f1, log_f2 = pose.log_focals[0].tolist()
+        if not max(abs(log_f1), abs(log_f2), abs(pose.reference - log_f1)) < LOG_RANGE:
+            r[:], jacobian[:] = np.nan, np.nan
+            return r, jacobian
+        tangent = np.array(tangent_basis(*pose.friend2[0].tolist()))
+        row = self.landmarks
+        r[:row], jacobian[:row] = _landmarks(pose, self, tangent)
+        if self.friend2 is not None or self.line is not None:
+            position, d_position = friend2_pixel(pose, self.centre_pixels[0], tangent)
+            if self.friend2 is not None:
+                r[row : row + 2], jacobian[row : row + 2] = self.friend2.residuals(
+                    position, d_position
+                )
+                row += 2
+            if self.line is not None:
+                r[row] = position @ self.line[:2] + self.line[2]
+                jacobian[row] = self.line[:2] @ d_position
+                row += 1
+        if self.friend1 is not None:
+            position, d_position = friend1_pixel(pose, self.centre_pixels[1], tangent)
+            r[row : row + 2], jacobian[row : row + 2] = self.friend1.residuals(position, d_position)
+            row += 2
+        r[row:] = (pose.log_focals[0] - self.prior_mean) / self.prior_sigma
+        jacobian[row:] = self.prior_jacobian
+        return r, jacobian
+
+    def offsets(self, poses: Poses) -> Array:
+        """(K, M) whitened residuals, without the Jacobian: K poses against one set of taps
+        (scoring candidate poses), or one pose against K sets of taps (the bootstrap)."""
+        count = max(len(poses), len(self.p_t))
+        f = np.exp(poses.log_focals)  # (K, 2)
+        inverse1 = _inverse_k(f[:, 0], self.centres[0])
+        inverse2_t = _inverse_k(f[:, 1], self.centres[1]).transpose(0, 2, 1)
+        fundamental = inverse2_t @ poses.rotation @ skews(poses.baseline) @ inverse1
+        lines2 = fundamental @ self.p_t  # (K, 3, N)
+        lines1 = fundamental.transpose(0, 2, 1) @ self.q_t
+        eps = np.einsum("kin,kin->kn", lines2, self.q_t)
+        gradients = np.concatenate(
+            [np.broadcast_to(lines1[:, :2], (count, 2, self.landmarks)), lines2[:, :2]], axis=1
+        )  # (K, 4, N), as in _landmarks
+        weighted = np.einsum("ijn,kjn->kin", self.cov_t, gradients)
+        out = np.empty((count, self.residual_count))
+        out[:, : self.landmarks] = eps / np.sqrt(np.einsum("kin,kin->kn", gradients, weighted))
+        column = self.landmarks
+        if self.friend2 is not None or self.line is not None:
+            position = friend2_positions(poses, self.centres[0])
+            if self.friend2 is not None:
+                out[:, column : column + 2] = (
+                    position - self.friend2.position
+                ) @ self.friend2.whiten.T
+                column += 2
+            if self.line is not None:
+                out[:, column] = position @ self.line[:2] + self.line[2]
+                column += 1
+        if self.friend1 is not None:
+            position = friend1_positions(poses, self.centres[1])
+            out[:, column : column + 2] = (position - self.friend1.position) @ self.friend1.whiten.T
+            column += 2
+        out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
+        return out
+
+
+@dataclass(frozen=True)
+class _Mark:
+    """A friend's mark: where it was tapped (per batch member) and its whitener."""
+
+    position: Array  # (K, 2)
+    whiten: Array  # (2, 2)
+
+    @classmethod
+    def of(cls, tap: Array | None, covariance: Array | None, batch: Array | None) -> _Mark | None:
+        if tap is None or covariance is None:
+            return None
+        return cls(tap[None] if batch is None else batch, whitener(covariance))
+
+    def residuals(self, model: Array, jacobian: Array) -> tuple[Array, Array]:
+        """Whitened offset (2,) of the model's pixel (2,) from the mark, and its Jacobian."""
+        return self.whiten @ (model - self.position[0]), self.whiten @ jacobian
+
+
+def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array, Array]:
+    """Whitened Sampson distances (N,) and their exact Jacobian (N, 7) at one pose.
+
+    F and its derivatives along the 7 parameters are stacked as eight pixel matrices, so
+    every landmark's residual and gradient come from a few products (this runs at every
+    iteration of every fit). ``tangent``: (3, 2) tangent basis of friend 2's direction.
+    """
+    stacked = fundamental_stack(pose, model.centre_pixels, tangent)
+    lines2 = stacked @ model.p_t[0]  # (8, 3, N): F p and its derivatives
+    lines1 = stacked.transpose(0, 2, 1) @ model.q_t[0]  # F^T q
+    eps = np.einsum("kin,in->kn", lines2, model.q_t[0])  # (8, N): q^T F p and derivatives
+    # Sampson: eps over its standard deviation g^T C g, g = (F^T q, F p)_xy its gradient in
+    # the four tap coordinates and C both taps' covariances (block diagonal, (4, 4, N)).
+    gradients = np.concatenate([lines1[:, :2], lines2[:, :2]], axis=1)  # (8, 4, N)
+    weighted = np.einsum("ijn,jn->in", model.cov_t, gradients[0])  # C g, (4, N)
+    products = np.einsum("kin,in->kn", gradients, weighted)  # g^T C g, then g_k^T C g
+    scale = 1.0 / np.sqrt(products[0])  # (N,)
+    r = eps[0] * scale
+    # d(eps / sqrt(v)) = d eps / sqrt(v) - eps d v / (2 v^1.5), with d v = 2 g_k^T C g.
+    return r, (eps[1:] * scale - (r * scale * scale) * products[1:]).T
+
+
+def _inverse_k(focal: Array, centre: Array) -> Array:
+    """(K, 3, 3) K^-1 for focal lengths (K,) and one principal point (2,)."""
+    inverse = np.zeros((len(focal), 3, 3))
+    inverse[:, 0, 0] = inverse[:, 1, 1] = 1.0 / focal
+    inverse[:, :2, 2] = -centre / focal[:, None]
+    inverse[:, 2, 2] = 1.0
+    return inverse
