@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 
 from backend.errors import ErrorCode, RefusedError
 from backend.participants import ROLES, Participant, Role, other
-from backend.photos.imaging import decode_photo, encode_image, encode_layer
 from backend.photos.kept import KeptPhoto
+from backend.photos.pictures import decode_photo, encode_image, encode_layer
 from backend.photos.repository import Photos
 from backend.photos.schemas import ImageFormat
 from backend.photos.service import PhotoService

@@ -5,7 +5,7 @@
  * Why the frame matches: the phone sends a JPEG of at most STORED_PHOTO_SIDE px on the long
  * side, upright and without EXIF (downscale.ts). The server re-encodes it (a fresh JPEG
  * without metadata) but never resizes a photo that small, nor turns one without EXIF
- * orientation (backend/photos/imaging.py), so a tap at (x, y) here is (x, y) there. Should a
+ * orientation (backend/photos/intake.py), so a tap at (x, y) here is (x, y) there. Should a
  * server be set to store smaller photos, the reply's size differs and `scaleTaps` maps the
  * taps made meanwhile onto the stored photo.
  */
