@@ -35,7 +35,7 @@ from test_two_phones import (
     upload,
 )
 
-from testbed.loopback import free_port, serve
+from deploy.replica import free_port, serve
 
 OFFLINE_S = 30.0
 CAUGHT_UP_S = 5.0

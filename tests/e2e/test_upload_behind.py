@@ -15,7 +15,7 @@ from phone import Phone, expect
 from test_catch_up import DROPPED, link
 from test_two_phones import PAIR, saved, scene, session_state, temple
 
-from testbed.loopback import serve
+from deploy.replica import serve
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
