@@ -220,7 +220,7 @@ def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str
         "Command: `python benchmarks/network.py` (from the repository root, in its "
         "virtualenv; `make bench-network`)",
         "",
-        f"- {source_state()}",
+        f"- {source_state('backend', 'shared_solver', 'frontend')}",
         f"- {len(results)} searches ({len(results) // len(profiles)} per profile), "
         f"{seconds:.0f} s; figures are medians, with the range in brackets",
         "- Profiles, each phone: "

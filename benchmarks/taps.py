@@ -291,7 +291,7 @@ def report(results: list[Trial], seconds: float) -> str:
         "Command: `python benchmarks/taps.py` (from the repository root, in its virtualenv; "
         "`make bench-taps`)",
         "",
-        f"- {source_state()}",
+        f"- {source_state('backend', 'shared_solver', 'frontend')}",
         f"- {len(results)} searches, seed {SEED}; {seconds:.0f} s",
         f"- Two phones (Pixel 7, iPhone 13) emulated in Chromium, touch input, the app's default "
         f"zoom (the whole photo), no pinch. Phone scenes (`testbed.phones.phone_scene`), photos "
