@@ -37,7 +37,7 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from contextlib import closing
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from datetime import datetime
 from importlib.metadata import version
 from pathlib import Path
@@ -245,13 +245,9 @@ class Workers:
 
 
 def add(total: Load, part: Load) -> None:
-    total.samples += part.samples
-    total.errors += part.errors
-    total.seconds += part.seconds
-    total.server_cpu += part.server_cpu
-    total.client_cpu += part.client_cpu
-    total.machine_busy += part.machine_busy
-    total.machine_total += part.machine_total
+    """``part``'s samples and sums added to ``total``'s, field by field."""
+    for name in (f.name for f in fields(Load)):
+        setattr(total, name, getattr(total, name) + getattr(part, name))
 
 
 def solve_request() -> dict[str, Any]:
