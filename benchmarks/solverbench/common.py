@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal, Required, TypedDict, Unpack
 
 import numpy as np
+from report import markdown_table
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.projective import Array, to_pixel
@@ -301,6 +302,19 @@ def methods_cell(summary: Summary) -> str:
 def fell_back(summary: Summary) -> int:
     """Answers of the camera-aware route that came from the projective geometry."""
     return summary.camera_models["projective"]
+
+
+def cases_table(second: str, rows: Iterable[tuple[str, str, Summary]]) -> str:
+    """One row per case: its label, the ``second`` column (sigma or trials), the error's
+    median and p90, the regions' coverage, the methods that answered and the failures."""
+    header = ["case (landmarks + given)", second, "median", "p90", "95 % coverage"]
+    return markdown_table(
+        [*header, "method used", "failures"],
+        [
+            [label, cell, fmt(s.median), fmt(s.p90), coverage_cell(s), methods_cell(s), failures(s)]
+            for label, cell, s in rows
+        ],
+    )
 
 
 def errors_cell(summary: Summary) -> str:

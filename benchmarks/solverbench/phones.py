@@ -24,12 +24,12 @@ from .common import (
     Outcome,
     Precisions,
     Summary,
+    cases_table,
     coverage_cell,
     errors_cell,
     failures,
     fell_back,
     fmt,
-    methods_cell,
     mixed_taps,
     ours,
     pixel_error,
@@ -325,29 +325,7 @@ def coverage(trials: int) -> CoverageTable:
 
 
 def coverage_table(table: CoverageTable) -> str:
-    return markdown_table(
-        [
-            "case (landmarks + given)",
-            "trials",
-            "median",
-            "p90",
-            "95 % coverage",
-            "method used",
-            "failures",
-        ],
-        [
-            [
-                case.label,
-                str(s.trials),
-                fmt(s.median),
-                fmt(s.p90),
-                coverage_cell(s),
-                methods_cell(s),
-                failures(s),
-            ]
-            for case, s in table.items()
-        ],
-    )
+    return cases_table("trials", ((case.label, str(s.trials), s) for case, s in table.items()))
 
 
 # --- targets ------------------------------------------------------------------------------------
