@@ -22,7 +22,7 @@ API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json'
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real demo lock clean
+.PHONY: run run-cluster test test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real bench-all docs-figures demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -126,6 +126,17 @@ bench-real: $(INSTALLED)
 # venue, in one run (docs/network-benchmark.md).
 bench-network: $(INSTALLED) $(APP) browser
 	$(BIN)/python benchmarks/network.py
+
+# Every benchmark above at one commit (a tree with uncommitted changes is refused), each
+# writing its report in docs/, then the README's tables from the reports, failed targets as
+# FAIL (docsgen/figures.py). Long (each report gives its run's time): on a quiet machine.
+bench-all: $(INSTALLED)
+	$(BIN)/python -m docsgen.figures --run
+
+# Only the README's tables, from the reports already in docs/ (tests/test_docs_generated.py
+# fails when they differ).
+docs-figures: $(INSTALLED)
+	$(BIN)/python -m docsgen.figures
 
 demo: $(INSTALLED)
 	$(BIN)/python -m testbed.demo

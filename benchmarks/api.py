@@ -27,7 +27,6 @@ The report is printed and written as Markdown to ``docs/api-benchmark.md``.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import platform
@@ -38,7 +37,7 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from contextlib import closing
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from datetime import datetime
 from importlib.metadata import version
 from pathlib import Path
@@ -54,6 +53,7 @@ import numpy as np
 from locust import FastHttpUser, constant, task
 from report import (
     ROOT,
+    command_line,
     cpu_snapshot,
     log,
     markdown_table,
@@ -245,13 +245,9 @@ class Workers:
 
 
 def add(total: Load, part: Load) -> None:
-    total.samples += part.samples
-    total.errors += part.errors
-    total.seconds += part.seconds
-    total.server_cpu += part.server_cpu
-    total.client_cpu += part.client_cpu
-    total.machine_busy += part.machine_busy
-    total.machine_total += part.machine_total
+    """``part``'s samples and sums added to ``total``'s, field by field."""
+    for name in (f.name for f in fields(Load)):
+        setattr(total, name, getattr(total, name) + getattr(part, name))
 
 
 def solve_request() -> dict[str, Any]:
@@ -728,14 +724,10 @@ def run(seconds: float) -> Results:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     parser.add_argument(
-        "--seconds",
-        type=float,
-        default=DEFAULT_SECONDS,
-        help="load time per endpoint, after a warm-up (default %(default)s)",
+        "--seconds", type=float, default=DEFAULT_SECONDS, help="load s per endpoint after warm-up"
     )
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
     args = parser.parse_args(argv)
     if not 0 < args.seconds <= 120:
         parser.error("--seconds must be in (0, 120]")

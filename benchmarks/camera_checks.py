@@ -18,18 +18,16 @@ Run from the repository root: ``.venv/bin/python benchmarks/camera_checks.py [--
 
 from __future__ import annotations
 
-import argparse
 import math
 import shlex
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import datetime
-from pathlib import Path
 from typing import Any
 
 import numpy as np
-from report import ROOT, markdown_table, publish, source_state, timed
+from report import ROOT, command_line, markdown_table, publish, source_state, timed
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.answers import pinhole as pinhole_answers
@@ -466,9 +464,8 @@ def report(trials: int) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     parser.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="trials per row")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
     args = parser.parse_args(argv)
     publish(report(args.trials), args.out)
 

@@ -38,7 +38,7 @@ import locust.env  # first of the third-party imports: Locust patches the standa
 import numpy as np
 import psutil
 import psycopg
-from report import ROOT, markdown_table, ms, publish, source_state, verdict
+from report import ROOT, command_line, markdown_table, ms, publish, source_state, verdict
 from searches import APP_MS, Crowd, Search
 from spy import RATE, Sampler
 
@@ -458,7 +458,7 @@ def report(run: Run) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     option = parser.add_argument
     option("--concurrency", type=int, default=CONCURRENCY, help="pairs at once (%(default)s)")
     option("--duration", type=float, default=120.0, help="s during which searches start")
@@ -472,7 +472,6 @@ def main(argv: Sequence[str] | None = None) -> None:
         help="the joiner also asks for a suggested spot, as the app does (not in the targets' "
         "search: the issue's baseline had none)",
     )
-    option("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
     option(
         "--stacks",
         type=Path,

@@ -20,7 +20,6 @@ The report is printed and written as Markdown to ``docs/network-benchmark.md``.
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import tempfile
@@ -34,7 +33,7 @@ from netbench.link import link
 from netbench.meter import PROFILES
 from netbench.search import PhoneRun, SearchRun, hall_photos, play
 from playwright.sync_api import sync_playwright
-from report import ROOT, log, markdown_table, publish, source_state, verdict
+from report import ROOT, command_line, log, markdown_table, publish, source_state, verdict
 
 from deploy.replica import serve
 from testbed import chromium
@@ -220,7 +219,7 @@ def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str
         "Command: `python benchmarks/network.py` (from the repository root, in its "
         "virtualenv; `make bench-network`)",
         "",
-        f"- {source_state()}",
+        f"- {source_state('backend', 'shared_solver', 'frontend')}",
         f"- {len(results)} searches ({len(results) // len(profiles)} per profile), "
         f"{seconds:.0f} s; figures are medians, with the range in brackets",
         "- Profiles, each phone: "
@@ -262,12 +261,11 @@ def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     parser.add_argument("--runs", type=int, default=3, help="searches per profile")
     parser.add_argument(
         "--profile", action="append", choices=sorted(PROFILES), help="default: every profile"
     )
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
     args = parser.parse_args()
     profiles = args.profile or list(PROFILES)
     started = time.monotonic()

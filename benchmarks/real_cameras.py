@@ -44,12 +44,11 @@ import traceback
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
-from pathlib import Path
 from typing import Literal
 
 import cv2
 import numpy as np
-from report import ROOT, log, markdown_table, publish, source_state, verdict
+from report import ROOT, command_line, log, markdown_table, publish, source_state, verdict
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.estimation.uncertainty import CHI2_2D, chi2_quantile
@@ -648,10 +647,9 @@ def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, second
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     parser.add_argument("--trials", type=int, default=DEFAULT_TRIALS, help="per pair and case")
     parser.add_argument("--seed", type=int, default=SEED)
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
     args = parser.parse_args()
     pairs = load_pairs()
     start = time.perf_counter()

@@ -3,6 +3,7 @@ server and the code under test, and how they time and publish a run."""
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
 import math
 import os
@@ -130,6 +131,14 @@ def source_state(*paths: str) -> str:
 
 
 # --- running a benchmark ---------------------------------------------------------------------
+
+
+def command_line(doc: str | None, out: Path) -> argparse.ArgumentParser:
+    """A benchmark's options: described by its docstring's first paragraph, with ``--out``
+    (default ``out``), the report's path."""
+    parser = argparse.ArgumentParser(description=(doc or "").split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=out, help="Markdown report path")
+    return parser
 
 
 def log(message: str) -> None:

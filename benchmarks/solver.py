@@ -32,7 +32,6 @@ The report is printed and written as Markdown to ``docs/solver-benchmark.md``.
 
 from __future__ import annotations
 
-import argparse
 import os
 import platform
 import shlex
@@ -40,11 +39,10 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime
-from pathlib import Path
 
 import cv2
 import numpy as np
-from report import ROOT, publish, source_state, timed
+from report import ROOT, command_line, publish, source_state, timed
 from solverbench import facing, limit, phones, ranking
 from solverbench.common import SCENE_STREAM, SEED, TAP_STREAM
 from solverbench.speed import (
@@ -309,35 +307,16 @@ def run(options: Options) -> Results:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
-    parser.add_argument(
-        "--trials", type=int, default=DEFAULT_TRIALS, help="trials per cell (sections 1-2, 5-6)"
-    )
-    parser.add_argument(
-        "--coverage-trials",
-        type=int,
-        default=None,
-        help="trials per case of the camera-aware coverage table (default: 2x --trials)",
-    )
-    parser.add_argument(
-        "--rank-scenes",
-        type=int,
-        default=DEFAULT_RANK_SCENES,
-        help="exact scenes per kind for the ranking checks",
-    )
-    parser.add_argument(
-        "--speed-scenes", type=int, default=DEFAULT_SPEED_SCENES, help="scenes per timed case"
-    )
-    parser.add_argument(
-        "--speed-rounds", type=int, default=DEFAULT_SPEED_ROUNDS, help="interleaved timing rounds"
-    )
-    parser.add_argument(
-        "--limit-trials",
-        type=int,
-        default=DEFAULT_LIMIT_TRIALS,
-        help="trials per case and tap noise against the Cramér-Rao bound (section 8)",
-    )
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="Markdown report path")
+    parser = command_line(__doc__, DEFAULT_OUT)
+    for option, default, meaning in (
+        ("--trials", DEFAULT_TRIALS, "trials per cell (sections 1-2, 5-6)"),
+        ("--coverage-trials", None, "trials per case of the coverage table (default: 2x --trials)"),
+        ("--rank-scenes", DEFAULT_RANK_SCENES, "exact scenes per kind for the ranking checks"),
+        ("--speed-scenes", DEFAULT_SPEED_SCENES, "scenes per timed case"),
+        ("--speed-rounds", DEFAULT_SPEED_ROUNDS, "interleaved timing rounds"),
+        ("--limit-trials", DEFAULT_LIMIT_TRIALS, "trials per case and tap noise (section 8)"),
+    ):
+        parser.add_argument(option, type=int, default=default, help=meaning)
     args = parser.parse_args(argv)
     options = Options(
         trials=args.trials,

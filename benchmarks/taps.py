@@ -21,7 +21,6 @@ The report is printed and written as Markdown to ``docs/tap-precision.md``.
 
 from __future__ import annotations
 
-import argparse
 import io
 import json
 import re
@@ -35,7 +34,7 @@ import httpx2
 import numpy as np
 from PIL import Image
 from playwright.sync_api import BrowserContext, Page, Playwright, expect, sync_playwright
-from report import ROOT, markdown_table, publish, source_state
+from report import ROOT, command_line, markdown_table, publish, source_state
 
 from deploy.replica import serve
 from shared_solver import SolverError, solve
@@ -291,7 +290,7 @@ def report(results: list[Trial], seconds: float) -> str:
         "Command: `python benchmarks/taps.py` (from the repository root, in its virtualenv; "
         "`make bench-taps`)",
         "",
-        f"- {source_state()}",
+        f"- {source_state('backend', 'shared_solver', 'frontend')}",
         f"- {len(results)} searches, seed {SEED}; {seconds:.0f} s",
         f"- Two phones (Pixel 7, iPhone 13) emulated in Chromium, touch input, the app's default "
         f"zoom (the whole photo), no pinch. Phone scenes (`testbed.phones.phone_scene`), photos "
@@ -320,9 +319,8 @@ def report(results: list[Trial], seconds: float) -> str:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     parser.add_argument("--trials", type=int, default=200)
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
     args = parser.parse_args()
     started = time.monotonic()
     results = run(args.trials)

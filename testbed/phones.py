@@ -16,14 +16,14 @@ right, y down.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from shared_solver.estimation.camera import PHONE_LOG_SIGMA
 from shared_solver.projective import Array
-from testbed.scenes import Camera, Scene, in_photo, look_at, seen_scene
+from testbed.scenes import Camera, Scene, Taps, in_photo, look_at, seen_scene, tap
 
 # The 35 mm equivalent focal length scales a lens to the 36 x 24 mm frame by the diagonal,
 # whatever the photo's aspect ratio.
@@ -210,6 +210,14 @@ def phone_scene(
             zoom2=zoom2,
         )
     raise RuntimeError("could not aim the two phones at each other over the venue")
+
+
+def phone_taps(seed: int | Sequence[int], landmarks: int, sigma: float) -> tuple[PhoneScene, Taps]:
+    """A phone scene of ``landmarks`` and its taps with ``sigma`` px of noise, both drawn from
+    one generator seeded with ``seed``."""
+    rng = np.random.default_rng(seed)
+    scene = phone_scene(rng, landmarks)
+    return scene, tap(scene, sigma, rng)
 
 
 def _venue_points(

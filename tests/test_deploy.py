@@ -473,6 +473,13 @@ def imported_names(source: Path) -> set[str]:
     return names
 
 
+def test_deploy_imports_nothing_from_the_test_bed_or_the_tests() -> None:
+    """deploy/ ships (make run-cluster, the image's topology): the tests and the test bed
+    import it, never the other way round."""
+    for source in sorted((ROOT / "deploy").glob("*.py")):
+        assert imported_names(source).isdisjoint({"testbed", "tests", "benchmarks"}), source
+
+
 def test_the_image_installs_everything_the_app_imports() -> None:
     """The image installs pyproject's runtime dependencies and nothing else (what was put
     into the development venv by hand does not count): every package the app's code imports

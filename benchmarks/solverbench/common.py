@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, Required, TypedDict, Unpack
 
 import numpy as np
+from report import markdown_table
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.projective import Array, to_pixel
@@ -191,21 +192,24 @@ def camera_pair(scene: Scene, cameras: Cameras) -> tuple[Camera | str | None, Ca
     return None, None
 
 
+class Asked(TypedDict, total=False):
+    """What else ``solve`` is told besides the landmarks: what is marked (``given``), the
+    angle of a friend's line, the cameras, each tap's own precision."""
+
+    given: Required[Given]
+    line_angle: float
+    cameras: Cameras
+    precisions: Precisions | None
+
+
 def solve_arguments(
-    scene: Scene,
-    taps: Taps,
-    sigma: float,
-    landmarks: int,
-    *,
-    given: Given,
-    line_angle: float = 0.0,
-    cameras: Cameras = "unknown",
-    precisions: Precisions | None = None,
+    scene: Scene, taps: Taps, sigma: float, landmarks: int, **asked: Unpack[Asked]
 ) -> tuple[tuple[Array, Array], dict[str, Any]]:
     """The arguments of ``shared_solver.solve`` for the first ``landmarks`` taps and what else
     is given: built once, so that timing a call times ``solve`` alone."""
-    line = line_through(taps.epipole1, line_angle)
-    camera1, camera2 = camera_pair(scene, cameras)
+    given, precisions = asked["given"], asked.get("precisions")
+    line = line_through(taps.epipole1, asked.get("line_angle", 0.0))
+    camera1, camera2 = camera_pair(scene, asked.get("cameras", "unknown"))
     both = given == "both"
     options: dict[str, Any] = {
         "epipole1": taps.epipole1 if given in ("e1", "both") else None,
@@ -225,53 +229,17 @@ def solve_arguments(
 
 
 def solve_call(
-    scene: Scene,
-    taps: Taps,
-    sigma: float,
-    landmarks: int,
-    *,
-    given: Given,
-    line_angle: float = 0.0,
-    cameras: Cameras = "unknown",
-    precisions: Precisions | None = None,
+    scene: Scene, taps: Taps, sigma: float, landmarks: int, **asked: Unpack[Asked]
 ) -> SolveResult:
     """``shared_solver.solve`` on the first ``landmarks`` taps and what else is given."""
-    points, options = solve_arguments(
-        scene,
-        taps,
-        sigma,
-        landmarks,
-        given=given,
-        line_angle=line_angle,
-        cameras=cameras,
-        precisions=precisions,
-    )
+    points, options = solve_arguments(scene, taps, sigma, landmarks, **asked)
     return solve(*points, **options)
 
 
-def ours(
-    scene: Scene,
-    taps: Taps,
-    sigma: float,
-    landmarks: int,
-    *,
-    given: Given,
-    line_angle: float = 0.0,
-    cameras: Cameras = "unknown",
-    precisions: Precisions | None = None,
-) -> Outcome:
+def ours(scene: Scene, taps: Taps, sigma: float, landmarks: int, **asked: Unpack[Asked]) -> Outcome:
     """:func:`solve_call` graded against the scene's true e2."""
     try:
-        result = solve_call(
-            scene,
-            taps,
-            sigma,
-            landmarks,
-            given=given,
-            line_angle=line_angle,
-            cameras=cameras,
-            precisions=precisions,
-        )
+        result = solve_call(scene, taps, sigma, landmarks, **asked)
     except SolverError as error:
         return Outcome(math.inf, failure=error.code.value)
     truth = scene.epipole2
@@ -334,6 +302,19 @@ def methods_cell(summary: Summary) -> str:
 def fell_back(summary: Summary) -> int:
     """Answers of the camera-aware route that came from the projective geometry."""
     return summary.camera_models["projective"]
+
+
+def cases_table(second: str, rows: Iterable[tuple[str, str, Summary]]) -> str:
+    """One row per case: its label, the ``second`` column (sigma or trials), the error's
+    median and p90, the regions' coverage, the methods that answered and the failures."""
+    header = ["case (landmarks + given)", second, "median", "p90", "95 % coverage"]
+    return markdown_table(
+        [*header, "method used", "failures"],
+        [
+            [label, cell, fmt(s.median), fmt(s.p90), coverage_cell(s), methods_cell(s), failures(s)]
+            for label, cell, s in rows
+        ],
+    )
 
 
 def errors_cell(summary: Summary) -> str:

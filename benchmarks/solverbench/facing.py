@@ -20,12 +20,12 @@ from .common import (
     Given,
     Outcome,
     Summary,
+    cases_table,
     coverage_cell,
     errors_cell,
     failures,
     fmt,
     line_through,
-    methods_cell,
     ours,
     pixel_error,
     scene_rng,
@@ -181,30 +181,13 @@ def coverage(trials: int) -> CoverageTable:
 
 
 def coverage_table(table: CoverageTable) -> str:
-    return markdown_table(
-        [
-            "case (landmarks + given)",
-            "sigma (px)",
-            "median",
-            "p90",
-            "95 % coverage",
-            "method used",
-            "failures",
-        ],
-        [
-            [
-                case.label,
-                f"{sigma:g}",
-                fmt(s.median),
-                fmt(s.p90),
-                coverage_cell(s),
-                methods_cell(s),
-                failures(s),
-            ]
+    return cases_table(
+        "sigma (px)",
+        (
+            (case.label, f"{sigma:g}", row[case])
             for case in COVERAGE_CASES
             for sigma, row in table.items()
-            for s in (row[case],)
-        ],
+        ),
     )
 
 

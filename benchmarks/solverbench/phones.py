@@ -24,12 +24,12 @@ from .common import (
     Outcome,
     Precisions,
     Summary,
+    cases_table,
     coverage_cell,
     errors_cell,
     failures,
     fell_back,
     fmt,
-    methods_cell,
     mixed_taps,
     ours,
     pixel_error,
@@ -271,23 +271,17 @@ class Case:
 
 
 COVERAGE_CASES = (
-    Case("phone prior: 3 + e1", 3, "e1"),
-    Case("phone prior: 4 + e1", 4, "e1"),
-    Case("phone prior: 5 + e1", 5, "e1"),
-    Case("phone prior: 8 + e1", 8, "e1"),
-    Case("EXIF focal: 3 + e1", 3, "e1", cameras="exif"),
-    Case("EXIF focal: 5 + e1", 5, "e1", cameras="exif"),
+    *(Case(f"phone prior: {n} + e1", n, "e1") for n in (3, 4, 5, 8)),
+    *(Case(f"EXIF focal: {n} + e1", n, "e1", cameras="exif") for n in (3, 5)),
     Case("phone prior: 1 + e1 + e2 (both marked)", 1, "both"),
     Case("phone prior: 3 + e1 + e2 (both marked)", 3, "both"),
     Case("phone prior: 6 + line", 6, "line"),
     Case("phone prior: 7, nothing marked", 7, "none"),
-    Case("phone prior: 4 + e1, mixed precision", 4, "e1", source="mixed"),
-    Case("phone prior: 5 + e1, mixed precision", 5, "e1", source="mixed"),
-    Case("phone prior: 8 + e1, mixed precision", 8, "e1", source="mixed"),
-    Case("phone prior: 3 + e1, focal lengths drawn from the prior", 3, "e1", source="prior"),
-    Case("phone prior: 4 + e1, focal lengths drawn from the prior", 4, "e1", source="prior"),
-    Case("phone prior: 5 + e1, focal lengths drawn from the prior", 5, "e1", source="prior"),
-    Case("phone prior: 8 + e1, focal lengths drawn from the prior", 8, "e1", source="prior"),
+    *(Case(f"phone prior: {n} + e1, mixed precision", n, "e1", source="mixed") for n in (4, 5, 8)),
+    *(
+        Case(f"phone prior: {n} + e1, focal lengths drawn from the prior", n, "e1", source="prior")
+        for n in (3, 4, 5, 8)
+    ),
     Case("phone prior: 5 + e1, photo 2 zoomed 2x", 5, "e1", source="zoom2"),
     Case("phone prior: 5 + e1, photo 2 zoomed 3x", 5, "e1", source="zoom3"),
 )
@@ -331,29 +325,7 @@ def coverage(trials: int) -> CoverageTable:
 
 
 def coverage_table(table: CoverageTable) -> str:
-    return markdown_table(
-        [
-            "case (landmarks + given)",
-            "trials",
-            "median",
-            "p90",
-            "95 % coverage",
-            "method used",
-            "failures",
-        ],
-        [
-            [
-                case.label,
-                str(s.trials),
-                fmt(s.median),
-                fmt(s.p90),
-                coverage_cell(s),
-                methods_cell(s),
-                failures(s),
-            ]
-            for case, s in table.items()
-        ],
-    )
+    return cases_table("trials", ((case.label, str(s.trials), s) for case, s in table.items()))
 
 
 # --- targets ------------------------------------------------------------------------------------

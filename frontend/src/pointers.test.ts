@@ -64,10 +64,15 @@ function pointer(id: number, x: number, y: number, more: Partial<PointerInput> =
   };
 }
 
+/** A fresh view at fit, and the pointer gestures that drive it. */
+function touched(): { view: View; gestures: PointerGestures } {
+  const view = new View();
+  return { view, gestures: new PointerGestures(view) };
+}
+
 describe("a finger", () => {
   it("a tap places the mark where the finger lifted, relative to the view", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     expect(gestures.down(pointer(1, 100, 200))).toBe(true);
     expect(gestures.active).toBe(true);
     expect(view.gesture && loupeTarget(view.gesture)).toEqual({ x: 100, y: 200 }); // the loupe
@@ -78,16 +83,14 @@ describe("a finger", () => {
   });
 
   it("held long enough, it aimed with the loupe", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     gestures.down(pointer(1, 100, 200, { timeStamp: 1000 }));
     gestures.up(pointer(1, 100, 200, { timeStamp: 1000 + LOUPE_AIM_MS }));
     expect(view.outcomes).toEqual([{ kind: "place", at: { x: 100, y: 200 }, aim: "loupe" }]);
   });
 
   it("dragging a landmark's label moves the landmark; the lift point counts", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     gestures.down(pointer(1, 110, 196, { target: LABEL }));
     gestures.move(pointer(1, 115, 200));
     gestures.up(pointer(1, 120, 206));
@@ -95,8 +98,7 @@ describe("a finger", () => {
   });
 
   it("a touch the system cancels places nothing", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     gestures.down(pointer(1, 100, 200));
     gestures.up(pointer(1, 100, 200), true);
     expect(view.outcomes).toEqual([]);
@@ -104,8 +106,7 @@ describe("a finger", () => {
   });
 
   it("a finger whose lift never came is dropped when the next first finger lands", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     gestures.down(pointer(1, 100, 200));
     // No pointerup for finger 1; finger 7 lands as the only one (primary): a tap, not a pinch.
     gestures.down(pointer(7, 300, 300, { isPrimary: true }));
@@ -114,8 +115,7 @@ describe("a finger", () => {
   });
 
   it("moves and lifts of pointers that are not down are not the view's", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     expect(gestures.move(pointer(4, 10, 10, { pointerType: "mouse" }))).toBe(false); // a hover
     expect(gestures.up(pointer(4, 10, 10))).toBe(false);
     expect(gestures.down(pointer(4, 10, 10, { pointerType: "mouse", button: 2 }))).toBe(false);
@@ -143,8 +143,7 @@ describe("two fingers", () => {
     expect(view.calls).toEqual(["started", "ended"]);
   });
   it("a pinch the system cancels leaves the view where the fingers had it", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     gestures.down(pointer(1, 190, 290));
     gestures.down(pointer(2, 210, 310));
     gestures.move(pointer(2, 250, 350));
@@ -159,8 +158,7 @@ describe("two fingers", () => {
 
 describe("a mouse", () => {
   it("a click places, aimed as with the loupe, and shows no loupe", () => {
-    const view = new View();
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched();
     gestures.down(pointer(1, 50, 250, { pointerType: "mouse" }));
     expect(view.gesture && loupeTarget(view.gesture)).toBeNull();
     gestures.up(pointer(1, 50, 250, { pointerType: "mouse" }));

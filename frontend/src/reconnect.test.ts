@@ -44,30 +44,25 @@ describe("retrying", () => {
     expect(calls).toBe(3);
   });
 
-  it("gives up after the last retry", async () => {
+  it.each([
+    ["gives up after the last retry", new ApiError(0, "network", "offline"), 2, 3],
+    [
+      "does not retry a refusal (the same photo would be refused again)",
+      new ApiError(415, "unsupported_photo", "HEIC could not be converted."),
+      5,
+      1,
+    ],
+  ] as const)("%s", async (_, error, retries, tries) => {
     let calls = 0;
     const failing = withRetry(
       async () => {
         calls++;
-        throw new ApiError(0, "network", "offline");
+        throw error;
       },
-      { retries: 2, isRetryable, ...noWait },
+      { retries, isRetryable, ...noWait },
     );
-    await expect(failing).rejects.toThrow("offline");
-    expect(calls).toBe(3);
-  });
-
-  it("does not retry a refusal (the same photo would be refused again)", async () => {
-    let calls = 0;
-    const refused = withRetry(
-      async () => {
-        calls++;
-        throw new ApiError(415, "unsupported_photo", "HEIC could not be converted.");
-      },
-      { retries: 5, isRetryable, ...noWait },
-    );
-    await expect(refused).rejects.toThrow("HEIC");
-    expect(calls).toBe(1);
+    await expect(failing).rejects.toThrow(error.message);
+    expect(calls).toBe(tries);
   });
 
   it("waits the backoff between tries", async () => {

@@ -52,6 +52,13 @@ describe("saving taps", () => {
     await vi.advanceTimersByTimeAsync(0);
   }
 
+  /** The first landmark placed and sent, and the server's answer to it: `outcome`. */
+  async function firstAnswered(outcome: ApiError): Promise<void> {
+    saver.update(taps(1));
+    await vi.advanceTimersByTimeAsync(0);
+    await answer(outcome);
+  }
+
   it("sends a placed tap at once, waiting for nothing", async () => {
     saver.update(taps(1));
     expect(sent).toEqual([taps(1)]); // sent before any timer runs
@@ -107,18 +114,14 @@ describe("saving taps", () => {
   });
 
   it("retries at once when the network is back", async () => {
-    saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(0);
-    await answer(new ApiError(0, "network", "offline"));
+    await firstAnswered(new ApiError(0, "network", "offline"));
     saver.retryNow();
     await vi.advanceTimersByTimeAsync(0);
     expect(sent).toHaveLength(2);
   });
 
   it("does not resend taps the server refused, until they change", async () => {
-    saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(0);
-    await answer(new ApiError(422, "outside_photo", "Landmark #1 is outside the photo."));
+    await firstAnswered(new ApiError(422, "outside_photo", "Landmark #1 is outside the photo."));
     await vi.advanceTimersByTimeAsync(60_000);
     expect(sent).toHaveLength(1);
     saver.update(taps(2));
@@ -127,9 +130,7 @@ describe("saving taps", () => {
   });
 
   it("reports the end of the session on 401", async () => {
-    saver.update(taps(1));
-    await vi.advanceTimersByTimeAsync(0);
-    await answer(new ApiError(401, "unauthorized", "This token opens no session."));
+    await firstAnswered(new ApiError(401, "unauthorized", "This token opens no session."));
     expect(ended).toBe(1);
   });
 

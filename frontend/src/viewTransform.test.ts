@@ -22,6 +22,14 @@ function near(a: Point, b: Point, digits = 6): void {
   expect(a.y).toBeCloseTo(b.y, digits);
 }
 
+/** Two fingers on the screen, at (x1, y1) and (x2, y2). */
+function fingers(x1: number, y1: number, x2: number, y2: number): readonly [Point, Point] {
+  return [
+    { x: x1, y: y1 },
+    { x: x2, y: y2 },
+  ];
+}
+
 describe("the fitted photo", () => {
   it("fills the width of a portrait phone and is centred vertically", () => {
     const t = fitTransform(phone, photo);
@@ -97,14 +105,7 @@ describe("zoom", () => {
 
   it("pinching out grows the scale about the fingers' midpoint", () => {
     const t = fitTransform(phone, photo);
-    const from = [
-      { x: 190, y: 290 },
-      { x: 210, y: 310 },
-    ] as const;
-    const to = [
-      { x: 175, y: 275 },
-      { x: 225, y: 325 },
-    ] as const;
+    const [from, to] = [fingers(190, 290, 210, 310), fingers(175, 275, 225, 325)];
     const under = toPhoto(t, { x: 200, y: 300 });
     const pinched = pinchTransform(t, from, to, phone, photo);
     expect(pinched.scale).toBeCloseTo(t.scale * 2.5);
@@ -113,14 +114,7 @@ describe("zoom", () => {
 
   it("two fingers moving together pan the zoomed photo", () => {
     const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
-    const from = [
-      { x: 150, y: 250 },
-      { x: 250, y: 250 },
-    ] as const;
-    const to = [
-      { x: 130, y: 240 },
-      { x: 230, y: 240 },
-    ] as const;
+    const [from, to] = [fingers(150, 250, 250, 250), fingers(130, 240, 230, 240)];
     const moved = pinchTransform(zoomed, from, to, phone, photo);
     expect(moved.scale).toBeCloseTo(zoomed.scale);
     expect(moved.tx).toBeCloseTo(zoomed.tx - 20);

@@ -18,21 +18,13 @@ from pathlib import Path
 
 import httpx2
 import pytest
-from phones import (
-    PAIR,
-    TEMPLE,
-    in_region,
-    landmarks,
-    mark,
-    scene_taps,
-)
+from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
 from postgres import PostgresServer
+from test_replicas import CROSSING_SECONDS, REPLICA_ENV
 
 from deploy.cluster import Cluster, cluster
 from testbed.client import Listener, Phone, follow, live, pair
 
-REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"}
-CROSSING_SECONDS = 2.0
 ROLES = ("starter", "joiner")
 
 

@@ -68,6 +68,14 @@ async def next_frames(stream: AsyncIterator[str], *types: str) -> list[Heard]:
     return frames
 
 
+async def joined_stream(client: TestClient, session_id: str, role: Role) -> AsyncIterator[str]:
+    """One phone's stream, open: its retry line read, and its own presence heard."""
+    stream = open_stream(client, session_id, role)
+    await anext(stream)
+    await next_frames(stream, "joined")
+    return stream
+
+
 @pytest.mark.anyio
 async def test_changes_reach_the_other_phone_in_order(
     client: TestClient, starter: Phone, temple_photos: tuple[bytes, bytes]
@@ -104,9 +112,7 @@ async def test_changes_reach_the_other_phone_in_order(
 async def test_a_phone_that_goes_away_is_shown_offline(
     client: TestClient, starter: Phone, joiner: Phone
 ) -> None:
-    stream = open_stream(client, joiner.session_id, "joiner")
-    await anext(stream)
-    await next_frames(stream, "joined")
+    stream = await joined_stream(client, joiner.session_id, "joiner")
     assert starter.state()["participants"]["joiner"]["online"] is True
     await stream.aclose()  # the phone went: the server cancels its stream
     state = starter.state()
@@ -126,11 +132,8 @@ async def test_listening_phones_stay_online_with_one_write_for_all(
     online_seconds / 3); a phone with a second stream open stays online when one closes."""
     streams = streams_of(client)
     online_for = client.app.state.settings.online_seconds  # type: ignore[attr-defined]
-    first = open_stream(client, joiner.session_id, "joiner")
-    second = open_stream(client, joiner.session_id, "joiner")
-    for stream in (first, second):
-        await anext(stream)
-        await next_frames(stream, "joined")
+    first = await joined_stream(client, joiner.session_id, "joiner")
+    second = await joined_stream(client, joiner.session_id, "joiner")
     writes = []
     seen_all = streams.presence.seen_all
     streams.presence.seen_all = lambda who, when: (  # type: ignore[method-assign]
@@ -174,9 +177,7 @@ def test_the_watcher_sees_every_change_after_the_newest_events_were_deleted(
 async def test_a_stream_ends_when_its_session_runs_out_of_time(
     client: TestClient, starter: Phone, clock: FakeClock
 ) -> None:
-    stream = open_stream(client, starter.session_id, "starter")
-    await anext(stream)
-    await next_frames(stream, "joined")
+    stream = await joined_stream(client, starter.session_id, "starter")
     clock.advance(7200)
     rest = [chunk async for chunk in stream]
     assert frame(rest[-1]).type == "expired"
@@ -194,9 +195,7 @@ async def test_while_the_database_is_away_requests_get_503_and_streams_keep_ping
     streams = streams_of(client)
     monkeypatch.setattr(streams, "keepalive_seconds", 0.2)  # it keeps trying to read
     monkeypatch.setattr(streams, "poll_seconds", 0.2)
-    stream = open_stream(client, starter.session_id, "starter")
-    await anext(stream)
-    await next_frames(stream, "joined")
+    stream = await joined_stream(client, starter.session_id, "starter")
 
     with database_outage():
         for response in (

@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 import pytest
 from PIL import Image
-from test_sessions import landmarks, photos_uploaded, scene
+from test_sessions import both_tapped, photos_uploaded, scene
 
 from backend.limits import STORED_PHOTO_SIDE
 from testbed.client import Phone
@@ -43,10 +43,7 @@ def test_the_phones_photo_is_stored_at_the_size_it_was_sent(
 def test_the_answers_layer_is_the_drawing_alone(
     starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(starter, joiner, temple_photos)
-    s = scene(6)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2))
+    both_tapped(starter, joiner, temple_photos, scene(6))
     get = joiner.client.get
     url = joiner.url("/overlay/joiner")
     layer = get(url, params={"layer": "true"}, headers=joiner.auth)

@@ -16,14 +16,7 @@ from typing import Any
 import httpx2
 import psycopg
 import pytest
-from phones import (
-    PAIR,
-    TEMPLE,
-    in_region,
-    landmarks,
-    mark,
-    scene_taps,
-)
+from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
 from postgres import PostgresServer
 
 from backend.storage.database import database_url

@@ -61,6 +61,19 @@ def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) 
         assert stored.json() == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
 
 
+def both_tapped(
+    starter: Phone, joiner: Phone, photos: tuple[bytes, bytes], s: Scene, friend: Any = None
+) -> dict[str, Any]:
+    """Both photos uploaded; the starter taps all of scene ``s``'s landmarks and its friend
+    (``friend``, else where the scene has it), then the joiner its landmarks: the state the
+    joiner is answered."""
+    photos_uploaded(starter, joiner, photos)
+    friend = s.epipole1 if friend is None else friend
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(friend))
+    state: dict[str, Any] = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
+    return state
+
+
 # --- pairing --------------------------------------------------------------------------
 
 
@@ -522,10 +535,8 @@ def test_landmarks_tapped_in_one_photo_only_do_not_count(
 def test_a_degenerate_tap_set_explains_itself(
     starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(starter, joiner, temple_photos)
     s = scene(5)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.landmarks1[2]))
-    state = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
+    state = both_tapped(starter, joiner, temple_photos, s, friend=s.landmarks1[2])
     assert state["answer"] is None
     assert state["answer_error"]["code"] == "epipole_on_landmark"
     assert "#3" in state["answer_error"]["message"]
@@ -534,10 +545,7 @@ def test_a_degenerate_tap_set_explains_itself(
 def test_a_new_photo_clears_its_taps_and_the_answer(
     starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(starter, joiner, temple_photos)
-    s = scene(5)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    assert joiner.tap(landmarks=landmarks(s.landmarks2)).json()["answer"] is not None
+    assert both_tapped(starter, joiner, temple_photos, scene(5))["answer"] is not None
     assert joiner.upload(temple_photos[1], "again.png").status_code == 200
     state = starter.state()
     assert state["taps"]["joiner"] is None

@@ -13,19 +13,29 @@ from phones import TEMPLE
 
 from shared_solver import Camera, solve
 from testbed.phones import phone_scene
-from testbed.scenes import facing_scene, solved, temple_scene
+from testbed.scenes import Scene, facing_scene, solved, temple_scene
 
 
-def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:
-    s = facing_scene(np.random.default_rng(seed), landmarks)
+def request_of(s: Scene, **more: object) -> dict[str, object]:
+    """``POST /api/solve``'s body for the scene's exact taps: landmarks, friend 1, photo sizes."""
     return {
         "points1": s.landmarks1.tolist(),
         "points2": s.landmarks2.tolist(),
         "epipole1": s.epipole1.tolist(),
-        "tap_sigma": 1.5,
         "image_size1": list(s.image_size1),
         "image_size2": list(s.image_size2),
+        **more,
     }
+
+
+def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:
+    return request_of(facing_scene(np.random.default_rng(seed), landmarks), tap_sigma=1.5)
+
+
+def refused_for_too_few_landmarks(client: TestClient, body: dict[str, object]) -> None:
+    refused = client.post("/api/solve", json=body)
+    assert refused.status_code == 422
+    assert refused.json()["error"]["code"] == "too_few_landmarks"
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -41,16 +51,8 @@ def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> N
     """Unknown cameras by default (a script may send any image); told they are phones, the
     solver answers from three landmarks with its camera model and says so."""
     s = phone_scene(np.random.default_rng(5), 3)
-    body: dict[str, object] = {
-        "points1": s.landmarks1.tolist(),
-        "points2": s.landmarks2.tolist(),
-        "epipole1": s.epipole1.tolist(),
-        "image_size1": list(s.image_size1),
-        "image_size2": list(s.image_size2),
-    }
-    refused = client.post("/api/solve", json=body)
-    assert refused.status_code == 422
-    assert refused.json()["error"]["code"] == "too_few_landmarks"
+    body = request_of(s)
+    refused_for_too_few_landmarks(client, body)
     phones = body | {
         "camera1": {"kind": "phone"},
         "camera2": {"kind": "known_focal", "focal_35mm": s.focal_35mm2},
@@ -78,18 +80,8 @@ def test_solve_with_both_friends_marked_needs_one_landmark_from_phones(
     client: TestClient,
 ) -> None:
     s = phone_scene(np.random.default_rng(7), 1)
-    body: dict[str, object] = {
-        "points1": s.landmarks1.tolist(),
-        "points2": s.landmarks2.tolist(),
-        "epipole1": s.epipole1.tolist(),
-        "epipole2": s.epipole2.tolist(),
-        "tap_sigma": 1.0,
-        "image_size1": list(s.image_size1),
-        "image_size2": list(s.image_size2),
-    }
-    refused = client.post("/api/solve", json=body)
-    assert refused.status_code == 422
-    assert refused.json()["error"]["code"] == "too_few_landmarks"
+    body = request_of(s, epipole2=s.epipole2.tolist(), tap_sigma=1.0)
+    refused_for_too_few_landmarks(client, body)
     answer = client.post("/api/solve", json=body | {"camera1": "phone", "camera2": "phone"})
     assert answer.status_code == 200, answer.text
     result = answer.json()
@@ -261,13 +253,7 @@ def temple_request() -> dict[str, object]:
     s = temple_scene(
         TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 6, np.random.default_rng(4)
     )
-    return {
-        "points1": s.landmarks1.tolist(),
-        "points2": s.landmarks2.tolist(),
-        "epipole1": s.epipole1.tolist(),
-        "image_size1": [640, 480],
-        "image_size2": [640, 480],
-    }
+    return request_of(s, image_size1=[640, 480], image_size2=[640, 480])
 
 
 @pytest.mark.parametrize(("fmt", "magic"), [("png", b"\x89PNG"), ("jpeg", b"\xff\xd8\xff")])

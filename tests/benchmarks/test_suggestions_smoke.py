@@ -6,73 +6,46 @@ nothing."""
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "suggestions.py"
-SECTIONS = (
-    "## 1. The rendered venues",
-    "## 2. The band",
-    "## 3. Suggestions in the halls",
-    "## 4. Suggestions in the arenas, held out",
-    "## 5. Choosing the rule",
-    "## 6. Against SIFT in the band, and without colour",
-    "## 7. The tap check",
-    "## 8. Time",
-    "## Targets",
-)
+from benchmark_scripts import assert_report_has, run_benchmark, targets_of
+
+TINY = "--calibration 1 --evaluation 2 --compare 1 --arena-calibration 0 --arena-evaluation 1"
+SECTIONS = """
+    ## 1. The rendered venues
+    ## 2. The band
+    ## 3. Suggestions in the halls
+    ## 4. Suggestions in the arenas, held out
+    ## 5. Choosing the rule
+    ## 6. Against SIFT in the band, and without colour
+    ## 7. The tap check
+    ## 8. Time
+    ## Targets
+"""
+ROWS = """
+    | evaluation |
+    | 5 landmarks + friend 2 |
+    | every landmark |
+    | tapped in photo 2 |
+    | 3 | 8 px |
+    | **all** |
+    | now (the rule in the code) |
+    | 0.7 |
+    | 0.1 |
+    | none (as read alone) |
+    | template matching in epipolar coordinates, colour (the rule above) |
+    | SIFT in the band, 2+ keypoints agreeing |
+    | 3.5 sd (the rule) |
+    | wall |
+"""
 
 
 def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> None:
     out = tmp_path / "suggestions.md"
-    done = subprocess.run(
-        [
-            sys.executable,
-            str(SCRIPT),
-            "--calibration",
-            "1",
-            "--evaluation",
-            "2",
-            "--compare",
-            "1",
-            "--arena-calibration",
-            "0",
-            "--arena-evaluation",
-            "1",
-            "--out",
-            str(out),
-        ],
-        cwd=ROOT,
-        check=True,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    text = out.read_text()
-    assert done.stdout == text  # printed and written alike
-    positions = [text.index(title) for title in SECTIONS]
-    assert positions == sorted(positions)
-    for row in (
-        "| evaluation |",
-        "| 5 landmarks + friend 2 |",
-        "| every landmark |",
-        "| tapped in photo 2 |",
-        "| 3 | 8 px |",
-        "| **all** |",
-        "| now (the rule in the code) |",
-        "| 0.7 |",
-        "| 0.1 |",  # a stricter lead, held out
-        "| none (as read alone) |",
-        "| template matching in epipolar coordinates, colour (the rule above) |",
-        "| SIFT in the band, 2+ keypoints agreeing |",
-        "| 3.5 sd (the rule) |",
-        "| wall |",
-    ):
-        assert row in text, row
-    targets = text.split("## Targets", 1)[1]
-    lines = [line for line in targets.splitlines() if line.startswith("- ")]
+    printed, text = run_benchmark("suggestions", *TINY.split(), out=out, timeout=600)
+    assert printed == text  # printed and written alike
+    assert_report_has(text, sections=SECTIONS, rows=ROWS)  # | 0.1 |: a stricter lead, held out
+    lines = targets_of(text)
     assert len(lines) == 6
     assert re.match(r"- (PASS|FAIL): at least 95 % of offered spots within 1 %", lines[0])
     assert re.match(r"- (PASS|FAIL): none beyond 3 %", lines[1])

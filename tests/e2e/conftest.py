@@ -18,8 +18,8 @@ from phone import Phone
 from playwright.sync_api import Browser, Playwright, sync_playwright
 from webkit_phone import Screen, WebKitPhone
 
+from deploy.replica import serve
 from testbed import chromium
-from testbed.loopback import serve
 
 ROOT = Path(__file__).parents[2]
 # A venue-like name for loopback (browsers treat "localhost" and 127.0.0.1 as secure even

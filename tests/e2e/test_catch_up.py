@@ -35,7 +35,7 @@ from test_two_phones import (
     upload,
 )
 
-from testbed.loopback import free_port, serve
+from deploy.replica import free_port, serve
 
 OFFLINE_S = 30.0
 CAUGHT_UP_S = 5.0
@@ -88,16 +88,39 @@ def link(phone: Phone, server: str) -> Iterator[Link]:
         yield cuttable
 
 
-def start(starter: Phone, joiner: Phone, starter_url: str, joiner_url: str) -> None:
+def open_search(starter: Phone, joiner: Phone, starter_url: str, joiner_url: str) -> None:
     """The starter starts a search; the joiner opens its join link (each at its address)."""
     starter.goto(f"{starter_url}/")
     starter.get_by_test_id("start").tap()
     code = starter.get_by_test_id("code")
     expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
     joiner.goto(f"{joiner_url}/join/{re.sub(r'[^0-9]', '', code.inner_text())}")
+
+
+def start(starter: Phone, joiner: Phone, starter_url: str, joiner_url: str) -> None:
+    """A search opened (:func:`open_search`), both photos uploaded."""
+    open_search(starter, joiner, starter_url, joiner_url)
     expect(starter.get_by_test_id("waiting")).to_be_hidden()
     upload(starter, temple(PAIR[0]))
     upload(joiner, temple(PAIR[1]))
+
+
+def midway(starter: Phone, joiner: Phone, s: Any, urls: tuple[str, str], found: int) -> None:
+    """A search of scene ``s`` under way: the starter has marked its friend and landmarks 1-3,
+    the joiner, who cannot see its friend, has found the first ``found`` (each phone at its
+    address of ``urls``)."""
+    start(starter, joiner, *urls)
+    mark_friend(starter, *s.epipole1)
+    tap_landmarks(starter, s.landmarks1[:3])
+    cannot_see(joiner)
+    find_landmarks(joiner, s.landmarks2[:found])
+
+
+def find_unsaved(joiner: Phone, number: int, point: Any) -> None:
+    """The joiner finds landmark ``number`` at ``point`` while it cannot reach the server."""
+    expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
+    joiner.tap_photo(*map(float, point))
+    expect(joiner.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
 
 
 def shown(phone: Phone) -> dict[str, Any]:
@@ -178,20 +201,14 @@ def test_a_phone_offline_for_30_s_catches_up(pixel: Phone, iphone: Phone, tmp_pa
     s = scene(5, seed=3)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
-        start(starter, joiner, server.base_url, network.base_url)
-        mark_friend(starter, *s.epipole1)
-        tap_landmarks(starter, s.landmarks1[:3])
-        cannot_see(joiner)
-        find_landmarks(joiner, s.landmarks2[:1])
+        midway(starter, joiner, s, (server.base_url, network.base_url), found=1)
 
         network.cut()
         cut_at = time.monotonic()
         offline(joiner)
         tap_landmarks(starter, s.landmarks1[3:5], first_id=4)  # the other keeps tapping
-        for number, (x, y) in enumerate(s.landmarks2[1:3], start=2):  # so does this one
-            expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
-            joiner.tap_photo(float(x), float(y))
-            expect(joiner.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+        for number, point in enumerate(s.landmarks2[1:3], start=2):  # so does this one
+            find_unsaved(joiner, number, point)
         time.sleep(max(0.0, OFFLINE_S - (time.monotonic() - cut_at)))
         on_screen = shown(joiner)
         assert not on_screen["saved"]
@@ -225,11 +242,7 @@ def test_a_hidden_page_catches_up_when_shown(pixel: Phone, iphone: Phone, tmp_pa
     s = scene(5, seed=4)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
-        start(starter, joiner, server.base_url, network.base_url)
-        mark_friend(starter, *s.epipole1)
-        tap_landmarks(starter, s.landmarks1[:3])
-        cannot_see(joiner)
-        find_landmarks(joiner, s.landmarks2[:3])
+        midway(starter, joiner, s, (server.base_url, network.base_url), found=3)
 
         joiner.evaluate(HIDE)
         lifecycle = iphone.context.new_cdp_session(iphone.page)
@@ -253,18 +266,12 @@ def test_both_phones_catch_up_after_the_server_restarts(
     with ExitStack() as running:
         server = running.enter_context(serve(tmp_path, port=port))
         starter, joiner = pixel, iphone
-        start(starter, joiner, server.base_url, server.base_url)
-        mark_friend(starter, *s.epipole1)
-        tap_landmarks(starter, s.landmarks1[:3])
-        cannot_see(joiner)
-        find_landmarks(joiner, s.landmarks2[:2])
+        midway(starter, joiner, s, (server.base_url, server.base_url), found=2)
 
         running.close()  # the server stops
         offline(joiner)
         tap_landmarks_unsaved(starter, s.landmarks1[3:4], first_id=4)
-        expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", "3")
-        joiner.tap_photo(*map(float, s.landmarks2[2]))
-        expect(joiner.locator('[data-testid="landmark"][data-id="3"]')).to_be_visible()
+        find_unsaved(joiner, 3, s.landmarks2[2])
 
         running.enter_context(serve(tmp_path, port=port))  # back, on its database
         state = caught_up(starter, joiner, time.monotonic(), find=4)

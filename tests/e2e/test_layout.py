@@ -11,7 +11,7 @@ from phone import Phone, expect
 from PIL import Image
 from test_two_phones import start_and_join
 
-from testbed.loopback import serve
+from deploy.replica import serve
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import pytest
 from phone import Phone, expect
-from test_catch_up import DROPPED, link
+from test_catch_up import DROPPED, link, open_search
 from test_two_phones import PAIR, saved, scene, session_state, temple
 
-from testbed.loopback import serve
+from deploy.replica import serve
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -29,11 +29,7 @@ def test_taps_wait_on_the_phone_for_its_photo(pixel: Phone, iphone: Phone, tmp_p
     s = scene(3, seed=6)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
-        starter.goto(f"{server.base_url}/")
-        starter.get_by_test_id("start").tap()
-        code = starter.get_by_test_id("code")
-        expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
-        joiner.goto(f"{network.base_url}/join/{re.sub(r'[^0-9]', '', code.inner_text())}")
+        open_search(starter, joiner, server.base_url, network.base_url)
         expect(joiner.get_by_test_id("photo-input")).to_be_attached()
 
         network.cut()

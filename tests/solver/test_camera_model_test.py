@@ -10,8 +10,8 @@ import pytest
 
 from shared_solver import ErrorCode, SolverError, WarningCode, solve, words
 from shared_solver.estimation.uncertainty import contains
-from testbed.phones import phone_scene
-from testbed.scenes import NO_PHONES_FRIEND, NO_PHONES_LANDMARKS1, NO_PHONES_LANDMARKS2, tap
+from testbed.phones import phone_taps
+from testbed.scenes import NO_PHONES_FRIEND, NO_PHONES_LANDMARKS1, NO_PHONES_LANDMARKS2
 
 TOLD = (WarningCode.CAMERA_MODEL_DISAGREES, WarningCode.CAMERA_MODEL_UNSURE)
 HONEST_SCENES = 400
@@ -30,9 +30,7 @@ def test_honest_phone_taps_are_almost_never_told_they_do_not_fit(landmarks: int)
     told = answered = 0
     refusals: list[ErrorCode] = []
     for seed in range(HONEST_SCENES):
-        rng = np.random.default_rng((8, landmarks, seed))
-        scene = phone_scene(rng, landmarks)
-        taps = tap(scene, 8.0, rng)
+        scene, taps = phone_taps((8, landmarks, seed), landmarks, 8.0)
         try:
             result = solve(
                 taps.landmarks1,
@@ -61,9 +59,7 @@ def test_a_stretched_photo_with_five_landmarks_is_told_so_and_never_answered_wil
     projective answer too, graded poor or fair."""
     told = held = kept = 0
     for seed in range(60):
-        rng = np.random.default_rng(seed)
-        scene = phone_scene(rng, 5)
-        taps = tap(scene, 1.0, rng)
+        scene, taps = phone_taps(seed, 5, 1.0)
         width, height = scene.image_size2
         stretch = np.array([1.15, 1.0])
         common = {

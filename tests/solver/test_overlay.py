@@ -265,6 +265,19 @@ def test_an_arrow_at_the_right_border_points_to_friend1_beyond_it() -> None:
     assert on_ray[:, 0].min() < width - diagonal(photo) / 10  # a shaft, not a dot
 
 
+def at_infinity(s: Scene, direction: tuple[float, float]) -> SolveResult:
+    """The answer of 5 landmarks, moved to friend 1 at infinity along ``direction`` (photo 2's
+    px), with no region: an answer the scenes do not give, drawn as the solver would say it."""
+    norm = math.hypot(*direction)
+    return answer(s, 5).model_copy(
+        update={
+            "epipole2": None,
+            "epipole2_h": (direction[0] / norm, direction[1] / norm, 0.0),
+            "uncertainty": Uncertainty(ellipse=None),
+        }
+    )
+
+
 @pytest.mark.parametrize(
     ("direction", "side"),
     [((1.0, 0.2), "right"), ((-1.0, 0.3), "left"), ((0.1, -1.0), "top")],
@@ -272,13 +285,7 @@ def test_an_arrow_at_the_right_border_points_to_friend1_beyond_it() -> None:
 def test_friend1_at_infinity_gets_an_arrow_at_the_border_that_way(direction, side) -> None:
     s = scene(2)
     norm = math.hypot(*direction)
-    result = answer(s, 5).model_copy(
-        update={
-            "epipole2": None,
-            "epipole2_h": (direction[0] / norm, direction[1] / norm, 0.0),
-            "uncertainty": Uncertainty(ellipse=None),
-        }
-    )
+    result = at_infinity(s, direction)
     photo = grey(s.image_size2)
     drawn = draw_overlay(photo, result)
     width, height = s.image_size2
@@ -434,16 +441,8 @@ def test_epipolar_lines_join_each_landmark_to_the_friend() -> None:
 
 
 def test_epipolar_lines_are_parallel_when_the_friend_is_at_infinity() -> None:
-    s = scene(2)
-    direction = (1.0, 0.2)
-    norm = math.hypot(*direction)
-    result = answer(s, 5).model_copy(
-        update={
-            "epipole2": None,
-            "epipole2_h": (direction[0] / norm, direction[1] / norm, 0.0),
-            "uncertainty": Uncertainty(ellipse=None),
-        }
-    )
+    s, direction = scene(2), (1.0, 0.2)
+    result = at_infinity(s, direction)
     photo = grey(s.image_size2)
     landmarks = s.landmarks2[:5]
     plain = draw_overlay(photo, result, points=landmarks)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from shared_solver import Camera, ErrorCode, SolverError, solve, words
-from testbed.phones import PhoneScene, phone_scene
+from testbed.phones import PhoneScene, phone_scene, phone_taps
 from testbed.scenes import tap
 
 EXACT_PX = 1e-6
@@ -100,9 +100,7 @@ def test_landmarks_alone_give_friend1_exactly(seed: int, landmarks: int) -> None
 
 
 def test_the_result_names_its_model_and_the_focal_lengths() -> None:
-    rng = np.random.default_rng(7)
-    s = phone_scene(rng, 6)
-    taps = tap(s, 3.0, rng)
+    s, taps = phone_taps(7, 6, 3.0)
     result = solve(
         taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=3.0, **phones(s)
     )
@@ -127,9 +125,7 @@ def test_the_result_names_its_model_and_the_focal_lengths() -> None:
 
 
 def test_three_landmarks_and_friend2_give_a_point_with_phones_and_refuse_without() -> None:
-    rng = np.random.default_rng(3)
-    s = phone_scene(rng, 3)
-    taps = tap(s, 3.0, rng)
+    s, taps = phone_taps(3, 3, 3.0)
     args = (taps.landmarks1, taps.landmarks2)
     result = solve(*args, epipole1=taps.epipole1, tap_sigma=3.0, **phones(s))
     assert result.epipole2 is not None
@@ -139,9 +135,7 @@ def test_three_landmarks_and_friend2_give_a_point_with_phones_and_refuse_without
 
 
 def test_four_landmarks_give_a_point_and_keep_the_curve() -> None:
-    rng = np.random.default_rng(4)
-    s = phone_scene(rng, 4)
-    taps = tap(s, 2.0, rng)
+    s, taps = phone_taps(4, 4, 2.0)
     result = solve(
         taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=2.0, **phones(s)
     )
@@ -162,9 +156,7 @@ def test_a_stretched_photo_falls_back_to_the_projective_answer() -> None:
     gives it. The taps show it, and the answer says it does not assume the camera's shape."""
     fell_back = 0
     for seed in range(20):
-        rng = np.random.default_rng(seed)
-        s = phone_scene(rng, 8)
-        taps = tap(s, 1.0, rng)
+        s, taps = phone_taps(seed, 8, 1.0)
         width, height = s.image_size2
         stretch = np.array([1.3, 1.0])
         result = solve(
@@ -213,9 +205,7 @@ def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:
     likeliest, graded poor, with no region, both listed, and a sentence saying what decides."""
     seen = 0
     for seed in range(120):
-        rng = np.random.default_rng(seed)
-        s = phone_scene(rng, 3)
-        taps = tap(s, 3.0, rng)
+        s, taps = phone_taps(seed, 3, 3.0)
         try:
             result = solve(
                 taps.landmarks1, taps.landmarks2, epipole1=taps.epipole1, tap_sigma=3.0, **phones(s)

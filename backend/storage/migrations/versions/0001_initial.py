@@ -2,21 +2,12 @@
 
 Exactly what ``Base.metadata.create_all`` made before there were migrations, so such a
 database is stamped as this revision (``migrate``) rather than created again.
-
-Revision ID: 0001
-Revises:
-Create Date: 2026-11-21
 """
-
-from __future__ import annotations
 
 import sqlalchemy as sa
 from alembic import op
 
-revision = "0001"
-down_revision = None
-branch_labels = None
-depends_on = None
+revision, down_revision = "0001", None
 
 
 def _session_id(*, primary_key: bool = False, index: bool = False) -> sa.Column[str]:

@@ -1,19 +1,9 @@
-"""Failed joins by client address: what the join-code guessing limits count.
-
-Revision ID: 0002
-Revises: 0001
-Create Date: 2026-11-28
-"""
-
-from __future__ import annotations
+"""Failed joins by client address: what the join-code guessing limits count."""
 
 import sqlalchemy as sa
 from alembic import op
 
-revision = "0002"
-down_revision = "0001"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0002", "0001"
 
 
 def upgrade() -> None:

@@ -1,20 +1,11 @@
 """Overlays are no longer kept: each is drawn for its request (a phone loads each answer's
 overlay once; keeping them only wrote, then erased, megabytes per search).
-
-Revision ID: 0003
-Revises: 0002
-Create Date: 2026-11-21
 """
-
-from __future__ import annotations
 
 import sqlalchemy as sa
 from alembic import op
 
-revision = "0003"
-down_revision = "0002"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0003", "0002"
 
 
 def upgrade() -> None:

@@ -2,20 +2,11 @@
 new row the id after the largest left, so deleting the newest session's events let new
 events take ids that other processes' watchers had already looked past. PostgreSQL's
 sequences never reuse ids: nothing changes there.
-
-Revision ID: 0004
-Revises: 0003
-Create Date: 2026-11-21
 """
-
-from __future__ import annotations
 
 from alembic import op
 
-revision = "0004"
-down_revision = "0003"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0004", "0003"
 
 
 def upgrade() -> None:

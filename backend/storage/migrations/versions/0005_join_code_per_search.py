@@ -7,21 +7,12 @@ through the foreign keys.
 
 Six-digit codes still live at the upgrade no longer match what the API accepts: they are
 cleared, so those seekers' phones show that the code ran out (a new search gets a new one).
-
-Revision ID: 0005
-Revises: 0004
-Create Date: 2026-11-21
 """
-
-from __future__ import annotations
 
 import sqlalchemy as sa
 from alembic import op
 
-revision = "0005"
-down_revision = "0004"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0005", "0004"
 
 
 COUNTS = ("join_code_failures", "join_code_renewals")

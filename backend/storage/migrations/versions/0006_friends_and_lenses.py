@@ -6,13 +6,7 @@ Live sessions carry on: roles and taps are rewritten in place (the seeker's ``ep
 or ``epipolar_line1`` and the buddy's ``epipole2`` become each one's ``friend`` or
 ``friend_line``), events name the new roles, and stored answers, whose shape changed, are
 cleared: the next read of the state answers again (``backend.sessions.state``).
-
-Revision ID: 0006
-Revises: 0005
-Create Date: 2026-11-25
 """
-
-from __future__ import annotations
 
 import json
 from typing import Any
@@ -20,10 +14,7 @@ from typing import Any
 import sqlalchemy as sa
 from alembic import op
 
-revision = "0006"
-down_revision = "0005"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0006", "0005"
 
 NEW_ROLES = {"seeker": "starter", "buddy": "joiner"}
 OLD_ROLES = {new: old for old, new in NEW_ROLES.items()}

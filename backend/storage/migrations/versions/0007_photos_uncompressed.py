@@ -3,20 +3,11 @@ them: a JPEG does not compress, and the try was made at every upload and again, 
 photo kept, each time VACUUM FULL erases deleted ones, which locks the photos table
 meanwhile. Measured on 300 photos (133 MB): VACUUM FULL 1.31 s -> 0.32 s; an upload's
 insert 4.4 -> 0.8 ms of PostgreSQL's CPU. SQLite has no such setting.
-
-Revision ID: 0007
-Revises: 0006
-Create Date: 2026-11-25
 """
-
-from __future__ import annotations
 
 from alembic import op
 
-revision = "0007"
-down_revision = "0006"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0007", "0006"
 
 
 def upgrade() -> None:

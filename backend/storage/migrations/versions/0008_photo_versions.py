@@ -2,21 +2,12 @@
 that names its bytes, so a replica can keep the photos it read lately (the crops of the
 landmarks being found) without asking the database whether they changed. Photos stored
 before have none, and are read each time.
-
-Revision ID: 0008
-Revises: 0007
-Create Date: 2026-11-26
 """
-
-from __future__ import annotations
 
 import sqlalchemy as sa
 from alembic import op
 
-revision = "0008"
-down_revision = "0007"
-branch_labels = None
-depends_on = None
+revision, down_revision = "0008", "0007"
 
 
 def upgrade() -> None:
