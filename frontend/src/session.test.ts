@@ -99,8 +99,8 @@ describe("a phone in its session", () => {
 
   it("sends a placed tap at once", async () => {
     await live();
-    controller.setMode("landmark");
-    controller.tap({ x: 40, y: 40, sigma: 2 });
+    controller.taps.setMode("landmark");
+    controller.taps.tap({ x: 40, y: 40, sigma: 2 });
     await vi.advanceTimersByTimeAsync(0);
     expect(calls.filter((call) => call.startsWith("PUT "))).toEqual(["PUT /api/sessions/s/taps"]);
   });
