@@ -1,9 +1,12 @@
 /**
- * The REST API (its types: generated from the server's OpenAPI schema, types.ts). Every
- * refusal is {"error": {"code", "message"}}; the message is a sentence for the person,
- * shown as it is.
+ * The REST API, called through openapi-fetch with the types generated from the server's
+ * OpenAPI schema (generated/openapi.ts; the app's names for them: types.ts). Every refusal
+ * is {"error": {"code", "message"}}; the message is a sentence for the person, shown as it
+ * is.
  */
 
+import createClient, { type Client } from "openapi-fetch";
+import type { paths } from "./generated/openapi";
 import type {
   CreatedSession,
   Credentials,
@@ -54,50 +57,67 @@ export function errorFrom(status: number, body: unknown): ApiError {
   return new ApiError(status, "http_" + status, fallback);
 }
 
-async function call<T>(path: string, init: RequestInit = {}, token?: string): Promise<T> {
-  const headers = new Headers(init.headers);
-  if (token) headers.set("Authorization", `Bearer ${token}`);
-  if (init.body && typeof init.body === "string") headers.set("Content-Type", "application/json");
-  let response: Response;
+/**
+ * The API, typed by the app's own OpenAPI schema (openapi-fetch over generated/openapi.ts):
+ * a path, its parameters and its body are checked against the schema at compile time.
+ * `token` goes as the Bearer header; no read is ever answered from the browser's cache (a
+ * session's state is what it is now). Made per call: openapi-fetch takes the page's fetch
+ * and Request when a client is made, and the unit tests put theirs in place per test.
+ */
+function client(token?: string): Client<paths> {
+  return createClient<paths>({
+    // Absolute: openapi-fetch builds a Request, which outside a page (the unit tests) needs it.
+    baseUrl: location.origin,
+    cache: "no-store",
+    headers: token ? { Authorization: `Bearer ${token}` } : {},
+  });
+}
+
+/**
+ * What a call answered, or its ApiError. Kept as our own because openapi-fetch returns a
+ * refusal as a value ({error, response}) and lets a lost connection throw whatever fetch
+ * throws, while the app's callers (the tap saver, the upload's retries, the state fetch)
+ * act on a thrown ApiError: its server's stable `code`, `retryable`, `sessionEnded`. A body
+ * that is not the API's JSON (a captive portal's page) is no answer either.
+ */
+async function answerOf<T>(call: Promise<{ data?: T; error?: unknown; response: Response }>): Promise<T> {
+  let answer: Awaited<typeof call>;
   try {
-    response = await fetch(path, { ...init, headers, cache: "no-store" });
+    answer = await call;
   } catch {
     throw new ApiError(0, "network", NO_CONNECTION);
   }
-  if (response.status === 204) return undefined as T;
-  let body: unknown = null;
-  try {
-    body = await response.json();
-  } catch {
-    body = null;
-  }
-  if (!response.ok) throw errorFrom(response.status, body);
-  return body as T;
+  if (!answer.response.ok) throw errorFrom(answer.response.status, answer.error);
+  return answer.data as T;
 }
 
 export function createSession(): Promise<CreatedSession> {
-  return call("/api/sessions", { method: "POST" });
+  return answerOf(client().POST("/api/sessions"));
 }
 
 export function joinSession(code: string): Promise<Joined> {
-  return call("/api/sessions/join", { method: "POST", body: JSON.stringify({ code }) });
+  return answerOf(client().POST("/api/sessions/join", { body: { code } }));
 }
 
 export function fetchState({ session_id, token }: Credentials): Promise<SessionState> {
-  return call(`/api/sessions/${session_id}`, {}, token);
+  return answerOf(client(token).GET("/api/sessions/{session_id}", { params: { path: { session_id } } }));
 }
 
 export function putTaps({ session_id, token }: Credentials, taps: Taps): Promise<SessionState> {
-  return call(`/api/sessions/${session_id}/taps`, { method: "PUT", body: JSON.stringify(taps) }, token);
+  return answerOf(client(token).PUT("/api/sessions/{session_id}/taps", { params: { path: { session_id } }, body: taps }));
 }
 
 /** Where landmark `id`, tapped by the other phone, probably is in `role`'s photo. */
 export function fetchSuggestion({ session_id, token }: Credentials, role: Role, id: number): Promise<LandmarkSuggestion> {
-  return call(`/api/sessions/${session_id}/landmarks/${role}/${id}/suggestion`, {}, token);
+  return answerOf(
+    client(token).GET("/api/sessions/{session_id}/landmarks/{role}/{landmark_id}/suggestion", {
+      params: { path: { session_id, role, landmark_id: id } },
+    }),
+  );
 }
 
-export function deleteSession({ session_id, token }: Credentials): Promise<void> {
-  return call(`/api/sessions/${session_id}`, { method: "DELETE" }, token);
+export async function deleteSession({ session_id, token }: Credentials): Promise<void> {
+  await answerOf(client(token).DELETE("/api/sessions/{session_id}", { params: { path: { session_id } } }));
 }
 
 function withToken(path: string, token: string, extra: Record<string, string> = {}): string {
@@ -121,8 +141,9 @@ export function eventsUrl({ session_id, token }: Credentials): string {
 
 /**
  * PUT the photo, with the lens its original's EXIF told (`lens`: form fields beside the
- * photo), with XMLHttpRequest, which (unlike fetch) reports upload progress: `onProgress`
- * gets 0..1.
+ * photo), with XMLHttpRequest, which (unlike fetch, and so openapi-fetch) reports upload
+ * progress: `onProgress` gets 0..1. Hence our own request here; its refusals are the same
+ * ApiErrors.
  */
 export function uploadPhoto(
   { session_id, token }: Credentials,

@@ -153,6 +153,7 @@ export class LiveStream {
   private readonly clearTimer: (timer: unknown) => void;
 
   constructor(private readonly options: LiveStreamOptions) {
+    // The browser's own EventSource: a maintained client (reconnects, resends Last-Event-ID).
     this.open = options.open ?? ((url) => new EventSource(url));
     // Capped at ~4 s: a phone back on the network (or a restarted server) is caught up
     // within seconds; a reopen is one small request.

@@ -53,11 +53,13 @@ describe("a phone in its session", () => {
       setItem: (key: string, value: string) => stored.set(key, value),
       removeItem: (key: string) => stored.delete(key),
     });
-    vi.stubGlobal("fetch", (path: string, init: RequestInit = {}) => {
-      const method = init.method ?? "GET";
-      calls.push(`${method} ${path}`);
-      const body = method === "PUT" ? { ...AT_7, version: 9, taps: { ...AT_7.taps, joiner: JSON.parse(String(init.body)) as Taps } } : AT_7;
-      return Promise.resolve(new Response(JSON.stringify(body), { status: 200, headers: { "Content-Type": "application/json" } }));
+    // The page's address: the API's requests are made against it (api.ts).
+    vi.stubGlobal("location", { origin: "http://phone.test" });
+    vi.stubGlobal("fetch", async (request: Request) => {
+      const { method } = request;
+      calls.push(`${method} ${new URL(request.url).pathname}`);
+      const body = method === "PUT" ? { ...AT_7, version: 9, taps: { ...AT_7.taps, joiner: (await request.json()) as Taps } } : AT_7;
+      return new Response(JSON.stringify(body), { status: 200, headers: { "Content-Type": "application/json" } });
     });
     controller = new SessionController({ session_id: "s", token: "t", role: "joiner" });
   });
@@ -99,8 +101,8 @@ describe("a phone in its session", () => {
 
   it("sends a placed tap at once", async () => {
     await live();
-    controller.setMode("landmark");
-    controller.tap({ x: 40, y: 40, sigma: 2 });
+    controller.taps.setMode("landmark");
+    controller.taps.tap({ x: 40, y: 40, sigma: 2 });
     await vi.advanceTimersByTimeAsync(0);
     expect(calls.filter((call) => call.startsWith("PUT "))).toEqual(["PUT /api/sessions/s/taps"]);
   });

@@ -10,7 +10,7 @@ export function PhotoInputs({ controller }: { controller: SessionController }) {
     const input = event.currentTarget as HTMLInputElement;
     const file = input.files?.[0];
     input.value = ""; // the same photo can be chosen again
-    if (file) void controller.choosePhoto(file);
+    if (file) void controller.photo.choose(file);
   };
   return (
     <>

@@ -29,12 +29,12 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
           {upload.message}
         </p>
         {upload.retryable ? (
-          <button type="button" class="button primary wide" data-testid="upload-retry" onClick={() => void controller.retryUpload()}>
+          <button type="button" class="button primary wide" data-testid="upload-retry" onClick={() => void controller.photo.retry()}>
             Retry
           </button>
         ) : (
           view.photo && (
-            <button type="button" class="button secondary wide" onClick={() => controller.dismissUpload()}>
+            <button type="button" class="button secondary wide" onClick={() => controller.photo.dismiss()}>
               Keep old photo
             </button>
           )

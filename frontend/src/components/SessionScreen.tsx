@@ -36,7 +36,7 @@ export function SessionScreen({ credentials, onLeave, onNewSearch }: Props) {
             <p class="error" role="alert">
               {view.loadError}
             </p>
-            <button type="button" class="button primary" onClick={() => controller.reload()}>
+            <button type="button" class="button primary" onClick={() => controller.sync.reload()}>
               Try again
             </button>
           </>
@@ -54,7 +54,7 @@ export function SessionScreen({ credentials, onLeave, onNewSearch }: Props) {
   const top = <TopBar controller={controller} view={view} />;
   let screen: JSX.Element;
   const newSearch = (): void => {
-    controller.abandon();
+    controller.deletion.abandon();
     onNewSearch();
   };
   if (waiting) {

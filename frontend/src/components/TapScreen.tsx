@@ -44,7 +44,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const [covered, setCovered] = useState(0);
 
   const focusOn = (id: number): void => {
-    controller.select(id);
+    controller.taps.select(id);
     setFocus({ id, nonce: Date.now() });
   };
 
@@ -73,11 +73,11 @@ export function TapScreen({ controller, view, state, top }: Props) {
       if (event.target instanceof HTMLInputElement) return;
       if ((event.ctrlKey || event.metaKey) && event.key.toLowerCase() === "z") {
         event.preventDefault();
-        controller.undo();
+        controller.taps.undo();
       } else if (event.key === "Delete" || event.key === "Backspace") {
-        controller.deleteSelected();
+        controller.taps.deleteSelected();
       } else if (event.key === "Escape") {
-        controller.select(null);
+        controller.taps.select(null);
       }
     };
     window.addEventListener("keydown", onKey);
@@ -113,9 +113,9 @@ export function TapScreen({ controller, view, state, top }: Props) {
           linePoint={view.linePoint}
           keepClear={answer.position ? [answer.position] : []}
           focus={focus}
-          onTap={(at) => controller.tap(at)}
-          onMove={(id, to) => controller.moveLandmark(id, to)}
-          onSelect={(id) => controller.select(id)}
+          onTap={(at) => controller.taps.tap(at)}
+          onMove={(id, to) => controller.taps.moveLandmark(id, to)}
+          onSelect={(id) => controller.taps.select(id)}
         />
       </div>
       <StatusPanel
@@ -292,11 +292,11 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
           <span>{marked ? "Tap where they are." : "Not sure where? Line."}</span>
         </div>
         {marked ? (
-          <button type="button" class="button secondary small" data-testid="remove-friend" onClick={() => controller.removeFriend()}>
+          <button type="button" class="button secondary small" data-testid="remove-friend" onClick={() => controller.taps.removeFriend()}>
             Remove mark
           </button>
         ) : (
-          <button type="button" class="button secondary small" data-testid="cannot-see" onClick={() => controller.cannotSee()}>
+          <button type="button" class="button secondary small" data-testid="cannot-see" onClick={() => controller.taps.cannotSee()}>
             I can't see them
           </button>
         )}
@@ -312,7 +312,7 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
             {view.linePoint ? "Tap another point on the line." : "Tap 2 points on a line through your friend."}
           </span>
         </div>
-        <button type="button" class="button secondary small" onClick={() => controller.setMode(marked || view.unseen ? "landmark" : "friend")}>
+        <button type="button" class="button secondary small" onClick={() => controller.taps.setMode(marked || view.unseen ? "landmark" : "friend")}>
           Cancel
         </button>
       </section>
@@ -342,12 +342,12 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
               type="button"
               class="button primary small"
               data-testid="accept-suggestion"
-              onClick={() => guide.spot && controller.tap({ ...guide.spot, sigma: SUGGESTED_SIGMA_PX })}
+              onClick={() => guide.spot && controller.taps.tap({ ...guide.spot, sigma: SUGGESTED_SIGMA_PX })}
             >
               Use #{next.id}?
             </button>
           ) : null}
-          <button type="button" class="button secondary small" onClick={() => controller.skip(next.id)}>
+          <button type="button" class="button secondary small" onClick={() => controller.taps.skip(next.id)}>
             Can't see it
           </button>
         </div>
@@ -383,13 +383,13 @@ function ModeButton(props: { mode: Mode; current: Mode; testId: string; label: s
 
 function Toolbar({ controller, view }: { controller: SessionController; view: SessionView }) {
   const { editor, mode } = view;
-  const pick = (next: Mode): void => controller.setMode(next);
+  const pick = (next: Mode): void => controller.taps.setMode(next);
   return (
     <nav class="toolbar" aria-label="Tools">
       <ModeButton mode="friend" current={mode} testId="mark-friend" label="Friend" icon={<PersonIcon />} onPick={pick} />
       <ModeButton mode="line" current={mode} testId="mark-line" label="Line" icon={<LineIcon />} onPick={pick} />
       <ModeButton mode="landmark" current={mode} testId="mark-landmark" label="Landmarks" icon={<PinIcon />} onPick={pick} />
-      <button type="button" class="tool" data-testid="undo" disabled={!canUndo(editor)} onClick={() => controller.undo()}>
+      <button type="button" class="tool" data-testid="undo" disabled={!canUndo(editor)} onClick={() => controller.taps.undo()}>
         <UndoIcon />
         <span>Undo</span>
       </button>
@@ -398,7 +398,7 @@ function Toolbar({ controller, view }: { controller: SessionController; view: Se
         class="tool"
         data-testid="delete-landmark"
         disabled={editor.selected === null}
-        onClick={() => controller.deleteSelected()}
+        onClick={() => controller.taps.deleteSelected()}
       >
         <TrashIcon />
         <span>{editor.selected === null ? "Delete" : `Delete #${editor.selected}`}</span>

@@ -36,7 +36,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
             data-testid="save-state"
             data-state={view.save.status}
             title={view.save.message ?? undefined}
-            onClick={() => controller.retrySave()}
+            onClick={() => controller.taps.retrySave()}
           >
             {SAVE_WORDS[view.save.status]}
           </button>
@@ -72,7 +72,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
               disabled={deleting}
               onClick={async () => {
                 setDeleting(true);
-                const done = await controller.deleteNow();
+                const done = await controller.deletion.deleteNow();
                 if (!done) setDeleting(false);
               }}
             >
@@ -82,7 +82,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
               type="button"
               class="button secondary huge"
               onClick={() => {
-                controller.clearDeleteError();
+                controller.deletion.clearDeleteError();
                 setConfirming(false);
               }}
             >

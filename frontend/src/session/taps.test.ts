@@ -1,0 +1,75 @@
+import { beforeEach, describe, expect, it, vi } from "vitest";
+import { loadDraft } from "../storage";
+import { TapSaver } from "../tapSaver";
+import type { SessionState, Taps } from "../types";
+import { TapEditing } from "./taps";
+import { ViewStore } from "./view";
+
+describe("this phone's taps", () => {
+  let store: ViewStore;
+  let sent: Taps[];
+  let taps: TapEditing;
+
+  beforeEach(() => {
+    const stored = new Map<string, string>();
+    vi.stubGlobal("localStorage", {
+      getItem: (key: string) => stored.get(key) ?? null,
+      setItem: (key: string, value: string) => stored.set(key, value),
+      removeItem: (key: string) => stored.delete(key),
+    });
+    sent = [];
+    store = new ViewStore({ session_id: "s", token: "t", role: "joiner" });
+    // Each PUT stays on its way: what the phone sends is what these tests look at.
+    const saver = new TapSaver({
+      send: (put) => {
+        sent.push(put);
+        return new Promise<SessionState>(() => undefined);
+      },
+      onSaved: () => undefined,
+      onStatus: (save) => store.set({ save }),
+      onEnded: () => undefined,
+    });
+    taps = new TapEditing(store, saver);
+    return () => vi.unstubAllGlobals();
+  });
+
+  it("marks the friend first, then places landmarks, sending each", () => {
+    taps.tap({ x: 100, y: 50, sigma: 3 });
+    expect(store.view.mode).toBe("landmark");
+    taps.tap({ x: 20, y: 30, sigma: 2 });
+    expect(store.view.editor.taps.friend).toMatchObject({ x: 100, y: 50 });
+    expect(store.view.editor.taps.landmarks.map(({ id, x, y }) => [id, x, y])).toEqual([[1, 20, 30]]);
+    expect(sent).toHaveLength(1); // the landmark waits for the PUT of the friend on its way
+    expect(sent[0]?.friend).toMatchObject({ x: 100, y: 50 });
+    expect(store.view.save.status).toBe("saving");
+  });
+
+  it("draws a line through the friend from two points apart, waiting for the second", () => {
+    taps.setMode("line");
+    taps.tap({ x: 10, y: 10, sigma: 2 });
+    taps.tap({ x: 11, y: 10, sigma: 2 }); // too close to tell a direction: it starts again
+    expect(store.view.linePoint).toMatchObject({ x: 11, y: 10 });
+    expect(sent).toEqual([]);
+    taps.tap({ x: 11, y: 60, sigma: 2 });
+    expect(store.view.linePoint).toBeNull();
+    expect(store.view.mode).toBe("landmark");
+    const line = sent[0]?.friend_line;
+    expect(line && Math.abs(line.a * 11 + line.b * 35 + line.c)).toBeLessThan(1e-9);
+  });
+
+  it("asks for the friend again when their mark is undone, unless they cannot be seen", () => {
+    taps.tap({ x: 100, y: 50, sigma: 3 });
+    taps.undo();
+    expect(store.view.mode).toBe("friend");
+    taps.tap({ x: 100, y: 50, sigma: 3 });
+    taps.cannotSee();
+    taps.undo();
+    expect(store.view.mode).toBe("landmark");
+  });
+
+  it("keeps what the person said on the phone for a reload", () => {
+    taps.cannotSee();
+    taps.skip(4);
+    expect(loadDraft("s")).toMatchObject({ unseen: true, skipped: [4] });
+  });
+});
