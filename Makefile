@@ -32,11 +32,11 @@ run: $(INSTALLED) $(APP)
 run-cluster: $(INSTALLED) $(APP) postgres nginx
 	$(BIN)/python -m deploy.cluster $(ARGS)
 
-# The solver's and the service's tests on both cores (pytest-xdist: each worker starts its
-# own servers on free ports); the rest, which drives browsers with timeouts, one at a time.
+# The whole suite on both cores (pytest-xdist: each worker starts its own servers on free
+# ports): the tests that drive browsers, with timeouts, on one worker one at a time while the
+# other takes the solver's and the service's tests (tests/conftest.py).
 test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
-	$(BIN)/python -m pytest -q -n 2 tests/solver tests/backend
-	$(BIN)/python -m pytest --ignore=tests/solver --ignore=tests/backend
+	$(BIN)/python -m pytest -q -n 2 --dist loadgroup
 
 # Faster subsets for a change to one layer; `make test` stays the whole suite.
 # The solver: its lint, types and tests on both cores (pytest-xdist).
