@@ -50,8 +50,10 @@ def start_and_join(
     starter: Phone,
     joiner: Phone,
     screenshots: Path | None = None,
+    joiner_server: str | None = None,
 ) -> tuple[Phone, Phone]:
-    """One friend starts a search; the other opens its join link."""
+    """One friend starts a search; the other opens its join link (at ``joiner_server`` when
+    its network goes another way)."""
     starter.goto(f"{server}/")
     if screenshots:
         starter.screenshot(path=screenshots / "1-start.png")
@@ -64,7 +66,9 @@ def start_and_join(
     if screenshots:
         starter.screenshot(path=screenshots / "2-share.png")
     digits = re.sub(r"\D", "", code.inner_text())
-    joiner.goto(f"{server}/join/{digits}")  # the join link, opened on the friend's phone
+    joiner.goto(
+        f"{joiner_server or server}/join/{digits}"
+    )  # the join link, opened on the friend's phone
     expect(starter.get_by_test_id("waiting")).to_be_hidden()
     return starter, joiner
 
@@ -106,24 +110,33 @@ def cannot_see(page: Phone) -> None:
     expect(page.get_by_test_id("friend-prompt")).to_have_count(0)
 
 
-def tap_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
-    """New landmarks, numbered from ``first_id``."""
-    for offset, (x, y) in enumerate(points):
-        number = first_id + offset
-        page.tap_photo(float(x), float(y))
-        expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    saved(page)
+def tap_landmark(page: Phone, number: int, point: np.ndarray) -> None:
+    """A tap on photo pixel ``point`` that places landmark #``number``."""
+    page.tap_photo(*map(float, point))
+    expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
 
 
-def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
-    """The landmarks the other phone numbered, each found with its crop as the prompt."""
-    for number, (x, y) in enumerate(points, start=first_id):
+def tap_landmarks(page: Phone, points: np.ndarray, first_id: int = 1, online: bool = True) -> None:
+    """New landmarks, numbered from ``first_id``: saved, or (not ``online``) not saved."""
+    for number, point in enumerate(points, start=first_id):
+        tap_landmark(page, number, point)
+    if online:
+        saved(page)
+    else:
+        expect(page.get_by_test_id("save-state")).not_to_have_attribute("data-state", "saved")
+
+
+def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1, online: bool = True) -> None:
+    """The landmarks the other phone numbered, each found with its crop as the prompt
+    (neither crop nor save checked when the phone is not ``online``)."""
+    for number, point in enumerate(points, start=first_id):
         prompt = page.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(number))
-        expect(prompt.locator("img")).to_be_visible()
-        page.tap_photo(float(x), float(y))
-        expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    saved(page)
+        if online:
+            expect(prompt.locator("img")).to_be_visible()
+        tap_landmark(page, number, point)
+    if online:
+        saved(page)
 
 
 def needed(page: Phone, count: int) -> None:
