@@ -48,7 +48,16 @@ from typing import Literal
 
 import cv2
 import numpy as np
-from report import ROOT, command_line, log, markdown_table, publish, source_state, verdict
+from report import (
+    ROOT,
+    command_line,
+    log,
+    markdown_table,
+    nearest_rank,
+    publish,
+    source_state,
+    verdict,
+)
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.estimation.uncertainty import CHI2_2D, chi2_quantile
@@ -267,15 +276,9 @@ def _counts(pair: RealPair, counts: Iterable[int]) -> list[int]:
 # --- the report ----------------------------------------------------------------------------
 
 
-def rank(values: Sequence[float], q: float) -> float:
-    """The nearest-rank percentile (a value that occurred): safe with inf (no answer)."""
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, max(0, math.ceil(q / 100 * len(ordered)) - 1))]
-
-
 def _stat(values: Sequence[float], q: float) -> str:
     finite = [v for v in values if not math.isnan(v)]
-    return "-" if not finite else _fmt(rank(finite, q))
+    return "-" if not finite else _fmt(nearest_rank(finite, q))
 
 
 def _share(part: int, whole: int) -> str:
@@ -435,7 +438,7 @@ def nested_table(run: Run, pairs: Sequence[RealPair], key: Callable[[str], Key])
         for count in NESTED:
             cell = run.per_pair.get((pair.name, *key(str(count))))
             if cell is not None and cell.answers:
-                medians[count] = rank(cell.errors, 50)
+                medians[count] = nearest_rank(cell.errors, 50)
         if not medians:
             continue
         worse = [
@@ -513,7 +516,7 @@ def _pooled_medians(
                 fewer += low.errors
                 more += high.errors
             if fewer and more:
-                rows.append((where, k, rank(fewer, 50), rank(more, 50)))
+                rows.append((where, k, nearest_rank(fewer, 50), nearest_rank(more, 50)))
     return rows
 
 
