@@ -24,7 +24,6 @@ from chromium_phone import ChromiumPhone
 from cutproxy import cut_proxy
 from phone import Phone, expect
 from test_two_phones import (
-    PAIR,
     cannot_see,
     find_landmarks,
     mark_friend,
@@ -32,8 +31,6 @@ from test_two_phones import (
     session_state,
     start_and_join,
     tap_landmarks,
-    temple,
-    upload,
 )
 
 from deploy.replica import free_port, serve
@@ -76,9 +73,7 @@ def midway(starter: Phone, joiner: Phone, s: Any, urls: tuple[str, str], found: 
     """A search of scene ``s`` under way: the starter has marked its friend and landmarks 1-3,
     the joiner, who cannot see its friend, has found the first ``found`` (each phone at its
     address of ``urls``)."""
-    start_and_join(urls[0], starter, joiner, joiner_server=urls[1])
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    start_and_join(urls[0], starter, joiner, joiner_server=urls[1], photos=True)
     mark_friend(starter, *s.epipole1)
     tap_landmarks(starter, s.landmarks1[:3])
     cannot_see(joiner)

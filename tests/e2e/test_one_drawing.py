@@ -18,7 +18,6 @@ from phone import Phone, expect
 from PIL import Image
 from test_answer_view import set_answer_shown
 from test_two_phones import (
-    PAIR,
     cannot_see,
     find_landmarks,
     mark_friend,
@@ -26,9 +25,7 @@ from test_two_phones import (
     session_state,
     start_and_join,
     tap_landmarks,
-    temple,
     to_the_curve,
-    upload,
 )
 
 from testbed.scenes import NO_PHONES_LANDMARKS2
@@ -225,9 +222,7 @@ def test_the_phone_and_the_overlay_point_the_same_way_to_a_friend_off_the_photo(
     """The temple's landmarks with the friend marked top right in the starter's photo put
     them below the joiner's photo, to the right: both arrows point there from the same tip."""
     truth = scene(5, seed=16)
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
     mark_friend(starter, *OFF_PHOTO_MARK)
     tap_landmarks(starter, truth.landmarks1)
     cannot_see(joiner)

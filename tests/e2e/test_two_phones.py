@@ -51,9 +51,10 @@ def start_and_join(
     joiner: Phone,
     screenshots: Path | None = None,
     joiner_server: str | None = None,
+    photos: bool = False,
 ) -> tuple[Phone, Phone]:
     """One friend starts a search; the other opens its join link (at ``joiner_server`` when
-    its network goes another way)."""
+    its network goes another way); with ``photos``, each then uploads its temple photo."""
     starter.goto(f"{server}/")
     if screenshots:
         starter.screenshot(path=screenshots / "1-start.png")
@@ -70,6 +71,9 @@ def start_and_join(
         f"{joiner_server or server}/join/{digits}"
     )  # the join link, opened on the friend's phone
     expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    if photos:
+        upload(starter, temple(PAIR[0]))
+        upload(joiner, temple(PAIR[1]))
     return starter, joiner
 
 
@@ -212,9 +216,7 @@ def test_the_starter_marks_the_joiner(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path, engine: str
 ) -> None:
     """Friend A (who started) sees friend B and marks them; B's phone finds A."""
-    starter, joiner = start_and_join(server, pixel, iphone, screenshots)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, screenshots, photos=True)
     joiner.screenshot(path=screenshots / "3-tap-your-friend-joiner.png")
 
     truth = scene(5, seed=16)  # a layout that pins the friend down (seed 11: +-3000 px)
@@ -345,9 +347,7 @@ def test_both_mark_each_other_and_one_landmark_is_enough(
 ) -> None:
     """Each friend sees the other and marks them: one common landmark then fixes both
     marks, and each phone shows its own, refined."""
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
     expect(starter.get_by_test_id("lens-note")).to_contain_text("typical phone camera is assumed")
     truth = scene(1, seed=13)
     mark_friend(starter, *truth.epipole1)
@@ -423,9 +423,7 @@ def test_a_code_typed_wrong_five_times_is_renewed_on_the_starters_phone(
 def to_the_curve(server: str, starter: Phone, joiner: Phone) -> Phone:
     """A search whose taps fit no two phone photos, played to its curve: the starter marks
     the friend and 5 landmarks, the joiner finds 4 of them and sees the curve; the joiner."""
-    start_and_join(server, starter, joiner)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    start_and_join(server, starter, joiner, photos=True)
     mark_friend(starter, *NO_PHONES_FRIEND)
     tap_landmarks(starter, NO_PHONES_LANDMARKS1)
     cannot_see(joiner)
