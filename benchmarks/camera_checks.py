@@ -37,6 +37,8 @@ from report import (
     source_state,
     timed,
 )
+from solverbench.common import line_through
+from solverbench.ranking import nearest_root
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.answers import pinhole as pinhole_answers
@@ -311,7 +313,8 @@ def ranking(trials: int) -> str:
                 if not roots:
                     continue
                 counted += 1
-                truth = _nearest(roots, scene.fundamental, scene)
+                normalisers = (hartley_normaliser(p) for p in (scene.landmarks1, scene.landmarks2))
+                truth, _ = nearest_root([f for _, _, f in roots], scene.fundamental, *normalisers)
                 cues = [
                     plausibility.assess(
                         f,
@@ -356,32 +359,12 @@ def _first(
 def _roots(scene: object, given: str, rng: np.random.Generator) -> list[tuple[Array, Array, Array]]:
     p, q = scene.landmarks1, scene.landmarks2  # type: ignore[attr-defined]
     if given == "line + 6":
-        angle = rng.uniform(0.0, math.pi)
-        x, y = scene.epipole1  # type: ignore[attr-defined]
-        line = np.cross([x, y, 1.0], [x + math.cos(angle), y + math.sin(angle), 1.0])
+        line = line_through(scene.epipole1, rng.uniform(0.0, math.pi))  # type: ignore[attr-defined]
         try:
             return six_point_line_roots(line, p, q)
         except SolverError:
             return []
     return seven_point_roots(p, q)
-
-
-def _nearest(roots: list[tuple[Array, Array, Array]], fundamental: Array, scene: object) -> int:
-    """Index of the root whose F is nearest ``fundamental`` (Hartley-normalised, unit norm,
-    either sign)."""
-    t1 = hartley_normaliser(scene.landmarks1)  # type: ignore[attr-defined]
-    t2 = hartley_normaliser(scene.landmarks2)  # type: ignore[attr-defined]
-
-    def normalised(f: Array) -> Array:
-        g = np.linalg.solve(t2.T, f) @ np.linalg.inv(t1)
-        return (g / np.linalg.norm(g)).ravel()
-
-    target = normalised(fundamental)
-    gaps = [
-        min(np.linalg.norm(normalised(f) - target), np.linalg.norm(normalised(f) + target))
-        for _, _, f in roots
-    ]
-    return int(np.argmin(gaps))
 
 
 # --- the report -----------------------------------------------------------------------------------
