@@ -489,11 +489,9 @@ def reference_table(run: Run, sets: Sequence[str]) -> str:
     return markdown_table(header, rows)
 
 
-def _zoom_key(zoom: float) -> Callable[[str], Key]:
-    def key(count: str) -> Key:
-        return ("zoom", f"{zoom:g}", count)
-
-    return key
+def _key(*head: str) -> Callable[[str], Key]:
+    """The key of a cell by its number of landmarks: ``(*head, count)``."""
+    return lambda count: (*head, count)
 
 
 def _pooled_medians(
@@ -524,14 +522,14 @@ def targets(run: Run, pairs: Sequence[RealPair]) -> list[str]:
     """The issue's targets on real cameras, PASS or FAIL."""
     lines = []
     cases: list[tuple[str, Sequence[RealPair], Callable[[str], Key]]] = [
-        ("phone prior", pairs, lambda k: ("solve", "phone", f"{SIGMA:g}", k)),
-        ("EXIF", pairs, lambda k: ("solve", "exif", f"{SIGMA:g}", k)),
+        ("phone prior", pairs, _key("solve", "phone", f"{SIGMA:g}")),
+        ("EXIF", pairs, _key("solve", "exif", f"{SIGMA:g}")),
     ]
     cases += [
         (
             f"photo 2 zoomed {zoom:g}x, phone prior",
             [zoomed(p, zoom) for p in pairs],
-            _zoom_key(zoom),
+            _key("zoom", f"{zoom:g}"),
         )
         for zoom in ZOOMS
     ]
@@ -619,11 +617,11 @@ def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, second
         "",
         "Phone prior:",
         "",
-        nested_table(run, pairs, lambda k: ("solve", "phone", f"{SIGMA:g}", k)),
+        nested_table(run, pairs, _key("solve", "phone", f"{SIGMA:g}")),
         "",
         "Focal length known (EXIF):",
         "",
-        nested_table(run, pairs, lambda k: ("solve", "exif", f"{SIGMA:g}", k)),
+        nested_table(run, pairs, _key("solve", "exif", f"{SIGMA:g}")),
         "",
     ]
     for zoom in ZOOMS:
@@ -633,7 +631,7 @@ def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, second
             nested_table(
                 run,
                 [zoomed(p, zoom) for p in pairs if len(zoomed(p, zoom).landmarks1) >= 3],
-                _zoom_key(zoom),
+                _key("zoom", f"{zoom:g}"),
             ),
             "",
         ]

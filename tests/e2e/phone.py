@@ -287,17 +287,7 @@ class Element:
     def _one(self, what: str) -> dict[str, Any]:
         """The state of the only match, once there is one (several are an error at once,
         as in Playwright's strict mode)."""
-        found: list[dict[str, Any]] = []
-
-        def present() -> bool:
-            state = self.state()
-            if state["count"] > 1:
-                raise AssertionError(f"{self}: {state['count']} elements match")
-            found.append(state)
-            return bool(state["count"])
-
-        self.phone.wait_for(present, f"{self} to {what}")
-        return found[-1]
+        return Expectation(self)._until(lambda s: s["count"] == 1, what)
 
     def inner_text(self) -> str:
         return str(self._one("exist")["innerText"])
@@ -357,7 +347,9 @@ class Expectation:
 
     def _until(
         self, holds: Callable[[dict[str, Any]], bool], what: str, strict: bool = True
-    ) -> None:
+    ) -> dict[str, Any]:
+        """Until the first match's state ``holds`` (several matches are an error at once when
+        ``strict``); that state."""
         last: list[dict[str, Any]] = []
 
         def check() -> bool:
@@ -371,6 +363,7 @@ class Expectation:
             self.element.phone.wait_for(check, f"{self.element} to {what}")
         except AssertionError as failed:
             raise AssertionError(f"{failed}; last state: {last[:1]}") from None
+        return last[0]
 
     def to_be_attached(self) -> None:
         self._until(lambda s: s["count"] == 1, "be attached")

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 from phone import Phone, expect
 from PIL import Image
-from test_answer_view import set_answer_shown
+from test_answer_view import screen_pixels, set_answer_shown
 from test_two_phones import (
     cannot_see,
     find_landmarks,
@@ -73,12 +73,8 @@ def svg_strokes(page: Phone, folder: Path) -> tuple[np.ndarray, float]:
     shots = []
     for shown in (False, True):
         set_answer_shown(page, shown)
-        path = folder / f"answer-{shown}.png"
-        page.screenshot(path=path)
-        with Image.open(path) as shot:
-            shots.append(np.array(shot.convert("RGB")).astype(int))
-    plain, drawn = shots
-    ratio = drawn.shape[1] / float(page.evaluate("() => innerWidth"))
+        shots.append(screen_pixels(page, folder, f"answer-{shown}"))
+    (plain, _), (drawn, ratio) = shots
     painted = (np.abs(drawn - plain).max(axis=-1) > 30) & friend_coloured(drawn)
     rows, cols = np.nonzero(painted)
     client = (np.column_stack([cols, rows]) + 0.5) / ratio
