@@ -398,21 +398,20 @@ class Expectation:
         )
 
     def to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
-        def holds(state: dict[str, Any]) -> bool:
-            found = state.get("attributes", {}).get(name)
-            return (
-                state["count"] == 1 and found is not None and _matches(found, value, squash=False)
-            )
-
-        self._until(holds, f"have {name}={value!r}")
+        self._until(
+            lambda s: s["count"] == 1 and _has_attribute(s, name, value), f"have {name}={value!r}"
+        )
 
     def not_to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
-        def holds(state: dict[str, Any]) -> bool:
-            found = state.get("attributes", {}).get(name)
-            absent = found is None or not _matches(found, value, squash=False)
-            return state["count"] == 1 and absent
+        self._until(
+            lambda s: s["count"] == 1 and not _has_attribute(s, name, value),
+            f"not have {name}={value!r}",
+        )
 
-        self._until(holds, f"not have {name}={value!r}")
+
+def _has_attribute(state: dict[str, Any], name: str, value: str | re.Pattern[str]) -> bool:
+    found = state.get("attributes", {}).get(name)
+    return found is not None and _matches(found, value, squash=False)
 
 
 def _matches(text: str, expected: str | re.Pattern[str], squash: bool = True) -> bool:
