@@ -24,10 +24,21 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import datetime
+from functools import partial
 from typing import Any
 
 import numpy as np
-from report import ROOT, command_line, markdown_table, publish, source_state, timed
+from report import (
+    ROOT,
+    command_line,
+    markdown_table,
+    nearest_rank,
+    publish,
+    source_state,
+    timed,
+)
+from solverbench.common import line_through
+from solverbench.ranking import nearest_root
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.answers import pinhole as pinhole_answers
@@ -38,7 +49,7 @@ from shared_solver.minimal.six_point_line import six_point_line_roots
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
 from testbed.phones import PhoneScene, phone_scene
-from testbed.scenes import facing_scene, tap
+from testbed.scenes import Scene, facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "camera-checks.md"
 DEFAULT_TRIALS = 400
@@ -58,16 +69,10 @@ class Cell:
 
     def row(self) -> list[str]:
         return [
-            f"{_px(_percentile(self.errors, 50))} / {_px(_percentile(self.errors, 90))}",
+            f"{_px(nearest_rank(self.errors, 50))} / {_px(nearest_rank(self.errors, 90))}",
             f"{100 * self.held / max(self.claims, 1):.1f} % of {self.claims}",
             "-" if self.projective < 0 else str(self.projective),
         ]
-
-
-def _percentile(values: Sequence[float], q: float) -> float:
-    """The nearest-rank percentile: safe with infinite errors (no answer)."""
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, math.ceil(q / 100 * len(ordered)) - 1)]
 
 
 Trial = tuple[object, dict[str, Any], Array]  # (scene, solve's arguments, true friend 1)
@@ -109,28 +114,26 @@ def _px(value: float) -> str:
     return f"{value:.1f}"
 
 
-def phone_taps(trials: int, landmarks: int, stream: int, *, zoom2: float = 1.0) -> list[Trial]:
-    """Phone scenes and their taps at SIGMA px, friend 2 marked, as ``solve`` arguments."""
+def drawn_taps(
+    trials: int, stream: int, scene_of: Callable[[np.random.Generator], Scene], sigma: float
+) -> list[Trial]:
+    """``scene_of``'s scenes and their taps at ``sigma`` px, friend 2 marked, as ``solve``
+    arguments."""
     drawn: list[Trial] = []
     for trial in range(trials):
         rng = np.random.default_rng((SEED, stream, trial))
-        scene = phone_scene(rng, landmarks, zoom2=zoom2)
-        taps = tap(scene, SIGMA, rng)
-        drawn.append(
-            (
-                scene,
-                {
-                    "points1": taps.landmarks1,
-                    "points2": taps.landmarks2,
-                    "epipole1": taps.epipole1,
-                    "tap_sigma": SIGMA,
-                    "image_size1": scene.image_size1,
-                    "image_size2": scene.image_size2,
-                },
-                scene.epipole2,
-            )
-        )
+        scene = scene_of(rng)
+        taps = tap(scene, sigma, rng)
+        arguments: dict[str, Any] = {"points1": taps.landmarks1, "points2": taps.landmarks2}
+        arguments |= {"epipole1": taps.epipole1, "tap_sigma": sigma}
+        arguments |= {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
+        drawn.append((scene, arguments, scene.epipole2))
     return drawn
+
+
+def phone_taps(trials: int, landmarks: int, stream: int, *, zoom2: float = 1.0) -> list[Trial]:
+    """Phone scenes and their taps at SIGMA px."""
+    return drawn_taps(trials, stream, partial(phone_scene, landmarks=landmarks, zoom2=zoom2), SIGMA)
 
 
 def with_cameras(camera: Camera | str) -> Callable[[dict[str, Any]], dict[str, Any]]:
@@ -221,25 +224,8 @@ def _edited(trials: int, landmarks: int, crop: float, stretch: float) -> list[Tr
 def floor_scenes(trials: int) -> str:
     rows = []
     for landmarks in (5, 6, 8):
-        drawn: list[Trial] = []
-        for trial in range(trials):
-            rng = np.random.default_rng((SEED, 3, trial))
-            scene = facing_scene(rng, landmarks, planar=True)
-            taps = tap(scene, 1.0, rng)
-            drawn.append(
-                (
-                    scene,
-                    {
-                        "points1": taps.landmarks1,
-                        "points2": taps.landmarks2,
-                        "epipole1": taps.epipole1,
-                        "tap_sigma": 1.0,
-                        "image_size1": scene.image_size1,
-                        "image_size2": scene.image_size2,
-                    },
-                    scene.epipole2,
-                )
-            )
+        floor = partial(facing_scene, landmarks=landmarks, planar=True)
+        drawn = drawn_taps(trials, 3, floor, 1.0)
         for name, variant in (
             ("camera model (phone prior)", with_cameras("phone")),
             ("projective: plane model e2 = H e1", projective),
@@ -327,7 +313,8 @@ def ranking(trials: int) -> str:
                 if not roots:
                     continue
                 counted += 1
-                truth = _nearest(roots, scene.fundamental, scene)
+                normalisers = (hartley_normaliser(p) for p in (scene.landmarks1, scene.landmarks2))
+                truth, _ = nearest_root([f for _, _, f in roots], scene.fundamental, *normalisers)
                 cues = [
                     plausibility.assess(
                         f,
@@ -372,32 +359,12 @@ def _first(
 def _roots(scene: object, given: str, rng: np.random.Generator) -> list[tuple[Array, Array, Array]]:
     p, q = scene.landmarks1, scene.landmarks2  # type: ignore[attr-defined]
     if given == "line + 6":
-        angle = rng.uniform(0.0, math.pi)
-        x, y = scene.epipole1  # type: ignore[attr-defined]
-        line = np.cross([x, y, 1.0], [x + math.cos(angle), y + math.sin(angle), 1.0])
+        line = line_through(scene.epipole1, rng.uniform(0.0, math.pi))  # type: ignore[attr-defined]
         try:
             return six_point_line_roots(line, p, q)
         except SolverError:
             return []
     return seven_point_roots(p, q)
-
-
-def _nearest(roots: list[tuple[Array, Array, Array]], fundamental: Array, scene: object) -> int:
-    """Index of the root whose F is nearest ``fundamental`` (Hartley-normalised, unit norm,
-    either sign)."""
-    t1 = hartley_normaliser(scene.landmarks1)  # type: ignore[attr-defined]
-    t2 = hartley_normaliser(scene.landmarks2)  # type: ignore[attr-defined]
-
-    def normalised(f: Array) -> Array:
-        g = np.linalg.solve(t2.T, f) @ np.linalg.inv(t1)
-        return (g / np.linalg.norm(g)).ravel()
-
-    target = normalised(fundamental)
-    gaps = [
-        min(np.linalg.norm(normalised(f) - target), np.linalg.norm(normalised(f) + target))
-        for _, _, f in roots
-    ]
-    return int(np.argmin(gaps))
 
 
 # --- the report -----------------------------------------------------------------------------------

@@ -48,7 +48,16 @@ from typing import Literal
 
 import cv2
 import numpy as np
-from report import ROOT, command_line, log, markdown_table, publish, source_state, verdict
+from report import (
+    ROOT,
+    command_line,
+    log,
+    markdown_table,
+    nearest_rank,
+    publish,
+    source_state,
+    verdict,
+)
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.estimation.uncertainty import CHI2_2D, chi2_quantile
@@ -267,15 +276,9 @@ def _counts(pair: RealPair, counts: Iterable[int]) -> list[int]:
 # --- the report ----------------------------------------------------------------------------
 
 
-def rank(values: Sequence[float], q: float) -> float:
-    """The nearest-rank percentile (a value that occurred): safe with inf (no answer)."""
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, max(0, math.ceil(q / 100 * len(ordered)) - 1))]
-
-
 def _stat(values: Sequence[float], q: float) -> str:
     finite = [v for v in values if not math.isnan(v)]
-    return "-" if not finite else _fmt(rank(finite, q))
+    return "-" if not finite else _fmt(nearest_rank(finite, q))
 
 
 def _share(part: int, whole: int) -> str:
@@ -435,7 +438,7 @@ def nested_table(run: Run, pairs: Sequence[RealPair], key: Callable[[str], Key])
         for count in NESTED:
             cell = run.per_pair.get((pair.name, *key(str(count))))
             if cell is not None and cell.answers:
-                medians[count] = rank(cell.errors, 50)
+                medians[count] = nearest_rank(cell.errors, 50)
         if not medians:
             continue
         worse = [
@@ -486,11 +489,9 @@ def reference_table(run: Run, sets: Sequence[str]) -> str:
     return markdown_table(header, rows)
 
 
-def _zoom_key(zoom: float) -> Callable[[str], Key]:
-    def key(count: str) -> Key:
-        return ("zoom", f"{zoom:g}", count)
-
-    return key
+def _key(*head: str) -> Callable[[str], Key]:
+    """The key of a cell by its number of landmarks: ``(*head, count)``."""
+    return lambda count: (*head, count)
 
 
 def _pooled_medians(
@@ -513,7 +514,7 @@ def _pooled_medians(
                 fewer += low.errors
                 more += high.errors
             if fewer and more:
-                rows.append((where, k, rank(fewer, 50), rank(more, 50)))
+                rows.append((where, k, nearest_rank(fewer, 50), nearest_rank(more, 50)))
     return rows
 
 
@@ -521,14 +522,14 @@ def targets(run: Run, pairs: Sequence[RealPair]) -> list[str]:
     """The issue's targets on real cameras, PASS or FAIL."""
     lines = []
     cases: list[tuple[str, Sequence[RealPair], Callable[[str], Key]]] = [
-        ("phone prior", pairs, lambda k: ("solve", "phone", f"{SIGMA:g}", k)),
-        ("EXIF", pairs, lambda k: ("solve", "exif", f"{SIGMA:g}", k)),
+        ("phone prior", pairs, _key("solve", "phone", f"{SIGMA:g}")),
+        ("EXIF", pairs, _key("solve", "exif", f"{SIGMA:g}")),
     ]
     cases += [
         (
             f"photo 2 zoomed {zoom:g}x, phone prior",
             [zoomed(p, zoom) for p in pairs],
-            _zoom_key(zoom),
+            _key("zoom", f"{zoom:g}"),
         )
         for zoom in ZOOMS
     ]
@@ -616,11 +617,11 @@ def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, second
         "",
         "Phone prior:",
         "",
-        nested_table(run, pairs, lambda k: ("solve", "phone", f"{SIGMA:g}", k)),
+        nested_table(run, pairs, _key("solve", "phone", f"{SIGMA:g}")),
         "",
         "Focal length known (EXIF):",
         "",
-        nested_table(run, pairs, lambda k: ("solve", "exif", f"{SIGMA:g}", k)),
+        nested_table(run, pairs, _key("solve", "exif", f"{SIGMA:g}")),
         "",
     ]
     for zoom in ZOOMS:
@@ -630,7 +631,7 @@ def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, second
             nested_table(
                 run,
                 [zoomed(p, zoom) for p in pairs if len(zoomed(p, zoom).landmarks1) >= 3],
-                _zoom_key(zoom),
+                _key("zoom", f"{zoom:g}"),
             ),
             "",
         ]

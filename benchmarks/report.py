@@ -49,6 +49,12 @@ def percentile(values: Sequence[float], q: float) -> float:
     return float(np.percentile(np.asarray(values, dtype=np.float64), q))
 
 
+def nearest_rank(values: Sequence[float], q: float) -> float:
+    """The nearest-rank percentile (a value that occurred): safe with inf (no answer)."""
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, math.ceil(q / 100 * len(ordered)) - 1))]
+
+
 def ms(value: float) -> str:
     """A time in ms to about 3 significant figures; "-" when nothing was measured (NaN)."""
     if math.isnan(value):

@@ -210,12 +210,9 @@ def in_region(region: dict[str, Any], point: np.ndarray) -> bool:
 
 def phones(playwright: Playwright) -> tuple[BrowserContext, BrowserContext]:
     browser = chromium.launch(playwright)
-    contexts = []
-    for model in ("Pixel 7", "iPhone 13"):
-        device = dict(playwright.devices[model])
-        device.pop("default_browser_type", None)
-        contexts.append(browser.new_context(**device))
-    return contexts[0], contexts[1]
+    return chromium.phone(playwright, browser, "Pixel 7"), chromium.phone(
+        playwright, browser, "iPhone 13"
+    )
 
 
 def run(trials: int) -> list[Trial]:
@@ -255,10 +252,9 @@ def apart(points: np.ndarray, size: tuple[int, int]) -> bool:
 
 
 def rate(values: list[bool | None]) -> tuple[str, int]:
-    claimed = [v for v in values if v is not None]
-    if not claimed:
-        return "no region claimed", 0
-    return f"{100 * sum(claimed) / len(claimed):.1f} %", len(claimed)
+    found = counts(values)
+    claimed, held = found["claimed"], found["held"]
+    return (f"{100 * held / claimed:.1f} %" if claimed else "no region claimed"), claimed
 
 
 def counts(values: list[bool | None]) -> dict[str, int]:

@@ -20,3 +20,11 @@ FLAGS = [
 def launch(playwright: Any, extra: tuple[str, ...] = ()) -> Any:
     """A headless Chromium browser of ``playwright`` (a ``sync_playwright()`` object)."""
     return playwright.chromium.launch(executable_path=CHROMIUM, args=[*FLAGS, *extra])
+
+
+def phone(playwright: Any, browser: Any, model: str) -> Any:
+    """A new context of ``browser`` emulating Playwright's phone ``model`` (viewport, device
+    scale, touch, user agent)."""
+    device = dict(playwright.devices[model])
+    device.pop("default_browser_type", None)
+    return browser.new_context(**device)

@@ -107,16 +107,6 @@ class Meter:
         session.on("Network.eventSourceMessageReceived", self._event)
         self.session = session
 
-    def set_offline(self, offline: bool) -> None:
-        """Cut this page off the network (or bring it back to its profile)."""
-        assert self.session is not None, "attach first"
-        conditions = self.profile.conditions() or {
-            "latency": 0,
-            "downloadThroughput": -1,
-            "uploadThroughput": -1,
-        }
-        self.session.send("Network.emulateNetworkConditions", {**conditions, "offline": offline})
-
     def _request(self, event: dict[str, Any]) -> _Request:
         return self.requests.setdefault(event["requestId"], _Request())
 

@@ -19,6 +19,7 @@ import numpy as np
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expect
 
 from shared_solver.projective import Array
+from testbed import chromium
 from testbed.venue import rendered_pair
 
 from .meter import Meter, Profile
@@ -128,9 +129,7 @@ def _spread(
 def _phone(
     browser: Browser, playwright: Playwright, model: str, profile: Profile
 ) -> tuple[BrowserContext, Page, Meter]:
-    device = dict(playwright.devices[model])
-    device.pop("default_browser_type", None)
-    context = browser.new_context(**device)
+    context: BrowserContext = chromium.phone(playwright, browser, model)
     context.add_init_script(INIT)
     page = context.new_page()
     meter = Meter(profile)

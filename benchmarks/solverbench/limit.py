@@ -57,18 +57,10 @@ class Case:
 
 
 CASES = (
-    Case("phone prior: 3 + e1", 3, "e1", "phone"),
-    Case("phone prior: 4 + e1", 4, "e1", "phone"),
-    Case("phone prior: 5 + e1", 5, "e1", "phone"),
-    Case("phone prior: 8 + e1", 8, "e1", "phone"),
-    Case("EXIF focal: 3 + e1", 3, "e1", "exif"),
-    Case("EXIF focal: 4 + e1", 4, "e1", "exif"),
-    Case("EXIF focal: 5 + e1", 5, "e1", "exif"),
-    Case("phone prior: 1 + e1 + e2 (both marked)", 1, "both", "phone"),
-    Case("phone prior: 3 + e1 + e2 (both marked)", 3, "both", "phone"),
-    Case("camera unknown: 5 + e1", 5, "e1", "unknown"),
-    Case("camera unknown: 6 + e1", 6, "e1", "unknown"),
-    Case("camera unknown: 8 + e1", 8, "e1", "unknown"),
+    *(Case(f"phone prior: {n} + e1", n, "e1", "phone") for n in (3, 4, 5, 8)),
+    *(Case(f"EXIF focal: {n} + e1", n, "e1", "exif") for n in (3, 4, 5)),
+    *(Case(f"phone prior: {n} + e1 + e2 (both marked)", n, "both", "phone") for n in (1, 3)),
+    *(Case(f"camera unknown: {n} + e1", n, "e1", "unknown") for n in (5, 6, 8)),
 )
 
 

@@ -131,15 +131,9 @@ OPENCV_5 = "OpenCV 5-point essential, 5, true K (best root by oracle)"
 OPENCV_E8 = "OpenCV essential (RANSAC), 8, true K"
 OPENCV_F8 = "OpenCV 8-point, 8"
 PHONE_METHODS: dict[str, PhoneMethod] = {
-    "projective 5+e1": projective(5),
-    "projective 8+e1": projective(8),
-    "phone prior 3+e1": camera_aware(3, "phone"),
-    "phone prior 4+e1": camera_aware(4, "phone"),
-    "phone prior 5+e1": camera_aware(5, "phone"),
-    "phone prior 8+e1": camera_aware(8, "phone"),
-    "EXIF focal 3+e1": camera_aware(3, "exif"),
-    "EXIF focal 4+e1": camera_aware(4, "exif"),
-    "EXIF focal 5+e1": camera_aware(5, "exif"),
+    **{f"projective {n}+e1": projective(n) for n in (5, 8)},
+    **{f"phone prior {n}+e1": camera_aware(n, "phone") for n in (3, 4, 5, 8)},
+    **{f"EXIF focal {n}+e1": camera_aware(n, "exif") for n in (3, 4, 5)},
     EXACT_3: exact_roots_true_k,
     OPENCV_5: lambda s, t, sigma: opencv_essential(s, t, sigma, 5),
     OPENCV_E8: lambda s, t, sigma: opencv_essential(s, t, sigma, 8),
@@ -273,8 +267,7 @@ class Case:
 COVERAGE_CASES = (
     *(Case(f"phone prior: {n} + e1", n, "e1") for n in (3, 4, 5, 8)),
     *(Case(f"EXIF focal: {n} + e1", n, "e1", cameras="exif") for n in (3, 5)),
-    Case("phone prior: 1 + e1 + e2 (both marked)", 1, "both"),
-    Case("phone prior: 3 + e1 + e2 (both marked)", 3, "both"),
+    *(Case(f"phone prior: {n} + e1 + e2 (both marked)", n, "both") for n in (1, 3)),
     Case("phone prior: 6 + line", 6, "line"),
     Case("phone prior: 7, nothing marked", 7, "none"),
     *(Case(f"phone prior: {n} + e1, mixed precision", n, "e1", source="mixed") for n in (4, 5, 8)),

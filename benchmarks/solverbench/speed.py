@@ -77,19 +77,12 @@ class SolveCase:
 
 
 PHONE_CASES = (
-    SolveCase("projective 5+e1", 5, "e1"),
-    SolveCase("projective 8+e1", 8, "e1"),
+    *(SolveCase(f"projective {n}+e1", n, "e1") for n in (5, 8)),
     SolveCase("projective 6 + line", 6, "line"),
     SolveCase("projective 7, nothing marked", 7, "none"),
-    SolveCase("phone prior 3+e1", 3, "e1", "phone"),
-    SolveCase("phone prior 4+e1", 4, "e1", "phone"),
-    SolveCase("phone prior 5+e1", 5, "e1", "phone"),
-    SolveCase("phone prior 8+e1", 8, "e1", "phone"),
-    SolveCase("EXIF focal 3+e1", 3, "e1", "exif"),
-    SolveCase("EXIF focal 4+e1", 4, "e1", "exif"),
-    SolveCase("EXIF focal 5+e1", 5, "e1", "exif"),
-    SolveCase("phone prior 1 + e1 + e2", 1, "both", "phone"),
-    SolveCase("phone prior 3 + e1 + e2", 3, "both", "phone"),
+    *(SolveCase(f"phone prior {n}+e1", n, "e1", "phone") for n in (3, 4, 5, 8)),
+    *(SolveCase(f"EXIF focal {n}+e1", n, "e1", "exif") for n in (3, 4, 5)),
+    *(SolveCase(f"phone prior {n} + e1 + e2", n, "both", "phone") for n in (1, 3)),
     SolveCase("phone prior 6 + line", 6, "line", "phone"),
     SolveCase("phone prior 7, nothing marked", 7, "none", "phone"),
     SolveCase("phone prior 5+e1, mixed precision", 5, "e1", "phone", mixed=True),

@@ -61,14 +61,6 @@ class Offered:
             worst,
         ]
 
-    def passes(self) -> bool:
-        return (
-            self.offered > 0
-            and self.precision >= TARGET_RIGHT
-            and self.far == 0
-            and self.coverage >= TARGET_OFFERED
-        )
-
 
 HEADER = ["asked", "offered a spot", "within 1 % of the diagonal", "beyond 3 %", "worst"]
 

@@ -12,6 +12,8 @@ from phone import RESOLVE, Phone, Point, Step
 from playwright.sync_api import Browser, BrowserContext, CDPSession, ElementHandle, Page, Playwright
 from playwright.sync_api import Error as PlaywrightError
 
+from testbed import chromium
+
 NAVIGATION_TIMEOUT_MS = 30_000
 
 
@@ -21,9 +23,7 @@ class ChromiumPhone(Phone):
 
     def __init__(self, playwright: Playwright, browser: Browser, model: str) -> None:
         super().__init__(model)
-        device = dict(playwright.devices[model])
-        device.pop("default_browser_type", None)
-        self._context = browser.new_context(**device)
+        self._context: BrowserContext = chromium.phone(playwright, browser, model)
         self._context.set_default_navigation_timeout(NAVIGATION_TIMEOUT_MS)
         self._page = self._context.new_page()
         self._errors: list[str] = []

@@ -287,17 +287,7 @@ class Element:
     def _one(self, what: str) -> dict[str, Any]:
         """The state of the only match, once there is one (several are an error at once,
         as in Playwright's strict mode)."""
-        found: list[dict[str, Any]] = []
-
-        def present() -> bool:
-            state = self.state()
-            if state["count"] > 1:
-                raise AssertionError(f"{self}: {state['count']} elements match")
-            found.append(state)
-            return bool(state["count"])
-
-        self.phone.wait_for(present, f"{self} to {what}")
-        return found[-1]
+        return Expectation(self)._until(lambda s: s["count"] == 1, what)
 
     def inner_text(self) -> str:
         return str(self._one("exist")["innerText"])
@@ -357,7 +347,9 @@ class Expectation:
 
     def _until(
         self, holds: Callable[[dict[str, Any]], bool], what: str, strict: bool = True
-    ) -> None:
+    ) -> dict[str, Any]:
+        """Until the first match's state ``holds`` (several matches are an error at once when
+        ``strict``); that state."""
         last: list[dict[str, Any]] = []
 
         def check() -> bool:
@@ -371,6 +363,7 @@ class Expectation:
             self.element.phone.wait_for(check, f"{self.element} to {what}")
         except AssertionError as failed:
             raise AssertionError(f"{failed}; last state: {last[:1]}") from None
+        return last[0]
 
     def to_be_attached(self) -> None:
         self._until(lambda s: s["count"] == 1, "be attached")
@@ -405,21 +398,20 @@ class Expectation:
         )
 
     def to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
-        def holds(state: dict[str, Any]) -> bool:
-            found = state.get("attributes", {}).get(name)
-            return (
-                state["count"] == 1 and found is not None and _matches(found, value, squash=False)
-            )
-
-        self._until(holds, f"have {name}={value!r}")
+        self._until(
+            lambda s: s["count"] == 1 and _has_attribute(s, name, value), f"have {name}={value!r}"
+        )
 
     def not_to_have_attribute(self, name: str, value: str | re.Pattern[str]) -> None:
-        def holds(state: dict[str, Any]) -> bool:
-            found = state.get("attributes", {}).get(name)
-            absent = found is None or not _matches(found, value, squash=False)
-            return state["count"] == 1 and absent
+        self._until(
+            lambda s: s["count"] == 1 and not _has_attribute(s, name, value),
+            f"not have {name}={value!r}",
+        )
 
-        self._until(holds, f"not have {name}={value!r}")
+
+def _has_attribute(state: dict[str, Any], name: str, value: str | re.Pattern[str]) -> bool:
+    found = state.get("attributes", {}).get(name)
+    return found is not None and _matches(found, value, squash=False)
 
 
 def _matches(text: str, expected: str | re.Pattern[str], squash: bool = True) -> bool:

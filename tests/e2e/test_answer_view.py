@@ -160,9 +160,7 @@ def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
     order = np.argsort(-np.linalg.norm(truth.landmarks2 - truth.epipole2, axis=1))
     order = np.concatenate([order[1:3], order[:1], order[3:]])
     points1, points2 = truth.landmarks1[order], truth.landmarks2[order]
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
     mark_friend(starter, *truth.epipole1)
     tap_landmarks(starter, points1)
     cannot_see(joiner)

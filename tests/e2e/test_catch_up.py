@@ -12,10 +12,10 @@ emulation, the phone reaches the server through a loopback proxy the test cuts
 from __future__ import annotations
 
 import math
-import re
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -24,15 +24,13 @@ from chromium_phone import ChromiumPhone
 from cutproxy import cut_proxy
 from phone import Phone, expect
 from test_two_phones import (
-    PAIR,
     cannot_see,
     find_landmarks,
     mark_friend,
     scene,
     session_state,
+    start_and_join,
     tap_landmarks,
-    temple,
-    upload,
 )
 
 from deploy.replica import free_port, serve
@@ -43,84 +41,43 @@ CAUGHT_UP_S = 5.0
 DROPPED = r"Failed to load resource|ERR_|failed to load|network|Network|Load failed|connection"
 
 
+@dataclass(frozen=True)
 class Link:
-    """A phone's network, which the test can cut and restore."""
+    """A phone's network, which the test can cut and restore; ``base_url``: where this phone
+    opens the app."""
 
-    def __init__(self, base_url: str) -> None:
-        self.base_url = base_url  # where this phone opens the app
-
-    def cut(self) -> None:
-        raise NotImplementedError
-
-    def restore(self) -> None:
-        raise NotImplementedError
-
-
-class Emulated(Link):
-    """Chromium: the DevTools protocol's offline emulation of the phone's page."""
-
-    def __init__(self, base_url: str, phone: ChromiumPhone) -> None:
-        super().__init__(base_url)
-        self._session = phone.context.new_cdp_session(phone.page)
-        self._session.send("Network.enable")
-
-    def _offline(self, offline: bool) -> None:
-        conditions = {"latency": 0, "downloadThroughput": -1, "uploadThroughput": -1}
-        self._session.send("Network.emulateNetworkConditions", {**conditions, "offline": offline})
-
-    def cut(self) -> None:
-        self._offline(True)
-
-    def restore(self) -> None:
-        self._offline(False)
+    base_url: str
+    cut: Callable[[], None]
+    restore: Callable[[], None]
 
 
 @contextmanager
 def link(phone: Phone, server: str) -> Iterator[Link]:
-    """The phone's network to ``server``: emulated in Chromium, through a proxy in WebKit."""
+    """The phone's network to ``server``: in Chromium, the DevTools protocol's offline
+    emulation of the phone's page; in WebKit, a proxy."""
     if isinstance(phone, ChromiumPhone):
-        yield Emulated(server, phone)
+        session = phone.context.new_cdp_session(phone.page)
+        session.send("Network.enable")
+
+        def emulate(cut: bool) -> None:
+            unthrottled = {"latency": 0, "downloadThroughput": -1, "uploadThroughput": -1}
+            session.send("Network.emulateNetworkConditions", {**unthrottled, "offline": cut})
+
+        yield Link(server, lambda: emulate(True), lambda: emulate(False))
         return
     with cut_proxy(int(server.rsplit(":", 1)[1])) as proxy:
-        cuttable = Link(proxy.base_url)
-        cuttable.cut = proxy.cut  # type: ignore[method-assign]
-        cuttable.restore = proxy.restore  # type: ignore[method-assign]
-        yield cuttable
-
-
-def open_search(starter: Phone, joiner: Phone, starter_url: str, joiner_url: str) -> None:
-    """The starter starts a search; the joiner opens its join link (each at its address)."""
-    starter.goto(f"{starter_url}/")
-    starter.get_by_test_id("start").tap()
-    code = starter.get_by_test_id("code")
-    expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
-    joiner.goto(f"{joiner_url}/join/{re.sub(r'[^0-9]', '', code.inner_text())}")
-
-
-def start(starter: Phone, joiner: Phone, starter_url: str, joiner_url: str) -> None:
-    """A search opened (:func:`open_search`), both photos uploaded."""
-    open_search(starter, joiner, starter_url, joiner_url)
-    expect(starter.get_by_test_id("waiting")).to_be_hidden()
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+        yield Link(proxy.base_url, proxy.cut, proxy.restore)
 
 
 def midway(starter: Phone, joiner: Phone, s: Any, urls: tuple[str, str], found: int) -> None:
     """A search of scene ``s`` under way: the starter has marked its friend and landmarks 1-3,
     the joiner, who cannot see its friend, has found the first ``found`` (each phone at its
     address of ``urls``)."""
-    start(starter, joiner, *urls)
+    start_and_join(urls[0], starter, joiner, joiner_server=urls[1], photos=True)
     mark_friend(starter, *s.epipole1)
     tap_landmarks(starter, s.landmarks1[:3])
     cannot_see(joiner)
     find_landmarks(joiner, s.landmarks2[:found])
-
-
-def find_unsaved(joiner: Phone, number: int, point: Any) -> None:
-    """The joiner finds landmark ``number`` at ``point`` while it cannot reach the server."""
-    expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
-    joiner.tap_photo(*map(float, point))
-    expect(joiner.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
 
 
 def shown(phone: Phone) -> dict[str, Any]:
@@ -207,8 +164,7 @@ def test_a_phone_offline_for_30_s_catches_up(pixel: Phone, iphone: Phone, tmp_pa
         cut_at = time.monotonic()
         offline(joiner)
         tap_landmarks(starter, s.landmarks1[3:5], first_id=4)  # the other keeps tapping
-        for number, point in enumerate(s.landmarks2[1:3], start=2):  # so does this one
-            find_unsaved(joiner, number, point)
+        find_landmarks(joiner, s.landmarks2[1:3], first_id=2, online=False)  # so does this one
         time.sleep(max(0.0, OFFLINE_S - (time.monotonic() - cut_at)))
         on_screen = shown(joiner)
         assert not on_screen["saved"]
@@ -270,19 +226,10 @@ def test_both_phones_catch_up_after_the_server_restarts(
 
         running.close()  # the server stops
         offline(joiner)
-        tap_landmarks_unsaved(starter, s.landmarks1[3:4], first_id=4)
-        find_unsaved(joiner, 3, s.landmarks2[2])
+        tap_landmarks(starter, s.landmarks1[3:4], first_id=4, online=False)
+        find_landmarks(joiner, s.landmarks2[2:3], first_id=3, online=False)
 
         running.enter_context(serve(tmp_path, port=port))  # back, on its database
         state = caught_up(starter, joiner, time.monotonic(), find=4)
     assert ids(state["taps"]["joiner"]) == [1, 2, 3]
     assert ids(state["taps"]["starter"]) == [1, 2, 3, 4]
-
-
-def tap_landmarks_unsaved(page: Phone, points: Any, first_id: int) -> None:
-    """New landmarks while the server is away: on the phone, not saved."""
-    for offset, (x, y) in enumerate(points):
-        page.tap_photo(float(x), float(y))
-        number = first_id + offset
-        expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    expect(page.get_by_test_id("save-state")).not_to_have_attribute("data-state", "saved")

@@ -17,7 +17,6 @@ import numpy as np
 import pytest
 from phone import Phone, expect
 from test_two_phones import (
-    PAIR,
     cannot_see,
     find_landmarks,
     mark_friend,
@@ -26,8 +25,6 @@ from test_two_phones import (
     session_state,
     start_and_join,
     tap_landmarks,
-    temple,
-    upload,
 )
 
 from testbed.venue import rendered_pair
@@ -48,9 +45,7 @@ def band_of(page: Phone, role: str, landmark: int) -> dict[str, object]:
 def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
     truth = scene(7, seed=16)
     mark_friend(starter, *truth.epipole1)
     tap_landmarks(starter, truth.landmarks1)

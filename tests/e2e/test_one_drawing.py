@@ -16,9 +16,8 @@ import cv2
 import numpy as np
 from phone import Phone, expect
 from PIL import Image
-from test_answer_view import set_answer_shown
+from test_answer_view import screen_pixels, set_answer_shown
 from test_two_phones import (
-    PAIR,
     cannot_see,
     find_landmarks,
     mark_friend,
@@ -26,9 +25,7 @@ from test_two_phones import (
     session_state,
     start_and_join,
     tap_landmarks,
-    temple,
     to_the_curve,
-    upload,
 )
 
 from testbed.scenes import NO_PHONES_LANDMARKS2
@@ -76,12 +73,8 @@ def svg_strokes(page: Phone, folder: Path) -> tuple[np.ndarray, float]:
     shots = []
     for shown in (False, True):
         set_answer_shown(page, shown)
-        path = folder / f"answer-{shown}.png"
-        page.screenshot(path=path)
-        with Image.open(path) as shot:
-            shots.append(np.array(shot.convert("RGB")).astype(int))
-    plain, drawn = shots
-    ratio = drawn.shape[1] / float(page.evaluate("() => innerWidth"))
+        shots.append(screen_pixels(page, folder, f"answer-{shown}"))
+    (plain, _), (drawn, ratio) = shots
     painted = (np.abs(drawn - plain).max(axis=-1) > 30) & friend_coloured(drawn)
     rows, cols = np.nonzero(painted)
     client = (np.column_stack([cols, rows]) + 0.5) / ratio
@@ -225,9 +218,7 @@ def test_the_phone_and_the_overlay_point_the_same_way_to_a_friend_off_the_photo(
     """The temple's landmarks with the friend marked top right in the starter's photo put
     them below the joiner's photo, to the right: both arrows point there from the same tip."""
     truth = scene(5, seed=16)
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
     mark_friend(starter, *OFF_PHOTO_MARK)
     tap_landmarks(starter, truth.landmarks1)
     cannot_see(joiner)

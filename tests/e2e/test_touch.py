@@ -13,14 +13,11 @@ from __future__ import annotations
 import pytest
 from phone import Phone, expect
 from test_two_phones import (
-    PAIR,
     cannot_see,
     saved,
     session_state,
     start_and_join,
     tap_sigma,
-    temple,
-    upload,
     view_scale,
 )
 
@@ -49,9 +46,7 @@ def landmarks(phone: Phone) -> list[dict[str, float]]:
 
 
 def test_fingers_tap_drag_pinch_and_pan(server: str, pixel: Phone, iphone: Phone) -> None:
-    starter, joiner = start_and_join(server, iphone, pixel)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, _ = start_and_join(server, iphone, pixel, photos=True)
     cannot_see(starter)
     fitted = view_scale(starter)
 

@@ -50,8 +50,11 @@ def start_and_join(
     starter: Phone,
     joiner: Phone,
     screenshots: Path | None = None,
+    joiner_server: str | None = None,
+    photos: bool = False,
 ) -> tuple[Phone, Phone]:
-    """One friend starts a search; the other opens its join link."""
+    """One friend starts a search; the other opens its join link (at ``joiner_server`` when
+    its network goes another way); with ``photos``, each then uploads its temple photo."""
     starter.goto(f"{server}/")
     if screenshots:
         starter.screenshot(path=screenshots / "1-start.png")
@@ -64,8 +67,13 @@ def start_and_join(
     if screenshots:
         starter.screenshot(path=screenshots / "2-share.png")
     digits = re.sub(r"\D", "", code.inner_text())
-    joiner.goto(f"{server}/join/{digits}")  # the join link, opened on the friend's phone
+    joiner.goto(
+        f"{joiner_server or server}/join/{digits}"
+    )  # the join link, opened on the friend's phone
     expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    if photos:
+        upload(starter, temple(PAIR[0]))
+        upload(joiner, temple(PAIR[1]))
     return starter, joiner
 
 
@@ -106,24 +114,33 @@ def cannot_see(page: Phone) -> None:
     expect(page.get_by_test_id("friend-prompt")).to_have_count(0)
 
 
-def tap_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
-    """New landmarks, numbered from ``first_id``."""
-    for offset, (x, y) in enumerate(points):
-        number = first_id + offset
-        page.tap_photo(float(x), float(y))
-        expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    saved(page)
+def tap_landmark(page: Phone, number: int, point: np.ndarray) -> None:
+    """A tap on photo pixel ``point`` that places landmark #``number``."""
+    page.tap_photo(*map(float, point))
+    expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
 
 
-def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1) -> None:
-    """The landmarks the other phone numbered, each found with its crop as the prompt."""
-    for number, (x, y) in enumerate(points, start=first_id):
+def tap_landmarks(page: Phone, points: np.ndarray, first_id: int = 1, online: bool = True) -> None:
+    """New landmarks, numbered from ``first_id``: saved, or (not ``online``) not saved."""
+    for number, point in enumerate(points, start=first_id):
+        tap_landmark(page, number, point)
+    if online:
+        saved(page)
+    else:
+        expect(page.get_by_test_id("save-state")).not_to_have_attribute("data-state", "saved")
+
+
+def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1, online: bool = True) -> None:
+    """The landmarks the other phone numbered, each found with its crop as the prompt
+    (neither crop nor save checked when the phone is not ``online``)."""
+    for number, point in enumerate(points, start=first_id):
         prompt = page.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(number))
-        expect(prompt.locator("img")).to_be_visible()
-        page.tap_photo(float(x), float(y))
-        expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    saved(page)
+        if online:
+            expect(prompt.locator("img")).to_be_visible()
+        tap_landmark(page, number, point)
+    if online:
+        saved(page)
 
 
 def needed(page: Phone, count: int) -> None:
@@ -199,9 +216,7 @@ def test_the_starter_marks_the_joiner(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path, engine: str
 ) -> None:
     """Friend A (who started) sees friend B and marks them; B's phone finds A."""
-    starter, joiner = start_and_join(server, pixel, iphone, screenshots)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, screenshots, photos=True)
     joiner.screenshot(path=screenshots / "3-tap-your-friend-joiner.png")
 
     truth = scene(5, seed=16)  # a layout that pins the friend down (seed 11: +-3000 px)
@@ -332,9 +347,7 @@ def test_both_mark_each_other_and_one_landmark_is_enough(
 ) -> None:
     """Each friend sees the other and marks them: one common landmark then fixes both
     marks, and each phone shows its own, refined."""
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
     expect(starter.get_by_test_id("lens-note")).to_contain_text("typical phone camera is assumed")
     truth = scene(1, seed=13)
     mark_friend(starter, *truth.epipole1)
@@ -410,9 +423,7 @@ def test_a_code_typed_wrong_five_times_is_renewed_on_the_starters_phone(
 def to_the_curve(server: str, starter: Phone, joiner: Phone) -> Phone:
     """A search whose taps fit no two phone photos, played to its curve: the starter marks
     the friend and 5 landmarks, the joiner finds 4 of them and sees the curve; the joiner."""
-    start_and_join(server, starter, joiner)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, temple(PAIR[1]))
+    start_and_join(server, starter, joiner, photos=True)
     mark_friend(starter, *NO_PHONES_FRIEND)
     tap_landmarks(starter, NO_PHONES_LANDMARKS1)
     cannot_see(joiner)

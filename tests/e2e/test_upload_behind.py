@@ -12,8 +12,17 @@ from pathlib import Path
 
 import pytest
 from phone import Phone, expect
-from test_catch_up import DROPPED, link, open_search
-from test_two_phones import PAIR, saved, scene, session_state, temple
+from test_catch_up import DROPPED, link
+from test_two_phones import (
+    PAIR,
+    mark_friend,
+    saved,
+    scene,
+    session_state,
+    start_and_join,
+    tap_landmark,
+    temple,
+)
 
 from deploy.replica import serve
 
@@ -29,19 +38,16 @@ def test_taps_wait_on_the_phone_for_its_photo(pixel: Phone, iphone: Phone, tmp_p
     s = scene(3, seed=6)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
-        open_search(starter, joiner, server.base_url, network.base_url)
+        start_and_join(server.base_url, starter, joiner, joiner_server=network.base_url)
         expect(joiner.get_by_test_id("photo-input")).to_be_attached()
 
         network.cut()
         joiner.get_by_test_id("photo-input").set_input_files(temple(PAIR[1]))
         # Shown at once, in the stored photo's pixels, and tappable: no upload awaited.
         expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
-        expect(joiner.get_by_test_id("friend-prompt")).to_contain_text("Tap your friend")
-        joiner.tap_photo(*map(float, s.epipole2))
-        expect(joiner.get_by_test_id("friend-mark")).to_be_visible()
-        for number, (x, y) in enumerate(s.landmarks2, 1):
-            joiner.tap_photo(float(x), float(y))
-            expect(joiner.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+        mark_friend(joiner, *s.epipole2)
+        for number, point in enumerate(s.landmarks2, 1):
+            tap_landmark(joiner, number, point)
         # With no connection the upload gives up (after its retries), says so, keeps the taps.
         error = joiner.get_by_test_id("upload-error")
         expect(error).to_contain_text("no connection")
