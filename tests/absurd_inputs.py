@@ -1,7 +1,7 @@
 """Hypothesis strategies for whatever a caller may send the solver: the corners a uniform
 random draw never reaches.
 
-A random draw of taps (``tests/solver/test_any_input.py``: normals times 10^-3 to 10^8)
+A random draw of taps (``tests/solver/test_absurd_input.py``: normals times 10^-3 to 10^8)
 meets neither 1e300 nor a subnormal, and never three landmarks exactly on one line, two a
 hair apart or all on one plane: each has probability zero. These strategies draw them on
 purpose. A request starts from a real two-camera scene (``testbed.scenes``), its landmarks
