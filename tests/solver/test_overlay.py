@@ -20,7 +20,7 @@ from shared_solver.drawing.palette import (
     landmark_colour_hex,
 )
 from shared_solver.result import Ellipse, Uncertainty
-from testbed.scenes import Scene, facing_scene, temple_scene
+from testbed.scenes import Scene, facing_scene, solved, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 GREY = 128
@@ -600,13 +600,7 @@ def test_the_temple_photos_get_the_answer_and_numbered_landmarks() -> None:
     s = temple_scene(
         TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 5, np.random.default_rng(7)
     )
-    result = solve(
-        s.landmarks1,
-        s.landmarks2,
-        epipole1=s.epipole1,
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
-    )
+    result = solved(s)
     assert result.epipole2 is not None
     photo2 = cv2.imread(str(TEMPLE / "templeSR0006.png"))
     photo1 = cv2.imread(str(TEMPLE / "templeSR0003.png"))
