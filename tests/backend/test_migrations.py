@@ -17,7 +17,8 @@ from alembic.config import Config
 from alembic.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from fastapi.testclient import TestClient
-from phones import TEMPLE
+from phones import TEMPLE, temple_pair
+from phones import landmarks as sigma_landmarks
 from postgres import PostgresServer
 from sqlalchemy import Column, Connection, Engine, String, inspect, text
 from sqlalchemy.types import TypeEngine
@@ -34,7 +35,6 @@ from backend.storage.database import (
     migrate,
 )
 from backend.storage.tables import Base
-from testbed.scenes import temple_scene
 
 HEAD = ScriptDirectory(str(MIGRATIONS)).get_current_head()
 
@@ -185,12 +185,13 @@ def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
     coordinates kept; the stored answer (of the old shape) is cleared, and the next read of
     the state answers again."""
     engine = make_engine(empty_database)
-    s = temple_scene(
-        TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 6, np.random.default_rng(3)
-    )
+    s = temple_pair(6, np.random.default_rng(3))
     old = {
-        "seeker": {"landmarks": taps(s.landmarks1), "epipole1": list(s.epipole1)},
-        "buddy": {"landmarks": taps(s.landmarks2), "epipole2": None},
+        "seeker": {
+            "landmarks": sigma_landmarks(s.landmarks1, sigma=None),
+            "epipole1": list(s.epipole1),
+        },
+        "buddy": {"landmarks": sigma_landmarks(s.landmarks2, sigma=None), "epipole2": None},
     }
     stored = {
         role: store_photo(
@@ -263,10 +264,6 @@ def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
         assert body["taps"]["starter"]["friend"]["x"] == pytest.approx(s.epipole1[0])
         assert body["taps"]["joiner"]["landmarks"][2]["y"] == pytest.approx(s.landmarks2[2][1])
         assert body["answer"]["in_photo"]["joiner"]["how"] == "solved"  # answered again
-
-
-def taps(points: Any) -> list[dict[str, float]]:
-    return [{"id": n, "x": float(x), "y": float(y)} for n, (x, y) in enumerate(points, 1)]
 
 
 def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: str) -> None:
