@@ -12,12 +12,12 @@ import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
 from phones import TEMPLE, FakeClock, Phones, photos_uploaded
-from postgres import PostgresServer
 from sqlalchemy.engine import make_url
 
 from backend.main import create_app
 from backend.settings import Settings
 from backend.storage.database import make_engine
+from deploy.postgres import PostgresServer
 from testbed.client import Phone
 
 

@@ -46,12 +46,6 @@ def mark(point: Any) -> dict[str, float]:
     return {"x": float(point[0]), "y": float(point[1])}
 
 
-def friend_in(state: dict[str, Any], role: str) -> list[float] | None:
-    """Where the answer puts ``role``'s friend in ``role``'s photo."""
-    answer = state["answer"]
-    return None if answer is None else answer["in_photo"][role]["friend"]
-
-
 def landmarks(
     points: Any, ids: list[int] | None = None, sigma: float | None = 2.0
 ) -> list[dict[str, float]]:

@@ -19,10 +19,10 @@ from pathlib import Path
 import httpx2
 import pytest
 from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
-from postgres import PostgresServer
 from test_replicas import CROSSING_SECONDS, REPLICA_ENV, end
 
 from deploy.cluster import Cluster, cluster
+from deploy.postgres import PostgresServer
 from testbed.client import Listener, Phone, follow, live, pair
 
 ROLES = ("starter", "joiner")

@@ -19,7 +19,6 @@ from alembic.script import ScriptDirectory
 from fastapi.testclient import TestClient
 from phones import TEMPLE, temple_pair
 from phones import landmarks as sigma_landmarks
-from postgres import PostgresServer
 from sqlalchemy import Column, Connection, Engine, String, inspect, text
 from sqlalchemy.types import TypeEngine
 
@@ -35,6 +34,7 @@ from backend.storage.database import (
     migrate,
 )
 from backend.storage.tables import Base
+from deploy.postgres import PostgresServer
 
 HEAD = ScriptDirectory(str(MIGRATIONS)).get_current_head()
 
