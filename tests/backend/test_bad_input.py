@@ -257,8 +257,10 @@ SIXTY_FIVE = [{"id": i, "x": i % 600, "y": i % 400} for i in range(1, 66)]
 DUPLICATES = landmarks(MANY[:3], [1, 2, 1])
 TWICE_2 = [{"id": 2, "x": 1, "y": 1}, {"id": 2, "x": 5, "y": 5}]
 COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "friend": [500, 100]}
-ON_A_LANDMARK = {"landmarks": landmarks(SCENE.landmarks1), "friend": list(SCENE.landmarks1[2])}
+ON_3 = {"landmarks": landmarks(SCENE.landmarks1), "friend": list(SCENE.landmarks1[2])}
 ZERO_LINE = {"a": 0, "b": 0, "c": 5}
+MARK_AND_LINE = {"friend": [3, 3], "friend_line": {"a": 1, "b": 0, "c": -3}}
+MARKED_TWICE = {"friend": [10, 10], "friend_line": {"a": 1, "b": 0, "c": -5}}
 LINE_OFF_THE_PHOTO = {"a": 1, "b": 0, "c": 1000}  # x = -1000
 
 
@@ -314,18 +316,8 @@ TABLE = [
     Row("a friend line with a = b = 0", taps(friend_line=ZERO_LINE), 422, "invalid_line"),
     Row("a friend line 0 = 1", taps(friend_line={"a": 0, "b": 0, "c": 1}), 422, "invalid_line"),
     Row("a friend line off the photo", taps(friend_line=LINE_OFF_THE_PHOTO), 422, "invalid_line"),
-    Row(
-        "a friend mark and a line",
-        taps(friend=[3, 3], friend_line={"a": 1, "b": 0, "c": -3}),
-        422,
-        "conflicting_inputs",
-    ),
-    Row(
-        "the joiner's friend mark and a line",
-        joiner_taps(friend=[10, 10], friend_line={"a": 1, "b": 0, "c": -5}),
-        422,
-        "conflicting_inputs",
-    ),
+    Row("a friend mark and a line", taps(**MARK_AND_LINE), 422, "conflicting_inputs"),
+    Row("the joiner's mark and a line", joiner_taps(**MARKED_TWICE), 422, "conflicting_inputs"),
     Row("duplicate landmark ids", taps(landmarks=DUPLICATES), 422, "duplicate_landmark"),
     Row("landmark #2 twice", taps(landmarks=TWICE_2), 422, "duplicate_landmark"),
     Row("1000 landmarks", taps(landmarks=landmarks(MANY, MANY_IDS)), 422, "too_many_landmarks"),
@@ -333,13 +325,7 @@ TABLE = [
     Row("taps that are not UTF-8", raw_taps(NOT_UTF_8), 400, "bad_request"),
     # Taps that are fine but cannot be answered: accepted, and the answer says why.
     Row("collinear landmarks", answer_to(COLLINEAR_TAPS), 200, "collinear_landmarks"),
-    Row(
-        "the friend mark on a landmark",
-        answer_to(ON_A_LANDMARK),
-        200,
-        "epipole_on_landmark",
-        names_landmark_3,
-    ),
+    Row("the friend mark on #3", answer_to(ON_3), 200, "epipole_on_landmark", names_landmark_3),
     # Tokens: a token opens its own session, while it lasts.
     Row("a missing token", get_state(None), 401, "unauthorized"),
     Row("a wrong token", get_state("b" * 43), 401, "unauthorized"),
