@@ -228,40 +228,47 @@ def test_solve_refuses_malformed_requests(client: TestClient, body: bytes) -> No
     assert response.json()["error"]["code"] == "invalid_request"
 
 
+PHOTO2 = TEMPLE / "templeSR0006.png"
+
+
 def temple_request() -> dict[str, object]:
     s = temple_pair(6, np.random.default_rng(4))
     return request_of(s, image_size1=[640, 480], image_size2=[640, 480])
 
 
+def overlay(
+    client: TestClient, request: object, photo: tuple[str, bytes, str] | None = None, **params: str
+) -> httpx2.Response:
+    """``POST /api/overlay`` of ``request`` (JSON unless a string) on ``photo`` (photo 2 of the
+    temple pair by default)."""
+    photo = photo or ("photo2.png", PHOTO2.read_bytes(), "image/png")
+    text = request if isinstance(request, str) else json.dumps(request)
+    return client.post(
+        "/api/overlay", params=params, files={"photo": photo}, data={"request": text}
+    )
+
+
+def drawn_on_photo2(response: httpx2.Response) -> None:
+    """An image of photo 2's size, with something drawn on it."""
+    drawn = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
+    plain = cv2.imread(str(PHOTO2))
+    assert drawn.shape == plain.shape
+    assert np.mean(np.any(drawn != plain, axis=2)) > 0.005
+
+
 @pytest.mark.parametrize(("fmt", "magic"), [("png", b"\x89PNG"), ("jpeg", b"\xff\xd8\xff")])
 def test_overlay_draws_on_photo_2(client: TestClient, fmt: str, magic: bytes) -> None:
-    photo = (TEMPLE / "templeSR0006.png").read_bytes()
-    response = client.post(
-        "/api/overlay",
-        params={"format": fmt},
-        files={"photo": ("photo2.png", photo, "image/png")},
-        data={"request": json.dumps(temple_request())},
-    )
+    response = overlay(client, temple_request(), format=fmt)
     assert response.status_code == 200, response.text
     assert response.content.startswith(magic)
-    drawn = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
-    plain = cv2.imread(str(TEMPLE / "templeSR0006.png"))
-    assert drawn.shape == plain.shape
-    assert np.mean(np.any(drawn != plain, axis=2)) > 0.005  # something was drawn
+    drawn_on_photo2(response)
 
 
 def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> None:
-    not_a_photo = client.post(
-        "/api/overlay",
-        files={"photo": ("x.jpg", b"%PDF-1.4 hello", "image/jpeg")},
-        data={"request": json.dumps(temple_request())},
-    )
+    not_a_photo = overlay(client, temple_request(), ("x.jpg", b"%PDF-1.4 hello", "image/jpeg"))
     assert not_a_photo.status_code == 415
     assert not_a_photo.json()["error"]["code"] == "unsupported_media_type"
-    photo = (TEMPLE / "templeSR0006.png").read_bytes()
-    bad = client.post(
-        "/api/overlay", files={"photo": ("b.png", photo, "image/png")}, data={"request": "{"}
-    )
+    bad = overlay(client, "{", ("b.png", PHOTO2.read_bytes(), "image/png"))
     assert bad.status_code == 422
     assert bad.json()["error"]["code"] == "invalid_request"
     missing = client.post("/api/overlay", data={"request": json.dumps(temple_request())})
@@ -271,7 +278,6 @@ def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> No
 def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -> None:
     """The temple photos as two phone photos: three landmarks and friend 2 marked are enough for
     a drawing; a malformed camera is refused with the solver's code, as by /api/solve."""
-    photo = (TEMPLE / "templeSR0006.png").read_bytes()
     three = (
         temple_request()
         | {
@@ -279,21 +285,11 @@ def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -
             "points2": temple_request()["points2"][:3],  # type: ignore[index]
         }
     )
-
-    def overlay(request: dict[str, object]) -> httpx2.Response:
-        return client.post(
-            "/api/overlay",
-            files={"photo": ("photo2.png", photo, "image/png")},
-            data={"request": json.dumps(request)},
-        )
-
-    assert overlay(three).json()["error"]["code"] == "too_few_landmarks"
+    assert overlay(client, three).json()["error"]["code"] == "too_few_landmarks"
     phones = three | {"camera1": {"kind": "phone"}, "camera2": "phone", "points1_sigma": [2, 3, 2]}
-    drawn = overlay(phones)
+    drawn = overlay(client, phones)
     assert drawn.status_code == 200, drawn.text
-    image = cv2.imdecode(np.frombuffer(drawn.content, np.uint8), cv2.IMREAD_COLOR)
-    plain = cv2.imread(str(TEMPLE / "templeSR0006.png"))
-    assert np.mean(np.any(image != plain, axis=2)) > 0.005
-    bad = overlay(phones | {"camera2": {"kind": "known_focal"}})
+    drawn_on_photo2(drawn)
+    bad = overlay(client, phones | {"camera2": {"kind": "known_focal"}})
     assert bad.status_code == 422
     assert bad.json()["error"]["code"] == "invalid_parameter"
