@@ -1,20 +1,12 @@
 """Hypothesis strategies for whatever a caller may send the solver: the corners a uniform
 random draw never reaches.
 
-A random draw of taps (``tests/solver/test_any_input.py``: normals times 10^-3 to 10^8)
+A random draw of taps (``tests/solver/test_absurd_input.py``: normals times 10^-3 to 10^8)
 meets neither 1e300 nor a subnormal, and never three landmarks exactly on one line, two a
 hair apart or all on one plane: each has probability zero. These strategies draw them on
-purpose. A request starts from a real two-camera scene (``testbed.scenes``), its landmarks
-on a plane when drawn so (coplanar: the projections are related by a homography), then
-scaled and shifted by any power of ten a float holds (subnormals to 1.8e308), and each of
-its parts may be bent into a corner: landmarks made near-duplicates or collinear, replaced
-by any float, the friends marked in every way (a point, both points, a line, nothing, a
-conflicting pair), photos from a fraction of a pixel to 1e308, every camera (phone, a known
-focal length of any size, unknown, malformed) and every precision argument (sigmas and
-covariances, singular, negative, asymmetric, of the wrong shape).
-
-Hypothesis shrinks a failure to its simplest form, and with the suite's profile
-(``tests/conftest.py``) draws the same examples on every run.
+purpose, from a real two-camera scene (``testbed.scenes``) scaled by any power of ten a
+float holds, with none, one or two of its parts bent into a corner (``CORNERS``). With the
+suite's profile (``tests/conftest.py``) Hypothesis draws the same examples on every run.
 """
 
 from __future__ import annotations

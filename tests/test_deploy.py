@@ -18,11 +18,11 @@ import subprocess
 import sys
 import threading
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import metadata
 from pathlib import Path
-from typing import Any
 from urllib.parse import urlsplit
 
 import dockerfile
@@ -127,69 +127,72 @@ def test_the_compose_file_follows_the_compose_specification(tmp_path: Path) -> N
 # --- the shipped nginx.conf, run in front of a recording stand-in for the app -----------------
 
 
-class Recorder(ThreadingHTTPServer):
-    """Answers every request 200 and keeps what it received (HTTP version, headers)."""
+@contextmanager
+def serving(
+    answer: Callable[[BaseHTTPRequestHandler], tuple[int, dict[str, str]]],
+) -> Iterator[int]:
+    """A loopback HTTP/1.1 server (in threads, logging nothing), its port: ``answer`` gives
+    each GET's status and headers (no body)."""
 
-    def __init__(self) -> None:
-        self.seen: list[dict[str, Any]] = []
-        recorder = self
+    class Handler(BaseHTTPRequestHandler):
+        protocol_version = "HTTP/1.1"
 
-        class Handler(BaseHTTPRequestHandler):
-            protocol_version = "HTTP/1.1"
+        def do_GET(self) -> None:
+            status, headers = answer(self)
+            self.send_response(status)
+            for name, value in {**headers, "Content-Length": "0"}.items():
+                self.send_header(name, value)
+            self.end_headers()
 
-            def do_GET(self) -> None:
-                recorder.seen.append(
-                    {
-                        "version": self.request_version,
-                        "path": self.path,
-                        **{name.lower(): value for name, value in self.headers.items()},
-                    }
-                )
-                self.send_response(200)
-                self.send_header("Content-Length", "2")
-                self.send_header("Strict-Transport-Security", "max-age=1")
-                self.end_headers()
-                self.wfile.write(b"{}")
+        def log_message(self, *args: object) -> None:
+            pass
 
-            def log_message(self, *args: object) -> None:
-                pass
+    server = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        yield server.server_address[1]
+    finally:
+        server.shutdown()
+        server.server_close()
 
-        super().__init__(("127.0.0.1", 0), Handler)
+
+Seen = list[dict[str, str]]  # what a stand-in for the app received: version, path, headers
 
 
 @pytest.fixture
-def proxied(certificate: tls.Certificate) -> Iterator[tuple[str, Recorder, nginx.Nginx]]:
-    """nginx with the shipped config, its replicas one recorder; the HTTPS base URL."""
-    recorder = Recorder()
-    thread = threading.Thread(target=recorder.serve_forever, daemon=True)
-    thread.start()
+def proxied(certificate: tls.Certificate) -> Iterator[tuple[str, Seen, nginx.Nginx]]:
+    """nginx with the shipped config, its replicas one stand-in that answers every request
+    200 and keeps what it received; the HTTPS base URL."""
+    seen: Seen = []
+
+    def record(request: BaseHTTPRequestHandler) -> tuple[int, dict[str, str]]:
+        headers = {name.lower(): value for name, value in request.headers.items()}
+        seen.append({"version": request.request_version, "path": request.path, **headers})
+        return 200, {"Strict-Transport-Security": "max-age=1"}
+
     listen = nginx.Listen(
         "127.0.0.1", free_port(), free_port(), certificate.certificate, certificate.key
     )
-    try:
-        with nginx.run(listen, [f"127.0.0.1:{recorder.server_address[1]}"]) as running:
-            yield f"https://127.0.0.1:{listen.https_port}", recorder, running
-    finally:
-        recorder.shutdown()
-        recorder.server_close()
+    with serving(record) as port, nginx.run(listen, [f"127.0.0.1:{port}"]) as running:
+        yield f"https://127.0.0.1:{listen.https_port}", seen, running
 
 
 @pytest.mark.parametrize("path", ["/", "/join/48291375", EVENTS_PATH, "/api/sessions/x/photo"])
 def test_every_request_reaches_the_app_with_the_phones_address_host_and_scheme(
-    proxied: tuple[str, Recorder, nginx.Nginx], trusted: ssl.SSLContext, path: str
+    proxied: tuple[str, Seen, nginx.Nginx], trusted: ssl.SSLContext, path: str
 ) -> None:
     """In every location: HTTP/1.1 with no "Connection: close" (kept-alive connections,
     streaming), the Host with the port the phone used (join links point back to it), and
     X-Forwarded-For/Proto for uvicorn --proxy-headers, the address being the one nginx saw,
     never one the client names (the app counts failed join codes per address)."""
-    base, recorder, _ = proxied
+    base, received, _ = proxied
     answer = httpx2.get(
         f"{base}{path}",
         headers={"X-Forwarded-For": "203.0.113.7"},
         verify=trusted,
     )
     assert answer.status_code == 200
-    (seen,) = recorder.seen
+    (seen,) = received
     assert seen["version"] == "HTTP/1.1"
     assert seen.get("connection", "") != "close"
     assert seen["host"] == urlsplit(base).netloc
@@ -200,7 +203,7 @@ def test_every_request_reaches_the_app_with_the_phones_address_host_and_scheme(
 
 
 def test_nginx_logs_paths_without_their_tokens(
-    proxied: tuple[str, Recorder, nginx.Nginx], trusted: ssl.SSLContext
+    proxied: tuple[str, Seen, nginx.Nginx], trusted: ssl.SSLContext
 ) -> None:
     base, _, running = proxied
     httpx2.get(f"{base}{EVENTS_PATH}?token=s3cret-t0ken", verify=trusted)
@@ -324,42 +327,20 @@ def healthcheck() -> list[str]:
     return list(check.value[1:])
 
 
-@pytest.fixture
-def fake_app() -> Iterator[tuple[int, dict[str, int]]]:
-    """A loopback server answering GET /healthz with the status in ``answer["status"]``."""
-    answer = {"status": 200}
-
-    class Health(BaseHTTPRequestHandler):
-        def do_GET(self) -> None:
-            self.send_response(answer["status"] if self.path == "/healthz" else 404)
-            self.end_headers()
-
-        def log_message(self, *args: object) -> None:
-            pass
-
-    server = ThreadingHTTPServer(("127.0.0.1", 0), Health)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield server.server_address[1], answer
-    server.shutdown()
-    server.server_close()
-
-
-def test_the_healthcheck_asks_healthz_and_fails_when_the_database_does_not_answer(
-    fake_app: tuple[int, dict[str, int]],
-) -> None:
+def test_the_healthcheck_asks_healthz_and_fails_when_the_database_does_not_answer() -> None:
     """The image's health (which nginx waits for) is GET /healthz on the app's port; it
     answers 503 when the database is gone, and the check must then fail, or nginx keeps
     sending phones to a replica that can only refuse them."""
     program, flag, code = healthcheck()
     assert program == "python"
     assert f"http://127.0.0.1:{APP_PORT}/healthz" in code
-    port, answer = fake_app
-    for status, healthy in ((200, True), (503, False)):
-        answer["status"] = status
-        probe = [sys.executable, flag, code.replace(f":{APP_PORT}/", f":{port}/")]
-        run = subprocess.run(probe, check=False, capture_output=True, timeout=20)
-        assert (run.returncode == 0) == healthy, (status, run.stderr.decode())
+    statuses = {"/healthz": 200}  # a stand-in for the app: /healthz answers this, else 404
+    with serving(lambda request: (statuses.get(request.path, 404), {})) as port:
+        for status, healthy in ((200, True), (503, False)):
+            statuses["/healthz"] = status
+            probe = [sys.executable, flag, code.replace(f":{APP_PORT}/", f":{port}/")]
+            run = subprocess.run(probe, check=False, capture_output=True, timeout=20)
+            assert (run.returncode == 0) == healthy, (status, run.stderr.decode())
 
 
 def test_the_image_builds_the_phone_app_with_node_and_serves_it() -> None:

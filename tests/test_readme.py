@@ -77,6 +77,9 @@ def test_the_curl_flow_runs_against_a_live_server(tmp_path: Path) -> None:
     """The README's curl commands, as written, against uvicorn on a loopback port."""
     script = example("curl", README, "sh")
     assert script.startswith("B=http://127.0.0.1:8000\n")
+    # It names tests/data/temple/...: that folder, linked into the folder it runs in.
+    (tmp_path / "tests" / "data").mkdir(parents=True)
+    (tmp_path / "tests" / "data" / "temple").symlink_to(ROOT / "tests" / "data" / "temple")
     with serve(tmp_path) as server:
         run = subprocess.run(
             ["bash", "-euo", "pipefail", "-c", f"B={server.base_url}\n" + script.split("\n", 1)[1]],
@@ -87,7 +90,6 @@ def test_the_curl_flow_runs_against_a_live_server(tmp_path: Path) -> None:
             timeout=120,
             check=False,
         )
-    # The script ran in a folder of its own, where tests/data/temple is linked.
     assert run.returncode == 0, run.stderr
     lines = run.stdout.splitlines()
     solved = json.loads(lines[0])
@@ -100,14 +102,6 @@ def test_the_curl_flow_runs_against_a_live_server(tmp_path: Path) -> None:
     assert abs(starter[1] - 73.9) < 10
     assert (tmp_path / "answer.jpg").read_bytes().startswith(b"\xff\xd8\xff")
     assert len(lines) == 4  # DELETE answers 204: nothing printed
-
-
-@pytest.fixture(autouse=True)
-def _photos_beside_the_script(request: pytest.FixtureRequest, tmp_path: Path) -> None:
-    """The curl flow names tests/data/temple/...: that folder, linked into its folder."""
-    if request.node.name == "test_the_curl_flow_runs_against_a_live_server":
-        (tmp_path / "tests" / "data").mkdir(parents=True)
-        (tmp_path / "tests" / "data" / "temple").symlink_to(ROOT / "tests" / "data" / "temple")
 
 
 def test_the_readme_is_short_and_its_links_and_pictures_exist() -> None:

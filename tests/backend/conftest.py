@@ -11,13 +11,13 @@ from pathlib import Path
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock
-from postgres import PostgresServer
+from phones import TEMPLE, FakeClock, Phones, photos_uploaded
 from sqlalchemy.engine import make_url
 
 from backend.main import create_app
 from backend.settings import Settings
 from backend.storage.database import make_engine
+from deploy.postgres import PostgresServer
 from testbed.client import Phone
 
 
@@ -128,3 +128,10 @@ def joiner(client: TestClient, starter: Phone) -> Phone:
 def temple_photos() -> tuple[bytes, bytes]:
     """The facing temple pair as uploaded by the two phones (PNG, 640x480)."""
     return (TEMPLE / "templeSR0003.png").read_bytes(), (TEMPLE / "templeSR0006.png").read_bytes()
+
+
+@pytest.fixture
+def uploaded(starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]) -> Phones:
+    """The two phones, each with its temple photo uploaded."""
+    photos_uploaded(starter, joiner, temple_photos)
+    return starter, joiner

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from testbed.client import Phone
 from testbed.scenes import Scene, Taps, tap, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
@@ -45,21 +46,43 @@ def mark(point: Any) -> dict[str, float]:
     return {"x": float(point[0]), "y": float(point[1])}
 
 
-def friend_in(state: dict[str, Any], role: str) -> list[float] | None:
-    """Where the answer puts ``role``'s friend in ``role``'s photo."""
-    answer = state["answer"]
-    return None if answer is None else answer["in_photo"][role]["friend"]
+def landmarks(
+    points: Any, ids: list[int] | None = None, sigma: float | None = 2.0
+) -> list[dict[str, float]]:
+    """Landmarks as a phone sends them, numbered from 1 (or ``ids``), each tap with its
+    precision (px) unless ``sigma`` is None."""
+    ids = ids or list(range(1, len(points) + 1))
+    taps = [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
+    return taps if sigma is None else [tap | {"sigma": sigma} for tap in taps]
 
 
-def landmarks(points: np.ndarray) -> list[dict[str, float]]:
-    """Landmarks as a phone sends them, numbered from 1, each tap with its precision (px)."""
-    return [
-        {"id": i + 1, "x": float(x), "y": float(y), "sigma": 2.0} for i, (x, y) in enumerate(points)
-    ]
+def temple_pair(count: int, rng: np.random.Generator) -> Scene:
+    """``count`` landmarks of the temple PAIR, the starter and the joiner in each other's photo."""
+    return temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, count, rng)
 
 
 def scene_taps() -> tuple[Scene, Taps]:
     """Six landmarks of the temple PAIR and the joiner, tapped with 1 px of noise."""
     rng = np.random.default_rng(6)
-    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
+    scene = temple_pair(6, rng)
     return scene, tap(scene, 1.0, rng)
+
+
+Phones = tuple[Phone, Phone]  # the starter's and the joiner's
+
+
+def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> None:
+    """Each phone uploads its photo of ``photos`` (640 x 480, no lens told)."""
+    for phone, photo in zip((starter, joiner), photos, strict=True):
+        stored = phone.upload(photo, "photo.png")
+        assert stored.status_code == 200, stored.text
+        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
+
+
+def error_of(response: Any) -> str:
+    """The code of a refusal in the one shape (a code and a sentence, nothing else)."""
+    body = response.json()
+    assert set(body) == {"error"}, body
+    assert set(body["error"]) == {"code", "message"}, body
+    assert body["error"]["message"].endswith("."), body
+    return str(body["error"]["code"])

@@ -9,7 +9,6 @@ in the one shape. Rows of accepted photos also check what was stored.
 from __future__ import annotations
 
 import io
-import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -19,12 +18,13 @@ import numpy as np
 import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock
+from phones import TEMPLE, FakeClock, error_of, temple_pair
+from phones import landmarks as sigma_landmarks
 from PIL import ExifTags, Image
+from test_photos import encoded, png_claiming
 
 from backend.settings import Settings
 from testbed.client import Phone
-from testbed.scenes import temple_scene
 
 pillow_heif.register_heif_opener()
 
@@ -84,21 +84,6 @@ def noise(mode: str = "RGB") -> Image.Image:
     return Image.fromarray(pixels).convert(mode)
 
 
-def encoded(image: Image.Image, image_format: str, **params: Any) -> bytes:
-    buffer = io.BytesIO()
-    image.save(buffer, format=image_format, **params)
-    return buffer.getvalue()
-
-
-def png_claiming(width: int, height: int) -> bytes:
-    """A real PNG whose header says ``width x height``: decoding it would need
-    ``width * height * 3`` bytes (20000 x 20000: 1.2 GB) from a file of a few hundred."""
-    png = bytearray(encoded(noise().resize((8, 8)), "PNG"))
-    png[16:24] = width.to_bytes(4, "big") + height.to_bytes(4, "big")  # IHDR width, height
-    png[29:33] = zlib.crc32(bytes(png[12:29])).to_bytes(4, "big")  # the chunk's CRC
-    return bytes(png)
-
-
 def animated_gif() -> bytes:
     frames = [noise().convert("P"), noise().transpose(Image.Transpose.ROTATE_180).convert("P")]
     return encoded(frames[0], "GIF", save_all=True, append_images=frames[1:], duration=100)
@@ -152,6 +137,10 @@ def taps(**fields: Any) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.with_photos().starter.tap(**fields)
 
 
+def joiner_taps(**fields: Any) -> Callable[[Search], httpx2.Response]:
+    return lambda search: search.with_photos().joiner.tap(**fields)
+
+
 def one_tap(x: Any, y: Any) -> Callable[[Search], httpx2.Response]:
     return taps(landmarks=[{"id": 1, "x": x, "y": y}])
 
@@ -160,13 +149,24 @@ def one_tap_sigma(sigma: Any) -> Callable[[Search], httpx2.Response]:
     return taps(landmarks=[{"id": 1, "x": 3, "y": 3, "sigma": sigma}])
 
 
+def tap_before_a_photo(search: Search) -> httpx2.Response:
+    return search.starter.tap(landmarks=[{"id": 1, "x": 10, "y": 10}])
+
+
 def raw_taps(body: bytes) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.raw_taps(search.with_photos().starter, body)
 
 
 def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]:
-    ids = ids or list(range(1, len(points) + 1))
-    return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
+    return sigma_landmarks(points, ids, sigma=None)
+
+
+def nothing_stored(search: Search, _: httpx2.Response) -> None:
+    assert search.starter.state()["photos"]["starter"] is None  # nothing half-stored
+
+
+def names_landmark_3(_: Search, answer: httpx2.Response) -> None:
+    assert "#3" in answer.json()["answer_error"]["message"]
 
 
 def answer_to(starter_taps: dict[str, Any]) -> Callable[[Search], httpx2.Response]:
@@ -181,9 +181,7 @@ def answer_to(starter_taps: dict[str, Any]) -> Callable[[Search], httpx2.Respons
     return send
 
 
-SCENE = temple_scene(
-    TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 5, np.random.default_rng(0)
-)
+SCENE = temple_pair(5, np.random.default_rng(0))
 COLLINEAR = [(100 + 50 * n, 100 + 30 * n) for n in range(5)]
 
 
@@ -221,21 +219,6 @@ def join(code: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.client.post("/api/sessions/join", json={"code": code(search)})
 
 
-def used_code(search: Search) -> str:
-    """The starter's code, which the joiner has used."""
-    created = search.other_session()
-    code = created["join_code"]
-    joined = search.client.post("/api/sessions/join", json={"code": code})
-    assert joined.status_code == 200, joined.text
-    return str(code)
-
-
-def expired_code(search: Search) -> str:
-    code = search.other_session()["join_code"]
-    search.clock.advance(search.settings.join_code_ttl_seconds + 1)
-    return str(code)
-
-
 def deleted_sessions_code(search: Search) -> str:
     created = search.other_session()
     auth = {"Authorization": f"Bearer {created['token']}"}
@@ -257,7 +240,9 @@ def events_after(last_event_id: str) -> Callable[[Search], httpx2.Response]:
 NOT_A_PHOTO = b"These bytes are a sentence, not a photo, whatever the name says.\n" * 20
 JPEG = encoded(noise(), "JPEG", quality=90)
 TRUNCATED_JPEG = JPEG[: len(JPEG) // 2]
-BOMB = png_claiming(20000, 20000)
+BOMB = png_claiming(20000, 20000)  # a few hundred bytes; decoded, 1.2 GB
+SIXTY_MP = png_claiming(10000, 6000)
+GIF_HEADER = b"GIF89a" + b"\0" * 100
 HEIC = encoded(noise(), "HEIF", quality=90)
 CMYK_JPEG = encoded(noise("CMYK"), "JPEG", quality=90)
 STORED_RGB = stored_as("RGB", (WIDTH, HEIGHT))
@@ -268,10 +253,14 @@ OVERFLOW = b'{"friend": {"x": 1e999, "y": 3}}'  # Python's JSON reads it as infi
 NOT_UTF_8 = b'{"landmarks": [{"id": 1, "x": 3, "y": "\xff"}]}'
 MANY = [(n % 640, n % 480) for n in range(1000)]
 MANY_IDS = [n % 999 + 1 for n in range(1000)]
+SIXTY_FIVE = [{"id": i, "x": i % 600, "y": i % 400} for i in range(1, 66)]
 DUPLICATES = landmarks(MANY[:3], [1, 2, 1])
+TWICE_2 = [{"id": 2, "x": 1, "y": 1}, {"id": 2, "x": 5, "y": 5}]
 COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "friend": [500, 100]}
-ON_A_LANDMARK = {"landmarks": landmarks(SCENE.landmarks1), "friend": list(SCENE.landmarks1[2])}
+ON_3 = {"landmarks": landmarks(SCENE.landmarks1), "friend": list(SCENE.landmarks1[2])}
 ZERO_LINE = {"a": 0, "b": 0, "c": 5}
+MARK_AND_LINE = {"friend": [3, 3], "friend_line": {"a": 1, "b": 0, "c": -3}}
+MARKED_TWICE = {"friend": [10, 10], "friend_line": {"a": 1, "b": 0, "c": -5}}
 LINE_OFF_THE_PHOTO = {"a": 1, "b": 0, "c": 1000}  # x = -1000
 
 
@@ -290,9 +279,11 @@ def another_session_id(search: Search) -> httpx2.Response:
 TABLE = [
     # Photos: what they are is read from their bytes, never from a name or a content type.
     Row("not an image, named .jpg", upload(NOT_A_PHOTO), 415, "unsupported_media_type"),
+    Row("a GIF header, named .jpg", upload(GIF_HEADER), 415, "unsupported_media_type"),
     Row("a truncated JPEG", upload(TRUNCATED_JPEG), 422, "invalid_photo"),
-    Row("an empty file", upload(b""), 422, "empty_photo"),
+    Row("an empty file", upload(b"", "empty.jpg"), 422, "empty_photo", nothing_stored),
     Row("a PNG decompression bomb, 20000 x 20000", upload(BOMB), 413, "photo_too_large"),
+    Row("a small PNG claiming 10000 x 6000", upload(SIXTY_MP, "small.png"), 413, "photo_too_large"),
     Row("a body over the size limit", too_large, 413, "body_too_large"),
     Row("a HEIC photo, converted", upload(HEIC, "IMG_0001.HEIC"), 200, None, STORED_RGB),
     Row("an animated GIF: not accepted", upload(animated_gif()), 415, "unsupported_media_type"),
@@ -300,10 +291,16 @@ TABLE = [
     Row("a 16-bit PNG", upload(grey_ramp_16_bit(), "scan.png"), 200, None, ramp_kept),
     Row("an EXIF-rotated photo", tap_where_only_the_turned_photo_reaches, 200, None, STORED_TURNED),
     # Taps: numbers on the photo, each landmark once, not too many.
+    Row("taps before a photo", tap_before_a_photo, 409, "photo_missing"),
     Row("NaN in taps", raw_taps(NAN), 422, "invalid_request"),
     Row("Infinity in taps", raw_taps(INFINITY), 422, "invalid_request"),
     Row("1e999 in taps", raw_taps(OVERFLOW), 422, "invalid_request"),
     Row("a word in taps", one_tap("left", 3), 422, "invalid_request"),
+    Row("a word for x", one_tap("left", 1), 422, "invalid_request"),
+    Row("a landmark id of 0", taps(landmarks=[{"id": 0, "x": 1, "y": 1}]), 422, "invalid_request"),
+    Row("a friend mark with a w", taps(friend={"x": 1, "y": 2, "w": 3}), 422, "invalid_request"),
+    Row("a field no taps have", taps(epipole1=[1, 2]), 422, "invalid_request"),
+    Row("a friend line as [a, b, c]", joiner_taps(friend_line=[1, 0, -5]), 422, "invalid_request"),
     Row("a number in a string", one_tap("12", 3), 422, "invalid_request"),
     Row("true as a coordinate", taps(friend={"x": True, "y": 3}), 422, "invalid_request"),
     Row("a friend mark as [x, y]", raw_taps(b'{"friend": [3, 3]}'), 422, "invalid_request"),
@@ -311,29 +308,31 @@ TABLE = [
     Row("a negative precision", one_tap_sigma(-2.0), 422, "invalid_request"),
     Row("1e308 in taps", one_tap(1e308, 3), 422, "outside_photo"),
     Row("a tap outside the photo", one_tap(641, 3), 422, "outside_photo"),
+    Row("a tap far right of the photo", one_tap(700, 10), 422, "outside_photo"),
+    Row("a tap above the photo", one_tap(10, -1), 422, "outside_photo"),
     Row("a friend mark outside the photo", taps(friend=[-0.5, 3]), 422, "outside_photo"),
+    Row("a friend mark right of the photo", taps(friend=[641, 10]), 422, "outside_photo"),
+    Row("the joiner's mark above the photo", joiner_taps(friend=[10, -3]), 422, "outside_photo"),
     Row("a friend line with a = b = 0", taps(friend_line=ZERO_LINE), 422, "invalid_line"),
+    Row("a friend line 0 = 1", taps(friend_line={"a": 0, "b": 0, "c": 1}), 422, "invalid_line"),
     Row("a friend line off the photo", taps(friend_line=LINE_OFF_THE_PHOTO), 422, "invalid_line"),
-    Row(
-        "a friend mark and a line",
-        taps(friend=[3, 3], friend_line={"a": 1, "b": 0, "c": -3}),
-        422,
-        "conflicting_inputs",
-    ),
+    Row("a friend mark and a line", taps(**MARK_AND_LINE), 422, "conflicting_inputs"),
+    Row("the joiner's mark and a line", joiner_taps(**MARKED_TWICE), 422, "conflicting_inputs"),
     Row("duplicate landmark ids", taps(landmarks=DUPLICATES), 422, "duplicate_landmark"),
+    Row("landmark #2 twice", taps(landmarks=TWICE_2), 422, "duplicate_landmark"),
     Row("1000 landmarks", taps(landmarks=landmarks(MANY, MANY_IDS)), 422, "too_many_landmarks"),
+    Row("65 landmarks", taps(landmarks=SIXTY_FIVE), 422, "too_many_landmarks"),
     Row("taps that are not UTF-8", raw_taps(NOT_UTF_8), 400, "bad_request"),
     # Taps that are fine but cannot be answered: accepted, and the answer says why.
     Row("collinear landmarks", answer_to(COLLINEAR_TAPS), 200, "collinear_landmarks"),
-    Row("the friend mark on a landmark", answer_to(ON_A_LANDMARK), 200, "epipole_on_landmark"),
+    Row("the friend mark on #3", answer_to(ON_3), 200, "epipole_on_landmark", names_landmark_3),
     # Tokens: a token opens its own session, while it lasts.
     Row("a missing token", get_state(None), 401, "unauthorized"),
     Row("a wrong token", get_state("b" * 43), 401, "unauthorized"),
+    Row("a token that is no token", get_state("not-a-token"), 401, "unauthorized"),
     Row("an expired token", expired_token, 401, "unauthorized"),
     Row("another session's token", with_token(another_token), 403, "forbidden"),
-    # Join codes: single use, while valid. (Three failed joins: far below the limit.)
-    Row("a third phone, with the used code", join(used_code), 404, "invalid_join_code"),
-    Row("an expired join code", join(expired_code), 404, "invalid_join_code"),
+    # Join codes: single use, while valid (a used one, an expired one: test_sessions.py).
     Row("a code replayed after the end", join(deleted_sessions_code), 404, "invalid_join_code"),
     # Session ids, unknown or malformed, with the valid token of another session.
     Row("an unknown session id", as_starter_at("0" * 32), 403, "forbidden"),
@@ -352,13 +351,9 @@ TABLE = [
 
 def code_of(answer: httpx2.Response) -> str | None:
     """The refusal's code (in the one shape), or what the answer says about itself."""
-    body = answer.json()
     if answer.status_code >= 400:
-        assert set(body) == {"error"}, body
-        assert set(body["error"]) == {"code", "message"}, body
-        assert body["error"]["message"].endswith("."), body
-        return str(body["error"]["code"])
-    error = body.get("answer_error")
+        return error_of(answer)
+    error = answer.json().get("answer_error")
     return None if error is None else str(error["code"])
 
 

@@ -19,10 +19,10 @@ from pathlib import Path
 import httpx2
 import pytest
 from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
-from postgres import PostgresServer
-from test_replicas import CROSSING_SECONDS, REPLICA_ENV
+from test_replicas import CROSSING_SECONDS, REPLICA_ENV, end
 
 from deploy.cluster import Cluster, cluster
+from deploy.postgres import PostgresServer
 from testbed.client import Listener, Phone, follow, live, pair
 
 ROLES = ("starter", "joiner")
@@ -217,11 +217,3 @@ def test_plain_http_leads_to_https_which_carries_hsts_once(running: Cluster) -> 
     assert created.status_code == 201
     assert created.headers.get_list("Strict-Transport-Security") == ["max-age=31536000"]
     assert created.json()["join_url"].startswith(f"{running.url}/join/")
-
-
-def end(phone: Phone, *streams: Listener) -> None:
-    """Delete now, through nginx: every stream of the session ends with 'expired'."""
-    assert phone.call("DELETE").status_code == 204
-    for stream in streams:
-        assert stream.ended.wait(CROSSING_SECONDS)
-        assert stream.types[-1] == "expired"

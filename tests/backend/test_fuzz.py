@@ -24,7 +24,7 @@ import requests
 import schemathesis
 from fastapi import FastAPI
 from hypothesis import strategies as st
-from phones import TEMPLE
+from phones import TEMPLE, landmarks, temple_pair
 from schemathesis.checks import not_a_server_error
 from schemathesis.python import asgi
 from schemathesis.specs.openapi.checks import (
@@ -35,7 +35,6 @@ from schemathesis.specs.openapi.checks import (
 
 from backend.main import create_app
 from backend.settings import Settings
-from testbed.scenes import temple_scene
 
 CHECKS = [
     not_a_server_error,
@@ -76,25 +75,14 @@ class LiveSearch:
             joined = self._answer("POST", "/api/sessions/join", 200, json=code)
             self.session_id = created["session_id"]
             self.tokens = {"starter": created["token"], "joiner": joined["token"]}
-            scene = temple_scene(
-                TEMPLE / "templeSR_par.txt",
-                "templeSR0003",
-                "templeSR0006",
-                6,
-                np.random.default_rng(0),
-            )
+            scene = temple_pair(6, np.random.default_rng(0))
             for role, photo, points in (
                 ("starter", "templeSR0003.png", scene.landmarks1),
                 ("joiner", "templeSR0006.png", scene.landmarks2),
             ):
                 upload = {"photo": (photo, (TEMPLE / photo).read_bytes(), "image/png")}
                 self._answer("PUT", "/photo", 200, role=role, files=upload)
-                taps: dict[str, Any] = {
-                    "landmarks": [
-                        {"id": n, "x": float(x), "y": float(y)}
-                        for n, (x, y) in enumerate(points, start=1)
-                    ]
-                }
+                taps: dict[str, Any] = {"landmarks": landmarks(points, sigma=None)}
                 if role == "starter":
                     taps["friend"] = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
                 self._answer("PUT", "/taps", 200, role=role, json=taps)

@@ -8,10 +8,11 @@ from typing import Any
 import cv2
 import numpy as np
 import pytest
+from phones import Phones, error_of, photos_uploaded
+from test_sessions import landmarks, scene
 
 from testbed.client import Phone
 from testbed.venue import RenderedPair, rendered_pair
-from tests.backend.test_sessions import error_of, landmarks, photos_uploaded, scene
 
 
 def inside(band: dict[str, Any], point: Any) -> bool:
@@ -176,10 +177,8 @@ def test_a_taken_suggestion_is_a_tap_like_any_other_flagged_when_it_does_not_fit
     assert any(f"#{i}" in warning["message"] for warning in told)
 
 
-def test_a_suggestion_needs_an_answer_and_a_landmark_to_find(
-    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
-) -> None:
-    photos_uploaded(starter, joiner, temple_photos)
+def test_a_suggestion_needs_an_answer_and_a_landmark_to_find(uploaded: Phones) -> None:
+    starter, joiner = uploaded
     s = scene(7, seed=4)
     starter.tap(landmarks=landmarks(s.landmarks1[:2]), friend=list(s.epipole1))
     early = joiner.client.get(joiner.url("/landmarks/joiner/1/suggestion"), headers=joiner.auth)

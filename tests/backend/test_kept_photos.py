@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 from fastapi.testclient import TestClient
+from phones import Phones, photos_uploaded
+from test_sessions import landmarks, scene
 
 from backend.photos.intake import StoredPhoto
 from backend.photos.kept import KeptPhotos
 from backend.photos.pictures import decode_photo, encode_image
 from backend.photos.repository import Photos
 from testbed.client import Phone
-from tests.backend.test_sessions import landmarks, photos_uploaded, scene
 
 
 class Reads:
@@ -62,20 +63,15 @@ def test_no_photo_is_not_kept() -> None:
     assert kept.get(("s", "starter", 1), Reads()) is not None
 
 
-def tap_landmarks(
-    starter: Phone, joiner: Phone | None = None, photos: tuple[bytes, bytes] | None = None
-) -> None:
-    """The starter taps five landmarks (after both phones upload ``photos``, if given)."""
-    if joiner is not None and photos is not None:
-        photos_uploaded(starter, joiner, photos)
+def tap_landmarks(starter: Phone) -> None:
+    """The starter taps five landmarks."""
     s = scene(5)
     starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
 
 
-def test_a_crop_shows_the_photo_as_it_now_is(
-    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
-) -> None:
-    tap_landmarks(starter, joiner, temple_photos)
+def test_a_crop_shows_the_photo_as_it_now_is(client: TestClient, uploaded: Phones) -> None:
+    starter, joiner = uploaded
+    tap_landmarks(starter)
 
     def crop() -> np.ndarray:
         answer = client.get(joiner.url("/landmarks/starter/2/crop"), headers=joiner.auth)
@@ -109,10 +105,9 @@ def test_a_photo_replaced_since_the_snapshot_is_not_kept_under_the_old_name(
     assert store.get(starter.session_id, "starter", new) is kept
 
 
-def test_after_delete_now_no_crop_is_served(
-    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
-) -> None:
-    tap_landmarks(starter, joiner, temple_photos)
+def test_after_delete_now_no_crop_is_served(client: TestClient, uploaded: Phones) -> None:
+    starter, joiner = uploaded
+    tap_landmarks(starter)
     url = joiner.url("/landmarks/starter/2/crop")
     assert client.get(url, headers=joiner.auth).status_code == 200  # now kept
     assert client.delete(joiner.url(), headers=joiner.auth).status_code == 204

@@ -9,11 +9,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from phones import PAIR, TEMPLE, in_region, mark
+from phones import PAIR, TEMPLE, in_region, landmarks, mark, temple_pair
 
 from deploy.replica import serve
 from testbed.client import Phone, live
-from testbed.scenes import tap, temple_scene
+from testbed.scenes import tap
 
 
 @pytest.fixture
@@ -43,14 +43,11 @@ def test_two_phones_find_each_other(server: str) -> None:
     starter_events.wait_for("photo", 2)
 
     rng = np.random.default_rng(6)
-    scene = temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, 6, rng)
+    scene = temple_pair(6, rng)
     taps = tap(scene, 1.0, rng)
 
-    def landmarks(points: np.ndarray) -> list[dict[str, float]]:
-        return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points)]
-
-    starter.tap(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2)).json()
+    starter.tap(landmarks=landmarks(taps.landmarks1, sigma=None), friend=mark(taps.epipole1))
+    state = joiner.tap(landmarks=landmarks(taps.landmarks2, sigma=None)).json()
     starter_events.wait_for("answer")
     joiner_events.wait_for("answer")
 

@@ -17,8 +17,8 @@ from alembic.config import Config
 from alembic.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from fastapi.testclient import TestClient
-from phones import TEMPLE
-from postgres import PostgresServer
+from phones import TEMPLE, temple_pair
+from phones import landmarks as sigma_landmarks
 from sqlalchemy import Column, Connection, Engine, String, inspect, text
 from sqlalchemy.types import TypeEngine
 
@@ -34,7 +34,7 @@ from backend.storage.database import (
     migrate,
 )
 from backend.storage.tables import Base
-from testbed.scenes import temple_scene
+from deploy.postgres import PostgresServer
 
 HEAD = ScriptDirectory(str(MIGRATIONS)).get_current_head()
 
@@ -49,6 +49,14 @@ def empty_database(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[s
     name = postgres.create_database()
     yield postgres.url(name)
     postgres.drop_database(name)
+
+
+@pytest.fixture
+def engine(empty_database: str) -> Iterator[Engine]:
+    """The app's engine on the empty database, which it migrates to the newest revision."""
+    migrated = make_engine(empty_database)
+    yield migrated
+    migrated.dispose()
 
 
 def differences(engine: Engine) -> list[object]:
@@ -89,108 +97,88 @@ def revision(engine: Engine) -> str | None:
         return MigrationContext.configure(connection).get_current_revision()
 
 
-def test_the_migrated_schema_is_exactly_the_models(empty_database: str) -> None:
-    engine = make_engine(empty_database)
-    try:
-        assert revision(engine) == HEAD
-        assert differences(engine) == []
-        # The comparison does look at indexes, constraints and types: one gone is seen.
-        with engine.begin() as connection:
-            connection.execute(text("DROP INDEX ix_events_session_id"))
-        assert [diff[0] for diff in differences(engine)] == ["add_index"]  # type: ignore[index]
-    finally:
-        engine.dispose()
+def test_the_migrated_schema_is_exactly_the_models(engine: Engine) -> None:
+    assert revision(engine) == HEAD
+    assert differences(engine) == []
+    # The comparison does look at indexes, constraints and types: one gone is seen.
+    with engine.begin() as connection:
+        connection.execute(text("DROP INDEX ix_events_session_id"))
+    assert [diff[0] for diff in differences(engine)] == ["add_index"]  # type: ignore[index]
 
 
-def test_a_downgrade_removes_the_schema_and_an_upgrade_brings_it_back(
-    empty_database: str,
-) -> None:
-    engine = make_engine(empty_database)
-    try:
-        with engine.begin() as connection:
-            command.downgrade(alembic_config(connection), "base")
-        assert inspect(engine).get_table_names() == ["alembic_version"]
-        migrate(engine)
-        assert differences(engine) == []
-    finally:
-        engine.dispose()
+def test_a_downgrade_removes_the_schema_and_an_upgrade_brings_it_back(engine: Engine) -> None:
+    with engine.begin() as connection:
+        command.downgrade(alembic_config(connection), "base")
+    assert inspect(engine).get_table_names() == ["alembic_version"]
+    migrate(engine)
+    assert differences(engine) == []
 
 
-def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(
-    empty_database: str,
-) -> None:
+def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(engine: Engine) -> None:
     """Migration 0005: the sessions and all their rows stay (SQLite's table is not copied,
     which would delete them through the foreign keys); a six-digit code, which the API no
     longer takes, is cleared."""
-    engine = make_engine(empty_database)
-    try:
-        with engine.begin() as connection:
-            config = alembic_config(connection)
-            command.downgrade(config, "0004")
-            connection.execute(
-                text(
-                    "INSERT INTO sessions (id, created_at, expires_at, join_code, "
-                    "join_code_expires_at, version) VALUES ('s1', '2026-11-21 20:00', "
-                    "'2026-11-21 22:00', '482913', '2026-11-21 20:10', 1)"
-                )
+    with engine.begin() as connection:
+        config = alembic_config(connection)
+        command.downgrade(config, "0004")
+        connection.execute(
+            text(
+                "INSERT INTO sessions (id, created_at, expires_at, join_code, "
+                "join_code_expires_at, version) VALUES ('s1', '2026-11-21 20:00', "
+                "'2026-11-21 22:00', '482913', '2026-11-21 20:10', 1)"
             )
-            connection.execute(
-                text(
-                    "INSERT INTO participants (session_id, role, token_hash, joined_at) "
-                    "VALUES ('s1', 'seeker', 'h1', '2026-11-21 20:00')"
-                )
+        )
+        connection.execute(
+            text(
+                "INSERT INTO participants (session_id, role, token_hash, joined_at) "
+                "VALUES ('s1', 'seeker', 'h1', '2026-11-21 20:00')"
             )
-            command.upgrade(config, "0005")
-        with engine.connect() as connection:
-            row = connection.execute(
-                text(
-                    "SELECT s.join_code, s.join_code_failures, s.join_code_renewals, p.role "
-                    "FROM sessions s JOIN participants p ON p.session_id = s.id"
-                )
-            ).one()
-        assert tuple(row) == (None, 0, 0, "seeker")
-    finally:
-        engine.dispose()
+        )
+        command.upgrade(config, "0005")
+    with engine.connect() as connection:
+        row = connection.execute(
+            text(
+                "SELECT s.join_code, s.join_code_failures, s.join_code_renewals, p.role "
+                "FROM sessions s JOIN participants p ON p.session_id = s.id"
+            )
+        ).one()
+    assert tuple(row) == (None, 0, 0, "seeker")
 
 
-def test_answers_with_warnings_as_sentences_are_cleared(empty_database: str) -> None:
+def test_answers_with_warnings_as_sentences_are_cleared(engine: Engine) -> None:
     """Migration 0009: a stored answer whose warnings are bare sentences is cleared (the
     state answers again); the session stays."""
-    engine = make_engine(empty_database)
     answer = {"answer": {"in_photo": {"joiner": {"warnings": ["The position is uncertain."]}}}}
-    try:
-        with engine.begin() as connection:
-            config = alembic_config(connection)
-            command.downgrade(config, "0008")
-            connection.execute(
-                text(
-                    "INSERT INTO sessions (id, created_at, expires_at, version, answer, "
-                    "answer_version) VALUES ('s1', :now, :end, 7, :answer, 7)"
-                ),
-                {"now": datetime(2026, 11, 26), "end": datetime(2099, 1, 1)}
-                | {"answer": json.dumps(answer)},
-            )
-            command.upgrade(config, "0009")
-        with engine.connect() as connection:
-            row = connection.execute(text("SELECT version, answer, answer_version FROM sessions"))
-            assert tuple(row.one()) == (7, None, None)
-    finally:
-        engine.dispose()
+    with engine.begin() as connection:
+        config = alembic_config(connection)
+        command.downgrade(config, "0008")
+        connection.execute(
+            text(
+                "INSERT INTO sessions (id, created_at, expires_at, version, answer, "
+                "answer_version) VALUES ('s1', :now, :end, 7, :answer, 7)"
+            ),
+            {"now": datetime(2026, 11, 26), "end": datetime(2099, 1, 1)}
+            | {"answer": json.dumps(answer)},
+        )
+        command.upgrade(config, "0009")
+    with engine.connect() as connection:
+        row = connection.execute(text("SELECT version, answer, answer_version FROM sessions"))
+        assert tuple(row.one()) == (7, None, None)
 
 
 def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
-    empty_database: str, tmp_path: Path
+    empty_database: str, engine: Engine, tmp_path: Path
 ) -> None:
     """Migration 0006: roles, taps and events in the friends' words, each tap's old
     coordinates kept; the stored answer (of the old shape) is cleared, and the next read of
     the state answers again."""
-    engine = make_engine(empty_database)
-    s = temple_scene(
-        TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 6, np.random.default_rng(3)
-    )
+    s = temple_pair(6, np.random.default_rng(3))
     old = {
-        "seeker": {"landmarks": taps(s.landmarks1), "epipole1": list(s.epipole1)},
-        "buddy": {"landmarks": taps(s.landmarks2), "epipole2": None},
+        "seeker": {
+            "landmarks": sigma_landmarks(s.landmarks1, sigma=None),
+            "epipole1": list(s.epipole1),
+        },
+        "buddy": {"landmarks": sigma_landmarks(s.landmarks2, sigma=None), "epipole2": None},
     }
     stored = {
         role: store_photo(
@@ -198,62 +186,59 @@ def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
         )
         for role, n in (("seeker", 3), ("buddy", 6))
     }
-    try:
-        with engine.begin() as connection:
-            command.downgrade(alembic_config(connection), "0005")
+    with engine.begin() as connection:
+        command.downgrade(alembic_config(connection), "0005")
+        connection.execute(
+            text(
+                "INSERT INTO sessions (id, created_at, expires_at, version, result, "
+                "result_version) VALUES ('s1', :now, :end, 7, '{\"result\": {}}', 7)"
+            ),
+            {"now": datetime(2026, 11, 25, 8), "end": datetime(2099, 1, 1)},
+        )
+        for role in ("seeker", "buddy"):
             connection.execute(
                 text(
-                    "INSERT INTO sessions (id, created_at, expires_at, version, result, "
-                    "result_version) VALUES ('s1', :now, :end, 7, '{\"result\": {}}', 7)"
+                    "INSERT INTO participants (session_id, role, token_hash, joined_at, "
+                    "taps) VALUES ('s1', :role, :hash, :now, :taps)"
                 ),
-                {"now": datetime(2026, 11, 25, 8), "end": datetime(2099, 1, 1)},
+                {
+                    "role": role,
+                    "hash": token_hash(role),
+                    "now": datetime(2026, 11, 25, 8),
+                    "taps": json.dumps(old[role]),
+                },
             )
-            for role in ("seeker", "buddy"):
-                connection.execute(
-                    text(
-                        "INSERT INTO participants (session_id, role, token_hash, joined_at, "
-                        "taps) VALUES ('s1', :role, :hash, :now, :taps)"
-                    ),
-                    {
-                        "role": role,
-                        "hash": token_hash(role),
-                        "now": datetime(2026, 11, 25, 8),
-                        "taps": json.dumps(old[role]),
-                    },
-                )
-                photo = stored[role]
-                connection.execute(
-                    text(
-                        "INSERT INTO photos (session_id, role, data, width, height, scale, "
-                        "uploaded_at) VALUES ('s1', :role, :data, :w, :h, 1.0, :now)"
-                    ),
-                    {
-                        "role": role,
-                        "data": photo.data,
-                        "w": photo.width,
-                        "h": photo.height,
-                        "now": datetime(2026, 11, 25, 8),
-                    },
-                )
+            photo = stored[role]
             connection.execute(
                 text(
-                    "INSERT INTO events (session_id, type, data, created_at) VALUES "
-                    "('s1', 'result', '{\"version\": 7}', :now), "
-                    "('s1', 'taps', '{\"role\": \"buddy\", \"version\": 7}', :now)"
+                    "INSERT INTO photos (session_id, role, data, width, height, scale, "
+                    "uploaded_at) VALUES ('s1', :role, :data, :w, :h, 1.0, :now)"
                 ),
-                {"now": datetime(2026, 11, 25, 8)},
+                {
+                    "role": role,
+                    "data": photo.data,
+                    "w": photo.width,
+                    "h": photo.height,
+                    "now": datetime(2026, 11, 25, 8),
+                },
             )
-        migrate(engine)
-        assert differences(engine) == []
-        with engine.connect() as connection:
-            events = connection.execute(text("SELECT type, data FROM events ORDER BY id")).all()
-            assert [tuple(e) for e in events] == [
-                ("answer", '{"version": 7}'),
-                ("taps", '{"role": "joiner", "version": 7}'),
-            ]
-            assert connection.scalar(text("SELECT answer FROM sessions")) is None
-    finally:
-        engine.dispose()
+        connection.execute(
+            text(
+                "INSERT INTO events (session_id, type, data, created_at) VALUES "
+                "('s1', 'result', '{\"version\": 7}', :now), "
+                "('s1', 'taps', '{\"role\": \"buddy\", \"version\": 7}', :now)"
+            ),
+            {"now": datetime(2026, 11, 25, 8)},
+        )
+    migrate(engine)
+    assert differences(engine) == []
+    with engine.connect() as connection:
+        events = connection.execute(text("SELECT type, data FROM events ORDER BY id")).all()
+        assert [tuple(e) for e in events] == [
+            ("answer", '{"version": 7}'),
+            ("taps", '{"role": "joiner", "version": 7}'),
+        ]
+        assert connection.scalar(text("SELECT answer FROM sessions")) is None
     settings = Settings(database_url=empty_database)
     with TestClient(create_app(settings)) as client:
         state = client.get("/api/sessions/s1", headers={"Authorization": "Bearer seeker"})
@@ -263,10 +248,6 @@ def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
         assert body["taps"]["starter"]["friend"]["x"] == pytest.approx(s.epipole1[0])
         assert body["taps"]["joiner"]["landmarks"][2]["y"] == pytest.approx(s.landmarks2[2][1])
         assert body["answer"]["in_photo"]["joiner"]["how"] == "solved"  # answered again
-
-
-def taps(points: Any) -> list[dict[str, float]]:
-    return [{"id": n, "x": float(x), "y": float(y)} for n, (x, y) in enumerate(points, 1)]
 
 
 def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: str) -> None:

@@ -10,8 +10,9 @@ import io
 import cv2
 import numpy as np
 import pytest
+from phones import Phones
 from PIL import Image
-from test_sessions import both_tapped, photos_uploaded, scene
+from test_sessions import landmarks, scene
 
 from backend.limits import STORED_PHOTO_SIDE
 from testbed.client import Phone
@@ -40,10 +41,11 @@ def test_the_phones_photo_is_stored_at_the_size_it_was_sent(
     assert Image.open(io.BytesIO(photo.content)).size == size
 
 
-def test_the_answers_layer_is_the_drawing_alone(
-    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
-) -> None:
-    both_tapped(starter, joiner, temple_photos, scene(6))
+def test_the_answers_layer_is_the_drawing_alone(uploaded: Phones) -> None:
+    starter, joiner = uploaded
+    s = scene(6)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2))
     get = joiner.client.get
     url = joiner.url("/overlay/joiner")
     layer = get(url, params={"layer": "true"}, headers=joiner.auth)
@@ -64,10 +66,8 @@ def test_the_answers_layer_is_the_drawing_alone(
     assert len(layer.content) < len(full.content) / 3
 
 
-def test_a_layer_of_a_non_answer_is_refused(
-    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
-) -> None:
-    photos_uploaded(starter, joiner, temple_photos)
+def test_a_layer_of_a_non_answer_is_refused(uploaded: Phones) -> None:
+    starter, _ = uploaded
     response = starter.client.get(
         starter.url("/overlay/joiner"), params={"layer": "maybe"}, headers=starter.auth
     )

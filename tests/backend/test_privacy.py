@@ -24,12 +24,12 @@ import pytest
 from fastapi.testclient import TestClient
 from phones import FakeClock
 from PIL import ExifTags, Image
-from postgres import PostgresServer
 from sqlalchemy import Engine
 
 from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
 from backend.wiring import Services
+from deploy.postgres import PostgresServer
 from testbed.client import Phone
 
 # The temple landmarks of the README's example, and where the joiner is in photo 1.

@@ -17,9 +17,9 @@ import httpx2
 import psycopg
 import pytest
 from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
-from postgres import PostgresServer
 
 from backend.storage.database import database_url
+from deploy.postgres import PostgresServer
 from deploy.replica import Server, serve
 from testbed.client import Listener, Phone, follow, live, pair
 from testbed.scenes import Scene

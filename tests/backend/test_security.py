@@ -16,7 +16,7 @@ import httpx2
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from phones import FakeClock
+from phones import FakeClock, error_of
 
 from backend.main import create_app
 from backend.pairing import guessing
@@ -56,10 +56,6 @@ def wrong_code(*right: str) -> str:
     """A code that names no session's search (the codes in play are few, and all known)."""
     numbers = {code[:4] for code in right}
     return next(f"{n:04d}0000" for n in range(10_000) if f"{n:04d}" not in numbers)
-
-
-def error_of(response: httpx2.Response) -> str:
-    return str(response.json()["error"]["code"])
 
 
 def join(client: TestClient, code: str) -> httpx2.Response:

@@ -9,11 +9,11 @@ import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE
+from phones import TEMPLE, temple_pair
 
 from shared_solver import Camera, solve
 from testbed.phones import phone_scene
-from testbed.scenes import Scene, facing_scene, solved, temple_scene
+from testbed.scenes import Scene, facing_scene, solved
 
 
 def request_of(s: Scene, **more: object) -> dict[str, object]:
@@ -146,30 +146,6 @@ def test_a_malformed_camera_is_refused_with_the_solvers_code(
     assert field in error["message"]
 
 
-@pytest.mark.parametrize(
-    ("change", "code"),
-    [
-        ({"points1_sigma": [1.0, 2.0]}, "invalid_shape"),  # 2 sigmas for 6 landmarks
-        ({"points2_sigma": [1.0, -2.0, 1.0, 1.0, 1.0, 1.0]}, "invalid_parameter"),
-        ({"points2_sigma": [[[1.0, 2.0], [2.0, 1.0]]] * 6}, "invalid_parameter"),  # indefinite
-        ({"points1_sigma": "sharp"}, "invalid_shape"),
-        ({"epipole1_sigma": [[1.0, 2.0], [2.0, 1.0]]}, "invalid_parameter"),
-        ({"epipole1_sigma": 0}, "invalid_parameter"),
-        ({"epipole1_sigma": "wide"}, "invalid_shape"),
-        ({"epipole1_sigma": [1.0, 1.0]}, "invalid_shape"),
-        ({"epipole2": [5, 5], "epipole2_sigma": [[1.0, 0.0], [1.0, 1.0]]}, "invalid_parameter"),
-        ({"epipole1_sigma": [[1.0, float("nan")], [0.0, 1.0]]}, "not_finite"),
-    ],
-)
-def test_a_malformed_precision_is_refused_with_the_solvers_code(
-    client: TestClient, change: dict[str, object], code: str
-) -> None:
-    text = json.dumps(request_for(0) | change)  # NaN is sent as JSON's NaN
-    response = client.post("/api/solve", content=text, headers={"Content-Type": "application/json"})
-    assert response.status_code == 422
-    assert response.json()["error"]["code"] == code
-
-
 def test_cameras_and_precisions_are_documented(client: TestClient) -> None:
     """Each new field has a description and a schema (the cameras: the solver's Camera),
     and the documented camera-aware answer is the real solver's."""
@@ -221,25 +197,28 @@ def without_nulls(value: object) -> object:
         ({"points2": [[1, 2, 3]] * 6}, "invalid_shape"),
         ({"points1": "nowhere"}, "invalid_shape"),
         ({"epipole1": [1]}, "invalid_shape"),
+        ({"epipole1": [float("nan"), 3]}, "not_finite"),
         ({"tap_sigma": -1}, "invalid_parameter"),
         ({"epipole2": [5, 5], "epipole1": None}, "missing_epipole1"),
+        ({"points1_sigma": [1.0, 2.0]}, "invalid_shape"),  # 2 sigmas for 6 landmarks
+        ({"points2_sigma": [1.0, -2.0, 1.0, 1.0, 1.0, 1.0]}, "invalid_parameter"),
+        ({"points2_sigma": [[[1.0, 2.0], [2.0, 1.0]]] * 6}, "invalid_parameter"),  # indefinite
+        ({"points1_sigma": "sharp"}, "invalid_shape"),
+        ({"epipole1_sigma": [[1.0, 2.0], [2.0, 1.0]]}, "invalid_parameter"),
+        ({"epipole1_sigma": 0}, "invalid_parameter"),
+        ({"epipole1_sigma": "wide"}, "invalid_shape"),
+        ({"epipole1_sigma": [1.0, 1.0]}, "invalid_shape"),
+        ({"epipole2": [5, 5], "epipole2_sigma": [[1.0, 0.0], [1.0, 1.0]]}, "invalid_parameter"),
+        ({"epipole1_sigma": [[1.0, float("nan")], [0.0, 1.0]]}, "not_finite"),
     ],
 )
 def test_solve_refuses_with_the_solvers_code(
     client: TestClient, change: dict[str, object], code: str
 ) -> None:
-    response = client.post("/api/solve", json=request_for(0) | change)
-    assert response.status_code == 422
-    assert response.json()["error"]["code"] == code
-
-
-def test_solve_refuses_nan_with_not_finite(client: TestClient) -> None:
-    text = json.dumps(request_for(0)).replace(
-        '"tap_sigma": 1.5', '"tap_sigma": 1.5, "epipole1": [NaN, 3]'
-    )
+    text = json.dumps(request_for(0) | change)  # NaN is sent as JSON's NaN
     response = client.post("/api/solve", content=text, headers={"Content-Type": "application/json"})
     assert response.status_code == 422
-    assert response.json()["error"]["code"] == "not_finite"
+    assert response.json()["error"]["code"] == code
 
 
 @pytest.mark.parametrize("body", [b"{not json", b"[]", b'{"points1": [[1, 2]]}'])
@@ -249,42 +228,47 @@ def test_solve_refuses_malformed_requests(client: TestClient, body: bytes) -> No
     assert response.json()["error"]["code"] == "invalid_request"
 
 
+PHOTO2 = TEMPLE / "templeSR0006.png"
+
+
 def temple_request() -> dict[str, object]:
-    s = temple_scene(
-        TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 6, np.random.default_rng(4)
-    )
+    s = temple_pair(6, np.random.default_rng(4))
     return request_of(s, image_size1=[640, 480], image_size2=[640, 480])
+
+
+def overlay(
+    client: TestClient, request: object, photo: tuple[str, bytes, str] | None = None, **params: str
+) -> httpx2.Response:
+    """``POST /api/overlay`` of ``request`` (JSON unless a string) on ``photo`` (photo 2 of the
+    temple pair by default)."""
+    photo = photo or ("photo2.png", PHOTO2.read_bytes(), "image/png")
+    text = request if isinstance(request, str) else json.dumps(request)
+    return client.post(
+        "/api/overlay", params=params, files={"photo": photo}, data={"request": text}
+    )
+
+
+def drawn_on_photo2(response: httpx2.Response) -> None:
+    """An image of photo 2's size, with something drawn on it."""
+    drawn = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
+    plain = cv2.imread(str(PHOTO2))
+    assert drawn.shape == plain.shape
+    assert np.mean(np.any(drawn != plain, axis=2)) > 0.005
 
 
 @pytest.mark.parametrize(("fmt", "magic"), [("png", b"\x89PNG"), ("jpeg", b"\xff\xd8\xff")])
 def test_overlay_draws_on_photo_2(client: TestClient, fmt: str, magic: bytes) -> None:
-    photo = (TEMPLE / "templeSR0006.png").read_bytes()
-    response = client.post(
-        "/api/overlay",
-        params={"format": fmt},
-        files={"photo": ("photo2.png", photo, "image/png")},
-        data={"request": json.dumps(temple_request())},
-    )
+    response = overlay(client, temple_request(), format=fmt)
     assert response.status_code == 200, response.text
     assert response.content.startswith(magic)
-    drawn = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
-    plain = cv2.imread(str(TEMPLE / "templeSR0006.png"))
-    assert drawn.shape == plain.shape
-    assert np.mean(np.any(drawn != plain, axis=2)) > 0.005  # something was drawn
+    drawn_on_photo2(response)
 
 
 def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> None:
-    not_a_photo = client.post(
-        "/api/overlay",
-        files={"photo": ("x.jpg", b"%PDF-1.4 hello", "image/jpeg")},
-        data={"request": json.dumps(temple_request())},
-    )
+    not_a_photo = overlay(client, temple_request(), ("x.jpg", b"%PDF-1.4 hello", "image/jpeg"))
     assert not_a_photo.status_code == 415
     assert not_a_photo.json()["error"]["code"] == "unsupported_media_type"
-    photo = (TEMPLE / "templeSR0006.png").read_bytes()
-    bad = client.post(
-        "/api/overlay", files={"photo": ("b.png", photo, "image/png")}, data={"request": "{"}
-    )
+    bad = overlay(client, "{", ("b.png", PHOTO2.read_bytes(), "image/png"))
     assert bad.status_code == 422
     assert bad.json()["error"]["code"] == "invalid_request"
     missing = client.post("/api/overlay", data={"request": json.dumps(temple_request())})
@@ -294,7 +278,6 @@ def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> No
 def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -> None:
     """The temple photos as two phone photos: three landmarks and friend 2 marked are enough for
     a drawing; a malformed camera is refused with the solver's code, as by /api/solve."""
-    photo = (TEMPLE / "templeSR0006.png").read_bytes()
     three = (
         temple_request()
         | {
@@ -302,21 +285,11 @@ def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -
             "points2": temple_request()["points2"][:3],  # type: ignore[index]
         }
     )
-
-    def overlay(request: dict[str, object]) -> httpx2.Response:
-        return client.post(
-            "/api/overlay",
-            files={"photo": ("photo2.png", photo, "image/png")},
-            data={"request": json.dumps(request)},
-        )
-
-    assert overlay(three).json()["error"]["code"] == "too_few_landmarks"
+    assert overlay(client, three).json()["error"]["code"] == "too_few_landmarks"
     phones = three | {"camera1": {"kind": "phone"}, "camera2": "phone", "points1_sigma": [2, 3, 2]}
-    drawn = overlay(phones)
+    drawn = overlay(client, phones)
     assert drawn.status_code == 200, drawn.text
-    image = cv2.imdecode(np.frombuffer(drawn.content, np.uint8), cv2.IMREAD_COLOR)
-    plain = cv2.imread(str(TEMPLE / "templeSR0006.png"))
-    assert np.mean(np.any(image != plain, axis=2)) > 0.005
-    bad = overlay(phones | {"camera2": {"kind": "known_focal"}})
+    drawn_on_photo2(drawn)
+    bad = overlay(client, phones | {"camera2": {"kind": "known_focal"}})
     assert bad.status_code == 422
     assert bad.json()["error"]["code"] == "invalid_parameter"

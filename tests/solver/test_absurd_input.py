@@ -1,12 +1,12 @@
-"""Property-based: whatever ``solve`` is sent, it answers with finite JSON or refuses with a
-stable code, never another exception; and within the pixel range it honours, a photo scaled
-by any factor is answered the same, scaled.
+"""Whatever ``solve`` is sent, it answers with finite JSON or refuses with a stable code,
+never another exception; and within the pixel range it honours, a photo scaled by any factor
+is answered the same, scaled.
 
-The random fuzz (test_any_input.py) draws taps over ten orders of magnitude from normal
-distributions: it never met 1e300 (where the Hartley normaliser's determinant underflows and
-``POST /api/solve`` answered 500), a subnormal, or landmarks exactly on a line or a plane.
-The strategies of ``tests/absurd_inputs.py`` draw those corners on purpose; the inputs they
-found failing are kept below as examples, each with the code it now gets.
+A random fuzz draws taps over ten orders of magnitude from normal distributions: it never
+met 1e300 (where the Hartley normaliser's determinant underflows and ``POST /api/solve``
+answered 500), a subnormal, or landmarks exactly on a line or a plane. The strategies of
+``tests/absurd_inputs.py`` draw those corners on purpose; the inputs they found failing are
+kept below as examples, each with the code it now gets.
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ from testbed.scenes import Scene, facing_scene, tap
 # 25 s and 1 s on the 2-core machine, shared (measured: pytest --durations, load average 2.7).
 REQUESTS = examples(2000)
 SCALINGS = examples(150)
+RANDOM_REQUESTS = 1500
 
 
 def outcome(request: dict[str, Any]) -> str:
@@ -55,8 +56,8 @@ def outcome(request: dict[str, Any]) -> str:
         assert refusal.message[:1].isupper() or refusal.message[:1].isdigit(), refusal.message
         assert refusal.message.endswith("."), refusal.message
         return refusal.code.value
-    answer = result.model_dump(mode="json")
-    json.dumps(answer, allow_nan=False)  # raises on a NaN or an infinity anywhere
+    answer = json.loads(json.dumps(result.model_dump(mode="json"), allow_nan=False))  # no NaN
+    assert answer["method"] == result.method
     ellipse = answer["uncertainty"] and answer["uncertainty"]["ellipse"]
     if ellipse is not None:
         axes = ellipse["axes"]
@@ -77,6 +78,43 @@ def test_every_request_is_answered_finitely_or_refused_with_a_code() -> None:
     # what is refused up front would test nothing.
     assert seen["answer"] >= REQUESTS // 10, seen
     assert len(seen) >= 10, seen
+
+
+def random_request(rng: np.random.Generator) -> dict[str, Any]:
+    """Taps drawn from normal distributions over ten orders of magnitude, photo sizes from a
+    hundredth of a pixel to ten million, every way of marking the friends, every camera."""
+    n = int(rng.integers(1, 10))
+    scale = 10.0 ** rng.uniform(-3, 8)
+    p = rng.normal(size=(n, 2)) * scale
+    q = p + rng.normal(size=(n, 2)) if rng.random() < 0.3 else rng.normal(size=(n, 2)) * scale
+    request: dict[str, Any] = {"points1": p, "points2": q}
+    draw = rng.random()
+    if draw < 0.5:
+        request["epipole1"] = rng.normal(size=2) * scale
+        if rng.random() < 0.3:
+            request["epipole2"] = rng.normal(size=2) * scale
+    elif draw < 0.65:
+        request["epipolar_line1"] = rng.normal(size=3)
+    size = [float(10 ** rng.uniform(-2, 7)), float(10 ** rng.uniform(-2, 7))]
+    kind = str(rng.choice(["phone", "unknown", "focal"]))
+    camera: Any = (
+        kind
+        if kind != "focal"
+        else {"kind": "known_focal", "focal_35mm": float(10 ** rng.uniform(-2, 3.2))}
+    )
+    request |= {"image_size1": size, "image_size2": size[::-1], "camera1": camera}
+    request["camera2"] = "phone" if rng.random() < 0.7 else camera
+    request["tap_sigma"] = float(10 ** rng.uniform(-2, 2))
+    if rng.random() < 0.3:
+        request["points1_sigma"] = np.abs(rng.normal(size=n)) * 10 + 1e-3
+    return request
+
+
+def test_random_requests_are_answered_finitely_or_refused_with_a_code() -> None:
+    rng = np.random.default_rng(2026)
+    seen = Counter(outcome(random_request(rng)) for _ in range(RANDOM_REQUESTS))
+    assert seen["answer"] > 100, seen
+    assert seen.total() - seen["answer"] > 100, seen
 
 
 def _scaled(scene: Scene, scale: float, rng: np.random.Generator) -> dict[str, Any]:
@@ -150,6 +188,19 @@ def _known(focal_35mm: float, uncertainty: float) -> dict[str, Any]:
     return {"kind": "known_focal", "focal_35mm": focal_35mm, "focal_uncertainty": uncertainty}
 
 
+def _three_taps(**changes: Any) -> dict[str, Any]:
+    """Three landmarks and the friend marked on 100 px photos, with ``changes``."""
+    request = {
+        "points1": [[1.0, 2.0], [30.0, 40.0], [50.0, 7.0]],
+        "points2": [[1.0, 2.0], [31.0, 50.0], [60.0, 7.0]],
+        "epipole1": [10.0, 25.0],
+        "image_size1": [100.0, 100.0],
+        "image_size2": [100.0, 100.0],
+        "camera2": "phone",
+    }
+    return request | changes
+
+
 # The inputs found failing before the fix (a 500 through the API: an exception other than
 # SolverError, or an answer with a NaN or an infinity), one of each kind, and what they get
 # now. Before, every photo scaled by 1e20 or more, or 1e-20 or less, failed so.
@@ -182,6 +233,14 @@ FOUND = {
     ),
     "tap_sigma an integer beyond 64 bits": (
         _scene_request(1.0, tap_sigma=2**70),
+        "invalid_parameter",
+    ),
+    "a focal length that underflows to 0 px": (
+        _three_taps(camera1={"kind": "known_focal", "focal_35mm": 5e-324}),
+        "invalid_parameter",
+    ),
+    "a photo whose diagonal overflows": (
+        _three_taps(camera1={"kind": "known_focal", "focal_35mm": 26.0}, image_size1=[1.7e308] * 2),
         "invalid_parameter",
     ),
     "a 2.7e-14 mm lens known to 1e-323, nothing marked": (

@@ -11,7 +11,7 @@ import pytest
 from shared_solver import ErrorCode, SolverError, WarningCode, solve, words
 from shared_solver.estimation.uncertainty import contains
 from testbed.phones import phone_taps
-from testbed.scenes import NO_PHONES_FRIEND, NO_PHONES_LANDMARKS1, NO_PHONES_LANDMARKS2
+from testbed.scenes import NO_PHONES_FRIEND, NO_PHONES_LANDMARKS1, NO_PHONES_LANDMARKS2, solved
 
 TOLD = (WarningCode.CAMERA_MODEL_DISAGREES, WarningCode.CAMERA_MODEL_UNSURE)
 HONEST_SCENES = 400
@@ -32,16 +32,7 @@ def test_honest_phone_taps_are_almost_never_told_they_do_not_fit(landmarks: int)
     for seed in range(HONEST_SCENES):
         scene, taps = phone_taps((8, landmarks, seed), landmarks, 8.0)
         try:
-            result = solve(
-                taps.landmarks1,
-                taps.landmarks2,
-                epipole1=taps.epipole1,
-                tap_sigma=8.0,
-                camera1="phone",
-                camera2="phone",
-                image_size1=scene.image_size1,
-                image_size2=scene.image_size2,
-            )
+            result = solved(scene, taps, tap_sigma=8.0, camera1="phone", camera2="phone")
         except SolverError as refusal:  # 8 px taps can land on one another
             refusals.append(refusal.code)
             continue

@@ -81,59 +81,30 @@ Case = tuple[np.ndarray, np.ndarray, np.ndarray]  # e1, p, q
 Near = Callable[[np.random.Generator, np.ndarray, np.ndarray, np.ndarray, float], Case]
 
 
-def repeated_in_photo1(
-    rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
-) -> Case:
-    p[4] = p[1] + factor * 1e-9 * validation.spread(p) * unit(rng)
-    return e1, p, q
+def nudged(
+    rng: np.random.Generator, points: np.ndarray, i: int, j: int, factor: float
+) -> np.ndarray:
+    """``points`` with #i moved to within about ``factor`` times the repeat tolerance of #j."""
+    points[i] = points[j] + factor * 1e-9 * validation.spread(points) * unit(rng)
+    return points
 
 
-def repeated_in_photo2(
-    rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
-) -> Case:
-    q[3] = q[0] + factor * 1e-9 * validation.spread(q) * unit(rng)
-    return e1, p, q
-
-
-def repeated_with_friend2_far(
-    rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
-) -> Case:
-    p[3] = p[0] + factor * 1e-9 * validation.spread(p) * unit(rng)
-    return e1 + unit(rng) * 10 ** rng.uniform(4.0, 8.0), p, q
-
-
-def friend2_on_landmark(
-    rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
-) -> Case:
-    return p[2] + factor * 1e-9 * validation.spread(p) * unit(rng), p, q
-
-
-def on_a_line(rng: np.random.Generator, through: np.ndarray, tolerance: float) -> np.ndarray:
+def on_a_line(rng: np.random.Generator, through: np.ndarray, factor: float) -> np.ndarray:
+    """Five points within about ``factor`` times the collinearity tolerance of a line."""
     along = unit(rng)
     across = np.array([-along[1], along[0]])
     return (
         through
         + np.outer(rng.uniform(-600.0, 600.0, 5), along)
-        + np.outer(rng.uniform(-1.0, 1.0, 5), across) * tolerance
+        + np.outer(rng.uniform(-1.0, 1.0, 5), across) * (factor * 1e-9 * 1200.0)
     )
 
 
-def collinear_in_photo1(
+def repeated_with_friend2_far(
     rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
 ) -> Case:
-    return e1, on_a_line(rng, p[0], factor * 1e-9 * 1200.0), q
-
-
-def collinear_in_photo2(
-    rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
-) -> Case:
-    return e1, p, on_a_line(rng, q[0], factor * 1e-9 * 1200.0)
-
-
-def on_a_line_through_friend2(
-    rng: np.random.Generator, e1: np.ndarray, p: np.ndarray, q: np.ndarray, factor: float
-) -> Case:
-    return e1, on_a_line(rng, e1, factor * 1e-9 * 1200.0), q
+    p = nudged(rng, p, 3, 0, factor)
+    return e1 + unit(rng) * 10 ** rng.uniform(4.0, 8.0), p, q
 
 
 def along_friend2_at_infinity(
@@ -153,20 +124,20 @@ def sub_pixel_photos(
     return e1, p, q
 
 
-@pytest.mark.parametrize(
-    "near",
-    [
-        repeated_in_photo1,
-        repeated_in_photo2,
-        repeated_with_friend2_far,
-        friend2_on_landmark,
-        collinear_in_photo1,
-        collinear_in_photo2,
-        on_a_line_through_friend2,
-        along_friend2_at_infinity,
-        sub_pixel_photos,
-    ],
-)
+NEAR: dict[str, Near] = {
+    "repeated_in_photo1": lambda rng, e1, p, q, f: (e1, nudged(rng, p, 4, 1, f), q),
+    "repeated_in_photo2": lambda rng, e1, p, q, f: (e1, p, nudged(rng, q, 3, 0, f)),
+    "repeated_with_friend2_far": repeated_with_friend2_far,
+    "friend2_on_landmark": lambda rng, e1, p, q, f: (nudged(rng, p.copy(), 0, 2, f)[0], p, q),
+    "collinear_in_photo1": lambda rng, e1, p, q, f: (e1, on_a_line(rng, p[0], f), q),
+    "collinear_in_photo2": lambda rng, e1, p, q, f: (e1, p, on_a_line(rng, q[0], f)),
+    "on_a_line_through_friend2": lambda rng, e1, p, q, f: (e1, on_a_line(rng, e1, f), q),
+    "along_friend2_at_infinity": along_friend2_at_infinity,
+    "sub_pixel_photos": sub_pixel_photos,
+}
+
+
+@pytest.mark.parametrize("near", NEAR.values(), ids=NEAR.keys())
 def test_near_degenerate_input_gets_the_checked_answer_or_refusal(
     monkeypatch: pytest.MonkeyPatch, near: Near
 ) -> None:

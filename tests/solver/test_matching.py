@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from test_lookalikes import good_answer
 
 from shared_solver.matching import (
     FLAG_SIGMAS,
@@ -117,20 +118,9 @@ def hall() -> RenderedPair:
     return rendered_pair(21)
 
 
-def rendered_geometry(hall: RenderedPair) -> Epipolar:
-    """The true F of the rendered pair, its uncertainty that of a good answer (a few px)."""
-    scene = hall.scene
-    f = scene.fundamental
-    # A round covariance on F's entries, scaled so a line moves by about 2 px.
-    lines = np.column_stack([scene.landmarks1, np.ones(len(scene.points))]) @ f.T
-    spread = float(np.median(np.hypot(lines[:, 0], lines[:, 1])))
-    typical = 2.0 * spread / max(scene.image_size1) ** 2
-    return Epipolar(f, typical**2 * np.eye(9)).oriented(scene.landmarks1, scene.landmarks2)
-
-
 def test_plain_landmarks_get_right_suggestions(hall: RenderedPair) -> None:
     scene = hall.scene
-    epipolar = rendered_geometry(hall)
+    epipolar = good_answer(hall.scene)
     diagonal = math.hypot(*scene.image_size2)
     shown, right = 0, 0
     for p, q in zip(scene.landmarks1[:12], scene.landmarks2[:12], strict=True):
@@ -149,7 +139,7 @@ def test_no_suggestion_for_a_patch_the_other_photo_does_not_show(hall: RenderedP
     whatever was there before, never the poster. (How often spots hidden from the other
     photo get a suggestion is measured in docs/suggestions.md.)"""
     scene = hall.scene
-    epipolar = rendered_geometry(hall)
+    epipolar = good_answer(hall.scene)
     rng = np.random.default_rng(3)
     searched = 0
     for p in scene.landmarks1[:8]:
@@ -167,7 +157,7 @@ def test_guide_landmark_reads_the_answer(hall: RenderedPair) -> None:
     """From a ``SolveResult`` (here built around the true F): the band, and no image work
     when only the band is asked for."""
     scene = hall.scene
-    epipolar = rendered_geometry(hall)
+    epipolar = good_answer(hall.scene)
     f = tuple(tuple(float(v) for v in row) for row in epipolar.fundamental)
     result = SolveResult.model_validate(
         {

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from shared_solver import draw_overlay, solve
+from shared_solver import draw_overlay
 from testbed.scenes import Camera, Scene, facing_scene, look_at, solved, tap
 
 INTRINSICS = np.array([[1400.0, 0.0, 800.0], [0.0, 1400.0, 600.0], [0.0, 0.0, 1.0]])
@@ -58,9 +58,7 @@ def test_friend1_behind_friend2_is_reported_as_behind(seed: int) -> None:
     s = turned_away(np.random.default_rng(seed))
     assert len(s.points) == 8
     assert true_direction(s)[2] < 0
-    result = solve(
-        s.landmarks1, s.landmarks2, epipole1=s.epipole1, image_size1=SIZE, image_size2=SIZE
-    )
+    result = solved(s)
     assert result.epipole2 is None  # nowhere in the photo is right
     assert result.epipole2_h is not None
     assert result.epipole2_h[2] < 0
@@ -75,9 +73,7 @@ def test_friend1_at_right_angles_gets_the_right_direction(seed: int) -> None:
     s = sideways(np.random.default_rng(seed))
     truth = true_direction(s)
     assert abs(truth[2]) < 1e-9 * np.linalg.norm(truth)
-    result = solve(
-        s.landmarks1, s.landmarks2, epipole1=s.epipole1, image_size1=SIZE, image_size2=SIZE
-    )
+    result = solved(s)
     assert result.epipole2 is None
     assert result.epipole2_h is not None
     x, y, _ = result.epipole2_h
@@ -99,9 +95,7 @@ def test_facing_friends_are_never_told_to_turn_around() -> None:
 
 def test_photo_2_says_behind_instead_of_marking_a_spot() -> None:
     s = turned_away(np.random.default_rng(3))
-    result = solve(
-        s.landmarks1, s.landmarks2, epipole1=s.epipole1, image_size1=SIZE, image_size2=SIZE
-    )
+    result = solved(s)
     photo = np.full((SIZE[1], SIZE[0], 3), 90, np.uint8)
     drawn = draw_overlay(photo, result, photo=2)
     changed = np.any(drawn != photo, axis=2)

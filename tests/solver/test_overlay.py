@@ -20,7 +20,7 @@ from shared_solver.drawing.palette import (
     landmark_colour_hex,
 )
 from shared_solver.result import Ellipse, Uncertainty
-from testbed.scenes import Scene, facing_scene, temple_scene
+from testbed.scenes import Scene, facing_scene, solved, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 GREY = 128
@@ -305,8 +305,8 @@ def test_friend1_at_infinity_gets_an_arrow_at_the_border_that_way(direction, sid
 
 
 def curve_and_label(conic: np.ndarray, paint: np.ndarray, size: float) -> np.ndarray:
-    """The painted pixels on the curve, after checking that the others are one label beside
-    it: a compact block near the curve (its text), and nothing else."""
+    """(H, W) mask of the painted pixels on the curve, after checking that the others are one
+    label beside it: a compact block near the curve (its text), and nothing else."""
     found = pixels(paint)
     off = found[distance_to_conic(conic, found) >= size / 250]
     if len(off):
@@ -314,7 +314,10 @@ def curve_and_label(conic: np.ndarray, paint: np.ndarray, size: float) -> np.nda
         assert width < size / 3  # "friend on this curve", no more
         assert height < size / 20
         assert distance_to_conic(conic, off).min() < size / 8
-    return found[distance_to_conic(conic, found) < size / 250]
+    on_curve = found[distance_to_conic(conic, found) < size / 250].astype(int)
+    mask = np.zeros(paint.shape, bool)
+    mask[on_curve[:, 1], on_curve[:, 0]] = True
+    return mask
 
 
 def test_the_curve_of_four_landmarks_runs_through_them_and_the_true_friend() -> None:
@@ -326,9 +329,7 @@ def test_the_curve_of_four_landmarks_runs_through_them_and_the_true_friend() -> 
     drawn = draw_overlay(photo, result)
     conic = np.array(result.conic2)
     # Every painted pixel is on the curve (within the stroke's half width) or its label.
-    on_curve = curve_and_label(conic, changed(photo, drawn), diagonal(photo))
-    paint = np.zeros(photo.shape[:2], bool)
-    paint[on_curve[:, 1].astype(int), on_curve[:, 0].astype(int)] = True
+    paint = curve_and_label(conic, changed(photo, drawn), diagonal(photo))
     assert gap_to(paint, zero_crossings(conic, photo.shape)) < 1.5  # all of it, unbroken
     for landmark in s.landmarks2[:4]:
         assert near(paint, landmark, 2.0)
@@ -352,9 +353,7 @@ def test_any_conic_is_drawn_on_itself(conic) -> None:
     matrix = np.array(conic) / np.linalg.norm(conic)
     result = answer(s, 4).model_copy(update={"conic2": tuple(map(tuple, matrix))})
     photo = grey(s.image_size2)
-    on_curve = curve_and_label(matrix, changed(photo, draw_overlay(photo, result)), diagonal(photo))
-    paint = np.zeros(photo.shape[:2], bool)
-    paint[on_curve[:, 1].astype(int), on_curve[:, 0].astype(int)] = True
+    paint = curve_and_label(matrix, changed(photo, draw_overlay(photo, result)), diagonal(photo))
     crossings = zero_crossings(matrix, photo.shape)
     assert crossings.sum() > 1000
     assert gap_to(paint, crossings) < 1.5  # every branch and line, unbroken
@@ -516,21 +515,19 @@ def test_strokes_markers_and_text_grow_with_the_photo() -> None:
     assert 3.0 < big_paint.sum() / small_paint.sum() < 4.8
 
 
+def region(center: tuple[float, float], axes: tuple[float, float], angle_deg: float) -> dict:
+    """An answer's update to a 95 % region of this ``center``, ``axes`` and ``angle_deg``."""
+    ellipse = Ellipse(center=center, axes=axes, angle_deg=angle_deg)
+    return {"uncertainty": Uncertainty(ellipse=ellipse)}
+
+
 @pytest.mark.parametrize(
     "update",
     [
         {"epipole2": (1e15, -3e14), "epipole2_h": (0.95, -0.3, 1e-15)},
-        {
-            "uncertainty": Uncertainty(
-                ellipse=Ellipse(center=(800, 600), axes=(1e12, 0), angle_deg=30)
-            )
-        },
-        {
-            "uncertainty": Uncertainty(
-                ellipse=Ellipse(center=(-1e9, 5e8), axes=(3e9, 2e9), angle_deg=1)
-            )
-        },
-        {"uncertainty": Uncertainty(ellipse=Ellipse(center=(800, 600), axes=(0, 0), angle_deg=0))},
+        region((800, 600), (1e12, 0), 30),
+        region((-1e9, 5e8), (3e9, 2e9), 1),
+        region((800, 600), (0, 0), 0),
     ],
     ids=["far-friend1", "needle-ellipse", "huge-far-ellipse", "point-ellipse"],
 )
@@ -545,10 +542,8 @@ def test_extreme_answers_are_drawn_without_overflow(update) -> None:
 
 def test_a_needle_thin_ellipse_is_drawn_as_its_long_axis() -> None:
     s = scene(2)
-    ellipse = Ellipse(center=(800.0, 600.0), axes=(1e12, 0.0), angle_deg=30.0)
-    result = answer(s, 5).model_copy(
-        update={"epipole2": (800.0, 600.0), "uncertainty": Uncertainty(ellipse=ellipse)}
-    )
+    needle = region((800.0, 600.0), (1e12, 0.0), 30.0)
+    result = answer(s, 5).model_copy(update={"epipole2": (800.0, 600.0), **needle})
     photo = grey(s.image_size2)
     paint = changed(photo, draw_overlay(photo, result))
     axis = np.array([math.cos(math.radians(30)), math.sin(math.radians(30))])
@@ -600,13 +595,7 @@ def test_the_temple_photos_get_the_answer_and_numbered_landmarks() -> None:
     s = temple_scene(
         TEMPLE / "templeSR_par.txt", "templeSR0003", "templeSR0006", 5, np.random.default_rng(7)
     )
-    result = solve(
-        s.landmarks1,
-        s.landmarks2,
-        epipole1=s.epipole1,
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
-    )
+    result = solved(s)
     assert result.epipole2 is not None
     photo2 = cv2.imread(str(TEMPLE / "templeSR0006.png"))
     photo1 = cv2.imread(str(TEMPLE / "templeSR0003.png"))

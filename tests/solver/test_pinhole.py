@@ -46,57 +46,38 @@ def line_through(point: np.ndarray, angle: float) -> np.ndarray:
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-@pytest.mark.parametrize("landmarks", [3, 4, 5, 8])
-def test_exact_taps_and_known_focal_give_friend1_exactly(seed: int, landmarks: int) -> None:
+@pytest.mark.parametrize(
+    ("landmarks", "given", "method"),
+    [
+        *[(n, "e1", "pinhole_epipole") for n in (3, 4, 5, 8)],
+        *[(n, "both", "pinhole_two_epipoles") for n in (1, 2, 4)],  # one landmark is enough
+        (6, "line", "pinhole_line"),
+        *[(n, "none", "pinhole_landmarks") for n in (7, 9)],
+    ],
+)
+def test_exact_taps_and_known_focal_give_friend1_exactly(
+    seed: int, landmarks: int, given: str, method: str
+) -> None:
     s = exact_scene(seed, landmarks)
-    result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, tap_sigma=1.0, **known(s))
+    line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
+    marks = {
+        "e1": {"epipole1": s.epipole1},
+        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
+        "line": {"epipolar_line1": line},
+        "none": {},
+    }[given]
+    result = solve(s.landmarks1, s.landmarks2, **marks, tap_sigma=1.0, **known(s))  # type: ignore[arg-type]
     assert result.camera_model == "pinhole"
-    assert result.method == "pinhole_epipole"
-    if result.candidates:  # three landmarks can fit two poses exactly; the truth is listed
+    assert result.method == method
+    if given == "e1" and result.candidates:  # three landmarks can fit two poses exactly
         listed = [c.epipole2 for c in result.candidates if c.epipole2 is not None]
         assert min(np.linalg.norm(np.array(e) - s.epipole2) for e in listed) < EXACT_PX
         return
     assert result.epipole2 is not None
     assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
-
-
-@pytest.mark.parametrize("seed", SEEDS)
-@pytest.mark.parametrize("landmarks", [1, 2, 4])
-def test_both_friends_marked_need_one_landmark(seed: int, landmarks: int) -> None:
-    s = exact_scene(seed, landmarks)
-    result = solve(
-        s.landmarks1,
-        s.landmarks2,
-        epipole1=s.epipole1,
-        epipole2=s.epipole2,
-        tap_sigma=1.0,
-        **known(s),
-    )
-    assert result.method == "pinhole_two_epipoles"
-    assert result.epipole2 is not None
-    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
-    assert result.epipole1 is not None
-    assert np.linalg.norm(np.array(result.epipole1) - s.epipole1) < EXACT_PX
-
-
-@pytest.mark.parametrize("seed", SEEDS)
-def test_a_line_and_six_landmarks_give_friend1_exactly(seed: int) -> None:
-    s = exact_scene(seed, 6)
-    line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
-    result = solve(s.landmarks1, s.landmarks2, epipolar_line1=line, tap_sigma=1.0, **known(s))
-    assert result.method == "pinhole_line"
-    assert result.epipole2 is not None
-    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
-
-
-@pytest.mark.parametrize("seed", SEEDS)
-@pytest.mark.parametrize("landmarks", [7, 9])
-def test_landmarks_alone_give_friend1_exactly(seed: int, landmarks: int) -> None:
-    s = exact_scene(seed, landmarks)
-    result = solve(s.landmarks1, s.landmarks2, tap_sigma=1.0, **known(s))
-    assert result.method == "pinhole_landmarks"
-    assert result.epipole2 is not None
-    assert np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX
+    if given == "both":
+        assert result.epipole1 is not None
+        assert np.linalg.norm(np.array(result.epipole1) - s.epipole1) < EXACT_PX
 
 
 def test_the_result_names_its_model_and_the_focal_lengths() -> None:

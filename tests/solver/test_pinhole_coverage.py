@@ -115,21 +115,13 @@ def _cameras(s: PhoneScene, case: Case) -> dict[str, object]:
 
 
 HONEST = [
-    Case(3),
-    Case(4),
-    Case(5),
-    Case(8),
-    Case(3, exif=True),
-    Case(5, exif=True),
-    Case(1, "both"),
-    Case(3, "both"),
+    *[Case(n) for n in (3, 4, 5, 8)],
+    *[Case(n, exif=True) for n in (3, 5)],
+    *[Case(n, "both") for n in (1, 3)],
     Case(6, "line"),
     Case(7, "none"),
-    Case(4, mixed=True),
-    Case(8, mixed=True),
-    Case(3, drawn=True),
-    Case(4, drawn=True),
-    Case(5, drawn=True),
+    *[Case(n, mixed=True) for n in (4, 8)],
+    *[Case(n, drawn=True) for n in (3, 4, 5)],
 ]
 
 

@@ -21,21 +21,12 @@ def phone(seed: int, **options: float) -> PhoneScene:
 
 
 def same(a: Scene, b: Scene) -> bool:
-    arrays = [
-        (getattr(a, f"camera{i}").intrinsics, getattr(b, f"camera{i}").intrinsics) for i in (1, 2)
-    ]
-    arrays += [
-        (getattr(a, f"camera{i}").rotation, getattr(b, f"camera{i}").rotation) for i in (1, 2)
-    ]
-    arrays += [
-        (getattr(a, f"camera{i}").translation, getattr(b, f"camera{i}").translation) for i in (1, 2)
-    ]
-    arrays.append((a.points, b.points))
-    return (
-        all(np.array_equal(x, y) for x, y in arrays)
-        and a.image_size1 == b.image_size1
-        and a.image_size2 == b.image_size2
-    )
+    cameras = [(a.camera1, b.camera1), (a.camera2, b.camera2)]
+    arrays = [(x.intrinsics, y.intrinsics) for x, y in cameras]
+    arrays += [(x.rotation, y.rotation) for x, y in cameras]
+    arrays += [(x.translation, y.translation) for x, y in cameras] + [(a.points, b.points)]
+    sizes = (a.image_size1, a.image_size2) == (b.image_size1, b.image_size2)
+    return sizes and all(np.array_equal(x, y) for x, y in arrays)
 
 
 def seen(camera: Camera, points: np.ndarray, size: tuple[int, int], margin: float) -> np.ndarray:

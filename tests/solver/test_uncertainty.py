@@ -10,7 +10,7 @@ from shared_solver import solve
 from shared_solver.answers.building import calibrated
 from shared_solver.estimation import bootstrap
 from shared_solver.estimation.uncertainty import CHI2_2D, contains
-from testbed.scenes import facing_scene, tap
+from testbed.scenes import facing_scene, solved, tap
 
 TRIALS = 500
 
@@ -35,14 +35,7 @@ def test_ellipse_holds_the_truth_about_95_percent_of_the_time(
     for _ in range(TRIALS):
         s = facing_scene(rng, landmarks)
         taps = tap(s, sigma, rng)
-        result = solve(
-            taps.landmarks1,
-            taps.landmarks2,
-            epipole1=taps.epipole1,
-            tap_sigma=sigma,
-            image_size1=s.image_size1,
-            image_size2=s.image_size2,
-        )
+        result = solved(s, taps, tap_sigma=sigma)
         assert result.uncertainty is not None
         hits += covered(result.uncertainty.covariance, result.epipole2, s.epipole2)
     coverage = hits / TRIALS
