@@ -379,7 +379,8 @@ def spent(run: Run, per_search_ms: float) -> list[str]:
     ]
     return [
         f"py-spy's samples of the replicas' busy threads ({total} at {RATE} a second, over the"
-        " run; py-spy leaves out idle ones, waiting for the network or the database), by the"
+        " run; py-spy leaves out idle ones, and so does this table where py-spy missed them:"
+        " a thread waiting for sockets, for PostgreSQL or for work), by the"
         " route function on the stack (`<module>.<function>` of `backend/api/routes/`) or"
         " what else they were doing; that share of the replicas' CPU per search beside it.",
         "",
