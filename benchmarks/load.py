@@ -377,12 +377,18 @@ def spent(run: Run, per_search_ms: float) -> list[str]:
         [what, f"{100 * count / total:.1f} %", f"{per_search_ms * count / total:.0f}"]
         for what, count in shares.most_common()
     ]
+    cut = run.sampler.unreadable
     return [
         f"py-spy's samples of the replicas' busy threads ({total} at {RATE} a second, over the"
         " run; py-spy leaves out idle ones, and so does this table where py-spy missed them:"
         " a thread waiting for sockets, for PostgreSQL or for work), by the"
         " route function on the stack (`<module>.<function>` of `backend/api/routes/`) or"
-        " what else they were doing; that share of the replicas' CPU per search beside it.",
+        " what else they were doing; that share of the replicas' CPU per search beside it."
+        + (
+            f" ({cut} lines of the recordings cut short as py-spy stopped: left out.)"
+            if cut
+            else ""
+        ),
         "",
         markdown_table(["what", "share of samples", "ms per search"], rows),
     ]

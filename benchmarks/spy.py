@@ -6,6 +6,7 @@ its stack, an event stream, or the HTTP work around them (uvicorn, Starlette, Fa
 
 from __future__ import annotations
 
+import re
 import signal
 import subprocess
 import sys
@@ -21,6 +22,8 @@ OTHER = "other"
 # the process, still reports as busy at times (in a 100-search run, 41 % of its "busy"
 # samples ended in one): the event loop's poll for sockets (``Runner.run`` is the deepest
 # Python frame), psycopg waiting for PostgreSQL's answer, and an idle worker thread.
+# One line of ``py-spy record --format raw``: a collapsed stack, a space, its count.
+SAMPLE = re.compile(r"(.+) (\d+)")
 WAITS = ("Runner.run (", "Connection.wait (", "Condition.wait (")
 
 
@@ -34,6 +37,7 @@ class Sampler:
         self.problem: str | None = None
         self.shares: Counter[str] = Counter()  # busy samples by what they were doing, waits out
         self.stacks: Counter[str] = Counter()  # busy samples by stack (collapsed, all replicas)
+        self.unreadable = 0  # lines of the recordings that were no sample
 
     def start(self) -> None:
         spy = Path(sys.executable).with_name("py-spy")
@@ -62,11 +66,15 @@ class Sampler:
             if not output.exists():
                 continue
             for line in output.read_text().splitlines():
-                stack, _, count = line.rpartition(" ")
+                sample = SAMPLE.fullmatch(line)
+                if sample is None:  # a line cut short as py-spy stopped: no sample in it
+                    self.unreadable += 1
+                    continue
+                stack, count = sample.group(1), int(sample.group(2))
                 frames = stack.split(";")
                 if not waiting(frames):
-                    self.shares[what(frames)] += int(count)
-                self.stacks[stack] += int(count)
+                    self.shares[what(frames)] += count
+                self.stacks[stack] += count
 
     def write_stacks(self, path: Path) -> None:
         """Every busy sample's stack, collapsed (``frame;frame;... count``, all replicas

@@ -21,14 +21,18 @@ def test_a_route_on_the_stack_names_the_sample() -> None:
     assert not spy.waiting([LOOP, ROUTE, SOLVE])
 
 
-def test_a_thread_waiting_at_its_deepest_frame_is_no_cpu(tmp_path: Path) -> None:
+def test_a_thread_waiting_at_its_deepest_frame_is_no_cpu_and_a_cut_line_no_sample(
+    tmp_path: Path,
+) -> None:
     assert spy.waiting([LOOP])
     assert spy.waiting([ROUTE, PSYCOPG_WAIT])
     assert not spy.waiting([PSYCOPG_WAIT, "BaseCursor._send_query_prepared (psycopg/x.py:1)"])
 
     sampler = spy.Sampler([1], tmp_path)
-    lines = [f"{LOOP} 7", f"{ROUTE};{PSYCOPG_WAIT} 5", f"{LOOP};{ROUTE};{SOLVE} 3"]
+    cut_short = f"{LOOP};{ROUTE};<lambda> ("  # py-spy stopped while writing it
+    lines = [f"{LOOP} 7", f"{ROUTE};{PSYCOPG_WAIT} 5", f"{LOOP};{ROUTE};{SOLVE} 3", cut_short]
     sampler.outputs[0].write_text("\n".join(lines) + "\n")
     sampler.read()
     assert dict(sampler.shares) == {"`taps.put_taps`": 3}
     assert sum(sampler.stacks.values()) == 15  # every stack kept for the flame graph
+    assert sampler.unreadable == 1
