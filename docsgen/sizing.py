@@ -139,4 +139,5 @@ def stadium(found: dict[str, list[float]]) -> list[str]:
             f"1600 px) | {wal * WINDOW_S / 1000:.1f} GB per half hour: size `max_wal_size` and "
             "the disk for it; any WAL archive or backup holds the photos' bytes too. |"
         )
-    return lines
+    # Without a figure per search there is no demand to show: the headline alone.
+    return lines if len(lines) > 4 else lines[:1]

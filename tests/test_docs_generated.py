@@ -140,6 +140,9 @@ def test_a_benchmark_that_stops_shows_as_failed(reports: Path) -> None:
     report = figures.read_report(reports / bench.report)
     assert (report.commit, report.passed) == ("abc1234", 0)
     assert report.failed == ("the benchmark runs to its end (exit status 2)",)
+    sized = sizing.sizing(reports)  # the load report: no figure per search, no demand
+    assert f"| {sizing.ROWS['cpu']} | not in the report |" in sized
+    assert "| demand |" not in sized
 
 
 def test_running_every_benchmark_refuses_uncommitted_changes(
