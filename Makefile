@@ -128,13 +128,14 @@ bench-network: $(INSTALLED) $(APP) browser
 	$(BIN)/python benchmarks/network.py
 
 # Every benchmark above at one commit (a tree with uncommitted changes is refused), each
-# writing its report in docs/, then the README's tables from the reports, failed targets as
-# FAIL (docsgen/figures.py). Long (each report gives its run's time): on a quiet machine.
+# writing its report in docs/, then the figures of the README and docs/ from the reports,
+# failed targets as FAIL (docsgen/figures.py). Long (each report gives its run's time): on a
+# quiet machine.
 bench-all: $(INSTALLED)
 	$(BIN)/python -m docsgen.figures --run
 
-# Only the README's tables, from the reports already in docs/ (tests/test_docs_generated.py
-# fails when they differ).
+# Only the figures of the README and docs/, from the reports already in docs/
+# (tests/test_docs_generated.py fails when they differ).
 docs-figures: $(INSTALLED)
 	$(BIN)/python -m docsgen.figures
 

@@ -81,7 +81,8 @@ class Settings(BaseSettings):
         ge=0,
         description="PostgreSQL: how often at most the bytes of deleted sessions are erased "
         "from the database's files (VACUUM FULL, by one replica's sweeper for all; it locks "
-        "each table while it copies it, about 0.29 s per 100 MB of photos kept). SQLite "
+        "each table while it copies it, longer the more photos are kept: "
+        "benchmarks/erase.py measures it). SQLite "
         "erases them at once.",
     )
     max_body_bytes: int = Field(30_000_000, gt=0, description="Largest request body accepted.")

@@ -1,11 +1,12 @@
-"""The README's benchmark figures, from the reports the benchmarks write in docs/.
+"""The benchmark figures of the README and docs/, from the reports the benchmarks write.
 
-``python -m docsgen.figures`` (``make docs-figures``) rewrites the README's generated
-sections, each between ``<!-- figures:NAME -->`` and ``<!-- end of figures:NAME -->``, from
-the reports already in docs/; ``--check`` exits 1 when the README is not what the reports
-say (tests/test_docs_generated.py). ``--run`` (``make bench-all``) first runs every
+``python -m docsgen.figures`` (``make docs-figures``) rewrites every generated section of
+``DOCS``, each between ``<!-- figures:NAME -->`` and ``<!-- end of figures:NAME -->``, from
+the reports already in docs/; ``--check`` exits 1 when a doc is not what the reports say
+(tests/test_docs_generated.py). Outside these sections the docs name no benchmark figure:
+they point at the reports. ``--run`` (``make bench-all``) first runs every
 benchmark at one commit, refusing a tree with uncommitted changes, so that each report
-and the README speak of the same code.
+and the docs speak of the same code.
 """
 
 from __future__ import annotations
@@ -14,12 +15,18 @@ import argparse
 import re
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from docsgen.reports import Report, read_report, table_rows
+from docsgen.sizing import sizing
+
 ROOT = Path(__file__).parents[1]
 README = ROOT / "README.md"
+# Every doc with generated sections, relative to the root.
+DOCS = ("README.md", "docs/benchmarks.md", "docs/geometry.md", "docs/deploy.md")
+SECTION = re.compile(r"<!-- figures:([\w-]+) -->")
 
 
 @dataclass(frozen=True)
@@ -46,67 +53,64 @@ BENCHMARKS = (
 SOLVER_SIGMA = "sigma 3 px"
 SOLVER_ROUTES = ("projective", "phone prior", "EXIF focal")
 SOLVER_LANDMARKS = (3, 4, 5, 8)
-# What the report has no row for because the answer is no point: the paper's curve.
-SOLVER_NO_POINT = {"projective 4+e1": "a curve"}
-
-TARGET = re.compile(r"^- (PASS|FAIL): (.*)$", re.M)
-COMMIT = re.compile(r"\bcommit ([0-9a-f]{7,40})\b")
-
-
-@dataclass(frozen=True)
-class Report:
-    """What the README says of one report: its commit and its targets' verdicts."""
-
-    commit: str
-    passed: int
-    failed: tuple[str, ...]  # each failed target, shortened to its claim and measure
+# What the report has no row for, and why; any other row missing is said to be missing.
+SOLVER_NOT_RUN = {
+    "projective 3+e1": "-",  # too few landmarks for the paper's method
+    "projective 4+e1": "a curve",  # the paper's answer is no point
+    "EXIF focal 8+e1": "-",  # the prior already leaves no room at 8
+}
 
 
-def shortened(target: str) -> str:
-    """A target's text up to its first ``;`` (the rest explains), brackets closed."""
-    head = target.split("; ", 1)[0].rstrip(".")
-    return head + ")" * (head.count("(") - head.count(")"))
+def link(report: str, doc: str) -> str:
+    """A Markdown link to ``report`` from ``doc`` (both relative to the root)."""
+    target = Path(report).name if Path(doc).parent == Path(report).parent else report
+    return f"[{Path(report).name}]({target})"
 
 
-def read_report(path: Path) -> Report:
-    text = path.read_text(encoding="utf-8")
-    commit = COMMIT.search(text)
-    verdicts = TARGET.findall(text)
-    return Report(
-        commit=commit.group(1) if commit else "unknown",
-        passed=sum(verdict == "PASS" for verdict, _ in verdicts),
-        failed=tuple(shortened(claim) for verdict, claim in verdicts if verdict == "FAIL"),
-    )
-
-
-def targets_table(root: Path) -> str:
+def targets_table(root: Path, doc: str) -> str:
     """One row per benchmark: its command, report and commit, and each failed target."""
     rows = ["| command | what it plays | report (code of commit) | targets |", "|---|---|---|---|"]
     for bench in BENCHMARKS:
         report = read_report(root / bench.report)
-        total = report.passed + len(report.failed)
+        total = len(report.targets)
         verdicts = [f"{report.passed} of {total} met"] if total else ["none set"]
         verdicts += [f"**FAIL**: {claim}" for claim in report.failed]
-        link = f"[{Path(bench.report).name}]({bench.report}) ({report.commit})"
-        rows.append(f"| `make {bench.target}` | {bench.plays} | {link} | {'; '.join(verdicts)} |")
+        cell = f"{link(bench.report, doc)} ({report.commit})"
+        rows.append(f"| `make {bench.target}` | {bench.plays} | {cell} | {'; '.join(verdicts)} |")
     return "\n".join(rows)
 
 
-def solver_table(root: Path) -> str:
+def report_targets(bench: Benchmark) -> Callable[[Path, str], str]:
+    """A section for one benchmark: its report, commit and every target as the report
+    words it, PASS or FAIL with the measure."""
+
+    def section(root: Path, doc: str) -> str:
+        where = f"{link(bench.report, doc)}, `make {bench.target}`"
+        if not (root / bench.report).exists():
+            return f"The report {where} is missing: run `make {bench.target}`."
+        report: Report = read_report(root / bench.report)
+        head = f"Targets in {where} (code of commit {report.commit})"
+        if not report.targets:
+            return f"{head}: none set; the report's tables say what each choice gives."
+        lines = [f"{head}: {report.passed} of {len(report.targets)} met.", ""]
+        return "\n".join(lines + [f"- {verdict}: {claim}" for verdict, claim in report.targets])
+
+    return section
+
+
+def solver_table(root: Path, doc: str) -> str:
     """Median / p90 error of where the friend is, px, by landmarks and route, at 3 px."""
     report = root / BENCHMARKS[0].report
-    text = report.read_text(encoding="utf-8")
-    header = next(line for line in text.splitlines() if SOLVER_SIGMA in line)
-    column = [cell.strip() for cell in header.strip("|").split("|")].index(SOLVER_SIGMA)
-    cells: dict[str, str] = {}
-    for line in text[text.index(header) :].splitlines()[2:]:
-        if not line.startswith("|"):
-            break
-        row = [cell.strip() for cell in line.strip("|").split("|")]
-        cells[row[0]] = row[column]
-    commit = read_report(report).commit
+    text = report.read_text(encoding="utf-8") if report.exists() else ""
+    table = table_rows(text, SOLVER_SIGMA)
+    if not table:
+        return (
+            f"{link(BENCHMARKS[0].report, doc)} has no table at {SOLVER_SIGMA}: run `make bench`."
+        )
+    column = table[0].index(SOLVER_SIGMA)
+    cells = {row[0]: row[column] for row in table[1:] if len(row) > column}
     trials = re.search(r"Trials: (\d+) per cell", text)
-    runs = f"{trials.group(1) if trials else '?'} trials, commit {commit}"
+    runs = f"{trials.group(1) if trials else '?'} trials, commit {read_report(report).commit}"
     rows = [
         f"| landmarks + friend marked ({runs}) | cameras unknown (the paper) | phone photos "
         "| lens known (EXIF) |",
@@ -114,24 +118,50 @@ def solver_table(root: Path) -> str:
     ]
     for count in SOLVER_LANDMARKS:
         names = [f"{route} {count}+e1" for route in SOLVER_ROUTES]
-        found = [cells.get(name, SOLVER_NO_POINT.get(name, "-")) for name in names]
+        found = [cells.get(name, SOLVER_NOT_RUN.get(name, "not in the report")) for name in names]
         rows.append(f"| {count} | {' | '.join(found)} |")
     return "\n".join(rows)
 
 
-SECTIONS = {"solver": solver_table, "targets": targets_table}
+def report_table(bench: Benchmark, header_cell: str) -> Callable[[Path, str], str]:
+    """A section copying the report's table whose header has ``header_cell``, with its
+    commit: for a report whose headline is a table rather than targets."""
+
+    def section(root: Path, doc: str) -> str:
+        path = root / bench.report
+        rows = table_rows(path.read_text(encoding="utf-8"), header_cell) if path.exists() else []
+        where = f"{link(bench.report, doc)}, `make {bench.target}`"
+        if not rows:
+            return f"{where} has no table with {header_cell!r}: run `make {bench.target}`."
+        lines = [f"| {' | '.join(row)} |" for row in rows]
+        lines.insert(1, "|" + "---|" * len(rows[0]))
+        return "\n".join([f"From {where} (code of commit {read_report(path).commit}):", "", *lines])
+
+    return section
 
 
-def rendered(readme: str, root: Path = ROOT) -> str:
-    """``readme`` with every generated section renewed from the reports under ``root``."""
-    for name, make in SECTIONS.items():
+SECTIONS: dict[str, Callable[[Path, str], str]] = {
+    "solver": solver_table,
+    "targets": targets_table,
+    "sizing": lambda root, doc: sizing(root),
+    "tap-regions": report_table(BENCHMARKS[4], "95 % region holds the truth"),
+    **{f"targets-{bench.target}": report_targets(bench) for bench in BENCHMARKS},
+}
+
+
+def rendered(text: str, doc: str, root: Path = ROOT) -> str:
+    """``text`` of ``doc`` with every generated section renewed from the reports under
+    ``root``."""
+    for name in SECTION.findall(text):
+        if name not in SECTIONS:
+            raise ValueError(f"{doc}: no generator for the section {name!r}")
         begin, end = f"<!-- figures:{name} -->", f"<!-- end of figures:{name} -->"
-        head, found, rest = readme.partition(begin)
+        head, _, rest = text.partition(begin)
         _, ended, tail = rest.partition(end)
-        if not (found and ended):
-            raise ValueError(f"{README.name} lacks the markers {begin!r} ... {end!r}")
-        readme = f"{head}{begin}\n{make(root)}\n{end}{tail}"
-    return readme
+        if not ended:
+            raise ValueError(f"{doc} lacks {end!r} after {begin!r}")
+        text = f"{head}{begin}\n{SECTIONS[name](root, doc)}\n{end}{tail}"
+    return text
 
 
 def git(*args: str) -> str:
@@ -142,7 +172,7 @@ def git(*args: str) -> str:
 
 def run_every_benchmark() -> int:
     """Every benchmark at HEAD, one after the other; a benchmark that stops leaves a report
-    that says so, with one failed target, so the README shows it as failed. Returns how
+    that says so, with one failed target, so the docs show it as failed. Returns how
     many stopped."""
     if git("status", "--porcelain"):
         print(
@@ -173,17 +203,23 @@ def stopped_report(bench: Benchmark, commit: str, status: int) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
     mode = parser.add_mutually_exclusive_group()
-    mode.add_argument("--check", action="store_true", help="exit 1 if the README is stale")
+    mode.add_argument("--check", action="store_true", help="exit 1 if a doc is stale")
     mode.add_argument("--run", action="store_true", help="run every benchmark first")
     args = parser.parse_args(argv)
     stopped = run_every_benchmark() if args.run else 0
     if stopped < 0:
         return 2
-    readme = README.read_text(encoding="utf-8")
-    fresh = rendered(readme)
+    stale = []
+    for doc in DOCS:
+        text = (ROOT / doc).read_text(encoding="utf-8")
+        fresh = rendered(text, doc)
+        if fresh != text:
+            stale.append(doc)
+            if not args.check:
+                (ROOT / doc).write_text(fresh, encoding="utf-8")
     if args.check:
-        return int(fresh != readme)
-    README.write_text(fresh, encoding="utf-8")
+        print("\n".join(f"{doc} is stale: make docs-figures" for doc in stale), file=sys.stderr)
+        return int(bool(stale))
     return int(stopped > 0)
 
 
