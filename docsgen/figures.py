@@ -77,7 +77,32 @@ def targets_table(root: Path, doc: str) -> str:
         verdicts += [f"**FAIL**: {claim}" for claim in report.failed]
         cell = f"{link(bench.report, doc)} ({report.commit})"
         rows.append(f"| `make {bench.target}` | {bench.plays} | {cell} | {'; '.join(verdicts)} |")
-    return "\n".join(rows)
+    commits = sorted({read_report(root / bench.report).commit for bench in BENCHMARKS})
+    return "\n".join(rows) + "\n\n" + one_code(commits)
+
+
+# What the benchmarks measure: a report of another commit with the same tree here measured
+# the same code (a later commit that changed only tests, docs or benchmarks).
+APP_CODE = ("backend", "shared_solver", "frontend", "deploy", "requirements", "pyproject.toml")
+
+
+def one_code(commits: list[str]) -> str:
+    """Whether the reports of ``commits`` measured one version of the app's code."""
+    if len(commits) == 1:
+        return f"Every report is of commit {commits[0]}."
+    listed = ", ".join(commits)
+    try:
+        changed = [
+            git("diff", "--name-only", commits[0], other, "--", *APP_CODE) for other in commits[1:]
+        ]
+    except subprocess.CalledProcessError:  # a commit this clone does not have
+        return f"The reports are of commits {listed}; this clone cannot compare them."
+    if any(changed):
+        return f"The reports are of commits {listed}, whose app code differs."
+    return (
+        f"The reports are of commits {listed}, with the same app code "
+        f"({', '.join(f'`{path}`' for path in APP_CODE)}): one version of the app measured."
+    )
 
 
 def report_targets(bench: Benchmark) -> Callable[[Path, str], str]:

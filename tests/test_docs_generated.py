@@ -153,3 +153,12 @@ def test_running_every_benchmark_refuses_uncommitted_changes(
     monkeypatch.setattr(subprocess, "run", lambda *args, **kwargs: ran.append(args))
     assert figures.main(["--run"]) == 2
     assert ran == []
+
+
+def test_reports_of_several_commits_say_whether_they_measured_one_app() -> None:
+    head = figures.git("rev-parse", "--short", "HEAD")
+    first = figures.git("rev-list", "--max-parents=0", "HEAD").split()[0][:7]
+    assert figures.one_code([head]) == f"Every report is of commit {head}."
+    assert "the same app code" in figures.one_code([head, head])
+    assert figures.one_code([first, head]).endswith("whose app code differs.")
+    assert "cannot compare" in figures.one_code([head, "0000000"])
