@@ -15,12 +15,13 @@ Pixels everywhere: x right, y down, origin at the top-left (OpenCV's convention)
 
 from .drawing.overlay import draw_overlay
 from .drawing.palette import landmark_colour, landmark_colour_hex
-from .errors import ErrorCode, SolverError, WarningCode
+from .errors import ErrorCode, Reason, WarningCode
 from .estimation.camera import Camera
 from .estimation.ranking import EpipoleCandidate, epipoles_from_six
 from .minimal.conic import epipole_conic
 from .minimal.five_point import epipole_from_five
 from .minimal.two_epipoles import fundamental_from_epipoles
+from .refusal import Refusal, SolverError
 from .result import (
     CameraEstimate,
     Candidate,
@@ -38,6 +39,8 @@ __all__ = [
     "Ellipse",
     "EpipoleCandidate",
     "ErrorCode",
+    "Reason",
+    "Refusal",
     "SolveResult",
     "SolverError",
     "SolverWarning",

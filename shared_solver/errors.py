@@ -1,15 +1,16 @@
-"""The solver's stable codes: why it refused (:class:`ErrorCode`, carried by the one
-exception type it raises) and what it warns of on an answer (:class:`WarningCode`).
+"""The solver's stable codes: why it refused (:class:`ErrorCode`, with the :class:`Reason`
+that picks its sentence) and what it warns of on an answer (:class:`WarningCode`).
 
 Every refusal carries a machine-readable ``code`` (stable: the REST API returns it and the
-phones branch on it) and a ``message`` a person can act on; every warning a code, its
-parameters and its sentence (``shared_solver.result.SolverWarning``).
+phones branch on it), its ``reason`` and parameters (:class:`Parameters`), and a ``message``
+a person can act on (``shared_solver.refusal``); every warning a code, its parameters and its
+sentence (``shared_solver.result.SolverWarning``). ``shared_solver.words`` words both.
 """
 
 from __future__ import annotations
 
 from enum import StrEnum
-from typing import Literal
+from typing import Literal, TypedDict
 
 
 class ErrorCode(StrEnum):
@@ -49,6 +50,192 @@ MEANING: dict[ErrorCode, str] = {
     ErrorCode.DEGENERATE_CONFIGURATION: "the taps fit many geometries: no answer is honest",
     ErrorCode.NO_SOLUTION: "no geometry fits the taps",
 }
+
+
+class Reason(StrEnum):
+    """Which refusal of its code: the key of its sentence (``words.refusal``). A code that
+    is refused one way has one reason, named as the code. The values are a public contract:
+    never rename one."""
+
+    # invalid_shape
+    NOT_A_NUMBER = "not_a_number"
+    NOT_POINTS = "not_points"
+    NOT_A_POINT = "not_a_point"
+    NOT_A_PIXEL = "not_a_pixel"
+    NOT_A_LINE = "not_a_line"
+    NOT_A_SIZE = "not_a_size"
+    NOT_PRECISIONS = "not_precisions"
+    NOT_A_PRECISION = "not_a_precision"
+    NOT_8_BIT = "not_8_bit"
+    NOT_A_PHOTO = "not_a_photo"
+    LABELS_NOT_WHOLE = "labels_not_whole"
+    # not_finite
+    NOT_FINITE = "not_finite"
+    BEYOND_FLOATS = "beyond_floats"
+    # mismatched_lengths
+    MISMATCHED_LENGTHS = "mismatched_lengths"
+    ONE_ID_PER_LANDMARK = "one_id_per_landmark"
+    LABELS_WITHOUT_POINTS = "labels_without_points"
+    ONE_LABEL_PER_LANDMARK = "one_label_per_landmark"
+    # one reason each
+    TOO_FEW_LANDMARKS = "too_few_landmarks"
+    TOO_MANY_LANDMARKS = "too_many_landmarks"
+    REPEATED_LANDMARKS = "repeated_landmarks"
+    COLLINEAR_LANDMARKS = "collinear_landmarks"
+    EPIPOLE_ON_LANDMARK = "epipole_on_landmark"
+    LANDMARKS_ON_EPIPOLAR_LINE = "landmarks_on_epipolar_line"
+    CONFLICTING_INPUTS = "conflicting_inputs"
+    MISSING_EPIPOLE1 = "missing_epipole1"
+    # invalid_parameter
+    TOO_FAR = "too_far"
+    NOT_POSITIVE = "not_positive"
+    NOT_A_LENGTH = "not_a_length"
+    NOT_A_COVARIANCE = "not_a_covariance"
+    NOT_A_USABLE_COVARIANCE = "not_a_usable_covariance"
+    NOT_A_CAMERA = "not_a_camera"
+    CAMERA_WITHOUT_SIZE = "camera_without_size"
+    UNUSABLE_FOCAL = "unusable_focal"
+    FIVE_METHOD = "five_method"
+    BAD_PHOTO = "bad_photo"
+    # degenerate_configuration
+    GEOMETRY_UNDETERMINED = "geometry_undetermined"
+    FRIEND_UNDETERMINED = "friend_undetermined"
+    ONE_SURFACE_UNMARKED = "one_surface_unmarked"
+    TOO_FEW_EPIPOLAR_LINES = "too_few_epipolar_lines"
+    FRIEND_AT_INFINITY = "friend_at_infinity"
+    NO_PLANE = "no_plane"
+    LINE_FITS_EVERYWHERE = "line_fits_everywhere"
+    # no_solution
+    LINE_FITS_NOTHING = "line_fits_nothing"
+    SEVEN_FIT_NOTHING = "seven_fit_nothing"
+
+
+_REASONS: dict[ErrorCode, tuple[Reason, ...]] = {
+    ErrorCode.INVALID_SHAPE: (
+        Reason.NOT_A_NUMBER,
+        Reason.NOT_POINTS,
+        Reason.NOT_A_POINT,
+        Reason.NOT_A_PIXEL,
+        Reason.NOT_A_LINE,
+        Reason.NOT_A_SIZE,
+        Reason.NOT_PRECISIONS,
+        Reason.NOT_A_PRECISION,
+        Reason.NOT_8_BIT,
+        Reason.NOT_A_PHOTO,
+        Reason.LABELS_NOT_WHOLE,
+    ),
+    ErrorCode.NOT_FINITE: (Reason.NOT_FINITE, Reason.BEYOND_FLOATS),
+    ErrorCode.MISMATCHED_LENGTHS: (
+        Reason.MISMATCHED_LENGTHS,
+        Reason.ONE_ID_PER_LANDMARK,
+        Reason.LABELS_WITHOUT_POINTS,
+        Reason.ONE_LABEL_PER_LANDMARK,
+    ),
+    ErrorCode.INVALID_PARAMETER: (
+        Reason.TOO_FAR,
+        Reason.NOT_POSITIVE,
+        Reason.NOT_A_LENGTH,
+        Reason.NOT_A_COVARIANCE,
+        Reason.NOT_A_USABLE_COVARIANCE,
+        Reason.NOT_A_CAMERA,
+        Reason.CAMERA_WITHOUT_SIZE,
+        Reason.UNUSABLE_FOCAL,
+        Reason.FIVE_METHOD,
+        Reason.BAD_PHOTO,
+    ),
+    ErrorCode.DEGENERATE_CONFIGURATION: (
+        Reason.GEOMETRY_UNDETERMINED,
+        Reason.FRIEND_UNDETERMINED,
+        Reason.ONE_SURFACE_UNMARKED,
+        Reason.TOO_FEW_EPIPOLAR_LINES,
+        Reason.FRIEND_AT_INFINITY,
+        Reason.NO_PLANE,
+        Reason.LINE_FITS_EVERYWHERE,
+    ),
+    ErrorCode.NO_SOLUTION: (Reason.LINE_FITS_NOTHING, Reason.SEVEN_FIT_NOTHING),
+}
+# The code of each reason: the code's own name when it is refused one way only.
+CODE: dict[Reason, ErrorCode] = {
+    reason: code for code, reasons in _REASONS.items() for reason in reasons
+} | {Reason(code.value): code for code in ErrorCode if code not in _REASONS}
+
+# The photo a refusal is about when its reason always names that one (the friend mark of
+# photo 1 is the one refused); the photo of a landmark layout is a parameter instead.
+REFUSAL_PHOTO: dict[Reason, Literal[1, 2]] = {
+    Reason.CONFLICTING_INPUTS: 1,
+    Reason.FRIEND_AT_INFINITY: 1,
+}
+# The reasons whose photo is a parameter: the photo whose landmarks (and friend mark) they
+# are about.
+REFUSAL_OF_ONE_PHOTO = frozenset(
+    {
+        Reason.REPEATED_LANDMARKS,
+        Reason.COLLINEAR_LANDMARKS,
+        Reason.EPIPOLE_ON_LANDMARK,
+        Reason.LANDMARKS_ON_EPIPOLAR_LINE,
+    }
+)
+
+# The parameters each reason's sentence names (docs/api.md's table); a reason absent names
+# none. ``Refusal.of`` takes no other; ``marked`` may be left out (a solver's own minimum).
+REFUSAL_PARAMETERS: dict[Reason, tuple[str, ...]] = {
+    **dict.fromkeys(
+        (
+            Reason.NOT_A_NUMBER,
+            Reason.NOT_A_POINT,
+            Reason.NOT_A_PIXEL,
+            Reason.NOT_A_LINE,
+            Reason.NOT_A_SIZE,
+            Reason.NOT_A_PRECISION,
+            Reason.NOT_FINITE,
+            Reason.BEYOND_FLOATS,
+            Reason.NOT_POSITIVE,
+            Reason.NOT_A_COVARIANCE,
+            Reason.CAMERA_WITHOUT_SIZE,
+        ),
+        ("field",),
+    ),
+    Reason.NOT_POINTS: ("field", "shape"),
+    Reason.NOT_PRECISIONS: ("field", "count"),
+    Reason.NOT_A_PHOTO: ("shape",),
+    Reason.MISMATCHED_LENGTHS: ("counts",),
+    Reason.ONE_LABEL_PER_LANDMARK: ("counts",),
+    Reason.TOO_FEW_LANDMARKS: ("count", "minimum", "marked"),
+    Reason.TOO_MANY_LANDMARKS: ("count", "maximum"),
+    Reason.REPEATED_LANDMARKS: ("photo", "landmarks"),
+    Reason.COLLINEAR_LANDMARKS: ("photo",),
+    Reason.EPIPOLE_ON_LANDMARK: ("photo", "landmark"),
+    Reason.LANDMARKS_ON_EPIPOLAR_LINE: ("photo",),
+    Reason.TOO_FAR: ("field", "largest_px"),
+    Reason.NOT_A_LENGTH: ("field", "finest_px", "largest_px"),
+    Reason.NOT_A_USABLE_COVARIANCE: ("field", "finest_px", "largest_px", "most_elongated"),
+    Reason.NOT_A_CAMERA: ("field", "detail"),
+    Reason.BAD_PHOTO: ("detail",),
+}
+
+# How the friends were marked, which sets how many landmarks are needed: "both" (each in the
+# other's photo), "point" or "line" (in photo 1), "none".
+Marks = Literal["both", "point", "line", "none"]
+
+
+class Parameters(TypedDict, total=False):
+    """A refusal's parameters: what its sentence says beside its reason (each described on
+    ``shared_solver.refusal.Refusal``; a reason takes the ones its sentence names)."""
+
+    photo: Literal[1, 2]
+    landmark: int
+    landmarks: tuple[int, int]
+    count: int
+    counts: tuple[int, int]
+    minimum: int
+    maximum: int
+    marked: Marks
+    field: str
+    shape: tuple[int, ...]
+    finest_px: float
+    largest_px: float
+    most_elongated: float
+    detail: str
 
 
 class WarningCode(StrEnum):
@@ -106,20 +293,3 @@ WARNING_PHOTO: dict[WarningCode, Literal[1, 2]] = {
 # The codes whose photo is a parameter: the photo of the landmark they name. Every other code
 # is about the taps as a whole, said to both phones.
 WARNING_OF_ONE_PHOTO = frozenset({WarningCode.MISFIT})
-
-
-class SolverError(ValueError):
-    """Input the solver cannot answer honestly.
-
-    Attributes:
-        code: one of :class:`ErrorCode`, stable across versions.
-        message: a plain-English sentence saying what to do about it.
-    """
-
-    def __init__(self, code: ErrorCode, message: str) -> None:
-        super().__init__(message)
-        self.code = code
-        self.message = message
-
-    def __repr__(self) -> str:
-        return f"SolverError({self.code.value!r}, {self.message!r})"

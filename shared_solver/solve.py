@@ -29,12 +29,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from pydantic import ValidationError
 
-from . import validation, words
+from . import validation
 from .answers import disagreement, pinhole, projective
 from .answers.request import Request
-from .errors import ErrorCode, SolverError
+from .errors import Marks, Reason
 from .estimation.camera import Camera
 from .estimation.taps import Taps
+from .refusal import SolverError
 from .result import SolveResult
 
 # Two taps closer than this many tap sigmas are the same place; landmarks within it of one
@@ -145,7 +146,7 @@ def solve(
     if answer.result is not None and answer.agrees:
         return answer.result
     if count < minimum:
-        raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.GEOMETRY_UNDETERMINED)
+        raise SolverError(Reason.GEOMETRY_UNDETERMINED)
     return disagreement.reconcile(request, answer.result, projective_route(request))
 
 
@@ -175,20 +176,20 @@ def _parse(
     e2 = None if epipole2 is None else validation.pixel(epipole2, "epipole2")
     line1 = None if epipolar_line1 is None else validation.line(epipolar_line1, "epipolar_line1")
     if e1 is not None and line1 is not None:
-        raise SolverError(ErrorCode.CONFLICTING_INPUTS, words.POINT_AND_LINE)
+        raise SolverError(Reason.CONFLICTING_INPUTS)
     if e2 is not None and e1 is None:
-        raise SolverError(ErrorCode.MISSING_EPIPOLE1, words.SECOND_MARK_ALONE)
+        raise SolverError(Reason.MISSING_EPIPOLE1)
     size1 = validation.image_size(image_size1, "image_size1")
     size2 = validation.image_size(image_size2, "image_size2")
     camera_pair = (_camera(cameras[0], "camera1", size1), _camera(cameras[1], "camera2", size2))
     modelled = all(camera.kind != "unknown" for camera in camera_pair)
-    minimum, purpose = _minimum(e1 is not None, e2 is not None, line1 is not None, modelled)
+    minimum, marked = _minimum(e1 is not None, e2 is not None, line1 is not None, modelled)
     labels = None if landmark_ids is None else [int(i) for i in landmark_ids]
     p, q = validation.landmark_pairs(
         points1,
         points2,
         minimum=minimum,
-        purpose=purpose,
+        marked=marked,
         tolerance=_SAME_PLACE_SIGMAS * sigma,
         labels=labels,
         epipole1=None if e1 is None else np.append(e1, 1.0),
@@ -196,7 +197,7 @@ def _parse(
         directions=not (modelled and e2 is not None),
     )
     if labels is not None and len(labels) != len(p):
-        raise SolverError(ErrorCode.MISMATCHED_LENGTHS, words.ONE_ID_PER_LANDMARK)
+        raise SolverError(Reason.ONE_ID_PER_LANDMARK)
     sigma_p, sigma_q, sigma_e1, sigma_e2 = sigmas
     cov_e1 = validation.covariance(sigma_e1, sigma, "epipole1_sigma")
     line_normal = None if line1 is None else line1[:2] / np.hypot(line1[0], line1[1])
@@ -248,16 +249,15 @@ def fewest_landmarks(
     return 6 if line else 7
 
 
-def _minimum(friend2: bool, friend1: bool, line: bool, modelled: bool) -> tuple[int, str]:
-    """Fewest landmarks for any answer, and the end of the sentence refusing fewer."""
+def _minimum(friend2: bool, friend1: bool, line: bool, modelled: bool) -> tuple[int, Marks]:
+    """Fewest landmarks for any answer, and how the friends were marked (which the refusal of
+    fewer says)."""
     count = fewest_landmarks(
         epipole1=friend2, epipole2=friend1, line=line, cameras=modelled, position=False
     )
     if friend2:
-        return count, "when both friends are marked" if friend1 else "with your friend marked"
-    if line:
-        return count, "with a line through your friend"
-    return count, "without marking your friend (tap your friend to need fewer)"
+        return count, "both" if friend1 else "point"
+    return count, "line" if line else "none"
 
 
 def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> Camera:
@@ -278,10 +278,8 @@ def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> 
             camera = parse()
         except ValidationError as error:
             reason = error.errors()[0].get("msg", "not a camera")
-            raise SolverError(
-                ErrorCode.INVALID_PARAMETER, words.not_a_camera(name, reason)
-            ) from error
+            raise SolverError(Reason.NOT_A_CAMERA, field=name, detail=reason) from error
     if camera.kind != "unknown" and size is None:
         size_name = "image_size1" if name == "camera1" else "image_size2"
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.camera_without_size(size_name))
+        raise SolverError(Reason.CAMERA_WITHOUT_SIZE, field=size_name)
     return camera

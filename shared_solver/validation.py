@@ -16,13 +16,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import words
-from .errors import ErrorCode, SolverError
+from .errors import Marks, Reason
 from .projective import FAR_AWAY_PX, Array
+from .refusal import SolverError
+
+Photo = Literal[1, 2]
 
 MAX_LANDMARKS = 256
 # Relative tolerance for exact degeneracy: far below any tap, far above float rounding.
@@ -44,18 +47,18 @@ def _array(value: ArrayLike, name: str) -> Array:
     try:
         array = np.asarray(value, dtype=np.float64)
     except OverflowError as error:  # an integer beyond a float's range (JSON has them)
-        raise SolverError(ErrorCode.NOT_FINITE, words.beyond_floats(name)) from error
+        raise SolverError(Reason.BEYOND_FLOATS, field=name) from error
     except (TypeError, ValueError) as error:
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_number(name)) from error
+        raise SolverError(Reason.NOT_A_NUMBER, field=name) from error
     if not np.isfinite(array).all():
-        raise SolverError(ErrorCode.NOT_FINITE, words.not_finite(name))
+        raise SolverError(Reason.NOT_FINITE, field=name)
     return array
 
 
 def _near(array: Array, name: str) -> Array:
     """``array`` of pixel positions, refused when one is beyond :data:`LARGEST_PX`."""
     if array.size and float(np.abs(array).max()) > LARGEST_PX:
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.too_far(name, LARGEST_PX))
+        raise SolverError(Reason.TOO_FAR, field=name, largest_px=LARGEST_PX)
     return array
 
 
@@ -63,7 +66,7 @@ def points(value: ArrayLike, name: str) -> Array:
     """(N, 2) float array of pixel points, finite, within :data:`LARGEST_PX`."""
     array = _array(value, name)
     if array.ndim != 2 or array.shape[1] != 2:
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_points(name, array.shape))
+        raise SolverError(Reason.NOT_POINTS, field=name, shape=array.shape)
     return _near(array, name)
 
 
@@ -74,14 +77,14 @@ def point(value: ArrayLike, name: str) -> Array:
         return np.append(array, 1.0)
     if array.shape == (3,) and np.any(array != 0):
         return array
-    raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_point(name))
+    raise SolverError(Reason.NOT_A_POINT, field=name)
 
 
 def pixel(value: ArrayLike, name: str) -> Array:
     """(2,) pixel position of a tap, finite, within :data:`LARGEST_PX`."""
     array = _array(value, name)
     if array.shape != (2,):
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_pixel(name))
+        raise SolverError(Reason.NOT_A_PIXEL, field=name)
     return _near(array, name)
 
 
@@ -91,13 +94,13 @@ def line(value: ArrayLike, name: str) -> Array:
     refused when farther than :data:`LARGEST_PX`."""
     array = _array(value, name)
     if array.shape != (3,) or not np.any(array[:2] != 0):
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_line(name))
+        raise SolverError(Reason.NOT_A_LINE, field=name)
     # In two steps, so that neither a subnormal nor a huge (a, b) over- or underflows.
     with np.errstate(over="ignore"):
         array = array / float(np.abs(array[:2]).max())
         array = array / math.hypot(array[0], array[1])
     if not abs(array[2]) <= LARGEST_PX:
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.too_far(name, LARGEST_PX))
+        raise SolverError(Reason.TOO_FAR, field=name, largest_px=LARGEST_PX)
     return array
 
 
@@ -106,9 +109,9 @@ def positive(value: float, name: str) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError, OverflowError) as error:
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name)) from error
+        raise SolverError(Reason.NOT_POSITIVE, field=name) from error
     if not math.isfinite(number) or number <= 0:
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_positive(name))
+        raise SolverError(Reason.NOT_POSITIVE, field=name)
     return number
 
 
@@ -117,7 +120,7 @@ def length(value: float, name: str) -> float:
     number = positive(value, name)
     if not FINEST_PX <= number <= LARGEST_PX:
         raise SolverError(
-            ErrorCode.INVALID_PARAMETER, words.not_a_length(name, FINEST_PX, LARGEST_PX)
+            Reason.NOT_A_LENGTH, field=name, finest_px=FINEST_PX, largest_px=LARGEST_PX
         )
     return number
 
@@ -129,7 +132,7 @@ def image_size(value: ArrayLike | None, name: str) -> tuple[float, float] | None
         return None
     array = _array(value, name)
     if array.shape != (2,) or (array <= 0).any():
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_size(name))
+        raise SolverError(Reason.NOT_A_SIZE, field=name)
     return length(float(array[0]), name), length(float(array[1]), name)
 
 
@@ -145,7 +148,7 @@ def landmark_pairs(
     *,
     minimum: int,
     maximum: int = MAX_LANDMARKS,
-    purpose: str = "here",
+    marked: Marks | None = None,
     tolerance: float | None = None,
     labels: Sequence[int] | None = None,
     epipole1: Array | None = None,
@@ -157,7 +160,8 @@ def landmark_pairs(
     Args:
         points1, points2: (N, 2) landmarks in photo 1 and photo 2, same order.
         minimum, maximum: how many landmarks the caller's method takes.
-        purpose: completes "at least N landmarks are needed ..." in the refusal.
+        marked: how the friends were marked (what sets ``minimum``), said in the refusal
+            of too few; None: a solver of its own ('needed here').
         tolerance: distance in pixels below which two taps count as the same place; by
             default an exact (relative) tolerance.
         labels: the landmark numbers a person sees, for messages (default 1..N).
@@ -169,23 +173,26 @@ def landmark_pairs(
     """
     p, q = points(points1, "points1"), points(points2, "points2")
     if len(p) != len(q):
-        raise SolverError(ErrorCode.MISMATCHED_LENGTHS, words.mismatched(len(p), len(q)))
+        raise SolverError(Reason.MISMATCHED_LENGTHS, counts=(len(p), len(q)))
     if len(p) < minimum:
-        raise SolverError(ErrorCode.TOO_FEW_LANDMARKS, words.too_few(len(p), minimum, purpose))
+        if marked is None:
+            raise SolverError(Reason.TOO_FEW_LANDMARKS, count=len(p), minimum=minimum)
+        raise SolverError(Reason.TOO_FEW_LANDMARKS, count=len(p), minimum=minimum, marked=marked)
     if len(p) > maximum:
-        raise SolverError(ErrorCode.TOO_MANY_LANDMARKS, words.too_many(len(p), maximum))
+        raise SolverError(Reason.TOO_MANY_LANDMARKS, count=len(p), maximum=maximum)
     names = list(labels) if labels is not None else list(range(1, len(p) + 1))
-    for photo, pts, epipole in (("photo 1", p, epipole1), ("photo 2", q, epipole2)):
+    photos: tuple[tuple[Photo, Array, Array | None], ...] = ((1, p, epipole1), (2, q, epipole2))
+    for photo, pts, epipole in photos:
         tol = tolerance if tolerance is not None else EXACT_TOLERANCE * spread(pts)
         _refuse_repeats(pts, tol, photo, names)
         if epipole is not None:
             _refuse_epipole(epipole, pts, tol, photo, names, spread_needed=directions)
         if len(pts) >= 3 and _off_line_spread(pts) <= tol:
-            raise SolverError(ErrorCode.COLLINEAR_LANDMARKS, words.collinear(photo))
+            raise SolverError(Reason.COLLINEAR_LANDMARKS, photo=photo)
     return p, q
 
 
-def _refuse_repeats(pts: Array, tol: float, photo: str, names: Sequence[int]) -> None:
+def _refuse_repeats(pts: Array, tol: float, photo: Photo, names: Sequence[int]) -> None:
     offsets = pts[:, None, :] - pts[None, :, :]
     gaps = np.hypot(offsets[..., 0], offsets[..., 1])
     gaps.flat[:: len(pts) + 1] = np.inf
@@ -193,7 +200,7 @@ def _refuse_repeats(pts: Array, tol: float, photo: str, names: Sequence[int]) ->
     if gaps[i, j] <= tol:
         first, second = sorted((i, j))
         raise SolverError(
-            ErrorCode.REPEATED_LANDMARKS, words.repeated(names[first], names[second], photo)
+            Reason.REPEATED_LANDMARKS, landmarks=(names[first], names[second]), photo=photo
         )
 
 
@@ -214,7 +221,7 @@ def _refuse_epipole(
     epipole: Array,
     pts: Array,
     tolerance: float,
-    photo: str,
+    photo: Photo,
     names: Sequence[int],
     *,
     spread_needed: bool,
@@ -227,9 +234,7 @@ def _refuse_epipole(
         distances = np.hypot(directions[:, 0], directions[:, 1])
         closest = int(distances.argmin())
         if distances[closest] <= tolerance:
-            raise SolverError(
-                ErrorCode.EPIPOLE_ON_LANDMARK, words.mark_on_landmark(names[closest], photo)
-            )
+            raise SolverError(Reason.EPIPOLE_ON_LANDMARK, landmark=names[closest], photo=photo)
         if not spread_needed:
             return
         # Each landmark's distance from the line through the epipole and the farthest landmark.
@@ -242,9 +247,7 @@ def _refuse_epipole(
         normal = np.array([-epipole[1], epipole[0]]) / np.hypot(epipole[0], epipole[1])
         off_line = float(np.ptp(pts @ normal))
     if off_line <= tolerance:
-        raise SolverError(
-            ErrorCode.LANDMARKS_ON_EPIPOLAR_LINE, words.landmarks_on_line_through(photo)
-        )
+        raise SolverError(Reason.LANDMARKS_ON_EPIPOLAR_LINE, photo=photo)
 
 
 def covariances(value: ArrayLike | None, count: int, default: float, name: str) -> Array:
@@ -261,7 +264,7 @@ def covariances(value: ArrayLike | None, count: int, default: float, name: str) 
         return array[:, None, None] ** 2 * np.eye(2)
     if array.shape == (count, 2, 2):
         return _positive_definite(array, name)
-    raise SolverError(ErrorCode.INVALID_SHAPE, words.not_precisions(name, count))
+    raise SolverError(Reason.NOT_PRECISIONS, field=name, count=count)
 
 
 def covariance(value: ArrayLike | None, default: float, name: str) -> Array:
@@ -273,7 +276,7 @@ def covariance(value: ArrayLike | None, default: float, name: str) -> Array:
         return length(float(array), name) ** 2 * np.eye(2)
     if array.shape == (2, 2):
         return _positive_definite(array[None], name)[0]
-    raise SolverError(ErrorCode.INVALID_SHAPE, words.not_a_precision(name))
+    raise SolverError(Reason.NOT_A_PRECISION, field=name)
 
 
 def _positive_definite(array: Array, name: str) -> Array:
@@ -289,14 +292,17 @@ def _positive_definite(array: Array, name: str) -> Array:
         largest = a / 2.0 + c / 2.0 + np.hypot(a / 2.0 - c / 2.0, b)
         smallest = (a * c - b * b) / largest
     if not symmetric or not np.all((a > 0) & (smallest > 0)):
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.not_a_covariance(name))
+        raise SolverError(Reason.NOT_A_COVARIANCE, field=name)
     if not np.all(
         (largest <= LARGEST_PX**2)
         & (smallest >= FINEST_PX**2)
         & (smallest * MOST_ELONGATED**2 >= largest)
     ):
         raise SolverError(
-            ErrorCode.INVALID_PARAMETER,
-            words.not_a_usable_covariance(name, FINEST_PX, LARGEST_PX, MOST_ELONGATED),
+            Reason.NOT_A_USABLE_COVARIANCE,
+            field=name,
+            finest_px=FINEST_PX,
+            largest_px=LARGEST_PX,
+            most_elongated=MOST_ELONGATED,
         )
     return array

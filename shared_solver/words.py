@@ -1,19 +1,21 @@
 """Every sentence the solver says to a person: warnings on an answer and reasons for a refusal.
 
 They reach a phone's screen, so they are written for the two friends: "your friend", "the
-friend mark", "landmark #3", and a next step to take. A refusal names photos "photo 1" and
-"photo 2" and nothing else, so that a session can say them to each phone as "your photo" and
-"your friend's photo". A warning names none by number ("this photo" is said only to the
-phone whose photo it is), so one sentence serves both phones; which phone is told it is the
+friend mark", "landmark #3", and a next step to take. A refusal is worded from its reason
+and parameters for its reader (:func:`refusal`): "photo 1" and "photo 2" for a script, "your
+photo" and "your friend's photo" for each phone of a session. A warning names none by
+number ("this photo" is said only to the phone whose photo it is), so one sentence serves
+both phones; which phone is told it is the
 photo it is about (``errors.WARNING_PHOTO``), not its wording (:func:`warning`). Kept in
 one place so the voice stays one, and so a change of wording never hides in the geometry.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Literal, TypeVar
 
-from .errors import WarningCode
+from .errors import Marks, Parameters, Reason, WarningCode
 
 Side = Literal["left", "right", "up", "down"]
 _T = TypeVar("_T")
@@ -149,162 +151,178 @@ def _given(value: _T | None, code: WarningCode) -> _T:
 
 
 # --- refusals: input that cannot be answered honestly ----------------------------------------
+# A refusal's sentence is made from its reason and parameters (errors.Parameters) by
+# :func:`refusal`, for a reader: a script reads of "photo 1" and "photo 2", a phone in a
+# session of "your photo" and "your friend's photo".
 
-POINT_AND_LINE = "Mark your friend either as a point or as a line in photo 1, not both."
-SECOND_MARK_ALONE = (
-    "The friend mark in photo 2 (epipole2) is used together with the one in photo 1 "
-    "(epipole1); give that one too."
-)
-ONE_ID_PER_LANDMARK = "Give one number in landmark_ids per landmark."
-LINE_FITS_NOTHING = (
-    "No position along the line fits these 6 landmarks; re-check the landmarks and the line."
-)
-LINE_FITS_EVERYWHERE = (
-    "Every point of the line fits these landmarks; add landmarks in other directions."
-)
-SEVEN_FIT_NOTHING = "No geometry fits these 7 landmarks; re-check them."
-ONE_SURFACE_UNMARKED = (
-    "The landmarks all lie on one surface, which cannot locate your friend on its own; tap "
-    "your friend if you can see them."
-)
-FRIEND_UNDETERMINED = (
-    "These landmarks do not fix where your friend is; add landmarks in other directions."
-)
-GEOMETRY_UNDETERMINED = (
-    "These landmarks do not fix the geometry; add landmarks in other directions."
-)
-TOO_FEW_EPIPOLAR_LINES = (
-    "These landmarks lie on too few epipolar lines to link the two photos; add landmarks in "
-    "other directions."
-)
-FRIEND_AT_INFINITY = "The landmarks put your friend at infinity in photo 1; re-check the landmarks."
-NO_PLANE = "No plane fits these landmarks."
-FIVE_METHOD = "The method must be 'cremona' or 'linear'."
-UNUSABLE_FOCAL = (
-    "The camera's focal length in pixels is not a usable number for this photo size; give "
-    "the photo's real size and focal length, or leave the camera unknown."
-)
+Reader = Literal[1, 2] | None  # the photo of the phone told; None: a script (photo 1, 2)
+_Named = Callable[[Literal[1, 2]], str]  # a photo's name for the reader
 
+_PURPOSE: dict[Marks, str] = {
+    "both": "when both friends are marked",
+    "point": "with your friend marked",
+    "line": "with a line through your friend",
+    "none": "without marking your friend (tap your friend to need fewer)",
+}
 
-def too_few(count: int, minimum: int, purpose: str) -> str:
-    return f"{count} landmarks marked; at least {minimum} are needed {purpose}."
-
-
-def too_many(count: int, maximum: int) -> str:
-    return f"{count} landmarks; at most {maximum} are taken here."
-
-
-def mismatched(count1: int, count2: int) -> str:
-    return f"Photo 1 has {count1} landmarks and photo 2 has {count2}; mark the same ones in both."
-
-
-def collinear(photo: str) -> str:
-    return f"All landmarks in {photo} lie on one straight line; add landmarks off that line."
-
-
-def repeated(first: int, second: int, photo: str) -> str:
-    return (
-        f"Landmarks #{first} and #{second} are at the same place in {photo}; each landmark "
-        "must be a different spot."
-    )
-
-
-def mark_on_landmark(label: int, photo: str) -> str:
-    return (
-        f"The friend mark is on landmark #{label} in {photo}; mark your friend and the "
-        "landmarks at different spots."
-    )
-
-
-def landmarks_on_line_through(photo: str) -> str:
-    return (
-        f"All landmarks lie on one line through your friend in {photo}, so they say nothing "
-        "about direction; add landmarks to the side of that line."
-    )
-
-
-# --- refusals: malformed values (read by whoever calls the API) -------------------------------
-
-
-def not_a_number(name: str) -> str:
-    return f"Every value of {name} must be a number."
-
-
-def not_finite(name: str) -> str:
-    return f"A value of {name} is not a finite number (NaN or infinity)."
-
-
-def beyond_floats(name: str) -> str:
-    return f"A value of {name} is too large to be a number here (beyond 1.8e308)."
-
-
-def not_points(name: str, shape: tuple[int, ...]) -> str:
-    return f"The value of {name} must be a list of [x, y] pairs, not an array of shape {shape}."
-
-
-def not_a_point(name: str) -> str:
-    return f"The value of {name} must be [x, y] or a nonzero [x, y, w]."
-
-
-def not_a_pixel(name: str) -> str:
-    return f"The value of {name} must be [x, y] in pixels."
-
-
-def not_a_line(name: str) -> str:
-    return (
-        f"The value of {name} must be [a, b, c] for the line a*x + b*y + c = 0, with a or b "
-        "nonzero."
-    )
-
-
-def not_positive(name: str) -> str:
-    return f"The value of {name} must be a positive number."
-
-
-def too_far(name: str, largest: float) -> str:
-    return (
-        f"A value of {name} is more than {largest:g} px from the origin; positions are a "
-        "photo's pixels, and no photo is that large."
-    )
-
-
-def not_a_length(name: str, finest: float, largest: float) -> str:
-    return f"The value of {name} must be between {finest:g} and {largest:g} px."
-
-
-def not_precisions(name: str, count: int) -> str:
-    return (
-        f"The value of {name} must be one sigma in px per tap ({count} numbers) or one 2x2 "
-        "covariance in px^2 per tap."
-    )
-
-
-def not_a_precision(name: str) -> str:
-    return f"The value of {name} must be a sigma in px or a 2x2 covariance in px^2."
-
-
-def not_a_covariance(name: str) -> str:
-    return f"Each covariance in {name} must be symmetric and positive definite (px^2)."
-
-
-def not_a_usable_covariance(name: str, finest: float, largest: float, elongated: float) -> str:
-    return (
-        f"Each covariance in {name} must have its sigmas (the square roots of its "
-        f"eigenvalues) between {finest:g} and {largest:g} px, at most {elongated:g} times "
-        "apart."
-    )
-
-
-def camera_without_size(name: str) -> str:
-    return f"A camera model needs the photo's size: give {name} as [width, height]."
+_REFUSAL: dict[Reason, Callable[[Parameters, _Named], str]] = {
+    # the landmarks and the friend marks (what a phone in a session can be told)
+    Reason.TOO_FEW_LANDMARKS: lambda p, _: (
+        f"{p['count']} landmarks marked; at least {p['minimum']} are needed "
+        f"{_PURPOSE[p['marked']] if 'marked' in p else 'here'}."
+    ),
+    Reason.TOO_MANY_LANDMARKS: lambda p, _: (
+        f"{p['count']} landmarks; at most {p['maximum']} are taken here."
+    ),
+    Reason.MISMATCHED_LENGTHS: lambda p, photo: (
+        f"{_capital(photo(1))} has {p['counts'][0]} landmarks and {photo(2)} has "
+        f"{p['counts'][1]}; mark the same ones in both."
+    ),
+    Reason.COLLINEAR_LANDMARKS: lambda p, photo: (
+        f"All landmarks in {photo(p['photo'])} lie on one straight line; add landmarks off "
+        "that line."
+    ),
+    Reason.REPEATED_LANDMARKS: lambda p, photo: (
+        f"Landmarks #{p['landmarks'][0]} and #{p['landmarks'][1]} are at the same place in "
+        f"{photo(p['photo'])}; each landmark must be a different spot."
+    ),
+    Reason.EPIPOLE_ON_LANDMARK: lambda p, photo: (
+        f"The friend mark is on landmark #{p['landmark']} in {photo(p['photo'])}; mark your "
+        "friend and the landmarks at different spots."
+    ),
+    Reason.LANDMARKS_ON_EPIPOLAR_LINE: lambda p, photo: (
+        f"All landmarks lie on one line through your friend in {photo(p['photo'])}, so they "
+        "say nothing about direction; add landmarks to the side of that line."
+    ),
+    Reason.CONFLICTING_INPUTS: lambda _, photo: (
+        f"Mark your friend either as a point or as a line in {photo(1)}, not both."
+    ),
+    Reason.MISSING_EPIPOLE1: lambda _, photo: (
+        f"The friend mark in {photo(2)} (epipole2) is used together with the one in "
+        f"{photo(1)} (epipole1); give that one too."
+    ),
+    Reason.FRIEND_AT_INFINITY: lambda _, photo: (
+        f"The landmarks put your friend at infinity in {photo(1)}; re-check the landmarks."
+    ),
+    Reason.ONE_ID_PER_LANDMARK: lambda _, __: "Give one number in landmark_ids per landmark.",
+    Reason.LINE_FITS_NOTHING: lambda _, __: (
+        "No position along the line fits these 6 landmarks; re-check the landmarks and the line."
+    ),
+    Reason.LINE_FITS_EVERYWHERE: lambda _, __: (
+        "Every point of the line fits these landmarks; add landmarks in other directions."
+    ),
+    Reason.SEVEN_FIT_NOTHING: lambda _, __: "No geometry fits these 7 landmarks; re-check them.",
+    Reason.ONE_SURFACE_UNMARKED: lambda _, __: (
+        "The landmarks all lie on one surface, which cannot locate your friend on its own; "
+        "tap your friend if you can see them."
+    ),
+    Reason.FRIEND_UNDETERMINED: lambda _, __: (
+        "These landmarks do not fix where your friend is; add landmarks in other directions."
+    ),
+    Reason.GEOMETRY_UNDETERMINED: lambda _, __: (
+        "These landmarks do not fix the geometry; add landmarks in other directions."
+    ),
+    Reason.TOO_FEW_EPIPOLAR_LINES: lambda _, __: (
+        "These landmarks lie on too few epipolar lines to link the two photos; add landmarks "
+        "in other directions."
+    ),
+    Reason.NO_PLANE: lambda _, __: "No plane fits these landmarks.",
+    Reason.FIVE_METHOD: lambda _, __: "The method must be 'cremona' or 'linear'.",
+    Reason.UNUSABLE_FOCAL: lambda _, __: (
+        "The camera's focal length in pixels is not a usable number for this photo size; "
+        "give the photo's real size and focal length, or leave the camera unknown."
+    ),
+    # malformed values (read by whoever calls the API: ``field`` is the argument's name)
+    Reason.NOT_A_NUMBER: lambda p, _: f"Every value of {p['field']} must be a number.",
+    Reason.NOT_FINITE: lambda p, _: (
+        f"A value of {p['field']} is not a finite number (NaN or infinity)."
+    ),
+    Reason.BEYOND_FLOATS: lambda p, _: (
+        f"A value of {p['field']} is too large to be a number here (beyond 1.8e308)."
+    ),
+    Reason.NOT_POINTS: lambda p, _: (
+        f"The value of {p['field']} must be a list of [x, y] pairs, not an array of shape "
+        f"{p['shape']}."
+    ),
+    Reason.NOT_A_POINT: lambda p, _: (
+        f"The value of {p['field']} must be [x, y] or a nonzero [x, y, w]."
+    ),
+    Reason.NOT_A_PIXEL: lambda p, _: f"The value of {p['field']} must be [x, y] in pixels.",
+    Reason.NOT_A_LINE: lambda p, _: (
+        f"The value of {p['field']} must be [a, b, c] for the line a*x + b*y + c = 0, with a "
+        "or b nonzero."
+    ),
+    Reason.NOT_POSITIVE: lambda p, _: f"The value of {p['field']} must be a positive number.",
+    Reason.TOO_FAR: lambda p, _: (
+        f"A value of {p['field']} is more than {p['largest_px']:g} px from the origin; "
+        "positions are a photo's pixels, and no photo is that large."
+    ),
+    Reason.NOT_A_LENGTH: lambda p, _: (
+        f"The value of {p['field']} must be between {p['finest_px']:g} and {p['largest_px']:g} px."
+    ),
+    Reason.NOT_PRECISIONS: lambda p, _: (
+        f"The value of {p['field']} must be one sigma in px per tap ({p['count']} numbers) "
+        "or one 2x2 covariance in px^2 per tap."
+    ),
+    Reason.NOT_A_PRECISION: lambda p, _: (
+        f"The value of {p['field']} must be a sigma in px or a 2x2 covariance in px^2."
+    ),
+    Reason.NOT_A_COVARIANCE: lambda p, _: (
+        f"Each covariance in {p['field']} must be symmetric and positive definite (px^2)."
+    ),
+    Reason.NOT_A_USABLE_COVARIANCE: lambda p, _: (
+        f"Each covariance in {p['field']} must have its sigmas (the square roots of its "
+        f"eigenvalues) between {p['finest_px']:g} and {p['largest_px']:g} px, at most "
+        f"{p['most_elongated']:g} times apart."
+    ),
+    Reason.CAMERA_WITHOUT_SIZE: lambda p, _: (
+        f"A camera model needs the photo's size: give {p['field']} as [width, height]."
+    ),
+    Reason.NOT_A_CAMERA: lambda p, _: (
+        f"The value of {p['field']} is not a camera description: {p['detail'].rstrip('.')}."
+    ),
+    Reason.NOT_A_SIZE: lambda p, _: (
+        f"The value of {p['field']} must be [width, height] in pixels, both positive."
+    ),
+    # the drawing's input
+    Reason.NOT_8_BIT: lambda _, __: "The photo must be an 8-bit image (a uint8 numpy array).",
+    Reason.LABELS_WITHOUT_POINTS: lambda _, __: "labels were given without points.",
+    Reason.LABELS_NOT_WHOLE: lambda _, __: "labels must be whole numbers.",
+    Reason.BAD_PHOTO: lambda p, _: f"photo must be 1 or 2, got {p['detail']}.",
+    Reason.NOT_A_PHOTO: lambda p, _: (
+        f"The photo must be (height, width, 3) BGR or (height, width) grey; got {p['shape']}."
+    ),
+    Reason.ONE_LABEL_PER_LANDMARK: lambda p, _: (
+        f"{p['counts'][0]} labels for {p['counts'][1]} landmarks; give one label per landmark."
+    ),
+}
 
 
-def not_a_camera(name: str, reason: str) -> str:
-    return f"The value of {name} is not a camera description: {reason.rstrip('.')}."
+def refusal(reason: Reason, parameters: Parameters, *, reader: Reader = None) -> str:
+    """A refusal's sentence, from its reason and its parameters: the one wording of each
+    (``shared_solver.refusal.Refusal`` carries all three), for ``reader``: None, a script,
+    reads "photo 1" and "photo 2"; the phone of photo 1 or 2 reads "your photo" for its own
+    and "your friend's photo" for the other.
+
+    Raises:
+        ValueError: a parameter the reason's sentence names is missing.
+    """
+
+    def photo(number: Literal[1, 2]) -> str:
+        if reader is None:
+            return f"photo {number}"
+        return "your photo" if number == reader else "your friend's photo"
+
+    try:
+        return _REFUSAL[reason](parameters, photo)
+    except KeyError as missing:
+        raise ValueError(
+            f"the refusal {reason.value!r} lacks a parameter its sentence names: {missing}"
+        ) from None
 
 
-def not_a_size(name: str) -> str:
-    return f"The value of {name} must be [width, height] in pixels, both positive."
+def _capital(text: str) -> str:
+    return text[0].upper() + text[1:]
 
 
 # --- drawn on the photo (short: they share the picture with the answer) -------------------------
@@ -319,22 +337,3 @@ DRAWN_FAR_OFF = "friend far off this way"
 
 def drawn_off_photo(beyond_px: float) -> str:
     return f"friend {beyond_px:,.0f} px off"
-
-
-# --- refusals of the drawing's input -----------------------------------------------------------
-
-NOT_8_BIT = "The photo must be an 8-bit image (a uint8 numpy array)."
-LABELS_WITHOUT_POINTS = "labels were given without points."
-LABELS_NOT_WHOLE = "labels must be whole numbers."
-
-
-def bad_photo(photo: object) -> str:
-    return f"photo must be 1 or 2, got {photo!r}."
-
-
-def not_a_photo(shape: tuple[int, ...]) -> str:
-    return f"The photo must be (height, width, 3) BGR or (height, width) grey; got {shape}."
-
-
-def labels_mismatch(labels: int, landmarks: int) -> str:
-    return f"{labels} labels for {landmarks} landmarks; give one label per landmark."

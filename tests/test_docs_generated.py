@@ -23,7 +23,13 @@ def test_every_code_has_a_meaning() -> None:
 def test_the_api_doc_lists_every_code_as_the_code_says() -> None:
     assert error_codes.main(["--check"]) == 0, "renew it: python -m docsgen.error_codes"
     listed = error_codes.API_DOC.read_text(encoding="utf-8")
-    for code in [*ErrorCode, *solver_errors.ErrorCode, *solver_errors.WarningCode]:
+    every = [
+        *ErrorCode,
+        *solver_errors.ErrorCode,
+        *solver_errors.Reason,
+        *solver_errors.WarningCode,
+    ]
+    for code in every:
         assert f"| `{code}` |" in listed
 
 

@@ -3,8 +3,8 @@
 ``code`` is stable and machine-readable (phones and scripts branch on it); ``message`` is a
 sentence a person can act on. The domain's :class:`~backend.errors.RefusedError` is answered
 with its code's one status; the solver's :class:`~shared_solver.SolverError` becomes a 422
-with its own code; a database that cannot be reached (down, restarting) a 503
-``database_unavailable``, which phones retry.
+with its own code, and its refusal's reason and parameters beside them; a database that
+cannot be reached (down, restarting) a 503 ``database_unavailable``, which phones retry.
 """
 
 from __future__ import annotations
@@ -54,7 +54,9 @@ def install(app: FastAPI, max_body_bytes: int) -> None:
 
     @app.exception_handler(SolverError)
     async def solver_error(_: Request, error: SolverError) -> JSONResponse:
-        return JSONResponse(error_body(error.code.value, error.message), status_code=422)
+        # Its code and message, with the reason and parameters they were worded from.
+        body = {"error": error.refusal.model_dump(mode="json", exclude_none=True)}
+        return JSONResponse(body, status_code=422)
 
     @app.exception_handler(DatabaseUnavailableError)
     async def database_unavailable(_: Request, error: DatabaseUnavailableError) -> JSONResponse:

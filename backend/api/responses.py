@@ -10,7 +10,10 @@ from pydantic import BaseModel, ConfigDict, Field
 
 
 class ErrorDetail(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    """A refusal's code and sentence; the solver's (422) also carry its ``reason`` and the
+    parameters its sentence names (the fields of ``Refusal``, those it has)."""
+
+    model_config = ConfigDict(extra="allow")
 
     code: str = Field(description="Stable and machine-readable: branch on it.")
     message: str = Field(description="A sentence a person can act on.")
@@ -46,6 +49,10 @@ def errors(*statuses: int) -> dict[int | str, dict[str, Any]]:
         429: ("too_many_attempts", "Too many wrong codes from here; wait a minute."),
         503: ("database_unavailable", "The database does not answer."),
     }
+    # The solver's refusals carry their reason and parameters beside code and message.
+    parameters: dict[int, dict[str, Any]] = {
+        422: {"reason": "too_few_landmarks", "count": 4, "minimum": 5}
+    }
     return {
         status: {
             "description": "RefusedError",
@@ -53,7 +60,11 @@ def errors(*statuses: int) -> dict[int | str, dict[str, Any]]:
             "content": {
                 "application/json": {
                     "example": {
-                        "error": {"code": examples[status][0], "message": examples[status][1]}
+                        "error": {
+                            "code": examples[status][0],
+                            **parameters.get(status, {}),
+                            "message": examples[status][1],
+                        }
                     }
                 }
             },

@@ -11,6 +11,7 @@ from backend.pairing.schemas import CodeRenewed
 from backend.participants import Role
 from backend.photos.schemas import PhotoChanged, PhotoStored
 from backend.taps.schemas import Answer, AnswerChanged, Taps, TapsChanged
+from shared_solver import Refusal
 
 
 class ParticipantState(BaseModel):
@@ -52,10 +53,11 @@ class SessionState(BaseModel):
         "answer.in_photo[you] is yours.",
     )
     answer_version: int | None = Field(None, description="The version the answer is for.")
-    answer_error: dict[str, str] | None = Field(
+    answer_error: Refusal | None = Field(
         None,
-        description="Why there is no answer although enough landmarks are tapped "
-        "({code, message}).",
+        description="Why there is no answer although enough landmarks are tapped: the "
+        "solver's code, its reason and parameters (photo 1 or 2 as in answer's photo order: "
+        "message says them as your photo and your friend's photo) and message.",
     )
 
 

@@ -14,7 +14,6 @@ docs/geometry.md has the geometry.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +22,6 @@ from backend.participants import ROLES, Role
 from backend.photos.lens import EXIF_UNCERTAINTY
 from shared_solver import (
     Camera,
-    ErrorCode,
     SolverError,
     SolveResult,
     SolverWarning,
@@ -36,7 +34,7 @@ from shared_solver.drawing.shapes import AnswerDrawing
 
 from . import guidance
 from .photo_order import PhotoNumber, PhotoOrder
-from .schemas import Answer, FriendInPhoto, LandmarkBand, Refusal, StoredAnswer, Taps
+from .schemas import Answer, FriendInPhoto, LandmarkBand, StoredAnswer, Taps
 
 Point = tuple[float, float]
 Line = tuple[float, float, float]
@@ -152,7 +150,7 @@ class KnownFit:
             if solution is not None:
                 self._result = SolveResult.model_validate(solution)
             elif error is not None:
-                self._result = SolverError(ErrorCode(error.code), error.message)
+                self._result = SolverError(error)
             else:
                 raise ValueError("a stored answer with neither a solution nor an error")
         if isinstance(self._result, SolverError):
@@ -185,12 +183,12 @@ def solved(
     misfits: dict[Role, list[int]],
     known: KnownFit | None = None,
 ) -> StoredAnswer:
-    """The solver's answer to ``task`` as stored, or its refusal (a message naming photo 1
-    and photo 2; :func:`for_reader` says it to a phone)."""
+    """The solver's answer to ``task`` as stored, or its refusal (its reason and parameters:
+    ``backend.taps.shown`` words it for each phone)."""
     try:
         result = fit(task, sizes=sizes, cameras=cameras, known=known)
     except SolverError as error:
-        return StoredAnswer(error=Refusal(code=error.code.value, message=error.message))
+        return StoredAnswer(error=error.refusal)
     solution = result.model_dump(mode="json")
     guides = guidance.bands(result, task.order, taps, sizes, task.default_sigma)
     told = answer(task, result, sizes)
@@ -312,19 +310,3 @@ def _others(positions: list[Point | None], answer: Point | None) -> list[Point]:
     return [
         p for p in positions if p is not None and (answer is None or math.dist(p, answer) > 1.0)
     ]
-
-
-_PHOTO = re.compile(r"\b([Pp])hoto ([12])\b")
-
-
-def for_reader(sentence: str, reader: PhotoNumber) -> str:
-    """A refusal of the solver naming photo 1 and photo 2, said to the phone whose photo is
-    ``reader``: "your photo" and "your friend's photo". (A warning names no photo by number:
-    its code and parameters say which photo it is about.)"""
-
-    def name(match: re.Match[str]) -> str:
-        whose = "your" if int(match.group(2)) == reader else "your friend's"
-        said = f"{whose} photo"
-        return said[0].upper() + said[1:] if match.group(1) == "P" else said
-
-    return _PHOTO.sub(name, sentence)

@@ -11,6 +11,7 @@ from backend.limits import MAX_LANDMARK_ID
 from backend.participants import Role
 from shared_solver.drawing.shapes import AnswerDrawing
 from shared_solver.matching.band import BandShape
+from shared_solver.refusal import Refusal
 from shared_solver.result import Ellipse, SolverWarning
 
 from .photo_order import PhotoOrder
@@ -172,18 +173,11 @@ class Answer(BaseModel):
     in_photo: dict[Role, FriendInPhoto]
 
 
-class Refusal(BaseModel):
-    """Why the solver gave no answer: its stable code and its sentence (naming photo 1 and
-    photo 2, which each phone is told as "your photo" and "your friend's photo")."""
-
-    code: str
-    message: str
-
-
 class StoredAnswer(BaseModel):
     """The answer as the sessions table keeps it (JSON), for the version it was computed
     for: what each phone is told, the solver's own answer and whose photo was its photo 1;
-    or why there is none.
+    or why there is none (the solver's refusal, worded for a script: each phone is told it
+    again from its reason and parameters, ``Refusal.said_to``).
 
     ``solution`` stays the solver's JSON until it is used (the overlay, a known fit, a
     suggested spot): every read of a phone's state would otherwise validate it again.
@@ -246,8 +240,8 @@ class AnswerChanged(BaseModel):
 
     version: int = Field(description="The version it answers.")
     answer: Answer | None = Field(description="As the state's answer (both phones' parts).")
-    answer_error: dict[Role, dict[str, str]] | None = Field(
-        description="Why there is no answer ({code, message}), said to each phone: "
-        "answer_error[you] is the state's answer_error."
+    answer_error: dict[Role, Refusal] | None = Field(
+        description="Why there is no answer (its code, reason, parameters and message), said "
+        "to each phone: answer_error[you] is the state's answer_error."
     )
     landmarks_needed: int = Field(description="As the state says it with this answer.")

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from backend.participants import ROLES, Role, other
+from shared_solver import Refusal
 
 from . import problem as problems
 from .schemas import Answer, AnswerChanged, StoredAnswer, Taps
@@ -20,7 +21,7 @@ class Shown:
     """The answer as the phones show it, and the landmarks still needed with it."""
 
     answer: Answer | None
-    answer_error: dict[Role, dict[str, str]] | None  # by the phone it is said to
+    answer_error: dict[Role, Refusal] | None  # by the phone it is said to
     landmarks_needed: int
 
     def changed(self, version: int) -> AnswerChanged:
@@ -34,22 +35,16 @@ class Shown:
 
 
 def shown(taps: dict[Role, Taps | None], stored: StoredAnswer | None, sigma: float) -> Shown:
-    """What ``stored`` (None: no answer yet) shows, with these taps. An error names photo 1
-    and photo 2 as the solver does: each phone is told it of "your photo" and "your
-    friend's photo"."""
+    """What ``stored`` (None: no answer yet) shows, with these taps. A refusal is worded
+    again for each phone from its reason and parameters: its photo is "your photo", the
+    other "your friend's photo"."""
     task = problems.problem(taps, sigma)
     answer: Answer | None = None if stored is None else stored.answer
     error = None if stored is None else stored.error
     errors = None
     if stored is not None and error is not None:
         order = stored.order or task.order
-        errors = {
-            role: {
-                "code": error.code,
-                "message": problems.for_reader(error.message, order.number(role)),
-            }
-            for role in ROLES
-        }
+        errors = {role: error.said_to(order.number(role)) for role in ROLES}
     return Shown(answer, errors, task.landmarks_needed(answer))
 
 

@@ -131,11 +131,16 @@ describe("the answer on each phone", () => {
 
   it("passes on the solver's refusal", () => {
     const refused = state(null, {
-      answer_error: { code: "collinear_landmarks", message: "All landmarks are on one line." },
+      answer_error: {
+        code: "collinear_landmarks",
+        reason: "collinear_landmarks",
+        photo: 2,
+        message: "All landmarks in your photo lie on one straight line; add landmarks off that line.",
+      },
     });
     const view = describeAnswer(refused, "joiner");
     expect(view.kind).toBe("refused");
-    expect(view.text).toBe("All landmarks are on one line.");
+    expect(view.text).toBe("All landmarks in your photo lie on one straight line; add landmarks off that line.");
   });
 
   it("says how sure the frame is in people, never in pixels", () => {

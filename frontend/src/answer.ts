@@ -72,7 +72,7 @@ function isInside(x: number, y: number, size: { width: number; height: number } 
 /** The answer as the phone of `role` tells it. */
 export function describeAnswer(state: SessionState, role: Role): AnswerView {
   if (state.answer_error) {
-    return { ...NOTHING, kind: "refused", text: state.answer_error.message ?? "" };
+    return { ...NOTHING, kind: "refused", text: state.answer_error.message };
   }
   const answer = state.answer;
   const mine = answer?.in_photo[role];

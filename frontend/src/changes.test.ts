@@ -26,7 +26,8 @@ describe("an event taken into the state shown", () => {
 
   it("tells each phone the refusal said to it", () => {
     const tapped = applied(takeIn(joinerAt7(), { type: "taps", data: { role: "starter", version: 8, taps: taps(1, 2, 3, 4), landmarks_needed: 0 } }));
-    const said = { starter: { code: "degenerate", message: "In your photo..." }, joiner: { code: "degenerate", message: "In your friend's photo..." } };
+    const refusal = { code: "collinear_landmarks", reason: "collinear_landmarks", photo: 1 } as const;
+    const said = { starter: { ...refusal, message: "All landmarks in your photo lie..." }, joiner: { ...refusal, message: "All landmarks in your friend's photo lie..." } };
     const refused = applied(takeIn(tapped, { type: "answer", data: { version: 8, answer: null, answer_error: said, landmarks_needed: 1 } }));
     expect(refused.answer_error).toEqual(said.joiner);
     expect(refused.answer_version).toBeNull();

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from .. import linalg, words
-from ..errors import ErrorCode, SolverError, WarningCode
+from ..errors import Reason, WarningCode
 from ..estimation import bootstrap
 from ..estimation.epipolar_fit import EpipolarFit, fit_epipolar, fit_two_epipoles
 from ..estimation.mistaps import find_mistaps, refit
@@ -37,6 +37,7 @@ from ..projective import (
     to_pixel,
     transform,
 )
+from ..refusal import SolverError
 from ..result import Method, SolveResult, SolverWarning
 from .building import (
     Answer,
@@ -190,7 +191,7 @@ def line_through_friend2(request: Request) -> SolveResult:
     assert taps.line1 is not None
     geometries = six_point_line_roots(taps.line1, taps.p[:6], taps.q[:6])
     if not geometries:
-        raise SolverError(ErrorCode.NO_SOLUTION, words.LINE_FITS_NOTHING)
+        raise SolverError(Reason.LINE_FITS_NOTHING)
     return _likeliest(request, "six_point_line", geometries, minimal=len(taps) == 6)
 
 
@@ -198,11 +199,11 @@ def landmarks_only(request: Request) -> SolveResult:
     """No tap on friend 2: the classical 7- and 8-point methods (OpenCV), refined over all taps."""
     taps = request.taps
     if coplanar_fit(taps) is not None:
-        raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.ONE_SURFACE_UNMARKED)
+        raise SolverError(Reason.ONE_SURFACE_UNMARKED)
     if len(taps) == 7:
         geometries = seven_point_roots(taps.p, taps.q)
         if not geometries:
-            raise SolverError(ErrorCode.NO_SOLUTION, words.SEVEN_FIT_NOTHING)
+            raise SolverError(Reason.SEVEN_FIT_NOTHING)
         return _likeliest(request, "seven_point", geometries, minimal=True)
     suspects: list[int] = []
     warnings: list[SolverWarning] = []

@@ -17,9 +17,10 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .. import validation, words
-from ..errors import ErrorCode, SolverError
+from .. import validation
+from ..errors import Reason
 from ..projective import Array
+from ..refusal import SolverError
 from ..result import SolveResult
 from .layout import Photo, answer_drawing
 from .palette import (
@@ -143,7 +144,7 @@ def draw_overlay(
     canvas = _bgr_copy(image)
     landmarks, names = _landmarks(points, labels)
     if photo not in (1, 2):
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.bad_photo(photo))
+        raise SolverError(Reason.BAD_PHOTO, detail=repr(photo))
     height, width = canvas.shape[:2]
     drawing = answer_drawing(
         result,
@@ -193,7 +194,7 @@ def render(canvas: Image, drawing: AnswerDrawing, *, photo: Photo = 2) -> Image:
 def _bgr_copy(image: Any) -> Image:
     """A contiguous (H, W, 3) uint8 copy of the photo to draw on."""
     if not isinstance(image, np.ndarray) or image.dtype != np.uint8:
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.NOT_8_BIT)
+        raise SolverError(Reason.NOT_8_BIT)
     photo: Image = image
     if photo.ndim == 3 and photo.shape[2] == 1:
         photo = photo[:, :, 0]
@@ -201,16 +202,13 @@ def _bgr_copy(image: Any) -> Image:
         return np.asarray(cv2.cvtColor(np.ascontiguousarray(photo), cv2.COLOR_GRAY2BGR), np.uint8)
     if photo.size > 0 and photo.ndim == 3 and photo.shape[2] == 3:
         return photo.copy(order="C")
-    raise SolverError(
-        ErrorCode.INVALID_SHAPE,
-        words.not_a_photo(image.shape),
-    )
+    raise SolverError(Reason.NOT_A_PHOTO, shape=image.shape)
 
 
 def _landmarks(points: ArrayLike | None, labels: Sequence[int] | None) -> tuple[Array, list[int]]:
     if points is None:
         if labels is not None and len(labels) > 0:
-            raise SolverError(ErrorCode.MISMATCHED_LENGTHS, words.LABELS_WITHOUT_POINTS)
+            raise SolverError(Reason.LABELS_WITHOUT_POINTS)
         return np.zeros((0, 2)), []
     landmarks = validation.points(points, "points")
     if labels is None:
@@ -218,12 +216,9 @@ def _landmarks(points: ArrayLike | None, labels: Sequence[int] | None) -> tuple[
     try:
         names = [int(label) for label in labels]
     except (TypeError, ValueError) as error:
-        raise SolverError(ErrorCode.INVALID_SHAPE, words.LABELS_NOT_WHOLE) from error
+        raise SolverError(Reason.LABELS_NOT_WHOLE) from error
     if len(names) != len(landmarks):
-        raise SolverError(
-            ErrorCode.MISMATCHED_LENGTHS,
-            words.labels_mismatch(len(names), len(landmarks)),
-        )
+        raise SolverError(Reason.ONE_LABEL_PER_LANDMARK, counts=(len(names), len(landmarks)))
     return landmarks, names
 
 

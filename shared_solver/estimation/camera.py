@@ -27,8 +27,8 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from .. import words
-from ..errors import ErrorCode, SolverError
+from ..errors import Reason
+from ..refusal import SolverError
 
 # The diagonal of a 36 x 24 mm film frame: the reference of "35 mm equivalent".
 FILM_DIAGONAL_MM = math.hypot(36.0, 24.0)
@@ -133,6 +133,6 @@ def focal_prior(camera: Camera, size: tuple[float, float]) -> FocalPrior | None:
     assert focal is not None
     pixels = focal_px(focal, size)
     if not (math.isfinite(pixels) and pixels > 0.0 and math.isfinite(math.hypot(*size))):
-        raise SolverError(ErrorCode.INVALID_PARAMETER, words.UNUSABLE_FOCAL)
+        raise SolverError(Reason.UNUSABLE_FOCAL)
     sigma = camera.focal_uncertainty if camera.kind == "known_focal" else PHONE_LOG_SIGMA
     return FocalPrior(math.log(pixels), sigma, (size[0] / 2.0, size[1] / 2.0), camera.kind)

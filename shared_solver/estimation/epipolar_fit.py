@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import linalg, words
-from ..errors import ErrorCode, SolverError
+from .. import linalg
+from ..errors import Reason
 from ..projective import Array, hartley_normaliser, homogeneous, right_epipole, skew
+from ..refusal import SolverError
 from .least_squares import gauge_free_covariance, levenberg_marquardt
 from .taps import Taps, whitener
 
@@ -158,10 +159,7 @@ def fit_epipolar(taps: Taps, start: Array, *, use_friend2: bool = True) -> Epipo
     f0 = frame.normalised_f(start)
     e1 = right_epipole(f0)
     if abs(e1[2]) < _FAR_W * linalg.norm(e1):
-        raise SolverError(
-            ErrorCode.DEGENERATE_CONFIGURATION,
-            words.FRIEND_AT_INFINITY,
-        )
+        raise SolverError(Reason.FRIEND_AT_INFINITY)
     x0, y0 = e1[:2] / e1[2]
     prior_rows, prior_target = _prior(frame, taps) if use_friend2 else (None, np.zeros(0))
 

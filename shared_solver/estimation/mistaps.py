@@ -18,8 +18,7 @@ from itertools import combinations
 import cv2
 import numpy as np
 
-from .. import words
-from ..errors import ErrorCode, SolverError
+from ..errors import Reason
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..projective import (
     Array,
@@ -29,6 +28,7 @@ from ..projective import (
     transform,
     unit,
 )
+from ..refusal import SolverError
 from .epipolar_fit import EpipolarFit, fit_epipolar, whitened_distances
 from .taps import Taps
 from .uncertainty import chi2_quantile, consistent
@@ -83,7 +83,7 @@ def refit(taps: Taps, *, use_friend2: bool) -> EpipolarFit:
         found, _ = cv2.findFundamentalMat(taps.p, taps.q, cv2.FM_8POINT)
         start = np.asarray(found, dtype=np.float64)
         if found is None or start.shape != (3, 3):
-            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.GEOMETRY_UNDETERMINED)
+            raise SolverError(Reason.GEOMETRY_UNDETERMINED)
     return fit_epipolar(taps, start, use_friend2=use_friend2)
 
 

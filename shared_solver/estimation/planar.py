@@ -16,10 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import linalg, words
-from ..errors import ErrorCode, SolverError
+from .. import linalg
+from ..errors import Reason
 from ..linalg import whitener2
 from ..projective import Array, hartley_normaliser, homogeneous
+from ..refusal import SolverError
 from .least_squares import gauge_free_covariance, levenberg_marquardt
 from .taps import Taps
 from .uncertainty import chi2_quantile
@@ -159,7 +160,7 @@ class _PlaneFrame:
         rows[1::2] = np.column_stack([zero, zero, zero, x, y, one, -v * x, -v * y, -v])
         _, singular, vt = linalg.svd(rows)
         if len(singular) >= 8 and singular[7] <= 1e-10 * singular[0]:
-            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.NO_PLANE)
+            raise SolverError(Reason.NO_PLANE)
         return vt[-1].reshape(3, 3)
 
 

@@ -13,10 +13,11 @@ from typing import Any
 
 from numpy.typing import ArrayLike
 
-from .. import validation, words
-from ..errors import ErrorCode, SolverError
+from .. import validation
+from ..errors import Reason
 from ..minimal.six_point_line import six_point_line_roots
 from ..projective import Array
+from ..refusal import SolverError
 from .plausibility import Plausibility, assess
 
 
@@ -67,7 +68,7 @@ def epipoles_from_six(
     p, q = validation.landmark_pairs(pts1, pts2, minimum=6, maximum=6)
     roots = six_point_line_roots(line, p, q)
     if not roots:
-        raise SolverError(ErrorCode.NO_SOLUTION, words.LINE_FITS_NOTHING)
+        raise SolverError(Reason.LINE_FITS_NOTHING)
     cues = [
         assess(f, e1, e2, p, q, image_size1=image_size1, image_size2=image_size2)
         for e1, e2, f in roots

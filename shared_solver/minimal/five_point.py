@@ -25,9 +25,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .. import validation, words
-from ..errors import ErrorCode, SolverError
+from .. import validation
+from ..errors import Reason
 from ..projective import Array, canonical, left_epipole
+from ..refusal import SolverError
 from .five_point_linear import fundamental_with_epipole
 
 FiveMethod = Literal["cremona", "linear"]
@@ -84,12 +85,12 @@ def epipole_from_five(
         e1h, p, q = _checked_five(e1, pts1, pts2)
         e2 = cremona_epipole(e1h.tolist(), p.T.tolist(), q.T.tolist(), checked=True)
         if e2 is None:
-            raise SolverError(ErrorCode.DEGENERATE_CONFIGURATION, words.FRIEND_UNDETERMINED)
+            raise SolverError(Reason.FRIEND_UNDETERMINED)
         return _canonical(*e2)
     if method == "linear":
         e1h, p, q = _checked_five(e1, pts1, pts2)
         return canonical(left_epipole(fundamental_with_epipole(e1h, p, q)))
-    raise SolverError(ErrorCode.INVALID_PARAMETER, words.FIVE_METHOD)
+    raise SolverError(Reason.FIVE_METHOD)
 
 
 Floats = list[float]

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import linalg, words
-from ..errors import ErrorCode, SolverError
+from .. import linalg
+from ..errors import Reason
 from ..projective import (
     Array,
     hartley_normaliser,
@@ -21,6 +21,7 @@ from ..projective import (
     transform,
     unit,
 )
+from ..refusal import SolverError
 
 # Below this relative singular value the system has more than one solution.
 _SINGULAR = 1e-10
@@ -46,10 +47,7 @@ def fundamental_with_epipole(e1: Array, p: Array, q: Array) -> Array:
     _, singular, vt = linalg.svd(design)
     # Six unknowns up to scale: the geometry is fixed iff the design has rank 5.
     if singular[4] <= _SINGULAR * singular[0]:
-        raise SolverError(
-            ErrorCode.DEGENERATE_CONFIGURATION,
-            words.FRIEND_UNDETERMINED,
-        )
+        raise SolverError(Reason.FRIEND_UNDETERMINED)
     columns = vt[-1].reshape(2, 3).T
     fundamental = t2.T @ (columns @ basis.T) @ t1
     return fundamental / linalg.norm(fundamental)

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import linalg, words
-from ..errors import ErrorCode, SolverError
+from .. import linalg
+from ..errors import Reason
 from ..polynomial import binary_cubic_roots
 from ..projective import (
     Array,
@@ -24,6 +24,7 @@ from ..projective import (
     homogeneous,
     transform,
 )
+from ..refusal import SolverError
 
 # Singular values this small against the largest are zero: the landmarks' equations leave
 # more than a 3-dimensional family of F, or a root's 3x3 system leaves more than one F.
@@ -89,10 +90,7 @@ def _real_roots(first: Array, second: Array) -> list[tuple[float, float]]:
     plus, minus = _det(first + second), _det(first - second)
     k1, k2 = 0.5 * (plus - minus) - k3, 0.5 * (plus + minus) - k0
     if max(abs(k0), abs(k1), abs(k2), abs(k3)) == 0:
-        raise SolverError(
-            ErrorCode.DEGENERATE_CONFIGURATION,
-            words.LINE_FITS_EVERYWHERE,
-        )
+        raise SolverError(Reason.LINE_FITS_EVERYWHERE)
     return binary_cubic_roots(k0, k1, k2, k3)
 
 

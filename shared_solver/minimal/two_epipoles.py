@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .. import linalg, validation, words
-from ..errors import ErrorCode, SolverError
+from .. import linalg, validation
+from ..errors import Reason
 from ..projective import (
     Array,
     canonical_matrix,
@@ -22,6 +22,7 @@ from ..projective import (
     transform,
     unit,
 )
+from ..refusal import SolverError
 
 
 def fundamental_from_epipoles(
@@ -60,9 +61,6 @@ def fundamental_between(e1: Array, e2: Array, p: Array, q: Array) -> Array:
     _, singular, vt = linalg.svd(design)
     # Unknowns: 4 entries of M up to scale. Fixed iff the design has rank 3.
     if singular[2] <= 1e-10 * singular[0]:
-        raise SolverError(
-            ErrorCode.DEGENERATE_CONFIGURATION,
-            words.TOO_FEW_EPIPOLAR_LINES,
-        )
+        raise SolverError(Reason.TOO_FEW_EPIPOLAR_LINES)
     homography = vt[-1].reshape(2, 2)
     return t2.T @ (basis2 @ homography @ basis1.T) @ t1

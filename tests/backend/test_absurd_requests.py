@@ -164,7 +164,15 @@ def test_the_issue_s_request_is_refused_with_a_code(api: TestClient) -> None:
     }
     assert send(api, "POST", "/api/solve", body) == (
         422,
-        {"error": {"code": "invalid_parameter", "message": ANY}},
+        {
+            "error": {
+                "code": "invalid_parameter",
+                "reason": "too_far",
+                "field": "epipole1",
+                "largest_px": 1e6,
+                "message": ANY,
+            }
+        },
     )
 
 

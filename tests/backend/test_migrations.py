@@ -145,13 +145,25 @@ def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(engine: 
     assert tuple(row) == (None, 0, 0, "seeker")
 
 
-def test_answers_with_warnings_as_sentences_are_cleared(engine: Engine) -> None:
-    """Migration 0009: a stored answer whose warnings are bare sentences is cleared (the
-    state answers again); the session stays."""
-    answer = {"answer": {"in_photo": {"joiner": {"warnings": ["The position is uncertain."]}}}}
+# Stored answers of a shape their migration changed: warnings as bare sentences (0009), a
+# refusal as a code and a sentence naming photo 1 (0010).
+OLD_ANSWERS = {
+    "0009": {"answer": {"in_photo": {"joiner": {"warnings": ["The position is uncertain."]}}}},
+    "0010": {
+        "error": {"code": "collinear_landmarks", "message": "All landmarks in photo 1 lie..."},
+        "first": "starter",
+    },
+}
+
+
+@pytest.mark.parametrize("revision", OLD_ANSWERS)
+def test_answers_of_an_old_shape_are_cleared(engine: Engine, revision: str) -> None:
+    """Migrations 0009 and 0010: a stored answer of the shape before is cleared (the state
+    answers again); the session stays."""
+    answer = OLD_ANSWERS[revision]
     with engine.begin() as connection:
         config = alembic_config(connection)
-        command.downgrade(config, "0008")
+        command.downgrade(config, f"{int(revision) - 1:04d}")
         connection.execute(
             text(
                 "INSERT INTO sessions (id, created_at, expires_at, version, answer, "
@@ -160,7 +172,7 @@ def test_answers_with_warnings_as_sentences_are_cleared(engine: Engine) -> None:
             {"now": datetime(2026, 11, 26), "end": datetime(2099, 1, 1)}
             | {"answer": json.dumps(answer)},
         )
-        command.upgrade(config, "0009")
+        command.upgrade(config, revision)
     with engine.connect() as connection:
         row = connection.execute(text("SELECT version, answer, answer_version FROM sessions"))
         assert tuple(row.one()) == (7, None, None)

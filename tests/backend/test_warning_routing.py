@@ -1,6 +1,6 @@
 """Which phone is told what: a warning goes to the phones of the photo it is about (its code
-and parameters), never by its sentence, so rewording a sentence moves it nowhere; a refusal
-names each phone's photo as "your photo" (backend.taps.problem, backend.taps.shown)."""
+and parameters), never by its sentence, so rewording a sentence moves it nowhere
+(backend.taps.problem; a refusal: test_refusal_routing.py)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,7 @@ import pytest
 from backend.participants import ROLES, Role, other
 from backend.taps import problem
 from backend.taps.photo_order import PhotoOrder
-from backend.taps.schemas import Landmark, Mark, Refusal, StoredAnswer, Taps
-from backend.taps.shown import shown
+from backend.taps.schemas import Landmark, Mark, Taps
 from shared_solver import SolveResult, SolverWarning, WarningCode, words
 from shared_solver.errors import WARNING_OF_ONE_PHOTO, WARNING_PHOTO
 from tests.backend.test_sessions import scene
@@ -99,16 +98,6 @@ def test_a_misfit_is_told_only_to_the_phone_that_tapped_it(marker: Role) -> None
 def test_a_warning_about_one_photo_must_name_it() -> None:
     with pytest.raises(ValueError, match="misfit"):
         SolverWarning.of(WarningCode.MISFIT, landmark=4)
-
-
-@pytest.mark.parametrize("first", ROLES)
-def test_a_refusal_names_each_phones_photo_as_its_own(first: Role) -> None:
-    refusal = Refusal(code="collinear_landmarks", message=words.collinear("photo 1"))
-    stored = StoredAnswer(error=refusal, first=first)
-    errors = shown(tapped(first), stored, SIGMA).answer_error
-    assert errors is not None
-    assert errors[first]["message"].startswith("All landmarks in your photo lie")
-    assert errors[other(first)]["message"].startswith("All landmarks in your friend's photo lie")
 
 
 def test_the_photo_order_numbers_the_two_roles_both_ways() -> None:

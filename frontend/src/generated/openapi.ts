@@ -360,12 +360,10 @@ export interface components {
             answer: components["schemas"]["Answer"] | null;
             /**
              * Answer Error
-             * @description Why there is no answer ({code, message}), said to each phone: answer_error[you] is the state's answer_error.
+             * @description Why there is no answer (its code, reason, parameters and message), said to each phone: answer_error[you] is the state's answer_error.
              */
             answer_error: {
-                [key: string]: {
-                    [key: string]: string;
-                };
+                [key: string]: components["schemas"]["Refusal"];
             } | null;
             /**
              * Landmarks Needed
@@ -779,7 +777,17 @@ export interface components {
         Error: {
             error: components["schemas"]["ErrorDetail"];
         };
-        /** ErrorDetail */
+        /**
+         * ErrorCode
+         * @description Why the solver refused. The values are a public contract: never rename one.
+         * @enum {string}
+         */
+        ErrorCode: "invalid_shape" | "not_finite" | "mismatched_lengths" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "invalid_parameter" | "degenerate_configuration" | "no_solution";
+        /**
+         * ErrorDetail
+         * @description A refusal's code and sentence; the solver's (422) also carry its ``reason`` and the
+         *     parameters its sentence names (the fields of ``Refusal``, those it has).
+         */
         ErrorDetail: {
             /**
              * Code
@@ -791,6 +799,8 @@ export interface components {
              * @description A sentence a person can act on.
              */
             message: string;
+        } & {
+            [key: string]: unknown;
         };
         /**
          * FrameShape
@@ -1223,6 +1233,106 @@ export interface components {
             version: number | null;
         };
         /**
+         * Reason
+         * @description Which refusal of its code: the key of its sentence (``words.refusal``). A code that
+         *     is refused one way has one reason, named as the code. The values are a public contract:
+         *     never rename one.
+         * @enum {string}
+         */
+        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing";
+        /**
+         * Refusal
+         * @description Why there is no answer: ``code`` (docs/api.md lists them), ``reason`` (which refusal of
+         *     the code), the parameters its sentence names (null when it names none) and ``message``,
+         *     the sentence made from them for its reader.
+         */
+        Refusal: {
+            code: components["schemas"]["ErrorCode"];
+            /**
+             * Count
+             * @description How many landmarks were given (not_precisions: how many sigmas are needed).
+             */
+            count?: number | null;
+            /**
+             * Counts
+             * @description mismatched_lengths: photo 1's and photo 2's landmarks; one_label_per_landmark: the labels and the landmarks.
+             */
+            counts?: [
+                number,
+                number
+            ] | null;
+            /**
+             * Detail
+             * @description not_a_camera: what is wrong with it; bad_photo: the value given.
+             */
+            detail?: string | null;
+            /**
+             * Field
+             * @description The argument refused (points1, camera2...).
+             */
+            field?: string | null;
+            /**
+             * Finest Px
+             * @description The smallest length honoured, px.
+             */
+            finest_px?: number | null;
+            /**
+             * Landmark
+             * @description The landmark's number (#3).
+             */
+            landmark?: number | null;
+            /**
+             * Landmarks
+             * @description repeated_landmarks: the two landmarks at one place (#2 and #5).
+             */
+            landmarks?: [
+                number,
+                number
+            ] | null;
+            /**
+             * Largest Px
+             * @description The largest length honoured, px.
+             */
+            largest_px?: number | null;
+            /**
+             * Marked
+             * @description How the friends were marked, which sets the minimum: 'both' (each in the other's photo), 'point' or 'line' (in photo 1), 'none'.
+             */
+            marked?: ("both" | "point" | "line" | "none") | null;
+            /**
+             * Maximum
+             * @description The most landmarks taken.
+             */
+            maximum?: number | null;
+            /**
+             * Message
+             * @description The sentence a person reads.
+             */
+            message: string;
+            /**
+             * Minimum
+             * @description The fewest landmarks taken.
+             */
+            minimum?: number | null;
+            /**
+             * Most Elongated
+             * @description How many times apart a covariance's two sigmas may be.
+             */
+            most_elongated?: number | null;
+            /**
+             * Photo
+             * @description The photo it is about (its landmarks, its friend mark); null: both or neither.
+             */
+            photo?: (1 | 2) | null;
+            /** @description Which refusal of the code: the key of its sentence. */
+            reason: components["schemas"]["Reason"];
+            /**
+             * Shape
+             * @description The shape given instead.
+             */
+            shape?: number[] | null;
+        };
+        /**
          * SessionEnded
          * @description Event ``expired``: the session ended (deleted, or its time is up); sent, not stored.
          */
@@ -1260,13 +1370,8 @@ export interface components {
         SessionState: {
             /** @description Where each friend is in the other's photo, from both phones' taps; answer.in_photo[you] is yours. */
             answer?: components["schemas"]["Answer"] | null;
-            /**
-             * Answer Error
-             * @description Why there is no answer although enough landmarks are tapped ({code, message}).
-             */
-            answer_error?: {
-                [key: string]: string;
-            } | null;
+            /** @description Why there is no answer although enough landmarks are tapped: the solver's code, its reason and parameters (photo 1 or 2 as in answer's photo order: message says them as your photo and your friend's photo) and message. */
+            answer_error?: components["schemas"]["Refusal"] | null;
             /**
              * Answer Version
              * @description The version the answer is for.
@@ -2097,7 +2202,10 @@ export interface operations {
                      * @example {
                      *       "error": {
                      *         "code": "too_few_landmarks",
-                     *         "message": "4 landmarks marked; at least 5 are needed here."
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
@@ -2226,7 +2334,10 @@ export interface operations {
                      * @example {
                      *       "error": {
                      *         "code": "too_few_landmarks",
-                     *         "message": "4 landmarks marked; at least 5 are needed here."
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
@@ -3089,7 +3200,10 @@ export interface operations {
                      * @example {
                      *       "error": {
                      *         "code": "too_few_landmarks",
-                     *         "message": "4 landmarks marked; at least 5 are needed here."
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
@@ -3363,7 +3477,10 @@ export interface operations {
                      * @example {
                      *       "error": {
                      *         "code": "too_few_landmarks",
-                     *         "message": "4 landmarks marked; at least 5 are needed here."
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
@@ -3455,7 +3572,10 @@ export interface operations {
                      * @example {
                      *       "error": {
                      *         "code": "too_few_landmarks",
-                     *         "message": "4 landmarks marked; at least 5 are needed here."
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
