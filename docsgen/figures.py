@@ -70,15 +70,16 @@ def link(report: str, doc: str) -> str:
 def targets_table(root: Path, doc: str) -> str:
     """One row per benchmark: its command, report and commit, and each failed target."""
     rows = ["| command | what it plays | report (code of commit) | targets |", "|---|---|---|---|"]
+    commits: set[str] = set()
     for bench in BENCHMARKS:
         report = read_report(root / bench.report)
+        commits.add(report.commit)
         total = len(report.targets)
         verdicts = [f"{report.passed} of {total} met"] if total else ["none set"]
         verdicts += [f"**FAIL**: {claim}" for claim in report.failed]
         cell = f"{link(bench.report, doc)} ({report.commit})"
         rows.append(f"| `make {bench.target}` | {bench.plays} | {cell} | {'; '.join(verdicts)} |")
-    commits = sorted({read_report(root / bench.report).commit for bench in BENCHMARKS})
-    return "\n".join(rows) + "\n\n" + one_code(commits)
+    return "\n".join(rows) + "\n\n" + one_code(sorted(commits))
 
 
 # What the benchmarks measure: a report of another commit with the same tree here measured
