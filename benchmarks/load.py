@@ -43,7 +43,7 @@ from searches import APP_MS, Crowd, Search
 from spy import RATE, Sampler
 
 from backend.storage.database import database_url
-from deploy.cluster import Cluster, cluster
+from deploy.cluster import REPLICAS, Cluster, cluster
 from deploy.nginx import binary
 from deploy.postgres import PostgresServer
 
@@ -281,8 +281,8 @@ def header(run: Run) -> list[str]:
         ' whatever else runs there: below, "anything else").',
         f"- Code under test: {source_state('backend', 'shared_solver', 'deploy')}",
         f"- Topology (`make run-cluster`): nginx {version['nginx']} with `deploy/nginx.conf`"
-        " (TLS, the certificate made at start-up) -> 2 uvicorn replicas (uvicorn"
-        f" {version['uvicorn']}, FastAPI {version['fastapi']}) -> PostgreSQL"
+        f" (TLS, the certificate made at start-up) -> {setup.replicas} uvicorn replicas"
+        f" (uvicorn {version['uvicorn']}, FastAPI {version['fastapi']}) -> PostgreSQL"
         f" {version['PostgreSQL']} (a throwaway server, default settings), all on loopback.",
         f"- Load generator: Locust {version['locust']} in one process (gevent), over HTTPS to"
         " nginx, each phone with its own connections; CPU and memory read with psutil"
@@ -379,9 +379,9 @@ def spent(run: Run, per_search_ms: float) -> list[str]:
     ]
     cut = run.sampler.unreadable
     return [
-        f"py-spy's samples of the replicas' busy threads ({total} at {RATE} a second, over the"
-        " run; py-spy leaves out idle ones, and so does this table where py-spy missed them:"
-        " a thread waiting for sockets, for PostgreSQL or for work), by the"
+        f"py-spy's samples of the replicas' busy threads ({total} at {run.sampler.rate} a"
+        " second, over the run; py-spy leaves out idle ones, and so does this table where"
+        " py-spy missed them: a thread waiting for sockets, for PostgreSQL or for work), by the"
         " route function on the stack (`<module>.<function>` of `backend/api/routes/`) or"
         " what else they were doing; that share of the replicas' CPU per search beside it."
         + (
@@ -473,11 +473,19 @@ def main(argv: Sequence[str] | None = None) -> None:
     option("--speed", type=float, default=1.0, help="people this many times quicker")
     option("--photo-side", type=int, default=1600, help="the photos' long side, px")
     option("--seed", type=int, default=SEED)
+    option("--replicas", type=int, default=REPLICAS, choices=range(1, 9), help="(%(default)s)")
     option(
         "--suggestions",
         action="store_true",
         help="the joiner also asks for a suggested spot, as the app does (not in the targets' "
         "search: the issue's baseline had none)",
+    )
+    option(
+        "--sample-rate",
+        type=int,
+        default=RATE,
+        help="py-spy's samples a second of each replica (%(default)s; 0: none, to see what "
+        "sampling costs)",
     )
     option(
         "--stacks",
@@ -490,13 +498,15 @@ def main(argv: Sequence[str] | None = None) -> None:
         parser.error("--concurrency must be in [1, 2000], --duration in (0, 3600]")
     if not (0 <= setup.ramp <= setup.duration and 0.1 <= setup.speed <= 1000):
         parser.error("--ramp must be in [0, duration], --speed in [0.1, 1000]")
+    if not 0 <= setup.sample_rate <= 1000:
+        parser.error("--sample-rate must be in [0, 1000]")
     with tempfile.TemporaryDirectory(prefix="buddy-load-") as folder:
         # pg_stat_statements: what PostgreSQL's time goes to (the erase among it).
         postgres = PostgresServer({"shared_preload_libraries": "pg_stat_statements"})
         try:
             postgres.start()
             url = postgres.url(postgres.create_database(name="buddy"))
-            with cluster(Path(folder), url) as running:
+            with cluster(Path(folder), url, replicas=setup.replicas) as running:
                 processes = Processes(
                     {
                         "nginx": [running.nginx.pid],
@@ -506,7 +516,8 @@ def main(argv: Sequence[str] | None = None) -> None:
                     }
                 )
                 replicas = [replica.pid for replica in running.replicas]
-                run = load(setup, running, processes, Sampler(replicas, Path(folder)))
+                sampler = Sampler(replicas, Path(folder), setup.sample_rate)
+                run = load(setup, running, processes, sampler)
         finally:
             postgres.remove()
     if setup.stacks is not None:

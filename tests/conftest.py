@@ -39,17 +39,3 @@ def temple_parameters() -> Path:
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261121)
-
-
-# `make test` runs the whole suite on both cores (pytest -n 2 --dist loadgroup): the tests
-# that drive browsers, servers behind nginx or the benchmarks' smoke runs, which wait with
-# timeouts, form one group that one worker runs one at a time, while the other worker takes
-# the solver's and the service's tests. Two browsers at once on 2 cores starved each other.
-ONE_AT_A_TIME = "browsers, one at a time"
-ON_BOTH_CORES = ("solver", "backend")
-
-
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    for item in items:
-        if item.path.relative_to(Path(__file__).parent).parts[0] not in ON_BOTH_CORES:
-            item.add_marker(pytest.mark.xdist_group(ONE_AT_A_TIME))

@@ -36,3 +36,12 @@ def test_a_thread_waiting_at_its_deepest_frame_is_no_cpu_and_a_cut_line_no_sampl
     assert dict(sampler.shares) == {"`taps.put_taps`": 3}
     assert sum(sampler.stacks.values()) == 15  # every stack kept for the flame graph
     assert sampler.unreadable == 1
+
+
+def test_a_rate_of_zero_samples_nothing_and_says_so(tmp_path: Path) -> None:
+    sampler = spy.Sampler([1], tmp_path, rate=0)
+    sampler.start()
+    sampler.stop()
+    assert not sampler.running
+    assert not sampler.shares
+    assert "turned off" in str(sampler.problem)
