@@ -6,6 +6,7 @@ import time
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from backend import timing
 from backend.api.errors import error_response
 from backend.errors import ErrorCode
 
@@ -58,9 +59,11 @@ class BodySizeLimit:
 
 
 class ServerTiming:
-    """ASGI middleware: ``Server-Timing: app;dur=<ms>`` on every response, the time from
-    the request's arrival to the response's start (body upload included). Benchmarks read
-    it to separate the server's time from the network's."""
+    """ASGI middleware: ``Server-Timing: app;dur=<ms>, db;dur=<ms>`` on every response.
+    ``app``: from the request's arrival to the response's start (body upload included);
+    ``db``: the part of it spent in database statements (:mod:`backend.timing`); the rest
+    is the app's own work and its waits (for a worker thread, the GIL, a connection).
+    Benchmarks read it to separate the server's time from the network's."""
 
     def __init__(self, app: ASGIApp) -> None:
         self.app = app
@@ -70,15 +73,15 @@ class ServerTiming:
             await self.app(scope, receive, send)
             return
         started = time.perf_counter()
+        with timing.tallying() as tally:
 
-        async def timed(message: Message) -> None:
-            if message["type"] == "http.response.start":
-                elapsed = (time.perf_counter() - started) * 1000
-                headers = [
-                    *message.get("headers", []),
-                    (b"server-timing", f"app;dur={elapsed:.2f}".encode()),
-                ]
-                message = {**message, "headers": headers}
-            await send(message)
+            async def timed(message: Message) -> None:
+                if message["type"] == "http.response.start":
+                    elapsed = (time.perf_counter() - started) * 1000
+                    database = tally.get(timing.DATABASE, 0.0) * 1000
+                    value = f"app;dur={elapsed:.2f}, {timing.DATABASE};dur={database:.2f}"
+                    headers = [*message.get("headers", []), (b"server-timing", value.encode())]
+                    message = {**message, "headers": headers}
+                await send(message)
 
-        await self.app(scope, receive, timed)
+            await self.app(scope, receive, timed)

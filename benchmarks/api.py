@@ -625,8 +625,9 @@ def header(settings: Settings, database: str) -> str:
             f"max_body_bytes = {settings.max_body_bytes}, "
             f"max_photo_pixels = {settings.max_photo_pixels}, session tap_sigma = "
             f"{settings.tap_sigma:g}; the rest default.",
-            "- Server time is the `Server-Timing: app;dur=<ms>` header: from the request's "
-            "arrival at the app to the start of its response, body upload included.",
+            "- Server time is the `app` part of the `Server-Timing` header"
+            " (`app;dur=<ms>, db;dur=<ms>`): from the request's arrival at the app to the"
+            " start of its response, body upload included.",
         ]
     )
 

@@ -39,7 +39,7 @@ import numpy as np
 import psutil
 import psycopg
 from report import ROOT, command_line, markdown_table, ms, publish, source_state, verdict
-from searches import APP_MS, Crowd, Search
+from searches import APP_MS, DATABASE_MS, Crowd, Search
 from spy import RATE, Sampler
 
 from backend.storage.database import database_url
@@ -255,11 +255,11 @@ def versions(database: Database) -> dict[str, str]:
 # --- the report ---------------------------------------------------------------------------
 
 
-def app_time(name: str) -> str:
-    """p50 / p99 of the app's own time for a call (its Server-Timing): the rest of the
-    phone's latency is queueing (in the replica before the app sees the request, nginx,
-    the network, the load generator)."""
-    times = APP_MS.get(name)
+def app_time(name: str, times_by_call: dict[str, list[float]] = APP_MS) -> str:
+    """p50 / p99 of the app's own time for a call (its Server-Timing), or of its database
+    statements' part (``DATABASE_MS``): the rest of the phone's latency is queueing (in the
+    replica before the app sees the request, nginx, the network, the load generator)."""
+    times = times_by_call.get(name)
     if not times:
         return ""
     return " / ".join(ms(float(np.percentile(times, q))) for q in (50, 99))
@@ -306,7 +306,7 @@ def header(run: Run) -> list[str]:
 def calls_table(calls: list[locust.stats.StatsEntry]) -> str:
     head = ["call", "calls", "failed", "p50 (ms)", "p95 (ms)", "p99 (ms)", "max (ms)"]
     return markdown_table(
-        [*head, "in the app: p50 / p99 (ms)"],
+        [*head, "in the app: p50 / p99 (ms)", "of which database: p50 / p99 (ms)"],
         [
             [
                 f"`{entry.name}`",
@@ -315,6 +315,7 @@ def calls_table(calls: list[locust.stats.StatsEntry]) -> str:
                 *(ms(entry.get_response_time_percentile(q)) for q in (0.5, 0.95, 0.99)),
                 ms(entry.max_response_time),
                 app_time(entry.name),
+                app_time(entry.name, DATABASE_MS),
             ]
             for entry in calls
         ],
@@ -428,7 +429,10 @@ def report(run: Run) -> str:
             " stream to its first byte; Locust keeps times above 100 ms to 2 significant"
             ' figures. "In the app" is the app\'s own time (its Server-Timing): the rest is'
             " waiting (for the replica's event loop, threads and database connections),"
-            " nginx, the network and the load generator.",
+            ' nginx, the network and the load generator. "Of which database" is the time'
+            " of its database statements (sent, run, answer read); the rest of the app's"
+            " time is its own work and its waits for a worker thread, the GIL and a"
+            " connection.",
             "",
             calls_table(calls),
             "",

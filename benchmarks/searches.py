@@ -36,7 +36,7 @@ from locust.exception import StopUser
 from report import ROOT
 
 from testbed.changes import take_in
-from testbed.client import EventStream
+from testbed.client import EventStream, server_timing
 from testbed.scenes import Scene, tap, temple_scene
 
 TEMPLE = ROOT / "tests" / "data" / "temple"
@@ -51,7 +51,10 @@ PAUSES = {"join": (5, 15), "photo": (5, 15), "tap": (3, 8), "find": (5, 15), "re
 CALL_SECONDS = 30.0  # any one call
 STREAM_SILENCE_SECONDS = 45.0  # pings come every 15 s
 WAIT_SECONDS = 30.0  # the longest a phone waits for what it expects to see
-APP_MS: dict[str, list[float]] = {}  # each call's time in the app (its Server-Timing), by name
+# Each call's time in the app, and its database statements' part of it (its Server-Timing:
+# app;dur=<ms>, db;dur=<ms>), by name.
+APP_MS: dict[str, list[float]] = {}
+DATABASE_MS: dict[str, list[float]] = {}
 
 
 @dataclass(frozen=True)
@@ -254,8 +257,10 @@ def call(
             answer.failure(f"{answer.status_code} {code}")
             return None
         answer.success()
-        if timing := answer.headers.get("server-timing"):  # the app's own time: app;dur=<ms>
-            APP_MS.setdefault(name, []).append(float(timing.split("dur=")[1].split(";")[0]))
+        if header := answer.headers.get("server-timing"):
+            parts = server_timing(header)
+            APP_MS.setdefault(name, []).append(parts["app"])
+            DATABASE_MS.setdefault(name, []).append(parts.get("db", 0.0))
         if answer.headers.get("content-type", "").startswith("application/json"):
             return answer.json()
         return True

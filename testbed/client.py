@@ -5,7 +5,8 @@ in-process ``TestClient``, or a client of a live server (a replica, or nginx in 
 them). :class:`EventStream` reads a phone's event stream from the bytes of any HTTP
 client's streamed answer (httpx2's here, requests' in Locust's phones,
 ``benchmarks/searches.py``), and :class:`Listener` follows one in a thread. What a phone
-shows after each event is :mod:`testbed.changes`.
+shows after each event is :mod:`testbed.changes`. :func:`server_timing` reads the app's own
+time from an answer.
 """
 
 from __future__ import annotations
@@ -145,6 +146,19 @@ class Phone:
             listener.headers["Last-Event-ID"] = str(last_event_id)
         listener.start()
         return listener
+
+
+def server_timing(header: str) -> dict[str, float]:
+    """The parts of a ``Server-Timing`` header, ms by name (``app;dur=1.2, db;dur=0.4``:
+    the app's time and its database statements' share, backend/middleware.py)."""
+    parts = {}
+    for entry in header.split(","):
+        name, *parameters = (part.strip() for part in entry.split(";"))
+        for parameter in parameters:
+            key, _, value = parameter.partition("=")
+            if key == "dur":
+                parts[name] = float(value)
+    return parts
 
 
 def live(base: str) -> httpx2.Client:

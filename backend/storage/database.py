@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from pathlib import Path
@@ -17,6 +18,8 @@ from sqlalchemy.engine import URL, make_url
 from sqlalchemy.exc import DBAPIError, InterfaceError, OperationalError, SQLAlchemyError
 from sqlalchemy.exc import TimeoutError as PoolTimeoutError
 from sqlalchemy.orm import Session, sessionmaker
+
+from backend import timing
 
 MIGRATIONS = Path(__file__).with_name("migrations")
 INITIAL_REVISION = "0001"
@@ -82,19 +85,38 @@ def connect(url: str) -> Engine:
             **pool,
         )
         event.listen(engine, "connect", _sqlite_pragmas)
-        return engine
+        return _tallied(engine)
     # 20 connections per replica: five replicas fit PostgreSQL's default 100. A fixed pool:
     # overflow connections (opened past the pool's size, closed when given back) made
     # PostgreSQL start a backend and check a password for each, 8.5 times per search under
     # load (benchmarks/load.py, 200 searches at once).
-    return create_engine(
-        parsed,
-        pool_size=20,
-        max_overflow=0,
-        pool_timeout=10,
-        connect_args={"connect_timeout": 5, **PREPARED},
-        hide_parameters=True,
+    return _tallied(
+        create_engine(
+            parsed,
+            pool_size=20,
+            max_overflow=0,
+            pool_timeout=10,
+            connect_args={"connect_timeout": 5, **PREPARED},
+            hide_parameters=True,
+        )
     )
+
+
+def _tallied(engine: Engine) -> Engine:
+    """``engine``, each of whose statements adds its time (sent, run, answer read) to the
+    request's ``Server-Timing`` (:mod:`backend.timing`)."""
+
+    def started(connection: Connection, *_: object) -> None:
+        connection.info["statement_started"] = time.perf_counter()
+
+    def ended(connection: Connection, *_: object) -> None:
+        began = connection.info.pop("statement_started", None)
+        if began is not None:
+            timing.add(timing.DATABASE, time.perf_counter() - began)
+
+    event.listen(engine, "before_cursor_execute", started)
+    event.listen(engine, "after_cursor_execute", ended)
+    return engine
 
 
 # Every statement prepared on its first run on a connection (psycopg's default waits for

@@ -16,6 +16,8 @@ from urllib.parse import urlsplit
 
 from playwright.sync_api import BrowserContext, CDPSession, Page
 
+from testbed.client import server_timing
+
 
 @dataclass(frozen=True)
 class Profile:
@@ -128,8 +130,8 @@ class Meter:
         request = self._request(event)
         request.response_headers = int(event["response"].get("encodedDataLength", 0))
         headers = {k.lower(): v for k, v in event["response"].get("headers", {}).items()}
-        if timing := headers.get("server-timing"):  # app;dur=<ms>
-            request.server_ms = float(timing.split("dur=")[1].split(";")[0])
+        if timing := headers.get("server-timing"):  # app;dur=<ms>, db;dur=<ms>
+            request.server_ms = server_timing(timing)["app"]
 
     def _event(self, event: dict[str, Any]) -> None:
         if self._wall_offset is not None:

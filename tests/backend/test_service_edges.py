@@ -9,6 +9,7 @@ from fastapi.testclient import TestClient
 
 from backend.main import create_app
 from backend.settings import Settings
+from testbed.client import server_timing
 
 
 def test_unknown_routes_and_methods_answer_in_the_one_shape(client: TestClient) -> None:
@@ -45,9 +46,24 @@ def test_health_and_version(client: TestClient) -> None:
     assert client.get("/healthz").json() == {"status": "ok"}
     version = client.get("/api/version")
     assert version.json()["version"]
-    # Every answer says how long the server spent on it.
+    # Every answer says how long the server spent on it, and in database statements.
     assert version.headers["server-timing"].startswith("app;dur=")
-    assert float(version.headers["server-timing"].split("=")[1]) >= 0
+    parts = server_timing(version.headers["server-timing"])
+    assert set(parts) == {"app", "db"}
+    assert parts["app"] >= 0
+    assert parts["db"] == 0.0  # the version reads no database
+
+
+def test_the_server_timing_counts_the_database_statements_of_the_call_it_answers(
+    client: TestClient,
+) -> None:
+    """The statements run in the route's worker thread, whose tally is the request's."""
+    created = client.post("/api/sessions")
+    assert created.status_code == 201, created.text
+    parts = server_timing(created.headers["server-timing"])
+    assert 0 < parts["db"] <= parts["app"]
+    # The next call starts its own tally: another version's reads none.
+    assert server_timing(client.get("/api/version").headers["server-timing"])["db"] == 0.0
 
 
 def test_docs_are_served_without_the_internet(client: TestClient) -> None:
