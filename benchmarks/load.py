@@ -255,10 +255,10 @@ def versions(database: Database) -> dict[str, str]:
 # --- the report ---------------------------------------------------------------------------
 
 
-def app_time(name: str, times_by_call: dict[str, list[float]] = APP_MS) -> str:
-    """p50 / p99 of the app's own time for a call (its Server-Timing), or of its database
-    statements' part (``DATABASE_MS``): the rest of the phone's latency is queueing (in the
-    replica before the app sees the request, nginx, the network, the load generator)."""
+def server_percentiles(times_by_call: dict[str, list[float]], name: str) -> str:
+    """p50 / p99 of a call's Server-Timing part: the app's own time (``APP_MS``) or its
+    database statements' (``DATABASE_MS``). The rest of the phone's latency is queueing (in
+    the replica before the app sees the request, nginx, the network, the load generator)."""
     times = times_by_call.get(name)
     if not times:
         return ""
@@ -314,8 +314,8 @@ def calls_table(calls: list[locust.stats.StatsEntry]) -> str:
                 str(entry.num_failures),
                 *(ms(entry.get_response_time_percentile(q)) for q in (0.5, 0.95, 0.99)),
                 ms(entry.max_response_time),
-                app_time(entry.name),
-                app_time(entry.name, DATABASE_MS),
+                server_percentiles(APP_MS, entry.name),
+                server_percentiles(DATABASE_MS, entry.name),
             ]
             for entry in calls
         ],

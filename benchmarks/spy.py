@@ -45,7 +45,7 @@ class Sampler:
 
     def start(self) -> None:
         if not self.rate:
-            self.problem = "sampling turned off (--sample-rate 0)"
+            self.problem = "sampling turned off (a rate of 0)"
             return
         spy = Path(sys.executable).with_name("py-spy")
         for pid, output in zip(self.pids, self.outputs, strict=True):
