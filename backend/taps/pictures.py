@@ -15,11 +15,12 @@ from backend.photos.schemas import ImageFormat
 from backend.photos.service import PhotoService
 from backend.settings import Settings
 from backend.storage.snapshot import Snapshot
-from shared_solver import SolveResult, draw_overlay
+from shared_solver.drawing.overlay import render as render_drawing
+from shared_solver.drawing.shapes import AnswerDrawing
 
 from . import guidance
 from .answers import AnswerService, solved, tap_sets
-from .schemas import LandmarkSuggestion, Spot, Taps
+from .schemas import LandmarkSuggestion, Spot
 
 
 @dataclass(kw_only=True)
@@ -36,26 +37,24 @@ class PictureService:
         """``role``'s photo with the answer drawn for that phone, drawn for each request and
         never kept (a phone loads each answer's overlay once; its own cache keeps it).
         ``layer``: the drawing alone, a transparent PNG (``fmt`` aside), for a phone that
-        has its photo already."""
+        has its photo already.
+
+        The shapes are the stored answer's drawing for that photo, the very ones the phone
+        draws as SVG (``in_photo[role].drawing``): rendered, not computed again."""
         snapshot = self.answers.due(self.answers.snapshot(participant.session_id))
         stored = solved(snapshot)
         kept = self._photo(snapshot, role)
-        member = snapshot.members.get(role)
-        if kept is None or member is None or member.taps is None:
+        view = stored.answer.in_photo.get(role)
+        drawing = None if view is None else view.drawing
+        if kept is None or drawing is None or not _drawn_for(drawing, kept):
             raise RefusedError(
                 ErrorCode.NO_RESULT, "That photo changed; the answer is being renewed."
             )
-        taps = {tap.id: (tap.x, tap.y) for tap in Taps.model_validate(member.taps).landmarks}
-        ids = stored.answer.landmark_ids
         pixels = decode_photo(kept.photo.data)
-        drawn = draw_overlay(
-            pixels,
-            SolveResult.model_validate(stored.solution),
-            # The solver's photo 2 is the one it found the friend in.
-            photo=stored.order.number(role),
-            points=[taps[i] for i in ids],
-            labels=ids,
-        )
+        # The solver's photo 2 is the one it found the friend in. A layer needs the photo as
+        # it was beside the drawn one; a picture is drawn on the decoded pixels themselves.
+        canvas = pixels.copy() if layer else pixels
+        drawn = render_drawing(canvas, drawing, photo=stored.order.number(role))
         return encode_layer(drawn, pixels) if layer else encode_image(drawn, format=fmt)
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
@@ -116,3 +115,8 @@ class PictureService:
         """``role``'s photo as ``snapshot`` has it."""
         info = snapshot.photos.get(role)
         return None if info is None else self.photos.get(snapshot.id, role, info.version)
+
+
+def _drawn_for(drawing: AnswerDrawing, kept: KeptPhoto) -> bool:
+    """Whether ``drawing`` was made for a photo of ``kept``'s size."""
+    return (drawing.width, drawing.height) == (kept.photo.width, kept.photo.height)

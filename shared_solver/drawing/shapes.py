@@ -16,7 +16,8 @@ from pydantic import BaseModel, ConfigDict, Field, PlainSerializer
 # Drawn coordinates go to the phones at 0.01 px: a hundredth of the finest stroke, and the
 # JSON of an answer's drawing half as long as at full precision (it rides on every answer's
 # event, on a venue's slow link). The answer itself (``friend``, ``region``) keeps its
-# precision; the OpenCV overlay draws from these objects, unrounded.
+# precision. A session's overlay renders the shapes as stored (these 0.01 px: the phone's);
+# :func:`.overlay.draw_overlay` renders them as computed, unrounded.
 Px = Annotated[float, PlainSerializer(lambda value: round(value, 2), when_used="json")]
 Point = tuple[Px, Px]
 Polyline = list[Point]

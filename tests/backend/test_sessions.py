@@ -20,7 +20,13 @@ from sqlalchemy import text
 
 from backend.pairing.tokens import token_hash
 from backend.participants import ROLES
+from backend.storage.snapshot import read_snapshot
 from backend.storage.tables import Base
+from backend.taps.schemas import StoredAnswer
+from shared_solver import SolveResult
+from shared_solver.drawing.layout import answer_drawing
+from shared_solver.drawing.overlay import render
+from shared_solver.drawing.shapes import AnswerDrawing
 from testbed.client import Phone
 from testbed.scenes import (
     NO_PHONES_FRIEND,
@@ -432,6 +438,41 @@ def test_overlays_show_the_answer_on_each_photo(client: TestClient, uploaded: Ph
     # <img> cannot send headers: the token may come in the query.
     by_query = client.get(joiner.url("/overlay/joiner"), params={"token": joiner.token})
     assert by_query.status_code == 200
+
+
+def test_an_overlay_renders_the_drawing_the_phone_gets(
+    client: TestClient, uploaded: Phones
+) -> None:
+    """The overlay is the state's ``in_photo[role].drawing`` rendered on the stored photo:
+    the shapes the phone draws as SVG, which are the solver's answer's shapes for that
+    photo."""
+    starter, joiner = uploaded
+    s = scene(6)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    state = joiner.tapped(landmarks=landmarks(s.landmarks2))
+    database = client.app.state.services.database  # type: ignore[attr-defined]
+    snapshot = read_snapshot(database, joiner.session_id)
+    stored = None if snapshot is None else StoredAnswer.read(snapshot.answer)
+    assert stored is not None
+    assert stored.solution is not None
+    assert stored.order is not None
+    result = SolveResult.model_validate(stored.solution)
+    for role, tapped in (("starter", s.landmarks1), ("joiner", s.landmarks2)):
+        got = client.get(
+            joiner.url(f"/overlay/{role}"), params={"format": "png"}, headers=joiner.auth
+        )
+        overlay = cv2.imdecode(np.frombuffer(got.content, np.uint8), cv2.IMREAD_COLOR)
+        photo = client.get(joiner.url(f"/photo/{role}"), headers=joiner.auth).content
+        pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
+        number = stored.order.number(role)
+        drawing = AnswerDrawing.model_validate(state["answer"]["in_photo"][role]["drawing"])
+        assert np.array_equal(overlay, render(pixels.copy(), drawing, photo=number))
+        ids = stored.answer.landmark_ids if stored.answer else []
+        shapes = answer_drawing(
+            result, photo=number, size=(640, 480), landmarks=np.asarray(tapped), labels=ids
+        )
+        # The same shapes, to the 0.01 px the state keeps.
+        assert drawing.model_dump_json() == shapes.model_dump_json()
 
 
 def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
