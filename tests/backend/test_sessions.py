@@ -467,9 +467,12 @@ def test_an_overlay_renders_the_drawing_the_phone_gets(
         number = stored.order.number(role)
         drawing = AnswerDrawing.model_validate(state["answer"]["in_photo"][role]["drawing"])
         assert np.array_equal(overlay, render(pixels.copy(), drawing, photo=number))
-        ids = stored.answer.landmark_ids if stored.answer else []
         shapes = answer_drawing(
-            result, photo=number, size=(640, 480), landmarks=np.asarray(tapped), labels=ids
+            result,
+            photo=number,
+            size=(640, 480),
+            landmarks=np.asarray(tapped),
+            labels=state["answer"]["landmark_ids"],
         )
         # The same shapes, to the 0.01 px the state keeps.
         assert drawing.model_dump_json() == shapes.model_dump_json()
