@@ -20,6 +20,8 @@ marks included) and the same scenes and taps for every method of a trial:
 6. the coverage of every projective method there.
 7. Speed of ``solve`` in every case above and of ``epipole_from_five`` against
    ``cv2.findFundamentalMat`` with ``FM_7POINT``, timed interleaved in the same process.
+8. Every camera-aware case against the Cramér-Rao bound of its taps.
+9. Both phones' gravity at the shutter: each few-landmark case with and without it.
 
 Seeds are fixed, so reruns give the same accuracy, coverage and ranking figures; trial ``i``
 always uses the same scene and taps, whatever ``--trials`` says. Run from the repository
@@ -43,7 +45,7 @@ from datetime import datetime
 import cv2
 import numpy as np
 from report import ROOT, command_line, publish, source_state, timed
-from solverbench import facing, limit, phones, ranking
+from solverbench import facing, gravity, limit, phones, ranking
 from solverbench.common import SCENE_STREAM, SEED, TAP_STREAM
 from solverbench.speed import (
     BATCH_SECONDS,
@@ -61,6 +63,7 @@ DEFAULT_RANK_SCENES = 300
 DEFAULT_SPEED_SCENES = 20
 DEFAULT_SPEED_ROUNDS = 25
 DEFAULT_LIMIT_TRIALS = 1000
+DEFAULT_GRAVITY_TRIALS = 500
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,7 @@ class Options:
     speed_scenes: int
     speed_rounds: int
     limit_trials: int = DEFAULT_LIMIT_TRIALS
+    gravity_trials: int = DEFAULT_GRAVITY_TRIALS
 
 
 @dataclass(frozen=True)
@@ -85,6 +89,7 @@ class Results:
     six_point_rank: facing.RankCount
     speed_result: SpeedResult
     limit_table: limit.LimitTable
+    gravity_table: gravity.GravityTable
     seconds: dict[str, float]
 
 
@@ -116,7 +121,8 @@ def header(options: Options) -> str:
             f"{options.coverage_trials} per case in section 3; {options.rank_scenes} scenes per "
             f"kind in section 4 and in the six_point_line rank check; speed: "
             f"{options.speed_scenes} scenes per case, {options.speed_rounds} rounds; "
-            f"{options.limit_trials} per case and tap noise in section 8"
+            f"{options.limit_trials} per case and tap noise in section 8; "
+            f"{options.gravity_trials} per case and gravity sigma in section 9"
             + (
                 " (the defaults: no section was cut short for time)."
                 if options == DEFAULTS
@@ -167,6 +173,7 @@ def report(results: Results) -> str:
         *speed_targets(results.speed_result.timings),
         (facing_passed, facing_target),
         *limit.limit_targets(results.limit_table),
+        *gravity.gravity_targets(results.gravity_table),
     ]
     seconds = ", ".join(f"{name} {s:.1f} s" for name, s in results.seconds.items())
     sections = [
@@ -271,6 +278,20 @@ def report(results: Results) -> str:
         "do not (quite) fit two phone photos (`CAMERA_MODEL_DISAGREES` or "
         "`CAMERA_MODEL_UNSURE`), the camera model's false alarms.",
         limit.limit_table(results.limit_table),
+        "## 9. Gravity at the shutter",
+        f"{options.gravity_trials} trials per case and gravity sigma: the phone scenes and "
+        f"{phones.TARGET_SIGMA:g} px taps of section 1 (trial i is the same; the 'drawn from "
+        "it' row: section 3's scenes whose focal lengths are drawn from the phone prior), each "
+        "phone's reading its true down turned by Gaussian noise of the sigma per axis and "
+        "told to `solve` (`gravity1`, `gravity2`, `gravity_sigma_deg`); *none*: the same "
+        "taps without gravity (from three landmarks: fewer answer nothing). With no landmark "
+        "the answer is the band around the level (`curve2`): its error is the truth's "
+        "distance from the curve, it holds the truth within `curve2_halfwidth`, and the "
+        "half-width is also given as an angle of photo 2's view. Otherwise a point, graded "
+        "as in section 1 (failures count as infinite error). *Answers using gravity*: those "
+        "whose readings were not dropped as contradicting the landmarks (`used_gravity`). "
+        "Time: each call once, `time.perf_counter`, the median over trials.",
+        gravity.gravity_table(results.gravity_table),
         "## Targets",
         "\n".join(f"- {line}" for _, line in targets),
         f"Wall time of the measurements: {sum(results.seconds.values()):.1f} s ({seconds}; "
@@ -291,6 +312,7 @@ def run(options: Options) -> Results:
     six = timed(seconds, "6. rank check", lambda: facing.six_point_rank(options.rank_scenes))
     timings = timed(seconds, "7. speed", lambda: speed(options.speed_scenes, options.speed_rounds))
     at_limit = timed(seconds, "8. limit", lambda: limit.limit(options.limit_trials))
+    levelled = timed(seconds, "9. gravity", lambda: gravity.gravity(options.gravity_trials))
     return Results(
         options,
         phone_table,
@@ -302,6 +324,7 @@ def run(options: Options) -> Results:
         six,
         timings,
         at_limit,
+        levelled,
         seconds,
     )
 
@@ -315,6 +338,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         ("--speed-scenes", DEFAULT_SPEED_SCENES, "scenes per timed case"),
         ("--speed-rounds", DEFAULT_SPEED_ROUNDS, "interleaved timing rounds"),
         ("--limit-trials", DEFAULT_LIMIT_TRIALS, "trials per case and tap noise (section 8)"),
+        ("--gravity-trials", DEFAULT_GRAVITY_TRIALS, "trials per case and gravity (section 9)"),
     ):
         parser.add_argument(option, type=int, default=default, help=meaning)
     args = parser.parse_args(argv)
@@ -325,6 +349,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         speed_scenes=args.speed_scenes,
         speed_rounds=args.speed_rounds,
         limit_trials=args.limit_trials,
+        gravity_trials=args.gravity_trials,
     )
     for name, value in vars(options).items():
         if value < 1:

@@ -63,6 +63,7 @@ class Reason(StrEnum):
     NOT_A_POINT = "not_a_point"
     NOT_A_PIXEL = "not_a_pixel"
     NOT_A_LINE = "not_a_line"
+    NOT_A_DIRECTION = "not_a_direction"
     NOT_A_SIZE = "not_a_size"
     NOT_PRECISIONS = "not_precisions"
     NOT_A_PRECISION = "not_a_precision"
@@ -90,6 +91,7 @@ class Reason(StrEnum):
     TOO_FAR = "too_far"
     NOT_POSITIVE = "not_positive"
     NOT_A_LENGTH = "not_a_length"
+    NOT_AN_ANGLE = "not_an_angle"
     NOT_A_COVARIANCE = "not_a_covariance"
     NOT_A_USABLE_COVARIANCE = "not_a_usable_covariance"
     NOT_A_CAMERA = "not_a_camera"
@@ -117,6 +119,7 @@ _REASONS: dict[ErrorCode, tuple[Reason, ...]] = {
         Reason.NOT_A_POINT,
         Reason.NOT_A_PIXEL,
         Reason.NOT_A_LINE,
+        Reason.NOT_A_DIRECTION,
         Reason.NOT_A_SIZE,
         Reason.NOT_PRECISIONS,
         Reason.NOT_A_PRECISION,
@@ -135,6 +138,7 @@ _REASONS: dict[ErrorCode, tuple[Reason, ...]] = {
         Reason.TOO_FAR,
         Reason.NOT_POSITIVE,
         Reason.NOT_A_LENGTH,
+        Reason.NOT_AN_ANGLE,
         Reason.NOT_A_COVARIANCE,
         Reason.NOT_A_USABLE_COVARIANCE,
         Reason.NOT_A_CAMERA,
@@ -185,6 +189,7 @@ REFUSAL_PARAMETERS: dict[Reason, tuple[str, ...]] = {
             Reason.NOT_A_POINT,
             Reason.NOT_A_PIXEL,
             Reason.NOT_A_LINE,
+            Reason.NOT_A_DIRECTION,
             Reason.NOT_A_SIZE,
             Reason.NOT_A_PRECISION,
             Reason.NOT_FINITE,
@@ -208,6 +213,7 @@ REFUSAL_PARAMETERS: dict[Reason, tuple[str, ...]] = {
     Reason.LANDMARKS_ON_EPIPOLAR_LINE: ("photo",),
     Reason.TOO_FAR: ("field", "largest_px"),
     Reason.NOT_A_LENGTH: ("field", "finest_px", "largest_px"),
+    Reason.NOT_AN_ANGLE: ("field", "finest_deg", "largest_deg"),
     Reason.NOT_A_USABLE_COVARIANCE: ("field", "finest_px", "largest_px", "most_elongated"),
     Reason.NOT_A_CAMERA: ("field", "detail"),
     Reason.BAD_PHOTO: ("detail",),
@@ -235,6 +241,8 @@ class Parameters(TypedDict, total=False):
     finest_px: float
     largest_px: float
     most_elongated: float
+    finest_deg: float
+    largest_deg: float
     detail: str
 
 
@@ -244,6 +252,8 @@ class WarningCode(StrEnum):
     CAMERA_MODEL_DISAGREES = "camera_model_disagrees"
     CAMERA_MODEL_UNSURE = "camera_model_unsure"
     ON_THE_CURVE = "on_the_curve"
+    ON_THE_LEVEL = "on_the_level"
+    GRAVITY_DISAGREES = "gravity_disagrees"
     MARKS_DISAGREE = "marks_disagree"
     FAR_TO_THE_SIDE = "far_to_the_side"
     NOT_PINNED_DOWN = "not_pinned_down"
@@ -263,6 +273,10 @@ WARNING_MEANING: dict[WarningCode, str] = {
     WarningCode.CAMERA_MODEL_UNSURE: "the taps barely fit two phone photos: the region is "
     "widened to hold either answer",
     WarningCode.ON_THE_CURVE: "too few landmarks for a point: the friend is on `curve`",
+    WarningCode.ON_THE_LEVEL: "no landmark, both phones' gravity: the friend is along "
+    "`curve2`, within `curve2_halfwidth` px of it",
+    WarningCode.GRAVITY_DISAGREES: "the phones' gravity readings contradict the landmarks: "
+    "answered from the landmarks alone",
     WarningCode.MARKS_DISAGREE: "the taps disagree more than their precision says: the "
     "region is widened",
     WarningCode.FAR_TO_THE_SIDE: "the friend is (nearly) infinitely far to the side",
@@ -285,6 +299,7 @@ WARNING_MEANING: dict[WarningCode, str] = {
 # is in photo 2 (the answer's photo) is not said to the phone of photo 1, who sees them.
 WARNING_PHOTO: dict[WarningCode, Literal[1, 2]] = {
     WarningCode.ON_THE_CURVE: 2,
+    WarningCode.ON_THE_LEVEL: 2,
     WarningCode.FAR_TO_THE_SIDE: 2,
     WarningCode.BEHIND_YOU: 2,
     WarningCode.OUTSIDE_PHOTO: 2,

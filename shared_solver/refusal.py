@@ -64,6 +64,8 @@ class Refusal(BaseModel):
     most_elongated: float | None = Field(
         None, description="How many times apart a covariance's two sigmas may be."
     )
+    finest_deg: float | None = Field(None, description="The finest sensor sigma honoured, deg.")
+    largest_deg: float | None = Field(None, description="The largest sensor sigma honoured, deg.")
     detail: str | None = Field(
         None, description="not_a_camera: what is wrong with it; bad_photo: the value given."
     )

@@ -26,6 +26,7 @@ Method = Literal[
     "pinhole_two_epipoles",
     "pinhole_line",
     "pinhole_landmarks",
+    "pinhole_level",
 ]
 CameraModel = Literal["projective", "pinhole"]
 Quality = Literal["good", "fair", "poor"]
@@ -187,6 +188,23 @@ class SolveResult(_Frozen):
     )
     homography: Matrix | None = Field(default=None, description="Plane model: q ~ H p.")
     conic2: Matrix | None = Field(default=None, description="4 landmarks: e2^T C e2 = 0.")
+    curve2: list[list[Pixel]] | None = Field(
+        default=None,
+        description="No landmark, both phones' gravity (method 'pinhole_level'): the level "
+        "friend 1 stands on in photo 2, as the pieces of it inside the photo, each a "
+        "polyline of [x, y] px within 0.25 px of the curve (at the priors' focal lengths).",
+    )
+    curve2_halfwidth: float | None = Field(
+        default=None,
+        description="The 95 % half-width of the band around `curve2`, px (its median along "
+        "the visible curve); None when no piece of the curve is inside the photo.",
+    )
+    used_gravity: bool = Field(
+        default=False,
+        description="Both phones' gravity at the shutter entered the answer (gravity1, "
+        "gravity2); False when none was given, or when it contradicted the landmarks "
+        "(warning 'gravity_disagrees').",
+    )
     candidates: list[Candidate] = Field(default_factory=list)
     uncertainty: Uncertainty | None = None
     suspect_landmarks: list[int] = Field(

@@ -22,6 +22,7 @@ wherever one was measured to hold the truth about 95 % of the time.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -30,13 +31,13 @@ from numpy.typing import ArrayLike
 from pydantic import ValidationError
 
 from . import validation
-from .answers import disagreement, pinhole, projective
+from .answers import disagreement, level, pinhole, projective
 from .answers.request import Request
-from .errors import Marks, Reason
+from .errors import Marks, Reason, WarningCode
 from .estimation.camera import Camera
-from .estimation.taps import Taps
+from .estimation.taps import Gravity, Taps
 from .refusal import SolverError
-from .result import SolveResult
+from .result import SolveResult, SolverWarning
 
 # Two taps closer than this many tap sigmas are the same place; landmarks within it of one
 # line are collinear: degenerate at the precision of a finger.
@@ -66,6 +67,11 @@ def solve(
     epipole1_sigma: ArrayLike | None = None,
     epipole2_sigma: ArrayLike | None = None,
     fundamental_covariance: bool = False,
+    gravity1: ArrayLike | None = None,
+    gravity2: ArrayLike | None = None,
+    gravity_sigma_deg: float = 1.0,
+    gravity1_sigma_deg: float | None = None,
+    gravity2_sigma_deg: float | None = None,
 ) -> SolveResult:
     """Where friend 1 stands in friend 2's photo, from whatever the two people tapped.
 
@@ -99,6 +105,14 @@ def solve(
             (``SolveResult.fundamental_covariance``), from which ``shared_solver.matching``
             draws a landmark's band in the other photo; off by default (it costs a few
             tens of microseconds, and 81 numbers of JSON).
+        gravity1, gravity2: (3,) which way is down in photo 1's and photo 2's camera frame
+            at the shutter (x right along the rows, y down the columns, z out of the lens;
+            any length): a phone held upright and level reads (0, 1, 0). Used with a camera
+            model, friend 2 marked as a point in photo 1 alone, and both readings given:
+            then no landmark gives the level friend 1 is on (``curve2``) and one landmark a
+            point. None: everything is as without them.
+        gravity_sigma_deg: a reading's standard deviation per axis, degrees, for each
+            reading whose own is not given (``gravity1_sigma_deg``, ``gravity2_sigma_deg``).
 
     Returns:
         A :class:`SolveResult`; ``model_dump(mode="json")`` is the REST API's JSON.
@@ -119,9 +133,17 @@ def solve(
         cameras=(camera1, camera2),
         sigmas=(points1_sigma, points2_sigma, epipole1_sigma, epipole2_sigma),
         with_fundamental_covariance=fundamental_covariance,
+        gravity=(gravity1, gravity2, gravity_sigma_deg, gravity1_sigma_deg, gravity2_sigma_deg),
     )
+    return _answer(request)
+
+
+def _answer(request: Request) -> SolveResult:
+    """The answer to a checked request: the route its taps and cameras call for."""
     taps = request.taps
     count = len(taps)
+    if taps.gravity is not None and request.priors is not None and taps.epipole2 is None:
+        return _levelled(request)
     if taps.epipole1 is not None:
         pinhole_route, projective_route, minimum = (
             (pinhole.friend2_marked, projective.both_epipoles, 3)
@@ -150,6 +172,23 @@ def solve(
     return disagreement.reconcile(request, answer.result, projective_route(request))
 
 
+def _levelled(request: Request) -> SolveResult:
+    """Friend 2 marked in photo 1, both phones' gravity and a camera model: the level friend 1
+    is on from no landmark, else the camera model's fit with gravity in it. Where the fit
+    contradicts the readings and the landmarks answer alone, they do, and say so."""
+    if not len(request.taps):
+        return level.on_the_level(request)
+    answer = pinhole.friend2_marked(request)
+    if answer.result is not None and answer.agrees:
+        return answer.result
+    without = request.without_gravity()
+    if len(without.taps) < fewest_landmarks(epipole1=True, cameras=True):
+        raise SolverError(Reason.GEOMETRY_UNDETERMINED)
+    alone = _answer(without)
+    told = SolverWarning.of(WarningCode.GRAVITY_DISAGREES)
+    return alone.model_copy(update={"warnings": [told, *alone.warnings]})
+
+
 def _friend2_projective(request: Request) -> SolveResult:
     if len(request.taps) == 4:
         return projective.conic(request)
@@ -170,6 +209,13 @@ def _parse(
     cameras: tuple[CameraInput, CameraInput],
     sigmas: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None, ArrayLike | None],
     with_fundamental_covariance: bool = False,
+    gravity: tuple[ArrayLike | None, ArrayLike | None, float, float | None, float | None] = (
+        None,
+        None,
+        1.0,
+        None,
+        None,
+    ),
 ) -> Request:
     sigma = validation.length(tap_sigma, "tap_sigma")
     e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
@@ -183,7 +229,11 @@ def _parse(
     size2 = validation.image_size(image_size2, "image_size2")
     camera_pair = (_camera(cameras[0], "camera1", size1), _camera(cameras[1], "camera2", size2))
     modelled = all(camera.kind != "unknown" for camera in camera_pair)
-    minimum, marked = _minimum(e1 is not None, e2 is not None, line1 is not None, modelled)
+    down = _gravity(*gravity)
+    levelled = down is not None and modelled and e1 is not None and e2 is None
+    minimum, marked = _minimum(
+        e1 is not None, e2 is not None, line1 is not None, modelled, levelled
+    )
     labels = None if landmark_ids is None else [int(i) for i in landmark_ids]
     p, q = validation.landmark_pairs(
         points1,
@@ -194,7 +244,7 @@ def _parse(
         labels=labels,
         epipole1=None if e1 is None else np.append(e1, 1.0),
         epipole2=None if e2 is None else np.append(e2, 1.0),
-        directions=not (modelled and e2 is not None),
+        directions=not (modelled and e2 is not None) and not levelled,
     )
     if labels is not None and len(labels) != len(p):
         raise SolverError(Reason.ONE_ID_PER_LANDMARK)
@@ -214,6 +264,7 @@ def _parse(
         line_sigma=1.0
         if line_normal is None
         else float(np.sqrt(line_normal @ cov_e1 @ line_normal)),
+        gravity=down,
     )
     return Request(
         taps,
@@ -232,6 +283,7 @@ def fewest_landmarks(
     line: bool = False,
     cameras: bool,
     position: bool = True,
+    gravity: bool = False,
 ) -> int:
     """How many landmarks (common to both photos) ``solve`` needs.
 
@@ -241,23 +293,52 @@ def fewest_landmarks(
         cameras: both photos' cameras have a model (``camera1``, ``camera2`` not unknown).
         position: for a position; False: for any answer (four landmarks and the friend
             mark already give the curve the friend is on, without a camera model).
+        gravity: both phones' gravity was measured at the shutter.
     """
     if epipole1 and epipole2:
         return 1 if cameras else 3
+    if epipole1 and cameras and gravity:
+        return 1 if position else 0
     if epipole1:
         return 3 if cameras else (5 if position else 4)
     return 6 if line else 7
 
 
-def _minimum(friend2: bool, friend1: bool, line: bool, modelled: bool) -> tuple[int, Marks]:
+def _minimum(
+    friend2: bool, friend1: bool, line: bool, modelled: bool, levelled: bool
+) -> tuple[int, Marks]:
     """Fewest landmarks for any answer, and how the friends were marked (which the refusal of
     fewer says)."""
     count = fewest_landmarks(
-        epipole1=friend2, epipole2=friend1, line=line, cameras=modelled, position=False
+        epipole1=friend2,
+        epipole2=friend1,
+        line=line,
+        cameras=modelled,
+        position=False,
+        gravity=levelled,
     )
     if friend2:
         return count, "both" if friend1 else "point"
     return count, "line" if line else "none"
+
+
+def _gravity(
+    gravity1: ArrayLike | None,
+    gravity2: ArrayLike | None,
+    sigma_deg: float,
+    sigma1_deg: float | None,
+    sigma2_deg: float | None,
+) -> Gravity | None:
+    """Both phones' gravity readings, checked; None unless both were given (one reading alone
+    says nothing about how the two phones are turned)."""
+    default = validation.angle(sigma_deg, "gravity_sigma_deg")
+    sigma1 = default if sigma1_deg is None else validation.angle(sigma1_deg, "gravity1_sigma_deg")
+    sigma2 = default if sigma2_deg is None else validation.angle(sigma2_deg, "gravity2_sigma_deg")
+    down1 = None if gravity1 is None else validation.direction(gravity1, "gravity1")
+    down2 = None if gravity2 is None else validation.direction(gravity2, "gravity2")
+    if down1 is None or down2 is None:
+        return None
+    return Gravity(down1, down2, math.radians(sigma1), math.radians(sigma2))
 
 
 def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> Camera:

@@ -41,6 +41,10 @@ FINEST_PX = 1e-6
 # beyond it, its covariance is too near singular for its Cholesky factor to be exact
 # (condition 1e8, where a double resolves 1e16).
 MOST_ELONGATED = 1e4
+# A gravity reading's sigma, degrees: finer than any phone's accelerometer (about 0.1) down
+# to one that says nothing (a reading 30 degrees off is no reading).
+FINEST_DEG = 0.01
+LARGEST_DEG = 30.0
 
 
 def _array(value: ArrayLike, name: str) -> Array:
@@ -63,8 +67,11 @@ def _near(array: Array, name: str) -> Array:
 
 
 def points(value: ArrayLike, name: str) -> Array:
-    """(N, 2) float array of pixel points, finite, within :data:`LARGEST_PX`."""
+    """(N, 2) float array of pixel points, finite, within :data:`LARGEST_PX`; an empty list
+    is none, (0, 2)."""
     array = _array(value, name)
+    if array.shape == (0,):
+        return array.reshape(0, 2)
     if array.ndim != 2 or array.shape[1] != 2:
         raise SolverError(Reason.NOT_POINTS, field=name, shape=array.shape)
     return _near(array, name)
@@ -102,6 +109,27 @@ def line(value: ArrayLike, name: str) -> Array:
     if not abs(array[2]) <= LARGEST_PX:
         raise SolverError(Reason.TOO_FAR, field=name, largest_px=LARGEST_PX)
     return array
+
+
+def direction(value: ArrayLike, name: str) -> Array:
+    """(3,) unit vector from any finite, nonzero (3,) vector (a phone's gravity reading)."""
+    array = _array(value, name)
+    if array.shape != (3,) or not np.any(array != 0):
+        raise SolverError(Reason.NOT_A_DIRECTION, field=name)
+    # In two steps, so that neither a subnormal nor a huge vector over- or underflows.
+    array = array / float(np.abs(array).max())
+    unit: Array = array / math.sqrt(float(array @ array))
+    return unit
+
+
+def angle(value: float, name: str) -> float:
+    """A sensor's sigma in degrees, between :data:`FINEST_DEG` and :data:`LARGEST_DEG`."""
+    number = positive(value, name)
+    if not FINEST_DEG <= number <= LARGEST_DEG:
+        raise SolverError(
+            Reason.NOT_AN_ANGLE, field=name, finest_deg=FINEST_DEG, largest_deg=LARGEST_DEG
+        )
+    return number
 
 
 def positive(value: float, name: str) -> float:
@@ -182,7 +210,7 @@ def landmark_pairs(
         raise SolverError(Reason.TOO_MANY_LANDMARKS, count=len(p), maximum=maximum)
     names = list(labels) if labels is not None else list(range(1, len(p) + 1))
     photos: tuple[tuple[Photo, Array, Array | None], ...] = ((1, p, epipole1), (2, q, epipole2))
-    for photo, pts, epipole in photos:
+    for photo, pts, epipole in photos if len(p) else ():
         tol = tolerance if tolerance is not None else EXACT_TOLERANCE * spread(pts)
         _refuse_repeats(pts, tol, photo, names)
         if epipole is not None:
@@ -193,6 +221,8 @@ def landmark_pairs(
 
 
 def _refuse_repeats(pts: Array, tol: float, photo: Photo, names: Sequence[int]) -> None:
+    if len(pts) < 2:
+        return
     offsets = pts[:, None, :] - pts[None, :, :]
     gaps = np.hypot(offsets[..., 0], offsets[..., 1])
     gaps.flat[:: len(pts) + 1] = np.inf

@@ -35,6 +35,14 @@ ON_THE_CURVE = (
     "Your friend is somewhere on the curve. Mark one more landmark in both photos to pin "
     "down the spot."
 )
+ON_THE_LEVEL = (
+    "Your friend is somewhere along this band: on this level of the venue. Mark one landmark "
+    "in both photos to pin down the spot."
+)
+GRAVITY_DISAGREES = (
+    "The phones' tilt at the shutter does not fit these marks (did a phone move as it took "
+    "the photo?), so the answer uses the landmarks alone."
+)
 MARKS_DISAGREE = (
     "The marks disagree more than tapping error explains: re-check the friend mark and each "
     "landmark (same spot, same number in both photos). The uncertainty is widened."
@@ -108,6 +116,8 @@ _FIXED: dict[WarningCode, str] = {
     WarningCode.CAMERA_MODEL_DISAGREES: CAMERA_MODEL_DISAGREES,
     WarningCode.CAMERA_MODEL_UNSURE: CAMERA_MODEL_UNSURE,
     WarningCode.ON_THE_CURVE: ON_THE_CURVE,
+    WarningCode.ON_THE_LEVEL: ON_THE_LEVEL,
+    WarningCode.GRAVITY_DISAGREES: GRAVITY_DISAGREES,
     WarningCode.MARKS_DISAGREE: MARKS_DISAGREE,
     WarningCode.FAR_TO_THE_SIDE: FAR_TO_THE_SIDE,
     WarningCode.NOT_PINNED_DOWN: NOT_PINNED_DOWN,
@@ -252,6 +262,10 @@ _REFUSAL: dict[Reason, Callable[[Parameters, _Named], str]] = {
         f"The value of {p['field']} must be [a, b, c] for the line a*x + b*y + c = 0, with a "
         "or b nonzero."
     ),
+    Reason.NOT_A_DIRECTION: lambda p, _: (
+        f"The value of {p['field']} must be [x, y, z], the direction of gravity (down) in "
+        "the photo's camera frame, not all zero."
+    ),
     Reason.NOT_POSITIVE: lambda p, _: f"The value of {p['field']} must be a positive number.",
     Reason.TOO_FAR: lambda p, _: (
         f"A value of {p['field']} is more than {p['largest_px']:g} px from the origin; "
@@ -259,6 +273,10 @@ _REFUSAL: dict[Reason, Callable[[Parameters, _Named], str]] = {
     ),
     Reason.NOT_A_LENGTH: lambda p, _: (
         f"The value of {p['field']} must be between {p['finest_px']:g} and {p['largest_px']:g} px."
+    ),
+    Reason.NOT_AN_ANGLE: lambda p, _: (
+        f"The value of {p['field']} must be between {p['finest_deg']:g} and "
+        f"{p['largest_deg']:g} degrees."
     ),
     Reason.NOT_PRECISIONS: lambda p, _: (
         f"The value of {p['field']} must be one sigma in px per tap ({p['count']} numbers) "
@@ -330,6 +348,7 @@ def _capital(text: str) -> str:
 DRAWN_FRIEND = "friend"
 DRAWN_FRIEND_LIKELY = "friend?"
 DRAWN_ON_CURVE = "friend on this curve"
+DRAWN_ON_LEVEL = "friend along this band"
 DRAWN_BEHIND = "friend is behind you"
 DRAWN_UNCLEAR = "position unclear: re-check marks"
 DRAWN_FAR_OFF = "friend far off this way"

@@ -103,6 +103,10 @@ def friend2_marked(request: Request) -> CameraAnswer:
     assert taps.epipole1 is not None
     model = PinholeModel(taps, priors)
     fits = _refined(model, marked_starts(model), wider=lambda: wider_marked_starts(model))
+    if taps.gravity is not None:
+        # Gravity leaves one landmark two turns that fit exactly: the one that puts the
+        # landmarks in front of both phones, and friend 1 in front of friend 2, is the scene.
+        fits = [fit for fit in fits if _physical(model, fit)] or fits
     if not fits:
         return CameraAnswer(None, agrees=False)
     fit = _likeliest(fits)
@@ -116,11 +120,16 @@ def friend2_marked(request: Request) -> CameraAnswer:
             warnings += suspect_warnings(request, suspects, fit.fundamental)
     both = taps.epipole2 is not None
     # Tested where the projective geometry can answer too (a point or, from four
-    # landmarks and friend 2, the curve).
-    agrees = consistent(fit, LEVEL) or len(taps) < (3 if both else 4)
+    # landmarks and friend 2, the curve), and wherever gravity is in the fit (without it
+    # the landmarks may answer alone).
+    tested = len(taps) >= (3 if both else 4) or taps.gravity is not None
+    agrees = consistent(fit, LEVEL) or not tested
     others = _rivals(fit, [other for other in fits if other is not fit])
     covariance = fit.covariance2
-    if fit.dof <= BOOTSTRAP_DOF:
+    # Not with gravity: the bootstrap re-taps the landmarks only, so it cannot see the
+    # readings' share, and with and without it the regions of 1 and 2 landmarks held the
+    # truth as often (92.0 % and 92.3 % of 300, EXIF and phone prior); first order has it.
+    if fit.dof <= BOOTSTRAP_DOF and taps.gravity is None:
         used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
         covariance = calibrated(
             fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)
@@ -289,6 +298,11 @@ def _refined(
 def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:
     """Whether every landmark is in front of both cameras (a physical geometry)."""
     return int(behind(fit.pose, model)[0]) == 0
+
+
+def _physical(model: PinholeModel, fit: PinholeFit) -> bool:
+    """Every landmark in front of both cameras, and friend 1 in front of friend 2's."""
+    return _orientable(model, fit) and bool(fit.epipole2[2] > 0)
 
 
 def _likeliest(fits: list[PinholeFit]) -> PinholeFit:

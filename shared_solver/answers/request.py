@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import validation
 from ..estimation.camera import Camera, FocalPrior, focal_prior
@@ -29,6 +29,10 @@ class Request:
     labels: list[int]
     cameras: tuple[Camera, Camera]
     with_fundamental_covariance: bool = False
+
+    def without_gravity(self) -> Request:
+        """The same request without the phones' gravity readings."""
+        return replace(self, taps=replace(self.taps, gravity=None))
 
     @functools.cached_property
     def sigma(self) -> float:

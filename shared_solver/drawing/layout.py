@@ -25,7 +25,15 @@ from ..result import Homogeneous, Pixel, SolveResult
 from . import arrow
 from .curves import clip_line, conic_polylines
 from .frame import frame, frame_box, sight
-from .shapes import AnswerDrawing, Box, CandidateRing, CurveShape, EpipolarLineShape, LandmarkRing
+from .shapes import (
+    AnswerDrawing,
+    Box,
+    CandidateRing,
+    CurveShape,
+    EpipolarLineShape,
+    LandmarkRing,
+    Polyline,
+)
 from .sizes import SUSPECT_RING, Sizes
 
 # Which photo of the answer this is: 1, the friend was tapped in it (epipole1); 2, the
@@ -73,7 +81,11 @@ def answer_drawing(
     if epipolar_lines and friend_h is not None:
         drawing["epipolar_lines"] = _epipolar_lines(np.array(friend_h), points, labels, sizes)
     if photo == 2 and result.conic2 is not None:
-        drawing["curve"] = _curve(np.array(result.conic2), sizes)
+        drawing["curve"] = _curve(
+            conic_polylines(np.array(result.conic2), sizes.width, sizes.height), sizes
+        )
+    if photo == 2 and result.curve2 is not None:
+        drawing["curve"] = _curve(result.curve2, sizes, result.curve2_halfwidth)
     if friend is None and friend_h is not None and _behind(friend_h):
         # Behind the camera: no point of this photo is right. Say so, as solve's warning does.
         pinned = result.quality != "poor"
@@ -99,15 +111,22 @@ def _behind(homogeneous: Homogeneous) -> bool:
     return homogeneous[2] < 0 and to_pixel(np.array(homogeneous)) is not None
 
 
-def _curve(conic: Array, sizes: Sizes) -> CurveShape:
-    """The curve, and its label above its point nearest the photo's centre."""
-    polylines = conic_polylines(conic, sizes.width, sizes.height)
+def _curve(
+    polylines: Sequence[Polyline], sizes: Sizes, halfwidth: float | None = None
+) -> CurveShape:
+    """The curve's pieces (each [(x, y), ...] px), and its label above its point nearest the
+    photo's centre (above its band, when it has one)."""
     points = np.array([p for line in polylines for p in line]).reshape(-1, 2)
     label_at = None
     if len(points):
         nearest = points[np.argmin(np.hypot(*(points - sizes.centre).T))]
-        label_at = (float(nearest[0]), float(nearest[1] - sizes.margin))
-    return CurveShape(polylines=polylines, label_at=label_at, text=words.DRAWN_ON_CURVE)
+        label_at = (float(nearest[0]), float(nearest[1] - sizes.margin - (halfwidth or 0.0)))
+    return CurveShape(
+        polylines=list(polylines),
+        label_at=label_at,
+        text=words.DRAWN_ON_CURVE if halfwidth is None else words.DRAWN_ON_LEVEL,
+        halfwidth=halfwidth,
+    )
 
 
 def _rings(

@@ -49,6 +49,8 @@ _SHIFT = 4
 _ONE = 1 << _SHIFT
 _FONT = cv2.FONT_HERSHEY_SIMPLEX
 _AA = cv2.LINE_AA
+# How much of the friend's colour a curve's band lays over the photo.
+_BAND_OPACITY = 0.25
 
 # Draws a shape in a colour, its strokes widened by the given px (0 = as designed).
 _Shape = Callable[[Bgr, int], None]
@@ -291,7 +293,10 @@ def _draw_ring(canvas: Image, ring: LandmarkRing, style: _Style) -> None:
 
 
 def _draw_curve(canvas: Image, curve: CurveShape, style: _Style) -> None:
-    """The curve the friend is on, labelled above its point nearest the photo's centre."""
+    """The curve the friend is on (in its band, when it has one), labelled above its point
+    nearest the photo's centre."""
+    if curve.halfwidth is not None:
+        _draw_band(canvas, curve.polylines, curve.halfwidth)
     _draw_polylines(canvas, curve.polylines, style.line, style)
     if curve.label_at is not None:
         (_, height), _ = _text_size(curve.text, style)
@@ -341,6 +346,18 @@ def _draw_arrow(canvas: Image, tail: Array, tip: Array, head: float, style: _Sty
         cv2.fillPoly(canvas, [triangle], colour, _AA, _SHIFT)
 
     _outlined(arrow, FRIEND_COLOUR_BGR, style)
+
+
+def _draw_band(canvas: Image, polylines: Sequence[Polyline], halfwidth: float) -> None:
+    """A translucent friend-coloured band ``halfwidth`` px either side of the polylines."""
+    fixed = [_fixed_points(np.array(line)) for line in polylines if len(line) > 1]
+    if not fixed:
+        return
+    mask = np.zeros(canvas.shape[:2], np.uint8)
+    cv2.polylines(mask, fixed, False, 255, max(1, round(2.0 * halfwidth)), cv2.LINE_8, _SHIFT)
+    inside = mask > 0
+    blended = canvas[inside] * (1.0 - _BAND_OPACITY) + np.array(FRIEND_COLOUR_BGR) * _BAND_OPACITY
+    canvas[inside] = blended.astype(np.uint8)
 
 
 def _draw_polylines(

@@ -79,7 +79,8 @@ class ArrowShape(_Shape):
 
 
 class CurveShape(_Shape):
-    """The curve the friend is on (4 landmarks, cameras unknown), clipped to the photo."""
+    """The curve the friend is on (4 landmarks, cameras unknown; or no landmark and both
+    phones' gravity: their level), clipped to the photo."""
 
     polylines: list[Polyline] = Field(
         description="Its visible pieces, points at most ~1.4 px apart before simplification "
@@ -89,6 +90,11 @@ class CurveShape(_Shape):
         description="Where its label goes: above the curve's point nearest the photo's centre."
     )
     text: str
+    halfwidth: Px | None = Field(
+        default=None,
+        description="The band's 95 % half-width around the curve, px, drawn as a "
+        "translucent band; None: a curve without one.",
+    )
 
 
 class LandmarkRing(_Shape):

@@ -8,12 +8,35 @@ whole photo.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..linalg import cholesky2, whitener2
 from ..projective import Array, Indices
+
+
+@dataclass(frozen=True)
+class Gravity:
+    """Which way is down in each photo's camera frame, as its phone measured it at the
+    shutter: x right along the photo's rows, y down its columns, z out of the lens.
+
+    Attributes:
+        gravity1, gravity2: (3,) unit vectors towards the ground, frames 1 and 2.
+        sigma1, sigma2: each reading's standard deviation per axis, radians.
+    """
+
+    gravity1: Array
+    gravity2: Array
+    sigma1: float
+    sigma2: float
+
+    @property
+    def sigma(self) -> float:
+        """The standard deviation of the two readings' disagreement per axis, radians: the
+        model ``R g1 = g2`` is tested on it."""
+        return math.hypot(self.sigma1, self.sigma2)
 
 
 @dataclass(frozen=True)
@@ -27,6 +50,7 @@ class Taps:
         epipole2: (2,) friend 1 tapped in photo 2, or None; cov_e2: (2, 2) px^2.
         line1: (3,) a line through friend 2 in photo 1 (a x + b y + c = 0), or None;
             line_sigma: its standard deviation across the line, px.
+        gravity: both phones' gravity at the shutter, or None (:class:`Gravity`).
     """
 
     p: Array
@@ -39,6 +63,7 @@ class Taps:
     cov_e2: Array | None = None
     line1: Array | None = None
     line_sigma: float = 1.0
+    gravity: Gravity | None = None
 
     @classmethod
     def isotropic(
@@ -84,10 +109,13 @@ class Taps:
 
     @property
     def typical_sigma(self) -> float:
-        """A single px figure for the landmarks' precision: the root-mean-square sigma."""
+        """A single px figure for the landmarks' precision: the root-mean-square sigma (the
+        friend mark's with no landmark)."""
         variances = np.concatenate(
             [np.trace(self.cov_p, axis1=1, axis2=2), np.trace(self.cov_q, axis1=1, axis2=2)]
         )
+        if not len(variances) and self.cov_e1 is not None:
+            variances = np.array([np.trace(self.cov_e1)])
         return float(np.sqrt(variances.mean() / 2.0))
 
 

@@ -91,6 +91,39 @@ def test_solve_with_both_friends_marked_needs_one_landmark_from_phones(
     assert result["landmark_count"] == 1
 
 
+def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) -> None:
+    """The friend mark and both phones' gravity: the level from no landmark, a point from
+    one; the answers are the solver's own."""
+    s = phone_scene(np.random.default_rng(8), 1, centre_sd=0.0)
+    down = np.array([0.0, 1.0, 0.0])
+    readings = {
+        "gravity1": (s.camera1.rotation @ down).tolist(),
+        "gravity2": (s.camera2.rotation @ down).tolist(),
+        "camera1": "phone",
+        "camera2": "phone",
+        "tap_sigma": 1.0,
+    }
+    level = request_of(s, **readings) | {"points1": [], "points2": []}
+    refused_for_too_few_landmarks(client, level | {"gravity2": None})
+    answer = client.post("/api/solve", json=level)
+    assert answer.status_code == 200, answer.text
+    result = answer.json()
+    assert result["method"] == "pinhole_level"
+    assert result["used_gravity"] is True
+    assert result["epipole2"] is None
+    assert result["curve2"]
+    assert result["curve2_halfwidth"] > 0
+    assert result == json.loads(json.dumps(solve(**level).model_dump(mode="json")))
+    point = client.post("/api/solve", json=request_of(s, **readings)).json()
+    assert point["method"] == "pinhole_epipole"
+    assert point["used_gravity"] is True
+    assert point["epipole2"] is not None
+    bad = client.post("/api/solve", json=level | {"gravity1": [0, 0, 0]})
+    assert bad.status_code == 422
+    assert bad.json()["error"]["code"] == "invalid_shape"
+    assert "gravity1" in bad.json()["error"]["message"]
+
+
 def test_unknown_cameras_are_the_projective_model(client: TestClient) -> None:
     """Null cameras (the default) and "unknown" are what scripts got before cameras."""
     body = request_for(1)

@@ -15,12 +15,18 @@ import pytest
 
 from shared_solver.minimal.both_and_one import rotations_from_both
 from shared_solver.minimal.epipole_and_three import rotations_from_three
+from shared_solver.minimal.gravity_and_one import (
+    rotation_about_vertical,
+    rotations_from_gravity,
+    turns_from_gravity,
+)
 
 SCENES = 200
 ROOT = 1e-9  # Frobenius distance of the true rotation from the nearest root
 ORTHONORMAL = 1e-12
 CONSTRAINT = 1e-10  # |q . R (b1 x p)| for unit rays
 EXACT_PX = 1e-6
+DOWN = np.array([0.0, 0.0, -1.0])  # world z is up
 
 
 @dataclass(frozen=True)
@@ -33,6 +39,8 @@ class Scene:
     rays1: np.ndarray  # (n, 3) rays K1^-1 (x, 1) of the landmarks' pixels
     rays2: np.ndarray
     e2: np.ndarray  # (2,) friend 1's pixel in photo 2
+    gravity1: np.ndarray  # (3,) unit, down (world -z) in frame 1
+    gravity2: np.ndarray  # (3,) unit, down in frame 2
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:
@@ -112,6 +120,8 @@ def make_scene(rng: np.random.Generator, n: int = 3) -> Scene:
         rays1=np.array(rays1),
         rays2=np.array(rays2),
         e2=e2,
+        gravity1=r1 @ DOWN,
+        gravity2=r2 @ DOWN,
     )
 
 
@@ -291,3 +301,76 @@ def test_both_ray_along_its_baseline_gives_no_roots(which):
     ray2 = 0.5 * s.b2 if which == 2 else s.rays2[0]
     assert rotations_from_both(s.b1, s.b2, ray1, ray2) == []
     assert rotations_from_both(s.b1, s.b2, np.zeros(3), s.rays2[0]) == []
+
+
+# --- friend 2's direction, both gravities and one landmark ---------------------------------
+
+
+def test_gravity_true_rotation_is_a_root_and_every_root_fits():
+    for s in scenes(20):
+        roots = rotations_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
+        assert 1 <= len(roots) <= 2
+        for r in roots:
+            assert_rotation(r)
+            assert np.abs(r @ s.gravity1 - s.gravity2).max() <= 1e-12
+            assert residuals(r, s.b1, s.rays1[:1], s.rays2[:1]).max() <= CONSTRAINT
+        error, best = nearest(roots, s.rotation)
+        assert error <= ROOT
+        assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+
+
+def test_gravity_invariant_under_rotating_frame_one_and_scaling_rays():
+    rng = np.random.default_rng(21)
+    for s in scenes(21, count=30):
+        roots = rotations_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
+        q = random_rotation(rng)
+        turned = rotations_from_gravity(
+            2.0 * q @ s.b1, q @ s.gravity1, s.gravity2, q @ s.rays1[0], 7.0 * s.rays2[0]
+        )
+        assert_same_roots(turned, [r @ q.T for r in roots])
+
+
+def test_gravity_without_a_landmark_leaves_friend_1_on_one_level():
+    """Every turn about the vertical keeps friend 1 at the same angle from down in photo 2:
+    the curve of zero landmarks is one level of the venue."""
+    for s in scenes(22, count=20):
+        turns = np.linspace(-np.pi, np.pi, 37)
+        rotations = rotation_about_vertical(s.gravity1, s.gravity2, turns)
+        assert rotations.shape == (37, 3, 3)
+        assert np.abs(rotations @ s.gravity1 - s.gravity2).max() <= 1e-12
+        friend1 = -rotations @ s.b1
+        assert np.abs(friend1 @ s.gravity2 + s.b1 @ s.gravity1).max() <= 1e-12
+        # The true pose is one of the turns.
+        psi = turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
+        assert (
+            min(
+                np.linalg.norm(rotation_about_vertical(s.gravity1, s.gravity2, t) - s.rotation)
+                for t in psi
+            )
+            <= ROOT
+        )
+
+
+def test_gravity_gives_two_turns_or_none():
+    s = scenes(23, count=1)[0]
+    psi = turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
+    assert len(psi) == 2
+    assert all(-np.pi <= t <= np.pi for t in psi)
+    # A ray in photo 2 almost straight down meets no turn's epipolar plane of a landmark
+    # whose plane is steep: |C| > sqrt(A^2 + B^2).
+    normal1 = np.cross(s.b1, s.rays1[0])
+    assert abs(normal1 @ s.gravity1) > 0.01 * np.linalg.norm(normal1)
+    level = np.cross(s.gravity2, [1.0, 0.0, 0.0])
+    steep = s.gravity2 + 1e-6 * level / np.linalg.norm(level)
+    assert turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], steep) == []
+
+
+def test_gravity_degenerate_inputs_give_no_roots():
+    s = scenes(24, count=1)[0]
+    # A landmark whose epipolar plane is level (its normal is vertical) fixes no turn.
+    level_ray = np.cross(s.gravity1, s.b1)
+    assert turns_from_gravity(s.b1, s.gravity1, s.gravity2, level_ray, s.rays2[0]) == []
+    # A ray in photo 2 straight down fixes none either.
+    assert turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.gravity2) == []
+    assert turns_from_gravity(s.b1, s.gravity1, s.gravity2, np.zeros(3), s.rays2[0]) == []
+    assert turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.b1, s.rays2[0]) == []

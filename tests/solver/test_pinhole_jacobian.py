@@ -3,7 +3,8 @@
 The fit converges with any reasonable Jacobian, so a wrong one would only show as a wrong
 covariance (the 95 % region): it is checked here directly, against central differences
 along each tangent step (rotation, friend 2's direction, both log focal lengths), with each
-kind of mark, with round and with elongated tap covariances. The batched residuals
+kind of mark (and both phones' gravity), with round and with elongated tap covariances. The
+batched residuals
 (``offsets``, used to score poses and by the bootstrap) must equal the fit's, and the
 bootstrap's positions of friend 1 after many steps at once those of the poses each step
 makes.
@@ -18,13 +19,19 @@ from shared_solver.estimation.camera import Camera, focal_prior
 from shared_solver.estimation.pinhole.model import PinholeModel
 from shared_solver.estimation.pinhole.pose import PARAMETERS, Poses
 from shared_solver.estimation.pinhole.predictions import friend1_positions
-from shared_solver.estimation.taps import Taps
+from shared_solver.estimation.taps import Gravity, Taps
 from testbed.phones import phone_scene
 
 STEP = 1e-6
 # Central differences of order-one residuals at this step are good to about 1e-9; a wrong
 # term is off by order one.
 TOLERANCE = 1e-6
+
+
+def _down(rotation: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """A phone's noisy gravity reading: world y is down in the test bed's scenes."""
+    down = rotation @ np.array([0.0, 1.0, 0.0]) + rng.normal(0.0, 0.02, 3)
+    return down / np.linalg.norm(down)
 
 
 def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel, Poses]:
@@ -57,6 +64,11 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
         cov_e2=4.0 * np.eye(2) if marks == "both" else None,
         line1=line if marks == "line" else None,
         line_sigma=2.0,
+        gravity=None
+        if marks != "gravity"
+        else Gravity(
+            _down(scene.camera1.rotation, rng), _down(scene.camera2.rotation, rng), 0.02, 0.01
+        ),
     )
     priors = (
         focal_prior(Camera.phone(), scene.image_size1),
@@ -76,7 +88,7 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
 
 
 @pytest.mark.parametrize("seed", range(4))
-@pytest.mark.parametrize("marks", ["friend2", "both", "line"])
+@pytest.mark.parametrize("marks", ["friend2", "both", "line", "gravity"])
 @pytest.mark.parametrize("elongated", [False, True])
 def test_jacobian_matches_central_differences(seed: int, marks: str, elongated: bool) -> None:
     model, pose = model_and_pose(seed, marks, elongated)
@@ -91,7 +103,7 @@ def test_jacobian_matches_central_differences(seed: int, marks: str, elongated: 
         np.testing.assert_allclose(jacobian[:, k], numeric, atol=TOLERANCE, rtol=1e-5)
 
 
-@pytest.mark.parametrize("marks", ["friend2", "both", "line"])
+@pytest.mark.parametrize("marks", ["friend2", "both", "line", "gravity"])
 def test_batched_residuals_equal_the_fits(marks: str) -> None:
     model, pose = model_and_pose(7, marks, elongated=True)
     r, _ = model.residuals(pose)

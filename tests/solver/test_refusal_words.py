@@ -32,6 +32,8 @@ SAMPLE: Parameters = {
     "finest_px": 1e-6,
     "largest_px": 1e6,
     "most_elongated": 1e4,
+    "finest_deg": 0.01,
+    "largest_deg": 30.0,
     "detail": "Input should be 'phone'.",
 }
 PHOTO = re.compile(r"\b[Pp]hoto [12]\b")

@@ -46,6 +46,19 @@ _PHONES_EXAMPLE: dict[str, JsonValue] = {
     "camera2": {"kind": "known_focal", "focal_35mm": 30},
 }
 
+# No landmark: the friend marked, and both phones' gravity at the shutter.
+_LEVEL_EXAMPLE: dict[str, JsonValue] = {
+    "points1": [],
+    "points2": [],
+    "epipole1": [730, 690],
+    "image_size1": [1600, 1200],
+    "image_size2": [1600, 1200],
+    "camera1": {"kind": "phone"},
+    "camera2": {"kind": "phone"},
+    "gravity1": [0.0, 0.999, 0.04],
+    "gravity2": [0.03, 0.999, -0.02],
+}
+
 
 def _documented_as(shape: Any) -> PlainValidator:
     """A field passed to the solver as sent, documented as ``shape``: the solver checks
@@ -57,6 +70,8 @@ def _documented_as(shape: Any) -> PlainValidator:
 _CameraField = Annotated[Any, _documented_as(Camera | Literal["phone", "unknown"] | None)]
 # One sigma (px) or one 2x2 covariance (px^2) per landmark tap.
 _TapPrecisions = Annotated[Any, _documented_as(list[float] | list[list[list[float]]] | None)]
+# A phone's gravity reading: three numbers.
+_Direction = Annotated[Any, _documented_as(list[float] | None)]
 # A sigma (px) or a 2x2 covariance (px^2) of one mark.
 _MarkPrecision = Annotated[Any, _documented_as(float | list[list[float]] | None)]
 
@@ -67,7 +82,9 @@ class SolveRequest(BaseModel):
     (``invalid_shape``, ``not_finite``, ``invalid_parameter``). The cameras are unknown
     unless said: a script may send a cropped or edited photo, which is no phone camera."""
 
-    model_config = ConfigDict(json_schema_extra={"examples": [_EXAMPLE, _PHONES_EXAMPLE]})
+    model_config = ConfigDict(
+        json_schema_extra={"examples": [_EXAMPLE, _PHONES_EXAMPLE, _LEVEL_EXAMPLE]}
+    )
 
     points1: Any = Field(description="Landmarks in photo 1: [[x, y], ...].")
     points2: Any = Field(description="The same landmarks, same order, in photo 2.")
@@ -126,6 +143,26 @@ class SolveRequest(BaseModel):
         examples=[[[4.0, 0.0], [0.0, 1.0]]],
     )
 
+    gravity1: _Direction = Field(
+        None,
+        description="[x, y, z]: which way is down in photo 1's camera frame at the shutter "
+        "(x right along the rows, y down the columns, z out of the lens; any length): a "
+        "phone held upright and level reads [0, 1, 0]. With gravity2, both cameras known "
+        "and epipole1, no landmark gives the level the friend is on (method "
+        "pinhole_level, curve2) and one landmark a point.",
+        examples=[[0.02, 0.99, 0.1]],
+    )
+    gravity2: _Direction = Field(None, description="The same for photo 2.")
+    gravity_sigma_deg: Any = Field(
+        1.0, description="A gravity reading's standard deviation per axis, degrees."
+    )
+    gravity1_sigma_deg: Any = Field(
+        None, description="Photo 1's reading's own sigma, degrees. Null: gravity_sigma_deg."
+    )
+    gravity2_sigma_deg: Any = Field(
+        None, description="Photo 2's reading's own sigma, degrees. Null: gravity_sigma_deg."
+    )
+
     def solve(self) -> SolveResult:
         return solve(
             self.points1,
@@ -142,6 +179,11 @@ class SolveRequest(BaseModel):
             points2_sigma=self.points2_sigma,
             epipole1_sigma=self.epipole1_sigma,
             epipole2_sigma=self.epipole2_sigma,
+            gravity1=self.gravity1,
+            gravity2=self.gravity2,
+            gravity_sigma_deg=self.gravity_sigma_deg,
+            gravity1_sigma_deg=self.gravity1_sigma_deg,
+            gravity2_sigma_deg=self.gravity2_sigma_deg,
         )
 
 
@@ -159,6 +201,10 @@ _EXAMPLES: dict[str, dict[str, JsonValue]] = {
     "phones": {
         "summary": "Three landmarks and the friend marked, two phones, taps of their own precision",
         "value": _answer_of(_PHONES_EXAMPLE),
+    },
+    "level": {
+        "summary": "No landmark: the friend marked and both phones' gravity give the level",
+        "value": _answer_of(_LEVEL_EXAMPLE),
     },
 }
 

@@ -706,9 +706,15 @@ export interface components {
         };
         /**
          * CurveShape
-         * @description The curve the friend is on (4 landmarks, cameras unknown), clipped to the photo.
+         * @description The curve the friend is on (4 landmarks, cameras unknown; or no landmark and both
+         *     phones' gravity: their level), clipped to the photo.
          */
         CurveShape: {
+            /**
+             * Halfwidth
+             * @description The band's 95 % half-width around the curve, px, drawn as a translucent band; None: a curve without one.
+             */
+            halfwidth?: number | null;
             /**
              * Label At
              * @description Where its label goes: above the curve's point nearest the photo's centre.
@@ -1239,7 +1245,7 @@ export interface components {
          *     never rename one.
          * @enum {string}
          */
-        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing";
+        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_direction" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_an_angle" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing";
         /**
          * Refusal
          * @description Why there is no answer: ``code`` (docs/api.md lists them), ``reason`` (which refusal of
@@ -1272,6 +1278,11 @@ export interface components {
              */
             field?: string | null;
             /**
+             * Finest Deg
+             * @description The finest sensor sigma honoured, deg.
+             */
+            finest_deg?: number | null;
+            /**
              * Finest Px
              * @description The smallest length honoured, px.
              */
@@ -1289,6 +1300,11 @@ export interface components {
                 number,
                 number
             ] | null;
+            /**
+             * Largest Deg
+             * @description The largest sensor sigma honoured, deg.
+             */
+            largest_deg?: number | null;
             /**
              * Largest Px
              * @description The largest length honoured, px.
@@ -1585,6 +1601,38 @@ export interface components {
          *         3
          *       ]
          *     }
+         * @example {
+         *       "camera1": {
+         *         "kind": "phone"
+         *       },
+         *       "camera2": {
+         *         "kind": "phone"
+         *       },
+         *       "epipole1": [
+         *         730,
+         *         690
+         *       ],
+         *       "gravity1": [
+         *         0,
+         *         0.999,
+         *         0.04
+         *       ],
+         *       "gravity2": [
+         *         0.03,
+         *         0.999,
+         *         -0.02
+         *       ],
+         *       "image_size1": [
+         *         1600,
+         *         1200
+         *       ],
+         *       "image_size2": [
+         *         1600,
+         *         1200
+         *       ],
+         *       "points1": [],
+         *       "points2": []
+         *     }
          */
         SolveRequest: {
             /**
@@ -1643,6 +1691,37 @@ export interface components {
              *     ]
              */
             epipole2_sigma?: number | number[][] | null;
+            /**
+             * Gravity1
+             * @description [x, y, z]: which way is down in photo 1's camera frame at the shutter (x right along the rows, y down the columns, z out of the lens; any length): a phone held upright and level reads [0, 1, 0]. With gravity2, both cameras known and epipole1, no landmark gives the level the friend is on (method pinhole_level, curve2) and one landmark a point.
+             * @example [
+             *       0.02,
+             *       0.99,
+             *       0.1
+             *     ]
+             */
+            gravity1?: number[] | null;
+            /**
+             * Gravity1 Sigma Deg
+             * @description Photo 1's reading's own sigma, degrees. Null: gravity_sigma_deg.
+             */
+            gravity1_sigma_deg?: unknown;
+            /**
+             * Gravity2
+             * @description The same for photo 2.
+             */
+            gravity2?: number[] | null;
+            /**
+             * Gravity2 Sigma Deg
+             * @description Photo 2's reading's own sigma, degrees. Null: gravity_sigma_deg.
+             */
+            gravity2_sigma_deg?: unknown;
+            /**
+             * Gravity Sigma Deg
+             * @description A gravity reading's standard deviation per axis, degrees.
+             * @default 1
+             */
+            gravity_sigma_deg: unknown;
             /**
              * Image Size1
              * @description [width, height] of photo 1; needed with camera1.
@@ -1757,6 +1836,19 @@ export interface components {
                     number
                 ]
             ] | null;
+            /**
+             * Curve2
+             * @description No landmark, both phones' gravity (method 'pinhole_level'): the level friend 1 stands on in photo 2, as the pieces of it inside the photo, each a polyline of [x, y] px within 0.25 px of the curve (at the priors' focal lengths).
+             */
+            curve2?: [
+                number,
+                number
+            ][][] | null;
+            /**
+             * Curve2 Halfwidth
+             * @description The 95 % half-width of the band around `curve2`, px (its median along the visible curve); None when no piece of the curve is inside the photo.
+             */
+            curve2_halfwidth?: number | null;
             /**
              * Epipole1
              * @description Friend 2 in photo 1, refined from the tap.
@@ -1935,7 +2027,7 @@ export interface components {
              * Method
              * @enum {string}
              */
-            method: "conic" | "five_point_epipole" | "least_squares_epipole" | "planar" | "six_point_line" | "two_epipoles" | "seven_point" | "eight_point" | "pinhole_epipole" | "pinhole_two_epipoles" | "pinhole_line" | "pinhole_landmarks";
+            method: "conic" | "five_point_epipole" | "least_squares_epipole" | "planar" | "six_point_line" | "two_epipoles" | "seven_point" | "eight_point" | "pinhole_epipole" | "pinhole_two_epipoles" | "pinhole_line" | "pinhole_landmarks" | "pinhole_level";
             /**
              * Quality
              * @enum {string}
@@ -1957,6 +2049,12 @@ export interface components {
              */
             tap_sigma: number;
             uncertainty?: components["schemas"]["Uncertainty"] | null;
+            /**
+             * Used Gravity
+             * @description Both phones' gravity at the shutter entered the answer (gravity1, gravity2); False when none was given, or when it contradicted the landmarks (warning 'gravity_disagrees').
+             * @default false
+             */
+            used_gravity: boolean;
             /** Warnings */
             warnings?: components["schemas"]["SolverWarning"][];
         };
@@ -2105,7 +2203,7 @@ export interface components {
          * @description What an answer warns of. The values are a public contract: never rename one.
          * @enum {string}
          */
-        WarningCode: "camera_model_disagrees" | "camera_model_unsure" | "on_the_curve" | "marks_disagree" | "far_to_the_side" | "not_pinned_down" | "behind_you" | "outside_photo" | "uncertain" | "mistapped" | "misfit" | "ambiguous" | "no_margin";
+        WarningCode: "camera_model_disagrees" | "camera_model_unsure" | "on_the_curve" | "on_the_level" | "gravity_disagrees" | "marks_disagree" | "far_to_the_side" | "not_pinned_down" | "behind_you" | "outside_photo" | "uncertain" | "mistapped" | "misfit" | "ambiguous" | "no_margin";
     };
     responses: never;
     parameters: never;

@@ -2,7 +2,8 @@
 
 Every tap counts with its own covariance: a landmark by its Sampson distance (Hartley &
 Zisserman 11.4.3) whitened by the covariances of its two taps, the friends' marks by their
-offset from the model's epipoles (:mod:`.predictions`), and each log focal length by its
+offset from the model's epipoles (:mod:`.predictions`), both phones' gravity (when measured)
+by how far the pose turns one reading from the other, and each log focal length by its
 offset from the camera's prior (:mod:`..camera`). The sum of their squares is the cost that
 :mod:`.fit` minimises.
 
@@ -20,8 +21,17 @@ import numpy as np
 
 from ...projective import Array
 from ..camera import FocalPrior
-from ..taps import Taps, whitener
-from .pose import FOCAL1, FOCAL2, LOG_RANGE, PARAMETERS, Poses, skews, tangent_basis
+from ..taps import Gravity, Taps, whitener
+from .pose import (
+    FOCAL1,
+    FOCAL2,
+    LOG_RANGE,
+    PARAMETERS,
+    ROTATION,
+    Poses,
+    skews,
+    tangent_basis,
+)
 from .predictions import (
     friend1_pixel,
     friend1_positions,
@@ -73,10 +83,12 @@ class PinholeModel:
         if taps.line1 is not None:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
         self.landmarks = len(taps)
+        self.gravity = None if taps.gravity is None else _Down.of(taps.gravity)
         marks = (
             2 * (self.friend2 is not None)
             + (self.line is not None)
             + 2 * (self.friend1 is not None)
+            + 2 * (self.gravity is not None)
         )
         self.residual_count = self.landmarks + marks + 2  # landmarks, marks, focal priors
 
@@ -106,6 +118,9 @@ class PinholeModel:
         if self.friend1 is not None:
             position, d_position = friend1_pixel(pose, self.centre_pixels[1], tangent)
             r[row : row + 2], jacobian[row : row + 2] = self.friend1.residuals(position, d_position)
+            row += 2
+        if self.gravity is not None:
+            r[row : row + 2], jacobian[row : row + 2] = self.gravity.residuals(pose.rotation[0])
             row += 2
         r[row:] = (pose.log_focals[0] - self.prior_mean) / self.prior_sigma
         jacobian[row:] = self.prior_jacobian
@@ -143,6 +158,9 @@ class PinholeModel:
             position = friend1_positions(poses, self.centres[1])
             out[:, column : column + 2] = (position - self.friend1.position) @ self.friend1.whiten.T
             column += 2
+        if self.gravity is not None:
+            out[:, column : column + 2] = self.gravity.offsets(poses.rotation)
+            column += 2
         out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
         return out
 
@@ -163,6 +181,35 @@ class _Mark:
     def residuals(self, model: Array, jacobian: Array) -> tuple[Array, Array]:
         """Whitened offset (2,) of the model's pixel (2,) from the mark, and its Jacobian."""
         return self.whiten @ (model - self.position[0]), self.whiten @ jacobian
+
+
+@dataclass(frozen=True)
+class _Down:
+    """Both phones' gravity as a residual: photo 1's reading carried into frame 2 by the
+    pose, ``R g1``, against photo 2's, ``g2``, along two axes orthogonal to ``g2`` (radians,
+    over the two readings' joint sigma). Two residuals, no parameter: the true vertical is
+    marginalised to first order."""
+
+    gravity1: Array  # (3,)
+    across: Array  # (2, 3) rows: orthonormal, orthogonal to g2, over the sigma
+
+    @classmethod
+    def of(cls, gravity: Gravity) -> _Down:
+        across = np.array(tangent_basis(*gravity.gravity2.tolist())).T / gravity.sigma
+        return cls(gravity.gravity1, across)
+
+    def residuals(self, rotation: Array) -> tuple[Array, Array]:
+        """(2,) residuals at one rotation (3, 3), and their Jacobian (2, 7): a step ``w``
+        turns ``R g1`` by ``w x R g1``."""
+        carried = rotation @ self.gravity1
+        jacobian = np.zeros((2, PARAMETERS))
+        jacobian[:, ROTATION] = -self.across @ skews(carried[None])[0]
+        return self.across @ carried, jacobian
+
+    def offsets(self, rotations: Array) -> Array:
+        """(K, 2) residuals at K rotations (K, 3, 3)."""
+        result: Array = (rotations @ self.gravity1) @ self.across.T
+        return result
 
 
 def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array, Array]:

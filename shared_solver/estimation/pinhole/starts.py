@@ -3,7 +3,8 @@
 The fit (:mod:`.fit`) is local, so it starts from the exact solutions of a few
 minimal subsets at the priors' focal lengths: three landmarks and friend 2
 (:mod:`...minimal.epipole_and_three`), one landmark and both friends
-(:mod:`...minimal.both_and_one`), or, when friend 2 was not marked as a point, the
+(:mod:`...minimal.both_and_one`), one landmark, friend 2 and both phones' gravity
+(:mod:`...minimal.gravity_and_one`), or, when friend 2 was not marked as a point, the
 projective solutions turned into poses (the essential matrix of OpenCV's decomposition).
 Each candidate is scored on every tap: squared whitened residuals (each capped, so one
 mis-tap cannot veto the right pose) and the landmarks it would put behind a camera.
@@ -22,6 +23,7 @@ import numpy as np
 from ... import linalg
 from ...minimal.both_and_one import rotations_from_both
 from ...minimal.epipole_and_three import rotations_from_three
+from ...minimal.gravity_and_one import rotations_from_gravity
 from ...projective import Array, Indices
 from ..camera import FocalPrior
 from ..taps import Taps
@@ -41,6 +43,9 @@ _BEHIND_PENALTY = _CAP_SIGMAS**2
 _SUBSETS = 1
 _TRIPLES = 2
 _SUBSETS_TRIED = 5
+# With both phones' gravity, one landmark and friend 2's mark give up to two poses: those
+# of this many landmarks, the farthest from friend 2's mark, are started from too.
+_GRAVITY_SUBSETS = 2
 # Two candidates that put friend 1 closer than this (radians apart, about 60 px at a phone's
 # focal length) are the same start: different subsets of noisy taps give slightly different
 # poses of one basin.
@@ -62,6 +67,7 @@ def marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     taps = model.taps
     singles = _spread_indices(taps, 1, _SUBSETS) if taps.epipole2 is not None else []
     triples = _spread_indices(taps, 3, _SUBSETS_TRIED) if len(taps) >= 3 else []
+    levelled = gravity_poses(model, _GRAVITY_SUBSETS)
     # The best-spread sets of three, skipping those that noise leaves with no real pose.
     found: list[Poses] = []
     for triple in triples:
@@ -71,8 +77,8 @@ def marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
             if len(found) == _TRIPLES:
                 break
     if found:
-        return _ranked(model, *found)
-    return _ranked(model, exact_poses(model, [], singles))
+        return _ranked(model, *found, levelled)
+    return _ranked(model, exact_poses(model, [], singles), levelled)
 
 
 def wider_marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
@@ -84,7 +90,9 @@ def wider_marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     singles = _spread_indices(taps, 1, _WIDER_SUBSETS) if taps.epipole2 is not None else []
     triples = _spread_indices(taps, 3, _WIDER_SUBSETS) if len(taps) >= 3 else []
     return _ranked(
-        model, *(exact_poses(model, triples, singles, zoom=zoom) for zoom in _WIDER_ZOOMS)
+        model,
+        *(exact_poses(model, triples, singles, zoom=zoom) for zoom in _WIDER_ZOOMS),
+        *(gravity_poses(model, _WIDER_SUBSETS, zoom=zoom) for zoom in _WIDER_ZOOMS),
     )
 
 
@@ -129,6 +137,32 @@ def exact_poses(
     if not rotations:
         return None
     return _poses(model, np.array(rotations), np.array(directions), zoom)
+
+
+def gravity_poses(
+    model: PinholeModel, count: int, *, zoom: tuple[float, float] = (1.0, 1.0)
+) -> Poses | None:
+    """Every pose of one landmark, friend 2's mark and both phones' gravity
+    (:mod:`...minimal.gravity_and_one`) for each of the ``count`` landmarks farthest from
+    friend 2's mark, at the priors' focal lengths times ``zoom``; None without gravity."""
+    taps, priors, gravity = model.taps, model.priors, model.taps.gravity
+    if gravity is None or taps.epipole1 is None or not len(taps):
+        return None
+    focal1 = np.array([priors[0].focal_px * zoom[0]])
+    focal2 = np.array([priors[1].focal_px * zoom[1]])
+    rays1 = _rays_at(taps.p, priors[0].centre, focal1)[0]
+    rays2 = _rays_at(taps.q, priors[1].centre, focal2)[0]
+    friend2 = _unit(_rays_at(taps.epipole1[None], priors[0].centre, focal1)[0, 0])
+    # Far from friend 2's mark, a landmark's epipolar plane is well fixed by its two rays.
+    order = np.argsort(-np.linalg.norm(taps.p - taps.epipole1, axis=1), kind="stable")
+    rotations: list[Array] = []
+    for i in order[:count].tolist():
+        rotations += rotations_from_gravity(
+            friend2, gravity.gravity1, gravity.gravity2, rays1[i], rays2[i]
+        )
+    if not rotations:
+        return None
+    return _poses(model, np.array(rotations), np.tile(friend2, (len(rotations), 1)), zoom)
 
 
 def unmarked_starts(

@@ -1,0 +1,230 @@
+"""Gravity at the shutter: each case with and without both phones' gravity readings, on the
+same scenes and taps.
+
+The scenes and taps are section 1's at 3 px (trial i is the same; the "prior" row uses the
+phone scenes whose focal lengths are drawn from the phone prior). Each phone's reading is
+its true down direction (world y in the test bed) turned by Gaussian noise of ``sigma``
+degrees per axis, told to ``solve`` as ``gravity_sigma_deg``. With no landmark the answer
+is a band (``curve2``, ``curve2_halfwidth``): its error is the truth's distance from the
+curve, and it holds the truth when that is within the half-width. Otherwise the answer is
+a point, graded as in section 1.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from report import markdown_table, verdict
+
+from shared_solver import SolverError, SolveResult, solve
+from testbed.phones import PhoneScene
+
+from .common import SEED, Cameras, ellipse_covers, fmt, percent, percentile, solve_arguments
+from .phones import TARGET_SIGMA, phone_trial
+
+GRAVITY_STREAM = 30
+SIGMAS_DEG: tuple[float | None, ...] = (None, 0.5, 1.0, 2.0)
+TARGET_DEG = 1.0
+_DOWN = np.array([0.0, 1.0, 0.0])
+SOLVE_BUDGET_MS = 2.0
+
+
+@dataclass(frozen=True)
+class Case:
+    label: str
+    landmarks: int
+    cameras: Cameras
+    stream: str = "phone"
+
+
+CASES = (
+    Case("0 + e1, EXIF focal", 0, "exif"),
+    Case("0 + e1, phone prior", 0, "phone"),
+    Case("0 + e1, phone prior, focal lengths drawn from it", 0, "phone", "prior"),
+    Case("1 + e1, EXIF focal", 1, "exif"),
+    Case("1 + e1, phone prior", 1, "phone"),
+    Case("2 + e1, phone prior", 2, "phone"),
+    Case("3 + e1, phone prior", 3, "phone"),
+    Case("5 + e1, phone prior", 5, "phone"),
+)
+
+
+@dataclass
+class Cell:
+    """One case at one gravity sigma over every trial."""
+
+    errors: list[float] = field(default_factory=list)
+    held: list[bool] = field(default_factory=list)
+    widths_deg: list[float] = field(default_factory=list)
+    milliseconds: list[float] = field(default_factory=list)
+    used: int = 0
+
+
+GravityTable = dict[tuple[str, float | None], Cell]
+
+
+def reading(
+    scene: PhoneScene, photo: int, sigma_deg: float, rng: np.random.Generator
+) -> np.ndarray:
+    """A phone's gravity: its true down turned by ``sigma_deg`` per axis (small angles)."""
+    rotation = (scene.camera1 if photo == 1 else scene.camera2).rotation
+    down = rotation @ _DOWN + rng.normal(0.0, math.radians(sigma_deg), 3)
+    unit: np.ndarray = down / np.linalg.norm(down)
+    return unit
+
+
+def curve_distance(pieces: list[list[tuple[float, float]]], point: np.ndarray) -> float:
+    """How far ``point`` is from the polyline pieces, px (inf when there are none)."""
+    best = math.inf
+    for piece in pieces:
+        line = np.asarray(piece)
+        if len(line) < 2:
+            continue
+        a, ab = line[:-1], np.diff(line, axis=0)
+        t = np.clip(np.einsum("ni,ni->n", point - a, ab) / np.einsum("ni,ni->n", ab, ab), 0, 1)
+        best = min(best, float(np.hypot(*(a + t[:, None] * ab - point).T).min()))
+    return best
+
+
+def graded(result: SolveResult, scene: PhoneScene, cell: Cell) -> None:
+    truth = scene.epipole2
+    cell.used += result.used_gravity
+    if result.curve2 is not None:
+        distance = curve_distance(result.curve2, truth)
+        cell.errors.append(distance)
+        width = result.curve2_halfwidth
+        cell.held.append(width is not None and distance <= width)
+        if width is not None:
+            focal = float(scene.camera2.intrinsics[0, 0])
+            cell.widths_deg.append(math.degrees(math.atan(width / focal)))
+        return
+    if result.epipole2 is None:
+        cell.errors.append(math.inf)
+        return
+    cell.errors.append(float(np.hypot(*(np.asarray(result.epipole2) - truth))))
+    covers = ellipse_covers(result, truth)
+    if covers is not None:
+        cell.held.append(covers)
+
+
+def gravity(trials: int) -> GravityTable:
+    table: GravityTable = {}
+    for case in CASES:
+        for sigma_deg in SIGMAS_DEG:
+            cell = table.setdefault((case.label, sigma_deg), Cell())
+            if sigma_deg is None and case.landmarks < 3:
+                continue  # nothing to answer without gravity
+            for trial in range(trials):
+                scene, taps, _ = phone_trial(case.stream, TARGET_SIGMA, trial)
+                assert isinstance(scene, PhoneScene)
+                points, options = solve_arguments(
+                    scene, taps, TARGET_SIGMA, case.landmarks, given="e1", cameras=case.cameras
+                )
+                if sigma_deg is not None:
+                    stream = (SEED, GRAVITY_STREAM, round(1000 * sigma_deg), trial)
+                    rng = np.random.default_rng(stream)
+                    options |= {
+                        "gravity1": reading(scene, 1, sigma_deg, rng),
+                        "gravity2": reading(scene, 2, sigma_deg, rng),
+                        "gravity_sigma_deg": sigma_deg,
+                    }
+                start = time.perf_counter()
+                try:
+                    result = solve(*points, **options)
+                except SolverError:
+                    cell.errors.append(math.inf)
+                    continue
+                cell.milliseconds.append(1000.0 * (time.perf_counter() - start))
+                graded(result, scene, cell)
+    return table
+
+
+def gravity_table(table: GravityTable) -> str:
+    rows = []
+    for case in CASES:
+        for sigma_deg in SIGMAS_DEG:
+            cell = table[(case.label, sigma_deg)]
+            if not cell.errors:
+                rows.append([case.label, "none", "nothing to answer", "", "", "", ""])
+                continue
+            held = f"{percent(float(np.mean(cell.held)))} of {len(cell.held)}" if cell.held else "-"
+            width = f"{np.median(cell.widths_deg):.2f} deg" if cell.widths_deg else "-"
+            rows.append(
+                [
+                    case.label,
+                    "none" if sigma_deg is None else f"{sigma_deg:g} deg",
+                    f"{fmt(percentile(cell.errors, 50))} / {fmt(percentile(cell.errors, 90))}",
+                    held,
+                    width,
+                    f"{cell.used} of {len(cell.errors)}",
+                    f"{np.median(cell.milliseconds):.2f}" if cell.milliseconds else "-",
+                ]
+            )
+    return markdown_table(
+        [
+            "case",
+            "gravity sigma",
+            "error median / p90, px",
+            "95 % region or band holds the truth",
+            "band half-width, median, of view",
+            "answers using gravity",
+            "solve, median ms",
+        ],
+        rows,
+    )
+
+
+def gravity_targets(table: GravityTable) -> list[tuple[bool | None, str]]:
+    at = {case.label: table[(case.label, TARGET_DEG)] for case in CASES}
+    level = at["0 + e1, EXIF focal"]
+    held = float(np.mean(level.held)) if level.held else 0.0
+    width = float(np.median(level.widths_deg)) if level.widths_deg else math.inf
+    one = at["1 + e1, EXIF focal"]
+    one_held = float(np.mean(one.held)) if one.held else 0.0
+    two = at["2 + e1, phone prior"]
+    two_held = float(np.mean(two.held)) if two.held else 0.0
+    three = at["3 + e1, phone prior"]
+    slowest = max(
+        (float(np.median(cell.milliseconds)), label)
+        for label, cell in at.items()
+        if cell.milliseconds
+    )
+    level_ok = 0.93 <= held <= 0.97 and width <= 3.5
+    one_median = percentile(one.errors, 50)
+    one_ok = one_median <= 100 and 0.90 <= one_held <= 0.98
+    two_median, two_p90 = percentile(two.errors, 50), percentile(two.errors, 90)
+    two_ok = two_median <= 30 and two_p90 <= 150 and 0.90 <= two_held <= 0.98
+    three_p90 = percentile(three.errors, 90)
+    fast = slowest[0] <= SOLVE_BUDGET_MS
+    return [
+        (
+            level_ok,
+            f"{verdict(level_ok)}: gravity {TARGET_DEG:g} deg, 0 landmarks (EXIF focal): the "
+            f"band holds the truth 93-97 % of the time ({percent(held)}) and its half-width "
+            f"median <= 3.5 deg of view ({width:.2f} deg)",
+        ),
+        (
+            one_ok,
+            f"{verdict(one_ok)}: 1 landmark (EXIF focal): median <= 100 px ({fmt(one_median)}), "
+            f"region holds the truth 90-98 % ({percent(one_held)})",
+        ),
+        (
+            two_ok,
+            f"{verdict(two_ok)}: 2 landmarks (phone prior): median <= 30 px "
+            f"({fmt(two_median)}), p90 <= 150 px ({fmt(two_p90)}), region holds the truth "
+            f"90-98 % ({percent(two_held)})",
+        ),
+        (
+            three_p90 <= 45,
+            f"{verdict(three_p90 <= 45)}: 3 landmarks (phone prior): p90 <= 45 px "
+            f"({fmt(three_p90)})",
+        ),
+        (
+            fast,
+            f"{verdict(fast)}: with gravity, solve's median call <= {SOLVE_BUDGET_MS:g} ms in "
+            f"every case (slowest: {slowest[1]}, {slowest[0]:.2f} ms)",
+        ),
+    ]

@@ -1,0 +1,101 @@
+"""Friend 2's direction, both photos' gravity and one landmark, calibrated cameras: the
+relative rotation.
+
+The relative pose is ``X2 = R X1 + t``. Each phone measured which way is down in its own
+frame, ``g1`` and ``g2``, and down is the same direction for both: ``R g1 = g2``. Write
+``R = Q2^T Rz(psi) Q1`` with ``Q_i`` any rotation taking ``g_i`` to the z axis: every
+such ``R`` carries ``g1`` to ``g2``, and the one unknown left is ``psi``, the turn about
+the vertical between the two phones.
+
+Friend 1 sees friend 2 along ``b1`` (frame 1), so the essential matrix is, up to scale,
+``R [b1]x`` (as in :mod:`.both_and_one`), and a landmark seen along ``p`` and ``q`` gives
+``q . R (b1 x p) = 0``. With ``a = Q2 q`` and ``n = Q1 (b1 x p)`` that is
+
+    cos(psi) (a_x n_x + a_y n_y) + sin(psi) (a_y n_x - a_x n_y) + a_z n_z = 0,
+
+``A cos(psi) + B sin(psi) + C = 0``: two turns when ``|C| < sqrt(A^2 + B^2)``, one when
+equal, none beyond. Which one puts the landmark in front of both cameras is for the caller.
+
+With no landmark ``psi`` stays free: :func:`rotation_about_vertical` gives the rotation of
+any turn, the curve on which friend 1 appears in photo 2.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..projective import Array
+
+# Horizontal parts smaller than this (relative) fix no turn: the landmark's epipolar plane
+# is level or its ray in photo 2 is vertical, and every turn fits it or none does.
+_DEGENERATE = 1e-10
+
+
+def level_frame(gravity: Array) -> Array:
+    """(3, 3) a rotation ``Q`` with ``Q g = (0, 0, 1)`` for a unit ``g`` (3,): its rows are an
+    orthonormal basis whose third vector is ``g``. Which basis (a turn about ``g``) does not
+    matter: the turn about the vertical absorbs it."""
+    x, y, z = np.asarray(gravity, dtype=np.float64).tolist()
+    size = math.sqrt(x * x + y * y + z * z)
+    x, y, z = x / size, y / size, z / size
+    # first = helper x g, with helper (1, 0, 0), or (0, 1, 0) when g is near the x axis.
+    fx, fy, fz = (0.0, -z, y) if abs(x) < 0.9 else (z, 0.0, -x)
+    size = math.sqrt(fx * fx + fy * fy + fz * fz)
+    fx, fy, fz = fx / size, fy / size, fz / size
+    second = (y * fz - z * fy, z * fx - x * fz, x * fy - y * fx)  # g x first
+    return np.array([[fx, fy, fz], second, [x, y, z]])
+
+
+def rotation_about_vertical(gravity1: Array, gravity2: Array, turn: float | Array) -> Array:
+    """``R = Q2^T Rz(psi) Q1`` for a turn ``psi`` (radians; scalar or (K,)): (3, 3) or
+    (K, 3, 3) rotations with ``R g1 = g2``."""
+    psi = np.asarray(turn, dtype=np.float64)
+    c, s = np.cos(psi), np.sin(psi)
+    rz = np.zeros((*psi.shape, 3, 3))
+    rz[..., 0, 0], rz[..., 0, 1], rz[..., 1, 0], rz[..., 1, 1] = c, -s, s, c
+    rz[..., 2, 2] = 1.0
+    result: Array = level_frame(gravity2).T @ rz @ level_frame(gravity1)
+    return result
+
+
+def turns_from_gravity(
+    b1: Array, gravity1: Array, gravity2: Array, ray1: Array, ray2: Array
+) -> list[float]:
+    """Every turn ``psi`` (radians, in (-pi, pi]) with ``ray2 . R(psi) (b1 x ray1) = 0``.
+
+    Args:
+        b1: (3,) direction from friend 1's centre to friend 2's, frame 1 (any length).
+        gravity1, gravity2: (3,) unit down directions in frames 1 and 2.
+        ray1: (3,) one landmark's ray in frame 1 (any positive scale).
+        ray2: (3,) the same landmark's ray in frame 2.
+
+    Returns:
+        Zero, one or two turns; empty when the landmark fixes none (module docstring).
+    """
+    a = level_frame(gravity2) @ np.asarray(ray2, dtype=np.float64)
+    n = level_frame(gravity1) @ np.cross(b1, ray1)
+    ax, ay, az = a.tolist()
+    nx, ny, nz = n.tolist()
+    big_a, big_b, big_c = ax * nx + ay * ny, ay * nx - ax * ny, az * nz
+    radius = math.hypot(big_a, big_b)
+    scale = math.sqrt(float(a @ a) * float(n @ n))
+    if not radius > _DEGENERATE * scale:
+        return []
+    cosine = -big_c / radius
+    if abs(cosine) > 1.0:
+        return []
+    centre, half = math.atan2(big_b, big_a), math.acos(cosine)
+    turns = [centre - half] if half == 0.0 else [centre - half, centre + half]
+    return [math.remainder(turn, 2.0 * math.pi) for turn in turns]
+
+
+def rotations_from_gravity(
+    b1: Array, gravity1: Array, gravity2: Array, ray1: Array, ray2: Array
+) -> list[Array]:
+    """The rotations (3, 3) of :func:`turns_from_gravity`'s turns, each with ``R g1 = g2``."""
+    return [
+        rotation_about_vertical(gravity1, gravity2, turn)
+        for turn in turns_from_gravity(b1, gravity1, gravity2, ray1, ray2)
+    ]

@@ -1,0 +1,323 @@
+"""Both phones' gravity at the shutter: the level from the friend mark alone, a point from one
+landmark, a sharper fit from more, and readings that contradict the landmarks refused.
+
+Scenes are the test bed's phone venues (world y is down, so a phone's reading is its
+rotation's second column); readings are given noisy by ``sigma_deg`` per axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from shared_solver import SolverError, draw_overlay, solve, words
+from shared_solver.drawing.layout import answer_drawing
+from shared_solver.estimation.camera import focal_35mm
+from testbed.phones import PhoneScene, phone_scene
+
+EXACT_PX = 1e-6
+DOWN = np.array([0.0, 1.0, 0.0])
+
+
+def down(scene: PhoneScene, photo: int, rng: np.random.Generator, sigma_deg: float) -> np.ndarray:
+    rotation = (scene.camera1 if photo == 1 else scene.camera2).rotation
+    reading = rotation @ DOWN + rng.normal(0.0, math.radians(sigma_deg), 3)
+    return reading / np.linalg.norm(reading)
+
+
+def true_cameras(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object]]:
+    """Each photo's true focal length as a known one (the scenes' centres are exact)."""
+    return tuple(  # type: ignore[return-value]
+        {"kind": "known_focal", "focal_35mm": focal_35mm(camera.intrinsics[0, 0], size)}
+        for camera, size in ((scene.camera1, scene.image_size1), (scene.camera2, scene.image_size2))
+    )
+
+
+def distance_to(pieces: list[list[tuple[float, float]]], point: np.ndarray) -> float:
+    """How far ``point`` is from a polyline's pieces, px."""
+    best = math.inf
+    for piece in pieces:
+        a, b = np.array(piece[:-1]), np.array(piece[1:])
+        ab = b - a
+        t = np.clip(np.einsum("ni,ni->n", point - a, ab) / np.einsum("ni,ni->n", ab, ab), 0, 1)
+        best = min(best, float(np.hypot(*(a + t[:, None] * ab - point).T).min()))
+    return best
+
+
+def solved(scene: PhoneScene, landmarks: int, rng: np.random.Generator, **options: object):
+    sigma = float(options.pop("sigma", 0.0))  # type: ignore[arg-type]
+    gravity_deg = float(options.pop("gravity_deg", 0.0))  # type: ignore[arg-type]
+    cameras = options.pop("cameras", true_cameras(scene))
+    measured = options.pop("measured", True)
+    p = scene.landmarks1[:landmarks] + rng.normal(0.0, sigma, (landmarks, 2))
+    q = scene.landmarks2[:landmarks] + rng.normal(0.0, sigma, (landmarks, 2))
+    return solve(
+        p,
+        q,
+        epipole1=scene.epipole1 + rng.normal(0.0, sigma, 2),
+        tap_sigma=max(sigma, 1.0),
+        image_size1=scene.image_size1,
+        image_size2=scene.image_size2,
+        camera1=cameras[0],  # type: ignore[index]
+        camera2=cameras[1],  # type: ignore[index]
+        gravity1=down(scene, 1, rng, gravity_deg) if measured else None,
+        gravity2=down(scene, 2, rng, gravity_deg) if measured else None,
+        gravity_sigma_deg=max(gravity_deg, 0.5),
+        **options,  # type: ignore[arg-type]
+    )
+
+
+def phones_of(scene: PhoneScene) -> dict[str, object]:
+    """``solve``'s arguments besides the landmarks: friend 2's true mark, two phones."""
+    return {
+        "epipole1": scene.epipole1,
+        "image_size1": scene.image_size1,
+        "image_size2": scene.image_size2,
+        "camera1": "phone",
+        "camera2": "phone",
+    }
+
+
+def exact_scenes(count: int, landmarks: int = 1) -> list[PhoneScene]:
+    rng = np.random.default_rng(40)
+    return [phone_scene(rng, landmarks, centre_sd=0.0) for _ in range(count)]
+
+
+def test_without_both_readings_everything_is_as_before():
+    rng = np.random.default_rng(41)
+    for _ in range(5):
+        scene = phone_scene(rng, 5)
+        p = scene.landmarks1 + rng.normal(0.0, 2.0, (5, 2))
+        q = scene.landmarks2 + rng.normal(0.0, 2.0, (5, 2))
+        common = phones_of(scene)
+        before = solve(p, q, **common).model_dump()
+        assert solve(p, q, gravity1=None, gravity2=None, **common).model_dump() == before
+        # One reading alone says nothing of how the two phones are turned.
+        one = solve(p, q, gravity1=down(scene, 1, rng, 1.0), **common)
+        assert one.model_dump() == before
+        assert not one.used_gravity
+
+
+def test_exact_taps_and_readings_put_the_truth_on_the_level():
+    for scene in exact_scenes(20):
+        result = solved(scene, 0, np.random.default_rng(0))
+        assert result.method == "pinhole_level"
+        assert result.used_gravity
+        assert result.epipole2 is None
+        assert [w.code for w in result.warnings] == ["on_the_level"]
+        assert result.curve2
+        # The drawn polyline is within its simplification (0.25 px) of the curve.
+        assert distance_to(result.curve2, scene.epipole2) <= 0.3
+        for piece in result.curve2:
+            xy = np.array(piece)
+            assert (xy >= -1e-9).all()
+            assert (xy <= np.array(scene.image_size2) + 1e-9).all()
+            assert np.hypot(*np.diff(xy, axis=0).T).min() > 0
+
+
+def test_exact_taps_and_readings_give_the_exact_point_from_one_landmark():
+    for scene in exact_scenes(20):
+        result = solved(scene, 1, np.random.default_rng(0))
+        assert result.method == "pinhole_epipole"
+        assert result.used_gravity
+        assert result.epipole2 is not None
+        assert np.abs(np.array(result.epipole2) - scene.epipole2).max() <= EXACT_PX
+
+
+def test_the_band_holds_the_truth_about_95_percent_of_the_time():
+    rng = np.random.default_rng(42)
+    held, widths = [], []
+    for _ in range(150):
+        scene = phone_scene(rng, 1)
+        cameras = tuple(
+            {"kind": "known_focal", "focal_35mm": focal}
+            for focal in (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
+        )
+        result = solved(scene, 0, rng, sigma=3.0, gravity_deg=1.0, cameras=cameras)
+        assert result.curve2_halfwidth is not None
+        held.append(distance_to(result.curve2, scene.epipole2) <= result.curve2_halfwidth)
+        widths.append(result.curve2_halfwidth)
+    # 150 draws: 95 % is measured within about +-3.6 % (two standard errors).
+    assert 0.89 <= np.mean(held) <= 0.995
+    # Two readings at 1 degree put the level within a few degrees (~50 px a degree here).
+    assert np.median(widths) < 250
+
+
+def test_one_landmark_and_gravity_give_a_point_with_an_honest_region():
+    rng = np.random.default_rng(43)
+    errors, held = [], []
+    for _ in range(100):
+        scene = phone_scene(rng, 1)
+        cameras = tuple(
+            {"kind": "known_focal", "focal_35mm": focal}
+            for focal in (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
+        )
+        result = solved(scene, 1, rng, sigma=3.0, gravity_deg=1.0, cameras=cameras)
+        if result.epipole2 is None:  # "not pinned down": a visibly weaker answer
+            assert result.quality == "poor"
+            continue
+        offset = np.array(result.epipole2) - scene.epipole2
+        errors.append(float(np.hypot(*offset)))
+        assert result.uncertainty is not None
+        if result.uncertainty.covariance is None:  # both roots fit: both shown, no region
+            assert {w.code for w in result.warnings} & {"ambiguous", "no_margin"}
+            assert result.candidates
+            continue
+        covariance = np.array(result.uncertainty.covariance)
+        held.append(offset @ np.linalg.solve(covariance, offset) <= 5.991)
+    assert len(errors) >= 95
+    assert len(held) >= 85
+    assert np.median(errors) < 120
+    assert 0.88 <= np.mean(held) <= 0.995
+
+
+def test_gravity_sharpens_three_landmarks():
+    rng = np.random.default_rng(44)
+    with_gravity, without = [], []
+    while len(without) < 60:
+        scene = phone_scene(rng, 3)
+        seed = int(rng.integers(1 << 30))
+        try:
+            solved(scene, 3, np.random.default_rng(seed), sigma=3.0, measured=False)
+        except SolverError:  # three noisy taps on one line: refused either way
+            continue
+        result = solved(
+            scene,
+            3,
+            np.random.default_rng(seed),
+            sigma=3.0,
+            gravity_deg=1.0,
+            cameras=("phone",) * 2,
+        )
+        plain = solved(
+            scene,
+            3,
+            np.random.default_rng(seed),
+            sigma=3.0,
+            gravity_deg=1.0,
+            cameras=("phone",) * 2,
+            measured=False,
+        )
+        for found, into in ((result, with_gravity), (plain, without)):
+            at = np.full(2, np.inf) if found.epipole2 is None else np.array(found.epipole2)
+            into.append(float(np.hypot(*(at - scene.epipole2))))
+    assert np.percentile(with_gravity, 90) < np.percentile(without, 90)
+
+
+def test_readings_with_the_wrong_axes_are_dropped_and_said():
+    """A phone that reports its axes swapped (x for y): the landmarks answer alone."""
+    rng = np.random.default_rng(45)
+    swap = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    dropped = 0
+    for _ in range(10):
+        scene = phone_scene(rng, 6)
+        p = scene.landmarks1 + rng.normal(0.0, 2.0, (6, 2))
+        q = scene.landmarks2 + rng.normal(0.0, 2.0, (6, 2))
+        common = phones_of(scene)
+        wrong = solve(
+            p,
+            q,
+            gravity1=swap @ scene.camera1.rotation @ DOWN,
+            gravity2=scene.camera2.rotation @ DOWN,
+            **common,
+        )
+        if not wrong.used_gravity:
+            dropped += 1
+            assert wrong.warnings[0].code == "gravity_disagrees"
+            alone = solve(p, q, **common)
+            assert wrong.epipole2 == alone.epipole2
+    assert dropped >= 9
+
+
+def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks():
+    """Photo 1's reading 20 degrees off (the phone moved between reading and shutter): with
+    landmarks enough to check it, the readings are dropped and the landmarks answer alone.
+    With one or two landmarks nothing checks a reading: the phone must read still."""
+    rng = np.random.default_rng(46)
+    dropped = 0
+    for _ in range(10):
+        scene = phone_scene(rng, 5)
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        turned = scene.camera1.rotation @ DOWN
+        turned = turned * math.cos(0.35) + np.cross(axis, turned) * math.sin(0.35)
+        result = solve(
+            scene.landmarks1 + rng.normal(0.0, 2.0, (5, 2)),
+            scene.landmarks2 + rng.normal(0.0, 2.0, (5, 2)),
+            **phones_of(scene),
+            gravity1=turned,
+            gravity2=scene.camera2.rotation @ DOWN,
+        )
+        dropped += not result.used_gravity
+    assert dropped >= 8
+
+
+@pytest.mark.parametrize(
+    ("options", "code", "reason"),
+    [
+        ({"gravity1": [0, 0, 0]}, "invalid_shape", "not_a_direction"),
+        ({"gravity1": [0, 1]}, "invalid_shape", "not_a_direction"),
+        ({"gravity2": [0, float("nan"), 1]}, "not_finite", "not_finite"),
+        ({"gravity_sigma_deg": 0.0}, "invalid_parameter", "not_positive"),
+        ({"gravity_sigma_deg": 45.0}, "invalid_parameter", "not_an_angle"),
+        ({"gravity1_sigma_deg": 0.001}, "invalid_parameter", "not_an_angle"),
+    ],
+)
+def test_bad_readings_are_refused_with_a_code(options, code, reason):
+    scene = exact_scenes(1)[0]
+    arguments = {"gravity1": [0.0, 1.0, 0.0], "gravity2": [0.0, 1.0, 0.0]} | options
+    with pytest.raises(SolverError) as refused:
+        solve(
+            np.zeros((0, 2)),
+            np.zeros((0, 2)),
+            epipole1=scene.epipole1,
+            image_size1=scene.image_size1,
+            image_size2=scene.image_size2,
+            camera1="phone",
+            camera2="phone",
+            **arguments,
+        )
+    assert refused.value.code == code
+    assert refused.value.refusal.reason == reason
+    assert refused.value.message
+
+
+def test_no_landmark_without_gravity_is_too_few():
+    scene = exact_scenes(1)[0]
+    with pytest.raises(SolverError) as refused:
+        solve(
+            [],
+            [],
+            epipole1=scene.epipole1,
+            image_size1=scene.image_size1,
+            image_size2=scene.image_size2,
+            camera1="phone",
+            camera2="phone",
+        )
+    assert refused.value.code == "too_few_landmarks"
+
+
+def test_the_level_is_drawn_as_a_labelled_band():
+    """Photo 2's drawing has the curve in its band; the overlay tints the band, not beyond."""
+    scene = exact_scenes(1)[0]
+    result = solved(scene, 0, np.random.default_rng(0), sigma=2.0, gravity_deg=1.0)
+    assert result.curve2_halfwidth is not None
+    width, height = scene.image_size2
+    drawing = answer_drawing(result, photo=2, size=(width, height))
+    assert drawing.curve is not None
+    assert drawing.curve.halfwidth == pytest.approx(result.curve2_halfwidth)
+    assert drawing.curve.text == words.DRAWN_ON_LEVEL
+    assert drawing.frame is None
+    grey = np.full((height, width, 3), 128, np.uint8)
+    drawn = draw_overlay(grey.copy(), result)
+    changed = np.any(drawn != grey, axis=2)
+    pieces = [np.array(piece) for piece in result.curve2]
+    on_curve = pieces[0][len(pieces[0]) // 2]
+    normal = np.array([0.0, 1.0])  # the band spans the rows across a level curve
+    inside = np.round(on_curve + 0.5 * result.curve2_halfwidth * normal).astype(int)
+    outside = np.round(on_curve + 1.5 * result.curve2_halfwidth * normal).astype(int)
+    assert changed[inside[1], inside[0]]
+    if 0 <= outside[1] < height:
+        assert not changed[outside[1], outside[0]]
