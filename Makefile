@@ -19,10 +19,12 @@ APP_SOURCES := $(shell find $(FRONTEND)/src $(FRONTEND)/public -type f 2>/dev/nu
 # renews them, so a stale committed copy fails (tests/test_api_types.py).
 API_TYPES := $(FRONTEND)/src/generated/openapi.ts
 API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json')
+# uv, pinned: it installs the lock file (make test, make run) and writes it (make lock).
+UV_VERSION := 0.13.9
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real bench-all docs-figures demo lock clean
+.PHONY: run run-cluster test system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real bench-all docs-figures demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -34,9 +36,21 @@ run-cluster: $(INSTALLED) $(APP) postgres nginx
 
 # The whole suite on both cores (pytest-xdist: each worker starts its own servers and browsers
 # on free ports, so two browser tests may run at once). Its default scheduling: on a quiet
-# machine 726 s for 1408 s of tests (--dist worksteal: 790 s).
-test: $(INSTALLED) lint typecheck api-types-check frontend-test $(APP) browser webkit postgres nginx
+# machine 726 s for 1408 s of tests (--dist worksteal: 790 s). The set-up runs side by side
+# where it can: the Python and npm packages and the Debian ones (those one at a time: apt
+# holds a lock), then the checks, mypy beside the rest; the types are checked before the
+# build renews them.
+test:
+	$(MAKE) --no-print-directory -j3 $(INSTALLED) $(NODE_MODULES) system-packages
+	$(MAKE) --no-print-directory -j2 lint typecheck api-types-check frontend-test
+	$(MAKE) --no-print-directory $(APP)
 	$(BIN)/python -m pytest -q -n 2
+
+system-packages:
+	@$(MAKE) --no-print-directory browser
+	@$(MAKE) --no-print-directory webkit
+	@$(MAKE) --no-print-directory postgres
+	@$(MAKE) --no-print-directory nginx
 
 # Faster subsets for a change to one layer; `make test` stays the whole suite.
 # The solver: its lint, types and tests on both cores (pytest-xdist).
@@ -145,10 +159,12 @@ demo: $(INSTALLED)
 # Every package from the lock file, hashes checked. The app is not installed: the .pth file
 # puts the repository root on the virtualenv's path (backend/, shared_solver/, and testbed/,
 # the scenes the tests, benchmarks and demo share).
+# uv installs them (the same lock, hashes required): 10 s from nothing, where pip took 53.
 $(INSTALLED): pyproject.toml requirements/test.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r requirements/test.txt
+	$(BIN)/python -m pip install --quiet uv==$(UV_VERSION)
+	$(BIN)/uv pip install --quiet --require-hashes --no-deps -r requirements/test.txt \
+		--python $(BIN)/python
 	$(BIN)/python -c "import pathlib, site; pathlib.Path(site.getsitepackages()[0], 'buddy-search-root.pth').write_text(str(pathlib.Path.cwd()) + '\\n')"
 	touch $(INSTALLED)
 
@@ -165,7 +181,6 @@ $(APP): $(NODE_MODULES) $(APP_SOURCES) $(API_TYPES)
 # The Python lock files, from pyproject.toml: every transitive package with its hashes, for
 # every platform (requirements/test.txt for make, runtime.txt, its subset, for the image).
 # Run after changing a dependency; uv, pinned, lives in a throwaway virtualenv.
-UV_VERSION := 0.13.9
 lock:
 	rm -rf .venv-lock && $(PYTHON) -m venv .venv-lock
 	.venv-lock/bin/python -m pip install --quiet uv==$(UV_VERSION)
