@@ -309,14 +309,8 @@ def _minimum(
 ) -> tuple[int, Marks]:
     """Fewest landmarks for any answer, and how the friends were marked (which the refusal of
     fewer says)."""
-    count = fewest_landmarks(
-        epipole1=friend2,
-        epipole2=friend1,
-        line=line,
-        cameras=modelled,
-        position=False,
-        gravity=levelled,
-    )
+    marks = {"epipole1": friend2, "epipole2": friend1, "line": line}
+    count = fewest_landmarks(**marks, cameras=modelled, position=False, gravity=levelled)
     if friend2:
         return count, "both" if friend1 else "point"
     return count, "line" if line else "none"

@@ -125,11 +125,11 @@ def direction(value: ArrayLike, name: str) -> Array:
 def angle(value: float, name: str) -> float:
     """A sensor's sigma in degrees, between :data:`FINEST_DEG` and :data:`LARGEST_DEG`."""
     number = positive(value, name)
-    if not FINEST_DEG <= number <= LARGEST_DEG:
-        raise SolverError(
-            Reason.NOT_AN_ANGLE, field=name, finest_deg=FINEST_DEG, largest_deg=LARGEST_DEG
-        )
-    return number
+    if FINEST_DEG <= number <= LARGEST_DEG:
+        return number
+    raise SolverError(
+        Reason.NOT_AN_ANGLE, field=name, finest_deg=FINEST_DEG, largest_deg=LARGEST_DEG
+    )
 
 
 def positive(value: float, name: str) -> float:

@@ -16,14 +16,16 @@ from backend.storage.database import Database
 from backend.storage.tables import ParticipantRow, PhotoRow, core
 from backend.storage.versions import bump_version
 
+from .gravity import Gravity
 from .intake import StoredPhoto
 from .kept import KeptPhoto, KeptPhotos
 from .lens import Lens
 from .schemas import PhotoChanged, PhotoStored
 
 # The landmarks still needed once a phone has a new photo (its taps gone), given the other
-# phone's taps as stored: the taps domain counts them (backend.taps.shown).
-NeededAfterPhoto = Callable[[Role, dict[str, Any] | None], int]
+# phone's taps as stored and whether both photos now have gravity: the taps domain counts
+# them (backend.taps.shown).
+NeededAfterPhoto = Callable[[Role, dict[str, Any] | None, bool], int]
 
 
 _photos, _participants = core(PhotoRow), core(ParticipantRow)
@@ -42,6 +44,9 @@ _UPSERT = {
 _MINE = (_participants.c.session_id == bindparam("of")) & (_participants.c.role == bindparam("who"))
 _CLEAR_TAPS = update(_participants).where(_MINE).values(taps=None)
 _TAPS = select(_participants.c.taps).where(_MINE)
+_GRAVITY = select(_photos.c.gravity).where(
+    (_photos.c.session_id == bindparam("of")) & (_photos.c.role == bindparam("who"))
+)
 
 
 class Photos:
@@ -58,6 +63,7 @@ class Photos:
         *,
         shown: PhotoStored,
         needed: NeededAfterPhoto,
+        gravity: Gravity | None = None,
     ) -> int:
         """Store (or replace) a friend's photo, with its lens if known. Its old taps meant
         points of the old photo, so they are cleared, and so is the answer; the event tells
@@ -73,6 +79,7 @@ class Photos:
             "lens_focal_35mm": None if lens is None else lens.focal_35mm,
             "lens_uncertainty": None if lens is None else lens.uncertainty,
             "lens_told_by": None if lens is None else lens.told_by,
+            "gravity": None if gravity is None else gravity.as_json(),
         }
         with self.database.write() as tx:
             # The version first: it locks the session, so a second upload of the same photo
@@ -83,11 +90,17 @@ class Photos:
             tx.execute(upsert, {"session_id": sid, "role": role, "version": version, **row})
             tx.execute(_CLEAR_TAPS, {"of": sid, "who": role})
             theirs = tx.scalar(_TAPS, {"of": sid, "who": other(role)})
+            levelled = (
+                gravity is not None
+                and tx.scalar(_GRAVITY, {"of": sid, "who": other(role)}) is not None
+            )
             told = PhotoChanged(
                 role=role,
                 version=version,
                 photo=shown,
-                landmarks_needed=needed(role, None if theirs is None else json.loads(theirs)),
+                landmarks_needed=needed(
+                    role, None if theirs is None else json.loads(theirs), levelled
+                ),
             )
             record(tx, sid, EventType.PHOTO, told, now, locked=True)
         return version

@@ -8,6 +8,8 @@ from pydantic import BaseModel, Field
 
 from backend.participants import Role
 
+from .gravity import Gravity
+
 ImageFormat = Literal["png", "jpeg"]
 ToldBy = Literal["photo", "phone"]
 MEDIA_TYPES: dict[ImageFormat, str] = {"png": "image/png", "jpeg": "image/jpeg"}
@@ -23,6 +25,21 @@ class LensInfo(BaseModel):
     )
 
 
+class GravityInfo(BaseModel):
+    """Which way was down when the photo was taken, as its phone read it at the shutter."""
+
+    down: tuple[float, float, float] = Field(
+        description="Unit vector towards the ground in the photo's camera frame: x right "
+        "along its rows, y down its columns, z out of the lens.",
+        examples=[[0.02, 0.999, 0.04]],
+    )
+    sigma_deg: float = Field(description="The reading's standard deviation per axis, deg.")
+
+    @classmethod
+    def of(cls, gravity: Gravity) -> GravityInfo:
+        return cls(down=gravity.down, sigma_deg=gravity.sigma_deg)
+
+
 class PhotoStored(BaseModel):
     width: int = Field(
         description="Of the stored photo, px: taps are in these pixels.", examples=[2560]
@@ -35,6 +52,11 @@ class PhotoStored(BaseModel):
         None,
         description="The lens, when the photo told it; else the answer assumes a phone's "
         "main camera, zoomed or not.",
+    )
+    gravity: GravityInfo | None = Field(
+        None,
+        description="Which way was down at the shutter, when the phone read it (the app's "
+        "own camera): with both photos' the friend's level needs no landmark.",
     )
 
 

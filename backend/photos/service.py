@@ -8,11 +8,12 @@ from backend.eventstream.notifier import Notifier
 from backend.participants import Participant, Role
 from backend.settings import Settings
 
+from .gravity import Gravity
 from .intake import store_photo
 from .lens import LensFacts, lens
 from .pictures import crop_around
 from .repository import NeededAfterPhoto, Photos
-from .schemas import LensInfo, PhotoStored
+from .schemas import GravityInfo, LensInfo, PhotoStored
 
 
 class PhotoService:
@@ -31,10 +32,15 @@ class PhotoService:
         self.needed = needed
 
     def put(
-        self, participant: Participant, data: bytes, told: LensFacts | None = None
+        self,
+        participant: Participant,
+        data: bytes,
+        told: LensFacts | None = None,
+        gravity: Gravity | None = None,
     ) -> PhotoStored:
         """Store the caller's photo (replacing any earlier one, whose taps go with it), with
-        its lens: from the photo's own EXIF, else from what the phone ``told`` of it."""
+        its lens: from the photo's own EXIF, else from what the phone ``told`` of it; and
+        which way was down at the shutter, when the phone read it."""
         photo = store_photo(
             data,
             max_pixels=self.settings.max_photo_pixels,
@@ -48,8 +54,17 @@ class PhotoService:
             lens=None
             if found is None
             else LensInfo(focal_35mm=found.focal_35mm, told_by=found.told_by),
+            gravity=None if gravity is None else GravityInfo.of(gravity),
         )
-        self.photos.put(participant, photo, found, self.clock(), shown=stored, needed=self.needed)
+        self.photos.put(
+            participant,
+            photo,
+            found,
+            self.clock(),
+            shown=stored,
+            needed=self.needed,
+            gravity=gravity,
+        )
         self.notifier.notify(participant.session_id)
         return stored
 

@@ -9,7 +9,8 @@ from datetime import timedelta
 from backend.clock import Clock, aware
 from backend.pairing.service import PairingService
 from backend.participants import ROLES, Participant
-from backend.photos.schemas import LensInfo, PhotoStored
+from backend.photos.gravity import Gravity
+from backend.photos.schemas import GravityInfo, LensInfo, PhotoStored
 from backend.settings import Settings
 from backend.storage.snapshot import PhotoInfo
 from backend.taps.answers import Answered, AnswerService, tap_sets
@@ -32,7 +33,12 @@ class StateService:
         """What ``participant``'s phone shows."""
         snapshot = self.answers.due(self.answers.snapshot(participant.session_id))
         taps = tap_sets(snapshot)
-        told = shown(taps, StoredAnswer.read(snapshot.answer), self.settings.tap_sigma)
+        told = shown(
+            taps,
+            StoredAnswer.read(snapshot.answer),
+            self.settings.tap_sigma,
+            levelled=snapshot.levelled,
+        )
         return self._state(participant, base_url, Answered(snapshot, taps, told))
 
     def put_taps(self, participant: Participant, taps: Taps, base_url: str) -> SessionState:
@@ -92,4 +98,11 @@ def _photo(info: PhotoInfo | None) -> PhotoStored | None:
         if info.lens_focal_35mm is None or info.lens_told_by not in ("photo", "phone")
         else LensInfo(focal_35mm=info.lens_focal_35mm, told_by=info.lens_told_by)
     )
-    return PhotoStored(width=info.width, height=info.height, scale=info.scale, lens=lens)
+    gravity = Gravity.read(info.gravity)
+    return PhotoStored(
+        width=info.width,
+        height=info.height,
+        scale=info.scale,
+        lens=lens,
+        gravity=None if gravity is None else GravityInfo.of(gravity),
+    )

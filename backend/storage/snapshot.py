@@ -23,6 +23,7 @@ class PhotoInfo:
     lens_uncertainty: float | None = None
     lens_told_by: str | None = None
     version: int | None = None  # the session's version that stored it: names its bytes
+    gravity: str | None = None  # JSON [x, y, z, sigma_deg] (backend.photos.gravity), or None
 
 
 @dataclass(frozen=True)
@@ -51,6 +52,13 @@ class Snapshot:
     members: dict[str, Member]
     photos: dict[str, PhotoInfo]
 
+    @property
+    def levelled(self) -> bool:
+        """Both photos came with the phone's gravity at the shutter."""
+        return len(self.photos) == 2 and all(
+            photo.gravity is not None for photo in self.photos.values()
+        )
+
 
 _sessions, _participants, _photos = (
     row.__table__ for row in (SessionRow, ParticipantRow, PhotoRow)
@@ -78,6 +86,7 @@ _SNAPSHOT = (
         _photos.c.lens_uncertainty,
         _photos.c.lens_told_by,
         _photos.c.version.label("photo_version"),
+        _photos.c.gravity,
     )
     .join(_participants, _participants.c.session_id == _sessions.c.id)
     .outerjoin(
@@ -124,6 +133,7 @@ def read_snapshot(database: Database, session_id: str) -> Snapshot | None:
                 row.lens_uncertainty,
                 row.lens_told_by,
                 row.photo_version,
+                row.gravity,
             )
             for row in rows
             if row.width is not None

@@ -85,6 +85,9 @@ class PhotoRow(Base):
     lens_focal_35mm: Mapped[float | None] = mapped_column(Float)
     lens_uncertainty: Mapped[float | None] = mapped_column(Float)
     lens_told_by: Mapped[str | None] = mapped_column(String(5))
+    # Which way was down at the shutter, as the phone read it: JSON [x, y, z, sigma_deg] in
+    # the stored photo's camera frame (backend.photos.gravity); NULL: not read.
+    gravity: Mapped[str | None] = mapped_column(Text)
     # The session's version that stored this photo: with the session and the role, the name
     # of these bytes (replicas keep photos they read lately by it: backend.photos.kept).
     version: Mapped[int | None] = mapped_column(Integer)

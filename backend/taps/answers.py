@@ -11,6 +11,7 @@ from backend.clock import Clock
 from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
 from backend.participants import ROLES, Role
+from backend.photos.gravity import Gravity
 from backend.settings import Settings
 from backend.storage.database import Database
 from backend.storage.snapshot import Snapshot, read_snapshot
@@ -46,7 +47,7 @@ class AnswerService:
             return None  # a newer change is being answered
         taps = tap_sets(snapshot)
         found = self.solve(snapshot, taps)
-        shown = self.shown(taps, found)
+        shown = self.shown(taps, found, levelled=snapshot.levelled)
         if found is None:
             return Answered(snapshot, taps, shown)
         if not self.taps.put_answer(session_id, version, found, shown, self.clock()):
@@ -64,9 +65,12 @@ class AnswerService:
         answered = self.answer(snapshot.id, snapshot.version)
         return snapshot if answered is None else answered.snapshot
 
-    def shown(self, taps: dict[Role, Taps | None], answer: StoredAnswer | None) -> Shown:
-        """What the phones are shown of ``taps`` with ``answer`` (as stored)."""
-        return shown(taps, answer, self.settings.tap_sigma)
+    def shown(
+        self, taps: dict[Role, Taps | None], answer: StoredAnswer | None, *, levelled: bool
+    ) -> Shown:
+        """What the phones are shown of ``taps`` with ``answer`` (as stored); ``levelled``:
+        both photos have gravity."""
+        return shown(taps, answer, self.settings.tap_sigma, levelled=levelled)
 
     def solve(
         self,
@@ -82,27 +86,30 @@ class AnswerService:
         if set(snapshot.members) != set(ROLES) or set(photos) != set(ROLES):
             return None
         sigma = self.settings.tap_sigma
-        task = problems.problem(taps, sigma)
+        task = problems.problem(taps, sigma, levelled=snapshot.levelled)
         if not task.solvable:
             return None
-        sizes = {role: (photos[role].width, photos[role].height) for role in ROLES}
-        cameras = {
-            role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
-            for role in ROLES
-        }
+        facts = problems.PhotoFacts(
+            sizes={role: (photos[role].width, photos[role].height) for role in ROLES},
+            cameras={
+                role: problems.camera(photos[role].lens_focal_35mm, photos[role].lens_uncertainty)
+                for role in ROLES
+            },
+            readings={role: Gravity.read(photos[role].gravity) for role in ROLES},
+        )
         # The photos are the same before and after a change of taps (a new photo is a change
         # of its own): the answer before it answers its problem again.
         earlier = StoredAnswer.read(previous[0].answer if previous else snapshot.answer)
         before = previous[1] if previous else taps
-        known = problems.known_fit(earlier, before, sigma)
+        known = problems.known_fit(earlier, before, sigma, levelled=facts.levelled)
 
         def fit(some: dict[Role, Taps | None]) -> tuple[SolveResult, PhotoOrder] | None:
-            return problems.fitted(some, sigma, sizes=sizes, cameras=cameras, known=known)
+            return problems.fitted(some, sigma, facts, known=known)
 
-        judged = guidance.misfits(earlier, before, taps, sizes=sizes, default_sigma=sigma, fit=fit)
-        return problems.solved(
-            task, sizes=sizes, cameras=cameras, taps=taps, misfits=judged, known=known
+        judged = guidance.misfits(
+            earlier, before, taps, sizes=facts.sizes, default_sigma=sigma, fit=fit
         )
+        return problems.solved(task, facts, taps=taps, misfits=judged, known=known)
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from backend.participants import ROLES, Role
+from backend.photos.gravity import Gravity
 from backend.photos.lens import EXIF_UNCERTAINTY
 from shared_solver import (
     Camera,
@@ -41,6 +42,21 @@ Line = tuple[float, float, float]
 
 
 @dataclass(frozen=True)
+class PhotoFacts:
+    """What the solver is told of both photos besides the taps, by role: each one's size
+    (width, height px), its camera, and its phone's gravity at the shutter (None: not read)."""
+
+    sizes: dict[Role, tuple[int, int]]
+    cameras: dict[Role, Camera]
+    readings: dict[Role, Gravity | None]
+
+    @property
+    def levelled(self) -> bool:
+        """Both photos have the phone's gravity."""
+        return all(self.readings.get(role) is not None for role in ROLES)
+
+
+@dataclass(frozen=True)
 class Problem:
     """What the solver is asked, in stored-photo pixels; ``order`` says whose photo is
     photo 1."""
@@ -57,6 +73,7 @@ class Problem:
     line1: Line | None = None
     epipole2: Point | None = None
     epipole2_sigma: float | None = None
+    levelled: bool = False  # both photos have the phone's gravity at the shutter
 
     def fewest(self, *, position: bool, cameras: bool = True) -> int:
         """Landmarks (common to both photos) the solver needs, phone cameras given (or,
@@ -67,6 +84,7 @@ class Problem:
             line=self.line1 is not None,
             cameras=cameras,
             position=position,
+            gravity=self.levelled,
         )
 
     def landmarks_needed(self, answer: Answer | None = None) -> int:
@@ -82,9 +100,11 @@ class Problem:
         return len(self.ids) >= self.fewest(position=False)
 
 
-def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
+def problem(
+    taps: dict[Role, Taps | None], default_sigma: float, *, levelled: bool = False
+) -> Problem:
     """The common landmarks and the friends' marks, with each tap's precision (a tap sent
-    without one has ``default_sigma``)."""
+    without one has ``default_sigma``); ``levelled``: both photos have gravity."""
     sets = {role: taps.get(role) or Taps() for role in ROLES}
     order = _order(sets)
     mine, theirs = sets[order.first], sets[order.second]
@@ -119,6 +139,7 @@ def problem(taps: dict[Role, Taps | None], default_sigma: float) -> Problem:
         line1=None if line1 is None else (line1.a, line1.b, line1.c),
         epipole2=None if mark2 is None else (mark2.x, mark2.y),
         epipole2_sigma=None if mark2 is None else sigma(mark2.sigma),
+        levelled=levelled,
     )
 
 
@@ -159,12 +180,16 @@ class KnownFit:
 
 
 def known_fit(
-    stored: StoredAnswer | None, taps: dict[Role, Taps | None], default_sigma: float
+    stored: StoredAnswer | None,
+    taps: dict[Role, Taps | None],
+    default_sigma: float,
+    *,
+    levelled: bool = False,
 ) -> KnownFit | None:
     """``stored``, the answer to these taps (and the photos they were on), as a known fit."""
     if stored is None or (stored.solution is None and stored.error is None):
         return None
-    return KnownFit(problem(taps, default_sigma), stored)
+    return KnownFit(problem(taps, default_sigma, levelled=levelled), stored)
 
 
 def camera(focal_35mm: float | None, uncertainty: float | None = None) -> Camera:
@@ -176,17 +201,17 @@ def camera(focal_35mm: float | None, uncertainty: float | None = None) -> Camera
 
 def solved(
     task: Problem,
+    photos: PhotoFacts,
     *,
-    sizes: dict[Role, tuple[int, int]],
-    cameras: dict[Role, Camera],
     taps: dict[Role, Taps | None],
     misfits: dict[Role, list[int]],
     known: KnownFit | None = None,
 ) -> StoredAnswer:
     """The solver's answer to ``task`` as stored, or its refusal (its reason and parameters:
     ``backend.taps.shown`` words it for each phone)."""
+    sizes = photos.sizes
     try:
-        result = fit(task, sizes=sizes, cameras=cameras, known=known)
+        result = fit(task, photos, known=known)
     except SolverError as error:
         return StoredAnswer(error=error.refusal)
     solution = result.model_dump(mode="json")
@@ -204,19 +229,18 @@ def solved(
     return StoredAnswer(answer=told, solution=solution, first=task.order.first)
 
 
-def fit(
-    task: Problem,
-    *,
-    sizes: dict[Role, tuple[int, int]],
-    cameras: dict[Role, Camera],
-    known: KnownFit | None = None,
-) -> SolveResult:
+def fit(task: Problem, photos: PhotoFacts, *, known: KnownFit | None = None) -> SolveResult:
     """The solver's answer to ``task``, with the uncertainty of its geometry (for the bands
     of the landmarks still to find); ``known``'s if it answered the same problem on the
-    same photos. Raises SolverError."""
+    same photos. The phones' gravity is used when the task is ``levelled``. Raises
+    SolverError."""
     if known is not None and known.task == task:
         return known.result()
     order = task.order
+    sizes, cameras, readings = photos.sizes, photos.cameras, photos.readings
+    first, second = (
+        (readings[order.first], readings[order.second]) if task.levelled else (None, None)
+    )
     return solve(
         task.points1,
         task.points2,
@@ -234,23 +258,26 @@ def fit(
         epipole1_sigma=task.epipole1_sigma,
         epipole2_sigma=task.epipole2_sigma,
         fundamental_covariance=True,
+        gravity1=None if first is None else first.down,
+        gravity2=None if second is None else second.down,
+        gravity1_sigma_deg=None if first is None else first.sigma_deg,
+        gravity2_sigma_deg=None if second is None else second.sigma_deg,
     )
 
 
 def fitted(
     taps: dict[Role, Taps | None],
     default_sigma: float,
+    photos: PhotoFacts,
     *,
-    sizes: dict[Role, tuple[int, int]],
-    cameras: dict[Role, Camera],
     known: KnownFit | None = None,
 ) -> tuple[SolveResult, PhotoOrder] | None:
     """The answer these taps give and whose photo was photo 1; None without one."""
-    task = problem(taps, default_sigma)
+    task = problem(taps, default_sigma, levelled=photos.levelled)
     if not task.solvable:
         return None
     try:
-        return fit(task, sizes=sizes, cameras=cameras, known=known), task.order
+        return fit(task, photos, known=known), task.order
     except SolverError:
         return None
 
@@ -289,6 +316,8 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         how="marked" if task.epipole2 is not None else "solved",
         region=ellipse,
         curve=result.conic2,
+        level=result.curve2,
+        level_halfwidth=result.curve2_halfwidth,
         candidates=_others([c.epipole2 for c in result.candidates], result.epipole2),
         focal_35mm=focal[1],
         warnings=warnings(2),

@@ -124,6 +124,15 @@ class FriendInPhoto(BaseModel):
         description="Too few landmarks for a point: your friend is on this conic "
         "(x, y, 1) C (x, y, 1)^T = 0.",
     )
+    level: list[list[tuple[float, float]]] | None = Field(
+        None,
+        description="No landmark yet, both phones' gravity: your friend is on this level "
+        "of the venue, the pieces of its curve inside your photo (px); how far either "
+        "side of it is `level_halfwidth`.",
+    )
+    level_halfwidth: float | None = Field(
+        None, description="The 95 % half-width of the band around `level`, px."
+    )
     candidates: list[tuple[float, float]] = Field(
         default_factory=list, description="Other positions that fit the taps as well."
     )

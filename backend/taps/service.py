@@ -40,8 +40,8 @@ class TapService:
         before = tap_sets(snapshot)
         now = before | {participant.role: Taps.model_validate(stored)}
         found = self.answers.solve(after, now, previous=(snapshot, before))
-        unanswered = self.answers.shown(now, None)
-        told = None if found is None else self.answers.shown(now, found)
+        unanswered = self.answers.shown(now, None, levelled=snapshot.levelled)
+        told = None if found is None else self.answers.shown(now, found, levelled=snapshot.levelled)
         version, answered = self.taps.put_taps(
             participant,
             taps,

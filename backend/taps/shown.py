@@ -34,11 +34,17 @@ class Shown:
         )
 
 
-def shown(taps: dict[Role, Taps | None], stored: StoredAnswer | None, sigma: float) -> Shown:
-    """What ``stored`` (None: no answer yet) shows, with these taps. A refusal is worded
-    again for each phone from its reason and parameters: its photo is "your photo", the
-    other "your friend's photo"."""
-    task = problems.problem(taps, sigma)
+def shown(
+    taps: dict[Role, Taps | None],
+    stored: StoredAnswer | None,
+    sigma: float,
+    *,
+    levelled: bool = False,
+) -> Shown:
+    """What ``stored`` (None: no answer yet) shows, with these taps (``levelled``: both
+    photos have gravity). A refusal is worded again for each phone from its reason and
+    parameters: its photo is "your photo", the other "your friend's photo"."""
+    task = problems.problem(taps, sigma, levelled=levelled)
     answer: Answer | None = None if stored is None else stored.answer
     error = None if stored is None else stored.error
     errors = None
@@ -48,8 +54,10 @@ def shown(taps: dict[Role, Taps | None], stored: StoredAnswer | None, sigma: flo
     return Shown(answer, errors, task.landmarks_needed(answer))
 
 
-def needed_after_photo(role: Role, theirs: dict[str, Any] | None) -> int:
+def needed_after_photo(role: Role, theirs: dict[str, Any] | None, levelled: bool) -> int:
     """Landmarks needed once ``role`` has a new photo: its taps are gone, the other phone's
-    (``theirs``, as stored) stay. A count: the taps' precision plays no part."""
+    (``theirs``, as stored) stay; ``levelled``: both photos now have gravity. A count: the
+    taps' precision plays no part."""
     kept = None if theirs is None else Taps.model_validate(theirs)
-    return problems.problem({role: None, other(role): kept}, 1.0).landmarks_needed()
+    task = problems.problem({role: None, other(role): kept}, 1.0, levelled=levelled)
+    return task.landmarks_needed()

@@ -20,6 +20,7 @@ import numpy as np
 from report import markdown_table, verdict
 
 from shared_solver import SolverError, SolveResult, solve
+from testbed.curves import distance_to
 from testbed.phones import PhoneScene
 
 from .common import SEED, Cameras, ellipse_covers, fmt, percent, percentile, solve_arguments
@@ -34,6 +35,8 @@ SOLVE_BUDGET_MS = 2.0
 
 @dataclass(frozen=True)
 class Case:
+    """A row: ``landmarks`` + e1 with ``cameras``, on the scenes of ``stream``."""
+
     label: str
     landmarks: int
     cameras: Cameras
@@ -76,24 +79,11 @@ def reading(
     return unit
 
 
-def curve_distance(pieces: list[list[tuple[float, float]]], point: np.ndarray) -> float:
-    """How far ``point`` is from the polyline pieces, px (inf when there are none)."""
-    best = math.inf
-    for piece in pieces:
-        line = np.asarray(piece)
-        if len(line) < 2:
-            continue
-        a, ab = line[:-1], np.diff(line, axis=0)
-        t = np.clip(np.einsum("ni,ni->n", point - a, ab) / np.einsum("ni,ni->n", ab, ab), 0, 1)
-        best = min(best, float(np.hypot(*(a + t[:, None] * ab - point).T).min()))
-    return best
-
-
 def graded(result: SolveResult, scene: PhoneScene, cell: Cell) -> None:
     truth = scene.epipole2
     cell.used += result.used_gravity
     if result.curve2 is not None:
-        distance = curve_distance(result.curve2, truth)
+        distance = distance_to(result.curve2, truth)
         cell.errors.append(distance)
         width = result.curve2_halfwidth
         cell.held.append(width is not None and distance <= width)

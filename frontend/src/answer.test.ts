@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { CURVE_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
+import { CURVE_TEXT, LEVEL_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
 import type { Answer, FriendInPhoto, SessionState, SolverWarning } from "./types";
 
 const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
@@ -57,6 +57,15 @@ describe("the answer on each phone", () => {
     expect(view.text).toBe(CURVE_TEXT);
     expect(view.position).toBeNull();
     expect(view.curve).toEqual([[1, 0, 0], [0, 1, 0], [0, 0, -1]]);
+  });
+
+  it("is the level from both phones' gravity, with no landmark", () => {
+    const level: [number, number][][] = [[[0, 400], [640, 380]]];
+    const view = describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level, level_halfwidth: 30 })), "joiner");
+    expect(view.kind).toBe("curve");
+    expect(view.text).toBe(LEVEL_TEXT);
+    expect(view.position).toBeNull();
+    expect(describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level })), "starter").seen).toBe(true);
   });
 
   it("is the position found, with its region, on the phone that did not mark", () => {

@@ -46,6 +46,9 @@ export interface AnswerView {
 
 export const CURVE_TEXT =
   "Your friend is somewhere on the dotted yellow curve: 1 more landmark pins it down";
+/** No landmark yet, both phones' gravity: the level of the venue the friend is on. */
+export const LEVEL_TEXT =
+  "Your friend is somewhere along the yellow band: on this level. Tap 1 landmark in both photos for the spot";
 export const FRAME_TEXT = "Your friend is inside the yellow frame marked \u201cfriend\u201d.";
 export const LIKELY_TEXT =
   "Your friend is most likely inside the yellow frame marked \u201cfriend?\u201d. Ask them to mark you as a point to be sure.";
@@ -84,7 +87,7 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     curve: mine.curve ?? null,
     drawing: mine.drawing ?? null,
     // The other phone found where this phone's owner is (not only refined its own mark).
-    seen: theirs?.how === "solved" && (theirs.friend != null || theirs.curve != null),
+    seen: theirs?.how === "solved" && (theirs.friend != null || theirs.curve != null || theirs.level != null),
   };
   const region = mine.region ?? null;
   const news = mine.how === "solved" || region !== null;
@@ -108,6 +111,7 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     return { ...base, kind: position ? "position" : "elsewhere", position, news, text, sureness };
   }
   if (!position) {
+    if (mine.level) return { ...base, kind: "curve", position: null, news, text: LEVEL_TEXT, sureness: null };
     if (mine.curve) return { ...base, kind: "curve", position: null, news, text: CURVE_TEXT, sureness: null };
     const behind = (mine.friend_h?.[2] ?? 0) < 0;
     const text = behind

@@ -15,6 +15,8 @@ export const FRIEND_COLOUR: string = palette.friend;
 export const SUSPECT_COLOUR: string = palette.suspect;
 /** Under every stroke and letter, so colours read on bright photos too. */
 export const OUTLINE_COLOUR: string = palette.outline;
+/** How much of the friend's colour a curve's band (the level from gravity) lays over the photo. */
+export const BAND_OPACITY: number = palette.band_opacity;
 
 /** The colour of landmark number `id` (from 1; the table repeats every 12). */
 export function landmarkColour(id: number): string {

@@ -24,6 +24,7 @@ from ..refusal import SolverError
 from ..result import SolveResult
 from .layout import Photo, answer_drawing
 from .palette import (
+    BAND_OPACITY,
     FRIEND_COLOUR_BGR,
     OUTLINE_COLOUR_BGR,
     SUSPECT_COLOUR_BGR,
@@ -49,8 +50,6 @@ _SHIFT = 4
 _ONE = 1 << _SHIFT
 _FONT = cv2.FONT_HERSHEY_SIMPLEX
 _AA = cv2.LINE_AA
-# How much of the friend's colour a curve's band lays over the photo.
-_BAND_OPACITY = 0.25
 
 # Draws a shape in a colour, its strokes widened by the given px (0 = as designed).
 _Shape = Callable[[Bgr, int], None]
@@ -356,7 +355,7 @@ def _draw_band(canvas: Image, polylines: Sequence[Polyline], halfwidth: float) -
     mask = np.zeros(canvas.shape[:2], np.uint8)
     cv2.polylines(mask, fixed, False, 255, max(1, round(2.0 * halfwidth)), cv2.LINE_8, _SHIFT)
     inside = mask > 0
-    blended = canvas[inside] * (1.0 - _BAND_OPACITY) + np.array(FRIEND_COLOUR_BGR) * _BAND_OPACITY
+    blended = canvas[inside] * (1.0 - BAND_OPACITY) + np.array(FRIEND_COLOUR_BGR) * BAND_OPACITY
     canvas[inside] = blended.astype(np.uint8)
 
 

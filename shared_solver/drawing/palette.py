@@ -25,6 +25,8 @@ FRIEND_COLOUR_HEX: str = _PALETTE["friend"]
 SUSPECT_COLOUR_HEX: str = _PALETTE["suspect"]
 # Outline under every stroke and letter, so colours read on bright photos too.
 OUTLINE_COLOUR_HEX: str = _PALETTE["outline"]
+# How much of the friend's colour a curve's band lays over the photo.
+BAND_OPACITY: float = _PALETTE["band_opacity"]
 
 
 def hex_to_bgr(colour: str) -> Bgr:

@@ -74,13 +74,15 @@ def turns_from_gravity(
     Returns:
         Zero, one or two turns; empty when the landmark fixes none (module docstring).
     """
-    a = level_frame(gravity2) @ np.asarray(ray2, dtype=np.float64)
-    n = level_frame(gravity1) @ np.cross(b1, ray1)
-    ax, ay, az = a.tolist()
-    nx, ny, nz = n.tolist()
+    # In plain floats: this runs for every start of every fit with gravity.
+    bx, by, bz = np.asarray(b1, dtype=np.float64).tolist()
+    px, py, pz = np.asarray(ray1, dtype=np.float64).tolist()
+    normal = (by * pz - bz * py, bz * px - bx * pz, bx * py - by * px)  # b1 x ray1
+    ax, ay, az = (level_frame(gravity2) @ np.asarray(ray2, dtype=np.float64)).tolist()
+    nx, ny, nz = (level_frame(gravity1) @ normal).tolist()
     big_a, big_b, big_c = ax * nx + ay * ny, ay * nx - ax * ny, az * nz
     radius = math.hypot(big_a, big_b)
-    scale = math.sqrt(float(a @ a) * float(n @ n))
+    scale = math.sqrt((ax * ax + ay * ay + az * az) * (nx * nx + ny * ny + nz * nz))
     if not radius > _DEGENERATE * scale:
         return []
     cosine = -big_c / radius

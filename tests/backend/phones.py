@@ -76,7 +76,13 @@ def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) 
     for phone, photo in zip((starter, joiner), photos, strict=True):
         stored = phone.upload(photo, "photo.png")
         assert stored.status_code == 200, stored.text
-        assert stored.json() == {"width": 640, "height": 480, "scale": 1.0, "lens": None}
+        assert stored.json() == {
+            "width": 640,
+            "height": 480,
+            "scale": 1.0,
+            "lens": None,
+            "gravity": None,
+        }
 
 
 def error_of(response: Any) -> str:

@@ -126,7 +126,13 @@ def ramp_kept(search: Search, answer: httpx2.Response) -> None:
 def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx2.Response:
     """y = 350 is on the photo as shown (300 x 400), not as coded (400 x 300)."""
     stored = search.starter.upload(turned_by_exif())
-    assert stored.json() == {"width": HEIGHT, "height": WIDTH, "scale": 1.0, "lens": None}
+    assert stored.json() == {
+        "width": HEIGHT,
+        "height": WIDTH,
+        "scale": 1.0,
+        "lens": None,
+        "gravity": None,
+    }
     return search.starter.tap(landmarks=[{"id": 1, "x": 250, "y": 350}], friend=[20, 390])
 
 

@@ -218,6 +218,7 @@ def check_acknowledged_writes(server: Server, phones: list[Writer]) -> None:
             "height": height,
             "scale": 1.0,
             "lens": None,
+            "gravity": None,
         }
         if found != phone.known:
             phone.stored += 1

@@ -52,7 +52,7 @@ def test_answers_from_a_known_fit_are_those_of_solving_again(
     monkeypatch.setattr(problem.KnownFit, "result", result)
     with_known = played(client, temple_photos)
     assert len(used) >= 6  # the starter's unmatched landmarks, the joiner's judged ones
-    monkeypatch.setattr(problem, "known_fit", lambda *_: None)
+    monkeypatch.setattr(problem, "known_fit", lambda *_, **__: None)
     solved_again = played(client, temple_photos)
     assert with_known == solved_again
     flagged = [shown["answer"]["in_photo"]["joiner"]["misfits"] for shown in with_known[9:]]

@@ -14,7 +14,7 @@ from backend.taps.schemas import Landmark, Mark, StoredAnswer, Taps
 from backend.taps.shown import shown
 from shared_solver import Reason, Refusal, words
 from shared_solver.errors import REFUSAL_OF_ONE_PHOTO, REFUSAL_PHOTO
-from tests.backend.test_warning_routing import CAMERAS, SIGMA, SIZES, tapped
+from tests.backend.test_warning_routing import PHOTOS, SIGMA, tapped
 
 
 def moved(taps: Taps, where: Callable[[Landmark], tuple[float, float]]) -> Taps:
@@ -48,7 +48,7 @@ def refused(taps: dict[Role, Taps | None]) -> StoredAnswer:
     """The refusal of these taps as the sessions table keeps it (read back from its JSON)."""
     task = problem.problem(taps, SIGMA)
     misfits: dict[Role, list[int]] = {role: [] for role in ROLES}
-    stored = problem.solved(task, sizes=SIZES, cameras=CAMERAS, taps=taps, misfits=misfits)
+    stored = problem.solved(task, PHOTOS, taps=taps, misfits=misfits)
     again = StoredAnswer.read(stored.as_json())
     assert again is not None
     assert again.error is not None, stored

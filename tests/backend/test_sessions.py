@@ -27,7 +27,9 @@ from shared_solver import SolveResult
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.drawing.overlay import render
 from shared_solver.drawing.shapes import AnswerDrawing
+from shared_solver.estimation.camera import focal_35mm
 from testbed.client import Phone
+from testbed.curves import distance_to
 from testbed.scenes import (
     NO_PHONES_FRIEND,
     NO_PHONES_LANDMARKS1,
@@ -266,6 +268,79 @@ def test_the_lens_a_photo_tells_reaches_the_answer(
     # Known to 2 %: the fit keeps each within a few percent of what the photo said.
     assert abs(focal["starter"] / 31 - 1) < 0.1
     assert abs(focal["joiner"] / 44 - 1) < 0.1
+
+
+def with_gravity(phone: Phone, photo: bytes, down: np.ndarray, **more: str) -> Any:
+    """Upload ``photo`` with the phone's gravity reading ``down`` (the form field three
+    times)."""
+    return phone.client.put(
+        phone.url("/photo"),
+        headers=phone.auth,
+        files={"photo": ("photo.png", photo, "image/png")},
+        data={"gravity": [f"{value:.9f}" for value in down], **more},
+    )
+
+
+def test_both_phones_gravity_gives_the_level_then_a_point(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """Both photos with the phones' gravity: the friend mark alone gives the joiner the level
+    the starter is on (a band through the truth), one landmark a point."""
+    s = scene(2, seed=30)
+    # The temple's vertical (its y axis) as down: any world direction read by both phones.
+    downs = [camera.rotation @ np.array([0.0, 1.0, 0.0]) for camera in (s.camera1, s.camera2)]
+    # The temple's long lenses as the phones' EXIF would tell them (no phone's main camera).
+    lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
+    stored = with_gravity(
+        starter, temple_photos[0], downs[0], gravity_sigma_deg="0.5", focal_35mm=lenses[0]
+    )
+    assert stored.status_code == 200, stored.text
+    assert stored.json()["gravity"]["sigma_deg"] == 0.5
+    assert np.allclose(stored.json()["gravity"]["down"], downs[0])
+    joined = with_gravity(joiner, temple_photos[1], downs[1], focal_35mm=lenses[1])
+    assert joined.json()["gravity"]["sigma_deg"] == 1.0
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["landmarks_needed"] == 1
+    assert state["answer"]["method"] == "pinhole_level"
+    seen = state["answer"]["in_photo"]["joiner"]
+    assert seen["friend"] is None
+    assert seen["level"]
+    assert seen["level_halfwidth"] > 0
+    assert seen["drawing"]["curve"]["halfwidth"] == pytest.approx(seen["level_halfwidth"], abs=0.01)
+    assert distance_to(seen["level"], s.epipole2) <= seen["level_halfwidth"]
+
+    starter.tap(landmarks=landmarks(s.landmarks1[:1]), friend=list(s.epipole1))
+    state = joiner.tap(landmarks=landmarks(s.landmarks2[:1])).json()
+    assert state["landmarks_needed"] == 0
+    assert state["answer"]["method"] == "pinhole_epipole"
+    friend = state["answer"]["in_photo"]["joiner"]["friend"]
+    assert friend is not None
+    # Exact taps; the model puts the principal point at the centre, the temple's is 19 px off.
+    assert np.hypot(*(np.array(friend) - s.epipole2)) < 60
+
+
+@pytest.mark.parametrize(
+    "fields",
+    [
+        {"gravity": ["0", "0", "0"]},
+        {"gravity": ["0", "1"]},
+        {"gravity": ["0", "1", "nan"]},
+        {"gravity": ["0", "1", "0"], "gravity_sigma_deg": "45"},
+        {"gravity_sigma_deg": "1"},
+    ],
+)
+def test_a_reading_that_is_no_direction_is_refused(
+    starter: Phone, temple_photos: tuple[bytes, bytes], fields: dict[str, Any]
+) -> None:
+    refused = starter.client.put(
+        starter.url("/photo"),
+        headers=starter.auth,
+        files={"photo": ("photo.png", temple_photos[0], "image/png")},
+        data=fields,
+    )
+    assert refused.status_code == 422
+    assert error_of(refused) == "invalid_request"
+    assert starter.state()["photos"]["starter"] is None
 
 
 def with_exif_focal(png: bytes, *, focal_35mm: int) -> bytes:
@@ -587,4 +662,5 @@ def test_the_same_photo_sent_twice_at_once_is_stored_once(
         "height": 480,
         "scale": 1.0,
         "lens": None,
+        "gravity": None,
     }

@@ -19,6 +19,8 @@ from tests.backend.test_sessions import scene
 SIGMA = 2.0
 SIZES: dict[Role, tuple[int, int]] = {"starter": (640, 480), "joiner": (640, 480)}
 CAMERAS = {role: problem.camera(None) for role in ROLES}
+# Two phone photos without gravity.
+PHOTOS = problem.PhotoFacts(SIZES, CAMERAS, dict.fromkeys(ROLES))
 # Parameters each code's sentence names (made up: only who is told is under test).
 PARAMETERS: dict[WarningCode, dict[str, Any]] = {
     WarningCode.MISTAPPED: {"landmark": 3, "distance_px": 41.0},
@@ -54,7 +56,7 @@ def every_warning() -> list[SolverWarning]:
 def told(marker: Role, warnings: list[SolverWarning]) -> dict[Role, list[SolverWarning]]:
     """What each phone is told of ``warnings`` on the answer to ``tapped(marker)``."""
     task = problem.problem(tapped(marker), SIGMA)
-    result: SolveResult = problem.fit(task, sizes=SIZES, cameras=CAMERAS)
+    result: SolveResult = problem.fit(task, PHOTOS)
     answer = problem.answer(task, result.model_copy(update={"warnings": warnings}), SIZES)
     return {role: answer.in_photo[role].warnings for role in ROLES}
 
@@ -86,7 +88,7 @@ def test_a_misfit_is_told_only_to_the_phone_that_tapped_it(marker: Role) -> None
     taps = tapped(marker)
     task = problem.problem(taps, SIGMA)
     misfits: dict[Role, list[int]] = {marker: [], other(marker): [4]}
-    stored = problem.solved(task, sizes=SIZES, cameras=CAMERAS, taps=taps, misfits=misfits)
+    stored = problem.solved(task, PHOTOS, taps=taps, misfits=misfits)
     assert stored.answer is not None
     theirs = stored.answer.in_photo[other(marker)].warnings[0]
     assert (theirs.code, theirs.landmark, theirs.photo) == (WarningCode.MISFIT, 4, 2)

@@ -15,10 +15,12 @@ import pytest
 from shared_solver import SolverError, draw_overlay, solve, words
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.estimation.camera import focal_35mm
+from testbed.curves import distance_to
 from testbed.phones import PhoneScene, phone_scene
 
 EXACT_PX = 1e-6
 DOWN = np.array([0.0, 1.0, 0.0])
+PHONES = ("phone", "phone")
 
 
 def down(scene: PhoneScene, photo: int, rng: np.random.Generator, sigma_deg: float) -> np.ndarray:
@@ -35,15 +37,12 @@ def true_cameras(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object
     )
 
 
-def distance_to(pieces: list[list[tuple[float, float]]], point: np.ndarray) -> float:
-    """How far ``point`` is from a polyline's pieces, px."""
-    best = math.inf
-    for piece in pieces:
-        a, b = np.array(piece[:-1]), np.array(piece[1:])
-        ab = b - a
-        t = np.clip(np.einsum("ni,ni->n", point - a, ab) / np.einsum("ni,ni->n", ab, ab), 0, 1)
-        best = min(best, float(np.hypot(*(a + t[:, None] * ab - point).T).min()))
-    return best
+def exif_of(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object]]:
+    """Each photo's focal length as its EXIF says it (the true one, to a whole mm)."""
+    return tuple(  # type: ignore[return-value]
+        {"kind": "known_focal", "focal_35mm": focal}
+        for focal in (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
+    )
 
 
 def solved(scene: PhoneScene, landmarks: int, rng: np.random.Generator, **options: object):
@@ -131,11 +130,7 @@ def test_the_band_holds_the_truth_about_95_percent_of_the_time():
     held, widths = [], []
     for _ in range(150):
         scene = phone_scene(rng, 1)
-        cameras = tuple(
-            {"kind": "known_focal", "focal_35mm": focal}
-            for focal in (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
-        )
-        result = solved(scene, 0, rng, sigma=3.0, gravity_deg=1.0, cameras=cameras)
+        result = solved(scene, 0, rng, sigma=3.0, gravity_deg=1.0, cameras=exif_of(scene))
         assert result.curve2_halfwidth is not None
         held.append(distance_to(result.curve2, scene.epipole2) <= result.curve2_halfwidth)
         widths.append(result.curve2_halfwidth)
@@ -150,11 +145,7 @@ def test_one_landmark_and_gravity_give_a_point_with_an_honest_region():
     errors, held = [], []
     for _ in range(100):
         scene = phone_scene(rng, 1)
-        cameras = tuple(
-            {"kind": "known_focal", "focal_35mm": focal}
-            for focal in (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
-        )
-        result = solved(scene, 1, rng, sigma=3.0, gravity_deg=1.0, cameras=cameras)
+        result = solved(scene, 1, rng, sigma=3.0, gravity_deg=1.0, cameras=exif_of(scene))
         if result.epipole2 is None:  # "not pinned down": a visibly weaker answer
             assert result.quality == "poor"
             continue
@@ -183,24 +174,11 @@ def test_gravity_sharpens_three_landmarks():
             solved(scene, 3, np.random.default_rng(seed), sigma=3.0, measured=False)
         except SolverError:  # three noisy taps on one line: refused either way
             continue
-        result = solved(
-            scene,
-            3,
-            np.random.default_rng(seed),
-            sigma=3.0,
-            gravity_deg=1.0,
-            cameras=("phone",) * 2,
-        )
-        plain = solved(
-            scene,
-            3,
-            np.random.default_rng(seed),
-            sigma=3.0,
-            gravity_deg=1.0,
-            cameras=("phone",) * 2,
-            measured=False,
-        )
-        for found, into in ((result, with_gravity), (plain, without)):
+        for measured, into in ((True, with_gravity), (False, without)):
+            taps = np.random.default_rng(seed)  # the same taps, with and without gravity
+            found = solved(
+                scene, 3, taps, sigma=3.0, gravity_deg=1.0, measured=measured, cameras=PHONES
+            )
             at = np.full(2, np.inf) if found.epipole2 is None else np.array(found.epipole2)
             into.append(float(np.hypot(*(at - scene.epipole2))))
     assert np.percentile(with_gravity, 90) < np.percentile(without, 90)

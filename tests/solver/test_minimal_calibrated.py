@@ -151,6 +151,20 @@ def assert_rotation(r: np.ndarray) -> None:
     assert abs(np.linalg.det(r) - 1.0) <= ORTHONORMAL
 
 
+def assert_one_landmark_roots(
+    s: Scene, roots: list[np.ndarray], carried: tuple[np.ndarray, np.ndarray]
+) -> None:
+    """Every root a rotation that takes ``carried[0]`` to ``carried[1]`` and fits landmark 0;
+    the true rotation is one of them, and it puts friend 1 at the exact pixel."""
+    for r in roots:
+        assert_rotation(r)
+        assert np.abs(r @ carried[0] - carried[1]).max() <= 1e-12
+        assert residuals(r, s.b1, s.rays1[:1], s.rays2[:1]).max() <= CONSTRAINT
+    error, best = nearest(roots, s.rotation)
+    assert error <= ROOT
+    assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+
+
 def assert_same_roots(found: list[np.ndarray], expected: list[np.ndarray]) -> None:
     assert len(found) == len(expected)
     for r in expected:
@@ -274,15 +288,9 @@ def test_both_true_rotation_is_one_of_exactly_two():
     for s in scenes(10):
         roots = rotations_from_both(s.b1, s.b2, s.rays1[0], s.rays2[0])
         assert len(roots) == 2
-        for r in roots:
-            assert_rotation(r)
-            assert np.abs(r @ s.b1 + s.b2).max() <= 1e-12
-            assert residuals(r, s.b1, s.rays1[:1], s.rays2[:1]).max() <= CONSTRAINT
+        assert_one_landmark_roots(s, roots, carried=(s.b1, -s.b2))
         # The two differ by a half turn about b2.
         assert np.abs(half_turn(s.b2) @ roots[0] - roots[1]).max() <= 1e-12
-        error, best = nearest(roots, s.rotation)
-        assert error <= ROOT
-        assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
 
 
 def test_both_invariant_under_rotating_frame_one():
@@ -310,13 +318,7 @@ def test_gravity_true_rotation_is_a_root_and_every_root_fits():
     for s in scenes(20):
         roots = rotations_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
         assert 1 <= len(roots) <= 2
-        for r in roots:
-            assert_rotation(r)
-            assert np.abs(r @ s.gravity1 - s.gravity2).max() <= 1e-12
-            assert residuals(r, s.b1, s.rays1[:1], s.rays2[:1]).max() <= CONSTRAINT
-        error, best = nearest(roots, s.rotation)
-        assert error <= ROOT
-        assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+        assert_one_landmark_roots(s, roots, carried=(s.gravity1, s.gravity2))
 
 
 def test_gravity_invariant_under_rotating_frame_one_and_scaling_rays():

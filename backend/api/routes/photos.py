@@ -10,6 +10,7 @@ from fastapi.responses import Response
 from backend.api.deps import ParticipantDep, PhotosDep, ViewerDep
 from backend.api.params import RoleParam
 from backend.api.responses import errors, json_answer
+from backend.photos.gravity import gravity as read_gravity
 from backend.photos.lens import LensFacts
 from backend.photos.schemas import PhotoStored
 
@@ -35,6 +36,24 @@ def put_photo(
     make: _Words = None,
     model: _Words = None,
     digital_zoom: Annotated[float | None, Form(ge=0, le=1000, examples=[1.0])] = None,
+    gravity: Annotated[
+        list[float] | None,
+        Form(
+            min_length=3,
+            max_length=3,
+            description="Which way was down at the shutter (the app's own camera): x, y, z "
+            "in the stored photo's camera frame (x right along its rows, y down its "
+            "columns, z out of the lens), the field sent three times; any length.",
+            examples=[[0.02, 0.999, 0.04]],
+        ),
+    ] = None,
+    gravity_sigma_deg: Annotated[
+        float | None,
+        Form(
+            description="The reading's standard deviation per axis, degrees (default 1).",
+            examples=[1.0],
+        ),
+    ] = None,
 ) -> Response:
     """Upload (or replace) your photo. It is stored upright, without metadata, downscaled to
     2560 px on the long side; taps are in the stored photo's pixels. Replacing it clears
@@ -43,9 +62,11 @@ def put_photo(
     The lens: read from the photo's EXIF when it has it; else from the EXIF fields the phone
     read before shrinking it (``focal_35mm``: FocalLengthIn35mmFilm, ``focal_mm``:
     FocalLength, ``make``, ``model``, ``digital_zoom``: DigitalZoomRatio). Only the focal
-    length is kept."""
+    length is kept. ``gravity``: which way was down at the shutter, as the phone read it;
+    with both photos' the friend's level needs no landmark and a point one."""
     told = LensFacts(focal_35mm, focal_mm, make, model, digital_zoom)
-    return json_answer(photos.put(participant, photo.file.read(), told))
+    reading = read_gravity(gravity, gravity_sigma_deg)
+    return json_answer(photos.put(participant, photo.file.read(), told, reading))
 
 
 @router.get(

@@ -12,7 +12,7 @@
  */
 
 import type { AnswerView } from "../answer";
-import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
+import { BAND_OPACITY, FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
 import type { ArrowShape, CurveShape, FrameShape } from "../types";
 import { toScreen, type Point, type Size, type ViewTransform } from "../viewTransform";
 
@@ -151,12 +151,27 @@ function Outline({ lines, transform: t }: { lines: ReadonlyArray<ReadonlyArray<r
   );
 }
 
-/** The curve the friend is on, dotted: a round dot every {@link CURVE_STEP_CSS} screen px. */
+/** The curve the friend is on, dotted: a round dot every {@link CURVE_STEP_CSS} screen px;
+ * in its band when it has one (the level from gravity: the band is in photo px, so it grows
+ * with the zoom, as the overlay's does). */
 function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTransform }) {
   const path = pathOf(curve.polylines, (p) => toScreen(t, p));
   const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
+  const band = curve.halfwidth ?? null;
   return (
-    <g data-testid="answer-curve" data-pieces={String(curve.polylines.length)}>
+    <g data-testid="answer-curve" data-pieces={String(curve.polylines.length)} data-halfwidth={band === null ? undefined : String(band)}>
+      {band !== null && (
+        <path
+          data-testid="answer-band"
+          d={path}
+          fill="none"
+          stroke={FRIEND_COLOUR}
+          stroke-opacity={BAND_OPACITY}
+          stroke-width={2 * band * t.scale}
+          stroke-linecap="butt"
+          stroke-linejoin="round"
+        />
+      )}
       <path d={path} {...dots} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} />
       <path d={path} {...dots} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} />
     </g>

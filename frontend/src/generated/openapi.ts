@@ -190,7 +190,8 @@ export interface paths {
          *     The lens: read from the photo's EXIF when it has it; else from the EXIF fields the phone
          *     read before shrinking it (``focal_35mm``: FocalLengthIn35mmFilm, ``focal_mm``:
          *     FocalLength, ``make``, ``model``, ``digital_zoom``: DigitalZoomRatio). Only the focal
-         *     length is kept.
+         *     length is kept. ``gravity``: which way was down at the shutter, as the phone read it;
+         *     with both photos' the friend's level needs no landmark and a point one.
          */
         put: operations["put_photo_api_sessions__session_id__photo_put"];
         post?: never;
@@ -484,6 +485,22 @@ export interface components {
              * @example 26
              */
             focal_mm?: number | null;
+            /**
+             * Gravity
+             * @description Which way was down at the shutter (the app's own camera): x, y, z in the stored photo's camera frame (x right along its rows, y down its columns, z out of the lens), the field sent three times; any length.
+             * @example [
+             *       0.02,
+             *       0.999,
+             *       0.04
+             *     ]
+             */
+            gravity?: number[] | null;
+            /**
+             * Gravity Sigma Deg
+             * @description The reading's standard deviation per axis, degrees (default 1).
+             * @example 1
+             */
+            gravity_sigma_deg?: number | null;
             /**
              * Make
              * @example Google
@@ -935,6 +952,19 @@ export interface components {
              */
             how: "marked" | "on_line" | "solved";
             /**
+             * Level
+             * @description No landmark yet, both phones' gravity: your friend is on this level of the venue, the pieces of its curve inside your photo (px); how far either side of it is `level_halfwidth`.
+             */
+            level?: [
+                number,
+                number
+            ][][] | null;
+            /**
+             * Level Halfwidth
+             * @description The 95 % half-width of the band around `level`, px.
+             */
+            level_halfwidth?: number | null;
+            /**
              * Misfits
              * @description Your landmarks tapped far outside their band: they do not fit the others (check them).
              */
@@ -963,6 +993,31 @@ export interface components {
              * @description How precise the line is across it: a standard deviation, px.
              */
             sigma?: number | null;
+        };
+        /**
+         * GravityInfo
+         * @description Which way was down when the photo was taken, as its phone read it at the shutter.
+         */
+        GravityInfo: {
+            /**
+             * Down
+             * @description Unit vector towards the ground in the photo's camera frame: x right along its rows, y down its columns, z out of the lens.
+             * @example [
+             *       0.02,
+             *       0.999,
+             *       0.04
+             *     ]
+             */
+            down: [
+                number,
+                number,
+                number
+            ];
+            /**
+             * Sigma Deg
+             * @description The reading's standard deviation per axis, deg.
+             */
+            sigma_deg: number;
         };
         /** JoinRequest */
         JoinRequest: {
@@ -1195,6 +1250,8 @@ export interface components {
         };
         /** PhotoStored */
         PhotoStored: {
+            /** @description Which way was down at the shutter, when the phone read it (the app's own camera): with both photos' the friend's level needs no landmark. */
+            gravity?: components["schemas"]["GravityInfo"] | null;
             /**
              * Height
              * @example 1920

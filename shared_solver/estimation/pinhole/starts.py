@@ -67,7 +67,9 @@ def marked_starts(model: PinholeModel) -> list[tuple[float, Poses]]:
     taps = model.taps
     singles = _spread_indices(taps, 1, _SUBSETS) if taps.epipole2 is not None else []
     triples = _spread_indices(taps, 3, _SUBSETS_TRIED) if len(taps) >= 3 else []
-    levelled = gravity_poses(model, _GRAVITY_SUBSETS)
+    # Gravity's own poses only where no set of three gives any: from three landmarks they
+    # changed no answer (the same 300 phone searches to the pixel) and tripled the time.
+    levelled = gravity_poses(model, _GRAVITY_SUBSETS) if len(taps) < 3 else None
     # The best-spread sets of three, skipping those that noise leaves with no real pose.
     found: list[Poses] = []
     for triple in triples:
