@@ -290,7 +290,8 @@ def report(results: Results) -> str:
         "half-width is also given as an angle of photo 2's view. Otherwise a point, graded "
         "as in section 1 (failures count as infinite error). *Answers using gravity*: those "
         "whose readings were not dropped as contradicting the landmarks (`used_gravity`). "
-        "Time: each call once, `time.perf_counter`, the median over trials.",
+        "Time: each call once, `time.perf_counter`, the median over trials (for scale "
+        "only: section 7 times the gravity cases against the budget, interleaved).",
         gravity.gravity_table(results.gravity_table),
         "## Targets",
         "\n".join(f"- {line}" for _, line in targets),

@@ -39,6 +39,7 @@ from .common import (
     solve_arguments,
     tap_rng,
 )
+from .gravity import reading
 from .phones import MIXED_SIGMAS, TARGET_SIGMA
 
 FACING_SIGMA = 1.0
@@ -74,6 +75,7 @@ class SolveCase:
     cameras: Cameras = "unknown"
     mixed: bool = False
     zoom2: float = 1.0
+    gravity_deg: float | None = None  # both phones' gravity, read with this noise
 
 
 PHONE_CASES = (
@@ -87,6 +89,11 @@ PHONE_CASES = (
     SolveCase("phone prior 7, nothing marked", 7, "none", "phone"),
     SolveCase("phone prior 5+e1, mixed precision", 5, "e1", "phone", mixed=True),
     SolveCase("phone prior 5+e1, photo 2 zoomed 2x", 5, "e1", "phone", zoom2=2.0),
+    SolveCase("EXIF focal 1+e1, gravity 1 deg", 1, "e1", "exif", gravity_deg=1.0),
+    *(
+        SolveCase(f"phone prior {n}+e1, gravity 1 deg", n, "e1", "phone", gravity_deg=1.0)
+        for n in (0, 2, 3, 5)
+    ),
 )
 FACING_LANDMARKS = (5, 6, 8)
 
@@ -125,6 +132,13 @@ def phone_call(case: SolveCase, given: PhoneInput) -> Callable[[], object]:
         cameras=case.cameras,
         precisions=precisions,
     )
+    if case.gravity_deg is not None:
+        rng = np.random.default_rng(int(1000 * case.gravity_deg))  # the same on every run
+        options |= {
+            "gravity1": reading(scene, 1, case.gravity_deg, rng),
+            "gravity2": reading(scene, 2, case.gravity_deg, rng),
+            "gravity_sigma_deg": case.gravity_deg,
+        }
     return lambda: solve(*points, **options)
 
 
