@@ -26,7 +26,7 @@
 
 export type Vector3 = readonly [number, number, number];
 
-/** One accelerometer sample: `at` in ms (event.timeStamp), `reading` in m/s^2, device frame. */
+/** One accelerometer sample: `at` in ms (performance.now()), `reading` in m/s^2, device frame. */
 export interface MotionSample {
   at: number;
   reading: Vector3;
@@ -35,11 +35,15 @@ export interface MotionSample {
 /** Standard gravity (m/s^2). */
 export const GRAVITY = 9.80665;
 /** The samples averaged: those of the last STILL_WINDOW_MS before the shutter. */
-export const STILL_WINDOW_MS = 400;
-/** Fewer samples than this (or spanning less than half the window) say nothing. */
+export const STILL_WINDOW_MS = 500;
+/**
+ * Fewer samples than MIN_SAMPLES in the window, or spanning less than MIN_SPAN_MS of it, say
+ * nothing (a sensor that stopped: its newest sample is then over 300 ms old). Not stricter: a
+ * busy page (the camera starting, a tap being handled) holds motion events back by 100-350 ms
+ * (seen in WebKitGTK, tests/e2e/test_in_app_camera.py).
+ */
 export const MIN_SAMPLES = 5;
-/** A sample older than this at the shutter means the sensor stopped: no reading. */
-export const STALE_MS = 200;
+export const MIN_SPAN_MS = 200;
 /** The samples' spread (RMS angle from their mean, degrees) beyond which the phone moves. */
 export const MOVING_SPREAD_DEG = 2;
 /** How far |a| may stray from gravity (m/s^2) before it says the hand accelerates. */
@@ -94,7 +98,7 @@ export function stillGravity(samples: readonly MotionSample[], now: number, scre
   const first = recent[0];
   const last = recent[recent.length - 1];
   if (!first || !last || recent.length < MIN_SAMPLES) return { kind: "none" };
-  if (now - last.at > STALE_MS || last.at - first.at < STILL_WINDOW_MS / 2) return { kind: "none" };
+  if (last.at - first.at < MIN_SPAN_MS) return { kind: "none" };
 
   const sizes = recent.map((s) => norm(s.reading));
   if (sizes.some((size) => Math.abs(size - GRAVITY) > MOVING_ACCELERATION)) return { kind: "moving" };
