@@ -1,8 +1,9 @@
 """The in-app camera, in each engine: the phone is held still at a known tilt, the person
 opens the camera in the page and takes the photo; the photo goes with which way is down in
-its frame (``gravity``, three times, x, y, z) and the reading's sigma. Where the phone asks
-for motion access (iOS) and the person refuses, the photo goes without them and the person
-is told. Chromium's fake camera and emulated sensors, WebKit's mock camera and dispatched
+its frame (``gravity``, three times, x, y, z) and the reading's sigma. A camera refused is
+said in plain words beside the other two choices; where the phone asks for motion access
+(iOS) it is asked once, and refused, the photo goes without down and the person is told. A
+phone that moves at the shutter sends none: frontend/src/camera/motion.test.ts. Chromium's fake camera and emulated sensors, WebKit's mock camera and dispatched
 motion events: docs/browsers.md.
 """
 
@@ -49,6 +50,16 @@ SPY = """() => {
 ASK_MOTION = """(answer) => {
   window.DeviceMotionEvent = window.DeviceMotionEvent || function () {};
   DeviceMotionEvent.requestPermission = () => Promise.resolve(answer);
+}"""
+
+
+# The person refuses the camera, once.
+REFUSE_CAMERA_ONCE = """() => {
+  const open = navigator.mediaDevices.getUserMedia.bind(navigator.mediaDevices);
+  navigator.mediaDevices.getUserMedia = (constraints) => {
+    navigator.mediaDevices.getUserMedia = open;
+    return Promise.reject(new DOMException("Permission denied", "NotAllowedError"));
+  };
 }"""
 
 
@@ -106,13 +117,22 @@ def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) 
     expect(pixel.get_by_test_id("in-app-camera")).to_have_count(0)
 
 
-def test_refused_motion_access_the_photo_goes_without_down(server: str, iphone: Phone) -> None:
+def test_refused_camera_and_motion_access(server: str, iphone: Phone) -> None:
     joined(server, iphone)
     iphone.hold_still(READING)
     iphone.evaluate(ASK_MOTION, "denied")
+    iphone.evaluate(REFUSE_CAMERA_ONCE)
     iphone.get_by_test_id("open-camera").tap()
     iphone.get_by_test_id("motion-allow").tap()
+    # The camera refused: said in plain words, the phone's camera app and the gallery there.
+    expect(iphone.get_by_test_id("camera-problem")).to_contain_text("camera was not allowed")
+    expect(iphone.locator('label[for="photo-input"]')).to_be_visible()
+    expect(iphone.locator('label[for="photo-pick"]')).to_be_visible()
+    # Again: the motion question is not asked twice; its refusal is told, and the photo goes
+    # without down.
+    iphone.get_by_test_id("open-camera").tap()
     expect(iphone.get_by_test_id("camera-note")).to_contain_text("Motion access is off")
+    expect(iphone.get_by_test_id("motion-question")).to_have_count(0)
     form = take_photo(iphone)
     assert form["gravity"] == [], form
     assert form["sigma"] is None, form
