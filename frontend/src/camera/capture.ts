@@ -22,7 +22,9 @@ export async function takePicture(video: HTMLVideoElement, track: MediaStreamTra
     try {
       const photo = await new ImageCapture(track).takePhoto();
       const size = await browserDecoder().uprightSize(photo);
-      if (size && isUpright(size, shown)) return new File([photo], "camera.jpg", { type: photo.type });
+      // A PNG from some cameras (Chromium's fake one): shrunk to a JPEG like any photo.
+      const kind = photo.type.split("/")[1] || "jpeg";
+      if (size && isUpright(size, shown)) return new File([photo], `camera.${kind}`, { type: photo.type });
     } catch {
       // Some cameras refuse takePhoto while streaming: the frame will do.
     }
@@ -37,7 +39,7 @@ function frame(video: HTMLVideoElement, size: { width: number; height: number })
   canvas.getContext("2d")?.drawImage(video, 0, 0, size.width, size.height);
   return new Promise((resolve, reject) =>
     canvas.toBlob(
-      (blob) => (blob ? resolve(new File([blob], "camera.jpg", { type: "image/jpeg" })) : reject(new Error("no frame"))),
+      (blob) => (blob ? resolve(new File([blob], "camera.jpeg", { type: "image/jpeg" })) : reject(new Error("no frame"))),
       "image/jpeg",
       JPEG_QUALITY,
     ),
