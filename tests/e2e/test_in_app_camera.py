@@ -3,8 +3,9 @@ opens the camera in the page and takes the photo; the photo goes with which way 
 its frame (``gravity``, three times, x, y, z) and the reading's sigma. A camera refused is
 said in plain words beside the other two choices; where the phone asks for motion access
 (iOS) it is asked once, and refused, the photo goes without down and the person is told. A
-phone that moves at the shutter sends none: frontend/src/camera/motion.test.ts. Chromium's fake camera and emulated sensors, WebKit's mock camera and dispatched
-motion events: docs/browsers.md.
+phone that moves at the shutter sends none: frontend/src/camera/motion.test.ts. Chromium's
+fake camera and emulated sensors, WebKit's mock camera and dispatched motion events:
+docs/browsers.md.
 """
 
 from __future__ import annotations
