@@ -12,7 +12,7 @@ import type {
   Credentials,
   Joined,
   LandmarkSuggestion,
-  LensFields,
+  PhotoFields,
   PhotoStored,
   Role,
   SessionState,
@@ -140,8 +140,9 @@ export function eventsUrl({ session_id, token }: Credentials): string {
 }
 
 /**
- * PUT the photo, with the lens its original's EXIF told (`lens`: form fields beside the
- * photo), with XMLHttpRequest, which (unlike fetch, and so openapi-fetch) reports upload
+ * PUT the photo, with the lens its original's EXIF told and what the in-app camera read at
+ * the shutter (`fields`: form fields beside the photo; a list goes as the same field once per
+ * item, in order), with XMLHttpRequest, which (unlike fetch, and so openapi-fetch) reports upload
  * progress: `onProgress` gets 0..1. Hence our own request here; its refusals are the same
  * ApiErrors.
  */
@@ -149,7 +150,7 @@ export function uploadPhoto(
   { session_id, token }: Credentials,
   body: Blob,
   name: string,
-  lens: LensFields,
+  fields: PhotoFields,
   onProgress: (fraction: number) => void,
 ): Promise<PhotoStored> {
   return new Promise((resolve, reject) => {
@@ -181,8 +182,9 @@ export function uploadPhoto(
     };
     const form = new FormData();
     form.append("photo", body, name);
-    for (const [field, value] of Object.entries(lens)) {
-      if (value !== undefined && value !== null) form.append(field, String(value));
+    for (const [field, value] of Object.entries(fields)) {
+      const values: unknown[] = Array.isArray(value) ? value : [value];
+      for (const item of values) if (item !== undefined && item !== null) form.append(field, String(item));
     }
     request.send(form);
   });

@@ -36,11 +36,25 @@ export type EventData = Schemas["SessionEvents"];
 export type Role = SessionState["you"];
 const ROLES: readonly Role[] = ["starter", "joiner"];
 
+/**
+ * What the in-app camera read of the phone at the shutter (camera/gravity.ts), sent with the
+ * photo: which way is down in the stored photo's camera frame (x right, y down the photo, z
+ * into the scene; `gravity` goes as the same form field three times, x, y, z) and the
+ * reading's standard deviation per axis in degrees.
+ */
+export interface SensorFields {
+  gravity: readonly [number, number, number];
+  gravity_sigma_deg: number;
+}
+
 /** What the phone read of its photo's EXIF lens, sent with the photo (all optional). */
 export type LensFields = Omit<
   paths["/api/sessions/{session_id}/photo"]["put"]["requestBody"]["content"]["multipart/form-data"],
-  "photo"
+  "photo" | keyof SensorFields
 >;
+
+/** The form fields beside the photo: its lens and, from the in-app camera, the sensors. */
+export type PhotoFields = LensFields & Partial<SensorFields>;
 
 /** What a phone keeps to come back to its session after a reload. */
 export interface Credentials {

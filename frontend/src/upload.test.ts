@@ -1,6 +1,7 @@
-import { describe, expect, it } from "vitest";
+import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import type { TapSet } from "./landmarks";
-import { localPhoto, scaleTaps } from "./upload";
+import type { Credentials, SensorFields } from "./types";
+import { localPhoto, scaleTaps, sendPhoto } from "./upload";
 
 const TAPS: TapSet = {
   landmarks: [{ id: 1, x: 100, y: 50, sigma: 2 }],
@@ -43,5 +44,78 @@ describe("taps moved to the stored photo's size", () => {
     if (!line) return;
     expect(Math.hypot(line.a, line.b)).toBeCloseTo(1);
     for (const [x, y] of [[50, 0], [0, 25]] as const) expect(line.a * x + line.b * y + line.c).toBeCloseTo(0);
+  });
+});
+
+describe("the photo's form fields", () => {
+  const PHONE: Credentials = { session_id: "s1", token: "t1", role: "starter" };
+  const PREPARED = { body: new Blob(["jpeg"], { type: "image/jpeg" }), size: { width: 4, height: 3 }, name: "photo.jpg" };
+  const SENSORS: SensorFields = { gravity: [0.1, 0.98, -0.2], gravity_sigma_deg: 1.3 };
+  let sent: FormData[];
+  /** The status of each request in turn (then 200). */
+  let statuses: number[];
+
+  /** XMLHttpRequest as uploadPhoto uses it: the form is kept, the answer comes at once. */
+  class FakeRequest {
+    status = 0;
+    responseText = "";
+    responseType = "";
+    timeout = 0;
+    upload: { onprogress: ((event: ProgressEvent) => void) | null } = { onprogress: null };
+    onload: (() => void) | null = null;
+    onerror: (() => void) | null = null;
+    ontimeout: (() => void) | null = null;
+    onabort: (() => void) | null = null;
+    open(): void {}
+    setRequestHeader(): void {}
+    send(form: FormData): void {
+      sent.push(form);
+      this.status = statuses.shift() ?? 200;
+      const ok = this.status === 200;
+      this.responseText = JSON.stringify(
+        ok ? { width: 4, height: 3 } : { error: { code: "invalid_request", message: "No such lens." } },
+      );
+      queueMicrotask(() => this.onload?.());
+    }
+  }
+
+  beforeEach(() => {
+    sent = [];
+    statuses = [];
+    vi.stubGlobal("XMLHttpRequest", FakeRequest);
+  });
+
+  afterEach(() => vi.unstubAllGlobals());
+
+  it("sends down as the same field three times, x, y, z, with its sigma, beside the lens", async () => {
+    await sendPhoto(PHONE, PREPARED, { focal_35mm: 26 }, SENSORS, () => {});
+    const [form] = sent;
+    expect(form?.getAll("gravity")).toEqual(["0.1", "0.98", "-0.2"]);
+    expect(form?.get("gravity_sigma_deg")).toBe("1.3");
+    expect(form?.get("focal_35mm")).toBe("26");
+    expect(form?.get("photo")).toBeInstanceOf(Blob);
+  });
+
+  it("sends no sensor fields for a photo of the phone's camera app or the gallery", async () => {
+    await sendPhoto(PHONE, PREPARED, { focal_35mm: 26 }, null, () => {});
+    expect(sent).toHaveLength(1);
+    expect(sent[0]?.has("gravity")).toBe(false);
+    expect(sent[0]?.has("gravity_sigma_deg")).toBe(false);
+  });
+
+  it("refused, sends the photo again without the sensors, then without the lens", async () => {
+    statuses = [422, 422];
+    await sendPhoto(PHONE, PREPARED, { focal_35mm: 26 }, SENSORS, () => {});
+    expect(sent.map((form) => [form.has("gravity"), form.has("focal_35mm"), form.has("photo")])).toEqual([
+      [true, true, true],
+      [false, true, true],
+      [false, false, true],
+    ]);
+  });
+
+  it("refused with nothing left to leave out, says so", async () => {
+    statuses = [422];
+    await expect(sendPhoto(PHONE, PREPARED, {}, null, () => {})).rejects.toMatchObject({ status: 422 });
+    expect(sent).toHaveLength(1);
   });
 });

@@ -14,7 +14,7 @@ import { ApiError, isRetryable, uploadPhoto } from "./api";
 import type { PreparedPhoto } from "./downscale";
 import type { FriendLine, TapSet } from "./landmarks";
 import { backoffDelay, withRetry } from "./reconnect";
-import type { Credentials, LensFields, PhotoStored } from "./types";
+import type { Credentials, LensFields, PhotoFields, PhotoStored, SensorFields } from "./types";
 import type { Size } from "./viewTransform";
 
 /** What the phone shows as its photo: the stored one, or its own copy still on its way. */
@@ -39,29 +39,36 @@ export function localPhoto(prepared: PreparedPhoto, key: string): ShownPhoto | n
 const UPLOAD_RETRIES = 3;
 
 /**
- * PUT the photo with its lens, retrying a lost connection with backoff. EXIF the server will
- * not take (a lens of 65535 mm, say) must not cost the photo: it goes again without, and the
- * server assumes a phone's camera.
+ * PUT the photo with its lens and the in-app camera's sensors (or null), retrying a lost
+ * connection with backoff. Fields the server will not take (a lens of 65535 mm, say, or a
+ * gravity of no length) must not cost the photo: refused (422), it goes again without
+ * the sensors, then without the lens too, and the server assumes a phone's camera.
  */
 export async function sendPhoto(
   credentials: Credentials,
   prepared: PreparedPhoto,
   lens: LensFields,
+  sensors: SensorFields | null,
   onProgress: (fraction: number) => void,
 ): Promise<PhotoStored> {
-  const send = (fields: LensFields): Promise<PhotoStored> =>
+  const send = (fields: PhotoFields): Promise<PhotoStored> =>
     withRetry(() => uploadPhoto(credentials, prepared.body, prepared.name, fields, onProgress), {
       retries: UPLOAD_RETRIES,
       isRetryable,
       delay: (n) => backoffDelay(n, { baseMs: 1500 }),
     });
-  try {
-    return await send(lens);
-  } catch (error) {
-    const lensRefused = error instanceof ApiError && error.status === 422;
-    if (lensRefused && Object.keys(lens).length > 0) return send({});
-    throw error;
+  const attempts: PhotoFields[] = [...(sensors ? [{ ...lens, ...sensors }] : []), lens];
+  if (Object.keys(lens).length > 0) attempts.push({});
+  let refusal: unknown;
+  for (const fields of attempts) {
+    try {
+      return await send(fields);
+    } catch (error) {
+      if (!(error instanceof ApiError && error.status === 422)) throw error;
+      refusal = error;
+    }
   }
+  throw refusal;
 }
 
 /**

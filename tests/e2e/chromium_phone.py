@@ -28,6 +28,7 @@ class ChromiumPhone(Phone):
         self._page = self._context.new_page()
         self._errors: list[str] = []
         self._touch: CDPSession | None = None
+        self._sensors: CDPSession | None = None
         self._page.on(
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
@@ -85,6 +86,20 @@ class ChromiumPhone(Phone):
 
     def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
         self._handle(steps).set_input_files(path)
+
+    def hold_still(self, acceleration: tuple[float, float, float]) -> None:
+        # Chromium's DeviceMotionEvent reads three sensors; each is overridden (the DevTools
+        # protocol's sensor emulation), the still phone's linear acceleration and turn zero.
+        # Its motion events then come every 16 ms, their readings rounded to 0.1 m/s^2.
+        self._context.grant_permissions(["accelerometer", "gyroscope"])
+        self._sensors = self._sensors or self._context.new_cdp_session(self._page)
+        still = (0.0, 0.0, 0.0)
+        readings = {"accelerometer": acceleration, "linear-acceleration": still, "gyroscope": still}
+        for sensor, (x, y, z) in readings.items():
+            enable = {"enabled": True, "type": sensor}
+            self._sensors.send("Emulation.setSensorOverrideEnabled", enable)
+            reading = {"type": sensor, "reading": {"xyz": {"x": x, "y": y, "z": z}}}
+            self._sensors.send("Emulation.setSensorOverrideReadings", reading)
 
     def _handle(self, steps: tuple[Step, ...]) -> ElementHandle:
         handle = self._page.evaluate_handle(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))

@@ -25,6 +25,8 @@ ROOT = Path(__file__).parents[2]
 # A venue-like name for loopback (browsers treat "localhost" and 127.0.0.1 as secure even
 # over plain HTTP; a phone on the LAN gets no such favour): tests/e2e/test_https.py.
 VENUE_NAME = "--host-resolver-rules=MAP buddy.test 127.0.0.1"
+# The in-app camera: Chromium's fake camera (a test pattern) and no permission prompt.
+FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream")
 SCREENSHOTS = ROOT / "artifacts" / "screenshots"
 ENGINES = ("chromium", "webkit")
 
@@ -47,7 +49,7 @@ def playwright() -> Iterator[Playwright]:
 @pytest.fixture(scope="session")
 def browser(playwright: Playwright) -> Iterator[Browser]:
     assert (ROOT / "frontend" / "dist" / "index.html").is_file(), "build the app: make test does"
-    launched = chromium.launch(playwright, (VENUE_NAME,))
+    launched = chromium.launch(playwright, (VENUE_NAME, *FAKE_CAMERA))
     yield launched
     launched.close()
 

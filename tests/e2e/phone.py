@@ -180,6 +180,12 @@ class Phone(ABC):
     def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
         """Choose ``path`` in the file input ``steps`` find."""
 
+    @abstractmethod
+    def hold_still(self, acceleration: tuple[float, float, float]) -> None:
+        """The phone held still from now on: its accelerometer reads ``acceleration`` (m/s^2,
+        the device frame of DeviceMotionEvent's ``accelerationIncludingGravity``) on every
+        motion event. Call it before the page listens (before the camera opens)."""
+
     # --- written once -------------------------------------------------------------------
 
     def get_by_test_id(self, test_id: str) -> Element:

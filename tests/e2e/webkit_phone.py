@@ -109,6 +109,24 @@ FINGERS = r"""([kind, points]) => {
 }"""
 
 
+# A still phone's accelerometer, as a phone's browser reports it: a motion event every 16 ms
+# on the window, until the page goes. WebKitGTK 2.50 has neither a motion sensor nor
+# DeviceMotionEvent (iOS's WebKit has both): the event is then a plain one with the same field.
+MOTION = r"""([x, y, z]) => {
+  const reading = { x, y, z };
+  const native = () =>
+    typeof DeviceMotionEvent === "function" && DeviceMotionEvent.prototype instanceof Event;
+  clearInterval(window.__motion);
+  window.__motion = setInterval(() => {
+    const init = { accelerationIncludingGravity: reading, interval: 16 };
+    const event = native()
+      ? new DeviceMotionEvent("devicemotion", init)
+      : Object.assign(new Event("devicemotion"), init);
+    window.dispatchEvent(event);
+  }, 16);
+}"""
+
+
 @dataclass(frozen=True)
 class Screen:
     """A phone's screen in CSS px: the page's viewport (the screen less the browser's bars),
@@ -169,6 +187,9 @@ class WebKitPhone(Phone):
         options.binary_location = MINIBROWSERS[0]
         options.add_argument("--automation")
         options.add_argument("--full-screen")  # no toolbar: the page gets the whole window
+        # getUserMedia with WebKit's mock cameras (the in-app camera, test_in_app_camera.py).
+        options.add_argument("--enable-media-stream=true")
+        options.add_argument("--enable-mock-capture-devices=true")
         service = Service(
             executable_path=WEBKIT_DRIVER,
             env=environment,
@@ -266,6 +287,9 @@ class WebKitPhone(Phone):
 
     def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
         self._element(steps).send_keys(str(path))
+
+    def hold_still(self, acceleration: tuple[float, float, float]) -> None:
+        self.evaluate(MOTION, list(acceleration))
 
     def _element(self, steps: tuple[Step, ...]) -> WebElement:
         element = self.evaluate(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))

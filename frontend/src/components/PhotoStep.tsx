@@ -1,6 +1,8 @@
 /** Taking (or picking) the photo of the other side, and sending it. */
 
 import type { ComponentChildren } from "preact";
+import { useState } from "preact/hooks";
+import { InAppCamera } from "../camera/InAppCamera";
 import type { SessionController, SessionView } from "../session";
 import { CameraIcon } from "./icons";
 
@@ -53,6 +55,8 @@ interface Props {
 
 export function PhotoStep({ controller, view, top }: Props) {
   const busy = view.upload.phase === "preparing" || view.upload.phase === "uploading";
+  const [camera, setCamera] = useState<"closed" | "open">("closed");
+  const [cameraProblem, setCameraProblem] = useState<string | null>(null);
   return (
     <main class="screen session photo-step">
       {top}
@@ -68,13 +72,42 @@ export function PhotoStep({ controller, view, top }: Props) {
       </section>
       <footer class="bottom-actions">
         <UploadStatus controller={controller} view={view} />
+        {cameraProblem && (
+          <p class="error" data-testid="camera-problem" role="alert">
+            {cameraProblem}
+          </p>
+        )}
         <label class={`button primary huge ${busy ? "disabled" : ""}`} for="photo-input">
           {view.upload.phase === "failed" && !view.upload.retryable ? "Take another photo" : "Take photo"}
         </label>
         <label class={`button secondary wide ${busy ? "disabled" : ""}`} for="photo-pick">
           Choose from gallery
         </label>
+        <button
+          type="button"
+          class="button secondary wide"
+          data-testid="open-camera"
+          disabled={busy}
+          onClick={() => {
+            setCameraProblem(null);
+            setCamera("open");
+          }}
+        >
+          In-app camera: knows which way is down
+        </button>
       </footer>
+      {camera === "open" && (
+        <InAppCamera
+          onPhoto={(file, sensors) => {
+            setCamera("closed");
+            void controller.photo.choose(file, sensors);
+          }}
+          onClose={(problem) => {
+            setCamera("closed");
+            setCameraProblem(problem);
+          }}
+        />
+      )}
     </main>
   );
 }

@@ -9,7 +9,7 @@ import { browserDecoder, preparePhoto, type PreparedPhoto } from "../downscale";
 import { fromServerTaps, newEditor, toServerTaps } from "../landmarks";
 import { readLens } from "../lens";
 import { saveDraft } from "../storage";
-import type { LensFields } from "../types";
+import type { LensFields, SensorFields } from "../types";
 import { localPhoto, scaleTaps, sendPhoto, type ShownPhoto } from "../upload";
 import type { SharedParts } from "./parts";
 import { IDLE_UPLOAD, startingMode, type SessionView, type ViewStore } from "./view";
@@ -20,7 +20,7 @@ export interface PhotoParts extends SharedParts {
 }
 
 export class PhotoUpload {
-  private prepared: (PreparedPhoto & { lens: LensFields }) | null = null;
+  private prepared: (PreparedPhoto & { lens: LensFields; sensors: SensorFields | null }) | null = null;
   /** What was on screen before a new photo was shown: back to it if that photo is refused. */
   private before: Pick<SessionView, "photo" | "editor" | "unseen" | "mode"> | null = null;
 
@@ -35,13 +35,15 @@ export class PhotoUpload {
 
   /**
    * The lens is read from the chosen file itself: the shrunk copy keeps no EXIF. The shrunk
-   * copy is shown and tapped on at once; the upload runs behind it (upload.ts).
+   * copy is shown and tapped on at once; the upload runs behind it (upload.ts). `sensors`:
+   * what the in-app camera read at the shutter (none for the phone's camera app or the
+   * gallery).
    */
-  async choose(file: File): Promise<void> {
+  async choose(file: File, sensors: SensorFields | null = null): Promise<void> {
     this.store.set({ upload: { ...IDLE_UPLOAD, phase: "preparing" } });
     const [lens, prepared] = await Promise.all([readLens(file), preparePhoto(file, browserDecoder())]);
     if (this.view.ended) return;
-    this.prepared = { ...prepared, lens };
+    this.prepared = { ...prepared, lens, sensors };
     const shown = localPhoto(prepared, `local-${Date.now()}`);
     if (shown) this.showNew(shown);
     await this.send();
@@ -106,7 +108,7 @@ export class PhotoUpload {
     };
     progress(0);
     try {
-      const stored = await sendPhoto(this.view.credentials, prepared, prepared.lens, progress);
+      const stored = await sendPhoto(this.view.credentials, prepared, prepared.lens, prepared.sensors, progress);
       if (this.prepared !== prepared) return; // another photo was chosen meanwhile
       this.prepared = null;
       this.before = null;

@@ -1,0 +1,180 @@
+/**
+ * The camera inside the page: the back camera's live view, a big shutter, and which way is
+ * down read at the shutter (motion.ts, gravity.ts) and sent with the photo. The phone's own
+ * camera app and the gallery stay one tap away (PhotoStep.tsx): they send no sensors.
+ *
+ * Opened from a tap: where the browser asks for motion access (iOS), the app first says in
+ * its own words why, once per page, and carries on without sensors if refused.
+ */
+
+import { useEffect, useRef, useState } from "preact/hooks";
+import type { SensorFields } from "../types";
+import { takePicture } from "./capture";
+import type { GravityReading } from "./gravity";
+import { answerMotion, motionAccess, MotionRecorder } from "./motion";
+
+export const MOTION_QUESTION =
+  "Let Buddy Search know which way is down when you take the photo? It finds your friend's level with no landmark.";
+
+/** The highest resolution the phone gives (a 12 MP sensor's 4:3); the back camera. */
+const CONSTRAINTS: MediaStreamConstraints = {
+  video: { facingMode: "environment", width: { ideal: 4032 }, height: { ideal: 3024 } },
+  audio: false,
+};
+/** How often the words under the view follow the phone's stillness. */
+const STILLNESS_POLL_MS = 250;
+
+type Phase = "ask" | "opening" | "live" | "taking";
+
+interface Props {
+  /** The photo taken, with what was read at the shutter (null: nothing to send). */
+  onPhoto: (file: File, sensors: SensorFields | null) => void;
+  /** Closed, by the person (no message) or because the camera cannot open (why). */
+  onClose: (problem: string | null) => void;
+}
+
+/** Why the camera did not open, in words a person can act on. */
+export function cameraProblem(error: unknown): string {
+  const name = error instanceof DOMException || error instanceof Error ? error.name : "";
+  if (name === "NotAllowedError" || name === "SecurityError") {
+    return "The camera was not allowed. Take the photo with your phone's camera or choose one from the gallery.";
+  }
+  if (name === "NotFoundError" || name === "OverconstrainedError") {
+    return "No camera was found. Take the photo with your phone's camera or choose one from the gallery.";
+  }
+  return "The camera could not start. Take the photo with your phone's camera or choose one from the gallery.";
+}
+
+/** The words under the live view for what the phone knows of down right now. */
+export function stillnessWords(access: "granted" | "denied", reading: GravityReading): string {
+  if (access === "denied") return "Motion access is off: the photo goes without which way is down.";
+  if (reading.kind === "moving") return "Hold the phone still: it is moving.";
+  if (reading.kind === "none") return "The phone has not said which way is down (yet).";
+  return "Which way is down is known. Hold still as you take the photo.";
+}
+
+/** The form fields of a reading at the shutter: only a still phone's. */
+export function sensorFields(reading: GravityReading): SensorFields | null {
+  if (reading.kind !== "still") return null;
+  return { gravity: reading.gravity, gravity_sigma_deg: reading.sigmaDeg };
+}
+
+export function InAppCamera({ onPhoto, onClose }: Props) {
+  const [phase, setPhase] = useState<Phase>(motionAccess() === "ask" ? "ask" : "opening");
+  const [access, setAccess] = useState<"granted" | "denied">(motionAccess() === "denied" ? "denied" : "granted");
+  const [words, setWords] = useState<string>("");
+  const video = useRef<HTMLVideoElement>(null);
+  const stream = useRef<MediaStream | null>(null);
+  const motion = useRef(new MotionRecorder());
+
+  // The camera opens once the motion question is answered, and everything stops on close.
+  useEffect(() => {
+    if (phase !== "opening") return;
+    let closed = false;
+    const open = async (): Promise<void> => {
+      try {
+        if (!navigator.mediaDevices?.getUserMedia) throw new DOMException("no camera API", "NotFoundError");
+        const opened = await navigator.mediaDevices.getUserMedia(CONSTRAINTS);
+        if (closed) {
+          opened.getTracks().forEach((track) => track.stop());
+          return;
+        }
+        stream.current = opened;
+        if (video.current) {
+          video.current.srcObject = opened;
+          await video.current.play().catch(() => undefined); // autoplay does it where play() is refused
+        }
+        // The sensor only now, while the camera is open.
+        if (access === "granted") motion.current.start();
+        setPhase("live");
+      } catch (error) {
+        if (!closed) onClose(cameraProblem(error));
+      }
+    };
+    void open();
+    return () => {
+      closed = true;
+    };
+  }, [phase]);
+
+  useEffect(() => {
+    const recorder = motion.current;
+    return () => {
+      recorder.stop();
+      stream.current?.getTracks().forEach((track) => track.stop());
+      stream.current = null;
+    };
+  }, []);
+
+  useEffect(() => {
+    if (phase !== "live") return;
+    const follow = (): void => setWords(stillnessWords(access, motion.current.reading()));
+    follow();
+    const timer = window.setInterval(follow, STILLNESS_POLL_MS);
+    return () => window.clearInterval(timer);
+  }, [phase, access]);
+
+  const answer = async (ask: boolean): Promise<void> => {
+    setAccess(await answerMotion(ask));
+    setPhase("opening");
+  };
+
+  const shoot = async (): Promise<void> => {
+    const track = stream.current?.getVideoTracks()[0];
+    if (phase !== "live" || !video.current || !track) return;
+    // Down at the moment of the tap, before the picture (takePhoto can take a while).
+    const sensors = access === "granted" ? sensorFields(motion.current.reading()) : null;
+    setPhase("taking");
+    try {
+      const file = await takePicture(video.current, track);
+      onPhoto(file, sensors);
+    } catch (error) {
+      onClose(cameraProblem(error));
+    }
+  };
+
+  return (
+    <div class="camera" role="dialog" aria-modal="true" aria-label="Camera" data-testid="in-app-camera" data-phase={phase}>
+      <video
+        ref={video}
+        class="camera-view"
+        data-testid="camera-view"
+        role="img"
+        aria-label="What the camera sees"
+        autoplay
+        muted
+        playsInline
+      />
+      {phase === "ask" ? (
+        <div class="camera-ask" data-testid="motion-question">
+          <p>{MOTION_QUESTION}</p>
+          <div class="camera-ask-actions">
+            <button type="button" class="button primary wide" data-testid="motion-allow" onClick={() => void answer(true)}>
+              Allow
+            </button>
+            <button type="button" class="button secondary wide" data-testid="motion-skip" onClick={() => void answer(false)}>
+              Not now
+            </button>
+          </div>
+        </div>
+      ) : (
+        <p class="camera-note" data-testid="camera-note" role="status">
+          {phase === "opening" ? "Opening the camera..." : phase === "taking" ? "Taking the photo..." : words}
+        </p>
+      )}
+      <div class="camera-bar">
+        <button type="button" class="button secondary" data-testid="camera-close" onClick={() => onClose(null)}>
+          Close
+        </button>
+        <button
+          type="button"
+          class="camera-shutter"
+          data-testid="shutter"
+          aria-label="Take the photo"
+          disabled={phase !== "live"}
+          onClick={() => void shoot()}
+        />
+      </div>
+    </div>
+  );
+}
