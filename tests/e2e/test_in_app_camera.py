@@ -64,12 +64,28 @@ REFUSE_CAMERA_ONCE = """() => {
 }"""
 
 
-def joined(server: str, phone: Phone) -> None:
-    """A search started over the API, joined by ``phone`` with its link: the photo step."""
+def joined(server: str, phone: Phone) -> dict[str, str]:
+    """A search started over the API, joined by ``phone`` with its link: the photo step.
+    Returns the starter's session (``session_id``, ``token``)."""
     created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
     phone.goto(f"{server}/join/{created['join_code']}")
     expect(phone.get_by_test_id("open-camera")).to_be_visible()
     phone.evaluate(SPY)
+    return {"session_id": created["session_id"], "token": created["token"]}
+
+
+def kept(server: str, starter: dict[str, str], phone: Phone) -> dict[str, object] | None:
+    """The joiner's photo as the server keeps it, read by the other phone once it is there."""
+    url = f"{server}/api/sessions/{starter['session_id']}"
+    headers = {"Authorization": f"Bearer {starter['token']}"}
+    found: list[dict[str, object] | None] = []
+
+    def stored() -> bool:
+        found[:] = [httpx2.get(url, headers=headers).raise_for_status().json()["photos"]["joiner"]]
+        return found[0] is not None
+
+    phone.wait_for(stored, "the photo on the server")
+    return found[0]
 
 
 def take_photo(phone: Phone) -> dict[str, object]:
@@ -96,7 +112,7 @@ def angle_deg(a: list[float], b: tuple[float, float, float]) -> float:
 
 @pytest.mark.engines("chromium", "webkit")
 def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) -> None:
-    joined(server, pixel)
+    starter = joined(server, pixel)
     pixel.hold_still(READING)
     if pixel.engine == "webkit":
         pixel.evaluate(ASK_MOTION, "granted")
@@ -114,6 +130,11 @@ def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) 
     assert angle_deg(gravity, DOWN) < 1.0, (gravity, DOWN)
     # A steady reading: the accelerometer's own bias is its sigma.
     assert form["sigma"] == 1.0, form
+    # The server keeps it with the photo, for the answer (and tells the other phone).
+    photo = kept(server, starter, pixel)
+    assert photo is not None
+    unit = [value / math.hypot(*gravity) for value in gravity]
+    assert photo["gravity"] == {"down": pytest.approx(unit, abs=1e-6), "sigma_deg": 1.0}
     # The camera is closed: the photo is on screen, tappable.
     expect(pixel.get_by_test_id("in-app-camera")).to_have_count(0)
 
