@@ -26,24 +26,6 @@ settings.register_profile(
 settings.register_profile("explore", settings.get_profile("suite"), derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "suite"))
 
-# The longest tests of pure computation (the solver on real cameras, the venues, coverage,
-# absurd input: 20-50 s each) run first. pytest-xdist hands tests out in collection order, so
-# one of them dealt last kept one core busy alone at the end of the suite while the other
-# waited; browser and server tests keep their order.
-FIRST = frozenset(
-    {
-        "tests/solver/test_real_cameras.py",
-        "tests/solver/test_venue.py",
-        "tests/solver/test_pinhole_coverage.py",
-        "tests/solver/test_absurd_input.py",
-    }
-)
-
-
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    items.sort(key=lambda item: item.nodeid.split("::")[0] not in FIRST)  # stable
-
-
 DATA = Path(__file__).parent / "data"
 TEMPLE = DATA / "temple"
 
