@@ -30,6 +30,10 @@ REPLICAS = 2
 T = TypeVar("T")
 
 
+# How many times free ports are chosen for nginx before its start is given up.
+_PORT_TRIES = 3
+
+
 @dataclass(frozen=True)
 class Cluster:
     url: str  # https://host:port: what phones open
@@ -54,7 +58,6 @@ def cluster(
     """nginx on ``host`` (HTTP and HTTPS ``ports``; 0: a free one) in front of ``replicas``
     uvicorn processes on ``database_url``, each with its log in ``folder``; ``certificate``
     (its file and key) or one made at start-up in ``folder``. Stopped when the block ends."""
-    http_port, https_port = (port or free_port() for port in ports)
     if certificate is None:
         names = ["127.0.0.1", "localhost", *([address] if (address := lan_address()) else [])]
         made = tls.made_at_start_up(folder, names)
@@ -69,9 +72,18 @@ def cluster(
             (folder / f"replica{number}").mkdir(exist_ok=True)
             starting.append(serve(folder / f"replica{number}", settings))
         servers = started_together(stack, starting)
-        listen = nginx.Listen(host, http_port, https_port, *certificate)
         addresses = [server.base_url.removeprefix("http://") for server in servers]
-        proxy = stack.enter_context(nginx.run(listen, addresses))
+        # Free ports are chosen last, once the replicas have theirs, and chosen again if
+        # another process takes one before nginx binds it.
+        for attempt in range(_PORT_TRIES):
+            http_port, https_port = (port or free_port() for port in ports)
+            listen = nginx.Listen(host, http_port, https_port, *certificate)
+            try:
+                proxy = stack.enter_context(nginx.run(listen, addresses))
+                break
+            except nginx.PortTakenError:
+                if all(ports) or attempt == _PORT_TRIES - 1:
+                    raise
         shown = "127.0.0.1" if host == "0.0.0.0" else host
         yield Cluster(
             f"https://{shown}:{https_port}",

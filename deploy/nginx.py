@@ -124,6 +124,11 @@ def check(config: str) -> subprocess.CompletedProcess[str]:
         )
 
 
+class PortTakenError(RuntimeError):
+    """nginx could not bind a port of its ``Listen``: another process took it between its
+    choice and nginx's start (a free port is only free when it is looked at)."""
+
+
 @dataclass(frozen=True)
 class Nginx:
     pid: int
@@ -163,7 +168,9 @@ def _wait_until_listening(listen: Listen, process: subprocess.Popen[bytes], fold
     deadline = time.monotonic() + STARTUP_SECONDS
     while time.monotonic() < deadline:
         if process.poll() is not None:
-            raise RuntimeError(f"nginx exited at start:\n{_log(folder)}")
+            log = _log(folder)
+            taken = "Address already in use" in log
+            raise (PortTakenError if taken else RuntimeError)(f"nginx exited at start:\n{log}")
         try:
             httpx2.get(url, timeout=1)
             return
