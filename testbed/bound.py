@@ -44,6 +44,8 @@ _STEP = 1e-6
 # A gradient this far (relatively) outside the information's range is not determined.
 _IDENTIFIABLE = 1e-4
 # central differences, relative to each unknown's scale
+# Which way is down in the test bed's world (its y axis): what a phone's gravity reads.
+_DOWN = np.array([0.0, 1.0, 0.0])
 # Fixed standard normal draws for the median of a 2-D Gaussian's length: deterministic.
 _DRAWS = np.random.default_rng(1903).normal(size=(20000, 2))
 
@@ -260,8 +262,11 @@ class SceneBounds:
         sigma: float | tuple[Array, Array],
         priors: tuple[CameraPrior, CameraPrior],
         mark_sigma: float | Array | None = None,
+        gravity_sigma_deg: float | None = None,
     ) -> Bound:
-        """The bound from the first ``landmarks`` (arguments as :func:`cramer_rao`)."""
+        """The bound from the first ``landmarks`` (arguments as :func:`cramer_rao`); with
+        ``gravity_sigma_deg``, each phone also read down (world y) with that sigma per axis
+        (:meth:`_gravity_information`)."""
         model = self.model
         assert landmarks <= model.count
         assert all(
@@ -281,6 +286,8 @@ class SceneBounds:
             if prior is not None:
                 information[index, index] += 1.0 / prior**2
         g = self.g[:, columns]
+        if gravity_sigma_deg is not None:
+            information, g = self._gravity_information(information, g, gravity_sigma_deg)
         inverse = np.linalg.pinv(information, hermitian=True)
         # Friend 1's pixel is determined only if its gradient lies in the information's
         # range (with four landmarks and no camera model it is not: a curve, no point).
@@ -288,6 +295,37 @@ class SceneBounds:
         if np.abs(unseen).max() > _IDENTIFIABLE * np.abs(g).max():
             return Bound(np.full((2, 2), np.inf))
         return Bound(g @ inverse @ g.T)
+
+    def _gravity_information(
+        self, information: Array, g: Array, sigma_deg: float
+    ) -> tuple[Array, Array]:
+        """The information and friend 1's gradient with two more unknowns, the true down in
+        frame 1 (two steps across it, a nuisance), and two readings of it: photo 1's reads it
+        directly, photo 2's after the rotation; each across itself, ``sigma_deg`` per axis.
+
+        With ``R = exp([t]x) R0`` (the pose's first three unknowns ``t``), the reading in
+        photo 2 moves by ``-T2^T [v2]x`` per step of ``t`` and ``T2^T R0 T1`` per step of
+        down, for tangent bases T1 and T2 across the true down v1 and v2 = R0 v1."""
+        rotation0 = self.model.pose[0]
+        down1 = self.model.scene.camera1.rotation @ _DOWN
+        down2 = rotation0 @ down1
+        across1 = np.linalg.svd(down1[None])[2][1:].T  # (3, 2)
+        across2 = np.linalg.svd(down2[None])[2][1:].T
+        size = information.shape[0]
+        jacobian = np.zeros((4, size + 2))
+        jacobian[0:2, size:] = np.eye(2)
+        jacobian[2:4, 0:3] = -across2.T @ _cross(down2)
+        jacobian[2:4, size:] = across2.T @ rotation0 @ across1
+        grown = np.zeros((size + 2, size + 2))
+        grown[:size, :size] = information
+        grown += jacobian.T @ jacobian / math.radians(sigma_deg) ** 2
+        return grown, np.hstack([g, np.zeros((2, 2))])
+
+
+def _cross(vector: Array) -> Array:
+    """(3, 3) the matrix of ``vector x .``."""
+    x, y, z = vector
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
 def cramer_rao(
@@ -299,6 +337,7 @@ def cramer_rao(
     marks: Marks = "e1",
     mark_sigma: float | Array | None = None,
     line_angle: float = 0.0,
+    gravity_sigma_deg: float | None = None,
 ) -> Bound:
     """The bound of friend 1's pixel in photo 2 from the scene's first ``landmarks``.
 
@@ -313,6 +352,8 @@ def cramer_rao(
             friend 2 in photo 1 (at ``line_angle``, its normal's angle, radians), none.
         mark_sigma: a mark's standard deviation, px, or one per mark (friend 2's, then
             friend 1's); default ``sigma``.
+        gravity_sigma_deg: both phones read down at the shutter with this sigma per axis
+            (degrees); None: no reading.
     """
     bounds = SceneBounds(
         scene,
@@ -321,7 +362,7 @@ def cramer_rao(
         line_angle=line_angle,
         landmarks=landmarks,
     )
-    return bounds.bound(landmarks, sigma, priors, mark_sigma)
+    return bounds.bound(landmarks, sigma, priors, mark_sigma, gravity_sigma_deg)
 
 
 def reference_fit(

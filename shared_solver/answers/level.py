@@ -18,9 +18,9 @@ from __future__ import annotations
 
 import math
 
-import cv2
 import numpy as np
 
+from ..drawing.curves import simplified
 from ..errors import Reason, WarningCode
 from ..estimation.camera import FocalPrior, focal_35mm
 from ..estimation.taps import Gravity
@@ -35,11 +35,10 @@ from .request import Request
 _BAND_SIGMAS = 1.959963984540054
 # The curve is first found at this many turns about the vertical, then resampled where it
 # crosses the photo so that its points are at most _STEP_PX apart (a chord of 4 px strays
-# 0.04 px from a curve of radius 50 px), then simplified to within _TOLERANCE_PX (as the
-# other curves are drawn). Its half-width is read at up to _WIDTHS_READ of those points.
+# 0.04 px from a curve of radius 50 px), then simplified as the other curves are
+# (drawing.curves.simplified). Its half-width is read at up to _WIDTHS_READ of those points.
 _COARSE = 1024
 _STEP_PX = 4.0
-_TOLERANCE_PX = 0.25
 _WIDTHS_READ = 128
 # Friend 1 within this angle (radians) of straight up or down from friend 2 is on no level:
 # the cone closes to a line and the curve to a point.
@@ -88,7 +87,7 @@ def on_the_level(request: Request) -> SolveResult:
         epipole2_h=None,
         epipole1=pixel(np.append(taps.epipole1, 1.0)),
         epipole1_h=unit(np.append(taps.epipole1, 1.0)),
-        curve2=[[(float(x), float(y)) for x, y in _simplified(piece)] for piece in pieces],
+        curve2=[simplified(piece) for piece in pieces],
         curve2_halfwidth=halfwidth,
         used_gravity=True,
         quality="fair",
@@ -206,10 +205,3 @@ def _halfwidths(
     slope = np.linalg.norm(across2[:, :2], axis=1) / priors[1].focal_px
     result: Array = _BAND_SIGMAS * np.sqrt(variance) / slope
     return result
-
-
-def _simplified(points: Array) -> Array:
-    """The polyline within ``_TOLERANCE_PX`` of its points (Douglas-Peucker)."""
-    curve = np.ascontiguousarray(points, dtype=np.float32).reshape(-1, 1, 2)
-    kept = cv2.approxPolyDP(curve, _TOLERANCE_PX, False).reshape(-1, 2)
-    return np.asarray(kept, dtype=np.float64)

@@ -45,7 +45,7 @@ def conic_polylines(
     pieces = _stretches(_crossings(conic, width, height, ox, oy))
     rows = _crossings(swap @ conic @ swap, height, width, oy, ox)
     pieces += [piece[:, ::-1] for piece in _stretches(rows)]
-    return [_simplified(piece) for piece in pieces]
+    return [simplified(piece) for piece in pieces]
 
 
 def _crossings(conic: Array, count: int, extent: int, along: float, across: float) -> Array:
@@ -114,7 +114,9 @@ def _stretches(roots: Array) -> list[Array]:
     return [points[bounds[i] : bounds[i + 1]] for i in long[np.argsort(last[long], kind="stable")]]
 
 
-def _simplified(points: Array) -> Polyline:
+def simplified(points: Array) -> Polyline:
+    """The polyline within 0.25 px of the (N, 2) ``points`` (Douglas-Peucker): the answer's
+    curves are sampled finely, then thinned to what a drawing needs."""
     line = points.reshape(-1, 1, 2).astype(np.float32)
     kept = cv2.approxPolyDP(line, _TOLERANCE, False).reshape(-1, 2)
     return [(float(x), float(y)) for x, y in kept]

@@ -107,3 +107,42 @@ def test_more_landmarks_and_known_lenses_lower_the_bound() -> None:
     # Without a prior, twice the tap noise is twice the error.
     once, twice = (cramer_rao(scene, landmarks=6, sigma=s, priors=(None, None)) for s in (1, 2))
     assert twice.rms == pytest.approx(2 * once.rms, rel=1e-6)
+
+
+def test_one_landmark_with_gravity_sits_at_the_bound_that_counts_the_readings() -> None:
+    """One landmark, the friend, both readings of down and known lenses: as many
+    measurements as unknowns, so the solver's exact answer spreads as the bound says (at
+    small noise, where first order holds); without the readings the bound has no point."""
+    rng = np.random.default_rng(6)
+    scene = phone_scene(rng, 1, centre_sd=0.0)
+    sigma, gravity_sigma = 0.3, 0.2
+    assert math.isinf(cramer_rao(scene, landmarks=1, sigma=sigma, priors=(EXIF, EXIF)).rms)
+    bound = cramer_rao(
+        scene, landmarks=1, sigma=sigma, priors=(EXIF, EXIF), gravity_sigma_deg=gravity_sigma
+    ).covariance
+    down = [
+        camera.rotation @ np.array([0.0, 1.0, 0.0]) for camera in (scene.camera1, scene.camera2)
+    ]
+    errors = []
+    for _ in range(TRIALS):
+        readings = [d + rng.normal(0.0, math.radians(gravity_sigma), 3) for d in down]
+        offsets = rng.normal(0.0, EXIF, 2)
+        true35 = (scene.focal_35mm1, scene.focal_35mm2)
+        result = solve(
+            scene.landmarks1 + rng.normal(0.0, sigma, (1, 2)),
+            scene.landmarks2 + rng.normal(0.0, sigma, (1, 2)),
+            epipole1=scene.epipole1 + rng.normal(0.0, sigma, 2),
+            tap_sigma=sigma,
+            image_size1=scene.image_size1,
+            image_size2=scene.image_size2,
+            camera1=Camera.with_focal(true35[0] * math.exp(offsets[0]), EXIF),
+            camera2=Camera.with_focal(true35[1] * math.exp(offsets[1]), EXIF),
+            gravity1=readings[0],
+            gravity2=readings[1],
+            gravity_sigma_deg=gravity_sigma,
+        )
+        assert result.epipole2 is not None
+        assert result.used_gravity
+        errors.append(np.array(result.epipole2) - scene.epipole2)
+    spread = np.einsum("ki,ij,kj->k", errors, np.linalg.inv(bound), errors).mean()
+    assert 1.6 <= spread <= 2.4, spread
