@@ -9,7 +9,8 @@ per engine, both phones in that engine.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 import pytest
@@ -81,12 +82,19 @@ def screen(playwright: Playwright, model: str) -> Screen:
 
 
 def phone(
-    engine: str, model: str, playwright: Playwright, request: pytest.FixtureRequest, folder: Path
+    engine: str,
+    model: str,
+    playwright: Playwright,
+    request: pytest.FixtureRequest,
+    folder: Path,
+    browser: Browser | None = None,
 ) -> Iterator[Phone]:
-    """A phone of ``model`` in ``engine``; the test fails if its page reported errors."""
+    """A phone of ``model`` in ``engine`` (in Chromium, a context of ``browser``, else of the
+    shared one); the test fails if its page reported errors."""
     started: Phone
     if engine == "chromium":
-        started = ChromiumPhone(playwright, request.getfixturevalue("browser"), model)
+        launched = browser or request.getfixturevalue("browser")
+        started = ChromiumPhone(playwright, launched, model)
     else:
         started = WebKitPhone(model, screen(playwright, model), folder)
     try:
@@ -109,6 +117,27 @@ def iphone(
     engine: str, playwright: Playwright, request: pytest.FixtureRequest, tmp_path: Path
 ) -> Iterator[Phone]:
     yield from phone(engine, "iPhone 13", playwright, request, tmp_path / "iphone")
+
+
+@pytest.fixture
+def filming(
+    playwright: Playwright, request: pytest.FixtureRequest, tmp_path: Path
+) -> Iterator[Callable[[Path], Phone]]:
+    """Makes Pixel 7s in Chromium whose camera films a video: ``filming(video)`` for a
+    YUV4MPEG2 file (testbed/y4m.py). The file is a flag of the browser, so each phone is a
+    Chromium of its own; all are closed after the test."""
+    with ExitStack() as stack:
+
+        def film(video: Path) -> Phone:
+            flags = (VENUE_NAME, *FAKE_CAMERA, f"--use-file-for-fake-video-capture={video}")
+            launched = chromium.launch(playwright, flags)
+            stack.callback(launched.close)
+            managed = contextmanager(phone)
+            return stack.enter_context(
+                managed("chromium", "Pixel 7", playwright, request, tmp_path, launched)
+            )
+
+        yield film
 
 
 @pytest.fixture

@@ -11,6 +11,7 @@ docs/browsers.md.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import httpx2
 import pytest
@@ -25,9 +26,17 @@ DOWN = (
     math.cos(TURN) * math.cos(AIM_UP),
     -math.sin(AIM_UP),
 )
-# What its accelerometer reads (device frame: x right, y up the screen, z out of the screen;
-# the push against gravity): camera/gravity.ts's map from reading to photo, inverted.
-READING = (-GRAVITY * DOWN[0], GRAVITY * DOWN[1], GRAVITY * DOWN[2])
+
+
+def still_reading(down: Sequence[float]) -> tuple[float, float, float]:
+    """What the accelerometer of a phone held still in portrait reads (m/s^2, device frame:
+    x right, y up the screen, z out of the screen; the push against gravity) when ``down``
+    (a unit 3-vector) is down in its upright photo's camera frame (x right, y down, z into
+    the scene): camera/gravity.ts's map from reading to photo at screen angle 0, inverted."""
+    return (-GRAVITY * down[0], GRAVITY * down[1], GRAVITY * down[2])
+
+
+READING = still_reading(DOWN)
 
 # Before the camera opens: keep the form fields of every photo the page sends.
 SPY = """() => {

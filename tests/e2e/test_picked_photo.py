@@ -12,6 +12,7 @@ import httpx2
 import pytest
 from phone import Phone, expect
 from PIL import Image, ImageOps
+from test_two_phones import stored_photo
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -122,17 +123,7 @@ def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     except AssertionError as turned:
         raise AssertionError(f"{turned}: {shown}") from None
     # ...and as the server stores it: it keeps a photo without EXIF as it comes.
-    joined = iphone.evaluate("() => JSON.parse(localStorage.getItem('buddy-search.session'))")
-    url = f"{server}/api/sessions/{joined['session_id']}/photo/joiner"
-    auth = {"Authorization": f"Bearer {joined['token']}"}
-    stored: list[httpx2.Response] = []
-
-    def landed() -> bool:
-        stored[:] = [httpx2.get(url, headers=auth)]
-        return stored[0].is_success
-
-    iphone.wait_for(landed, "the upload")
-    with Image.open(io.BytesIO(stored[0].content)) as kept:
+    with Image.open(io.BytesIO(stored_photo(server, iphone, "joiner"))) as kept:
         assert kept.size == (short_side, long_side)
         small = kept.convert("RGB").resize((4, 4))
         colours = {q: list(small.getpixel(xy)) for q, xy in CENTRES.items()}

@@ -17,6 +17,7 @@ import re
 from pathlib import Path
 from typing import Any
 
+import httpx2
 import numpy as np
 import pytest
 from chromium_phone import ChromiumPhone
@@ -199,6 +200,22 @@ def session_state(page: Phone) -> dict[str, Any]:
         }"""
     )
     return state
+
+
+def stored_photo(server: str, page: Phone, role: str) -> bytes:
+    """The photo of ``role`` as the server keeps it (the JPEG), read with this phone's
+    session once it is there."""
+    joined = page.evaluate("() => JSON.parse(localStorage.getItem('buddy-search.session'))")
+    url = f"{server}/api/sessions/{joined['session_id']}/photo/{role}"
+    auth = {"Authorization": f"Bearer {joined['token']}"}
+    stored: list[httpx2.Response] = []
+
+    def landed() -> bool:
+        stored[:] = [httpx2.get(url, headers=auth)]
+        return stored[0].is_success
+
+    page.wait_for(landed, f"the {role}'s photo on the server")
+    return stored[0].content
 
 
 def view_scale(page: Phone) -> float:

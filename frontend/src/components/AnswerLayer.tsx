@@ -8,7 +8,8 @@
  * their size on the screen at every zoom, so they never grow over the friend; the frame is
  * drawn last, on top.
  *
- * It also publishes what it drew (data attributes, photo px), which the browser tests read.
+ * It also publishes what it drew (data attributes, photo px), which the browser tests read:
+ * the curve's points too, as the server simplified them (within 0.25 px of the curve).
  */
 
 import type { AnswerView } from "../answer";
@@ -159,7 +160,12 @@ function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTran
   const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
   const band = curve.halfwidth ?? null;
   return (
-    <g data-testid="answer-curve" data-pieces={String(curve.polylines.length)} data-halfwidth={band === null ? undefined : String(band)}>
+    <g
+      data-testid="answer-curve"
+      data-pieces={String(curve.polylines.length)}
+      data-points={JSON.stringify(curve.polylines)}
+      data-halfwidth={band === null ? undefined : String(band)}
+    >
       {band !== null && (
         <path
           data-testid="answer-band"

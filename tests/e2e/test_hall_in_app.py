@@ -1,0 +1,199 @@
+"""Two phones take their photos in the app, of a rendered hall, and gravity does the rest:
+the friend mark alone gives the other phone the level its friend is on (a band through the
+truth), and one landmark tapped on both phones a point whose 95 % region holds the truth.
+
+Each phone's camera films its rendered photo: Chromium's fake camera plays a YUV4MPEG2 file
+(``--use-file-for-fake-video-capture``, written by testbed/y4m.py), one browser per phone
+(the ``filming`` fixture). The DevTools protocol holds each phone still at its rendered
+camera's down (``ChromiumPhone.hold_still``: the accelerometer reading that
+camera/gravity.ts turns into that down). Chromium only: WebKit's mock camera shows a
+pattern of its own and cannot play a file, so no WebKit phone can photograph the hall.
+
+Portrait, on purpose: the emulated Pixel 7's screen is portrait (angle 0) and the fake
+camera delivers the file as it is, so the file is the photo upright on the screen, the
+frame the app reads down in. The seed is one whose two phones both shoot portrait. The
+hall is rendered at the stored size (1920 x 2560), which the phone sends as it is and the
+server keeps: the truth's pixels are the stored photo's (checked: the stored photo is the
+rendered one). The stored photos carry no EXIF: the answer assumes the phone prior's focal
+length, which the rendered lenses (about 25 mm) are well within.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import cv2
+import numpy as np
+import pytest
+from phone import Phone, expect
+from test_in_app_camera import SPY, angle_deg, still_reading, take_photo
+from test_two_phones import (
+    cannot_see,
+    find_landmarks,
+    inside,
+    mark_friend,
+    needed,
+    reported_position,
+    session_state,
+    start_and_join,
+    stored_photo,
+    tap_landmarks,
+)
+
+from shared_solver.estimation.camera import MAIN_CAMERA_MM, PHONE_LOG_SIGMA, focal_35mm
+from testbed.curves import distance_to
+from testbed.scenes import Camera, in_photo
+from testbed.venue import STORED_SIDE, RenderedPair, rendered_pair
+from testbed.y4m import write_y4m
+
+# Both phones in portrait, 55 m apart, phone 2 6 m higher than phone 1 (another tier).
+SEED = 59
+# The landmark both phones tap (an index of the hall's): a spot on the floor 12 m from
+# phone 1, 872 px from the friend in photo 1. Near, it moves against the far end of the
+# hall as the phones turn (parallax), which is what fixes the turn about the vertical.
+LANDMARK = 6
+# The testbed's world has y pointing down (testbed/phones.py).
+WORLD_DOWN = np.array([0.0, 1.0, 0.0])
+# The band is narrower than 5 degrees of view (the issue's target: a median of 3.5), and the
+# point from one landmark is within 1 % of the photo's diagonal of the truth (the taps are
+# on the truth; what is left is the readings' rounding to 0.1 m/s^2 and the lens's
+# off-centre principal point, which the phone model does not know).
+BAND_DEGREES = 5.0
+POINT_DIAGONAL = 0.01
+# The stored photo is the rendered one: the camera's I420 (the colours at half resolution)
+# changes its grey by 0.3 levels on average, the JPEGs next to nothing; a shift by one
+# pixel changes it by 2.7 or more, video's 16-235 read as 0-255 by 5.9 or more.
+STORED_GREY_LEVELS = 1.0
+
+
+def down_in_photo(camera: Camera) -> np.ndarray:
+    """(3,) unit vector of down in the camera's frame (x right, y down, z into the scene)."""
+    down: np.ndarray = camera.rotation @ WORLD_DOWN
+    return down
+
+
+def true_level(camera: Camera, friend: np.ndarray) -> list[list[list[float]]]:
+    """The level ``friend`` (3,) world point is on, as ``camera`` sees it: the pixels of
+    the directions at the friend's angle from down (the cone about down through them), one
+    every 0.1 degree of turn, those ahead of the camera; one piece, as ``distance_to``
+    takes it."""
+    down = down_in_photo(camera)
+    toward = camera.rotation @ (friend - camera.centre)
+    toward /= np.linalg.norm(toward)
+    cos = float(down @ toward)
+    across = toward - cos * down
+    across /= np.linalg.norm(across)
+    # Turns from the friend's own direction, either way: the part ahead is one piece.
+    turns = np.radians(np.arange(-180.0, 180.0, 0.1))[:, None]
+    sides = np.cos(turns) * across + np.sin(turns) * np.cross(down, across)
+    directions = cos * down + math.sqrt(1.0 - cos**2) * sides
+    ahead = directions[directions[:, 2] > 0.1] @ camera.intrinsics.T
+    pixels: list[list[float]] = (ahead[:, :2] / ahead[:, 2:]).tolist()
+    return [pixels]
+
+
+@pytest.fixture(scope="module")
+def hall() -> RenderedPair:
+    """The rendered hall, checked to be what this test needs."""
+    pair = rendered_pair(SEED)
+    s = pair.scene
+    portrait = (STORED_SIDE * 3 // 4, STORED_SIDE)
+    assert s.image_size1 == s.image_size2 == portrait
+    # Each friend well inside the other's photo (10 % of each side from its borders).
+    assert in_photo(s.camera1, s.camera2.centre[None], s.image_size1, 0.1)[0]
+    assert in_photo(s.camera2, s.camera1.centre[None], s.image_size2, 0.1)[0]
+    spot = s.landmarks1[LANDMARK]
+    assert np.hypot(*(spot - s.epipole1)) > 0.25 * math.hypot(*s.image_size1), "well spread"
+    assert s.camera1.depth(s.points[LANDMARK : LANDMARK + 1])[0] < 0.3 * np.linalg.norm(
+        s.camera2.centre - s.camera1.centre
+    ), "near phone 1"
+    for camera, size in ((s.camera1, s.image_size1), (s.camera2, s.image_size2)):
+        lens = focal_35mm(float(camera.intrinsics[0, 0]), size)
+        assert abs(math.log(lens / MAIN_CAMERA_MM)) < PHONE_LOG_SIGMA, lens
+    return pair
+
+
+@pytest.fixture(scope="module")
+def films(hall: RenderedPair, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """Each phone's camera's video: its photo, one frame played over and over."""
+    folder = tmp_path_factory.mktemp("hall")
+    videos = (folder / "starter.y4m", folder / "joiner.y4m")
+    for video, photo in zip(videos, (hall.photo1, hall.photo2), strict=True):
+        write_y4m(video, [photo])
+    return videos
+
+
+def photograph(phone: Phone, down: np.ndarray) -> dict[str, Any]:
+    """The phone held still at ``down``: the in-app camera opened, motion allowed, the
+    photo taken once down is known. The form the page sent."""
+    expect(phone.get_by_test_id("open-camera")).to_be_visible()  # the page that sends it
+    phone.evaluate(SPY)
+    phone.hold_still(still_reading([float(value) for value in down]))
+    phone.get_by_test_id("open-camera").tap()
+    phone.get_by_test_id("motion-allow").tap()
+    expect(phone.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
+    form: dict[str, Any] = take_photo(phone)
+    return form
+
+
+def grey_levels_apart(first: np.ndarray, second: np.ndarray) -> float:
+    """The mean absolute difference of two BGR photos' grey, 0-255."""
+    grey = [cv2.cvtColor(photo, cv2.COLOR_BGR2GRAY).astype(np.float64) for photo in (first, second)]
+    return float(np.abs(grey[0] - grey[1]).mean())
+
+
+def test_both_photos_in_the_app_give_the_level_then_a_point(
+    server: str, filming: Callable[[Path], Phone], hall: RenderedPair, films: tuple[Path, Path]
+) -> None:
+    s = hall.scene
+    starter, joiner = start_and_join(server, filming(films[0]), filming(films[1]))
+    downs = (down_in_photo(s.camera1), down_in_photo(s.camera2))
+    for phone, role, down, photo in (
+        (starter, "starter", downs[0], hall.photo1),
+        (joiner, "joiner", downs[1], hall.photo2),
+    ):
+        form = photograph(phone, down)
+        assert angle_deg(form["gravity"], (down[0], down[1], down[2])) < 1.0, (form, down)
+        # The photo the server keeps is the rendered one, whole and at its size: the
+        # truth's pixels are its pixels.
+        stored = np.frombuffer(stored_photo(server, phone, role), np.uint8)
+        kept = cv2.imdecode(stored, cv2.IMREAD_COLOR)
+        assert kept is not None
+        assert kept.shape == photo.shape
+        assert grey_levels_apart(kept, photo) < STORED_GREY_LEVELS
+    state = session_state(starter)
+    for role, down in zip(("starter", "joiner"), downs, strict=True):
+        assert state["photos"][role]["gravity"]["down"] == pytest.approx(down, abs=0.02)
+
+    # The starter sees the joiner and marks them; the joiner cannot see the starter. The
+    # joiner's phone shows the level the starter is on, with no landmark, through the truth.
+    mark_friend(starter, *s.epipole1)
+    cannot_see(joiner)
+    expect(joiner.get_by_test_id("answer-band")).to_be_visible()
+    expect(joiner.get_by_test_id("result-text")).to_contain_text("along the yellow band")
+    needed(joiner, 1)
+    curve = joiner.get_by_test_id("answer-curve")
+    level = json.loads(curve.get_attribute("data-points") or "[]")
+    halfwidth = float(curve.get_attribute("data-halfwidth") or "nan")
+    assert distance_to(level, s.epipole2) <= halfwidth, (level, halfwidth, s.epipole2)
+    # ...and along the whole photo: the band holds the true level, where a person scans it
+    # (a phone's x or z read the wrong way round tilts or shifts it out).
+    truth = true_level(s.camera2, s.camera1.centre)
+    off = [distance_to(truth, np.array(point)) for piece in level for point in piece]
+    assert max(off) <= halfwidth, (off, halfwidth)
+    focal = float(s.camera2.intrinsics[0, 0])
+    assert halfwidth < focal * math.tan(math.radians(BAND_DEGREES)), halfwidth
+
+    # One landmark, tapped on both phones: a point, its region holding the truth.
+    tap_landmarks(starter, s.landmarks1[LANDMARK : LANDMARK + 1])
+    find_landmarks(joiner, s.landmarks2[LANDMARK : LANDMARK + 1])
+    centre, ellipse, how = reported_position(joiner)
+    assert how == "solved"
+    assert inside(s.epipole2, centre, ellipse), (centre, ellipse, s.epipole2)
+    diagonal = math.hypot(*s.image_size2)
+    assert np.hypot(*(centre - s.epipole2)) < POINT_DIAGONAL * diagonal, (centre, s.epipole2)
+    needed(joiner, 0)
