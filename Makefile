@@ -117,7 +117,8 @@ nginx:
 # (artifacts/screenshots/), then they are halved and saved as JPEG in docs/screenshots/.
 screenshots: $(INSTALLED) $(APP) browser
 	rm -rf artifacts/screenshots
-	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py tests/e2e/test_layout.py tests/e2e/test_guided_tapping.py
+	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py tests/e2e/test_layout.py tests/e2e/test_guided_tapping.py \
+		tests/e2e/test_hall_in_app.py
 	$(BIN)/python -m testbed.screenshots artifacts/screenshots docs/screenshots
 
 bench: $(INSTALLED)

@@ -147,7 +147,11 @@ def grey_levels_apart(first: np.ndarray, second: np.ndarray) -> float:
 
 
 def test_both_photos_in_the_app_give_the_level_then_a_point(
-    server: str, filming: Callable[[Path], Phone], hall: RenderedPair, films: tuple[Path, Path]
+    server: str,
+    filming: Callable[[Path], Phone],
+    hall: RenderedPair,
+    films: tuple[Path, Path],
+    screenshots: Path,
 ) -> None:
     s = hall.scene
     starter, joiner = start_and_join(server, filming(films[0]), filming(films[1]))
@@ -176,6 +180,7 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     expect(joiner.get_by_test_id("answer-band")).to_be_visible()
     expect(joiner.get_by_test_id("result-text")).to_contain_text("along the yellow band")
     needed(joiner, 1)
+    joiner.screenshot(path=screenshots / "13-level-joiner.png")
     curve = joiner.get_by_test_id("answer-curve")
     level = json.loads(curve.get_attribute("data-points") or "[]")
     halfwidth = float(curve.get_attribute("data-halfwidth") or "nan")
@@ -197,3 +202,4 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     diagonal = math.hypot(*s.image_size2)
     assert np.hypot(*(centre - s.epipole2)) < POINT_DIAGONAL * diagonal, (centre, s.epipole2)
     needed(joiner, 0)
+    joiner.screenshot(path=screenshots / "13b-level-point-joiner.png")
