@@ -3,7 +3,7 @@
 
 Asserted, because it is the point of the app's rule and deterministic for the seeds: the
 regions drawn from each tap's own precision hold the truth far more often than those of one
-fixed 3 px for every tap (ten searches: at least 7 of 10, against a 95 % level)."""
+fixed 3 px for every tap (six searches: at least 70 %, against a 95 % level)."""
 
 from __future__ import annotations
 
@@ -15,11 +15,11 @@ from benchmark_scripts import run_benchmark
 
 def test_the_apps_tap_precision_gives_honest_regions(tmp_path: Path) -> None:
     out = tmp_path / "tap-precision.md"
-    printed, text = run_benchmark("taps", "--trials", "10", out=out, timeout=600)
+    printed, text = run_benchmark("taps", "--trials", "6", out=out, timeout=600)
     held = json.loads(printed.strip().splitlines()[-1])
     assert text.startswith("# Tap precision through the app")
     assert "| the app's (each tap's own, docs/app.md) |" in text
     app, fixed = held["app"], held["fixed"]
-    assert app["claimed"] >= 9
+    assert app["claimed"] >= 5
     assert app["held"] >= 0.7 * app["claimed"]
     assert app["held"] / app["claimed"] > fixed["held"] / max(fixed["claimed"], 1)
