@@ -49,8 +49,11 @@ test:
 	$(MAKE) --no-print-directory $(APP)
 	$(MAKE) --no-print-directory -j4 suite lint typecheck frontend-test
 
-# The pytest suite alone (make test runs it beside the checks, once the app is built).
+# The pytest suite alone (make test runs it beside the checks, once the app is built). The
+# project's own modules are compiled first, for the same reason as the packages: the suite
+# starts many Python processes (a server for each browser test, replicas, benchmarks).
 suite:
+	$(BIN)/python -m compileall -q -j 2 backend shared_solver deploy testbed benchmarks docsgen
 	$(BIN)/python -m pytest -q -n 2 --dist worksteal
 
 system-packages:
@@ -168,11 +171,14 @@ demo: $(INSTALLED)
 # puts the repository root on the virtualenv's path (backend/, shared_solver/, and testbed/,
 # the scenes the tests, benchmarks and demo share).
 # uv installs them (the same lock, hashes required): 10 s from nothing, where pip took 53.
+# Compiled to bytecode as they are installed: uv writes none by default, and where Python is
+# told not to write any (PYTHONDONTWRITEBYTECODE, set on this machine), every process would
+# compile its imports again: a server started in 3.4 s instead of 1.8.
 $(INSTALLED): pyproject.toml requirements/test.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet uv==$(UV_VERSION)
-	$(BIN)/uv pip install --quiet --require-hashes --no-deps -r requirements/test.txt \
-		--python $(BIN)/python
+	$(BIN)/uv pip install --quiet --require-hashes --no-deps --compile-bytecode \
+		-r requirements/test.txt --python $(BIN)/python
 	$(BIN)/python -c "import pathlib, site; pathlib.Path(site.getsitepackages()[0], 'buddy-search-root.pth').write_text(str(pathlib.Path.cwd()) + '\\n')"
 	touch $(INSTALLED)
 
