@@ -32,7 +32,7 @@ import numpy as np
 
 from shared_solver.estimation.least_squares import levenberg_marquardt
 from shared_solver.estimation.uncertainty import CHI2_2D
-from shared_solver.projective import Array
+from shared_solver.projective import Array, skew
 from testbed.scenes import Scene
 
 # What a route assumes of one camera: a phone (log focal with a prior of that log sigma) or
@@ -44,8 +44,6 @@ _STEP = 1e-6
 # A gradient this far (relatively) outside the information's range is not determined.
 _IDENTIFIABLE = 1e-4
 # central differences, relative to each unknown's scale
-# Which way is down in the test bed's world (its y axis): what a phone's gravity reads.
-_DOWN = np.array([0.0, 1.0, 0.0])
 # Fixed standard normal draws for the median of a 2-D Gaussian's length: deterministic.
 _DRAWS = np.random.default_rng(1903).normal(size=(20000, 2))
 
@@ -307,25 +305,19 @@ class SceneBounds:
         photo 2 moves by ``-T2^T [v2]x`` per step of ``t`` and ``T2^T R0 T1`` per step of
         down, for tangent bases T1 and T2 across the true down v1 and v2 = R0 v1."""
         rotation0 = self.model.pose[0]
-        down1 = self.model.scene.camera1.rotation @ _DOWN
+        down1 = self.model.scene.camera1.down
         down2 = rotation0 @ down1
         across1 = np.linalg.svd(down1[None])[2][1:].T  # (3, 2)
         across2 = np.linalg.svd(down2[None])[2][1:].T
         size = information.shape[0]
         jacobian = np.zeros((4, size + 2))
         jacobian[0:2, size:] = np.eye(2)
-        jacobian[2:4, 0:3] = -across2.T @ _cross(down2)
+        jacobian[2:4, 0:3] = -across2.T @ skew(down2)
         jacobian[2:4, size:] = across2.T @ rotation0 @ across1
         grown = np.zeros((size + 2, size + 2))
         grown[:size, :size] = information
         grown += jacobian.T @ jacobian / math.radians(sigma_deg) ** 2
         return grown, np.hstack([g, np.zeros((2, 2))])
-
-
-def _cross(vector: Array) -> Array:
-    """(3, 3) the matrix of ``vector x .``."""
-    x, y, z = vector
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
 def cramer_rao(

@@ -212,6 +212,14 @@ def phone_scene(
     raise RuntimeError("could not aim the two phones at each other over the venue")
 
 
+def gravity_reading(camera: Camera, sigma_deg: float, rng: np.random.Generator) -> Array:
+    """(3,) unit: the camera's phone's gravity at the shutter, its true down (``camera.down``)
+    turned by Gaussian noise of ``sigma_deg`` per axis (small angles)."""
+    down = camera.down + rng.normal(0.0, math.radians(sigma_deg), 3)
+    unit: Array = down / np.linalg.norm(down)
+    return unit
+
+
 def phone_taps(seed: int | Sequence[int], landmarks: int, sigma: float) -> tuple[PhoneScene, Taps]:
     """A phone scene of ``landmarks`` and its taps with ``sigma`` px of noise, both drawn from
     one generator seeded with ``seed``."""

@@ -45,6 +45,13 @@ class Camera:
         """(3,) camera centre in world coordinates."""
         return -self.rotation.T @ self.translation
 
+    @property
+    def down(self) -> Array:
+        """(3,) unit vector of down (the world's y) in the camera's frame (x right, y down,
+        z into the scene): what its phone's gravity reads, held still."""
+        down: Array = self.rotation[:, 1].copy()
+        return down
+
     def depth(self, points: Array) -> Array:
         """(N,) depth along the optical axis of (N, 3) world points (positive: in front)."""
         return points @ self.rotation[2] + self.translation[2]

@@ -23,7 +23,7 @@ from shared_solver import SolverError, SolveResult, solve
 from shared_solver.estimation.camera import KNOWN_FOCAL_UNCERTAINTY, PHONE_LOG_SIGMA
 from testbed.bound import SceneBounds
 from testbed.curves import distance_to
-from testbed.phones import PhoneScene
+from testbed.phones import PhoneScene, gravity_reading
 
 from .common import SEED, Cameras, ellipse_covers, fmt, percent, percentile, solve_arguments
 from .phones import TARGET_SIGMA, phone_trial
@@ -31,7 +31,6 @@ from .phones import TARGET_SIGMA, phone_trial
 GRAVITY_STREAM = 30
 SIGMAS_DEG: tuple[float | None, ...] = (None, 0.5, 1.0, 2.0)
 TARGET_DEG = 1.0
-_DOWN = np.array([0.0, 1.0, 0.0])
 
 
 @dataclass(frozen=True)
@@ -74,11 +73,8 @@ GravityTable = dict[tuple[str, float | None], Cell]
 def reading(
     scene: PhoneScene, photo: int, sigma_deg: float, rng: np.random.Generator
 ) -> np.ndarray:
-    """A phone's gravity: its true down turned by ``sigma_deg`` per axis (small angles)."""
-    rotation = (scene.camera1 if photo == 1 else scene.camera2).rotation
-    down = rotation @ _DOWN + rng.normal(0.0, math.radians(sigma_deg), 3)
-    unit: np.ndarray = down / np.linalg.norm(down)
-    return unit
+    """Photo ``photo``'s gravity reading (``testbed.phones.gravity_reading``)."""
+    return gravity_reading(scene.camera1 if photo == 1 else scene.camera2, sigma_deg, rng)
 
 
 def graded(result: SolveResult, scene: PhoneScene, cell: Cell) -> None:
@@ -105,6 +101,8 @@ def graded(result: SolveResult, scene: PhoneScene, cell: Cell) -> None:
 def gravity(trials: int) -> GravityTable:
     table: GravityTable = {}
     for case in CASES:
+        # Each trial's Jacobians once per case, for every gravity sigma.
+        scene_bounds: dict[int, SceneBounds] = {}
         for sigma_deg in SIGMAS_DEG:
             cell = table.setdefault((case.label, sigma_deg), Cell())
             if sigma_deg is None and case.landmarks < 3:
@@ -124,7 +122,11 @@ def gravity(trials: int) -> GravityTable:
                         "gravity_sigma_deg": sigma_deg,
                     }
                 if case.landmarks > 0:
-                    cell.bounds.append(bound_median(scene, case, sigma_deg))
+                    if trial not in scene_bounds:
+                        scene_bounds[trial] = SceneBounds(
+                            scene, modelled=True, landmarks=case.landmarks
+                        )
+                    cell.bounds.append(bound_median(scene_bounds[trial], case, sigma_deg))
                 start = time.perf_counter()
                 try:
                     result = solve(*points, **options)
@@ -136,11 +138,10 @@ def gravity(trials: int) -> GravityTable:
     return table
 
 
-def bound_median(scene: PhoneScene, case: Case, sigma_deg: float | None) -> float:
+def bound_median(bounds: SceneBounds, case: Case, sigma_deg: float | None) -> float:
     """The Cramér-Rao bound's median error of friend 1's pixel for this scene and case (the
     taps at ``TARGET_SIGMA``, both readings at ``sigma_deg``; ``testbed/bound.py``)."""
     prior = {"phone": PHONE_LOG_SIGMA, "exif": KNOWN_FOCAL_UNCERTAINTY}[case.cameras]
-    bounds = SceneBounds(scene, modelled=True, landmarks=case.landmarks)
     return bounds.bound(
         case.landmarks, TARGET_SIGMA, (prior, prior), gravity_sigma_deg=sigma_deg
     ).median

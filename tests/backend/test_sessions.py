@@ -288,7 +288,7 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
     the starter is on (a band through the truth), one landmark a point."""
     s = scene(2, seed=30)
     # The temple's vertical (its y axis) as down: any world direction read by both phones.
-    downs = [camera.rotation @ np.array([0.0, 1.0, 0.0]) for camera in (s.camera1, s.camera2)]
+    downs = [s.camera1.down, s.camera2.down]
     # The temple's long lenses as the phones' EXIF would tell them (no phone's main camera).
     lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
     stored = with_gravity(

@@ -56,8 +56,6 @@ SEED = 59
 # phone 1, 872 px from the friend in photo 1. Near, it moves against the far end of the
 # hall as the phones turn (parallax), which is what fixes the turn about the vertical.
 LANDMARK = 6
-# The testbed's world has y pointing down (testbed/phones.py).
-WORLD_DOWN = np.array([0.0, 1.0, 0.0])
 # The band is narrower than 5 degrees of view (the issue's target: a median of 3.5), and the
 # point from one landmark is within 1 % of the photo's diagonal of the truth (the taps are
 # on the truth; what is left is the readings' rounding to 0.1 m/s^2 and the lens's
@@ -70,18 +68,12 @@ POINT_DIAGONAL = 0.01
 STORED_GREY_LEVELS = 1.0
 
 
-def down_in_photo(camera: Camera) -> np.ndarray:
-    """(3,) unit vector of down in the camera's frame (x right, y down, z into the scene)."""
-    down: np.ndarray = camera.rotation @ WORLD_DOWN
-    return down
-
-
 def true_level(camera: Camera, friend: np.ndarray) -> list[list[list[float]]]:
     """The level ``friend`` (3,) world point is on, as ``camera`` sees it: the pixels of
     the directions at the friend's angle from down (the cone about down through them), one
     every 0.1 degree of turn, those ahead of the camera; one piece, as ``distance_to``
     takes it."""
-    down = down_in_photo(camera)
+    down = camera.down
     toward = camera.rotation @ (friend - camera.centre)
     toward /= np.linalg.norm(toward)
     cos = float(down @ toward)
@@ -155,7 +147,7 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
 ) -> None:
     s = hall.scene
     starter, joiner = start_and_join(server, filming(films[0]), filming(films[1]))
-    downs = (down_in_photo(s.camera1), down_in_photo(s.camera2))
+    downs = (s.camera1.down, s.camera2.down)
     for phone, role, down, photo in (
         (starter, "starter", downs[0], hall.photo1),
         (joiner, "joiner", downs[1], hall.photo2),

@@ -120,9 +120,7 @@ def test_one_landmark_with_gravity_sits_at_the_bound_that_counts_the_readings() 
     bound = cramer_rao(
         scene, landmarks=1, sigma=sigma, priors=(EXIF, EXIF), gravity_sigma_deg=gravity_sigma
     ).covariance
-    down = [
-        camera.rotation @ np.array([0.0, 1.0, 0.0]) for camera in (scene.camera1, scene.camera2)
-    ]
+    down = [scene.camera1.down, scene.camera2.down]
     errors = []
     for _ in range(TRIALS):
         readings = [d + rng.normal(0.0, math.radians(gravity_sigma), 3) for d in down]

@@ -16,17 +16,14 @@ from shared_solver import SolverError, draw_overlay, solve, words
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.estimation.camera import focal_35mm
 from testbed.curves import distance_to
-from testbed.phones import PhoneScene, phone_scene
+from testbed.phones import PhoneScene, gravity_reading, phone_scene
 
 EXACT_PX = 1e-6
-DOWN = np.array([0.0, 1.0, 0.0])
 PHONES = ("phone", "phone")
 
 
 def down(scene: PhoneScene, photo: int, rng: np.random.Generator, sigma_deg: float) -> np.ndarray:
-    rotation = (scene.camera1 if photo == 1 else scene.camera2).rotation
-    reading = rotation @ DOWN + rng.normal(0.0, math.radians(sigma_deg), 3)
-    return reading / np.linalg.norm(reading)
+    return gravity_reading(scene.camera1 if photo == 1 else scene.camera2, sigma_deg, rng)
 
 
 def true_cameras(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object]]:
@@ -197,8 +194,8 @@ def test_readings_with_the_wrong_axes_are_dropped_and_said():
         wrong = solve(
             p,
             q,
-            gravity1=swap @ scene.camera1.rotation @ DOWN,
-            gravity2=scene.camera2.rotation @ DOWN,
+            gravity1=swap @ scene.camera1.down,
+            gravity2=scene.camera2.down,
             **common,
         )
         if not wrong.used_gravity:
@@ -219,14 +216,14 @@ def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks():
         scene = phone_scene(rng, 5)
         axis = rng.normal(size=3)
         axis /= np.linalg.norm(axis)
-        turned = scene.camera1.rotation @ DOWN
+        turned = scene.camera1.down
         turned = turned * math.cos(0.35) + np.cross(axis, turned) * math.sin(0.35)
         result = solve(
             scene.landmarks1 + rng.normal(0.0, 2.0, (5, 2)),
             scene.landmarks2 + rng.normal(0.0, 2.0, (5, 2)),
             **phones_of(scene),
             gravity1=turned,
-            gravity2=scene.camera2.rotation @ DOWN,
+            gravity2=scene.camera2.down,
         )
         dropped += not result.used_gravity
     assert dropped >= 8
