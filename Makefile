@@ -24,7 +24,7 @@ UV_VERSION := 0.13.9
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test suite system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-taps bench-load bench-suggest bench-network bench-real bench-all docs-figures demo lock clean
+.PHONY: run run-cluster test suite system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-reanchor bench-taps bench-load bench-suggest bench-network bench-real bench-all docs-figures demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -132,6 +132,11 @@ bench-api: $(INSTALLED)
 
 bench-camera: $(INSTALLED)
 	$(BIN)/python benchmarks/camera_checks.py
+
+# The live view's anchor: frames matched to the photo on rendered halls, and the drift
+# (docs/reanchor-benchmark.md).
+bench-reanchor: $(INSTALLED)
+	$(BIN)/python benchmarks/reanchor.py
 
 # The taps' precision, held out: two phones in Chromium on a live server (docs/tap-precision.md).
 bench-taps: $(INSTALLED) $(APP) browser

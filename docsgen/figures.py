@@ -47,6 +47,7 @@ BENCHMARKS = (
     Benchmark("bench-suggest", "docs/suggestions.md", "rendered arenas full of look-alikes"),
     Benchmark("bench-network", "docs/network-benchmark.md", "a search on a congested venue"),
     Benchmark("bench-load", "docs/load-benchmark.md", "400 searches at once, nginx, PostgreSQL"),
+    Benchmark("bench-reanchor", "docs/reanchor-benchmark.md", "live frames matched to the photo"),
 )
 
 # The solver table: the routes of docs/solver-benchmark.md's first table at 3 px.

@@ -110,6 +110,7 @@ class Reason(StrEnum):
     # no_solution
     LINE_FITS_NOTHING = "line_fits_nothing"
     SEVEN_FIT_NOTHING = "seven_fit_nothing"
+    FRAME_NOT_MATCHED = "frame_not_matched"
 
 
 _REASONS: dict[ErrorCode, tuple[Reason, ...]] = {
@@ -156,7 +157,11 @@ _REASONS: dict[ErrorCode, tuple[Reason, ...]] = {
         Reason.NO_PLANE,
         Reason.LINE_FITS_EVERYWHERE,
     ),
-    ErrorCode.NO_SOLUTION: (Reason.LINE_FITS_NOTHING, Reason.SEVEN_FIT_NOTHING),
+    ErrorCode.NO_SOLUTION: (
+        Reason.LINE_FITS_NOTHING,
+        Reason.SEVEN_FIT_NOTHING,
+        Reason.FRAME_NOT_MATCHED,
+    ),
 }
 # The code of each reason: the code's own name when it is refused one way only.
 CODE: dict[Reason, ErrorCode] = {

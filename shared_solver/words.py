@@ -227,6 +227,10 @@ _REFUSAL: dict[Reason, Callable[[Parameters, _Named], str]] = {
         "Every point of the line fits these landmarks; add landmarks in other directions."
     ),
     Reason.SEVEN_FIT_NOTHING: lambda _, __: "No geometry fits these 7 landmarks; re-check them.",
+    Reason.FRAME_NOT_MATCHED: lambda _, __: (
+        "This view does not match the photo well enough to tell how the phone has turned: "
+        "stand where the photo was taken, point the phone the same way, and try again."
+    ),
     Reason.ONE_SURFACE_UNMARKED: lambda _, __: (
         "The landmarks all lie on one surface, which cannot locate your friend on its own; "
         "tap your friend if you can see them."
