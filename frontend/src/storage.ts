@@ -70,3 +70,36 @@ export function loadDraft(sessionId: string): Draft | null {
 export function saveDraft(draft: Draft): void {
   write(DRAFT_KEY, draft);
 }
+
+const SHUTTER_KEY = "buddy-search.shutter";
+/** This page's load: a relative orientation's reference is the sensor's while the page
+ * runs, and may not be the same after a reload. */
+const PAGE = `${Date.now()}-${Math.random().toString(36).slice(2)}`;
+
+/**
+ * The phone's orientation at the in-app camera's shutter for its current photo (live/:
+ * the anchor, the photo's camera frame into the orientation sensor's reference frame, row by
+ * row), with the page it was read on. Only the phone keeps it.
+ */
+interface ShutterRecord {
+  session_id: string;
+  page: string;
+  anchor: number[][];
+}
+
+/** A new photo: its anchor, or null (a gallery photo, a moving phone, no sensor). */
+export function saveShutterAnchor(sessionId: string, anchor: readonly (readonly number[])[] | null): void {
+  write(SHUTTER_KEY, anchor ? { session_id: sessionId, page: PAGE, anchor: anchor.map((row) => [...row]) } : null);
+}
+
+/**
+ * The anchor of this session's photo, if it was read on this very page: after a reload the
+ * sensor's reference may have moved, and "Show me" aligns on a frame instead.
+ */
+export function loadShutterAnchor(sessionId: string): number[][] | null {
+  const stored = read<Partial<ShutterRecord>>(SHUTTER_KEY);
+  if (!stored || stored.session_id !== sessionId || stored.page !== PAGE) return null;
+  const anchor = stored.anchor;
+  const valid = Array.isArray(anchor) && anchor.length === 3 && anchor.every((row) => Array.isArray(row) && row.length === 3 && row.every(Number.isFinite));
+  return valid ? anchor : null;
+}

@@ -9,6 +9,7 @@
 
 import { useEffect, useRef, useState } from "preact/hooks";
 import type { SensorFields } from "../types";
+import { markShutter } from "../live/shutter";
 import { takePicture } from "./capture";
 import type { GravityReading } from "./gravity";
 import { answerMotion, motionAccess, MotionRecorder } from "./motion";
@@ -124,6 +125,7 @@ export function InAppCamera({ onPhoto, onClose }: Props) {
     if (phase !== "live" || !video.current || !track) return;
     // Down at the moment of the tap, before the picture (takePhoto can take a while).
     const sensors = access === "granted" ? sensorFields(motion.current.reading()) : null;
+    markShutter(); // the orientation too, kept on the phone for "Show me" (live/shutter.ts)
     setPhase("taking");
     try {
       const file = await takePicture(video.current, track);

@@ -1,8 +1,9 @@
 /** Taking (or picking) the photo of the other side, and sending it. */
 
 import type { ComponentChildren } from "preact";
-import { useState } from "preact/hooks";
+import { useEffect, useState } from "preact/hooks";
 import { InAppCamera } from "../camera/InAppCamera";
+import { startShutterOrientation, stopShutterOrientation, takeShutterAnchor } from "../live/shutter";
 import type { SessionController, SessionView } from "../session";
 import { CameraIcon } from "./icons";
 
@@ -57,6 +58,12 @@ export function PhotoStep({ controller, view, top }: Props) {
   const busy = view.upload.phase === "preparing" || view.upload.phase === "uploading";
   const [camera, setCamera] = useState<"closed" | "open">("closed");
   const [cameraProblem, setCameraProblem] = useState<string | null>(null);
+  // The orientation is read while the camera is open, for "Show me" (live/shutter.ts).
+  useEffect(() => {
+    if (camera !== "open") return;
+    startShutterOrientation();
+    return stopShutterOrientation;
+  }, [camera]);
   return (
     <main class="screen session photo-step">
       {top}
@@ -100,7 +107,7 @@ export function PhotoStep({ controller, view, top }: Props) {
         <InAppCamera
           onPhoto={(file, sensors) => {
             setCamera("closed");
-            void controller.photo.choose(file, sensors);
+            void controller.photo.choose(file, sensors, takeShutterAnchor());
           }}
           onClose={(problem) => {
             setCamera("closed");

@@ -8,7 +8,7 @@ import { ApiError, isRetryable } from "../api";
 import { browserDecoder, preparePhoto, type PreparedPhoto } from "../downscale";
 import { fromServerTaps, newEditor, toServerTaps } from "../landmarks";
 import { readLens } from "../lens";
-import { saveDraft } from "../storage";
+import { saveDraft, saveShutterAnchor } from "../storage";
 import type { LensFields, SensorFields } from "../types";
 import { localPhoto, scaleTaps, sendPhoto, type ShownPhoto } from "../upload";
 import type { SharedParts } from "./parts";
@@ -37,9 +37,10 @@ export class PhotoUpload {
    * The lens is read from the chosen file itself: the shrunk copy keeps no EXIF. The shrunk
    * copy is shown and tapped on at once; the upload runs behind it (upload.ts). `sensors`:
    * what the in-app camera read at the shutter (none for the phone's camera app or the
-   * gallery).
+   * gallery); `anchor`: its orientation then, kept on the phone for "Show me" (live/).
    */
-  async choose(file: File, sensors: SensorFields | null = null): Promise<void> {
+  async choose(file: File, sensors: SensorFields | null = null, anchor: readonly (readonly number[])[] | null = null): Promise<void> {
+    saveShutterAnchor(this.view.credentials.session_id, anchor);
     this.store.set({ upload: { ...IDLE_UPLOAD, phase: "preparing" } });
     const [lens, prepared] = await Promise.all([readLens(file), preparePhoto(file, browserDecoder())]);
     if (this.view.ended) return;
@@ -55,6 +56,8 @@ export class PhotoUpload {
     const shown = this.view.photo;
     if (shown?.pending) {
       forgetLocal(shown);
+      // The photo back on screen is not the one the anchor was read for.
+      saveShutterAnchor(this.view.credentials.session_id, null);
       const before = this.before ?? { photo: null, editor: newEditor(), unseen: false, mode: startingMode(false, false) };
       this.before = null;
       this.parts.saver.saved(toServerTaps(before.editor.taps));
