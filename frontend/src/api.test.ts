@@ -65,3 +65,51 @@ describe("the API's calls", () => {
     expect(sent[0]?.method).toBe("DELETE");
   });
 });
+
+describe("re-anchoring (Show me)", () => {
+  let sent: { url: string; init: RequestInit | undefined }[];
+  let reply: () => Promise<Response>;
+  const ROTATION = [
+    [1, 0, 0],
+    [0, 1, 0],
+    [0, 0, 1],
+  ];
+
+  beforeEach(() => {
+    sent = [];
+    reply = () => Promise.resolve(Response.json({ rotation: ROTATION, frame_focal_px: 800, inliers: 120, degrees: 0 }));
+    vi.stubGlobal("fetch", (url: string, init?: RequestInit) => {
+      sent.push({ url, init });
+      return reply();
+    });
+  });
+
+  afterEach(() => vi.unstubAllGlobals());
+
+  it("posts the frame and the focal length it assumes, with the token", async () => {
+    const { reanchor } = await import("./api");
+    const answer = await reanchor(PHONE, new Blob(["jpeg"], { type: "image/jpeg" }), 812.5);
+    expect(answer).toMatchObject({ rotation: ROTATION, frame_focal_px: 800 });
+    const [call] = sent;
+    expect(call?.url).toBe("/api/sessions/s1/reanchor");
+    expect(call?.init?.method).toBe("POST");
+    expect((call?.init?.headers as Record<string, string>).Authorization).toBe("Bearer t1");
+    const form = call?.init?.body as FormData;
+    expect(form.get("frame")).toBeInstanceOf(Blob);
+    expect(form.get("frame_focal_px")).toBe("812.5");
+  });
+
+  it("says a frame that did not match by its reason", async () => {
+    const { reanchor } = await import("./api");
+    const error = { code: "no_solution", reason: "frame_not_matched", message: "The frame does not match the photo." };
+    reply = () => Promise.resolve(Response.json({ error }, { status: 422 }));
+    await expect(reanchor(PHONE, new Blob(["jpeg"]), null)).rejects.toMatchObject({ status: 422, code: "no_solution", reason: "frame_not_matched" });
+    expect((sent[0]?.init?.body as FormData).has("frame_focal_px")).toBe(false);
+  });
+
+  it("refuses an answer that is no rotation", async () => {
+    const { reanchor } = await import("./api");
+    reply = () => Promise.resolve(Response.json({ rotation: [[1, 0], [0, 1]], frame_focal_px: 800 }));
+    await expect(reanchor(PHONE, new Blob(["jpeg"]), null)).rejects.toBeInstanceOf(ApiError);
+  });
+});

@@ -25,6 +25,8 @@ export class ApiError extends Error {
     readonly status: number,
     readonly code: string,
     message: string,
+    /** The solver's reason, for its refusals (`frame_not_matched`, ...). */
+    readonly reason: string | null = null,
   ) {
     super(message);
     this.name = "ApiError";
@@ -49,9 +51,9 @@ export function isRetryable(error: unknown): boolean {
 
 /** The ApiError in a response body (or a plain one when the body is not the usual shape). */
 export function errorFrom(status: number, body: unknown): ApiError {
-  const error = (body as { error?: { code?: unknown; message?: unknown } } | null)?.error;
+  const error = (body as { error?: { code?: unknown; message?: unknown; reason?: unknown } } | null)?.error;
   if (error && typeof error.code === "string" && typeof error.message === "string") {
-    return new ApiError(status, error.code, error.message);
+    return new ApiError(status, error.code, error.message, typeof error.reason === "string" ? error.reason : null);
   }
   const fallback = status >= 500 ? "The server had a problem; try again." : `Refused (${status}).`;
   return new ApiError(status, "http_" + status, fallback);
@@ -188,4 +190,64 @@ export function uploadPhoto(
     }
     request.send(form);
   });
+}
+
+/**
+ * What the server read from a live frame matched to this phone's photo (re-anchoring, "Show
+ * me"): `rotation` takes a direction in the photo's camera frame into the frame's (x right,
+ * y down, z out of the lens), `frame_focal_px` is the frame's focal length in px of the frame
+ * as sent.
+ *
+ * Written here by hand, for now: the endpoint is not in the server's OpenAPI schema yet (the
+ * contract is docs/app.md's, "Show me"). Once it is, this goes through the typed client and
+ * this shape comes from generated/openapi.ts like every other.
+ */
+export interface Reanchored {
+  rotation: number[][];
+  frame_focal_px: number;
+  inliers: number;
+  degrees: number;
+}
+
+function isReanchored(body: unknown): body is Reanchored {
+  const r = body as Partial<Reanchored> | null;
+  const rotation = r?.rotation;
+  return (
+    Array.isArray(rotation) &&
+    rotation.length === 3 &&
+    rotation.every((row) => Array.isArray(row) && row.length === 3 && row.every(Number.isFinite)) &&
+    typeof r?.frame_focal_px === "number" &&
+    r.frame_focal_px > 0
+  );
+}
+
+/**
+ * POST one small frame of the live view (a JPEG) to be matched to this phone's own photo;
+ * `frameFocal`: the focal length the phone assumes for it, px of the frame, a hint. Refused
+ * with 422 `no_solution` (reason `frame_not_matched`) when the frame does not match.
+ */
+export async function reanchor({ session_id, token }: Credentials, frame: Blob, frameFocal: number | null): Promise<Reanchored> {
+  const form = new FormData();
+  form.append("frame", frame, "frame.jpeg");
+  if (frameFocal !== null && Number.isFinite(frameFocal)) form.append("frame_focal_px", String(frameFocal));
+  let response: Response;
+  try {
+    response = await fetch(`/api/sessions/${session_id}/reanchor`, {
+      method: "POST",
+      headers: { Authorization: `Bearer ${token}` },
+      body: form,
+      cache: "no-store",
+    });
+  } catch {
+    throw new ApiError(0, "network", NO_CONNECTION);
+  }
+  let body: unknown = null;
+  try {
+    body = await response.json();
+  } catch {
+    body = null;
+  }
+  if (!response.ok) throw errorFrom(response.status, body);
+  if (!isReanchored(body)) throw new ApiError(response.status, "bad_answer", "The server's answer could not be read; try again.");
+  return body;
 }

@@ -10,6 +10,8 @@ import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
 import { cropUrl, photoUrl } from "../api";
 import { describeAnswer, type AnswerView } from "../answer";
 import { SUGGESTED_SIGMA_PX, bandOf, misfitsOf } from "../guidance";
+import { answerMotion, motionAccess } from "../camera/motion";
+import { LiveView } from "../live/LiveView";
 import { canUndo, friendMarked, fromServerTaps, landmarkIds } from "../landmarks";
 import { lensNote } from "../lens";
 import { nextStep, type Step } from "../nextStep";
@@ -42,6 +44,15 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const status = useRef<HTMLElement>(null);
   const stage = useRef<HTMLDivElement>(null);
   const [covered, setCovered] = useState(0);
+  const [live, setLive] = useState(false);
+  // This phone's part of the answer, for "Show me": once there is a point or a curve.
+  const mine = answerState.answer?.in_photo[role] ?? null;
+  const canShow = Boolean(mine?.drawing) && (answer.position !== null || answer.kind === "curve");
+  const showMe = (): void => {
+    // iOS lets the page read the orientation only when asked from a tap (over HTTPS).
+    if (motionAccess() === "ask") void answerMotion(true);
+    setLive(true);
+  };
 
   const focusOn = (id: number): void => {
     controller.taps.select(id);
@@ -126,10 +137,12 @@ export function TapScreen({ controller, view, state, top }: Props) {
         lens={lensNote(state.photos[role])}
         recheck={recheck}
         onRecheck={focusOn}
+        onShowMe={canShow ? showMe : null}
       />
       <Prompt controller={controller} view={view} state={state} step={step} guide={guide} suggestion={suggestion} />
       <UploadBar view={view} />
       <Toolbar controller={controller} view={view} />
+      {live && canShow && mine && <LiveView credentials={credentials} answer={answer} mine={mine} onClose={() => setLive(false)} />}
     </main>
   );
 }
@@ -176,6 +189,8 @@ interface StatusProps {
   /** Landmarks to re-check: left out of the answer, or not fitting the others. */
   recheck: readonly number[];
   onRecheck: (id: number) => void;
+  /** Opens the live view that points at the friend ("Show me"); null: nothing to show yet. */
+  onShowMe: (() => void) | null;
 }
 
 /**
@@ -184,7 +199,7 @@ interface StatusProps {
  * elsewhere taps reach the photo (a sibling, so a touch beside a button stays on the photo:
  * PhotoView.tsx).
  */
-function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck }: StatusProps) {
+function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck, onShowMe }: StatusProps) {
   const { position } = answer;
   const ellipse = position?.ellipse ?? null;
   return (
@@ -228,6 +243,13 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck 
         >
           {answer.sureness ?? (position.how === "solved" ? "" : "Your mark, refined by the landmarks.")}
         </p>
+      )}
+      {onShowMe && (
+        <div class="status-row">
+          <button type="button" class="chip show-me" data-testid="show-me" onClick={onShowMe}>
+            Show me
+          </button>
+        </div>
       )}
       {recheck.length > 0 && (
         <div class="status-row wrap">

@@ -1,0 +1,359 @@
+/**
+ * "Show me": the back camera's live view, full screen, with the answer's drawing over it
+ * where the friend is in the world. The phone stands where it took its photo; its turn since
+ * the shutter (orientation.ts) carries the server's drawing of the photo onto the video
+ * (pointer.ts): the same brackets, label, curve and band, never a shape of the phone's own.
+ * Out of view, an arrow at the screen's edge says which way to turn.
+ *
+ * The turn is measured from an anchor: the orientation at the in-app camera's shutter
+ * (shutter.ts), or, for a photo without one (the gallery, a reload), a frame of this view
+ * matched to the photo on the server (Align; Re-align at any time resets the gyroscope's
+ * drift). The camera and the orientation sensor run only while the view is open.
+ */
+
+import { useEffect, useRef, useState } from "preact/hooks";
+import { ApiError, reanchor } from "../api";
+import type { AnswerView } from "../answer";
+import { motionAccess } from "../camera/motion";
+import { BAND_OPACITY, FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
+import { loadShutterAnchor } from "../storage";
+import type { Credentials, FrameShape, FriendInPhoto } from "../types";
+import { anchorFromFrame, sinceShutter, type Matrix3, type Vector3 } from "./orientation";
+import {
+  cover,
+  focalFrom35mm,
+  homography,
+  linesToScreen,
+  liveFocal,
+  photoToScreen,
+  pointAt,
+  screenPerPhotoPx,
+  type Cover,
+  type Point,
+  type Pointing,
+  type Size,
+} from "./pointer";
+import { OrientationSource, type Sample } from "./sensor";
+import {
+  ALIGN_TEXT,
+  ALIGNING_TEXT,
+  arrowLabel,
+  NO_MOTION_TEXT,
+  NO_SENSOR_TEXT,
+  NOT_MATCHED_TEXT,
+  pointingText,
+  STAY_TEXT,
+} from "./words";
+
+/** The back camera, 4:3 (the whole sensor, as photos are: pointer.ts's focal assumes it). */
+const CONSTRAINTS: MediaStreamConstraints = {
+  video: { facingMode: "environment", width: { ideal: 1920 }, height: { ideal: 1440 } },
+  audio: false,
+};
+/** A frame sent to be matched: JPEG, this long side, this quality (small and few). */
+const FRAME_SIDE = 960;
+const FRAME_QUALITY = 0.8;
+/** The focal length the server assumes of a photo whose answer gave none (a projective
+ * answer): a phone's main camera, 35 mm-equivalent. */
+const TYPICAL_FOCAL_35MM = 26;
+/** Screen px, as AnswerLayer.tsx draws on the photo. */
+const STROKE = 2.5;
+const OUTLINE = 5;
+const LEADER = 12;
+const FONT = 15;
+const MIN_FRAME_CSS = 12;
+const CURVE_STEP_CSS = 7;
+const CURVE_DOT = 3;
+const CURVE_OUTLINE = 4.5;
+/** The arrow at the screen's edge: how far inside it, its length and its head's. */
+const EDGE_INSET = 40;
+const EDGE_ARROW = 44;
+const ARROW_HEAD = 14;
+/** Screen px at the top kept for the words: no label goes there. */
+const CLEAR_TOP = 96;
+
+type Phase = "opening" | "live" | "failed";
+type Aligning = { kind: "idle" } | { kind: "sending" } | { kind: "refused"; message: string };
+
+interface Props {
+  credentials: Credentials;
+  answer: AnswerView;
+  /** This phone's part of the answer (its friend_h, the focal length the answer used). */
+  mine: FriendInPhoto;
+  onClose: () => void;
+}
+
+export function LiveView({ credentials, answer, mine, onClose }: Props) {
+  const [phase, setPhase] = useState<Phase>("opening");
+  const [problem, setProblem] = useState<string>("");
+  const [anchor, setAnchor] = useState<Matrix3 | null>(() => asMatrix(loadShutterAnchor(credentials.session_id)));
+  const [measured, setMeasured] = useState<number | null>(null);
+  const [reading, setReading] = useState<Sample | null>(null);
+  const [videoSize, setVideoSize] = useState<Size | null>(null);
+  const [box, setBox] = useState<Size>({ width: window.innerWidth, height: window.innerHeight });
+  const [aligning, setAligning] = useState<Aligning>({ kind: "idle" });
+  const video = useRef<HTMLVideoElement>(null);
+  const stage = useRef<HTMLDivElement>(null);
+  const source = useRef<OrientationSource | null>(null);
+
+  // The camera and the sensor while open; both stop on close.
+  useEffect(() => {
+    let closed = false;
+    let stream: MediaStream | null = null;
+    const sensor = new OrientationSource((sample) => {
+      if (!closed) setReading(sample);
+    });
+    source.current = sensor;
+    if (motionAccess() !== "denied") sensor.start();
+    const open = async (): Promise<void> => {
+      try {
+        if (!navigator.mediaDevices?.getUserMedia) throw new DOMException("no camera API", "NotFoundError");
+        stream = await navigator.mediaDevices.getUserMedia(CONSTRAINTS);
+        if (closed) {
+          stream.getTracks().forEach((track) => track.stop());
+          return;
+        }
+        const element = video.current;
+        if (element) {
+          element.srcObject = stream;
+          await element.play().catch(() => undefined);
+        }
+        setPhase("live");
+      } catch {
+        if (closed) return;
+        setProblem("The camera could not start, so there is no live view. Your photo shows where your friend is.");
+        setPhase("failed");
+      }
+    };
+    void open();
+    return () => {
+      closed = true;
+      sensor.stop();
+      source.current = null;
+      stream?.getTracks().forEach((track) => track.stop());
+    };
+  }, []);
+
+  useEffect(() => {
+    const element = stage.current;
+    if (!element) return;
+    const measure = (): void => setBox({ width: element.clientWidth, height: element.clientHeight });
+    measure();
+    const observer = new ResizeObserver(measure);
+    observer.observe(element);
+    return () => observer.disconnect();
+  }, []);
+
+  const drawing = answer.drawing;
+  const photo: Size | null = drawing ? { width: drawing.width, height: drawing.height } : null;
+  const photoFocal = photo ? focalFrom35mm(mine.focal_35mm ?? TYPICAL_FOCAL_35MM, photo) : null;
+  const videoFocal = photo && photoFocal && videoSize ? liveFocal(photoFocal, photo, videoSize, measured) : null;
+
+  const align = async (): Promise<void> => {
+    const element = video.current;
+    const at = source.current?.latest() ?? null;
+    if (!element || !videoSize || !at || aligning.kind === "sending") return;
+    setAligning({ kind: "sending" });
+    try {
+      const frame = await grabFrame(element, videoSize);
+      const hint = videoFocal ? (videoFocal * frame.size.width) / videoSize.width : null;
+      const found = await reanchor(credentials, frame.blob, hint);
+      const rotation = asMatrix(found.rotation);
+      if (!rotation) throw new ApiError(200, "bad_answer", NOT_MATCHED_TEXT);
+      setAnchor(anchorFromFrame(at, rotation));
+      setMeasured(found.frame_focal_px / Math.max(frame.size.width, frame.size.height));
+      setAligning({ kind: "idle" });
+    } catch (error) {
+      // The last anchor stays: a refused match moves nothing.
+      const notMatched = error instanceof ApiError && error.reason === "frame_not_matched";
+      const message = notMatched ? NOT_MATCHED_TEXT : error instanceof Error ? error.message : String(error);
+      setAligning({ kind: "refused", message });
+    }
+  };
+
+  const ready = phase === "live" && anchor && reading && photo && photoFocal && videoSize && videoFocal;
+  const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine) : null;
+  const curve = Boolean(drawing?.curve);
+
+  let words: string;
+  if (phase === "failed") words = problem;
+  else if (aligning.kind === "sending") words = ALIGNING_TEXT;
+  else if (aligning.kind === "refused") words = aligning.message;
+  else if (motionAccess() === "denied") words = NO_MOTION_TEXT;
+  else if (!anchor) words = ALIGN_TEXT;
+  else if (!reading) words = NO_SENSOR_TEXT;
+  else words = pointingText(layer?.pointing ?? null, curve);
+
+  return (
+    <div class="live" role="dialog" aria-modal="true" aria-label="Show me" data-testid="live-view" data-phase={phase} data-anchored={String(Boolean(anchor))}>
+      <div class="live-stage" ref={stage}>
+        <video
+          ref={video}
+          class="live-video"
+          data-testid="live-video"
+          role="img"
+          aria-label="What the camera sees"
+          autoplay
+          muted
+          playsInline
+          onLoadedMetadata={(event) => {
+            const v = event.currentTarget;
+            setVideoSize({ width: v.videoWidth, height: v.videoHeight });
+          }}
+          onResize={(event) => {
+            const v = event.currentTarget;
+            setVideoSize({ width: v.videoWidth, height: v.videoHeight });
+          }}
+        />
+        {layer && drawing && (
+          <svg class="live-layer" width={box.width} height={box.height} aria-hidden="true" data-testid="live-layer">
+            {drawing.curve && (
+              <LiveCurve lines={linesToScreen(layer.h, layer.cover, drawing.curve.polylines)} band={(drawing.curve.halfwidth ?? 0) * layer.perPhotoPx} />
+            )}
+            {drawing.frame && layer.pointing?.kind === "in-view" && <LiveFrame frame={drawing.frame} layer={layer} />}
+            {layer.pointing?.kind === "off-view" && <EdgeArrow pointing={layer.pointing} />}
+          </svg>
+        )}
+      </div>
+      <p class="live-note" data-testid="live-note" role="status">
+        {words}
+        <span class="live-stay">{STAY_TEXT}</span>
+      </p>
+      <div class="live-bar">
+        <button type="button" class="button secondary" data-testid="live-close" onClick={onClose}>
+          Close
+        </button>
+        <button
+          type="button"
+          class={`button ${anchor ? "secondary" : "primary"}`}
+          data-testid="live-align"
+          disabled={phase !== "live" || !reading || aligning.kind === "sending"}
+          onClick={() => void align()}
+        >
+          {anchor ? "Re-align" : "Align"}
+        </button>
+      </div>
+    </div>
+  );
+}
+
+function asMatrix(rows: readonly (readonly number[])[] | null): Matrix3 | null {
+  if (!rows || rows.length !== 3 || !rows.every((row) => row.length === 3 && row.every(Number.isFinite))) return null;
+  const [a, b, c] = rows as [number[], number[], number[]];
+  return [a as unknown as Vector3, b as unknown as Vector3, c as unknown as Vector3];
+}
+
+interface Layer {
+  h: Matrix3;
+  cover: Cover;
+  perPhotoPx: number;
+  pointing: Pointing | null;
+}
+
+/** The photo's drawing placed on the live screen by the turn `rotation`. */
+function place(rotation: Matrix3, photo: Size, photoFocal: number, video: Size, videoFocal: number, box: Size, mine: FriendInPhoto): Layer {
+  const h = homography(rotation, photoFocal, photo, videoFocal, video);
+  const c = cover(video, box);
+  const friend: Vector3 | null = mine.friend_h
+    ? [mine.friend_h[0], mine.friend_h[1], mine.friend_h[2]]
+    : mine.friend
+      ? [mine.friend[0], mine.friend[1], 1]
+      : null;
+  return { h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing: friend ? pointAt(h, c, video, friend, EDGE_INSET) : null };
+}
+
+function pathOf(lines: readonly (readonly Point[])[]): string {
+  return lines.map((line) => line.map((p, i) => `${i === 0 ? "M" : "L"}${p.x.toFixed(1)} ${p.y.toFixed(1)}`).join("")).join("");
+}
+
+/** The server's brackets, turned onto the screen, spread to a finger's size at the least;
+ * "friend" on its leader above them (below when the words are there). */
+function LiveFrame({ frame, layer }: { frame: FrameShape; layer: Layer }) {
+  const centre = photoToScreen(layer.h, layer.cover, frame.centre);
+  if (!centre) return null;
+  const spread = (half: number): number => Math.max(1, MIN_FRAME_CSS / (layer.perPhotoPx * half));
+  const [sx, sy] = [spread(frame.half[0]), spread(frame.half[1])];
+  const brackets = frame.brackets
+    .map((line) =>
+      line
+        .map((p) => photoToScreen(layer.h, layer.cover, p))
+        .filter((p): p is Point => p !== null)
+        .map((p) => ({ x: centre.x + sx * (p.x - centre.x), y: centre.y + sy * (p.y - centre.y) })),
+    )
+    .filter((line) => line.length > 1);
+  const ys = brackets.flat().map((p) => p.y);
+  const top = Math.min(centre.y, ...ys);
+  const bottom = Math.max(centre.y, ...ys);
+  const above = top - LEADER - FONT >= CLEAR_TOP;
+  const edge = above ? top : bottom;
+  const end = above ? edge - LEADER : edge + LEADER;
+  const path = pathOf(brackets);
+  return (
+    <g data-testid="live-frame" data-x={centre.x.toFixed(2)} data-y={centre.y.toFixed(2)}>
+      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
+      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
+      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
+      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" stroke-linejoin="round" />
+      <text
+        x={centre.x}
+        y={above ? end - 4 : end + FONT}
+        text-anchor="middle"
+        font-size={FONT}
+        fill={FRIEND_COLOUR}
+        stroke={OUTLINE_COLOUR}
+        stroke-width="4"
+        paint-order="stroke"
+      >
+        {frame.label}
+      </text>
+    </g>
+  );
+}
+
+/** The curve the friend is on, dotted, in its band when it has one (screen px). */
+function LiveCurve({ lines, band }: { lines: Point[][]; band: number }) {
+  const path = pathOf(lines);
+  const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
+  return (
+    <g data-testid="live-curve" data-pieces={String(lines.length)}>
+      {band > 0 && <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-opacity={BAND_OPACITY} stroke-width={2 * band} />}
+      <path d={path} {...dots} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} />
+      <path d={path} {...dots} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} />
+    </g>
+  );
+}
+
+/** An arrow inside the screen's edge towards the friend, saying which way to turn. */
+function EdgeArrow({ pointing }: { pointing: Extract<Pointing, { kind: "off-view" }> }) {
+  const { at, angle } = pointing;
+  const back = { x: at.x - EDGE_ARROW * Math.cos(angle), y: at.y - EDGE_ARROW * Math.sin(angle) };
+  const head = (side: number): Point => ({
+    x: at.x - ARROW_HEAD * Math.cos(angle + side * 0.5),
+    y: at.y - ARROW_HEAD * Math.sin(angle + side * 0.5),
+  });
+  const path = `M${back.x} ${back.y}L${at.x} ${at.y}M${head(1).x} ${head(1).y}L${at.x} ${at.y}L${head(-1).x} ${head(-1).y}`;
+  // The words inside the arrow's tail, kept on the screen.
+  const label = { x: back.x - 30 * Math.cos(angle), y: back.y - 30 * Math.sin(angle) + FONT / 3 };
+  return (
+    <g data-testid="live-arrow" data-turn={pointing.turn} data-x={at.x.toFixed(2)} data-y={at.y.toFixed(2)}>
+      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE + 1} stroke-linecap="round" />
+      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE + 1} stroke-linecap="round" />
+      <text x={label.x} y={label.y} text-anchor="middle" font-size={FONT} fill={FRIEND_COLOUR} stroke={OUTLINE_COLOUR} stroke-width="4" paint-order="stroke">
+        {arrowLabel(pointing)}
+      </text>
+    </g>
+  );
+}
+
+/** One frame of the live view as a small JPEG (long side FRAME_SIDE), and its size. */
+async function grabFrame(element: HTMLVideoElement, video: Size): Promise<{ blob: Blob; size: Size }> {
+  const k = Math.min(1, FRAME_SIDE / Math.max(video.width, video.height));
+  const size = { width: Math.round(video.width * k), height: Math.round(video.height * k) };
+  const canvas = document.createElement("canvas");
+  canvas.width = size.width;
+  canvas.height = size.height;
+  canvas.getContext("2d")?.drawImage(element, 0, 0, size.width, size.height);
+  const blob = await new Promise<Blob | null>((resolve) => canvas.toBlob(resolve, "image/jpeg", FRAME_QUALITY));
+  if (!blob) throw new Error("The view could not be read; try again.");
+  return { blob, size };
+}
