@@ -1,0 +1,211 @@
+"""Show me, in Chromium: the joiner photographs the temple in the app, held upright at a
+known orientation (the DevTools protocol's ``relative-orientation`` override, a
+quaternion), gets a point from the starter's mark and three landmarks, opens the live view
+and turns the phone by a known angle: the marker is drawn where the answer's friend now
+projects, within 1 degree; turned far away, an arrow says which way to turn.
+
+The joiner's camera films the temple photo (``--use-file-for-fake-video-capture``, the
+``filming`` fixture), so the photo and the live video are the same 640 x 480 frames and the
+landmarks of the temple scene are its pixels. The starter is the API (its photo and taps),
+which keeps to one browser. The truth is computed here from the answer alone: the friend's
+pixel in the joiner's photo and the focal length the answer used, turned about the camera's
+vertical (the phone upright and level) by the turn set, and mapped onto the screen as
+object-fit: cover shows the video.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import cv2
+import httpx2
+import numpy as np
+from chromium_phone import ChromiumPhone
+from phone import Phone, expect
+from test_in_app_camera import SPY, still_reading, take_photo
+from test_two_phones import PAIR, cannot_see, find_landmarks, reported_position, scene, temple
+
+from testbed.y4m import write_y4m
+
+FILM_DIAGONAL_MM = math.hypot(36.0, 24.0)
+# The phone upright in portrait, its lens level: beta 90 degrees (W3C DeviceOrientation).
+UPRIGHT = (math.sin(math.radians(45)), 0.0, 0.0, math.cos(math.radians(45)))
+# The marker within this of where the answer points (the issue's target).
+TOLERANCE_DEG = 1.0
+
+
+def turned_right(degrees: float) -> tuple[float, float, float, float]:
+    """The upright phone turned right (clockwise seen from above) by ``degrees``: a turn
+    about the world's up (z) by minus that, after the upright one. Quaternion [x, y, z, w]."""
+    half = math.radians(-degrees) / 2
+    z, w = math.sin(half), math.cos(half)
+    x0, _, _, w0 = UPRIGHT
+    # (0, 0, z, w) times (x0, 0, 0, w0), Hamilton's product.
+    return (w * x0, z * x0, z * w0, w * w0)
+
+
+class Orientation:
+    """The phone's relative orientation, overridden from the start (before the page reads
+    it: Chromium takes the override for sensors started after it)."""
+
+    def __init__(self, phone: ChromiumPhone) -> None:
+        self._cdp = phone.context.new_cdp_session(phone.page)
+        enable = {"enabled": True, "type": "relative-orientation"}
+        self._cdp.send("Emulation.setSensorOverrideEnabled", enable)
+
+    def hold(self, quaternion: tuple[float, float, float, float]) -> None:
+        """Held so from now on (Chromium sends a reading when it changes)."""
+        x, y, z, w = quaternion
+        reading = {"quaternion": {"x": x, "y": y, "z": z, "w": w}}
+        override = {"type": "relative-orientation", "reading": reading}
+        self._cdp.send("Emulation.setSensorOverrideReadings", override)
+
+
+def starter_by_api(server: str) -> tuple[dict[str, str], str]:
+    """A search started over the API, with the starter's temple photo: its session and the
+    join code."""
+    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
+    auth = {"Authorization": f"Bearer {created['token']}"}
+    with temple(PAIR[0]).open("rb") as photo:
+        files = {"photo": ("starter.png", photo, "image/png")}
+        url = f"{server}/api/sessions/{created['session_id']}/photo"
+        httpx2.put(url, headers=auth, files=files).raise_for_status()
+    return created, created["join_code"]
+
+
+def put_taps(server: str, starter: dict[str, str], taps: dict[str, Any]) -> None:
+    url = f"{server}/api/sessions/{starter['session_id']}/taps"
+    auth = {"Authorization": f"Bearer {starter['token']}"}
+    httpx2.put(url, headers=auth, json=taps).raise_for_status()
+
+
+def expected_on_screen(
+    phone: Phone, friend: np.ndarray, focal: float, turn_deg: float
+) -> tuple[np.ndarray, float, np.ndarray]:
+    """Where the answer's ``friend`` (photo px) is on the screen once the phone has turned
+    right by ``turn_deg``; the screen px per video px; the video's size. The live video is
+    the photo's own frames: the same size and focal length."""
+    shown = phone.evaluate(
+        """() => {
+            const v = document.querySelector('[data-testid="live-video"]');
+            const r = v.getBoundingClientRect();
+            return [r.left, r.top, r.width, r.height, v.videoWidth, v.videoHeight];
+        }"""
+    )
+    left, top, width, height, vw, vh = (float(value) for value in shown)
+    centre = np.array([vw / 2, vh / 2])
+    dx, dy = friend - centre
+    t = math.radians(turn_deg)
+    # Turning right moves the scene left: the direction about the camera's vertical.
+    x, y, z = dx * math.cos(t) - focal * math.sin(t), dy, dx * math.sin(t) + focal * math.cos(t)
+    video = centre + focal * np.array([x / z, y / z])
+    scale = max(width / vw, height / vh)
+    offset = np.array([left + (width - vw * scale) / 2, top + (height - vh * scale) / 2])
+    return offset + scale * video, scale, np.array([vw, vh])
+
+
+def degrees_apart(a: np.ndarray, b: np.ndarray, focal_screen: float) -> float:
+    """The angle between the rays through two screen points (focal length in screen px),
+    both near the view's centre line: their distance over the focal length, as an angle."""
+    return math.degrees(math.atan(float(np.hypot(*(a - b))) / focal_screen))
+
+
+def marker(phone: Phone) -> np.ndarray:
+    frame = phone.get_by_test_id("live-frame")
+    expect(frame).to_be_visible()
+    return np.array([float(frame.get_attribute(n) or "nan") for n in ("data-x", "data-y")])
+
+
+def test_show_me_points_at_the_friend_as_the_phone_turns(
+    server: str, filming: Callable[[Path], Phone], tmp_path: Path
+) -> None:
+    photo = cv2.imread(str(temple(PAIR[1])), cv2.IMREAD_COLOR)
+    assert photo is not None
+    video = tmp_path / "joiner.y4m"
+    write_y4m(video, [photo.astype(np.uint8)])
+    joiner = filming(video)
+    assert isinstance(joiner, ChromiumPhone)
+    starter, code = starter_by_api(server)
+    truth = scene(3, seed=12)
+
+    # The joiner photographs the temple in the app, upright and level.
+    joiner.goto(f"{server}/join/{code}")
+    expect(joiner.get_by_test_id("open-camera")).to_be_visible()
+    joiner.evaluate(SPY)
+    joiner.hold_still(still_reading([0.0, 1.0, 0.0]))
+    orientation = Orientation(joiner)
+    orientation.hold(UPRIGHT)
+    joiner.get_by_test_id("open-camera").tap()
+    joiner.get_by_test_id("motion-allow").tap()
+    expect(joiner.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
+    take_photo(joiner)
+    expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
+
+    # The starter marks the joiner and taps three landmarks; the joiner finds them.
+    landmarks = [
+        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(truth.landmarks1, 1)
+    ]
+    friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
+    put_taps(server, starter, {"friend": friend1, "landmarks": landmarks})
+    cannot_see(joiner)
+    find_landmarks(joiner, truth.landmarks2)
+    _, _, how = reported_position(joiner)
+    assert how == "solved"
+    state = joiner.evaluate(
+        """async () => {
+            const { session_id, token } = JSON.parse(localStorage.getItem("buddy-search.session"));
+            const headers = { Authorization: `Bearer ${token}` };
+            return (await fetch(`/api/sessions/${session_id}`, { headers })).json();
+        }"""
+    )
+    mine = state["answer"]["in_photo"]["joiner"]
+    friend = np.array(mine["friend"], dtype=float)
+    focal = mine["focal_35mm"] / FILM_DIAGONAL_MM * math.hypot(640, 480)
+
+    # Show me, held as at the shutter: the marker on the friend.
+    joiner.get_by_test_id("show-me").tap()
+    live = joiner.get_by_test_id("live-view")
+    expect(live).to_have_attribute("data-phase", "live")
+    expect(live).to_have_attribute("data-anchored", "true")
+    # The friend is off to the right of the photo's centre, beyond the screen's +-12 degrees
+    # of the 4:3 video's width: the arrow says so until the phone turns their way.
+    ahead = math.degrees(math.atan((friend[0] - 320) / focal))
+    assert abs(ahead) > 15, ahead
+    off = "right" if ahead > 0 else "left"
+    expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", off)
+    expect(joiner.get_by_test_id("live-note")).to_contain_text(f"Turn {off}")
+
+    def marker_at(turn: float) -> float:
+        """Turned right by ``turn`` degrees: the marker where the friend projects; its
+        error, degrees."""
+        orientation.hold(turned_right(turn))
+        expected, scale, _ = expected_on_screen(joiner, friend, focal, turn)
+        focal_screen = scale * focal
+
+        def placed() -> bool:
+            if joiner.get_by_test_id("live-frame").count() == 0:
+                return False
+            return degrees_apart(marker(joiner), expected, focal_screen) < TOLERANCE_DEG
+
+        joiner.wait_for(placed, f"the marker where the friend is, turned {turn:.1f} degrees")
+        return degrees_apart(marker(joiner), expected, focal_screen)
+
+    # Turned so that the friend is 3 degrees left of the view's centre, then 3 right of it.
+    errors = [marker_at(ahead + 3.0), marker_at(ahead - 3.0)]
+    expect(joiner.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")
+    # Turned 40 degrees away either way: off the screen, an arrow says which way to turn.
+    for away, turn in ((-40.0, "right"), (40.0, "left")):
+        orientation.hold(turned_right(ahead + away))
+        expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", turn)
+        expect(joiner.get_by_test_id("live-frame")).to_have_count(0)
+    # ...and back: the marker where it was.
+    errors.append(marker_at(ahead + 3.0))
+    print(f"marker error, degrees: {[round(error, 3) for error in errors]}")
+
+    # Closed: the camera view is gone, the photo and its answer are back.
+    joiner.get_by_test_id("live-close").tap()
+    expect(joiner.get_by_test_id("live-view")).to_have_count(0)
+    expect(joiner.get_by_test_id("answer-frame")).to_be_visible()
