@@ -1,0 +1,16 @@
+import { describe, expect, it } from "vitest";
+import { arrowLabel, CURVE_LIVE_TEXT, FRAME_LIVE_TEXT, pointingText } from "./words";
+
+describe("what Show me says", () => {
+  it("says where the friend is, or which way to turn", () => {
+    expect(pointingText({ kind: "in-view", at: { x: 1, y: 2 } }, false)).toBe(FRAME_LIVE_TEXT);
+    const off = { kind: "off-view", at: { x: 0, y: 0 }, angle: Math.PI, turn: "left" } as const;
+    expect(pointingText(off, false)).toBe("Turn left: your friend is that way.");
+    expect(arrowLabel(off)).toBe("turn left");
+  });
+
+  it("speaks of the curve when there is no point", () => {
+    expect(pointingText(null, true)).toBe(CURVE_LIVE_TEXT);
+    expect(pointingText(null, false)).toBe("");
+  });
+});
