@@ -2,7 +2,10 @@
 known orientation (the DevTools protocol's ``relative-orientation`` override, a
 quaternion), gets a point from the starter's mark and three landmarks, opens the live view
 and turns the phone by a known angle: the marker is drawn where the answer's friend now
-projects, within 1 degree; turned far away, an arrow says which way to turn.
+projects, within 1 degree; turned far away, an arrow says which way to turn. After a
+reload the view asks to align: a frame the server does not match is said so and anchors
+nothing, one it matches anchors the marker (the endpoint is played by the test's route:
+the server has none yet).
 
 The joiner's camera films the temple photo (``--use-file-for-fake-video-capture``, the
 ``filming`` fixture), so the photo and the live video are the same 640 x 480 frames and the
@@ -15,6 +18,7 @@ object-fit: cover shows the video.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -23,8 +27,10 @@ from typing import Any
 import cv2
 import httpx2
 import numpy as np
+import pytest
 from chromium_phone import ChromiumPhone
 from phone import Phone, expect
+from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
 from test_two_phones import PAIR, cannot_see, find_landmarks, reported_position, scene, temple
 
@@ -119,6 +125,45 @@ def marker(phone: Phone) -> np.ndarray:
     return np.array([float(frame.get_attribute(n) or "nan") for n in ("data-x", "data-y")])
 
 
+class Reanchoring:
+    """The re-anchoring endpoint, played by the test (the server has none yet): refuses
+    the first frame (frame_not_matched), then answers with the rotation the phone has made
+    since its photo and the frame's focal length. Keeps what the phone sent."""
+
+    def __init__(self, turn_deg: float, focal: float) -> None:
+        t = math.radians(turn_deg)
+        # A turn to the right by t about the camera's vertical (x right, y down, z ahead).
+        self.rotation = [
+            [math.cos(t), 0.0, -math.sin(t)],
+            [0.0, 1.0, 0.0],
+            [math.sin(t), 0.0, math.cos(t)],
+        ]
+        self.focal = focal
+        self.sent: list[bytes] = []
+
+    def __call__(self, route: Route) -> None:
+        self.sent.append(route.request.post_data_buffer or b"")
+        if len(self.sent) == 1:
+            refusal = {
+                "code": "no_solution",
+                "reason": "frame_not_matched",
+                "message": "The frame does not match the photo.",
+            }
+            route.fulfill(
+                status=422, content_type="application/json", body=json.dumps({"error": refusal})
+            )
+            return
+        answer = {
+            "rotation": self.rotation,
+            "frame_focal_px": self.focal,
+            "inliers": 200,
+            "degrees": 0.0,
+        }
+        route.fulfill(status=200, content_type="application/json", body=json.dumps(answer))
+
+
+# A refused frame is a 422, which Chromium logs as an error of the page.
+@pytest.mark.expected_console_errors(r"status of 422")
 def test_show_me_points_at_the_friend_as_the_phone_turns(
     server: str, filming: Callable[[Path], Phone], tmp_path: Path
 ) -> None:
@@ -192,6 +237,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
 
         joiner.wait_for(placed, f"the marker where the friend is, turned {turn:.1f} degrees")
         return degrees_apart(marker(joiner), expected, focal_screen)
+        return degrees_apart(marker(joiner), expected, focal_screen)
 
     # Turned so that the friend is 3 degrees left of the view's centre, then 3 right of it.
     errors = [marker_at(ahead + 3.0), marker_at(ahead - 3.0)]
@@ -203,6 +249,37 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
         expect(joiner.get_by_test_id("live-frame")).to_have_count(0)
     # ...and back: the marker where it was.
     errors.append(marker_at(ahead + 3.0))
+
+    # After a reload the sensor's reference may have moved: Show me asks to align on a frame.
+    joiner.reload()
+    expect(joiner.get_by_test_id("answer-frame")).to_be_visible()
+    reanchoring = Reanchoring(ahead + 3.0, focal)
+    joiner.page.route("**/api/sessions/*/reanchor", reanchoring)
+    joiner.get_by_test_id("show-me").tap()
+    expect(live).to_have_attribute("data-anchored", "false")
+    expect(joiner.get_by_test_id("live-note")).to_contain_text("tap Align")
+    expect(joiner.get_by_test_id("live-layer")).to_have_count(0)
+    # Chromium gives a sensor started after a reload the override's first reading until
+    # the next is set: the phone held as it is, and its reading in the page, before aligning.
+    readings = int(live.get_attribute("data-readings") or "0")
+    orientation.hold(turned_right(ahead + 3.0))
+    joiner.wait_for(
+        lambda: int(live.get_attribute("data-readings") or "0") > readings, "the reading"
+    )
+    # A frame that does not match is said so, and anchors nothing.
+    joiner.get_by_test_id("live-align").tap()
+    expect(joiner.get_by_test_id("live-note")).to_contain_text("did not match your photo")
+    expect(live).to_have_attribute("data-anchored", "false")
+    # One that matches anchors the view: the marker where the friend is.
+    joiner.get_by_test_id("live-align").tap()
+    expect(live).to_have_attribute("data-anchored", "true")
+    errors.append(marker_at(ahead + 3.0))
+    assert len(reanchoring.sent) == 2
+    # The frame went as a JPEG with the focal length the phone assumed for it.
+    form = reanchoring.sent[1]
+    assert b'name="frame"' in form, form[:300]
+    assert b"image/jpeg" in form, form[:300]
+    assert b'name="frame_focal_px"' in form
     print(f"marker error, degrees: {[round(error, 3) for error in errors]}")
 
     # Closed: the camera view is gone, the photo and its answer are back.

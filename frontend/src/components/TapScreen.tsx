@@ -48,6 +48,10 @@ export function TapScreen({ controller, view, state, top }: Props) {
   // This phone's part of the answer, for "Show me": once there is a point or a curve.
   const mine = answerState.answer?.in_photo[role] ?? null;
   const canShow = Boolean(mine?.drawing) && (answer.position !== null || answer.kind === "curve");
+  // The answer the live view shows: the newest with something to show, kept while it is
+  // open (a state fetched again, an answer being renewed, must not close it).
+  const shown = useRef<{ answer: AnswerView; mine: NonNullable<typeof mine> } | null>(null);
+  if (canShow && mine) shown.current = { answer, mine };
   const showMe = (): void => {
     // iOS lets the page read the orientation only when asked from a tap (over HTTPS).
     if (motionAccess() === "ask") void answerMotion(true);
@@ -142,7 +146,9 @@ export function TapScreen({ controller, view, state, top }: Props) {
       <Prompt controller={controller} view={view} state={state} step={step} guide={guide} suggestion={suggestion} />
       <UploadBar view={view} />
       <Toolbar controller={controller} view={view} />
-      {live && canShow && mine && <LiveView credentials={credentials} answer={answer} mine={mine} onClose={() => setLive(false)} />}
+      {live && shown.current && (
+        <LiveView credentials={credentials} answer={shown.current.answer} mine={shown.current.mine} onClose={() => setLive(false)} />
+      )}
     </main>
   );
 }

@@ -16,7 +16,7 @@ import { ApiError, reanchor } from "../api";
 import type { AnswerView } from "../answer";
 import { motionAccess } from "../camera/motion";
 import { BAND_OPACITY, FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
-import { loadShutterAnchor } from "../storage";
+import { loadShutterAnchor, saveShutterAnchor } from "../storage";
 import type { Credentials, FrameShape, FriendInPhoto } from "../types";
 import { anchorFromFrame, sinceShutter, type Matrix3, type Vector3 } from "./orientation";
 import {
@@ -160,7 +160,10 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       const found = await reanchor(credentials, frame.blob, hint);
       const rotation = asMatrix(found.rotation);
       if (!rotation) throw new ApiError(200, "bad_answer", NOT_MATCHED_TEXT);
-      setAnchor(anchorFromFrame(at, rotation));
+      const aligned = anchorFromFrame(at, rotation);
+      setAnchor(aligned);
+      // Kept as the photo's anchor on this page: the view opened again starts from it.
+      saveShutterAnchor(credentials.session_id, aligned);
       setMeasured(found.frame_focal_px / Math.max(frame.size.width, frame.size.height));
       setAligning({ kind: "idle" });
     } catch (error) {
@@ -185,7 +188,16 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   else words = pointingText(layer?.pointing ?? null, curve);
 
   return (
-    <div class="live" role="dialog" aria-modal="true" aria-label="Show me" data-testid="live-view" data-phase={phase} data-anchored={String(Boolean(anchor))}>
+    <div
+      class="live"
+      role="dialog"
+      aria-modal="true"
+      aria-label="Show me"
+      data-testid="live-view"
+      data-phase={phase}
+      data-anchored={String(Boolean(anchor))}
+      data-readings={String(source.current?.count ?? 0)}
+    >
       <div class="live-stage" ref={stage}>
         <video
           ref={video}
@@ -206,7 +218,16 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           }}
         />
         {layer && drawing && (
-          <svg class="live-layer" width={box.width} height={box.height} aria-hidden="true" data-testid="live-layer">
+          <svg
+            class="live-layer"
+            width={box.width}
+            height={box.height}
+            aria-hidden="true"
+            data-testid="live-layer"
+            data-video={`${videoSize?.width ?? 0}x${videoSize?.height ?? 0}`}
+            data-video-focal={videoFocal?.toFixed(2)}
+            data-turn={layer.rotation.map((row) => row.map((v) => v.toFixed(4)).join(",")).join(";")}
+          >
             {drawing.curve && (
               <LiveCurve lines={linesToScreen(layer.h, layer.cover, drawing.curve.polylines)} band={(drawing.curve.halfwidth ?? 0) * layer.perPhotoPx} />
             )}
@@ -244,6 +265,7 @@ function asMatrix(rows: readonly (readonly number[])[] | null): Matrix3 | null {
 }
 
 interface Layer {
+  rotation: Matrix3;
   h: Matrix3;
   cover: Cover;
   perPhotoPx: number;
@@ -259,7 +281,7 @@ function place(rotation: Matrix3, photo: Size, photoFocal: number, video: Size, 
     : mine.friend
       ? [mine.friend[0], mine.friend[1], 1]
       : null;
-  return { h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing: friend ? pointAt(h, c, video, friend, EDGE_INSET) : null };
+  return { rotation, h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing: friend ? pointAt(h, c, video, friend, EDGE_INSET) : null };
 }
 
 function pathOf(lines: readonly (readonly Point[])[]): string {

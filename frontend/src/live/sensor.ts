@@ -41,8 +41,12 @@ export class OrientationSource {
     this.keepMs = keepMs;
   }
 
+  /** Readings since start() (the browser tests wait on it). */
+  count = 0;
+
   private push(device: Matrix3): void {
     const at = performance.now();
+    this.count += 1;
     const sample: Sample = { device, screenAngle: screenAngle(), at };
     this.samples.push(sample);
     while (this.samples.length > 1 && (this.samples[1]?.at ?? at) < at - this.keepMs) this.samples.shift();
