@@ -12,6 +12,7 @@ import { describeAnswer, type AnswerView } from "../answer";
 import { SUGGESTED_SIGMA_PX, bandOf, misfitsOf } from "../guidance";
 import { answerMotion, motionAccess } from "../camera/motion";
 import { LiveView } from "../live/LiveView";
+import { askOrientation } from "../live/sensor";
 import { canUndo, friendMarked, fromServerTaps, landmarkIds } from "../landmarks";
 import { lensNote } from "../lens";
 import { nextStep, type Step } from "../nextStep";
@@ -55,6 +56,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const showMe = (): void => {
     // iOS lets the page read the orientation only when asked from a tap (over HTTPS).
     if (motionAccess() === "ask") void answerMotion(true);
+    void askOrientation();
     setLive(true);
   };
 

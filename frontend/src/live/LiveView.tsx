@@ -36,6 +36,7 @@ import {
 import { OrientationSource, type Sample } from "./sensor";
 import {
   ALIGN_TEXT,
+  ALIGN_UNAVAILABLE_TEXT,
   ALIGNING_TEXT,
   arrowLabel,
   NO_MOTION_TEXT,
@@ -169,7 +170,9 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
     } catch (error) {
       // The last anchor stays: a refused match moves nothing.
       const notMatched = error instanceof ApiError && error.reason === "frame_not_matched";
-      const message = notMatched ? NOT_MATCHED_TEXT : error instanceof Error ? error.message : String(error);
+      // A server without the endpoint (or a proxy's page) has no sentence of its own.
+      const bare = error instanceof ApiError && error.code.startsWith("http_");
+      const message = notMatched ? NOT_MATCHED_TEXT : bare ? ALIGN_UNAVAILABLE_TEXT : error instanceof Error ? error.message : String(error);
       setAligning({ kind: "refused", message });
     }
   };

@@ -24,6 +24,23 @@ interface SensorLike extends EventTarget {
 }
 type SensorClass = new (options: { frequency: number; referenceFrame?: "device" | "screen" }) => SensorLike;
 
+type OrientationAsker = { requestPermission?: () => Promise<string> };
+
+/**
+ * iOS lets the page read `deviceorientation` only once asked from a tap (over HTTPS), a
+ * question of its own beside the motion one: asked here, from the tap that opens the view.
+ * Elsewhere nothing is asked.
+ */
+export async function askOrientation(): Promise<void> {
+  const asker = typeof DeviceOrientationEvent === "undefined" ? null : (DeviceOrientationEvent as unknown as OrientationAsker);
+  if (typeof asker?.requestPermission !== "function") return;
+  try {
+    await asker.requestPermission.call(DeviceOrientationEvent);
+  } catch {
+    // Not from a tap, or not over HTTPS: the view says it has no reading.
+  }
+}
+
 /** Readings per second asked of the sensor: a marker that follows the hand smoothly. */
 const FREQUENCY = 60;
 

@@ -12,6 +12,7 @@ export const ALIGN_TEXT =
 export const ALIGNING_TEXT = "Matching the view to your photo...";
 export const NOT_MATCHED_TEXT =
   "The view did not match your photo. Hold the phone as you took it, where you stood, and tap Align again.";
+export const ALIGN_UNAVAILABLE_TEXT = "The view cannot be matched to your photo right now: try again later.";
 export const NO_MOTION_TEXT = "Motion access is off: the view cannot follow the phone.";
 export const NO_SENSOR_TEXT = "Waiting for the phone to say how it is turned...";
 export const STAY_TEXT = "Stay where you took the photo: the marker follows your turns, not your steps.";
