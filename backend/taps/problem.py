@@ -299,6 +299,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         return [warning for warning in result.warnings if warning.told_to(photo)]
 
     focal = [camera.focal_35mm for camera in result.cameras] or [None, None]
+    focal_px = [camera.focal_px for camera in result.cameras] or [None, None]
     suspects = {task.ids[i] for i in result.suspect_landmarks}
     one = FriendInPhoto(
         friend=result.epipole1,
@@ -306,6 +307,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         how="marked" if task.epipole1 is not None else "on_line" if task.line1 else "solved",
         candidates=_others([c.epipole1 for c in result.candidates], result.epipole1),
         focal_35mm=focal[0],
+        focal_px=focal_px[0],
         warnings=warnings(1),
         drawing=drawing(1, task.points1),
     )
@@ -320,6 +322,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         level_halfwidth=result.curve2_halfwidth,
         candidates=_others([c.epipole2 for c in result.candidates], result.epipole2),
         focal_35mm=focal[1],
+        focal_px=focal_px[1],
         warnings=warnings(2),
         drawing=drawing(2, task.points2),
     )

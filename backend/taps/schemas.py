@@ -139,6 +139,11 @@ class FriendInPhoto(BaseModel):
     focal_35mm: float | None = Field(
         None, description="The focal length of your photo's lens the answer used, 35 mm mm."
     )
+    focal_px: float | None = Field(
+        None,
+        description="The same in your photo's px (principal point at its centre): what "
+        'carries a pixel of your photo into a direction, as "Show me" does.',
+    )
     warnings: list[SolverWarning] = Field(
         default_factory=list,
         description="What to check or do next, said to you: the warnings about your photo "
@@ -209,6 +214,20 @@ class StoredAnswer(BaseModel):
 
     def as_json(self) -> dict[str, Any]:
         return self.model_dump(mode="json")
+
+
+class Reanchored(BaseModel):
+    """How your phone has turned since your photo, from one frame of its live view matched to
+    the photo (``shared_solver.matching.reanchor``): what "Show me" resets its gyroscope's
+    drift with."""
+
+    rotation: list[list[float]] = Field(
+        description="3 x 3, row by row: takes a direction in the photo's camera frame (x right "
+        "along its rows, y down its columns, z out of the lens) to the frame's."
+    )
+    frame_focal_px: float = Field(description="The frame's focal length, px of the frame sent.")
+    inliers: int = Field(description="Features of the frame that fit the turn.")
+    degrees: float = Field(description="How far the phone has turned since the photo.")
 
 
 class Spot(BaseModel):

@@ -553,6 +553,54 @@ def test_an_overlay_renders_the_drawing_the_phone_gets(
         assert drawing.model_dump_json() == shapes.model_dump_json()
 
 
+def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(
+    client: TestClient, uploaded: Phones
+) -> None:
+    """ "Show me" re-anchors: a frame of the live view (here the stored photo as a phone
+    turned 3 degrees would see it, 480 px wide) gives the turn; a frame of nothing is refused
+    with the solver's code; before an answer there is no focal length to match with."""
+    starter, joiner = uploaded
+    frame = {"frame": ("frame.jpg", b"", "image/jpeg")}
+    before = client.post(joiner.url("/reanchor"), files=frame, headers=joiner.auth)
+    assert error_of(before) == "no_result"
+    s = scene(6)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    state = joiner.tapped(landmarks=landmarks(s.landmarks2))
+    focal = state["answer"]["in_photo"]["joiner"]["focal_px"]
+    photo = client.get(joiner.url("/photo/joiner"), headers=joiner.auth).content
+    pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
+    height, width = pixels.shape[:2]
+    k_photo = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
+    k_frame = np.diag([0.75, 0.75, 1.0]) @ k_photo
+    turn = cv2.Rodrigues(np.array([0.2, 1.0, 0.1]) / np.linalg.norm([0.2, 1.0, 0.1]) * 0.05)[0]
+    seen = cv2.warpPerspective(
+        pixels, k_frame @ turn @ np.linalg.inv(k_photo), (width * 3 // 4, height * 3 // 4)
+    )
+    ok, jpeg = cv2.imencode(".jpg", seen, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    assert ok
+    frame = {"frame": ("frame.jpg", jpeg.tobytes(), "image/jpeg")}
+    got = client.post(joiner.url("/reanchor"), files=frame, headers=joiner.auth)
+    assert got.status_code == 200, got.text
+    found = got.json()
+    off = cv2.Rodrigues(np.array(found["rotation"]) @ turn.T)[0]
+    assert np.degrees(np.linalg.norm(off)) < 0.2
+    assert found["frame_focal_px"] == pytest.approx(0.75 * focal, rel=0.01)
+    assert found["degrees"] == pytest.approx(np.degrees(0.05), abs=0.2)
+    blank = cv2.imencode(".jpg", np.full_like(seen, 100))[1].tobytes()
+    refused = client.post(
+        joiner.url("/reanchor"),
+        files={"frame": ("frame.jpg", blank, "image/jpeg")},
+        headers=joiner.auth,
+    )
+    assert refused.status_code == 422
+    assert refused.json()["error"]["code"] == "no_solution"
+    assert "photo" in refused.json()["error"]["message"]
+    garbage = {"frame": ("frame.jpg", b"not a picture", "image/jpeg")}
+    assert error_of(client.post(joiner.url("/reanchor"), files=garbage, headers=joiner.auth)) == (
+        "invalid_photo"
+    )
+
+
 def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     app: Any, client: TestClient, uploaded: Phones
 ) -> None:

@@ -221,6 +221,28 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/sessions/{session_id}/reanchor": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Reanchor
+         * @description How your phone has turned since your photo: a frame of its live view, taken where you
+         *     stood, matched to your photo ("Show me" resets its drift with it). The frame is not
+         *     kept. 422 ``no_solution`` (reason ``frame_not_matched``) when it does not match.
+         */
+        post: operations["reanchor_api_sessions__session_id__reanchor_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/sessions/{session_id}/taps": {
         parameters: {
             query?: never;
@@ -516,6 +538,19 @@ export interface components {
              * @description JPEG, PNG, WebP or HEIC; any size.
              */
             photo: string;
+        };
+        /** Body_reanchor_api_sessions__session_id__reanchor_post */
+        Body_reanchor_api_sessions__session_id__reanchor_post: {
+            /**
+             * Frame
+             * @description A frame of your live view, JPEG; 960 px long is plenty.
+             */
+            frame: string;
+            /**
+             * Frame Focal Px
+             * @description The frame's focal length, px, when known.
+             */
+            frame_focal_px?: number | null;
         };
         /**
          * Box
@@ -937,6 +972,11 @@ export interface components {
              */
             focal_35mm?: number | null;
             /**
+             * Focal Px
+             * @description The same in your photo's px (principal point at its centre): what carries a pixel of your photo into a direction, as "Show me" does.
+             */
+            focal_px?: number | null;
+            /**
              * Friend
              * @description Where your friend is in your photo, px; None when they are behind you, infinitely far to the side, or known only to be on a curve.
              */
@@ -1304,13 +1344,41 @@ export interface components {
             version: number | null;
         };
         /**
+         * Reanchored
+         * @description How your phone has turned since your photo, from one frame of its live view matched to
+         *     the photo (``shared_solver.matching.reanchor``): what "Show me" resets its gyroscope's
+         *     drift with.
+         */
+        Reanchored: {
+            /**
+             * Degrees
+             * @description How far the phone has turned since the photo.
+             */
+            degrees: number;
+            /**
+             * Frame Focal Px
+             * @description The frame's focal length, px of the frame sent.
+             */
+            frame_focal_px: number;
+            /**
+             * Inliers
+             * @description Features of the frame that fit the turn.
+             */
+            inliers: number;
+            /**
+             * Rotation
+             * @description 3 x 3, row by row: takes a direction in the photo's camera frame (x right along its rows, y down its columns, z out of the lens) to the frame's.
+             */
+            rotation: number[][];
+        };
+        /**
          * Reason
          * @description Which refusal of its code: the key of its sentence (``words.refusal``). A code that
          *     is refused one way has one reason, named as the code. The values are a public contract:
          *     never rename one.
          * @enum {string}
          */
-        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_direction" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_an_angle" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing";
+        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_direction" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_an_angle" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing" | "frame_not_matched";
         /**
          * Refusal
          * @description Why there is no answer: ``code`` (docs/api.md lists them), ``reason`` (which refusal of
@@ -3521,6 +3589,171 @@ export interface operations {
                      *       "error": {
                      *         "code": "invalid_request",
                      *         "message": "landmarks.0.x: Input should be a valid number."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "database_unavailable",
+                     *         "message": "The database does not answer."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+        };
+    };
+    reanchor_api_sessions__session_id__reanchor_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                session_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_reanchor_api_sessions__session_id__reanchor_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Reanchored"];
+                };
+            };
+            /** @description RefusedError */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "bad_request",
+                     *         "message": "The body cannot be read: send JSON (UTF-8) or a form, as documented."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "unauthorized",
+                     *         "message": "Send your session token: 'Authorization: Bearer <token>'."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "forbidden",
+                     *         "message": "This token opens another session."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "session_not_found",
+                     *         "message": "This session has ended."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "photo_missing",
+                     *         "message": "Upload your photo before tapping on it."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "photo_too_large",
+                     *         "message": "This photo has 60 megapixels; at most 50 are accepted."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "too_few_landmarks",
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
