@@ -119,9 +119,19 @@ describe("the heading at the shutter", () => {
     expect(stillHeading(turning, 1000)).toEqual({ kind: "moving" });
   });
 
-  it("says nothing from too few or stale samples, or from a lens aimed at the floor", () => {
-    expect(stillHeading(samples(() => portraitEast).slice(-3), 1000)).toEqual({ kind: "none" });
-    expect(stillHeading(samples(() => portraitEast), 2000)).toEqual({ kind: "none" });
+  it("holds a sample until the next: a still phone sends one orientation event, then none", () => {
+    const once: OrientationSample[] = [{ at: 100, ...portraitEast }];
+    const held = stillHeading(once, 5000);
+    expect(held.kind === "still" && Math.abs(turn(held.heading, 90))).toBeLessThan(1e-6);
+    // The one that held at the window's start counts, and those before it do not.
+    const turned = [{ at: 100, ...w3cAngles(posture(10, 10, 0)) }, { at: 200, ...portraitEast }, { at: 4800, ...portraitEast }];
+    expect(stillHeading(turned, 5000).kind).toBe("still");
+    expect(stillHeading([...turned, { at: 4900, ...w3cAngles(posture(110, 10, 0)) }], 5000)).toEqual({ kind: "moving" });
+  });
+
+  it("says nothing before the first sample, nor of a lens aimed at the floor in the window", () => {
+    expect(stillHeading([], 1000)).toEqual({ kind: "none" });
+    expect(stillHeading([{ at: 1200, ...portraitEast }], 1000)).toEqual({ kind: "none" });
     const floor = samples((k) => w3cAngles(posture(90, k < 20 ? 10 : -85, 0)));
     expect(stillHeading(floor, 1000)).toEqual({ kind: "none" });
   });

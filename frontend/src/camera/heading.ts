@@ -20,10 +20,13 @@
  * flat reads it), not of the lens axis of a phone held upright (docs/app.md).
  *
  * Like gravity (gravity.ts), the reading is averaged over the STILL_WINDOW_MS before the
- * shutter (a circular mean) and trusted only while the phone is still.
+ * shutter (a circular mean) and trusted only while the phone is still. Unlike motion events,
+ * orientation events come only when an angle changes (Chromium: by more than 0.1 degree), so
+ * a phone held still may send one and then none: each sample holds until the next, and the
+ * one before the window is its start.
  */
 
-import { MIN_SAMPLES, MIN_SPAN_MS, STILL_WINDOW_MS, type Vector3 } from "./gravity";
+import { STILL_WINDOW_MS, type Vector3 } from "./gravity";
 
 /** One absolute-orientation sample: `at` in ms (performance.now()), the W3C angles in degrees. */
 export interface OrientationSample {
@@ -83,17 +86,20 @@ export function lensHeading(alpha: number, beta: number, gamma: number): number 
 }
 
 /**
- * The lens's heading at the shutter (time `now`, ms), from the samples of the last
- * STILL_WINDOW_MS: their circular mean, with COMPASS_SIGMA_DEG as its sigma (a still phone's
- * samples spread far less: the compass's own error is what counts). A turning phone, or one
- * aimed up or down in the window, says nothing.
+ * The lens's heading at the shutter (time `now`, ms), from the orientation over the last
+ * STILL_WINDOW_MS (the samples in it and the one that held at its start; samples in time
+ * order): their circular mean, with COMPASS_SIGMA_DEG as its sigma (a still phone's samples
+ * spread far less: the compass's own error is what counts). No sample yet, a turning phone,
+ * or one aimed up or down in the window says nothing.
  */
 export function stillHeading(samples: readonly OrientationSample[], now: number): HeadingReading {
-  const recent = samples.filter((s) => s.at <= now && now - s.at <= STILL_WINDOW_MS);
-  const first = recent[0];
-  const last = recent[recent.length - 1];
-  if (!first || !last || recent.length < MIN_SAMPLES) return { kind: "none" };
-  if (last.at - first.at < MIN_SPAN_MS) return { kind: "none" };
+  const before = samples.filter((s) => s.at <= now);
+  let start = 0;
+  before.forEach((s, i) => {
+    if (now - s.at >= STILL_WINDOW_MS) start = i;
+  });
+  const recent = before.slice(start);
+  if (recent.length === 0) return { kind: "none" };
 
   const headings = recent.map((s) => lensHeading(s.alpha, s.beta, s.gamma));
   if (headings.some((h) => h === null)) return { kind: "none" };

@@ -70,8 +70,9 @@ class SampleLog<S extends { at: number }> {
     const sample = this.read(event, at);
     if (!sample) return;
     this.samples.push(sample);
-    // Two windows kept: enough for the shutter, bounded however long the camera is open.
-    while ((this.samples[0]?.at ?? at) < at - 2 * STILL_WINDOW_MS) this.samples.shift();
+    // Two windows kept, and the sample that held before them (orientation events come only
+    // on a change: heading.ts): enough for the shutter, bounded however long the camera is open.
+    while ((this.samples[1]?.at ?? at) < at - 2 * STILL_WINDOW_MS) this.samples.shift();
   };
 
   start(): void {
