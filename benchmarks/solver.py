@@ -279,7 +279,7 @@ def report(results: Results) -> str:
         "`CAMERA_MODEL_UNSURE`), the camera model's false alarms.",
         limit.limit_table(results.limit_table),
         "## 9. Gravity at the shutter",
-        f"{options.gravity_trials} trials per case and gravity sigma: the phone scenes and "
+        f"{options.gravity_trials} trials per case and sensor row: the phone scenes and "
         f"{phones.TARGET_SIGMA:g} px taps of section 1 (trial i is the same; the 'drawn from "
         "it' row: section 3's scenes whose focal lengths are drawn from the phone prior), each "
         "phone's reading its true down turned by Gaussian noise of the sigma per axis and "
@@ -300,7 +300,14 @@ def report(results: Results) -> str:
         "*Answers using gravity*: those "
         "whose readings were not dropped as contradicting the landmarks (`used_gravity`). "
         "Time: each call once, `time.perf_counter`, the median over trials (for scale "
-        "only: section 7 times the gravity cases against the budget, interleaved).",
+        "only: section 7 times the gravity cases against the budget, interleaved). "
+        "*Compass sigma*: both phones' compass headings too, each its lens's true heading "
+        "with Gaussian noise of that sigma, told to `solve` (`heading1`, `heading2`, "
+        "`heading_sigma_deg`); no bound is computed for them. With no landmark they add a "
+        "stretch of the band (`curve2_stretch`, a hint): it holds the truth when the truth "
+        "is within the band's half-width of it; its length is an angle of photo 2's view. "
+        "*(N compass)*: answers whose headings were not dropped as contradicting the "
+        "landmarks (`used_heading`).",
         gravity.gravity_table(results.gravity_table),
         "## Targets",
         "\n".join(f"- {line}" for _, line in targets),

@@ -254,6 +254,7 @@ class WarningCode(StrEnum):
     ON_THE_CURVE = "on_the_curve"
     ON_THE_LEVEL = "on_the_level"
     GRAVITY_DISAGREES = "gravity_disagrees"
+    HEADING_DISAGREES = "heading_disagrees"
     MARKS_DISAGREE = "marks_disagree"
     FAR_TO_THE_SIDE = "far_to_the_side"
     NOT_PINNED_DOWN = "not_pinned_down"
@@ -277,6 +278,8 @@ WARNING_MEANING: dict[WarningCode, str] = {
     "`curve2`, within `curve2_halfwidth` px of it",
     WarningCode.GRAVITY_DISAGREES: "the phones' gravity readings contradict the landmarks: "
     "answered from the landmarks alone",
+    WarningCode.HEADING_DISAGREES: "the phones' compass headings contradict the landmarks: "
+    "answered without them",
     WarningCode.MARKS_DISAGREE: "the taps disagree more than their precision says: the "
     "region is widened",
     WarningCode.FAR_TO_THE_SIDE: "the friend is (nearly) infinitely far to the side",

@@ -199,11 +199,24 @@ class SolveResult(_Frozen):
         description="The 95 % half-width of the band around `curve2`, px (its median along "
         "the visible curve); None when no piece of the curve is inside the photo.",
     )
+    curve2_stretch: list[list[Pixel]] | None = Field(
+        default=None,
+        description="No landmark, both phones' gravity and compass headings: the stretch of "
+        "`curve2` the headings point to (their 95 % range of turns), as the pieces of it "
+        "inside the photo. A hint: steel bends compasses, and no landmark checks them. None "
+        "without headings, or when that stretch is outside the photo.",
+    )
     used_gravity: bool = Field(
         default=False,
         description="Both phones' gravity at the shutter entered the answer (gravity1, "
         "gravity2); False when none was given, or when it contradicted the landmarks "
         "(warning 'gravity_disagrees').",
+    )
+    used_heading: bool = Field(
+        default=False,
+        description="Both phones' compass headings at the shutter entered the answer "
+        "(heading1, heading2, with both gravity readings); False when not given, or when "
+        "the landmarks contradicted them (warning 'heading_disagrees').",
     )
     candidates: list[Candidate] = Field(default_factory=list)
     uncertainty: Uncertainty | None = None

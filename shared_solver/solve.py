@@ -35,7 +35,7 @@ from .answers import disagreement, level, pinhole, projective
 from .answers.request import Request
 from .errors import Marks, Reason, WarningCode
 from .estimation.camera import Camera
-from .estimation.taps import Gravity, Taps
+from .estimation.taps import Gravity, Heading, Taps
 from .refusal import SolverError
 from .result import SolveResult, SolverWarning
 
@@ -72,6 +72,11 @@ def solve(
     gravity_sigma_deg: float = 1.0,
     gravity1_sigma_deg: float | None = None,
     gravity2_sigma_deg: float | None = None,
+    heading1: float | None = None,
+    heading2: float | None = None,
+    heading_sigma_deg: float = 15.0,
+    heading1_sigma_deg: float | None = None,
+    heading2_sigma_deg: float | None = None,
 ) -> SolveResult:
     """Where friend 1 stands in friend 2's photo, from whatever the two people tapped.
 
@@ -113,6 +118,15 @@ def solve(
             point. None: everything is as without them.
         gravity_sigma_deg: a reading's standard deviation per axis, degrees, for each
             reading whose own is not given (``gravity1_sigma_deg``, ``gravity2_sigma_deg``).
+        heading1, heading2: the compass heading of each phone's lens at the shutter, degrees
+            clockwise from north (of the lens axis's horizontal direction; any north both
+            phones share). Used where both gravity readings are and both headings given:
+            they measure the turn about the vertical, so no landmark gives a stretch of the
+            level (``curve2_stretch``, a hint) and landmarks a sharper point. Where the
+            landmarks contradict them they are left out (warning ``heading_disagrees``).
+        heading_sigma_deg: a heading's standard deviation, degrees, for each heading whose
+            own is not given (``heading1_sigma_deg``, ``heading2_sigma_deg``); 15 by
+            default, as steel and speakers bend compasses.
 
     Returns:
         A :class:`SolveResult`; ``model_dump(mode="json")`` is the REST API's JSON.
@@ -134,6 +148,7 @@ def solve(
         sigmas=(points1_sigma, points2_sigma, epipole1_sigma, epipole2_sigma),
         with_fundamental_covariance=fundamental_covariance,
         gravity=(gravity1, gravity2, gravity_sigma_deg, gravity1_sigma_deg, gravity2_sigma_deg),
+        heading=(heading1, heading2, heading_sigma_deg, heading1_sigma_deg, heading2_sigma_deg),
     )
     return _answer(request)
 
@@ -179,14 +194,19 @@ def _levelled(request: Request) -> SolveResult:
     if not len(request.taps):
         return level.on_the_level(request)
     answer = pinhole.friend2_marked(request)
+    if request.taps.heading is not None and not answer.heading_agrees:
+        return _told(_levelled(request.without_heading()), WarningCode.HEADING_DISAGREES)
     if answer.result is not None and answer.agrees:
         return answer.result
     without = request.without_gravity()
     if len(without.taps) < fewest_landmarks(epipole1=True, cameras=True):
         raise SolverError(Reason.GEOMETRY_UNDETERMINED)
-    alone = _answer(without)
-    told = SolverWarning.of(WarningCode.GRAVITY_DISAGREES)
-    return alone.model_copy(update={"warnings": [told, *alone.warnings]})
+    return _told(_answer(without), WarningCode.GRAVITY_DISAGREES)
+
+
+def _told(answer: SolveResult, code: WarningCode) -> SolveResult:
+    """The answer with the warning ``code`` first: why it left a sensor out."""
+    return answer.model_copy(update={"warnings": [SolverWarning.of(code), *answer.warnings]})
 
 
 def _friend2_projective(request: Request) -> SolveResult:
@@ -216,6 +236,13 @@ def _parse(
         None,
         None,
     ),
+    heading: tuple[float | None, float | None, float, float | None, float | None] = (
+        None,
+        None,
+        15.0,
+        None,
+        None,
+    ),
 ) -> Request:
     sigma = validation.length(tap_sigma, "tap_sigma")
     e1 = None if epipole1 is None else validation.pixel(epipole1, "epipole1")
@@ -230,6 +257,7 @@ def _parse(
     camera_pair = (_camera(cameras[0], "camera1", size1), _camera(cameras[1], "camera2", size2))
     modelled = all(camera.kind != "unknown" for camera in camera_pair)
     down = _gravity(*gravity)
+    compass = _heading(*heading)
     levelled = down is not None and modelled and e1 is not None and e2 is None
     minimum, marked = _minimum(
         e1 is not None, e2 is not None, line1 is not None, modelled, levelled
@@ -265,6 +293,7 @@ def _parse(
         if line_normal is None
         else float(np.sqrt(line_normal @ cov_e1 @ line_normal)),
         gravity=down,
+        heading=compass if down is not None else None,
     )
     return Request(
         taps,
@@ -333,6 +362,34 @@ def _gravity(
     if down1 is None or down2 is None:
         return None
     return Gravity(down1, down2, math.radians(sigma1), math.radians(sigma2))
+
+
+def _heading(
+    heading1: float | None,
+    heading2: float | None,
+    sigma_deg: float,
+    sigma1_deg: float | None,
+    sigma2_deg: float | None,
+) -> Heading | None:
+    """Both phones' compass headings, checked; None unless both were given (one heading
+    alone says nothing about how the two phones are turned)."""
+    largest = validation.LARGEST_HEADING_DEG
+    default = validation.angle(sigma_deg, "heading_sigma_deg", largest)
+    sigma1 = (
+        default
+        if sigma1_deg is None
+        else validation.angle(sigma1_deg, "heading1_sigma_deg", largest)
+    )
+    sigma2 = (
+        default
+        if sigma2_deg is None
+        else validation.angle(sigma2_deg, "heading2_sigma_deg", largest)
+    )
+    first = None if heading1 is None else validation.heading(heading1, "heading1")
+    second = None if heading2 is None else validation.heading(heading2, "heading2")
+    if first is None or second is None:
+        return None
+    return Heading(first, second, math.radians(sigma1), math.radians(sigma2))
 
 
 def _camera(value: CameraInput, name: str, size: tuple[float, float] | None) -> Camera:

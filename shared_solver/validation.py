@@ -45,6 +45,9 @@ MOST_ELONGATED = 1e4
 # to one that says nothing (a reading 30 degrees off is no reading).
 FINEST_DEG = 0.01
 LARGEST_DEG = 30.0
+# A compass heading's sigma may be larger: steel stadiums bend compasses by tens of degrees,
+# and a phone that says so still narrows the turn about the vertical.
+LARGEST_HEADING_DEG = 90.0
 
 
 def _array(value: ArrayLike, name: str) -> Array:
@@ -122,14 +125,21 @@ def direction(value: ArrayLike, name: str) -> Array:
     return unit
 
 
-def angle(value: float, name: str) -> float:
-    """A sensor's sigma in degrees, between :data:`FINEST_DEG` and :data:`LARGEST_DEG`."""
+def angle(value: float, name: str, largest: float = LARGEST_DEG) -> float:
+    """A sensor's sigma in degrees, between :data:`FINEST_DEG` and ``largest``."""
     number = positive(value, name)
-    if FINEST_DEG <= number <= LARGEST_DEG:
+    if FINEST_DEG <= number <= largest:
         return number
-    raise SolverError(
-        Reason.NOT_AN_ANGLE, field=name, finest_deg=FINEST_DEG, largest_deg=LARGEST_DEG
-    )
+    raise SolverError(Reason.NOT_AN_ANGLE, field=name, finest_deg=FINEST_DEG, largest_deg=largest)
+
+
+def heading(value: float, name: str) -> float:
+    """A compass heading in degrees (any finite number: 370 is 10), as radians in
+    [0, 2 pi)."""
+    array = _array(value, name)
+    if array.shape != ():
+        raise SolverError(Reason.NOT_A_NUMBER, field=name)
+    return math.radians(float(array) % 360.0)
 
 
 def positive(value: float, name: str) -> float:

@@ -43,6 +43,10 @@ GRAVITY_DISAGREES = (
     "The phones' tilt at the shutter does not fit these marks (did a phone move as it took "
     "the photo?), so the answer uses the landmarks alone."
 )
+HEADING_DISAGREES = (
+    "The phones' compasses do not fit these marks (steel and speakers bend compasses), so the "
+    "answer leaves them out."
+)
 MARKS_DISAGREE = (
     "The marks disagree more than tapping error explains: re-check the friend mark and each "
     "landmark (same spot, same number in both photos). The uncertainty is widened."
@@ -118,6 +122,7 @@ _FIXED: dict[WarningCode, str] = {
     WarningCode.ON_THE_CURVE: ON_THE_CURVE,
     WarningCode.ON_THE_LEVEL: ON_THE_LEVEL,
     WarningCode.GRAVITY_DISAGREES: GRAVITY_DISAGREES,
+    WarningCode.HEADING_DISAGREES: HEADING_DISAGREES,
     WarningCode.MARKS_DISAGREE: MARKS_DISAGREE,
     WarningCode.FAR_TO_THE_SIDE: FAR_TO_THE_SIDE,
     WarningCode.NOT_PINNED_DOWN: NOT_PINNED_DOWN,
@@ -349,6 +354,7 @@ DRAWN_FRIEND = "friend"
 DRAWN_FRIEND_LIKELY = "friend?"
 DRAWN_ON_CURVE = "friend on this curve"
 DRAWN_ON_LEVEL = "friend along this band"
+DRAWN_COMPASS_HINT = "friend along this band; compass says about here"
 DRAWN_BEHIND = "friend is behind you"
 DRAWN_UNCLEAR = "position unclear: re-check marks"
 DRAWN_FAR_OFF = "friend far off this way"

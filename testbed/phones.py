@@ -220,6 +220,12 @@ def gravity_reading(camera: Camera, sigma_deg: float, rng: np.random.Generator) 
     return unit
 
 
+def heading_reading(camera: Camera, sigma_deg: float, rng: np.random.Generator) -> float:
+    """Degrees: the camera's phone's compass heading at the shutter (``camera.heading``)
+    with Gaussian noise of ``sigma_deg``."""
+    return camera.heading + float(rng.normal(0.0, sigma_deg))
+
+
 def phone_taps(seed: int | Sequence[int], landmarks: int, sigma: float) -> tuple[PhoneScene, Taps]:
     """A phone scene of ``landmarks`` and its taps with ``sigma`` px of noise, both drawn from
     one generator seeded with ``seed``."""

@@ -52,6 +52,13 @@ class Camera:
         down: Array = self.rotation[:, 1].copy()
         return down
 
+    @property
+    def heading(self) -> float:
+        """Degrees clockwise from north (the world's z; east is its x) of the lens axis's
+        horizontal direction: what its phone's compass reads, undisturbed."""
+        axis = self.rotation[2]  # the lens axis in world coordinates
+        return math.degrees(math.atan2(axis[0], axis[2])) % 360.0
+
     def depth(self, points: Array) -> Array:
         """(N,) depth along the optical axis of (N, 3) world points (positive: in front)."""
         return points @ self.rotation[2] + self.translation[2]

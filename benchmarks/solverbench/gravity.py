@@ -1,5 +1,5 @@
-"""Gravity at the shutter: each case with and without both phones' gravity readings, on the
-same scenes and taps.
+"""Gravity at the shutter: each case with and without both phones' gravity readings, and
+with their compass headings too, on the same scenes and taps.
 
 The scenes and taps are section 1's at 3 px (trial i is the same; the "prior" row uses the
 phone scenes whose focal lengths are drawn from the phone prior). Each phone's reading is
@@ -8,6 +8,12 @@ degrees per axis, told to ``solve`` as ``gravity_sigma_deg``. With no landmark t
 is a band (``curve2``, ``curve2_halfwidth``): its error is the truth's distance from the
 curve, and it holds the truth when that is within the half-width. Otherwise the answer is
 a point, graded as in section 1.
+
+With compass headings (at 1 degree of gravity), each phone's heading is its lens's true one
+(``testbed.phones.heading_reading``) with Gaussian noise of ``sigma`` degrees, told to
+``solve`` as ``heading_sigma_deg``. With no landmark the compass adds a stretch of the band
+(``curve2_stretch``), a hint: it holds the truth when the truth is within the band's
+half-width of it.
 """
 
 from __future__ import annotations
@@ -23,14 +29,23 @@ from shared_solver import SolverError, SolveResult, solve
 from shared_solver.estimation.camera import KNOWN_FOCAL_UNCERTAINTY, PHONE_LOG_SIGMA
 from testbed.bound import SceneBounds
 from testbed.curves import distance_to
-from testbed.phones import PhoneScene, gravity_reading
+from testbed.phones import PhoneScene, gravity_reading, heading_reading
 
 from .common import SEED, Cameras, ellipse_covers, fmt, percent, percentile, solve_arguments
 from .phones import TARGET_SIGMA, phone_trial
 
 GRAVITY_STREAM = 30
-SIGMAS_DEG: tuple[float | None, ...] = (None, 0.5, 1.0, 2.0)
+COMPASS_STREAM = 31
 TARGET_DEG = 1.0
+# (gravity sigma, compass sigma) per row, degrees; None: not measured.
+SENSORS: tuple[tuple[float | None, float | None], ...] = (
+    (None, None),
+    (0.5, None),
+    (TARGET_DEG, None),
+    (2.0, None),
+    (TARGET_DEG, 10.0),
+    (TARGET_DEG, 20.0),
+)
 
 
 @dataclass(frozen=True)
@@ -65,9 +80,12 @@ class Cell:
     milliseconds: list[float] = field(default_factory=list)
     bounds: list[float] = field(default_factory=list)  # the bound's median error per trial, px
     used: int = 0
+    compass_used: int = 0
+    hinted: list[bool] = field(default_factory=list)  # the compass's stretch holds the truth
+    stretch_deg: list[float] = field(default_factory=list)  # its length, degrees of view
 
 
-GravityTable = dict[tuple[str, float | None], Cell]
+GravityTable = dict[tuple[str, float | None, float | None], Cell]
 
 
 def reading(
@@ -80,14 +98,24 @@ def reading(
 def graded(result: SolveResult, scene: PhoneScene, cell: Cell) -> None:
     truth = scene.epipole2
     cell.used += result.used_gravity
+    cell.compass_used += result.used_heading
     if result.curve2 is not None:
         distance = distance_to(result.curve2, truth)
         cell.errors.append(distance)
         width = result.curve2_halfwidth
         cell.held.append(width is not None and distance <= width)
+        focal = float(scene.camera2.intrinsics[0, 0])
         if width is not None:
-            focal = float(scene.camera2.intrinsics[0, 0])
             cell.widths_deg.append(math.degrees(math.atan(width / focal)))
+        if result.used_heading:
+            stretch = result.curve2_stretch
+            near = stretch is not None and distance_to(stretch, truth) <= (width or 0.0)
+            cell.hinted.append(near)
+            length = sum(
+                float(np.hypot(*np.diff(np.asarray(piece), axis=0).T).sum())
+                for piece in stretch or []
+            )
+            cell.stretch_deg.append(math.degrees(length / focal))
         return
     if result.epipole2 is None:
         cell.errors.append(math.inf)
@@ -103,8 +131,8 @@ def gravity(trials: int) -> GravityTable:
     for case in CASES:
         # Each trial's Jacobians once per case, for every gravity sigma.
         scene_bounds: dict[int, SceneBounds] = {}
-        for sigma_deg in SIGMAS_DEG:
-            cell = table.setdefault((case.label, sigma_deg), Cell())
+        for sigma_deg, compass_deg in SENSORS:
+            cell = table.setdefault((case.label, sigma_deg, compass_deg), Cell())
             if sigma_deg is None and case.landmarks < 3:
                 continue  # nothing to answer without gravity
             for trial in range(trials):
@@ -121,7 +149,14 @@ def gravity(trials: int) -> GravityTable:
                         "gravity2": reading(scene, 2, sigma_deg, rng),
                         "gravity_sigma_deg": sigma_deg,
                     }
-                if case.landmarks > 0:
+                if compass_deg is not None:
+                    rng = np.random.default_rng((SEED, COMPASS_STREAM, round(compass_deg), trial))
+                    options |= {
+                        "heading1": heading_reading(scene.camera1, compass_deg, rng),
+                        "heading2": heading_reading(scene.camera2, compass_deg, rng),
+                        "heading_sigma_deg": compass_deg,
+                    }
+                if case.landmarks > 0 and compass_deg is None:  # the bound counts no compass
                     if trial not in scene_bounds:
                         scene_bounds[trial] = SceneBounds(
                             scene, modelled=True, landmarks=case.landmarks
@@ -150,10 +185,12 @@ def bound_median(bounds: SceneBounds, case: Case, sigma_deg: float | None) -> fl
 def gravity_table(table: GravityTable) -> str:
     rows = []
     for case in CASES:
-        for sigma_deg in SIGMAS_DEG:
-            cell = table[(case.label, sigma_deg)]
+        for sigma_deg, compass_deg in SENSORS:
+            cell = table[(case.label, sigma_deg, compass_deg)]
+            sensors = "none" if sigma_deg is None else f"{sigma_deg:g} deg"
+            compass = "-" if compass_deg is None else f"{compass_deg:g} deg"
             if not cell.errors:
-                rows.append([case.label, "none", "nothing to answer", "", "", "", "", ""])
+                rows.append([case.label, sensors, compass, "nothing to answer", *[""] * 6])
                 continue
             held = f"{percent(float(np.mean(cell.held)))} of {len(cell.held)}" if cell.held else "-"
             width = f"{np.median(cell.widths_deg):.2f} deg" if cell.widths_deg else "-"
@@ -163,15 +200,26 @@ def gravity_table(table: GravityTable) -> str:
                 if cell.bounds
                 else "-"
             )
+            hint = "-"
+            if cell.hinted:
+                hint = (
+                    f"{percent(float(np.mean(cell.hinted)))} of {len(cell.hinted)}, "
+                    f"{np.median(cell.stretch_deg):.0f} deg"
+                )
+            used = f"{cell.used} of {len(cell.errors)}"
+            if compass_deg is not None:
+                used += f" ({cell.compass_used} compass)"
             rows.append(
                 [
                     case.label,
-                    "none" if sigma_deg is None else f"{sigma_deg:g} deg",
+                    sensors,
+                    compass,
                     f"{fmt(percentile(cell.errors, 50))} / {fmt(percentile(cell.errors, 90))}",
                     limit,
                     held,
                     width,
-                    f"{cell.used} of {len(cell.errors)}",
+                    hint,
+                    used,
                     f"{np.median(cell.milliseconds):.2f}" if cell.milliseconds else "-",
                 ]
             )
@@ -179,10 +227,12 @@ def gravity_table(table: GravityTable) -> str:
         [
             "case",
             "gravity sigma",
+            "compass sigma",
             "error median / p90, px",
             "median over the bound's (bound, px)",
             "95 % region or band holds the truth",
             "band half-width, median, of view",
+            "compass stretch holds the truth, its length",
             "answers using gravity",
             "solve, median ms",
         ],
@@ -191,7 +241,7 @@ def gravity_table(table: GravityTable) -> str:
 
 
 def gravity_targets(table: GravityTable) -> list[tuple[bool | None, str]]:
-    at = {case.label: table[(case.label, TARGET_DEG)] for case in CASES}
+    at = {case.label: table[(case.label, TARGET_DEG, None)] for case in CASES}
     level = at["0 + e1, EXIF focal"]
     held = float(np.mean(level.held)) if level.held else 0.0
     width = float(np.median(level.widths_deg)) if level.widths_deg else math.inf

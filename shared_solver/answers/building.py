@@ -198,6 +198,9 @@ def result(
         residuals=[float(r) for r in answer.residuals],
         quality=grade,
         used_gravity=taps.gravity is not None and answer.camera_model == "pinhole",
+        used_heading=taps.heading is not None
+        and taps.gravity is not None
+        and answer.camera_model == "pinhole",
         warnings=warnings
         + where_warnings(
             request, e2, behind=behind_you, loose=semi_major is not None and region == "poor"

@@ -12,6 +12,11 @@ Its 95 % half-width is first order in every input: both readings (each ``sigma``
 axis), friend 2's mark (its covariance) and both focal lengths (their priors' log sigmas),
 each moving ``s = g2 . u2 - c``, the cosine offset of a pixel's ray ``u2`` from the cone
 (``c = -g1 . b1``), divided by how fast ``s`` changes across the curve in px.
+
+Both phones' compass headings, when given, measure the turn
+(:func:`..minimal.gravity_and_one.turn_from_headings`): the stretch of the curve within
+their 95 % range of turns is where they point (``curve2_stretch``). It stays a hint: no
+landmark checks the compasses, which steel bends by tens of degrees.
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ from ..drawing.curves import simplified
 from ..errors import Reason, WarningCode
 from ..estimation.camera import FocalPrior, focal_35mm
 from ..estimation.taps import Gravity
-from ..minimal.gravity_and_one import level_frame
+from ..minimal.gravity_and_one import level_frame, turn_from_headings
 from ..projective import Array, Mask
 from ..refusal import SolverError
 from ..result import CameraEstimate, SolveResult, SolverWarning
@@ -69,6 +74,9 @@ def on_the_level(request: Request) -> SolveResult:
     read = visible[:: max(1, math.ceil(len(visible) / _WIDTHS_READ))]
     widths = _halfwidths(read, gravity, ray1, taps.cov_e1, priors)
     halfwidth = float(np.median(widths)) if len(widths) else None
+    stretch = None
+    if taps.heading is not None:
+        stretch = [simplified(piece) for piece in _stretch(request, b1)] or None
     return SolveResult(
         method="pinhole_level",
         camera_model="pinhole",
@@ -89,10 +97,32 @@ def on_the_level(request: Request) -> SolveResult:
         epipole1_h=unit(np.append(taps.epipole1, 1.0)),
         curve2=[simplified(piece) for piece in pieces],
         curve2_halfwidth=halfwidth,
+        curve2_stretch=stretch,
         used_gravity=True,
+        used_heading=taps.heading is not None,
         quality="fair",
         warnings=[SolverWarning.of(WarningCode.ON_THE_LEVEL)],
     )
+
+
+def _stretch(request: Request, b1: Array) -> list[Array]:
+    """The pieces (M, 2) px of the curve inside photo 2 within the headings' 95 % range of
+    turns about the vertical, at most ``_STEP_PX`` apart."""
+    taps, priors, size2 = request.taps, request.priors, request.size2
+    gravity, heading = taps.gravity, taps.heading
+    assert gravity is not None
+    assert heading is not None
+    assert priors is not None
+    assert size2 is not None
+    circle = _directions(gravity, b1)
+    # The circle's parameter is the turn plus friend 2's azimuth in photo 1's level frame
+    # (_directions: v(a) = -Q2^T Rz(psi) Q1 b1, a = psi + that azimuth).
+    levelled = level_frame(gravity.gravity1) @ b1
+    centre = turn_from_headings(
+        gravity.gravity1, gravity.gravity2, heading.heading1, heading.heading2
+    ) + math.atan2(levelled[1], levelled[0])
+    half = min(_BAND_SIGMAS * heading.sigma, math.pi)
+    return _visible(circle, priors[1], size2, (centre - half, centre + half))
 
 
 def _ray(point: Array, prior: FocalPrior) -> Array:
@@ -131,17 +161,27 @@ def _project(directions: Array, prior: FocalPrior) -> Array:
         )
 
 
-def _visible(circle: Array, prior: FocalPrior, size: tuple[float, float]) -> list[Array]:
-    """The curve's stretches inside the photo, (M, 2) px each, at most ``_STEP_PX`` apart."""
-    # Start behind the camera (the turn of least depth), so no visible stretch is cut in two.
-    behind = math.atan2(circle[2, 2], circle[1, 2]) + math.pi
-    turns = np.linspace(behind, behind + 2.0 * math.pi, _COARSE + 1)
+def _visible(
+    circle: Array,
+    prior: FocalPrior,
+    size: tuple[float, float],
+    between: tuple[float, float] | None = None,
+) -> list[Array]:
+    """The curve's stretches inside the photo, (M, 2) px each, at most ``_STEP_PX`` apart;
+    only those of turns ``between`` (low, high) of :func:`_directions`' circle when given."""
+    if between is None:
+        # Start behind the camera (the turn of least depth): no visible stretch cut in two.
+        behind = math.atan2(circle[2, 2], circle[1, 2]) + math.pi
+        between = (behind, behind + 2.0 * math.pi)
+    # As finely as the whole circle is first sampled, over whatever part of it is asked.
+    coarse_count = max(math.ceil(_COARSE * (between[1] - between[0]) / (2.0 * math.pi)), 8)
+    turns = np.linspace(*between, coarse_count + 1)
     inside = _inside(_project(_at(circle, turns), prior), size)
     pieces = []
     step = turns[1] - turns[0]
     for start, stop in _runs(inside):
         # From the turn before the run to the one after, resampled finely enough.
-        low, high = turns[max(start - 1, 0)], turns[min(stop, _COARSE)]
+        low, high = turns[max(start - 1, 0)], turns[min(stop, coarse_count)]
         coarse = _project(_at(circle, np.linspace(low, high, stop - start + 2)), prior)
         finite = coarse[np.isfinite(coarse).all(axis=1)]
         longest = float(np.max(np.hypot(*np.diff(finite, axis=0).T), initial=0.0))

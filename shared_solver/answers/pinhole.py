@@ -39,7 +39,7 @@ from ..estimation.pinhole.starts import (
     wider_marked_starts,
 )
 from ..estimation.taps import Taps
-from ..estimation.uncertainty import consistent
+from ..estimation.uncertainty import chi2_quantile, consistent
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
@@ -78,6 +78,9 @@ _SAME_ANSWER_SIGMAS = 3.0
 # like two phone photos (0.99 told one in a hundred; measured in docs/solver-benchmark.md,
 # section 8). A wrong model still shows: a stretched photo is caught from five landmarks.
 LEVEL = 0.9999
+# The compass headings are judged to contradict the landmarks beyond this quantile: one
+# honest search in a hundred loses them, and answers as it would without a compass.
+HEADING_LEVEL = 0.99
 # Starts of the wider search refined at most (it runs when no first start fits).
 _WIDER_REFINED = 12
 
@@ -90,10 +93,13 @@ class CameraAnswer:
         result: the answer (None: no pose of two phone cameras fits at all).
         agrees: its fit passed the chi-square test at ``LEVEL``; when it did not, ``solve``
             weighs it against the projective answer (:mod:`.disagreement`).
+        heading_agrees: the compass headings in the fit (if any) passed their own test
+            (:func:`_heading_agrees`); when they did not, ``solve`` answers without them.
     """
 
     result: SolveResult | None
     agrees: bool
+    heading_agrees: bool = True
 
 
 def friend2_marked(request: Request) -> CameraAnswer:
@@ -110,6 +116,8 @@ def friend2_marked(request: Request) -> CameraAnswer:
     if not fits:
         return CameraAnswer(None, agrees=False)
     fit = _likeliest(fits)
+    if not _heading_agrees(model, fit):
+        return CameraAnswer(None, agrees=False, heading_agrees=False)
     suspects: list[int] = []
     warnings: list[SolverWarning] = []
     if not consistent(fit) and len(taps) >= _MISTAPS_FROM and _projective_disagrees(taps):
@@ -303,6 +311,20 @@ def _orientable(model: PinholeModel, fit: PinholeFit) -> bool:
 def _physical(model: PinholeModel, fit: PinholeFit) -> bool:
     """Every landmark in front of both cameras, and friend 1 in front of friend 2's."""
     return _orientable(model, fit) and bool(fit.epipole2[2] > 0)
+
+
+def _heading_agrees(model: PinholeModel, fit: PinholeFit) -> bool:
+    """Whether the compass headings fit what the other taps say of the turn about the
+    vertical: their residual's square over its variance once the fit has leaned on it,
+    ``r^2 / (1 - h)`` with ``h`` its leverage (the test of leaving it out, to first order),
+    against the chi-square (1) at ``HEADING_LEVEL``. True without headings."""
+    row = model.compass_row
+    if row is None:
+        return True
+    residual, _ = model.residuals(fit.pose)
+    gradient = fit.jacobian[row]
+    leverage = float(gradient @ fit.covariance @ gradient)
+    return bool(residual[row] ** 2 <= chi2_quantile(HEADING_LEVEL, 1) * max(1.0 - leverage, 0.0))
 
 
 def _likeliest(fits: list[PinholeFit]) -> PinholeFit:

@@ -31,8 +31,13 @@ class Request:
     with_fundamental_covariance: bool = False
 
     def without_gravity(self) -> Request:
-        """The same request without the phones' gravity readings."""
-        return replace(self, taps=replace(self.taps, gravity=None))
+        """The same request without the phones' gravity readings (nor their headings, which
+        need them)."""
+        return replace(self, taps=replace(self.taps, gravity=None, heading=None))
+
+    def without_heading(self) -> Request:
+        """The same request without the phones' compass headings."""
+        return replace(self, taps=replace(self.taps, heading=None))
 
     @functools.cached_property
     def sigma(self) -> float:

@@ -85,7 +85,9 @@ def answer_drawing(
             conic_polylines(np.array(result.conic2), sizes.width, sizes.height), sizes
         )
     if photo == 2 and result.curve2 is not None:
-        drawing["curve"] = _curve(result.curve2, sizes, result.curve2_halfwidth)
+        drawing["curve"] = _curve(
+            result.curve2, sizes, result.curve2_halfwidth, result.curve2_stretch
+        )
     if friend is None and friend_h is not None and _behind(friend_h):
         # Behind the camera: no point of this photo is right. Say so, as solve's warning does.
         pinned = result.quality != "poor"
@@ -112,11 +114,16 @@ def _behind(homogeneous: Homogeneous) -> bool:
 
 
 def _curve(
-    polylines: Sequence[Polyline], sizes: Sizes, halfwidth: float | None = None
+    polylines: Sequence[Polyline],
+    sizes: Sizes,
+    halfwidth: float | None = None,
+    stretch: Sequence[Polyline] | None = None,
 ) -> CurveShape:
     """The curve's pieces (each [(x, y), ...] px), and its label above its point nearest the
-    photo's centre (above its band, when it has one)."""
-    points = np.array([p for line in polylines for p in line]).reshape(-1, 2)
+    photo's centre (above its band, when it has one), or nearest the middle of the stretch
+    the compasses point to."""
+    hinted = [p for line in stretch or [] for p in line]
+    points = np.array(hinted or [p for line in polylines for p in line]).reshape(-1, 2)
     label_at = None
     if len(points):
         nearest = points[np.argmin(np.hypot(*(points - sizes.centre).T))]
@@ -124,8 +131,13 @@ def _curve(
     return CurveShape(
         polylines=list(polylines),
         label_at=label_at,
-        text=words.DRAWN_ON_CURVE if halfwidth is None else words.DRAWN_ON_LEVEL,
+        text=words.DRAWN_ON_CURVE
+        if halfwidth is None
+        else words.DRAWN_ON_LEVEL
+        if not stretch
+        else words.DRAWN_COMPASS_HINT,
         halfwidth=halfwidth,
+        stretch=None if not stretch else list(stretch),
     )
 
 

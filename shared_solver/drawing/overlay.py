@@ -292,11 +292,14 @@ def _draw_ring(canvas: Image, ring: LandmarkRing, style: _Style) -> None:
 
 
 def _draw_curve(canvas: Image, curve: CurveShape, style: _Style) -> None:
-    """The curve the friend is on (in its band, when it has one), labelled above its point
-    nearest the photo's centre."""
+    """The curve the friend is on (in its band, when it has one, and the stretch the
+    compasses point to three times as thick), labelled above its point nearest the photo's
+    centre (or the stretch's middle)."""
     if curve.halfwidth is not None:
         _draw_band(canvas, curve.polylines, curve.halfwidth)
     _draw_polylines(canvas, curve.polylines, style.line, style)
+    if curve.stretch:
+        _draw_polylines(canvas, curve.stretch, 3 * style.line, style)
     if curve.label_at is not None:
         (_, height), _ = _text_size(curve.text, style)
         centre = np.array(curve.label_at) - [0.0, height]

@@ -95,6 +95,12 @@ class CurveShape(_Shape):
         description="The band's 95 % half-width around the curve, px, drawn as a "
         "translucent band; None: a curve without one.",
     )
+    stretch: list[Polyline] | None = Field(
+        default=None,
+        description="The part of the curve both phones' compasses point to (their 95 % "
+        "range), drawn over the band, bolder: a hint, as steel bends compasses. None "
+        "without compass headings, or when that part is outside the photo.",
+    )
 
 
 class LandmarkRing(_Shape):

@@ -40,6 +40,30 @@ class Gravity:
 
 
 @dataclass(frozen=True)
+class Heading:
+    """Which way each phone's lens looked at the shutter, as its compass measured it: the
+    heading of the lens axis's horizontal direction, clockwise from north seen from above.
+    Only their difference is used (both phones share a north, magnetic or true), and only
+    with both phones' gravity (:class:`Gravity`), which says what is horizontal.
+
+    Attributes:
+        heading1, heading2: radians, clockwise from north, photos 1 and 2.
+        sigma1, sigma2: each heading's standard deviation, radians.
+    """
+
+    heading1: float
+    heading2: float
+    sigma1: float
+    sigma2: float
+
+    @property
+    def sigma(self) -> float:
+        """The standard deviation of the two headings' difference, radians: the turn about
+        the vertical between the phones is measured with it."""
+        return math.hypot(self.sigma1, self.sigma2)
+
+
+@dataclass(frozen=True)
 class Taps:
     """Landmarks in both photos and the friends' marks, each with its covariance.
 
@@ -51,6 +75,8 @@ class Taps:
         line1: (3,) a line through friend 2 in photo 1 (a x + b y + c = 0), or None;
             line_sigma: its standard deviation across the line, px.
         gravity: both phones' gravity at the shutter, or None (:class:`Gravity`).
+        heading: both phones' compass headings at the shutter, or None (:class:`Heading`);
+            only with ``gravity``.
     """
 
     p: Array
@@ -64,6 +90,7 @@ class Taps:
     line1: Array | None = None
     line_sigma: float = 1.0
     gravity: Gravity | None = None
+    heading: Heading | None = None
 
     @classmethod
     def isotropic(

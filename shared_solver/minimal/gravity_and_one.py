@@ -17,7 +17,8 @@ Friend 1 sees friend 2 along ``b1`` (frame 1), so the essential matrix is, up to
 equal, none beyond. Which one puts the landmark in front of both cameras is for the caller.
 
 With no landmark ``psi`` stays free: :func:`rotation_about_vertical` gives the rotation of
-any turn, the curve on which friend 1 appears in photo 2.
+any turn, the curve on which friend 1 appears in photo 2. Both phones' compass headings
+measure it: :func:`turn_from_headings`.
 """
 
 from __future__ import annotations
@@ -101,3 +102,34 @@ def rotations_from_gravity(
         rotation_about_vertical(gravity1, gravity2, turn)
         for turn in turns_from_gravity(b1, gravity1, gravity2, ray1, ray2)
     ]
+
+
+def north(gravity: Array, heading: float) -> Array:
+    """(3,) north in a camera's frame: the horizontal unit vector that the lens axis's
+    horizontal direction is ``heading`` radians clockwise from, seen from above.
+
+    Clockwise seen from above is a right-handed turn about down (``gravity``, unit (3,)), so
+    north is the lens axis's horizontal direction ``l`` turned back by the heading:
+    ``l cos(h) - (g x l) sin(h)`` (Rodrigues, ``g . l = 0``). A lens pointing straight up or
+    down has no horizontal direction: NaN then.
+    """
+    # In plain floats, as turns_from_gravity: numpy's cross product costs more than this.
+    gx, gy, gz = np.asarray(gravity, dtype=np.float64).tolist()
+    lx, ly, lz = -gz * gx, -gz * gy, 1.0 - gz * gz  # the lens axis z, made horizontal
+    size = math.sqrt(lx * lx + ly * ly + lz * lz)
+    if not size > _DEGENERATE:
+        return np.full(3, np.nan)
+    lx, ly, lz = lx / size, ly / size, lz / size
+    c, s = math.cos(heading), math.sin(heading)
+    across = (gy * lz - gz * ly, gz * lx - gx * lz, gx * ly - gy * lx)  # g x l
+    return np.array([lx * c - across[0] * s, ly * c - across[1] * s, lz * c - across[2] * s])
+
+
+def turn_from_headings(gravity1: Array, gravity2: Array, heading1: float, heading2: float) -> float:
+    """The turn ``psi`` (radians, in (-pi, pi]) of :func:`rotation_about_vertical` that
+    carries photo 1's north onto photo 2's, ``R(psi) n1 = n2``: what the two phones'
+    compass headings (radians, clockwise from north) say of it."""
+    a1 = level_frame(gravity1) @ north(gravity1, heading1)
+    a2 = level_frame(gravity2) @ north(gravity2, heading2)
+    # Both are horizontal, so z is 0 in the level frames and Rz(psi) turns a1 onto a2.
+    return math.remainder(math.atan2(a2[1], a2[0]) - math.atan2(a1[1], a1[0]), 2.0 * math.pi)

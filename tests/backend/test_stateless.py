@@ -122,6 +122,16 @@ def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) ->
     assert bad.status_code == 422
     assert bad.json()["error"]["code"] == "invalid_shape"
     assert "gravity1" in bad.json()["error"]["message"]
+    # Both compass headings point to a stretch of the level.
+    headings = {"heading1": s.camera1.heading, "heading2": s.camera2.heading}
+    hinted = client.post("/api/solve", json=level | headings | {"heading_sigma_deg": 5})
+    assert hinted.status_code == 200, hinted.text
+    assert hinted.json()["used_heading"] is True
+    assert hinted.json()["curve2_stretch"]
+    bent = client.post("/api/solve", json=level | headings | {"heading1": "north"})
+    assert bent.status_code == 422
+    assert bent.json()["error"]["code"] == "invalid_shape"
+    assert "heading1" in bent.json()["error"]["message"]
 
 
 def test_unknown_cameras_are_the_projective_model(client: TestClient) -> None:

@@ -3,8 +3,8 @@
 The fit converges with any reasonable Jacobian, so a wrong one would only show as a wrong
 covariance (the 95 % region): it is checked here directly, against central differences
 along each tangent step (rotation, friend 2's direction, both log focal lengths), with each
-kind of mark (and both phones' gravity), with round and with elongated tap covariances. The
-batched residuals
+kind of mark (and both phones' gravity, and their compass headings), with round and with
+elongated tap covariances. The batched residuals
 (``offsets``, used to score poses and by the bootstrap) must equal the fit's, and the
 bootstrap's positions of friend 1 after many steps at once those of the poses each step
 makes.
@@ -19,7 +19,7 @@ from shared_solver.estimation.camera import Camera, focal_prior
 from shared_solver.estimation.pinhole.model import PinholeModel
 from shared_solver.estimation.pinhole.pose import PARAMETERS, Poses
 from shared_solver.estimation.pinhole.predictions import friend1_positions
-from shared_solver.estimation.taps import Gravity, Taps
+from shared_solver.estimation.taps import Gravity, Heading, Taps
 from testbed.phones import phone_scene
 
 STEP = 1e-6
@@ -65,9 +65,14 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
         line1=line if marks == "line" else None,
         line_sigma=2.0,
         gravity=None
-        if marks != "gravity"
+        if marks not in ("gravity", "compass")
         else Gravity(
             _down(scene.camera1.rotation, rng), _down(scene.camera2.rotation, rng), 0.02, 0.01
+        ),
+        heading=None
+        if marks != "compass"
+        else Heading(
+            np.radians(scene.camera1.heading) + 0.1, np.radians(scene.camera2.heading), 0.2, 0.3
         ),
     )
     priors = (
@@ -88,7 +93,7 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
 
 
 @pytest.mark.parametrize("seed", range(4))
-@pytest.mark.parametrize("marks", ["friend2", "both", "line", "gravity"])
+@pytest.mark.parametrize("marks", ["friend2", "both", "line", "gravity", "compass"])
 @pytest.mark.parametrize("elongated", [False, True])
 def test_jacobian_matches_central_differences(seed: int, marks: str, elongated: bool) -> None:
     model, pose = model_and_pose(seed, marks, elongated)

@@ -58,6 +58,13 @@ _LEVEL_EXAMPLE: dict[str, JsonValue] = {
     "gravity1": [0.0, 0.999, 0.04],
     "gravity2": [0.03, 0.999, -0.02],
 }
+# The same with both phones' compass headings, undisturbed (5 degrees): they point to a
+# stretch of the level.
+_COMPASS_EXAMPLE: dict[str, JsonValue] = _LEVEL_EXAMPLE | {
+    "heading1": 10.0,
+    "heading2": 190.0,
+    "heading_sigma_deg": 5.0,
+}
 
 
 def _documented_as(shape: Any) -> PlainValidator:
@@ -162,6 +169,27 @@ class SolveRequest(BaseModel):
     gravity2_sigma_deg: Any = Field(
         None, description="Photo 2's reading's own sigma, degrees. Null: gravity_sigma_deg."
     )
+    heading1: Any = Field(
+        None,
+        description="Photo 1's compass heading at the shutter: degrees clockwise from north "
+        "of the lens axis's horizontal direction (any north both phones share). With "
+        "heading2 and both gravity readings, it measures the turn between the phones: no "
+        "landmark gives a stretch of the level (curve2_stretch, a hint), landmarks a "
+        "sharper point; where they contradict the landmarks the headings are left out "
+        "(warning heading_disagrees).",
+        examples=[10.0],
+    )
+    heading2: Any = Field(None, description="The same for photo 2.", examples=[190.0])
+    heading_sigma_deg: Any = Field(
+        15.0,
+        description="A heading's standard deviation, degrees (steel and speakers bend compasses).",
+    )
+    heading1_sigma_deg: Any = Field(
+        None, description="Photo 1's heading's own sigma, degrees. Null: heading_sigma_deg."
+    )
+    heading2_sigma_deg: Any = Field(
+        None, description="Photo 2's heading's own sigma, degrees. Null: heading_sigma_deg."
+    )
 
     def solve(self) -> SolveResult:
         return solve(
@@ -184,6 +212,11 @@ class SolveRequest(BaseModel):
             gravity_sigma_deg=self.gravity_sigma_deg,
             gravity1_sigma_deg=self.gravity1_sigma_deg,
             gravity2_sigma_deg=self.gravity2_sigma_deg,
+            heading1=self.heading1,
+            heading2=self.heading2,
+            heading_sigma_deg=self.heading_sigma_deg,
+            heading1_sigma_deg=self.heading1_sigma_deg,
+            heading2_sigma_deg=self.heading2_sigma_deg,
         )
 
 
@@ -205,6 +238,11 @@ _EXAMPLES: dict[str, dict[str, JsonValue]] = {
     "level": {
         "summary": "No landmark: the friend marked and both phones' gravity give the level",
         "value": _answer_of(_LEVEL_EXAMPLE),
+    },
+    "compass": {
+        "summary": "No landmark, gravity and compass: the level and the stretch of it they "
+        "point to",
+        "value": _answer_of(_COMPASS_EXAMPLE),
     },
 }
 

@@ -762,6 +762,14 @@ export interface components {
                 number,
                 number
             ][][];
+            /**
+             * Stretch
+             * @description The part of the curve both phones' compasses point to (their 95 % range), drawn over the band, bolder: a hint, as steel bends compasses. None without compass headings, or when that part is outside the photo.
+             */
+            stretch?: [
+                number,
+                number
+            ][][] | null;
             /** Text */
             text: string;
         };
@@ -1806,6 +1814,34 @@ export interface components {
              */
             gravity_sigma_deg: unknown;
             /**
+             * Heading1
+             * @description Photo 1's compass heading at the shutter: degrees clockwise from north of the lens axis's horizontal direction (any north both phones share). With heading2 and both gravity readings, it measures the turn between the phones: no landmark gives a stretch of the level (curve2_stretch, a hint), landmarks a sharper point; where they contradict the landmarks the headings are left out (warning heading_disagrees).
+             * @example 10
+             */
+            heading1?: unknown;
+            /**
+             * Heading1 Sigma Deg
+             * @description Photo 1's heading's own sigma, degrees. Null: heading_sigma_deg.
+             */
+            heading1_sigma_deg?: unknown;
+            /**
+             * Heading2
+             * @description The same for photo 2.
+             * @example 190
+             */
+            heading2?: unknown;
+            /**
+             * Heading2 Sigma Deg
+             * @description Photo 2's heading's own sigma, degrees. Null: heading_sigma_deg.
+             */
+            heading2_sigma_deg?: unknown;
+            /**
+             * Heading Sigma Deg
+             * @description A heading's standard deviation, degrees (steel and speakers bend compasses).
+             * @default 15
+             */
+            heading_sigma_deg: unknown;
+            /**
              * Image Size1
              * @description [width, height] of photo 1; needed with camera1.
              */
@@ -1932,6 +1968,14 @@ export interface components {
              * @description The 95 % half-width of the band around `curve2`, px (its median along the visible curve); None when no piece of the curve is inside the photo.
              */
             curve2_halfwidth?: number | null;
+            /**
+             * Curve2 Stretch
+             * @description No landmark, both phones' gravity and compass headings: the stretch of `curve2` the headings point to (their 95 % range of turns), as the pieces of it inside the photo. A hint: steel bends compasses, and no landmark checks them. None without headings, or when that stretch is outside the photo.
+             */
+            curve2_stretch?: [
+                number,
+                number
+            ][][] | null;
             /**
              * Epipole1
              * @description Friend 2 in photo 1, refined from the tap.
@@ -2138,6 +2182,12 @@ export interface components {
              * @default false
              */
             used_gravity: boolean;
+            /**
+             * Used Heading
+             * @description Both phones' compass headings at the shutter entered the answer (heading1, heading2, with both gravity readings); False when not given, or when the landmarks contradicted them (warning 'heading_disagrees').
+             * @default false
+             */
+            used_heading: boolean;
             /** Warnings */
             warnings?: components["schemas"]["SolverWarning"][];
         };
@@ -2286,7 +2336,7 @@ export interface components {
          * @description What an answer warns of. The values are a public contract: never rename one.
          * @enum {string}
          */
-        WarningCode: "camera_model_disagrees" | "camera_model_unsure" | "on_the_curve" | "on_the_level" | "gravity_disagrees" | "marks_disagree" | "far_to_the_side" | "not_pinned_down" | "behind_you" | "outside_photo" | "uncertain" | "mistapped" | "misfit" | "ambiguous" | "no_margin";
+        WarningCode: "camera_model_disagrees" | "camera_model_unsure" | "on_the_curve" | "on_the_level" | "gravity_disagrees" | "heading_disagrees" | "marks_disagree" | "far_to_the_side" | "not_pinned_down" | "behind_you" | "outside_photo" | "uncertain" | "mistapped" | "misfit" | "ambiguous" | "no_margin";
     };
     responses: never;
     parameters: never;

@@ -3,7 +3,9 @@
 Every tap counts with its own covariance: a landmark by its Sampson distance (Hartley &
 Zisserman 11.4.3) whitened by the covariances of its two taps, the friends' marks by their
 offset from the model's epipoles (:mod:`.predictions`), both phones' gravity (when measured)
-by how far the pose turns one reading from the other, and each log focal length by its
+by how far the pose turns one reading from the other, both phones' compass headings (when
+measured, with gravity) by how far it turns one north from the other, and each log focal
+length by its
 offset from the camera's prior (:mod:`..camera`). The sum of their squares is the cost that
 :mod:`.fit` minimises.
 
@@ -19,9 +21,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...minimal.gravity_and_one import north
 from ...projective import Array
 from ..camera import FocalPrior
-from ..taps import Gravity, Taps, whitener
+from ..taps import Gravity, Heading, Taps, whitener
 from .pose import (
     FOCAL1,
     FOCAL2,
@@ -84,13 +87,19 @@ class PinholeModel:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
         self.landmarks = len(taps)
         self.gravity = None if taps.gravity is None else _Down.of(taps.gravity)
+        self.compass = None
+        if taps.gravity is not None and taps.heading is not None:
+            self.compass = _Compass.of(taps.gravity, taps.heading)
         marks = (
             2 * (self.friend2 is not None)
             + (self.line is not None)
             + 2 * (self.friend1 is not None)
             + 2 * (self.gravity is not None)
+            + (self.compass is not None)
         )
         self.residual_count = self.landmarks + marks + 2  # landmarks, marks, focal priors
+        # The compass's row is the last before the focal priors'.
+        self.compass_row = self.residual_count - 3 if self.compass is not None else None
 
     def residuals(self, pose: Poses) -> tuple[Array, Array]:
         """(r (M,), J (M, 7)) at one pose: landmarks first, then the friends' marks and the
@@ -122,6 +131,9 @@ class PinholeModel:
         if self.gravity is not None:
             r[row : row + 2], jacobian[row : row + 2] = self.gravity.residuals(pose.rotation[0])
             row += 2
+        if self.compass is not None:
+            r[row], jacobian[row] = self.compass.residual(pose.rotation[0])
+            row += 1
         r[row:] = (pose.log_focals[0] - self.prior_mean) / self.prior_sigma
         jacobian[row:] = self.prior_jacobian
         return r, jacobian
@@ -161,6 +173,9 @@ class PinholeModel:
         if self.gravity is not None:
             out[:, column : column + 2] = self.gravity.offsets(poses.rotation)
             column += 2
+        if self.compass is not None:
+            out[:, column] = self.compass.offsets(poses.rotation)
+            column += 1
         out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
         return out
 
@@ -209,6 +224,45 @@ class _Down:
     def offsets(self, rotations: Array) -> Array:
         """(K, 2) residuals at K rotations (K, 3, 3)."""
         result: Array = (rotations @ self.gravity1) @ self.across.T
+        return result
+
+
+@dataclass(frozen=True)
+class _Compass:
+    """Both phones' compass headings as a residual: photo 1's north carried into frame 2 by
+    the pose, ``m = R n1``, against photo 2's, ``n2``: the angle from ``n2`` to ``m`` about
+    down (``g2``), over the two headings' joint sigma. One residual, no parameter; how far
+    ``m`` tilts out of the level is gravity's residual."""
+
+    north1: Array  # (3,)
+    north2: Array  # (3,)
+    down2: Array  # (3,)
+    sigma: float
+
+    @classmethod
+    def of(cls, gravity: Gravity, heading: Heading) -> _Compass:
+        return cls(
+            north(gravity.gravity1, heading.heading1),
+            north(gravity.gravity2, heading.heading2),
+            gravity.gravity2,
+            heading.sigma,
+        )
+
+    def residual(self, rotation: Array) -> tuple[float, Array]:
+        """The residual at one rotation (3, 3), and its Jacobian (7,): a step ``w`` moves
+        ``m`` by ``w x m``, which turns it about down by ``(g2 x m) . (w x m) / |m_h|^2``,
+        ``= w . (g2 - (g2 . m) m) / |m_h|^2`` for a unit ``m`` (``m_h``: its level part)."""
+        carried = rotation @ self.north1
+        along = float(self.down2 @ carried)
+        jacobian = np.zeros(PARAMETERS)
+        jacobian[ROTATION] = (self.down2 - along * carried) / ((1.0 - along * along) * self.sigma)
+        return float(self.offsets(rotation[None])[0]), jacobian
+
+    def offsets(self, rotations: Array) -> Array:
+        """(K,) residuals at K rotations (K, 3, 3), each angle in (-pi, pi] over the sigma."""
+        carried = rotations @ self.north1  # (K, 3)
+        sine = np.cross(self.north2, carried) @ self.down2
+        result: Array = np.arctan2(sine, carried @ self.north2) / self.sigma
         return result
 
 
