@@ -14,11 +14,10 @@ import math
 from dataclasses import dataclass
 
 from backend.errors import ErrorCode, RefusedError
+from shared_solver.validation import FINEST_DEG, LARGEST_HEADING_DEG
 
 # A phone's compass indoors, beside a hall's steel: about 15 degrees (the solver's default).
 DEFAULT_SIGMA_DEG = 15.0
-# A sigma of half a turn says nothing of the direction: no compass is that bad and still read.
-LARGEST_SIGMA_DEG = 180.0
 
 
 @dataclass(frozen=True)
@@ -42,7 +41,7 @@ def heading(deg: float | None, sigma_deg: float | None) -> Heading | None:
 
     Raises:
         RefusedError: ``invalid_request`` for a heading that is not a finite number, or a
-            sigma that is not a positive number of degrees up to half a turn.
+            sigma beyond what the solver honours.
     """
     if deg is None:
         if sigma_deg is not None:
@@ -53,10 +52,11 @@ def heading(deg: float | None, sigma_deg: float | None) -> Heading | None:
             ErrorCode.INVALID_REQUEST, "heading must be a finite number of degrees from north."
         )
     sigma = DEFAULT_SIGMA_DEG if sigma_deg is None else sigma_deg
-    if not (math.isfinite(sigma) and 0.0 < sigma <= LARGEST_SIGMA_DEG):
+    if not (math.isfinite(sigma) and FINEST_DEG <= sigma <= LARGEST_HEADING_DEG):
         raise RefusedError(
             ErrorCode.INVALID_REQUEST,
-            f"heading_sigma_deg must be above 0 and at most {LARGEST_SIGMA_DEG:g} degrees.",
+            f"heading_sigma_deg must be between {FINEST_DEG:g} and {LARGEST_HEADING_DEG:g} "
+            "degrees.",
         )
     # 360 - 1e-14 wraps to 360.0 in floating point: that is north, 0.
     wrapped = math.fmod(deg, 360.0) % 360.0

@@ -319,6 +319,39 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
     assert np.hypot(*(np.array(friend) - s.epipole2)) < 60
 
 
+def test_both_phones_headings_give_the_stretch_of_the_level(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """Both photos with the phones' gravity and compass heading: the solver is told both
+    headings (``used_heading``), and the level the friend mark gives carries the stretch the
+    compasses point to, drawn bolder on the band; the truth is on it. One heading is not
+    enough: the level comes without a stretch."""
+    s = scene(2, seed=30)
+    lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
+    # Any north both phones share: 100 degrees off the scene's, and one said a turn later.
+    headings = [f"{s.camera1.heading + 100:.6f}", f"{s.camera2.heading + 100 - 360:.6f}"]
+    with_gravity(starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0])
+    joined = with_gravity(
+        joiner, temple_photos[1], s.camera2.down, focal_35mm=lenses[1], heading=headings[1]
+    )
+    assert joined.json()["heading"] == pytest.approx((s.camera2.heading + 100) % 360)
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_level"
+    assert state["answer"]["used_heading"] is False
+    assert state["answer"]["in_photo"]["joiner"]["level_stretch"] is None
+
+    with_gravity(
+        starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0], heading=headings[0]
+    )
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_level"
+    assert state["answer"]["used_heading"] is True
+    seen = state["answer"]["in_photo"]["joiner"]
+    assert seen["level_stretch"]
+    assert seen["drawing"]["curve"]["stretch"]
+    assert distance_to(seen["level_stretch"], s.epipole2) <= seen["level_halfwidth"]
+
+
 def test_a_heading_is_kept_with_the_photo_wrapped_to_a_turn(
     starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:

@@ -353,6 +353,12 @@ export interface components {
              * @description Landmarks that look mis-tapped, left out of the answer: re-check them.
              */
             suspects?: number[];
+            /**
+             * Used Heading
+             * @description Both phones' compass headings entered the answer (beside both phones' gravity); False without them, or when the landmarks contradicted them (warning 'heading_disagrees').
+             * @default false
+             */
+            used_heading: boolean;
         };
         /**
          * AnswerChanged
@@ -986,6 +992,14 @@ export interface components {
              * @description The 95 % half-width of the band around `level`, px.
              */
             level_halfwidth?: number | null;
+            /**
+             * Level Stretch
+             * @description No landmark yet, both phones' gravity and compass headings: the stretch of `level` the compasses point to, px. A hint: steel bends compasses.
+             */
+            level_stretch?: [
+                number,
+                number
+            ][][] | null;
             /**
              * Misfits
              * @description Your landmarks tapped far outside their band: they do not fit the others (check them).
