@@ -133,6 +133,11 @@ class FriendInPhoto(BaseModel):
     level_halfwidth: float | None = Field(
         None, description="The 95 % half-width of the band around `level`, px."
     )
+    level_stretch: list[list[tuple[float, float]]] | None = Field(
+        None,
+        description="No landmark yet, both phones' gravity and compass headings: the "
+        "stretch of `level` the compasses point to, px. A hint: steel bends compasses.",
+    )
     candidates: list[tuple[float, float]] = Field(
         default_factory=list, description="Other positions that fit the taps as well."
     )
@@ -183,6 +188,12 @@ class Answer(BaseModel):
     residuals: list[float] = Field(
         default_factory=list,
         description="Per landmark of landmark_ids, its distance from the fitted geometry, px.",
+    )
+    used_heading: bool = Field(
+        False,
+        description="Both phones' compass headings entered the answer (beside both phones' "
+        "gravity); False without them, or when the landmarks contradicted them (warning "
+        "'heading_disagrees').",
     )
     in_photo: dict[Role, FriendInPhoto]
 

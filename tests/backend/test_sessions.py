@@ -319,6 +319,61 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
     assert np.hypot(*(np.array(friend) - s.epipole2)) < 60
 
 
+def test_both_phones_headings_give_the_stretch_of_the_level(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """Both photos with the phones' gravity and compass heading: the solver is told both
+    headings (``used_heading``), and the level the friend mark gives carries the stretch the
+    compasses point to, drawn bolder on the band; the truth is on it. One heading is not
+    enough: the level comes without a stretch."""
+    s = scene(2, seed=30)
+    lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
+    # Any north both phones share: 100 degrees off the scene's, and one said a turn later.
+    headings = [f"{s.camera1.heading + 100:.6f}", f"{s.camera2.heading + 100 - 360:.6f}"]
+    with_gravity(starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0])
+    joined = with_gravity(
+        joiner, temple_photos[1], s.camera2.down, focal_35mm=lenses[1], heading=headings[1]
+    )
+    assert joined.json()["heading"] == pytest.approx((s.camera2.heading + 100) % 360)
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_level"
+    assert state["answer"]["used_heading"] is False
+    assert state["answer"]["in_photo"]["joiner"]["level_stretch"] is None
+
+    with_gravity(
+        starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0], heading=headings[0]
+    )
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_level"
+    assert state["answer"]["used_heading"] is True
+    seen = state["answer"]["in_photo"]["joiner"]
+    assert seen["level_stretch"]
+    assert seen["drawing"]["curve"]["stretch"]
+    assert distance_to(seen["level_stretch"], s.epipole2) <= seen["level_halfwidth"]
+
+
+def test_a_heading_is_kept_with_the_photo_wrapped_to_a_turn(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The compass heading at the shutter is kept with the photo, in [0, 360), and shown to
+    both phones; without gravity it is kept all the same (and unused)."""
+    fields = {"heading": "-30", "heading_sigma_deg": "20"}
+    stored = starter.client.put(
+        starter.url("/photo"),
+        headers=starter.auth,
+        files={"photo": ("photo.png", temple_photos[0], "image/png")},
+        data=fields,
+    )
+    assert stored.status_code == 200, stored.text
+    assert (stored.json()["heading"], stored.json()["heading_sigma_deg"]) == (330.0, 20.0)
+    joined = with_gravity(joiner, temple_photos[1], np.array([0.0, 1.0, 0.0]), heading="725.5")
+    assert (joined.json()["heading"], joined.json()["heading_sigma_deg"]) == (5.5, 15.0)
+    photos = joiner.state()["photos"]
+    assert (photos["starter"]["heading"], photos["starter"]["heading_sigma_deg"]) == (330, 20)
+    assert (photos["joiner"]["heading"], photos["joiner"]["heading_sigma_deg"]) == (5.5, 15)
+    assert photos["starter"]["gravity"] is None
+
+
 @pytest.mark.parametrize(
     "fields",
     [
@@ -327,6 +382,12 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
         {"gravity": ["0", "1", "nan"]},
         {"gravity": ["0", "1", "0"], "gravity_sigma_deg": "45"},
         {"gravity_sigma_deg": "1"},
+        {"heading": "nan"},
+        {"heading": "inf"},
+        {"heading": "north"},
+        {"heading": "90", "heading_sigma_deg": "0"},
+        {"heading": "90", "heading_sigma_deg": "nan"},
+        {"heading_sigma_deg": "15"},
     ],
 )
 def test_a_reading_that_is_no_direction_is_refused(
@@ -711,4 +772,6 @@ def test_the_same_photo_sent_twice_at_once_is_stored_once(
         "scale": 1.0,
         "lens": None,
         "gravity": None,
+        "heading": None,
+        "heading_sigma_deg": None,
     }

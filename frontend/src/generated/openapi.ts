@@ -191,7 +191,9 @@ export interface paths {
          *     read before shrinking it (``focal_35mm``: FocalLengthIn35mmFilm, ``focal_mm``:
          *     FocalLength, ``make``, ``model``, ``digital_zoom``: DigitalZoomRatio). Only the focal
          *     length is kept. ``gravity``: which way was down at the shutter, as the phone read it;
-         *     with both photos' the friend's level needs no landmark and a point one.
+         *     with both photos' the friend's level needs no landmark and a point one. ``heading``:
+         *     which way the lens looked, from the phone's compass; with both photos' gravity and
+         *     heading, the stretch of the level the compasses point to (a hint).
          */
         put: operations["put_photo_api_sessions__session_id__photo_put"];
         post?: never;
@@ -373,6 +375,12 @@ export interface components {
              * @description Landmarks that look mis-tapped, left out of the answer: re-check them.
              */
             suspects?: number[];
+            /**
+             * Used Heading
+             * @description Both phones' compass headings entered the answer (beside both phones' gravity); False without them, or when the landmarks contradicted them (warning 'heading_disagrees').
+             * @default false
+             */
+            used_heading: boolean;
         };
         /**
          * AnswerChanged
@@ -523,6 +531,18 @@ export interface components {
              * @example 1
              */
             gravity_sigma_deg?: number | null;
+            /**
+             * Heading
+             * @description Which way the lens looked at the shutter (the app's own camera): degrees clockwise from north (magnetic will do: both phones' north is the same), seen from above; any finite number, kept wrapped to [0, 360). Used only with both photos' gravity and heading.
+             * @example 131.5
+             */
+            heading?: number | null;
+            /**
+             * Heading Sigma Deg
+             * @description The heading's standard deviation, degrees (default 15).
+             * @example 15
+             */
+            heading_sigma_deg?: number | null;
             /**
              * Make
              * @example Google
@@ -1013,6 +1033,14 @@ export interface components {
              */
             level_halfwidth?: number | null;
             /**
+             * Level Stretch
+             * @description No landmark yet, both phones' gravity and compass headings: the stretch of `level` the compasses point to, px. A hint: steel bends compasses.
+             */
+            level_stretch?: [
+                number,
+                number
+            ][][] | null;
+            /**
              * Misfits
              * @description Your landmarks tapped far outside their band: they do not fit the others (check them).
              */
@@ -1300,6 +1328,18 @@ export interface components {
         PhotoStored: {
             /** @description Which way was down at the shutter, when the phone read it (the app's own camera): with both photos' the friend's level needs no landmark. */
             gravity?: components["schemas"]["GravityInfo"] | null;
+            /**
+             * Heading
+             * @description Which way the lens looked at the shutter, when the phone's compass read it (the app's own camera): degrees clockwise from north, in [0, 360). Used only with both photos' gravity and heading: the stretch of the level it points to, a hint.
+             * @example 131.5
+             */
+            heading?: number | null;
+            /**
+             * Heading Sigma Deg
+             * @description The heading's standard deviation, degrees.
+             * @example 15
+             */
+            heading_sigma_deg?: number | null;
             /**
              * Height
              * @example 1920
