@@ -25,6 +25,7 @@ import shlex
 import sys
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 from datetime import datetime
 
 import numpy as np
@@ -54,19 +55,28 @@ CONDITIONS = (
     (30.0, 0.7, 80, 1.0, 0),
     (30.0, 1.3, 0, 1.3, 9),
     (45.0, 1.0, 40, 1.0, 0),
-    (45.0, 0.4, 80, 1.0, 15),
+    (45.0, 0.4, 80, 1.0, 5),
+    (30.0, 1.0, 40, 1.0, 15),
 )
 TARGET_DEG = 0.3
 TARGET_SHARE = 0.90
 WRONG_DEG = 2.0
-# The drift model (section 3).
-BIASES_DEG_PER_HOUR = (10.0, 20.0)
-RANDOM_WALK_DEG_PER_ROOT_HOUR = 0.3
-MINUTES = (0.5, 1.0, 2.0, 5.0, 10.0)
-REANCHOR_EVERY_S = 60.0
-DISTANCE_M = 50.0
-SEAT_M = 0.5
-DRIFT_RUNS = 2000
+
+
+@dataclass(frozen=True)
+class DriftModel:
+    """Section 3: a phone gyroscope's drift, and how the marker's error is read."""
+
+    biases_deg_per_hour: tuple[float, ...] = (10.0, 20.0)
+    random_walk_deg_per_root_hour: float = 0.3
+    minutes: tuple[float, ...] = (0.5, 1.0, 2.0, 5.0, 10.0)
+    reanchor_every_s: float = 60.0
+    distance_m: float = 50.0  # how far the friend is
+    seat_m: float = 0.5  # a seat's width: "people" at that distance
+    runs: int = 2000
+
+
+DRIFT = DriftModel()
 
 
 def matched_frames(halls: int) -> tuple[list[float | None], list[float]]:
@@ -117,15 +127,17 @@ def drift(anchor_errors: Sequence[float]) -> list[list[str]]:
     with and without re-anchoring."""
     rng = np.random.default_rng((SEED, 5))
     rows = []
-    for bias in BIASES_DEG_PER_HOUR:
-        for minutes in MINUTES:
+    for bias in DRIFT.biases_deg_per_hour:
+        for minutes in DRIFT.minutes:
             hours = minutes / 60.0
             without = _drifted(rng, bias, hours)
-            if minutes * 60.0 <= REANCHOR_EVERY_S:  # not re-anchored yet: the shutter's anchor
+            if (
+                minutes * 60.0 <= DRIFT.reanchor_every_s
+            ):  # not re-anchored yet: the shutter's anchor
                 with_anchor = without
             else:  # just before the next match: a match's error and a whole interval's drift
-                residual = rng.choice(np.asarray(anchor_errors), DRIFT_RUNS)
-                with_anchor = residual + _drifted(rng, bias, REANCHOR_EVERY_S / 3600.0)
+                residual = rng.choice(np.asarray(anchor_errors), DRIFT.runs)
+                with_anchor = residual + _drifted(rng, bias, DRIFT.reanchor_every_s / 3600.0)
             rows.append(
                 [
                     f"{bias:g} deg/h",
@@ -140,11 +152,11 @@ def drift(anchor_errors: Sequence[float]) -> list[list[str]]:
 
 
 def _drifted(rng: np.random.Generator, bias: float, hours: float) -> np.ndarray:
-    """(DRIFT_RUNS,) the angle, degrees, a gyroscope's orientation has run after ``hours``:
+    """(DRIFT.runs,) the angle, degrees, a gyroscope's orientation has run after ``hours``:
     its bias about a random axis plus a random walk (three axes)."""
-    axes = rng.normal(size=(DRIFT_RUNS, 3))
+    axes = rng.normal(size=(DRIFT.runs, 3))
     axes /= np.linalg.norm(axes, axis=1, keepdims=True)
-    walk = rng.normal(0.0, RANDOM_WALK_DEG_PER_ROOT_HOUR * math.sqrt(hours), (DRIFT_RUNS, 3))
+    walk = rng.normal(0.0, DRIFT.random_walk_deg_per_root_hour * math.sqrt(hours), (DRIFT.runs, 3))
     result: np.ndarray = np.linalg.norm(bias * hours * axes + walk, axis=1)
     return result
 
@@ -154,8 +166,8 @@ def _angles(errors: np.ndarray) -> str:
 
 
 def _on_the_ground(degrees: float) -> str:
-    metres = DISTANCE_M * math.tan(math.radians(degrees))
-    return f"{metres:.2f} m ({metres / SEAT_M:.1f} seats)"
+    metres = DRIFT.distance_m * math.tan(math.radians(degrees))
+    return f"{metres:.2f} m ({metres / DRIFT.seat_m:.1f} seats)"
 
 
 def report(halls: int) -> str:
@@ -229,12 +241,12 @@ def report(halls: int) -> str:
         "## 3. The marker's drift, with and without re-anchoring",
         "",
         f"A gyroscope's orientation running at its bias about a random axis plus "
-        f"{RANDOM_WALK_DEG_PER_ROOT_HOUR:g} deg per root hour of random walk, "
-        f"{DRIFT_RUNS} runs per row; with re-anchoring, a frame is matched every "
-        f"{REANCHOR_EVERY_S:g} s, each leaving an error drawn from section 1's matched "
+        f"{DRIFT.random_walk_deg_per_root_hour:g} deg per root hour of random walk, "
+        f"{DRIFT.runs} runs per row; with re-anchoring, a frame is matched every "
+        f"{DRIFT.reanchor_every_s:g} s, each leaving an error drawn from section 1's matched "
         "frames, and the error is taken just before the next match (the match's error and a "
         "whole interval's drift added: the worst moment). Median / p95, degrees, and the p95 "
-        f"on the ground at {DISTANCE_M:g} m.",
+        f"on the ground at {DRIFT.distance_m:g} m.",
         "",
         markdown_table(
             [
@@ -242,8 +254,8 @@ def report(halls: int) -> str:
                 "since the shutter",
                 "without, deg",
                 "re-anchored, deg",
-                f"without, p95 at {DISTANCE_M:g} m",
-                f"re-anchored, p95 at {DISTANCE_M:g} m",
+                f"without, p95 at {DRIFT.distance_m:g} m",
+                f"re-anchored, p95 at {DRIFT.distance_m:g} m",
             ],
             drift_rows,
         ),

@@ -17,7 +17,8 @@ ROOT = Path(__file__).parents[1]
 # Each folder's modules in order, those that others build on first.
 LAYERS = {
     "shared_solver/estimation/pinhole": "pose predictions model propagation fit starts mistaps",
-    "backend/photos": "lens gravity jpeg_rows exif intake pictures schemas kept repository service",
+    "backend/photos": "lens gravity heading jpeg_rows exif intake pictures schemas kept repository"
+    " service",
     # A phone's taps, the answer they give and the pictures drawn from both.
     "backend/taps": "photo_order schemas guidance problem shown repository answers service"
     " pictures",

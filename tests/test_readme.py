@@ -96,9 +96,8 @@ def test_the_curl_flow_runs_against_a_live_server(tmp_path: Path) -> None:
     assert abs(solved[0] - 543.9) < 1.0
     assert abs(solved[1] - 599.2) < 1.0
     stored = [json.loads(line) for line in lines[1:3]]
-    assert (
-        stored == [{"width": 640, "height": 480, "scale": 1.0, "lens": None, "gravity": None}] * 2
-    )
+    no_sensors = {"gravity": None, "heading": None, "heading_sigma_deg": None}
+    assert stored == [{"width": 640, "height": 480, "scale": 1.0, "lens": None, **no_sensors}] * 2
     starter = json.loads(lines[3])
     assert abs(starter[0] - 522.2) < 10
     assert abs(starter[1] - 73.9) < 10

@@ -17,6 +17,7 @@ from backend.storage.tables import ParticipantRow, PhotoRow, core
 from backend.storage.versions import bump_version
 
 from .gravity import Gravity
+from .heading import Heading
 from .intake import StoredPhoto
 from .kept import KeptPhoto, KeptPhotos
 from .lens import Lens
@@ -64,8 +65,10 @@ class Photos:
         shown: PhotoStored,
         needed: NeededAfterPhoto,
         gravity: Gravity | None = None,
+        heading: Heading | None = None,
     ) -> int:
-        """Store (or replace) a friend's photo, with its lens if known. Its old taps meant
+        """Store (or replace) a friend's photo, with its lens and its phone's readings if
+        known. Its old taps meant
         points of the old photo, so they are cleared, and so is the answer; the event tells
         the other phone the photo as ``shown`` and the landmarks then ``needed``. Returns the
         new version."""
@@ -80,6 +83,8 @@ class Photos:
             "lens_uncertainty": None if lens is None else lens.uncertainty,
             "lens_told_by": None if lens is None else lens.told_by,
             "gravity": None if gravity is None else gravity.as_json(),
+            "heading": None if heading is None else heading.deg,
+            "heading_sigma_deg": None if heading is None else heading.sigma_deg,
         }
         with self.database.write() as tx:
             # The version first: it locks the session, so a second upload of the same photo

@@ -58,6 +58,16 @@ class PhotoStored(BaseModel):
         description="Which way was down at the shutter, when the phone read it (the app's "
         "own camera): with both photos' the friend's level needs no landmark.",
     )
+    heading: float | None = Field(
+        None,
+        description="Which way the lens looked at the shutter, when the phone's compass read "
+        "it (the app's own camera): degrees clockwise from north, in [0, 360). Used only with "
+        "both photos' gravity and heading: the stretch of the level it points to, a hint.",
+        examples=[131.5],
+    )
+    heading_sigma_deg: float | None = Field(
+        None, description="The heading's standard deviation, degrees.", examples=[15.0]
+    )
 
 
 class PhotoChanged(BaseModel):

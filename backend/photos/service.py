@@ -9,6 +9,7 @@ from backend.participants import Participant, Role
 from backend.settings import Settings
 
 from .gravity import Gravity
+from .heading import Heading
 from .intake import store_photo
 from .lens import LensFacts, lens
 from .pictures import crop_around
@@ -37,10 +38,12 @@ class PhotoService:
         data: bytes,
         told: LensFacts | None = None,
         gravity: Gravity | None = None,
+        heading: Heading | None = None,
     ) -> PhotoStored:
         """Store the caller's photo (replacing any earlier one, whose taps go with it), with
         its lens: from the photo's own EXIF, else from what the phone ``told`` of it; and
-        which way was down at the shutter, when the phone read it."""
+        which way was down and which way the lens looked at the shutter, when the phone
+        read them."""
         photo = store_photo(
             data,
             max_pixels=self.settings.max_photo_pixels,
@@ -55,6 +58,8 @@ class PhotoService:
             if found is None
             else LensInfo(focal_35mm=found.focal_35mm, told_by=found.told_by),
             gravity=None if gravity is None else GravityInfo.of(gravity),
+            heading=None if heading is None else heading.deg,
+            heading_sigma_deg=None if heading is None else heading.sigma_deg,
         )
         self.photos.put(
             participant,
@@ -64,6 +69,7 @@ class PhotoService:
             shown=stored,
             needed=self.needed,
             gravity=gravity,
+            heading=heading,
         )
         self.notifier.notify(participant.session_id)
         return stored

@@ -105,4 +105,6 @@ def _photo(info: PhotoInfo | None) -> PhotoStored | None:
         scale=info.scale,
         lens=lens,
         gravity=None if gravity is None else GravityInfo.of(gravity),
+        heading=info.heading,
+        heading_sigma_deg=info.heading_sigma_deg,
     )

@@ -24,6 +24,8 @@ class PhotoInfo:
     lens_told_by: str | None = None
     version: int | None = None  # the session's version that stored it: names its bytes
     gravity: str | None = None  # JSON [x, y, z, sigma_deg] (backend.photos.gravity), or None
+    heading: float | None = None  # degrees from north in [0, 360) (backend.photos.heading)
+    heading_sigma_deg: float | None = None
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,8 @@ _SNAPSHOT = (
         _photos.c.lens_told_by,
         _photos.c.version.label("photo_version"),
         _photos.c.gravity,
+        _photos.c.heading,
+        _photos.c.heading_sigma_deg,
     )
     .join(_participants, _participants.c.session_id == _sessions.c.id)
     .outerjoin(
@@ -134,6 +138,8 @@ def read_snapshot(database: Database, session_id: str) -> Snapshot | None:
                 row.lens_told_by,
                 row.photo_version,
                 row.gravity,
+                row.heading,
+                row.heading_sigma_deg,
             )
             for row in rows
             if row.width is not None

@@ -88,6 +88,11 @@ class PhotoRow(Base):
     # Which way was down at the shutter, as the phone read it: JSON [x, y, z, sigma_deg] in
     # the stored photo's camera frame (backend.photos.gravity); NULL: not read.
     gravity: Mapped[str | None] = mapped_column(Text)
+    # Which way the lens looked at the shutter, as the phone's compass read it: degrees
+    # clockwise from north in [0, 360), and its sigma, degrees (backend.photos.heading);
+    # NULL: not read.
+    heading: Mapped[float | None] = mapped_column(Float)
+    heading_sigma_deg: Mapped[float | None] = mapped_column(Float)
     # The session's version that stored this photo: with the session and the role, the name
     # of these bytes (replicas keep photos they read lately by it: backend.photos.kept).
     version: Mapped[int | None] = mapped_column(Integer)

@@ -12,6 +12,7 @@ from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
 from backend.participants import ROLES, Role
 from backend.photos.gravity import Gravity
+from backend.photos.heading import Heading
 from backend.settings import Settings
 from backend.storage.database import Database
 from backend.storage.snapshot import Snapshot, read_snapshot
@@ -96,6 +97,10 @@ class AnswerService:
                 for role in ROLES
             },
             readings={role: Gravity.read(photos[role].gravity) for role in ROLES},
+            headings={
+                role: Heading.read(photos[role].heading, photos[role].heading_sigma_deg)
+                for role in ROLES
+            },
         )
         # The photos are the same before and after a change of taps (a new photo is a change
         # of its own): the answer before it answers its problem again.

@@ -1,10 +1,13 @@
 """The pictures a session's answer and taps give: the answer drawn on a photo, a
-landmark's crop ("find #3"), and a suggested spot for a landmark (searched in the photos'
-pixels)."""
+landmark's crop ("find #3"), a suggested spot for a landmark (searched in the photos'
+pixels), and how a phone has turned since its photo (a live frame matched to it)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
 
 from backend.errors import ErrorCode, RefusedError
 from backend.participants import ROLES, Participant, Role, other
@@ -17,10 +20,15 @@ from backend.settings import Settings
 from backend.storage.snapshot import Snapshot
 from shared_solver.drawing.overlay import render as render_drawing
 from shared_solver.drawing.shapes import AnswerDrawing
+from shared_solver.matching.reanchor import reanchor
 
 from . import guidance
 from .answers import AnswerService, solved, tap_sets
-from .schemas import LandmarkSuggestion, Spot
+from .schemas import LandmarkSuggestion, Reanchored, Spot
+
+# A live frame is matched at most this long side, px (a phone sends about this much: larger
+# frames cost matching time and say no more).
+LIVE_FRAME_SIDE = 960
 
 
 @dataclass(kw_only=True)
@@ -109,6 +117,49 @@ class PictureService:
             id=landmark_id,
             answer_version=version,
             spot=None if spot is None else Spot(x=spot[0], y=spot[1]),
+        )
+
+    def reanchor(
+        self, participant: Participant, frame: bytes, frame_focal_px: float | None = None
+    ) -> Reanchored:
+        """How ``participant``'s phone has turned since their photo, from ``frame``, a picture
+        of its live view: matched to the stored photo, whose focal length is the answer's.
+        The frame is decoded, matched and dropped: nothing of it is kept.
+
+        Raises:
+            RefusedError: ``no_result`` before an answer (it gives the photo's focal length),
+                ``invalid_photo`` when ``frame`` is no picture.
+            SolverError: ``no_solution`` (``frame_not_matched``) when the frame does not
+                match the photo well enough to tell.
+        """
+        snapshot = self.answers.snapshot(participant.session_id)
+        stored = solved(snapshot)
+        kept = self._photo(snapshot, participant.role)
+        if kept is None:
+            raise RefusedError(ErrorCode.NO_RESULT, "Your photo changed; take the answer again.")
+        cameras = stored.solution.get("cameras") or []
+        number = stored.order.number(participant.role)
+        focal = cameras[number - 1].get("focal_px") if len(cameras) >= number else None
+        if focal is None:  # a projective answer (cameras unknown) has no direction to carry
+            raise RefusedError(
+                ErrorCode.NO_RESULT, "This answer does not know your photo's lens: no live view."
+            )
+        pixels = decode_photo(frame)
+        scale = min(1.0, LIVE_FRAME_SIDE / max(pixels.shape[:2]))
+        if scale < 1.0:
+            size = (round(pixels.shape[1] * scale), round(pixels.shape[0] * scale))
+            pixels = np.asarray(cv2.resize(pixels, size, interpolation=cv2.INTER_AREA), np.uint8)
+        found = reanchor(
+            decode_photo(kept.photo.data),
+            pixels,
+            float(focal),
+            frame_focal_px=None if frame_focal_px is None else frame_focal_px * scale,
+        )
+        return Reanchored(
+            rotation=found.rotation.tolist(),
+            frame_focal_px=found.frame_focal_px / scale,
+            inliers=found.inliers,
+            degrees=found.degrees,
         )
 
     def _photo(self, snapshot: Snapshot, role: Role) -> KeptPhoto | None:

@@ -14,12 +14,13 @@ docs/geometry.md has the geometry.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from backend.participants import ROLES, Role
 from backend.photos.gravity import Gravity
+from backend.photos.heading import Heading
 from backend.photos.lens import EXIF_UNCERTAINTY
 from shared_solver import (
     Camera,
@@ -44,11 +45,13 @@ Line = tuple[float, float, float]
 @dataclass(frozen=True)
 class PhotoFacts:
     """What the solver is told of both photos besides the taps, by role: each one's size
-    (width, height px), its camera, and its phone's gravity at the shutter (None: not read)."""
+    (width, height px), its camera, and its phone's gravity and compass heading at the
+    shutter (None: not read)."""
 
     sizes: dict[Role, tuple[int, int]]
     cameras: dict[Role, Camera]
     readings: dict[Role, Gravity | None]
+    headings: dict[Role, Heading | None] = field(default_factory=dict)
 
     @property
     def levelled(self) -> bool:
@@ -232,8 +235,9 @@ def solved(
 def fit(task: Problem, photos: PhotoFacts, *, known: KnownFit | None = None) -> SolveResult:
     """The solver's answer to ``task``, with the uncertainty of its geometry (for the bands
     of the landmarks still to find); ``known``'s if it answered the same problem on the
-    same photos. The phones' gravity is used when the task is ``levelled``. Raises
-    SolverError."""
+    same photos. The phones' gravity is used when the task is ``levelled``; their compass
+    headings when both photos have one (the solver uses them only beside both gravities).
+    Raises SolverError."""
     if known is not None and known.task == task:
         return known.result()
     order = task.order
@@ -241,6 +245,9 @@ def fit(task: Problem, photos: PhotoFacts, *, known: KnownFit | None = None) -> 
     first, second = (
         (readings[order.first], readings[order.second]) if task.levelled else (None, None)
     )
+    compass1, compass2 = (photos.headings.get(order.first), photos.headings.get(order.second))
+    if compass1 is None or compass2 is None:
+        compass1 = compass2 = None
     return solve(
         task.points1,
         task.points2,
@@ -262,6 +269,10 @@ def fit(task: Problem, photos: PhotoFacts, *, known: KnownFit | None = None) -> 
         gravity2=None if second is None else second.down,
         gravity1_sigma_deg=None if first is None else first.sigma_deg,
         gravity2_sigma_deg=None if second is None else second.sigma_deg,
+        heading1=None if compass1 is None else compass1.deg,
+        heading2=None if compass2 is None else compass2.deg,
+        heading1_sigma_deg=None if compass1 is None else compass1.sigma_deg,
+        heading2_sigma_deg=None if compass2 is None else compass2.sigma_deg,
     )
 
 
@@ -299,6 +310,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         return [warning for warning in result.warnings if warning.told_to(photo)]
 
     focal = [camera.focal_35mm for camera in result.cameras] or [None, None]
+    focal_px = [camera.focal_px for camera in result.cameras] or [None, None]
     suspects = {task.ids[i] for i in result.suspect_landmarks}
     one = FriendInPhoto(
         friend=result.epipole1,
@@ -306,6 +318,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         how="marked" if task.epipole1 is not None else "on_line" if task.line1 else "solved",
         candidates=_others([c.epipole1 for c in result.candidates], result.epipole1),
         focal_35mm=focal[0],
+        focal_px=focal_px[0],
         warnings=warnings(1),
         drawing=drawing(1, task.points1),
     )
@@ -318,8 +331,10 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         curve=result.conic2,
         level=result.curve2,
         level_halfwidth=result.curve2_halfwidth,
+        level_stretch=result.curve2_stretch,
         candidates=_others([c.epipole2 for c in result.candidates], result.epipole2),
         focal_35mm=focal[1],
+        focal_px=focal_px[1],
         warnings=warnings(2),
         drawing=drawing(2, task.points2),
     )
@@ -330,6 +345,7 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         landmark_ids=task.ids,
         suspects=sorted(suspects),
         residuals=result.residuals,
+        used_heading=result.used_heading,
         in_photo={order.first: one, order.second: two},
     )
 

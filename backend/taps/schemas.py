@@ -133,11 +133,21 @@ class FriendInPhoto(BaseModel):
     level_halfwidth: float | None = Field(
         None, description="The 95 % half-width of the band around `level`, px."
     )
+    level_stretch: list[list[tuple[float, float]]] | None = Field(
+        None,
+        description="No landmark yet, both phones' gravity and compass headings: the "
+        "stretch of `level` the compasses point to, px. A hint: steel bends compasses.",
+    )
     candidates: list[tuple[float, float]] = Field(
         default_factory=list, description="Other positions that fit the taps as well."
     )
     focal_35mm: float | None = Field(
         None, description="The focal length of your photo's lens the answer used, 35 mm mm."
+    )
+    focal_px: float | None = Field(
+        None,
+        description="The same in your photo's px (principal point at its centre): what "
+        'carries a pixel of your photo into a direction, as "Show me" does.',
     )
     warnings: list[SolverWarning] = Field(
         default_factory=list,
@@ -179,6 +189,12 @@ class Answer(BaseModel):
         default_factory=list,
         description="Per landmark of landmark_ids, its distance from the fitted geometry, px.",
     )
+    used_heading: bool = Field(
+        False,
+        description="Both phones' compass headings entered the answer (beside both phones' "
+        "gravity); False without them, or when the landmarks contradicted them (warning "
+        "'heading_disagrees').",
+    )
     in_photo: dict[Role, FriendInPhoto]
 
 
@@ -209,6 +225,20 @@ class StoredAnswer(BaseModel):
 
     def as_json(self) -> dict[str, Any]:
         return self.model_dump(mode="json")
+
+
+class Reanchored(BaseModel):
+    """How your phone has turned since your photo, from one frame of its live view matched to
+    the photo (``shared_solver.matching.reanchor``): what "Show me" resets its gyroscope's
+    drift with."""
+
+    rotation: list[list[float]] = Field(
+        description="3 x 3, row by row: takes a direction in the photo's camera frame (x right "
+        "along its rows, y down its columns, z out of the lens) to the frame's."
+    )
+    frame_focal_px: float = Field(description="The frame's focal length, px of the frame sent.")
+    inliers: int = Field(description="Features of the frame that fit the turn.")
+    degrees: float = Field(description="How far the phone has turned since the photo.")
 
 
 class Spot(BaseModel):

@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { CURVE_TEXT, LEVEL_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
+import { COMPASS_TEXT, CURVE_TEXT, LEVEL_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
 import type { Answer, FriendInPhoto, SessionState, SolverWarning } from "./types";
 
 const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
@@ -38,6 +38,7 @@ function state(in_photo: Answer["in_photo"] | null, extra: Partial<SessionState>
             quality: "good",
             landmark_ids: [1, 2, 4, 5, 7],
             suspects: [],
+            used_heading: false,
             in_photo,
           },
     answer_version: in_photo === null ? null : 9,
@@ -66,6 +67,20 @@ describe("the answer on each phone", () => {
     expect(view.text).toBe(LEVEL_TEXT);
     expect(view.position).toBeNull();
     expect(describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level })), "starter").seen).toBe(true);
+  });
+
+  it("is the level with the stretch the compasses point to, worded as a hint", () => {
+    const level: [number, number][][] = [[[0, 400], [640, 380]]];
+    const curve = { polylines: level, label_at: [320, 360] as [number, number], text: "", halfwidth: 30 };
+    const bare = describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level, drawing: { ...DRAWING, curve } })), "joiner");
+    expect(bare.text).toBe(LEVEL_TEXT);
+    const stretch: [number, number][][] = [[[200, 392], [330, 386]]];
+    const hinted = { ...DRAWING, curve: { ...curve, stretch } };
+    const view = describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level, level_stretch: stretch, drawing: hinted })), "joiner");
+    expect(view.kind).toBe("curve");
+    expect(view.text).toBe(COMPASS_TEXT);
+    expect(view.text).toMatch(/compass points .*a hint, steel bends compasses/);
+    expect(view.drawing?.curve?.stretch).toEqual(stretch);
   });
 
   it("is the position found, with its region, on the phone that did not mark", () => {
@@ -131,10 +146,12 @@ describe("the answer on each phone", () => {
   it("passes on the warnings said to this phone, and the suspects by number", () => {
     const misfit: SolverWarning = { code: "misfit", photo: 1, landmark: 2, message: "#2 does not fit the others: check it in both photos." };
     const uncertain: SolverWarning = { code: "uncertain", photo: 2, message: "The position is uncertain." };
-    const answer = state(inPhoto({ warnings: [misfit] }, { warnings: [uncertain] }));
+    // About both photos: the server says it to both, worded once (shared_solver/words.py).
+    const compasses: SolverWarning = { code: "heading_disagrees", message: "The phones' compasses do not fit these marks." };
+    const answer = state(inPhoto({ warnings: [compasses, misfit] }, { warnings: [compasses, uncertain] }));
     if (answer.answer) answer.answer.suspects = [2, 5];
-    expect(describeAnswer(answer, "starter").warnings).toEqual([misfit.message]);
-    expect(describeAnswer(answer, "joiner").warnings).toEqual([uncertain.message]);
+    expect(describeAnswer(answer, "starter").warnings).toEqual([compasses.message, misfit.message]);
+    expect(describeAnswer(answer, "joiner").warnings).toEqual([compasses.message, uncertain.message]);
     expect(describeAnswer(answer, "joiner").suspects).toEqual([2, 5]);
   });
 

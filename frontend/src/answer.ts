@@ -49,6 +49,9 @@ export const CURVE_TEXT =
 /** No landmark yet, both phones' gravity: the level of the venue the friend is on. */
 export const LEVEL_TEXT =
   "Your friend is somewhere along the yellow band: on this level. Tap 1 landmark in both photos for the spot";
+/** The level with the stretch both phones' compasses point to, drawn bolder on the band. */
+export const COMPASS_TEXT =
+  "Your friend is somewhere along the yellow band: on this level. The compass points to its bold part: a hint, steel bends compasses. Tap 1 landmark in both photos for the spot";
 export const FRAME_TEXT = "Your friend is inside the yellow frame marked \u201cfriend\u201d.";
 export const LIKELY_TEXT =
   "Your friend is most likely inside the yellow frame marked \u201cfriend?\u201d. Ask them to mark you as a point to be sure.";
@@ -111,7 +114,10 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     return { ...base, kind: position ? "position" : "elsewhere", position, news, text, sureness };
   }
   if (!position) {
-    if (mine.level) return { ...base, kind: "curve", position: null, news, text: LEVEL_TEXT, sureness: null };
+    if (mine.level) {
+      const text = mine.drawing?.curve?.stretch?.length ? COMPASS_TEXT : LEVEL_TEXT;
+      return { ...base, kind: "curve", position: null, news, text, sureness: null };
+    }
     if (mine.curve) return { ...base, kind: "curve", position: null, news, text: CURVE_TEXT, sureness: null };
     const behind = (mine.friend_h?.[2] ?? 0) < 0;
     const text = behind

@@ -40,11 +40,16 @@ const ROLES: readonly Role[] = ["starter", "joiner"];
  * What the in-app camera read of the phone at the shutter (camera/gravity.ts), sent with the
  * photo: which way is down in the stored photo's camera frame (x right, y down the photo, z
  * into the scene; `gravity` goes as the same form field three times, x, y, z) and the
- * reading's standard deviation per axis in degrees.
+ * reading's standard deviation per axis in degrees; and, where the phone has an absolute
+ * orientation, the lens's compass heading (camera/heading.ts: degrees clockwise from north)
+ * and its standard deviation in degrees. A heading goes only beside gravity: the solver has
+ * no use for one alone.
  */
 export interface SensorFields {
   gravity: readonly [number, number, number];
   gravity_sigma_deg: number;
+  heading?: number;
+  heading_sigma_deg?: number;
 }
 
 /** What the phone read of its photo's EXIF lens, sent with the photo (all optional). */

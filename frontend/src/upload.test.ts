@@ -50,7 +50,12 @@ describe("taps moved to the stored photo's size", () => {
 describe("the photo's form fields", () => {
   const PHONE: Credentials = { session_id: "s1", token: "t1", role: "starter" };
   const PREPARED = { body: new Blob(["jpeg"], { type: "image/jpeg" }), size: { width: 4, height: 3 }, name: "photo.jpg" };
-  const SENSORS: SensorFields = { gravity: [0.1, 0.98, -0.2], gravity_sigma_deg: 1.3 };
+  const SENSORS: SensorFields = {
+    gravity: [0.1, 0.98, -0.2],
+    gravity_sigma_deg: 1.3,
+    heading: 131.25,
+    heading_sigma_deg: 15,
+  };
   let sent: FormData[];
   /** The status of each request in turn (then 200). */
   let statuses: number[];
@@ -87,11 +92,13 @@ describe("the photo's form fields", () => {
 
   afterEach(() => vi.unstubAllGlobals());
 
-  it("sends down as the same field three times, x, y, z, with its sigma, beside the lens", async () => {
+  it("sends down as the same field three times, x, y, z, with its sigma, the heading and its sigma, beside the lens", async () => {
     await sendPhoto(PHONE, PREPARED, { focal_35mm: 26 }, SENSORS, () => {});
     const [form] = sent;
     expect(form?.getAll("gravity")).toEqual(["0.1", "0.98", "-0.2"]);
     expect(form?.get("gravity_sigma_deg")).toBe("1.3");
+    expect(form?.getAll("heading")).toEqual(["131.25"]);
+    expect(form?.get("heading_sigma_deg")).toBe("15");
     expect(form?.get("focal_35mm")).toBe("26");
     expect(form?.get("photo")).toBeInstanceOf(Blob);
   });
@@ -101,15 +108,17 @@ describe("the photo's form fields", () => {
     expect(sent).toHaveLength(1);
     expect(sent[0]?.has("gravity")).toBe(false);
     expect(sent[0]?.has("gravity_sigma_deg")).toBe(false);
+    expect(sent[0]?.has("heading")).toBe(false);
   });
 
   it("refused, sends the photo again without the sensors, then without the lens", async () => {
     statuses = [422, 422];
     await sendPhoto(PHONE, PREPARED, { focal_35mm: 26 }, SENSORS, () => {});
-    expect(sent.map((form) => [form.has("gravity"), form.has("focal_35mm"), form.has("photo")])).toEqual([
-      [true, true, true],
-      [false, true, true],
-      [false, false, true],
+    const fields = (form: FormData): boolean[] => ["gravity", "heading", "focal_35mm", "photo"].map((f) => form.has(f));
+    expect(sent.map(fields)).toEqual([
+      [true, true, true, true],
+      [false, false, true, true],
+      [false, false, false, true],
     ]);
   });
 

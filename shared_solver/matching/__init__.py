@@ -12,7 +12,9 @@ in the other photo. This package gives:
 - a **check** of a tap in the other photo (:meth:`Band.check`): far outside the band, the
   landmark does not fit the others.
 
-:func:`guide_landmark` does the first two from a ``SolveResult``.
+:func:`guide_landmark` does the first two from a ``SolveResult``. Apart from landmarks,
+:mod:`.reanchor` matches a frame of a phone's live view to its photo: how the phone has
+turned since the shutter (the live view's "Show me").
 """
 
 from __future__ import annotations

@@ -82,6 +82,8 @@ def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) 
             "scale": 1.0,
             "lens": None,
             "gravity": None,
+            "heading": None,
+            "heading_sigma_deg": None,
         }
 
 

@@ -132,6 +132,8 @@ def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx2.Response:
         "scale": 1.0,
         "lens": None,
         "gravity": None,
+        "heading": None,
+        "heading_sigma_deg": None,
     }
     return search.starter.tap(landmarks=[{"id": 1, "x": 250, "y": 350}], friend=[20, 390])
 

@@ -219,6 +219,8 @@ def check_acknowledged_writes(server: Server, phones: list[Writer]) -> None:
             "scale": 1.0,
             "lens": None,
             "gravity": None,
+            "heading": None,
+            "heading_sigma_deg": None,
         }
         if found != phone.known:
             phone.stored += 1

@@ -39,7 +39,8 @@ def test_two_phones_find_each_other(server: str) -> None:
 
     for phone, name in ((starter, PAIR[0]), (joiner, PAIR[1])):
         stored = phone.uploaded(TEMPLE / f"{name}.png")
-        assert stored == {"width": 640, "height": 480, "scale": 1.0, "lens": None, "gravity": None}
+        no_sensors = {"gravity": None, "heading": None, "heading_sigma_deg": None}
+        assert stored == {"width": 640, "height": 480, "scale": 1.0, "lens": None, **no_sensors}
     starter_events.wait_for("photo", 2)
 
     rng = np.random.default_rng(6)

@@ -275,7 +275,8 @@ def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: s
     with engine.begin() as connection:
         for added in ("join_code_failures", "join_code_renewals"):
             connection.execute(text(f"ALTER TABLE sessions DROP COLUMN {added}"))
-        for added in ("lens_focal_35mm", "lens_uncertainty", "lens_told_by", "version", "gravity"):
+        later = ("lens_focal_35mm", "lens_uncertainty", "lens_told_by", "version", "gravity")
+        for added in (*later, "heading", "heading_sigma_deg"):
             connection.execute(text(f"ALTER TABLE photos DROP COLUMN {added}"))
         for old, new in (("result", "answer"), ("result_version", "answer_version")):
             connection.execute(text(f"ALTER TABLE sessions RENAME COLUMN {new} TO {old}"))

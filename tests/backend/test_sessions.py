@@ -319,6 +319,61 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
     assert np.hypot(*(np.array(friend) - s.epipole2)) < 60
 
 
+def test_both_phones_headings_give_the_stretch_of_the_level(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """Both photos with the phones' gravity and compass heading: the solver is told both
+    headings (``used_heading``), and the level the friend mark gives carries the stretch the
+    compasses point to, drawn bolder on the band; the truth is on it. One heading is not
+    enough: the level comes without a stretch."""
+    s = scene(2, seed=30)
+    lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
+    # Any north both phones share: 100 degrees off the scene's, and one said a turn later.
+    headings = [f"{s.camera1.heading + 100:.6f}", f"{s.camera2.heading + 100 - 360:.6f}"]
+    with_gravity(starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0])
+    joined = with_gravity(
+        joiner, temple_photos[1], s.camera2.down, focal_35mm=lenses[1], heading=headings[1]
+    )
+    assert joined.json()["heading"] == pytest.approx((s.camera2.heading + 100) % 360)
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_level"
+    assert state["answer"]["used_heading"] is False
+    assert state["answer"]["in_photo"]["joiner"]["level_stretch"] is None
+
+    with_gravity(
+        starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0], heading=headings[0]
+    )
+    state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
+    assert state["answer"]["method"] == "pinhole_level"
+    assert state["answer"]["used_heading"] is True
+    seen = state["answer"]["in_photo"]["joiner"]
+    assert seen["level_stretch"]
+    assert seen["drawing"]["curve"]["stretch"]
+    assert distance_to(seen["level_stretch"], s.epipole2) <= seen["level_halfwidth"]
+
+
+def test_a_heading_is_kept_with_the_photo_wrapped_to_a_turn(
+    starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+) -> None:
+    """The compass heading at the shutter is kept with the photo, in [0, 360), and shown to
+    both phones; without gravity it is kept all the same (and unused)."""
+    fields = {"heading": "-30", "heading_sigma_deg": "20"}
+    stored = starter.client.put(
+        starter.url("/photo"),
+        headers=starter.auth,
+        files={"photo": ("photo.png", temple_photos[0], "image/png")},
+        data=fields,
+    )
+    assert stored.status_code == 200, stored.text
+    assert (stored.json()["heading"], stored.json()["heading_sigma_deg"]) == (330.0, 20.0)
+    joined = with_gravity(joiner, temple_photos[1], np.array([0.0, 1.0, 0.0]), heading="725.5")
+    assert (joined.json()["heading"], joined.json()["heading_sigma_deg"]) == (5.5, 15.0)
+    photos = joiner.state()["photos"]
+    assert (photos["starter"]["heading"], photos["starter"]["heading_sigma_deg"]) == (330, 20)
+    assert (photos["joiner"]["heading"], photos["joiner"]["heading_sigma_deg"]) == (5.5, 15)
+    assert photos["starter"]["gravity"] is None
+
+
 @pytest.mark.parametrize(
     "fields",
     [
@@ -327,6 +382,12 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
         {"gravity": ["0", "1", "nan"]},
         {"gravity": ["0", "1", "0"], "gravity_sigma_deg": "45"},
         {"gravity_sigma_deg": "1"},
+        {"heading": "nan"},
+        {"heading": "inf"},
+        {"heading": "north"},
+        {"heading": "90", "heading_sigma_deg": "0"},
+        {"heading": "90", "heading_sigma_deg": "nan"},
+        {"heading_sigma_deg": "15"},
     ],
 )
 def test_a_reading_that_is_no_direction_is_refused(
@@ -553,6 +614,54 @@ def test_an_overlay_renders_the_drawing_the_phone_gets(
         assert drawing.model_dump_json() == shapes.model_dump_json()
 
 
+def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(
+    client: TestClient, uploaded: Phones
+) -> None:
+    """ "Show me" re-anchors: a frame of the live view (here the stored photo as a phone
+    turned 3 degrees would see it, 480 px wide) gives the turn; a frame of nothing is refused
+    with the solver's code; before an answer there is no focal length to match with."""
+    starter, joiner = uploaded
+    frame = {"frame": ("frame.jpg", b"", "image/jpeg")}
+    before = client.post(joiner.url("/reanchor"), files=frame, headers=joiner.auth)
+    assert error_of(before) == "no_result"
+    s = scene(6)
+    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    state = joiner.tapped(landmarks=landmarks(s.landmarks2))
+    focal = state["answer"]["in_photo"]["joiner"]["focal_px"]
+    photo = client.get(joiner.url("/photo/joiner"), headers=joiner.auth).content
+    pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
+    height, width = pixels.shape[:2]
+    k_photo = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
+    k_frame = np.diag([0.75, 0.75, 1.0]) @ k_photo
+    turn = cv2.Rodrigues(np.array([0.2, 1.0, 0.1]) / np.linalg.norm([0.2, 1.0, 0.1]) * 0.05)[0]
+    seen = cv2.warpPerspective(
+        pixels, k_frame @ turn @ np.linalg.inv(k_photo), (width * 3 // 4, height * 3 // 4)
+    )
+    ok, jpeg = cv2.imencode(".jpg", seen, [cv2.IMWRITE_JPEG_QUALITY, 90])
+    assert ok
+    frame = {"frame": ("frame.jpg", jpeg.tobytes(), "image/jpeg")}
+    got = client.post(joiner.url("/reanchor"), files=frame, headers=joiner.auth)
+    assert got.status_code == 200, got.text
+    found = got.json()
+    off = cv2.Rodrigues(np.array(found["rotation"]) @ turn.T)[0]
+    assert np.degrees(np.linalg.norm(off)) < 0.2
+    assert found["frame_focal_px"] == pytest.approx(0.75 * focal, rel=0.01)
+    assert found["degrees"] == pytest.approx(np.degrees(0.05), abs=0.2)
+    blank = cv2.imencode(".jpg", np.full_like(seen, 100))[1].tobytes()
+    refused = client.post(
+        joiner.url("/reanchor"),
+        files={"frame": ("frame.jpg", blank, "image/jpeg")},
+        headers=joiner.auth,
+    )
+    assert refused.status_code == 422
+    assert refused.json()["error"]["code"] == "no_solution"
+    assert "photo" in refused.json()["error"]["message"]
+    garbage = {"frame": ("frame.jpg", b"not a picture", "image/jpeg")}
+    assert error_of(client.post(joiner.url("/reanchor"), files=garbage, headers=joiner.auth)) == (
+        "invalid_photo"
+    )
+
+
 def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     app: Any, client: TestClient, uploaded: Phones
 ) -> None:
@@ -663,4 +772,6 @@ def test_the_same_photo_sent_twice_at_once_is_stored_once(
         "scale": 1.0,
         "lens": None,
         "gravity": None,
+        "heading": None,
+        "heading_sigma_deg": None,
     }

@@ -101,6 +101,22 @@ class ChromiumPhone(Phone):
             reading = {"type": sensor, "reading": {"xyz": {"x": x, "y": y, "z": z}}}
             self._sensors.send("Emulation.setSensorOverrideReadings", reading)
 
+    def hold_orientation(self, quaternion: tuple[float, float, float, float]) -> None:
+        """The phone's absolute orientation from now on (Chromium's ``absolute-orientation``
+        sensor, behind ``deviceorientationabsolute``): ``quaternion`` (x, y, z, w) turns the
+        device frame (x right of the screen, y its top, z out of it) into the earth's (x
+        east, y north, z up). Call it before the page listens (before the camera opens)."""
+        self._context.grant_permissions(["accelerometer", "gyroscope", "magnetometer"])
+        self._sensors = self._sensors or self._context.new_cdp_session(self._page)
+        enable = {"enabled": True, "type": "absolute-orientation"}
+        self._sensors.send("Emulation.setSensorOverrideEnabled", enable)
+        x, y, z, w = quaternion
+        reading = {"quaternion": {"x": x, "y": y, "z": z, "w": w}}
+        self._sensors.send(
+            "Emulation.setSensorOverrideReadings",
+            {"type": "absolute-orientation", "reading": reading},
+        )
+
     def _handle(self, steps: tuple[Step, ...]) -> ElementHandle:
         handle = self._page.evaluate_handle(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))
         element = handle.as_element()

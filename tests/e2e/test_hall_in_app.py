@@ -6,7 +6,9 @@ Each phone's camera films its rendered photo: Chromium's fake camera plays a YUV
 (``--use-file-for-fake-video-capture``, written by testbed/y4m.py), one browser per phone
 (the ``filming`` fixture). The DevTools protocol holds each phone still at its rendered
 camera's down (``ChromiumPhone.hold_still``: the accelerometer reading that
-camera/gravity.ts turns into that down). Chromium only: WebKit's mock camera shows a
+camera/gravity.ts turns into that down) and its lens's compass heading
+(``ChromiumPhone.hold_orientation``: the absolute orientation camera/heading.ts reads), so
+the level comes with the stretch the compasses point to. Chromium only: WebKit's mock camera shows a
 pattern of its own and cannot play a file, so no WebKit phone can photograph the hall.
 
 Portrait, on purpose: the emulated Pixel 7's screen is portrait (angle 0) and the fake
@@ -29,8 +31,9 @@ from typing import Any
 import cv2
 import numpy as np
 import pytest
+from chromium_phone import ChromiumPhone
 from phone import Phone, expect
-from test_in_app_camera import SPY, angle_deg, still_reading, take_photo
+from test_in_app_camera import SPY, angle_deg, quaternion, still_reading, take_photo
 from test_two_phones import (
     cannot_see,
     find_landmarks,
@@ -119,12 +122,24 @@ def films(hall: RenderedPair, tmp_path_factory: pytest.TempPathFactory) -> tuple
     return videos
 
 
-def photograph(phone: Phone, down: np.ndarray) -> dict[str, Any]:
-    """The phone held still at ``down``: the in-app camera opened, motion allowed, the
-    photo taken once down is known. The form the page sent."""
+def earth_turn(camera: Camera) -> np.ndarray:
+    """The device-to-earth turn (3 x 3) of ``camera``'s phone held in portrait: the device's
+    axes (x right of the screen, y its top, z out of it) are the photo's x, -y and -z, and
+    the earth's (x east, y north, z up) the world's x, z and -y (testbed.scenes: north the
+    world's z, down its y)."""
+    world_to_earth = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+    return world_to_earth @ camera.rotation.T @ np.diag([1.0, -1.0, -1.0])
+
+
+def photograph(phone: Phone, camera: Camera) -> dict[str, Any]:
+    """The phone held still as ``camera`` (its down, its absolute orientation): the in-app
+    camera opened, motion allowed, the photo taken once down is known. The form the page
+    sent."""
     expect(phone.get_by_test_id("open-camera")).to_be_visible()  # the page that sends it
     phone.evaluate(SPY)
-    phone.hold_still(still_reading([float(value) for value in down]))
+    assert isinstance(phone, ChromiumPhone)
+    phone.hold_still(still_reading([float(value) for value in camera.down]))
+    phone.hold_orientation(quaternion(earth_turn(camera)))
     phone.get_by_test_id("open-camera").tap()
     phone.get_by_test_id("motion-allow").tap()
     expect(phone.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
@@ -148,12 +163,14 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     s = hall.scene
     starter, joiner = start_and_join(server, filming(films[0]), filming(films[1]))
     downs = (s.camera1.down, s.camera2.down)
-    for phone, role, down, photo in (
-        (starter, "starter", downs[0], hall.photo1),
-        (joiner, "joiner", downs[1], hall.photo2),
+    for phone, role, camera, photo in (
+        (starter, "starter", s.camera1, hall.photo1),
+        (joiner, "joiner", s.camera2, hall.photo2),
     ):
-        form = photograph(phone, down)
+        form = photograph(phone, camera)
+        down = camera.down
         assert angle_deg(form["gravity"], (down[0], down[1], down[2])) < 1.0, (form, down)
+        assert abs((form["heading"] - camera.heading + 180) % 360 - 180) < 2.0, form
         # The photo the server keeps is the rendered one, whole and at its size: the
         # truth's pixels are its pixels.
         stored = np.frombuffer(stored_photo(server, phone, role), np.uint8)
@@ -184,6 +201,12 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     assert max(off) <= halfwidth, (off, halfwidth)
     focal = float(s.camera2.intrinsics[0, 0])
     assert halfwidth < focal * math.tan(math.radians(BAND_DEGREES)), halfwidth
+    # Both compasses: the stretch they point to, bolder on the band, holds the truth too.
+    stretch = json.loads(
+        joiner.get_by_test_id("answer-stretch").get_attribute("data-points") or "[]"
+    )
+    assert distance_to(stretch, s.epipole2) <= halfwidth, (stretch, s.epipole2)
+    expect(joiner.get_by_test_id("result-text")).to_contain_text("compass points")
 
     # One landmark, tapped on both phones: a point, its region holding the truth.
     tap_landmarks(starter, s.landmarks1[LANDMARK : LANDMARK + 1])

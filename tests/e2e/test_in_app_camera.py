@@ -1,6 +1,8 @@
 """The in-app camera, in each engine: the phone is held still at a known tilt, the person
 opens the camera in the page and takes the photo; the photo goes with which way is down in
-its frame (``gravity``, three times, x, y, z) and the reading's sigma. A camera refused is
+its frame (``gravity``, three times, x, y, z) and the reading's sigma, and, where the phone
+has an absolute orientation (Chromium, Android), the lens's compass heading (``heading``;
+WebKit sends none: iOS is left out, docs/app.md). A camera refused is
 said in plain words beside the other two choices; where the phone asks for motion access
 (iOS) it is asked once, and refused, the photo goes without down and the person is told. A
 phone that moves at the shutter sends none: frontend/src/camera/motion.test.ts. Chromium's
@@ -13,8 +15,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import cv2
 import httpx2
+import numpy as np
 import pytest
+from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 
 GRAVITY = 9.80665
@@ -37,6 +42,37 @@ def still_reading(down: Sequence[float]) -> tuple[float, float, float]:
 
 
 READING = still_reading(DOWN)
+# The same phone's lens looks this way, degrees clockwise from north (seen from above).
+HEADING = 131.5
+
+
+def device_to_earth(heading_deg: float) -> np.ndarray:
+    """The turn (3 x 3, columns: the device's x right of the screen, y its top, z out of it,
+    in the earth frame x east, y north, z up) of the phone above (AIM_UP, TURN) whose lens
+    looks ``heading_deg`` from north: built from the photo's axes (x right, y down, z the
+    lens), independently of camera/heading.ts."""
+    h = math.radians(heading_deg)
+    level = np.array([math.sin(h), math.cos(h), 0.0])  # the lens's way, seen from above
+    right = np.array([math.cos(h), -math.sin(h), 0.0])
+    up = np.array([0.0, 0.0, 1.0])
+    lens = math.cos(AIM_UP) * level + math.sin(AIM_UP) * up
+    down_upright = math.sin(AIM_UP) * level - math.cos(AIM_UP) * up
+    photo_x = math.cos(TURN) * right + math.sin(TURN) * down_upright
+    photo_y = math.cos(TURN) * down_upright - math.sin(TURN) * right
+    turn = np.column_stack([photo_x, -photo_y, -lens])
+    # The accelerometer's reading above says the same: down in the photo is DOWN.
+    assert np.allclose([photo_x[2], photo_y[2], lens[2]], [-d for d in DOWN])
+    return turn
+
+
+def quaternion(turn: np.ndarray) -> tuple[float, float, float, float]:
+    """The unit quaternion (x, y, z, w) of a 3 x 3 turn: its axis times sin(angle / 2), and
+    cos(angle / 2) (OpenCV's Rodrigues vector is the axis times the angle)."""
+    vector = cv2.Rodrigues(turn)[0].ravel()
+    angle = float(np.linalg.norm(vector))
+    x, y, z = vector / angle * math.sin(angle / 2) if angle > 0 else (0.0, 0.0, 0.0)
+    return float(x), float(y), float(z), math.cos(angle / 2)
+
 
 # Before the camera opens: keep the form fields of every photo the page sends.
 SPY = """() => {
@@ -47,6 +83,8 @@ SPY = """() => {
       window.sent.push({
         gravity: body.getAll("gravity").map(Number),
         sigma: body.has("gravity_sigma_deg") ? Number(body.get("gravity_sigma_deg")) : null,
+        heading: body.has("heading") ? Number(body.get("heading")) : null,
+        heading_sigma: body.has("heading_sigma_deg") ? Number(body.get("heading_sigma_deg")) : null,
         type: body.get("photo").type,
       });
     }
@@ -123,6 +161,8 @@ def angle_deg(a: list[float], b: tuple[float, float, float]) -> float:
 def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) -> None:
     starter = joined(server, pixel)
     pixel.hold_still(READING)
+    if isinstance(pixel, ChromiumPhone):
+        pixel.hold_orientation(quaternion(device_to_earth(HEADING)))
     if pixel.engine == "webkit":
         pixel.evaluate(ASK_MOTION, "granted")
     pixel.get_by_test_id("open-camera").tap()
@@ -144,6 +184,16 @@ def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) 
     assert photo is not None
     unit = [value / math.hypot(*gravity) for value in gravity]
     assert photo["gravity"] == {"down": pytest.approx(unit, abs=1e-6), "sigma_deg": 1.0}
+    if pixel.engine == "chromium":
+        # The lens's heading, within 2 degrees, at the compass's sigma; kept as sent.
+        heading = form["heading"]
+        assert isinstance(heading, float), form
+        assert abs((heading - HEADING + 180) % 360 - 180) < 2.0, (heading, HEADING)
+        assert form["heading_sigma"] == 15.0, form
+        assert (photo["heading"], photo["heading_sigma_deg"]) == (pytest.approx(heading), 15.0)
+    else:
+        # WebKit, as iOS: no absolute orientation, no heading.
+        assert (form["heading"], photo["heading"]) == (None, None), (form, photo)
     # The camera is closed: the photo is on screen, tappable.
     expect(pixel.get_by_test_id("in-app-camera")).to_have_count(0)
 

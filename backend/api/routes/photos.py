@@ -11,6 +11,7 @@ from backend.api.deps import ParticipantDep, PhotosDep, ViewerDep
 from backend.api.params import RoleParam
 from backend.api.responses import errors, json_answer
 from backend.photos.gravity import gravity as read_gravity
+from backend.photos.heading import heading as read_heading
 from backend.photos.lens import LensFacts
 from backend.photos.schemas import PhotoStored
 
@@ -54,6 +55,23 @@ def put_photo(
             examples=[1.0],
         ),
     ] = None,
+    heading: Annotated[
+        float | None,
+        Form(
+            description="Which way the lens looked at the shutter (the app's own camera): "
+            "degrees clockwise from north (magnetic will do: both phones' north is the "
+            "same), seen from above; any finite number, kept wrapped to [0, 360). Used only "
+            "with both photos' gravity and heading.",
+            examples=[131.5],
+        ),
+    ] = None,
+    heading_sigma_deg: Annotated[
+        float | None,
+        Form(
+            description="The heading's standard deviation, degrees (default 15).",
+            examples=[15.0],
+        ),
+    ] = None,
 ) -> Response:
     """Upload (or replace) your photo. It is stored upright, without metadata, downscaled to
     2560 px on the long side; taps are in the stored photo's pixels. Replacing it clears
@@ -63,10 +81,13 @@ def put_photo(
     read before shrinking it (``focal_35mm``: FocalLengthIn35mmFilm, ``focal_mm``:
     FocalLength, ``make``, ``model``, ``digital_zoom``: DigitalZoomRatio). Only the focal
     length is kept. ``gravity``: which way was down at the shutter, as the phone read it;
-    with both photos' the friend's level needs no landmark and a point one."""
+    with both photos' the friend's level needs no landmark and a point one. ``heading``:
+    which way the lens looked, from the phone's compass; with both photos' gravity and
+    heading, the stretch of the level the compasses point to (a hint)."""
     told = LensFacts(focal_35mm, focal_mm, make, model, digital_zoom)
     reading = read_gravity(gravity, gravity_sigma_deg)
-    return json_answer(photos.put(participant, photo.file.read(), told, reading))
+    compass = read_heading(heading, heading_sigma_deg)
+    return json_answer(photos.put(participant, photo.file.read(), told, reading, compass))
 
 
 @router.get(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Path, Query
+from fastapi import APIRouter, File, Form, Path, Query, UploadFile
 from fastapi.responses import Response
 
 from backend.api.deps import BaseUrlDep, ParticipantDep, PicturesDep, StateDep, ViewerDep
@@ -13,7 +13,7 @@ from backend.api.responses import PICTURE, errors, json_answer
 from backend.limits import MAX_LANDMARK_ID
 from backend.photos.schemas import MEDIA_TYPES
 from backend.sessions.schemas import SessionState
-from backend.taps.schemas import LandmarkSuggestion, Taps
+from backend.taps.schemas import LandmarkSuggestion, Reanchored, Taps
 
 router = APIRouter(prefix="/api/sessions", tags=["sessions"])
 
@@ -53,6 +53,28 @@ def overlay(
     data = pictures.overlay(participant, role, format, layer)
     media_type = MEDIA_TYPES["png" if layer else format]
     return Response(data, media_type=media_type, headers={"Cache-Control": "private"})
+
+
+@router.post(
+    "/{session_id}/reanchor",
+    response_model=Reanchored,
+    responses=errors(400, 401, 403, 404, 409, 413, 422, 503),
+)
+def reanchor(
+    participant: ParticipantDep,
+    pictures: PicturesDep,
+    frame: Annotated[
+        UploadFile, File(description="A frame of your live view, JPEG; 960 px long is plenty.")
+    ],
+    frame_focal_px: Annotated[
+        float | None,
+        Form(gt=0, le=100_000, description="The frame's focal length, px, when known."),
+    ] = None,
+) -> Reanchored:
+    """How your phone has turned since your photo: a frame of its live view, taken where you
+    stood, matched to your photo ("Show me" resets its drift with it). The frame is not
+    kept. 422 ``no_solution`` (reason ``frame_not_matched``) when it does not match."""
+    return pictures.reanchor(participant, frame.file.read(), frame_focal_px)
 
 
 @router.get(

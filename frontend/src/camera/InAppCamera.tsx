@@ -1,6 +1,7 @@
 /**
  * The camera inside the page: the back camera's live view, a big shutter, and which way is
- * down read at the shutter (motion.ts, gravity.ts) and sent with the photo. The phone's own
+ * down and which way the lens looks read at the shutter (motion.ts, gravity.ts, heading.ts)
+ * and sent with the photo. The phone's own
  * camera app and the gallery stay one tap away (PhotoStep.tsx): they send no sensors.
  *
  * Opened from a tap: where the browser asks for motion access (iOS), the app first says in
@@ -12,6 +13,7 @@ import type { SensorFields } from "../types";
 import { markShutter } from "../live/shutter";
 import { takePicture } from "./capture";
 import type { GravityReading } from "./gravity";
+import type { HeadingReading } from "./heading";
 import { answerMotion, motionAccess, MotionRecorder } from "./motion";
 
 export const MOTION_QUESTION =
@@ -54,10 +56,14 @@ export function stillnessWords(access: "granted" | "denied", reading: GravityRea
   return "Which way is down is known. Hold still as you take the photo.";
 }
 
-/** The form fields of a reading at the shutter: only a still phone's. */
-export function sensorFields(reading: GravityReading): SensorFields | null {
+/**
+ * The form fields of the readings at the shutter: only a still phone's, and the heading only
+ * beside down.
+ */
+export function sensorFields(reading: GravityReading, heading: HeadingReading): SensorFields | null {
   if (reading.kind !== "still") return null;
-  return { gravity: reading.gravity, gravity_sigma_deg: reading.sigmaDeg };
+  const down = { gravity: reading.gravity, gravity_sigma_deg: reading.sigmaDeg };
+  return heading.kind === "still" ? { ...down, heading: heading.heading, heading_sigma_deg: heading.sigmaDeg } : down;
 }
 
 export function InAppCamera({ onPhoto, onClose }: Props) {
@@ -123,8 +129,8 @@ export function InAppCamera({ onPhoto, onClose }: Props) {
   const shoot = async (): Promise<void> => {
     const track = stream.current?.getVideoTracks()[0];
     if (phase !== "live" || !video.current || !track) return;
-    // Down at the moment of the tap, before the picture (takePhoto can take a while).
-    const sensors = access === "granted" ? sensorFields(motion.current.reading()) : null;
+    // Down and the heading at the moment of the tap, before the picture (takePhoto can take a while).
+    const sensors = access === "granted" ? sensorFields(motion.current.reading(), motion.current.heading()) : null;
     markShutter(); // the orientation too, kept on the phone for "Show me" (live/shutter.ts)
     setPhase("taking");
     try {

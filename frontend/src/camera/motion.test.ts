@@ -1,5 +1,6 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { GRAVITY } from "./gravity";
+import { COMPASS_SIGMA_DEG } from "./heading";
 import { cameraProblem, sensorFields, stillnessWords } from "./InAppCamera";
 
 /** motion.ts afresh (its answer is kept per page). */
@@ -56,8 +57,15 @@ describe("the accelerometer while the camera is open", () => {
     vi.stubGlobal("screen", { orientation: { angle: 90 } });
   });
 
-  /** Motion events every 20 ms for `ms`, reading `reading(k)`. */
-  function shake(reading: (k: number) => [number, number, number] | null, ms = 500): void {
+  /**
+   * Motion events every 20 ms for `ms`, reading `reading(k)`; with `orientation`, an absolute
+   * orientation event (alpha, beta, gamma) beside each.
+   */
+  function shake(
+    reading: (k: number) => [number, number, number] | null,
+    ms = 500,
+    orientation: [number, number, number] | null = null,
+  ): void {
     for (let k = 0; k * 20 < ms; k += 1) {
       vi.advanceTimersByTime(20);
       const a = reading(k);
@@ -65,6 +73,10 @@ describe("the accelerometer while the camera is open", () => {
         accelerationIncludingGravity: a ? { x: a[0], y: a[1], z: a[2] } : { x: null, y: null, z: null },
       });
       page.dispatchEvent(event);
+      if (orientation) {
+        const [alpha, beta, gamma] = orientation;
+        page.dispatchEvent(Object.assign(new Event("deviceorientationabsolute"), { alpha, beta, gamma, absolute: true }));
+      }
     }
   }
 
@@ -75,8 +87,30 @@ describe("the accelerometer while the camera is open", () => {
     shake(() => [GRAVITY, 0, 0]); // landscape, turned anticlockwise, level
     const reading = recorder.reading();
     expect(reading.kind === "still" && reading.gravity).toEqual([0, 1, 0]);
-    expect(sensorFields(reading)).toEqual({ gravity: [0, 1, 0], gravity_sigma_deg: 1 });
+    expect(sensorFields(reading, recorder.heading())).toEqual({ gravity: [0, 1, 0], gravity_sigma_deg: 1 });
     expect(stillnessWords("granted", reading)).toMatch(/is known/);
+  });
+
+  it("reads the lens's heading beside down where the phone has an absolute orientation", async () => {
+    const { MotionRecorder } = await motion();
+    const recorder = new MotionRecorder();
+    recorder.start();
+    // On its side (its right edge up: the reading above), level, looking east, its top to the
+    // north: turned -90 degrees about its top from flat (a hair off, where the angles lock).
+    shake(() => [GRAVITY, 0, 0], 500, [0, 0, -89.9]);
+    const heading = recorder.heading();
+    expect(heading.kind === "still" && heading.heading).toBeCloseTo(90, 6);
+    expect(sensorFields(recorder.reading(), heading)).toEqual({
+      gravity: [0, 1, 0],
+      gravity_sigma_deg: 1,
+      heading: heading.kind === "still" ? heading.heading : null,
+      heading_sigma_deg: COMPASS_SIGMA_DEG,
+    });
+    // No heading without down: the solver has no use for one alone.
+    expect(sensorFields({ kind: "moving" }, heading)).toBeNull();
+    recorder.stop();
+    shake(() => [GRAVITY, 0, 0], 500, [0, 0, -89.9]);
+    expect(recorder.heading()).toEqual({ kind: "none" });
   });
 
   it("sends nothing from a phone that moves at the shutter, and says so", async () => {
@@ -86,7 +120,7 @@ describe("the accelerometer while the camera is open", () => {
     shake((k) => [GRAVITY, k % 2 ? 3 : -3, 0]);
     const reading = recorder.reading();
     expect(reading).toEqual({ kind: "moving" });
-    expect(sensorFields(reading)).toBeNull();
+    expect(sensorFields(reading, { kind: "still", heading: 10, sigmaDeg: 15 })).toBeNull();
     expect(stillnessWords("granted", reading)).toMatch(/Hold the phone still/);
   });
 

@@ -33,6 +33,9 @@ const MIN_FRAME_CSS = 12;
 const CURVE_STEP_CSS = 7;
 const CURVE_DOT = 3;
 const CURVE_OUTLINE = 4.5;
+/** The stretch of the level the compasses point to: the curve's dots twice as big and as far
+ * apart (bolder, and the friend still shows between them). */
+const STRETCH_SCALE = 2;
 /** The arrow at the photo's border: its length, and its head's. */
 const BORDER_ARROW = 44;
 const ARROW_HEAD = 14;
@@ -154,11 +157,14 @@ function Outline({ lines, transform: t }: { lines: ReadonlyArray<ReadonlyArray<r
 
 /** The curve the friend is on, dotted: a round dot every {@link CURVE_STEP_CSS} screen px;
  * in its band when it has one (the level from gravity: the band is in photo px, so it grows
- * with the zoom, as the overlay's does). */
+ * with the zoom, as the overlay's does), and over the band, bolder, the stretch the phones'
+ * compasses point to when they told it (a hint). */
 function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTransform }) {
   const path = pathOf(curve.polylines, (p) => toScreen(t, p));
   const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
   const band = curve.halfwidth ?? null;
+  const stretch = curve.stretch?.length ? pathOf(curve.stretch, (p) => toScreen(t, p)) : null;
+  const bold = { ...dots, "stroke-dasharray": `0 ${STRETCH_SCALE * CURVE_STEP_CSS}` } as const;
   return (
     <g
       data-testid="answer-curve"
@@ -180,6 +186,12 @@ function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTran
       )}
       <path d={path} {...dots} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} />
       <path d={path} {...dots} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} />
+      {stretch !== null && (
+        <g data-testid="answer-stretch" data-points={JSON.stringify(curve.stretch)}>
+          <path d={stretch} {...bold} stroke={OUTLINE_COLOUR} stroke-width={STRETCH_SCALE * CURVE_OUTLINE} />
+          <path d={stretch} {...bold} stroke={FRIEND_COLOUR} stroke-width={STRETCH_SCALE * CURVE_DOT} />
+        </g>
+      )}
     </g>
   );
 }

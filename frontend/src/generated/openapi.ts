@@ -191,7 +191,9 @@ export interface paths {
          *     read before shrinking it (``focal_35mm``: FocalLengthIn35mmFilm, ``focal_mm``:
          *     FocalLength, ``make``, ``model``, ``digital_zoom``: DigitalZoomRatio). Only the focal
          *     length is kept. ``gravity``: which way was down at the shutter, as the phone read it;
-         *     with both photos' the friend's level needs no landmark and a point one.
+         *     with both photos' the friend's level needs no landmark and a point one. ``heading``:
+         *     which way the lens looked, from the phone's compass; with both photos' gravity and
+         *     heading, the stretch of the level the compasses point to (a hint).
          */
         put: operations["put_photo_api_sessions__session_id__photo_put"];
         post?: never;
@@ -215,6 +217,28 @@ export interface paths {
         get: operations["stored_photo_api_sessions__session_id__photo__role__get"];
         put?: never;
         post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/sessions/{session_id}/reanchor": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Reanchor
+         * @description How your phone has turned since your photo: a frame of its live view, taken where you
+         *     stood, matched to your photo ("Show me" resets its drift with it). The frame is not
+         *     kept. 422 ``no_solution`` (reason ``frame_not_matched``) when it does not match.
+         */
+        post: operations["reanchor_api_sessions__session_id__reanchor_post"];
         delete?: never;
         options?: never;
         head?: never;
@@ -351,6 +375,12 @@ export interface components {
              * @description Landmarks that look mis-tapped, left out of the answer: re-check them.
              */
             suspects?: number[];
+            /**
+             * Used Heading
+             * @description Both phones' compass headings entered the answer (beside both phones' gravity); False without them, or when the landmarks contradicted them (warning 'heading_disagrees').
+             * @default false
+             */
+            used_heading: boolean;
         };
         /**
          * AnswerChanged
@@ -502,6 +532,18 @@ export interface components {
              */
             gravity_sigma_deg?: number | null;
             /**
+             * Heading
+             * @description Which way the lens looked at the shutter (the app's own camera): degrees clockwise from north (magnetic will do: both phones' north is the same), seen from above; any finite number, kept wrapped to [0, 360). Used only with both photos' gravity and heading.
+             * @example 131.5
+             */
+            heading?: number | null;
+            /**
+             * Heading Sigma Deg
+             * @description The heading's standard deviation, degrees (default 15).
+             * @example 15
+             */
+            heading_sigma_deg?: number | null;
+            /**
              * Make
              * @example Google
              */
@@ -516,6 +558,19 @@ export interface components {
              * @description JPEG, PNG, WebP or HEIC; any size.
              */
             photo: string;
+        };
+        /** Body_reanchor_api_sessions__session_id__reanchor_post */
+        Body_reanchor_api_sessions__session_id__reanchor_post: {
+            /**
+             * Frame
+             * @description A frame of your live view, JPEG; 960 px long is plenty.
+             */
+            frame: string;
+            /**
+             * Frame Focal Px
+             * @description The frame's focal length, px, when known.
+             */
+            frame_focal_px?: number | null;
         };
         /**
          * Box
@@ -937,6 +992,11 @@ export interface components {
              */
             focal_35mm?: number | null;
             /**
+             * Focal Px
+             * @description The same in your photo's px (principal point at its centre): what carries a pixel of your photo into a direction, as "Show me" does.
+             */
+            focal_px?: number | null;
+            /**
              * Friend
              * @description Where your friend is in your photo, px; None when they are behind you, infinitely far to the side, or known only to be on a curve.
              */
@@ -972,6 +1032,14 @@ export interface components {
              * @description The 95 % half-width of the band around `level`, px.
              */
             level_halfwidth?: number | null;
+            /**
+             * Level Stretch
+             * @description No landmark yet, both phones' gravity and compass headings: the stretch of `level` the compasses point to, px. A hint: steel bends compasses.
+             */
+            level_stretch?: [
+                number,
+                number
+            ][][] | null;
             /**
              * Misfits
              * @description Your landmarks tapped far outside their band: they do not fit the others (check them).
@@ -1261,6 +1329,18 @@ export interface components {
             /** @description Which way was down at the shutter, when the phone read it (the app's own camera): with both photos' the friend's level needs no landmark. */
             gravity?: components["schemas"]["GravityInfo"] | null;
             /**
+             * Heading
+             * @description Which way the lens looked at the shutter, when the phone's compass read it (the app's own camera): degrees clockwise from north, in [0, 360). Used only with both photos' gravity and heading: the stretch of the level it points to, a hint.
+             * @example 131.5
+             */
+            heading?: number | null;
+            /**
+             * Heading Sigma Deg
+             * @description The heading's standard deviation, degrees.
+             * @example 15
+             */
+            heading_sigma_deg?: number | null;
+            /**
              * Height
              * @example 1920
              */
@@ -1304,13 +1384,41 @@ export interface components {
             version: number | null;
         };
         /**
+         * Reanchored
+         * @description How your phone has turned since your photo, from one frame of its live view matched to
+         *     the photo (``shared_solver.matching.reanchor``): what "Show me" resets its gyroscope's
+         *     drift with.
+         */
+        Reanchored: {
+            /**
+             * Degrees
+             * @description How far the phone has turned since the photo.
+             */
+            degrees: number;
+            /**
+             * Frame Focal Px
+             * @description The frame's focal length, px of the frame sent.
+             */
+            frame_focal_px: number;
+            /**
+             * Inliers
+             * @description Features of the frame that fit the turn.
+             */
+            inliers: number;
+            /**
+             * Rotation
+             * @description 3 x 3, row by row: takes a direction in the photo's camera frame (x right along its rows, y down its columns, z out of the lens) to the frame's.
+             */
+            rotation: number[][];
+        };
+        /**
          * Reason
          * @description Which refusal of its code: the key of its sentence (``words.refusal``). A code that
          *     is refused one way has one reason, named as the code. The values are a public contract:
          *     never rename one.
          * @enum {string}
          */
-        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_direction" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_an_angle" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing";
+        Reason: "not_a_number" | "not_points" | "not_a_point" | "not_a_pixel" | "not_a_line" | "not_a_direction" | "not_a_size" | "not_precisions" | "not_a_precision" | "not_8_bit" | "not_a_photo" | "labels_not_whole" | "not_finite" | "beyond_floats" | "mismatched_lengths" | "one_id_per_landmark" | "labels_without_points" | "one_label_per_landmark" | "too_few_landmarks" | "too_many_landmarks" | "repeated_landmarks" | "collinear_landmarks" | "epipole_on_landmark" | "landmarks_on_epipolar_line" | "conflicting_inputs" | "missing_epipole1" | "too_far" | "not_positive" | "not_a_length" | "not_an_angle" | "not_a_covariance" | "not_a_usable_covariance" | "not_a_camera" | "camera_without_size" | "unusable_focal" | "five_method" | "bad_photo" | "geometry_undetermined" | "friend_undetermined" | "one_surface_unmarked" | "too_few_epipolar_lines" | "friend_at_infinity" | "no_plane" | "line_fits_everywhere" | "line_fits_nothing" | "seven_fit_nothing" | "frame_not_matched";
         /**
          * Refusal
          * @description Why there is no answer: ``code`` (docs/api.md lists them), ``reason`` (which refusal of
@@ -3521,6 +3629,171 @@ export interface operations {
                      *       "error": {
                      *         "code": "invalid_request",
                      *         "message": "landmarks.0.x: Input should be a valid number."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "database_unavailable",
+                     *         "message": "The database does not answer."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+        };
+    };
+    reanchor_api_sessions__session_id__reanchor_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                session_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "multipart/form-data": components["schemas"]["Body_reanchor_api_sessions__session_id__reanchor_post"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Reanchored"];
+                };
+            };
+            /** @description RefusedError */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "bad_request",
+                     *         "message": "The body cannot be read: send JSON (UTF-8) or a form, as documented."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "unauthorized",
+                     *         "message": "Send your session token: 'Authorization: Bearer <token>'."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "forbidden",
+                     *         "message": "This token opens another session."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "session_not_found",
+                     *         "message": "This session has ended."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "photo_missing",
+                     *         "message": "Upload your photo before tapping on it."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "photo_too_large",
+                     *         "message": "This photo has 60 megapixels; at most 50 are accepted."
+                     *       }
+                     *     }
+                     */
+                    "application/json": components["schemas"]["Error"];
+                };
+            };
+            /** @description RefusedError */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "error": {
+                     *         "code": "too_few_landmarks",
+                     *         "count": 4,
+                     *         "message": "4 landmarks marked; at least 5 are needed here.",
+                     *         "minimum": 5,
+                     *         "reason": "too_few_landmarks"
                      *       }
                      *     }
                      */
