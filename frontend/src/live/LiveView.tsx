@@ -9,6 +9,9 @@
  * (shutter.ts), or, for a photo without one (the gallery, a reload), a frame of this view
  * matched to the photo on the server (Align; Re-align at any time resets the gyroscope's
  * drift). The camera and the orientation sensor run only while the view is open.
+ *
+ * It publishes what it drew for the browser tests: the frame's centre and the arrow's tip
+ * (screen px), the video's size and focal length, the turn, the readings received.
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
