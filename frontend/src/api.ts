@@ -14,6 +14,7 @@ import type {
   LandmarkSuggestion,
   PhotoFields,
   PhotoStored,
+  Reanchored,
   Role,
   SessionState,
   Taps,
@@ -194,21 +195,11 @@ export function uploadPhoto(
 
 /**
  * What the server read from a live frame matched to this phone's photo (re-anchoring, "Show
- * me"): `rotation` takes a direction in the photo's camera frame into the frame's (x right,
- * y down, z out of the lens), `frame_focal_px` is the frame's focal length in px of the frame
- * as sent.
- *
- * Written here by hand, for now: the endpoint is not in the server's OpenAPI schema yet (the
- * contract is docs/app.md's, "Show me"). Once it is, this goes through the typed client and
- * this shape comes from generated/openapi.ts like every other.
+ * me"; the type is the server's, types.ts): `rotation` takes a direction in the photo's
+ * camera frame into the frame's (x right, y down, z out of the lens), `frame_focal_px` is
+ * the frame's focal length in px of the frame as sent. Checked before use: a rotation that
+ * is not 3 x 3 numbers would draw the marker anywhere.
  */
-export interface Reanchored {
-  rotation: number[][];
-  frame_focal_px: number;
-  inliers: number;
-  degrees: number;
-}
-
 function isReanchored(body: unknown): body is Reanchored {
   const r = body as Partial<Reanchored> | null;
   const rotation = r?.rotation;

@@ -28,6 +28,8 @@ export type FrameShape = Schemas["FrameShape"];
 export type CurveShape = Schemas["CurveShape"];
 export type ArrowShape = Schemas["ArrowShape"];
 export type LandmarkSuggestion = Schemas["LandmarkSuggestion"];
+/** How this phone has turned since its photo, from a live frame matched to it ("Show me"). */
+export type Reanchored = Schemas["Reanchored"];
 export type Quality = Answer["quality"];
 /** The data of each event type of the session's stream (JSON), by type (changes.ts). */
 export type EventData = Schemas["SessionEvents"];

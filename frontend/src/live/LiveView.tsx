@@ -57,8 +57,8 @@ const CONSTRAINTS: MediaStreamConstraints = {
 /** A frame sent to be matched: JPEG, this long side, this quality (small and few). */
 const FRAME_SIDE = 960;
 const FRAME_QUALITY = 0.8;
-/** The focal length the server assumes of a photo whose answer gave none (a projective
- * answer): a phone's main camera, 35 mm-equivalent. */
+/** A photo's focal length when its answer gave none (a projective answer, cameras unknown):
+ * a phone's main camera, 35 mm-equivalent. The server will not re-anchor such a photo. */
 const TYPICAL_FOCAL_35MM = 26;
 /** Screen px, as AnswerLayer.tsx draws on the photo. */
 const STROKE = 2.5;
@@ -150,7 +150,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   const drawing = answer.drawing;
   const photo: Size | null = drawing ? { width: drawing.width, height: drawing.height } : null;
-  const photoFocal = photo ? focalFrom35mm(mine.focal_35mm ?? TYPICAL_FOCAL_35MM, photo) : null;
+  // The answer's own focal length for this photo, px, as the server matches frames with it.
+  const photoFocal = photo ? (mine.focal_px ?? focalFrom35mm(TYPICAL_FOCAL_35MM, photo)) : null;
   const videoFocal = photo && photoFocal && videoSize ? liveFocal(photoFocal, photo, videoSize, measured) : null;
 
   const align = async (): Promise<void> => {
