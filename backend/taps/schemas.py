@@ -234,7 +234,8 @@ class Reanchored(BaseModel):
 
     rotation: list[list[float]] = Field(
         description="3 x 3, row by row: takes a direction in the photo's camera frame (x right "
-        "along its rows, y down its columns, z out of the lens) to the frame's."
+        "along its rows, y down its columns, z out of the lens) to the frame's.",
+        examples=[[[0.9986, 0.0, 0.0523], [0.0, 1.0, 0.0], [-0.0523, 0.0, 0.9986]]],
     )
     frame_focal_px: float = Field(description="The frame's focal length, px of the frame sent.")
     inliers: int = Field(description="Features of the frame that fit the turn.")

@@ -43,8 +43,9 @@ ROWS = """
     | EXIF focal: 5 + e1 | 8 px |
     | camera unknown: 5 + e1 | 1 px |
     | 0 + e1, EXIF focal | 1 deg |
-    | 2 + e1, phone prior | none | nothing to answer |
+    | 2 + e1, phone prior | none | - | nothing to answer |
     | 5 + e1, phone prior | none |
+    | 1 + e1, EXIF focal | 1 deg | 10 deg |
     | phones: solve phone prior 0+e1, gravity 1 deg |
 """
 # One target line each, in the order of the issue: 5 + e1, 4 + e1, 3 + e1 with EXIF, zoomed,

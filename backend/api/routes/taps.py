@@ -68,7 +68,12 @@ def reanchor(
     ],
     frame_focal_px: Annotated[
         float | None,
-        Form(gt=0, le=100_000, description="The frame's focal length, px, when known."),
+        Form(
+            gt=0,
+            le=100_000,
+            description="The frame's focal length, px, when known.",
+            examples=[740.0],
+        ),
     ] = None,
 ) -> Reanchored:
     """How your phone has turned since your photo: a frame of its live view, taken where you

@@ -13,29 +13,14 @@
  */
 
 import type { AnswerView } from "../answer";
-import { BAND_OPACITY, FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
+import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
 import type { ArrowShape, CurveShape, FrameShape } from "../types";
 import { toScreen, type Point, type Size, type ViewTransform } from "../viewTransform";
+import { DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, OUTLINE, STROKE, pathOf as screenPath } from "./answerMarks";
 
-/** Screen px: the friend's strokes and their dark outline (it reads on bright photos). */
-const STROKE = 2.5;
-const OUTLINE = 5;
-/** The region's outline, thinner. */
+/** The region's outline, thinner than the friend's strokes. */
 const REGION_STROKE = 1.5;
 const REGION_OUTLINE = 3.5;
-/** The leader from the frame to its label, and the label's font size, screen px. */
-const LEADER = 12;
-const FONT = 15;
-/** The least half-size of the frame on screen, CSS px: a frame is never a dot. */
-const MIN_FRAME_CSS = 12;
-/** The curve is dotted, a dot every this many screen px: it runs through the friend, who
- * shows between the dots. */
-const CURVE_STEP_CSS = 7;
-const CURVE_DOT = 3;
-const CURVE_OUTLINE = 4.5;
-/** The stretch of the level the compasses point to: the curve's dots twice as big and as far
- * apart (bolder, and the friend still shows between them). */
-const STRETCH_SCALE = 2;
 /** The arrow at the photo's border: its length, and its head's. */
 const BORDER_ARROW = 44;
 const ARROW_HEAD = 14;
@@ -75,16 +60,7 @@ export function AnswerLayer({ answer, transform: t, view, clearTop }: Props) {
 
 /** Polylines in photo px as one SVG path, each point placed on the screen by `map`. */
 function pathOf(lines: ReadonlyArray<ReadonlyArray<readonly number[]>>, map: (p: Point) => Point): string {
-  return lines
-    .map((line) =>
-      line
-        .map((p, i) => {
-          const s = map(point(p));
-          return `${i === 0 ? "M" : "L"}${s.x.toFixed(1)} ${s.y.toFixed(1)}`;
-        })
-        .join(""),
-    )
-    .join("");
+  return screenPath(lines, (p) => map(point(p)));
 }
 
 interface FrameProps {
@@ -116,30 +92,12 @@ function FrameMark({ frame, clearTop, transform: t }: FrameProps) {
   // The label where the drawing puts it (above the frame when there is room on the photo),
   // below when above is off the view or under the status.
   const above = frame.label_above && centre.y - half.y - LEADER - FONT >= clearTop;
-  const edge = above ? centre.y - half.y : centre.y + half.y;
-  const end = above ? edge - LEADER : edge + LEADER;
   const outline = frame.outline ?? [];
   const outlined = outline.length > 0;
   return (
     <g data-testid="answer-frame" data-sure={String(frame.sure)} data-outlined={String(outlined)} {...box}>
       {outlined && <Outline lines={outline} transform={t} />}
-      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
-      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
-      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
-      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" stroke-linejoin="round" />
-      <text
-        class="answer-label"
-        x={centre.x}
-        y={above ? end - 4 : end + FONT}
-        text-anchor="middle"
-        font-size={FONT}
-        fill={FRIEND_COLOUR}
-        stroke={OUTLINE_COLOUR}
-        stroke-width="4"
-        paint-order="stroke"
-      >
-        {frame.label}
-      </text>
+      <LabelledFrame brackets={path} centre={centre} top={centre.y - half.y} bottom={centre.y + half.y} above={above} label={frame.label} />
     </g>
   );
 }
@@ -161,10 +119,8 @@ function Outline({ lines, transform: t }: { lines: ReadonlyArray<ReadonlyArray<r
  * compasses point to when they told it (a hint). */
 function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTransform }) {
   const path = pathOf(curve.polylines, (p) => toScreen(t, p));
-  const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
   const band = curve.halfwidth ?? null;
   const stretch = curve.stretch?.length ? pathOf(curve.stretch, (p) => toScreen(t, p)) : null;
-  const bold = { ...dots, "stroke-dasharray": `0 ${STRETCH_SCALE * CURVE_STEP_CSS}` } as const;
   return (
     <g
       data-testid="answer-curve"
@@ -172,26 +128,7 @@ function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTran
       data-points={JSON.stringify(curve.polylines)}
       data-halfwidth={band === null ? undefined : String(band)}
     >
-      {band !== null && (
-        <path
-          data-testid="answer-band"
-          d={path}
-          fill="none"
-          stroke={FRIEND_COLOUR}
-          stroke-opacity={BAND_OPACITY}
-          stroke-width={2 * band * t.scale}
-          stroke-linecap="butt"
-          stroke-linejoin="round"
-        />
-      )}
-      <path d={path} {...dots} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} />
-      <path d={path} {...dots} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} />
-      {stretch !== null && (
-        <g data-testid="answer-stretch" data-points={JSON.stringify(curve.stretch)}>
-          <path d={stretch} {...bold} stroke={OUTLINE_COLOUR} stroke-width={STRETCH_SCALE * CURVE_OUTLINE} />
-          <path d={stretch} {...bold} stroke={FRIEND_COLOUR} stroke-width={STRETCH_SCALE * CURVE_DOT} />
-        </g>
-      )}
+      <DottedCurve path={path} band={band === null ? 0 : 2 * band * t.scale} stretch={stretch} stretchPoints={JSON.stringify(curve.stretch)} />
     </g>
   );
 }

@@ -569,6 +569,7 @@ export interface components {
             /**
              * Frame Focal Px
              * @description The frame's focal length, px, when known.
+             * @example 740
              */
             frame_focal_px?: number | null;
         };
@@ -1408,6 +1409,23 @@ export interface components {
             /**
              * Rotation
              * @description 3 x 3, row by row: takes a direction in the photo's camera frame (x right along its rows, y down its columns, z out of the lens) to the frame's.
+             * @example [
+             *       [
+             *         0.9986,
+             *         0,
+             *         0.0523
+             *       ],
+             *       [
+             *         0,
+             *         1,
+             *         0
+             *       ],
+             *       [
+             *         -0.0523,
+             *         0,
+             *         0.9986
+             *       ]
+             *     ]
              */
             rotation: number[][];
         };

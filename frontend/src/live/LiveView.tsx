@@ -18,7 +18,8 @@ import { useEffect, useRef, useState } from "preact/hooks";
 import { ApiError, reanchor } from "../api";
 import type { AnswerView } from "../answer";
 import { motionAccess } from "../camera/motion";
-import { BAND_OPACITY, FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
+import { DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, OUTLINE, STROKE, pathOf } from "../components/answerMarks";
+import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
 import { loadShutterAnchor, saveShutterAnchor } from "../storage";
 import type { Credentials, FrameShape, FriendInPhoto } from "../types";
 import { anchorFromFrame, sinceShutter, type Matrix3, type Vector3 } from "./orientation";
@@ -60,15 +61,6 @@ const FRAME_QUALITY = 0.8;
 /** A photo's focal length when its answer gave none (a projective answer, cameras unknown):
  * a phone's main camera, 35 mm-equivalent. The server will not re-anchor such a photo. */
 const TYPICAL_FOCAL_35MM = 26;
-/** Screen px, as AnswerLayer.tsx draws on the photo. */
-const STROKE = 2.5;
-const OUTLINE = 5;
-const LEADER = 12;
-const FONT = 15;
-const MIN_FRAME_CSS = 12;
-const CURVE_STEP_CSS = 7;
-const CURVE_DOT = 3;
-const CURVE_OUTLINE = 4.5;
 /** The arrow at the screen's edge: how far inside it, its length and its head's. */
 const EDGE_INSET = 40;
 const EDGE_ARROW = 44;
@@ -291,10 +283,6 @@ function place(rotation: Matrix3, photo: Size, photoFocal: number, video: Size, 
   return { rotation, h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing: friend ? pointAt(h, c, video, friend, EDGE_INSET) : null };
 }
 
-function pathOf(lines: readonly (readonly Point[])[]): string {
-  return lines.map((line) => line.map((p, i) => `${i === 0 ? "M" : "L"}${p.x.toFixed(1)} ${p.y.toFixed(1)}`).join("")).join("");
-}
-
 /** The server's brackets, turned onto the screen, spread to a finger's size at the least;
  * "friend" on its leader above them (below when the words are there). */
 function LiveFrame({ frame, layer }: { frame: FrameShape; layer: Layer }) {
@@ -313,41 +301,25 @@ function LiveFrame({ frame, layer }: { frame: FrameShape; layer: Layer }) {
   const ys = brackets.flat().map((p) => p.y);
   const top = Math.min(centre.y, ...ys);
   const bottom = Math.max(centre.y, ...ys);
-  const above = top - LEADER - FONT >= CLEAR_TOP;
-  const edge = above ? top : bottom;
-  const end = above ? edge - LEADER : edge + LEADER;
-  const path = pathOf(brackets);
   return (
     <g data-testid="live-frame" data-x={centre.x.toFixed(2)} data-y={centre.y.toFixed(2)}>
-      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" />
-      <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
-      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
-      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" stroke-linejoin="round" />
-      <text
-        x={centre.x}
-        y={above ? end - 4 : end + FONT}
-        text-anchor="middle"
-        font-size={FONT}
-        fill={FRIEND_COLOUR}
-        stroke={OUTLINE_COLOUR}
-        stroke-width="4"
-        paint-order="stroke"
-      >
-        {frame.label}
-      </text>
+      <LabelledFrame
+        brackets={pathOf(brackets, (p) => p)}
+        centre={centre}
+        top={top}
+        bottom={bottom}
+        above={top - LEADER - FONT >= CLEAR_TOP}
+        label={frame.label}
+      />
     </g>
   );
 }
 
 /** The curve the friend is on, dotted, in its band when it has one (screen px). */
 function LiveCurve({ lines, band }: { lines: Point[][]; band: number }) {
-  const path = pathOf(lines);
-  const dots = { fill: "none", "stroke-linecap": "round", "stroke-dasharray": `0 ${CURVE_STEP_CSS}` } as const;
   return (
     <g data-testid="live-curve" data-pieces={String(lines.length)}>
-      {band > 0 && <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-opacity={BAND_OPACITY} stroke-width={2 * band} />}
-      <path d={path} {...dots} stroke={OUTLINE_COLOUR} stroke-width={CURVE_OUTLINE} />
-      <path d={path} {...dots} stroke={FRIEND_COLOUR} stroke-width={CURVE_DOT} />
+      <DottedCurve path={pathOf(lines, (p) => p)} band={2 * band} stretch={null} />
     </g>
   );
 }
