@@ -16,14 +16,11 @@ import type { AnswerView } from "../answer";
 import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
 import type { ArrowShape, CurveShape, FrameShape } from "../types";
 import { toScreen, type Point, type Size, type ViewTransform } from "../viewTransform";
-import { DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, OUTLINE, STROKE, pathOf as screenPath } from "./answerMarks";
+import { ArrowMark, DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, pathOf as screenPath } from "./answerMarks";
 
 /** The region's outline, thinner than the friend's strokes. */
 const REGION_STROKE = 1.5;
 const REGION_OUTLINE = 3.5;
-/** The arrow at the photo's border: its length, and its head's. */
-const BORDER_ARROW = 44;
-const ARROW_HEAD = 14;
 
 /** The box the view brings into sight for this answer, photo px (the frame's, also when the
  * friend is outside the photo), or null when there is no point. */
@@ -137,28 +134,9 @@ function Curve({ curve, transform: t }: { curve: CurveShape; transform: ViewTran
 function BorderArrow({ arrow, transform: t }: { arrow: ArrowShape; transform: ViewTransform }) {
   const at = toScreen(t, point(arrow.tip));
   const angle = Math.atan2(arrow.direction[1], arrow.direction[0]);
-  const back = { x: at.x - BORDER_ARROW * Math.cos(angle), y: at.y - BORDER_ARROW * Math.sin(angle) };
-  const head = (side: number): Point => ({
-    x: at.x - ARROW_HEAD * Math.cos(angle + side * 0.5),
-    y: at.y - ARROW_HEAD * Math.sin(angle + side * 0.5),
-  });
-  const path = `M${back.x} ${back.y}L${at.x} ${at.y}M${head(1).x} ${head(1).y}L${at.x} ${at.y}L${head(-1).x} ${head(-1).y}`;
   return (
     <g data-testid="answer-border-arrow" data-tip-x={String(arrow.tip[0])} data-tip-y={String(arrow.tip[1])}>
-      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE + 1} stroke-linecap="round" />
-      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE + 1} stroke-linecap="round" />
-      <text
-        x={back.x - 18 * Math.cos(angle)}
-        y={back.y - 18 * Math.sin(angle) + FONT / 3}
-        text-anchor="middle"
-        font-size={FONT}
-        fill={FRIEND_COLOUR}
-        stroke={OUTLINE_COLOUR}
-        stroke-width="4"
-        paint-order="stroke"
-      >
-        friend
-      </text>
+      <ArrowMark tip={at} angle={angle} label="friend" labelBack={18} />
     </g>
   );
 }

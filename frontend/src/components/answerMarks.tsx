@@ -118,3 +118,44 @@ export function DottedCurve({ path, band, stretch, stretchPoints }: DottedProps)
     </>
   );
 }
+
+/** An arrow's length and its head's, screen px. */
+const ARROW = 44;
+const ARROW_HEAD = 14;
+
+interface ArrowProps {
+  tip: Point;
+  /** Its direction, radians from the screen's x axis (y down). */
+  angle: number;
+  label: string;
+  /** How far behind the arrow's tail its label sits, screen px. */
+  labelBack: number;
+}
+
+/** An outlined arrow pointing at `tip`, its label behind its tail. */
+export function ArrowMark({ tip, angle, label, labelBack }: ArrowProps) {
+  const back = { x: tip.x - ARROW * Math.cos(angle), y: tip.y - ARROW * Math.sin(angle) };
+  const head = (side: number): Point => ({
+    x: tip.x - ARROW_HEAD * Math.cos(angle + side * 0.5),
+    y: tip.y - ARROW_HEAD * Math.sin(angle + side * 0.5),
+  });
+  const path = `M${back.x} ${back.y}L${tip.x} ${tip.y}M${head(1).x} ${head(1).y}L${tip.x} ${tip.y}L${head(-1).x} ${head(-1).y}`;
+  return (
+    <>
+      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE + 1} stroke-linecap="round" />
+      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE + 1} stroke-linecap="round" />
+      <text
+        x={back.x - labelBack * Math.cos(angle)}
+        y={back.y - labelBack * Math.sin(angle) + FONT / 3}
+        text-anchor="middle"
+        font-size={FONT}
+        fill={FRIEND_COLOUR}
+        stroke={OUTLINE_COLOUR}
+        stroke-width="4"
+        paint-order="stroke"
+      >
+        {label}
+      </text>
+    </>
+  );
+}

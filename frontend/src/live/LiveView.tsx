@@ -18,8 +18,7 @@ import { useEffect, useRef, useState } from "preact/hooks";
 import { ApiError, reanchor } from "../api";
 import type { AnswerView } from "../answer";
 import { motionAccess } from "../camera/motion";
-import { DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, OUTLINE, STROKE, pathOf } from "../components/answerMarks";
-import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
+import { ArrowMark, DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, pathOf } from "../components/answerMarks";
 import { loadShutterAnchor, saveShutterAnchor } from "../storage";
 import type { Credentials, FrameShape, FriendInPhoto } from "../types";
 import { anchorFromFrame, sinceShutter, type Matrix3, type Vector3 } from "./orientation";
@@ -61,10 +60,8 @@ const FRAME_QUALITY = 0.8;
 /** A photo's focal length when its answer gave none (a projective answer, cameras unknown):
  * a phone's main camera, 35 mm-equivalent. The server will not re-anchor such a photo. */
 const TYPICAL_FOCAL_35MM = 26;
-/** The arrow at the screen's edge: how far inside it, its length and its head's. */
+/** How far inside the screen's edge the arrow's tip stays, px. */
 const EDGE_INSET = 40;
-const EDGE_ARROW = 44;
-const ARROW_HEAD = 14;
 /** Screen px at the top kept for the words: no label goes there. */
 const CLEAR_TOP = 96;
 
@@ -327,21 +324,10 @@ function LiveCurve({ lines, band }: { lines: Point[][]; band: number }) {
 /** An arrow inside the screen's edge towards the friend, saying which way to turn. */
 function EdgeArrow({ pointing }: { pointing: Extract<Pointing, { kind: "off-view" }> }) {
   const { at, angle } = pointing;
-  const back = { x: at.x - EDGE_ARROW * Math.cos(angle), y: at.y - EDGE_ARROW * Math.sin(angle) };
-  const head = (side: number): Point => ({
-    x: at.x - ARROW_HEAD * Math.cos(angle + side * 0.5),
-    y: at.y - ARROW_HEAD * Math.sin(angle + side * 0.5),
-  });
-  const path = `M${back.x} ${back.y}L${at.x} ${at.y}M${head(1).x} ${head(1).y}L${at.x} ${at.y}L${head(-1).x} ${head(-1).y}`;
-  // The words inside the arrow's tail, kept on the screen.
-  const label = { x: back.x - 30 * Math.cos(angle), y: back.y - 30 * Math.sin(angle) + FONT / 3 };
   return (
     <g data-testid="live-arrow" data-turn={pointing.turn} data-x={at.x.toFixed(2)} data-y={at.y.toFixed(2)}>
-      <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE + 1} stroke-linecap="round" />
-      <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE + 1} stroke-linecap="round" />
-      <text x={label.x} y={label.y} text-anchor="middle" font-size={FONT} fill={FRIEND_COLOUR} stroke={OUTLINE_COLOUR} stroke-width="4" paint-order="stroke">
-        {arrowLabel(pointing)}
-      </text>
+      {/* The words inside the arrow's tail, kept on the screen. */}
+      <ArrowMark tip={at} angle={angle} label={arrowLabel(pointing)} labelBack={30} />
     </g>
   );
 }
