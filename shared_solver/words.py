@@ -12,7 +12,6 @@ one place so the voice stays one, and so a change of wording never hides in the 
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Literal, TypeVar
 
 from .errors import Marks, Parameters, Reason, WarningCode
@@ -168,10 +167,10 @@ def _given(value: _T | None, code: WarningCode) -> _T:
 # --- refusals: input that cannot be answered honestly ----------------------------------------
 # A refusal's sentence is made from its reason and parameters (errors.Parameters) by
 # :func:`refusal`, for a reader: a script reads of "photo 1" and "photo 2", a phone in a
-# session of "your photo" and "your friend's photo".
+# session of "your photo" and "your friend's photo". Each sentence is a template that names
+# its parameters ({field}, {counts[0]}, {largest_px:g}) and the photos as its reader calls them.
 
 Reader = Literal[1, 2] | None  # the photo of the phone told; None: a script (photo 1, 2)
-_Named = Callable[[Literal[1, 2]], str]  # a photo's name for the reader
 
 _PURPOSE: dict[Marks, str] = {
     "both": "when both friends are marked",
@@ -180,147 +179,131 @@ _PURPOSE: dict[Marks, str] = {
     "none": "without marking your friend (tap your friend to need fewer)",
 }
 
-_REFUSAL: dict[Reason, Callable[[Parameters, _Named], str]] = {
+_REFUSAL: dict[Reason, str] = {
     # the landmarks and the friend marks (what a phone in a session can be told)
-    Reason.TOO_FEW_LANDMARKS: lambda p, _: (
-        f"{p['count']} landmarks marked; at least {p['minimum']} are needed "
-        f"{_PURPOSE[p['marked']] if 'marked' in p else 'here'}."
+    Reason.TOO_FEW_LANDMARKS: (
+        "{count} landmarks marked; at least {minimum} are needed {purpose}."
     ),
-    Reason.TOO_MANY_LANDMARKS: lambda p, _: (
-        f"{p['count']} landmarks; at most {p['maximum']} are taken here."
+    Reason.TOO_MANY_LANDMARKS: "{count} landmarks; at most {maximum} are taken here.",
+    Reason.MISMATCHED_LENGTHS: (
+        "{Photo1} has {counts[0]} landmarks and {photo2} has "
+        "{counts[1]}; mark the same ones in both."
     ),
-    Reason.MISMATCHED_LENGTHS: lambda p, photo: (
-        f"{_capital(photo(1))} has {p['counts'][0]} landmarks and {photo(2)} has "
-        f"{p['counts'][1]}; mark the same ones in both."
+    Reason.COLLINEAR_LANDMARKS: (
+        "All landmarks in {photo} lie on one straight line; add landmarks off that line."
     ),
-    Reason.COLLINEAR_LANDMARKS: lambda p, photo: (
-        f"All landmarks in {photo(p['photo'])} lie on one straight line; add landmarks off "
-        "that line."
+    Reason.REPEATED_LANDMARKS: (
+        "Landmarks #{landmarks[0]} and #{landmarks[1]} are at the same place in "
+        "{photo}; each landmark must be a different spot."
     ),
-    Reason.REPEATED_LANDMARKS: lambda p, photo: (
-        f"Landmarks #{p['landmarks'][0]} and #{p['landmarks'][1]} are at the same place in "
-        f"{photo(p['photo'])}; each landmark must be a different spot."
-    ),
-    Reason.EPIPOLE_ON_LANDMARK: lambda p, photo: (
-        f"The friend mark is on landmark #{p['landmark']} in {photo(p['photo'])}; mark your "
+    Reason.EPIPOLE_ON_LANDMARK: (
+        "The friend mark is on landmark #{landmark} in {photo}; mark your "
         "friend and the landmarks at different spots."
     ),
-    Reason.LANDMARKS_ON_EPIPOLAR_LINE: lambda p, photo: (
-        f"All landmarks lie on one line through your friend in {photo(p['photo'])}, so they "
+    Reason.LANDMARKS_ON_EPIPOLAR_LINE: (
+        "All landmarks lie on one line through your friend in {photo}, so they "
         "say nothing about direction; add landmarks to the side of that line."
     ),
-    Reason.CONFLICTING_INPUTS: lambda _, photo: (
-        f"Mark your friend either as a point or as a line in {photo(1)}, not both."
+    Reason.CONFLICTING_INPUTS: (
+        "Mark your friend either as a point or as a line in {photo1}, not both."
     ),
-    Reason.MISSING_EPIPOLE1: lambda _, photo: (
-        f"The friend mark in {photo(2)} (epipole2) is used together with the one in "
-        f"{photo(1)} (epipole1); give that one too."
+    Reason.MISSING_EPIPOLE1: (
+        "The friend mark in {photo2} (epipole2) is used together with the one in "
+        "{photo1} (epipole1); give that one too."
     ),
-    Reason.FRIEND_AT_INFINITY: lambda _, photo: (
-        f"The landmarks put your friend at infinity in {photo(1)}; re-check the landmarks."
+    Reason.FRIEND_AT_INFINITY: (
+        "The landmarks put your friend at infinity in {photo1}; re-check the landmarks."
     ),
-    Reason.ONE_ID_PER_LANDMARK: lambda _, __: "Give one number in landmark_ids per landmark.",
-    Reason.LINE_FITS_NOTHING: lambda _, __: (
+    Reason.ONE_ID_PER_LANDMARK: "Give one number in landmark_ids per landmark.",
+    Reason.LINE_FITS_NOTHING: (
         "No position along the line fits these 6 landmarks; re-check the landmarks and the line."
     ),
-    Reason.LINE_FITS_EVERYWHERE: lambda _, __: (
+    Reason.LINE_FITS_EVERYWHERE: (
         "Every point of the line fits these landmarks; add landmarks in other directions."
     ),
-    Reason.SEVEN_FIT_NOTHING: lambda _, __: "No geometry fits these 7 landmarks; re-check them.",
-    Reason.FRAME_NOT_MATCHED: lambda _, __: (
+    Reason.SEVEN_FIT_NOTHING: "No geometry fits these 7 landmarks; re-check them.",
+    Reason.FRAME_NOT_MATCHED: (
         "This view does not match the photo well enough to tell how the phone has turned: "
         "stand where the photo was taken, point the phone the same way, and try again."
     ),
-    Reason.ONE_SURFACE_UNMARKED: lambda _, __: (
+    Reason.ONE_SURFACE_UNMARKED: (
         "The landmarks all lie on one surface, which cannot locate your friend on its own; "
         "tap your friend if you can see them."
     ),
-    Reason.FRIEND_UNDETERMINED: lambda _, __: (
+    Reason.FRIEND_UNDETERMINED: (
         "These landmarks do not fix where your friend is; add landmarks in other directions."
     ),
-    Reason.GEOMETRY_UNDETERMINED: lambda _, __: (
+    Reason.GEOMETRY_UNDETERMINED: (
         "These landmarks do not fix the geometry; add landmarks in other directions."
     ),
-    Reason.TOO_FEW_EPIPOLAR_LINES: lambda _, __: (
+    Reason.TOO_FEW_EPIPOLAR_LINES: (
         "These landmarks lie on too few epipolar lines to link the two photos; add landmarks "
         "in other directions."
     ),
-    Reason.NO_PLANE: lambda _, __: "No plane fits these landmarks.",
-    Reason.FIVE_METHOD: lambda _, __: "The method must be 'cremona' or 'linear'.",
-    Reason.UNUSABLE_FOCAL: lambda _, __: (
+    Reason.NO_PLANE: "No plane fits these landmarks.",
+    Reason.FIVE_METHOD: "The method must be 'cremona' or 'linear'.",
+    Reason.UNUSABLE_FOCAL: (
         "The camera's focal length in pixels is not a usable number for this photo size; "
         "give the photo's real size and focal length, or leave the camera unknown."
     ),
     # malformed values (read by whoever calls the API: ``field`` is the argument's name)
-    Reason.NOT_A_NUMBER: lambda p, _: f"Every value of {p['field']} must be a number.",
-    Reason.NOT_FINITE: lambda p, _: (
-        f"A value of {p['field']} is not a finite number (NaN or infinity)."
+    Reason.NOT_A_NUMBER: "Every value of {field} must be a number.",
+    Reason.NOT_FINITE: "A value of {field} is not a finite number (NaN or infinity).",
+    Reason.BEYOND_FLOATS: "A value of {field} is too large to be a number here (beyond 1.8e308).",
+    Reason.NOT_POINTS: (
+        "The value of {field} must be a list of [x, y] pairs, not an array of shape {shape}."
     ),
-    Reason.BEYOND_FLOATS: lambda p, _: (
-        f"A value of {p['field']} is too large to be a number here (beyond 1.8e308)."
-    ),
-    Reason.NOT_POINTS: lambda p, _: (
-        f"The value of {p['field']} must be a list of [x, y] pairs, not an array of shape "
-        f"{p['shape']}."
-    ),
-    Reason.NOT_A_POINT: lambda p, _: (
-        f"The value of {p['field']} must be [x, y] or a nonzero [x, y, w]."
-    ),
-    Reason.NOT_A_PIXEL: lambda p, _: f"The value of {p['field']} must be [x, y] in pixels.",
-    Reason.NOT_A_LINE: lambda p, _: (
-        f"The value of {p['field']} must be [a, b, c] for the line a*x + b*y + c = 0, with a "
+    Reason.NOT_A_POINT: "The value of {field} must be [x, y] or a nonzero [x, y, w].",
+    Reason.NOT_A_PIXEL: "The value of {field} must be [x, y] in pixels.",
+    Reason.NOT_A_LINE: (
+        "The value of {field} must be [a, b, c] for the line a*x + b*y + c = 0, with a "
         "or b nonzero."
     ),
-    Reason.NOT_A_DIRECTION: lambda p, _: (
-        f"The value of {p['field']} must be [x, y, z], the direction of gravity (down) in "
+    Reason.NOT_A_DIRECTION: (
+        "The value of {field} must be [x, y, z], the direction of gravity (down) in "
         "the photo's camera frame, not all zero."
     ),
-    Reason.NOT_POSITIVE: lambda p, _: f"The value of {p['field']} must be a positive number.",
-    Reason.TOO_FAR: lambda p, _: (
-        f"A value of {p['field']} is more than {p['largest_px']:g} px from the origin; "
+    Reason.NOT_POSITIVE: "The value of {field} must be a positive number.",
+    Reason.TOO_FAR: (
+        "A value of {field} is more than {largest_px:g} px from the origin; "
         "positions are a photo's pixels, and no photo is that large."
     ),
-    Reason.NOT_A_LENGTH: lambda p, _: (
-        f"The value of {p['field']} must be between {p['finest_px']:g} and {p['largest_px']:g} px."
+    Reason.NOT_A_LENGTH: (
+        "The value of {field} must be between {finest_px:g} and {largest_px:g} px."
     ),
-    Reason.NOT_AN_ANGLE: lambda p, _: (
-        f"The value of {p['field']} must be between {p['finest_deg']:g} and "
-        f"{p['largest_deg']:g} degrees."
+    Reason.NOT_AN_ANGLE: (
+        "The value of {field} must be between {finest_deg:g} and {largest_deg:g} degrees."
     ),
-    Reason.NOT_PRECISIONS: lambda p, _: (
-        f"The value of {p['field']} must be one sigma in px per tap ({p['count']} numbers) "
+    Reason.NOT_PRECISIONS: (
+        "The value of {field} must be one sigma in px per tap ({count} numbers) "
         "or one 2x2 covariance in px^2 per tap."
     ),
-    Reason.NOT_A_PRECISION: lambda p, _: (
-        f"The value of {p['field']} must be a sigma in px or a 2x2 covariance in px^2."
+    Reason.NOT_A_PRECISION: (
+        "The value of {field} must be a sigma in px or a 2x2 covariance in px^2."
     ),
-    Reason.NOT_A_COVARIANCE: lambda p, _: (
-        f"Each covariance in {p['field']} must be symmetric and positive definite (px^2)."
+    Reason.NOT_A_COVARIANCE: (
+        "Each covariance in {field} must be symmetric and positive definite (px^2)."
     ),
-    Reason.NOT_A_USABLE_COVARIANCE: lambda p, _: (
-        f"Each covariance in {p['field']} must have its sigmas (the square roots of its "
-        f"eigenvalues) between {p['finest_px']:g} and {p['largest_px']:g} px, at most "
-        f"{p['most_elongated']:g} times apart."
+    Reason.NOT_A_USABLE_COVARIANCE: (
+        "Each covariance in {field} must have its sigmas (the square roots of its "
+        "eigenvalues) between {finest_px:g} and {largest_px:g} px, at most "
+        "{most_elongated:g} times apart."
     ),
-    Reason.CAMERA_WITHOUT_SIZE: lambda p, _: (
-        f"A camera model needs the photo's size: give {p['field']} as [width, height]."
+    Reason.CAMERA_WITHOUT_SIZE: (
+        "A camera model needs the photo's size: give {field} as [width, height]."
     ),
-    Reason.NOT_A_CAMERA: lambda p, _: (
-        f"The value of {p['field']} is not a camera description: {p['detail'].rstrip('.')}."
-    ),
-    Reason.NOT_A_SIZE: lambda p, _: (
-        f"The value of {p['field']} must be [width, height] in pixels, both positive."
-    ),
+    Reason.NOT_A_CAMERA: "The value of {field} is not a camera description: {detail}.",
+    Reason.NOT_A_SIZE: "The value of {field} must be [width, height] in pixels, both positive.",
     # the drawing's input
-    Reason.NOT_8_BIT: lambda _, __: "The photo must be an 8-bit image (a uint8 numpy array).",
-    Reason.LABELS_WITHOUT_POINTS: lambda _, __: "labels were given without points.",
-    Reason.LABELS_NOT_WHOLE: lambda _, __: "labels must be whole numbers.",
-    Reason.BAD_PHOTO: lambda p, _: f"photo must be 1 or 2, got {p['detail']}.",
-    Reason.NOT_A_PHOTO: lambda p, _: (
-        f"The photo must be (height, width, 3) BGR or (height, width) grey; got {p['shape']}."
+    Reason.NOT_8_BIT: "The photo must be an 8-bit image (a uint8 numpy array).",
+    Reason.LABELS_WITHOUT_POINTS: "labels were given without points.",
+    Reason.LABELS_NOT_WHOLE: "labels must be whole numbers.",
+    Reason.BAD_PHOTO: "photo must be 1 or 2, got {detail}.",
+    Reason.NOT_A_PHOTO: (
+        "The photo must be (height, width, 3) BGR or (height, width) grey; got {shape}."
     ),
-    Reason.ONE_LABEL_PER_LANDMARK: lambda p, _: (
-        f"{p['counts'][0]} labels for {p['counts'][1]} landmarks; give one label per landmark."
+    Reason.ONE_LABEL_PER_LANDMARK: (
+        "{counts[0]} labels for {counts[1]} landmarks; give one label per landmark."
     ),
 }
 
@@ -340,8 +323,21 @@ def refusal(reason: Reason, parameters: Parameters, *, reader: Reader = None) ->
             return f"photo {number}"
         return "your photo" if number == reader else "your friend's photo"
 
+    # A sentence names the photos for its reader, never by number: {photo} is the photo the
+    # parameter points at, {photo1} and {photo2} the two, {Photo1} at a sentence's start.
+    names: dict[str, object] = {
+        **parameters,
+        "photo1": photo(1),
+        "photo2": photo(2),
+        "Photo1": _capital(photo(1)),
+        "purpose": _PURPOSE[parameters["marked"]] if "marked" in parameters else "here",
+    }
+    if "photo" in parameters:
+        names["photo"] = photo(parameters["photo"])
+    if "detail" in parameters:  # a clause: the sentence that names it ends it
+        names["detail"] = parameters["detail"].rstrip(".")
     try:
-        return _REFUSAL[reason](parameters, photo)
+        return _REFUSAL[reason].format_map(names)
     except KeyError as missing:
         raise ValueError(
             f"the refusal {reason.value!r} lacks a parameter its sentence names: {missing}"
