@@ -59,18 +59,7 @@ class Answer:
 
     @classmethod
     def of_fit(cls, request: Request, fit: EpipolarFit, covariance: Array | None) -> Answer:
-        distances = np.abs(sampson_distances(fit.fundamental, request.taps.p, request.taps.q))
-        return cls(
-            fit.epipole1,
-            fit.epipole2,
-            covariance,
-            distances,
-            fit.fundamental,
-            cameras=unknown_cameras(request),
-            fundamental_covariance=_widened(fit, fit.fundamental_covariance)
-            if request.with_fundamental_covariance
-            else None,
-        )
+        return cls._of_fundamental(request, fit, covariance, cameras=unknown_cameras(request))
 
     @classmethod
     def of_plane(cls, request: Request, plane: PlanarFit) -> Answer:
@@ -95,6 +84,30 @@ class Answer:
     def of_pinhole(
         cls, request: Request, fit: PinholeFit, covariance: Array | None, *, orientable: bool
     ) -> Answer:
+        return cls._of_fundamental(
+            request,
+            fit,
+            covariance,
+            cameras=pinhole_cameras(request, fit),
+            oriented=True,
+            orientable=orientable,
+            camera_model="pinhole",
+        )
+
+    @classmethod
+    def _of_fundamental(
+        cls,
+        request: Request,
+        fit: EpipolarFit | PinholeFit,
+        covariance: Array | None,
+        *,
+        cameras: tuple[CameraEstimate, ...],
+        oriented: bool = False,
+        orientable: bool = True,
+        camera_model: CameraModel = "projective",
+    ) -> Answer:
+        """A fitted fundamental matrix's answer (the general and the pinhole model alike):
+        the taps' Sampson distances as residuals, F's covariance widened when asked."""
         distances = np.abs(sampson_distances(fit.fundamental, request.taps.p, request.taps.q))
         return cls(
             fit.epipole1,
@@ -102,10 +115,10 @@ class Answer:
             covariance,
             distances,
             fit.fundamental,
-            oriented=True,
+            oriented=oriented,
             orientable=orientable,
-            camera_model="pinhole",
-            cameras=pinhole_cameras(request, fit),
+            camera_model=camera_model,
+            cameras=cameras,
             fundamental_covariance=_widened(fit, fit.fundamental_covariance)
             if request.with_fundamental_covariance
             else None,

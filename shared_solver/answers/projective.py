@@ -122,16 +122,8 @@ def friend2_marked(request: Request) -> SolveResult:
             # A plane that puts friend 1 behind friend 2 or nowhere does not replace a point.
             if answer.epipole2 is not None:
                 return answer
-    covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
     method: Method = "five_point_epipole" if len(used) == 5 else "least_squares_epipole"
-    return result(
-        method,
-        request,
-        Answer.of_fit(request, fit, covariance),
-        suspects=suspects,
-        warnings=warnings,
-        inconsistent=inconsistent,
-    )
+    return _fitted(method, request, fit, covariance, suspects=suspects, warnings=warnings)
 
 
 def _on_the_plane(
@@ -174,15 +166,7 @@ def both_epipoles(request: Request) -> SolveResult:
     e1h, e2h = np.append(taps.epipole1, 1.0), np.append(taps.epipole2, 1.0)
     fit = fit_two_epipoles(taps, fundamental_between(e1h, e2h, taps.p, taps.q))
     warnings: list[SolverWarning] = []
-    covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
-    return result(
-        "two_epipoles",
-        request,
-        Answer.of_fit(request, fit, covariance),
-        suspects=[],
-        warnings=warnings,
-        inconsistent=inconsistent,
-    )
+    return _fitted("two_epipoles", request, fit, fit.covariance2, suspects=[], warnings=warnings)
 
 
 def line_through_friend2(request: Request) -> SolveResult:
@@ -223,9 +207,23 @@ def landmarks_only(request: Request) -> SolveResult:
                 used, lambda again: pixel_or_nan(refit(again, use_friend2=False).epipole2)
             ),
         )
+    return _fitted("eight_point", request, fit, covariance, suspects=suspects, warnings=warnings)
+
+
+def _fitted(
+    method: Method,
+    request: Request,
+    fit: EpipolarFit,
+    covariance: Array | None,
+    *,
+    suspects: list[int],
+    warnings: list[SolverWarning],
+) -> SolveResult:
+    """One refined fit's answer, its region (2, 2) px^2 widened (with a warning) where the
+    taps disagree with it more than their precision says."""
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
     return result(
-        "eight_point",
+        method,
         request,
         Answer.of_fit(request, fit, covariance),
         suspects=suspects,
