@@ -1,8 +1,10 @@
-"""Request-level middleware: refuse bodies over the size limit, report server time."""
+"""Request-level middleware: refuse bodies over the size limit, report server time (and the
+base of every HTTP middleware of the app, ``security.SecurityHeaders`` too)."""
 
 from __future__ import annotations
 
 import time
+from abc import ABC, abstractmethod
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
@@ -11,7 +13,25 @@ from backend.api.errors import error_response
 from backend.errors import ErrorCode
 
 
-class BodySizeLimit:
+class HttpMiddleware(ABC):
+    """Pure-ASGI middleware for HTTP requests: every other scope (lifespan, websocket)
+    passes through untouched; a subclass says what it does to a request in :meth:`http`."""
+
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        await self.http(scope, receive, send)
+
+    @abstractmethod
+    async def http(self, scope: Scope, receive: Receive, send: Send) -> None:
+        """Handle one HTTP request, calling ``self.app`` to have it answered."""
+
+
+class BodySizeLimit(HttpMiddleware):
     """ASGI middleware: 413 for a declared Content-Length over ``max_bytes``. A body that
     turns out longer while streaming gets the same 413, sent from here; the app is handed
     an end of body and whatever it answers is dropped.
@@ -22,13 +42,10 @@ class BodySizeLimit:
     (tests/backend/test_bad_input.py)."""
 
     def __init__(self, app: ASGIApp, max_bytes: int) -> None:
-        self.app = app
+        super().__init__(app)
         self.max_bytes = max_bytes
 
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http":
-            await self.app(scope, receive, send)
-            return
+    async def http(self, scope: Scope, receive: Receive, send: Send) -> None:
         refusal = error_response(
             ErrorCode.BODY_TOO_LARGE,
             f"The request is larger than {self.max_bytes // 1_000_000} MB.",
@@ -58,20 +75,14 @@ class BodySizeLimit:
         await self.app(scope, limited, unless_refused)
 
 
-class ServerTiming:
+class ServerTiming(HttpMiddleware):
     """ASGI middleware: ``Server-Timing: app;dur=<ms>, db;dur=<ms>`` on every response.
     ``app``: from the request's arrival to the response's start (body upload included);
     ``db``: the part of it spent in database statements (:mod:`backend.timing`); the rest
     is the app's own work and its waits (for a worker thread, the GIL, a connection).
     Benchmarks read it to separate the server's time from the network's."""
 
-    def __init__(self, app: ASGIApp) -> None:
-        self.app = app
-
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http":
-            await self.app(scope, receive, send)
-            return
+    async def http(self, scope: Scope, receive: Receive, send: Send) -> None:
         started = time.perf_counter()
         with timing.tallying() as tally:
 

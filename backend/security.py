@@ -29,7 +29,9 @@ import hashlib
 import logging
 import re
 
-from starlette.types import ASGIApp, Message, Receive, Scope, Send
+from starlette.types import Message, Receive, Scope, Send
+
+from backend.middleware import HttpMiddleware
 
 APP_POLICY = "; ".join(
     (
@@ -79,17 +81,11 @@ def inline_script_policy(html: str) -> str:
     return APP_POLICY.replace("script-src 'self'", f"script-src 'self' {hashes}")
 
 
-class SecurityHeaders:
+class SecurityHeaders(HttpMiddleware):
     """ASGI middleware: the headers above on every HTTP response (a header the app set
     itself is kept)."""
 
-    def __init__(self, app: ASGIApp) -> None:
-        self.app = app
-
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http":
-            await self.app(scope, receive, send)
-            return
+    async def http(self, scope: Scope, receive: Receive, send: Send) -> None:
         extra = dict(HEADERS)
         if str(scope["path"]).startswith("/api/"):
             extra["Cache-Control"] = "no-store"
