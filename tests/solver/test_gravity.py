@@ -8,11 +8,12 @@ rotation's second column); readings are given noisy by ``sigma_deg`` per axis.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 
 import numpy as np
 import pytest
 
-from shared_solver import SolverError, draw_overlay, solve, words
+from shared_solver import SolverError, SolveResult, draw_overlay, solve, words
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.estimation.camera import focal_35mm
 from testbed.curves import distance_to
@@ -122,12 +123,21 @@ def test_exact_taps_and_readings_give_the_exact_point_from_one_landmark():
         assert np.abs(np.array(result.epipole2) - scene.epipole2).max() <= EXACT_PX
 
 
-def test_the_band_holds_the_truth_about_95_percent_of_the_time():
-    rng = np.random.default_rng(42)
-    held, widths = [], []
-    for _ in range(150):
+def noisy_answers(
+    seed: int, trials: int, landmarks: int
+) -> Iterator[tuple[PhoneScene, SolveResult]]:
+    """``trials`` phone scenes (one rng from ``seed``), each with its answer from ``landmarks``
+    of its taps: taps 3 px, both readings 1 degree, the EXIF focal lengths."""
+    rng = np.random.default_rng(seed)
+    for _ in range(trials):
         scene = phone_scene(rng, 1)
-        result = solved(scene, 0, rng, sigma=3.0, gravity_deg=1.0, cameras=exif_of(scene))
+        answer = solved(scene, landmarks, rng, sigma=3.0, gravity_deg=1.0, cameras=exif_of(scene))
+        yield scene, answer
+
+
+def test_the_band_holds_the_truth_about_95_percent_of_the_time():
+    held, widths = [], []
+    for scene, result in noisy_answers(42, 150, landmarks=0):
         assert result.curve2_halfwidth is not None
         held.append(distance_to(result.curve2, scene.epipole2) <= result.curve2_halfwidth)
         widths.append(result.curve2_halfwidth)
@@ -138,11 +148,8 @@ def test_the_band_holds_the_truth_about_95_percent_of_the_time():
 
 
 def test_one_landmark_and_gravity_give_a_point_with_an_honest_region():
-    rng = np.random.default_rng(43)
     errors, held = [], []
-    for _ in range(100):
-        scene = phone_scene(rng, 1)
-        result = solved(scene, 1, rng, sigma=3.0, gravity_deg=1.0, cameras=exif_of(scene))
+    for scene, result in noisy_answers(43, 100, landmarks=1):
         if result.epipole2 is None:  # "not pinned down": a visibly weaker answer
             assert result.quality == "poor"
             continue
