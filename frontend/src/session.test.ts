@@ -1,5 +1,6 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { answer, joinerAt7, taps } from "./fixtures/joiner";
+import { stubLocalStorage } from "./fixtures/localStorage";
 import { SessionController } from "./session";
 import type { Taps } from "./types";
 
@@ -44,15 +45,10 @@ describe("a phone in its session", () => {
     vi.useFakeTimers();
     FakeSource.opened = [];
     calls = [];
-    const stored = new Map<string, string>();
     vi.stubGlobal("EventSource", FakeSource);
     vi.stubGlobal("document", { visibilityState: "visible", addEventListener: () => undefined, removeEventListener: () => undefined });
     vi.stubGlobal("window", { addEventListener: () => undefined, removeEventListener: () => undefined });
-    vi.stubGlobal("localStorage", {
-      getItem: (key: string) => stored.get(key) ?? null,
-      setItem: (key: string, value: string) => stored.set(key, value),
-      removeItem: (key: string) => stored.delete(key),
-    });
+    stubLocalStorage();
     // The page's address: the API's requests are made against it (api.ts).
     vi.stubGlobal("location", { origin: "http://phone.test" });
     vi.stubGlobal("fetch", async (request: Request) => {

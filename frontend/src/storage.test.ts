@@ -1,4 +1,5 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { stubLocalStorage } from "./fixtures/localStorage";
 
 /** storage.ts afresh: a new page load. */
 async function page(): Promise<typeof import("./storage")> {
@@ -14,12 +15,7 @@ const ANCHOR = [
 
 describe("the orientation at the shutter, kept with the photo", () => {
   beforeEach(() => {
-    const items = new Map<string, string>();
-    vi.stubGlobal("localStorage", {
-      getItem: (key: string) => items.get(key) ?? null,
-      setItem: (key: string, value: string) => items.set(key, value),
-      removeItem: (key: string) => items.delete(key),
-    });
+    stubLocalStorage();
   });
 
   afterEach(() => vi.unstubAllGlobals());

@@ -1,4 +1,5 @@
 import { beforeEach, describe, expect, it, vi } from "vitest";
+import { stubLocalStorage } from "../fixtures/localStorage";
 import { loadDraft } from "../storage";
 import { TapSaver } from "../tapSaver";
 import type { SessionState, Taps } from "../types";
@@ -11,12 +12,7 @@ describe("this phone's taps", () => {
   let taps: TapEditing;
 
   beforeEach(() => {
-    const stored = new Map<string, string>();
-    vi.stubGlobal("localStorage", {
-      getItem: (key: string) => stored.get(key) ?? null,
-      setItem: (key: string, value: string) => stored.set(key, value),
-      removeItem: (key: string) => stored.delete(key),
-    });
+    stubLocalStorage();
     sent = [];
     store = new ViewStore({ session_id: "s", token: "t", role: "joiner" });
     // Each PUT stays on its way: what the phone sends is what these tests look at.
