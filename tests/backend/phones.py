@@ -76,15 +76,21 @@ def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) 
     for phone, photo in zip((starter, joiner), photos, strict=True):
         stored = phone.upload(photo, "photo.png")
         assert stored.status_code == 200, stored.text
-        assert stored.json() == {
-            "width": 640,
-            "height": 480,
-            "scale": 1.0,
-            "lens": None,
-            "gravity": None,
-            "heading": None,
-            "heading_sigma_deg": None,
-        }
+        assert stored.json() == stored_photo(640, 480)
+
+
+def stored_photo(width: int, height: int) -> dict[str, Any]:
+    """What the service says of a photo it stored upright at ``width`` x ``height`` px, sent
+    with no lens and no sensor readings (PUT /photo's answer, the state's ``photos``)."""
+    return {
+        "width": width,
+        "height": height,
+        "scale": 1.0,
+        "lens": None,
+        "gravity": None,
+        "heading": None,
+        "heading_sigma_deg": None,
+    }
 
 
 def error_of(response: Any) -> str:

@@ -18,7 +18,7 @@ import numpy as np
 import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, error_of, temple_pair
+from phones import TEMPLE, FakeClock, error_of, stored_photo, temple_pair
 from phones import landmarks as sigma_landmarks
 from PIL import ExifTags, Image
 from test_photos import encoded, png_claiming
@@ -126,15 +126,7 @@ def ramp_kept(search: Search, answer: httpx2.Response) -> None:
 def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx2.Response:
     """y = 350 is on the photo as shown (300 x 400), not as coded (400 x 300)."""
     stored = search.starter.upload(turned_by_exif())
-    assert stored.json() == {
-        "width": HEIGHT,
-        "height": WIDTH,
-        "scale": 1.0,
-        "lens": None,
-        "gravity": None,
-        "heading": None,
-        "heading_sigma_deg": None,
-    }
+    assert stored.json() == stored_photo(HEIGHT, WIDTH)
     return search.starter.tap(landmarks=[{"id": 1, "x": 250, "y": 350}], friend=[20, 390])
 
 

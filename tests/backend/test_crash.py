@@ -34,6 +34,7 @@ from typing import Any
 
 import httpx2
 import numpy as np
+from phones import stored_photo
 from PIL import Image
 from sqlalchemy import text
 
@@ -213,15 +214,7 @@ def check_acknowledged_writes(server: Server, phones: list[Writer]) -> None:
             allowed.append(phone.in_flight.applied_to(phone.known))
         assert found in allowed, (role, session_id, found, allowed)
         width, height = PHOTO_SIZES[found.photo]
-        assert body["photos"][role] == {
-            "width": width,
-            "height": height,
-            "scale": 1.0,
-            "lens": None,
-            "gravity": None,
-            "heading": None,
-            "heading_sigma_deg": None,
-        }
+        assert body["photos"][role] == stored_photo(width, height)
         if found != phone.known:
             phone.stored += 1
         phone.known, phone.in_flight = found, None

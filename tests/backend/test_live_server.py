@@ -9,7 +9,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, mark, temple_pair
+from phones import PAIR, TEMPLE, in_region, landmarks, mark, stored_photo, temple_pair
 
 from deploy.replica import serve
 from testbed.client import Phone, live
@@ -39,8 +39,7 @@ def test_two_phones_find_each_other(server: str) -> None:
 
     for phone, name in ((starter, PAIR[0]), (joiner, PAIR[1])):
         stored = phone.uploaded(TEMPLE / f"{name}.png")
-        no_sensors = {"gravity": None, "heading": None, "heading_sigma_deg": None}
-        assert stored == {"width": 640, "height": 480, "scale": 1.0, "lens": None, **no_sensors}
+        assert stored == stored_photo(640, 480)
     starter_events.wait_for("photo", 2)
 
     rng = np.random.default_rng(6)

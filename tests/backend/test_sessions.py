@@ -13,7 +13,15 @@ import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import FakeClock, Phones, error_of, in_region, photos_uploaded, temple_pair
+from phones import (
+    FakeClock,
+    Phones,
+    error_of,
+    in_region,
+    photos_uploaded,
+    stored_photo,
+    temple_pair,
+)
 from phones import landmarks as sigma_landmarks
 from PIL import ExifTags, Image
 from sqlalchemy import text
@@ -766,12 +774,4 @@ def test_the_same_photo_sent_twice_at_once_is_stored_once(
     with ThreadPoolExecutor(4) as pool:
         answers = list(pool.map(lambda _: starter.upload(temple_photos[0], "p.png"), range(4)))
     assert [a.status_code for a in answers] == [200] * 4
-    assert starter.state()["photos"]["starter"] == {
-        "width": 640,
-        "height": 480,
-        "scale": 1.0,
-        "lens": None,
-        "gravity": None,
-        "heading": None,
-        "heading_sigma_deg": None,
-    }
+    assert starter.state()["photos"]["starter"] == stored_photo(640, 480)
