@@ -50,9 +50,21 @@ class Services:
 def build(engine: Engine, settings: Settings, clock: Clock) -> Services:
     database, notifier = Database(engine), Notifier()
     eraser = Eraser(database, settings.erase_interval_seconds)
-    pairing = PairingService(database, Pairings(database, eraser), settings, notifier, clock)
+    pairing = PairingService(
+        database=database,
+        store=Pairings(database, eraser),
+        settings=settings,
+        notifier=notifier,
+        clock=clock,
+    )
     photo_store = Photos(database)
-    photos = PhotoService(photo_store, settings, notifier, clock, needed_after_photo)
+    photos = PhotoService(
+        photos=photo_store,
+        settings=settings,
+        notifier=notifier,
+        clock=clock,
+        needed=needed_after_photo,
+    )
     tap_store = TapStore(database)
     answers = AnswerService(
         database=database, taps=tap_store, settings=settings, notifier=notifier, clock=clock
@@ -64,10 +76,10 @@ def build(engine: Engine, settings: Settings, clock: Clock) -> Services:
         answers=answers, photos=photo_store, photo_service=photos, settings=settings
     )
     streams = EventStreams(
-        EventLog(database),
-        Presence(database),
-        notifier,
-        clock,
+        log=EventLog(database),
+        presence=Presence(database),
+        notifier=notifier,
+        clock=clock,
         keepalive_seconds=settings.keepalive_seconds,
         poll_seconds=settings.event_poll_seconds,
     )

@@ -14,6 +14,7 @@ import time
 from collections import Counter
 from collections.abc import AsyncIterator, Callable
 from contextlib import suppress
+from dataclasses import dataclass, field
 from typing import TypeVar
 
 import anyio
@@ -40,28 +41,19 @@ def expired() -> ServerSentEvent:
     )
 
 
+@dataclass(kw_only=True)
 class EventStreams:
     """Every stream this process serves, and the phones they keep online."""
 
-    def __init__(
-        self,
-        log: EventLog,
-        presence: Presence,
-        notifier: Notifier,
-        clock: Clock,
-        *,
-        keepalive_seconds: float,
-        poll_seconds: float,
-    ) -> None:
-        self.log = log
-        self.presence = presence
-        self.notifier = notifier
-        self.clock = clock
-        self.keepalive_seconds = keepalive_seconds
-        self.poll_seconds = poll_seconds
-        # The phones whose streams this process holds (a phone may hold two for a moment,
-        # reconnecting): kept online by :meth:`keep_online`, one write for all.
-        self._listening: Counter[Participant] = Counter()
+    log: EventLog
+    presence: Presence
+    notifier: Notifier
+    clock: Clock
+    keepalive_seconds: float
+    poll_seconds: float
+    # The phones whose streams this process holds (a phone may hold two for a moment,
+    # reconnecting): kept online by :meth:`keep_online`, one write for all.
+    _listening: Counter[Participant] = field(default_factory=Counter, init=False)
 
     async def events(
         self, participant: Participant, last_event_id: int | None

@@ -3,6 +3,7 @@ is up)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from datetime import timedelta
 
 from backend.clock import Clock, aware
@@ -21,20 +22,13 @@ from .tokens import new_join_code, new_session_id, new_token, token_hash
 _CODE_ATTEMPTS = 20
 
 
+@dataclass(kw_only=True)
 class PairingService:
-    def __init__(
-        self,
-        database: Database,
-        store: Pairings,
-        settings: Settings,
-        notifier: Notifier,
-        clock: Clock,
-    ) -> None:
-        self.database = database
-        self.store = store
-        self.settings = settings
-        self.notifier = notifier
-        self.clock = clock
+    database: Database
+    store: Pairings
+    settings: Settings
+    notifier: Notifier
+    clock: Clock
 
     def create(self, base_url: str) -> CreatedSession:
         """A new search, with a join code for the friend."""

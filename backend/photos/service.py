@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from backend.clock import Clock
 from backend.errors import ErrorCode, RefusedError
 from backend.eventstream.notifier import Notifier
@@ -17,20 +19,13 @@ from .repository import NeededAfterPhoto, Photos
 from .schemas import GravityInfo, LensInfo, PhotoStored
 
 
+@dataclass(kw_only=True)
 class PhotoService:
-    def __init__(
-        self,
-        photos: Photos,
-        settings: Settings,
-        notifier: Notifier,
-        clock: Clock,
-        needed: NeededAfterPhoto,
-    ) -> None:
-        self.photos = photos
-        self.settings = settings
-        self.notifier = notifier
-        self.clock = clock
-        self.needed = needed
+    photos: Photos
+    settings: Settings
+    notifier: Notifier
+    clock: Clock
+    needed: NeededAfterPhoto
 
     def put(
         self,
