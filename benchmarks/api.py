@@ -28,17 +28,13 @@ The report is printed and written as Markdown to ``docs/api-benchmark.md``.
 from __future__ import annotations
 
 import json
-import os
 import platform
-import shlex
 import sqlite3
-import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
 from contextlib import closing
 from dataclasses import dataclass, field, fields
-from datetime import datetime
 from importlib.metadata import version
 from pathlib import Path
 from typing import Any, ClassVar
@@ -55,7 +51,9 @@ from report import (
     ROOT,
     command_line,
     cpu_snapshot,
+    heading,
     log,
+    machine,
     markdown_table,
     ms,
     percent,
@@ -599,7 +597,6 @@ def filesystem_type(path: Path) -> str:
 
 
 def header(settings: Settings, database: str) -> str:
-    now = datetime.now().astimezone().isoformat(timespec="seconds")
     versions = ", ".join(
         f"{name} {version(name)}"
         for name in ("uvicorn", "fastapi", "starlette", "h11", "httpx2", "numpy", "pillow")
@@ -607,15 +604,11 @@ def header(settings: Settings, database: str) -> str:
     code = source_state("backend", "shared_solver")
     return "\n".join(
         [
-            "# API benchmark",
-            "",
-            f"Command: `{shlex.join(['python', 'benchmarks/api.py', *sys.argv[1:]])}` "
-            "(from the repository root, in its virtualenv; `make bench-api`)",
-            "",
-            f"- Date: {now}",
-            f"- Machine: {platform.platform()}, {platform.machine()}, "
-            f"os.cpu_count() = {os.cpu_count()}. **The load generator runs on the same "
-            "machine as the server**: both share these cores.",
+            *heading("API benchmark", "benchmarks/api.py", "bench-api"),
+            machine(
+                ". **The load generator runs on the same machine as the server**: both share "
+                "these cores."
+            ),
             f"- Python {platform.python_version()}, {versions}, OpenCV {cv2.__version__}",
             f"- Code under test (backend, shared_solver): {code}",
             "- Server: `python -m uvicorn backend.main:app --host 127.0.0.1 --port <free> "

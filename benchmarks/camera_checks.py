@@ -19,11 +19,8 @@ Run from the repository root: ``.venv/bin/python benchmarks/camera_checks.py [--
 from __future__ import annotations
 
 import math
-import shlex
-import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from datetime import datetime
 from functools import partial
 from typing import Any
 
@@ -31,6 +28,7 @@ import numpy as np
 from report import (
     ROOT,
     command_line,
+    heading,
     markdown_table,
     nearest_rank,
     publish,
@@ -413,12 +411,7 @@ def report(trials: int) -> str:
         ),
     ]
     parts = [
-        "# Camera-model checks",
-        "",
-        f"Command: `{shlex.join(['python', 'benchmarks/camera_checks.py', *sys.argv[1:]])}` "
-        "(from the repository root, in its virtualenv; `make bench-camera`)",
-        "",
-        f"- Date: {datetime.now().astimezone().isoformat(timespec='seconds')}",
+        *heading("Camera-model checks", "benchmarks/camera_checks.py", "bench-camera"),
         f"- shared_solver: {source_state('shared_solver')}",
         f"- Trials per row: {trials}; seeds numpy default_rng(({SEED}, section, trial))",
     ]

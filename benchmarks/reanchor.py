@@ -21,17 +21,15 @@ Run from the repository root: ``.venv/bin/python benchmarks/reanchor.py [--halls
 from __future__ import annotations
 
 import math
-import shlex
-import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from datetime import datetime
 
 import numpy as np
 from report import (
     ROOT,
     command_line,
+    heading,
     markdown_table,
     percent,
     publish,
@@ -206,12 +204,7 @@ def report(halls: int) -> str:
         ),
     ]
     parts = [
-        "# Re-anchoring the live view",
-        "",
-        f"Command: `{shlex.join(['python', 'benchmarks/reanchor.py', *sys.argv[1:]])}` "
-        "(from the repository root, in its virtualenv; `make bench-reanchor`)",
-        "",
-        f"- Date: {datetime.now().astimezone().isoformat(timespec='seconds')}",
+        *heading("Re-anchoring the live view", "benchmarks/reanchor.py", "bench-reanchor"),
         f"- shared_solver: {source_state('shared_solver', 'testbed')}",
         f"- Halls: {halls}, {len(CONDITIONS)} frames each; seeds numpy default_rng(({SEED}, "
         "section, hall, frame))",

@@ -7,12 +7,15 @@ import argparse
 import importlib.util
 import math
 import os
+import platform
+import shlex
 import subprocess
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+from datetime import datetime
 from pathlib import Path
 from typing import TypeVar
 
@@ -108,6 +111,14 @@ def server_timing_ms(response: httpx2.Response) -> float:
     return server_timing(response.headers["server-timing"])["app"]
 
 
+def machine(extra: str = "") -> str:
+    """A report's line on the machine that ran it, ``extra`` appended."""
+    return (
+        f"- Machine: {platform.platform()}, {platform.machine()}, "
+        f"os.cpu_count() = {os.cpu_count()}{extra}"
+    )
+
+
 def uvicorn_stack() -> str:
     """What uvicorn's defaults (``--loop auto --http auto``) pick in this environment."""
     loop = "uvloop" if importlib.util.find_spec("uvloop") else "asyncio (uvloop not installed)"
@@ -138,6 +149,19 @@ def source_state(*paths: str) -> str:
 
 
 # --- running a benchmark ---------------------------------------------------------------------
+
+
+def heading(title: str, script: str, make_target: str) -> list[str]:
+    """A report's first lines: its title, the command that wrote it (``script`` with this
+    run's arguments, and its make target) and the date."""
+    return [
+        f"# {title}",
+        "",
+        f"Command: `{shlex.join(['python', script, *sys.argv[1:]])}` "
+        f"(from the repository root, in its virtualenv; `make {make_target}`)",
+        "",
+        f"- Date: {datetime.now().astimezone().isoformat(timespec='seconds')}",
+    ]
 
 
 def command_line(doc: str | None, out: Path) -> argparse.ArgumentParser:

@@ -34,17 +34,13 @@ The report is printed and written as Markdown to ``docs/solver-benchmark.md``.
 
 from __future__ import annotations
 
-import os
 import platform
-import shlex
-import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
-from datetime import datetime
 
 import cv2
 import numpy as np
-from report import ROOT, command_line, publish, source_state, timed
+from report import ROOT, command_line, heading, machine, publish, source_state, timed
 from solverbench import facing, gravity, limit, phones, ranking
 from solverbench.common import SCENE_STREAM, SEED, TAP_STREAM
 from solverbench.speed import (
@@ -103,17 +99,10 @@ DEFAULTS = Options(
 
 
 def header(options: Options) -> str:
-    now = datetime.now().astimezone().isoformat(timespec="seconds")
     return "\n".join(
         [
-            "# Solver benchmark",
-            "",
-            f"Command: `{shlex.join(['python', 'benchmarks/solver.py', *sys.argv[1:]])}` "
-            "(from the repository root, in its virtualenv; `make bench`)",
-            "",
-            f"- Date: {now}",
-            f"- Machine: {platform.platform()}, {platform.machine()}, "
-            f"os.cpu_count() = {os.cpu_count()}",
+            *heading("Solver benchmark", "benchmarks/solver.py", "bench"),
+            machine(),
             f"- Python {platform.python_version()}, numpy {np.__version__}, "
             f"OpenCV {cv2.__version__}",
             f"- shared_solver: {source_state('shared_solver')}",

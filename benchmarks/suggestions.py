@@ -37,17 +37,13 @@ The report is printed and written as Markdown to ``docs/suggestions.md``.
 from __future__ import annotations
 
 import argparse
-import os
 import platform
-import shlex
-import sys
 from collections.abc import Sequence
-from datetime import datetime
 from pathlib import Path
 
 import cv2
 import numpy as np
-from report import ROOT, publish, source_state, timed
+from report import ROOT, heading, machine, publish, source_state, timed
 from suggestbench import arena_tables, tables
 from suggestbench.arenas import ARENA_STREAMS, PICKED, ArenaRun, run_arena
 from suggestbench.trials import ABSENT, PER_KIND, SEED, SIGMA, STREAMS, USED, SceneRun, run_scene
@@ -63,17 +59,10 @@ DEFAULT_ARENA_EVALUATION = 20
 
 
 def header(arguments: argparse.Namespace) -> str:
-    now = datetime.now().astimezone().isoformat(timespec="seconds")
     return "\n".join(
         [
-            "# Suggestion benchmark",
-            "",
-            f"Command: `{shlex.join(['python', 'benchmarks/suggestions.py', *sys.argv[1:]])}` "
-            "(from the repository root, in its virtualenv; `make bench-suggest`)",
-            "",
-            f"- Date: {now}",
-            f"- Machine: {platform.platform()}, {platform.machine()}, "
-            f"os.cpu_count() = {os.cpu_count()}, OpenCV threads {cv2.getNumThreads()}",
+            *heading("Suggestion benchmark", "benchmarks/suggestions.py", "bench-suggest"),
+            machine(f", OpenCV threads {cv2.getNumThreads()}"),
             f"- Python {platform.python_version()}, numpy {np.__version__}, "
             f"OpenCV {cv2.__version__}",
             f"- shared_solver and testbed: {source_state('shared_solver', 'testbed')}",
