@@ -54,6 +54,15 @@ Given = Literal["e1", "line", "both", "none"]
 Cameras = Literal["unknown", "phone", "exif"]
 
 
+@dataclass(frozen=True)
+class Row:
+    """A case of a section's table (each section adds what else it varies): the row's label
+    and how many landmarks its solves are given."""
+
+    label: str
+    landmarks: int
+
+
 def scene_rng(stream: str, trial: int, *extra: int) -> np.random.Generator:
     return np.random.default_rng((SEED, SCENE_STREAM[stream], *extra, trial))
 

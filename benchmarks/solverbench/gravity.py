@@ -31,7 +31,7 @@ from testbed.bound import SceneBounds
 from testbed.curves import distance_to
 from testbed.phones import PhoneScene, gravity_reading, heading_reading
 
-from .common import SEED, Cameras, ellipse_covers, fmt, percent, percentile, solve_arguments
+from .common import SEED, Cameras, Row, ellipse_covers, fmt, percent, percentile, solve_arguments
 from .phones import TARGET_SIGMA, phone_trial
 
 GRAVITY_STREAM = 30
@@ -49,11 +49,9 @@ SENSORS: tuple[tuple[float | None, float | None], ...] = (
 
 
 @dataclass(frozen=True)
-class Case:
+class Case(Row):
     """A row: ``landmarks`` + e1 with ``cameras``, on the scenes of ``stream``."""
 
-    label: str
-    landmarks: int
     cameras: Cameras
     stream: str = "phone"
 

@@ -23,6 +23,7 @@ from .common import (
     Given,
     Outcome,
     Precisions,
+    Row,
     Summary,
     cases_table,
     coverage_cell,
@@ -254,11 +255,9 @@ Source = Literal["phone", "mixed", "zoom2", "zoom3", "prior"]
 
 
 @dataclass(frozen=True)
-class Case:
+class Case(Row):
     """One row: the taps (which scenes, which noise), how many landmarks, what else."""
 
-    label: str
-    landmarks: int
     given: Given
     cameras: Cameras = "phone"
     source: Source = "phone"

@@ -34,6 +34,7 @@ from .common import (
     Cameras,
     Given,
     Precisions,
+    Row,
     mixed_taps,
     scene_rng,
     solve_arguments,
@@ -66,11 +67,9 @@ class Timing:
 
 
 @dataclass(frozen=True)
-class SolveCase:
+class SolveCase(Row):
     """One timed case of ``solve`` on phone scenes: landmarks, what is given, the cameras."""
 
-    label: str
-    landmarks: int
     given: Given
     cameras: Cameras = "unknown"
     mixed: bool = False
