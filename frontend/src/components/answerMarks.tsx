@@ -38,6 +38,33 @@ export function pathOf<P>(lines: ReadonlyArray<ReadonlyArray<P>>, map: (p: P) =>
     .join("");
 }
 
+interface LabelProps {
+  /** Where the label's baseline is centred, screen px. */
+  x: number;
+  y: number;
+  label: string;
+  class?: string;
+}
+
+/** A mark's words, in the friend's colour outlined in dark (they read on bright photos). */
+function OutlinedLabel({ x, y, label, class: className }: LabelProps) {
+  return (
+    <text
+      class={className}
+      x={x}
+      y={y}
+      text-anchor="middle"
+      font-size={FONT}
+      fill={FRIEND_COLOUR}
+      stroke={OUTLINE_COLOUR}
+      stroke-width="4"
+      paint-order="stroke"
+    >
+      {label}
+    </text>
+  );
+}
+
 interface LabelledProps {
   /** The frame's brackets, an SVG path in screen px. */
   brackets: string;
@@ -60,19 +87,7 @@ export function LabelledFrame({ brackets, centre, top, bottom, above, label }: L
       <line x1={centre.x} y1={edge} x2={centre.x} y2={end} stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" />
       <path d={brackets} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE} stroke-linecap="round" stroke-linejoin="round" />
       <path d={brackets} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE} stroke-linecap="round" stroke-linejoin="round" />
-      <text
-        class="answer-label"
-        x={centre.x}
-        y={above ? end - 4 : end + FONT}
-        text-anchor="middle"
-        font-size={FONT}
-        fill={FRIEND_COLOUR}
-        stroke={OUTLINE_COLOUR}
-        stroke-width="4"
-        paint-order="stroke"
-      >
-        {label}
-      </text>
+      <OutlinedLabel class="answer-label" x={centre.x} y={above ? end - 4 : end + FONT} label={label} />
     </>
   );
 }
@@ -144,18 +159,11 @@ export function ArrowMark({ tip, angle, label, labelBack }: ArrowProps) {
     <>
       <path d={path} fill="none" stroke={OUTLINE_COLOUR} stroke-width={OUTLINE + 1} stroke-linecap="round" />
       <path d={path} fill="none" stroke={FRIEND_COLOUR} stroke-width={STROKE + 1} stroke-linecap="round" />
-      <text
+      <OutlinedLabel
         x={back.x - labelBack * Math.cos(angle)}
         y={back.y - labelBack * Math.sin(angle) + FONT / 3}
-        text-anchor="middle"
-        font-size={FONT}
-        fill={FRIEND_COLOUR}
-        stroke={OUTLINE_COLOUR}
-        stroke-width="4"
-        paint-order="stroke"
-      >
-        {label}
-      </text>
+        label={label}
+      />
     </>
   );
 }
