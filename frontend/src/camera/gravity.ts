@@ -51,13 +51,15 @@ export const MOVING_ACCELERATION = 1.2;
 /** The accelerometer's own bias (degrees): no reading is sharper than this. */
 export const SIGMA_FLOOR_DEG = 1;
 
+/**
+ * What the phone knew of a sensor at the shutter: `what` with its sigma (degrees) when the
+ * phone was still; when it moved (or turned) in the window, or gave nothing usable (no, too
+ * few or stale samples: a desktop, a refusal, a sensor that is off), nothing is sent.
+ */
+export type StillReading<What> = ({ kind: "still"; sigmaDeg: number } & What) | { kind: "moving" } | { kind: "none" };
+
 /** What the phone knew of down at the shutter. */
-export type GravityReading =
-  | { kind: "still"; gravity: Vector3; sigmaDeg: number }
-  /** The phone moved in the window: nothing is sent. */
-  | { kind: "moving" }
-  /** No (or too few, or stale) samples: a desktop, a refusal, a sensor that is off. */
-  | { kind: "none" };
+export type GravityReading = StillReading<{ gravity: Vector3 }>;
 
 const DEGREE = Math.PI / 180;
 

@@ -26,7 +26,7 @@
  * one before the window is its start.
  */
 
-import { STILL_WINDOW_MS, type Vector3 } from "./gravity";
+import { STILL_WINDOW_MS, type StillReading, type Vector3 } from "./gravity";
 
 /** One absolute-orientation sample: `at` in ms (performance.now()), the W3C angles in degrees. */
 export interface OrientationSample {
@@ -49,13 +49,9 @@ export const TURNING_SPREAD_DEG = 5;
  */
 export const COMPASS_SIGMA_DEG = 15;
 
-/** What the phone knew of the lens's heading at the shutter. */
-export type HeadingReading =
-  | { kind: "still"; heading: number; sigmaDeg: number }
-  /** The phone turned in the window: nothing is sent. */
-  | { kind: "moving" }
-  /** No (or too few, or stale) samples, or a lens aimed up or down: nothing is sent. */
-  | { kind: "none" };
+/** What the phone knew of the lens's heading at the shutter ("none" too for a lens aimed
+ * up or down). */
+export type HeadingReading = StillReading<{ heading: number }>;
 
 const DEGREE = Math.PI / 180;
 
