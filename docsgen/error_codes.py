@@ -27,37 +27,50 @@ SOLVER_STATUS = 422  # backend.api.errors answers every SolverError with it
 
 def table() -> str:
     """The service's codes, then the solver's (``POST /api/solve`` and the taps)."""
-    rows = ["| code | HTTP | meaning |", "|---|---|---|"]
-    rows += [f"| `{code}` | {STATUS[code]} | {MEANING[code]} |" for code in ErrorCode]
-    rows += [
-        f"| `{code}` | {SOLVER_STATUS} | the solver: {solver_errors.MEANING[code]} |"
+    service = [[f"`{code}`", str(STATUS[code]), MEANING[code]] for code in ErrorCode]
+    solver = [
+        [f"`{code}`", str(SOLVER_STATUS), f"the solver: {solver_errors.MEANING[code]}"]
         for code in solver_errors.ErrorCode
         if code.value not in {c.value for c in ErrorCode}
     ]
-    return "\n".join(rows)
+    return _markdown(["code", "HTTP", "meaning"], [*service, *solver])
 
 
 def reason_table() -> str:
     """The solver's refusals by reason: its code, the photo it is about, its parameters."""
-    rows = ["| reason | code | about | parameters |", "|---|---|---|---|"]
+    rows = []
     for reason in solver_errors.Reason:
         photo = solver_errors.REFUSAL_PHOTO.get(reason)
         about = _about(photo, reason in solver_errors.REFUSAL_OF_ONE_PHOTO, otherwise="")
         named = solver_errors.REFUSAL_PARAMETERS.get(reason, ())
         parameters = ", ".join(f"`{name}`" for name in named if name != "photo")
-        code = solver_errors.CODE[reason]
-        rows.append(f"| `{reason}` | `{code}` | {about} | {parameters} |")
-    return "\n".join(rows)
+        rows.append([f"`{reason}`", f"`{solver_errors.CODE[reason]}`", about, parameters])
+    return _markdown(["reason", "code", "about", "parameters"], rows)
 
 
 def warning_table() -> str:
     """The solver's warning codes (an answer's ``warnings``), with the phone each is said to."""
-    rows = ["| code | about | meaning |", "|---|---|---|"]
-    for code in solver_errors.WarningCode:
-        photo = solver_errors.WARNING_PHOTO.get(code)
-        about = _about(photo, code in solver_errors.WARNING_OF_ONE_PHOTO, otherwise="both")
-        rows.append(f"| `{code}` | {about} | {solver_errors.WARNING_MEANING[code]} |")
-    return "\n".join(rows)
+    rows = [
+        [
+            f"`{code}`",
+            _about(
+                solver_errors.WARNING_PHOTO.get(code),
+                code in solver_errors.WARNING_OF_ONE_PHOTO,
+                otherwise="both",
+            ),
+            solver_errors.WARNING_MEANING[code],
+        ]
+        for code in solver_errors.WarningCode
+    ]
+    return _markdown(["code", "about", "meaning"], rows)
+
+
+def _markdown(header: list[str], rows: list[list[str]]) -> str:
+    """A Markdown table, its cells as given."""
+    lines = [header, *rows]
+    text = ["| " + " | ".join(cells) + " |" for cells in lines]
+    text.insert(1, "|" + "|".join("---" for _ in header) + "|")
+    return "\n".join(text)
 
 
 def _about(photo: int | None, of_one_photo: bool, *, otherwise: str) -> str:
