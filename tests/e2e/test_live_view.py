@@ -2,10 +2,12 @@
 known orientation (the DevTools protocol's ``relative-orientation`` override, a
 quaternion), gets a point from the starter's mark and three landmarks, opens the live view
 and turns the phone by a known angle: the marker is drawn where the answer's friend now
-projects, within 1 degree; turned far away, an arrow says which way to turn. After a
-reload the view asks to align: a frame the server does not match is said so and anchors
-nothing, one it matches anchors the marker (the endpoint is played by the test's route:
-the server has none yet).
+projects, within 1 degree; turned far away, an arrow says which way to turn. Turning is no
+walk, but a walk played on the motion sensors is said ("You have moved"). After a reload
+the view asks to align: a frame the server does not match is said so and anchors nothing,
+one it matches anchors the marker (the endpoint is played by the test's route, which
+answers with the truth); two minutes later by the page's clock the view says it may have
+drifted, and Re-align ends that.
 
 The joiner's camera films the temple photo (``--use-file-for-fake-video-capture``, the
 ``filming`` fixture), so the photo and the live video are the same 640 x 480 frames and the
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import json
 import math
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -68,6 +71,52 @@ class Orientation:
         reading = {"quaternion": {"x": x, "y": y, "z": z, "w": w}}
         override = {"type": "relative-orientation", "reading": reading}
         self._cdp.send("Emulation.setSensorOverrideReadings", override)
+
+
+class Motion:
+    """The phone's motion sensors, overridden through the DevTools protocol as
+    ``ChromiumPhone.hold_still`` does (the three that DeviceMotionEvent reads), on a session
+    of its own so that a walk can play on them: held still, or walking (``linear-acceleration``
+    and the accelerometer with it stepped about 30 times a second, the body rising and
+    falling 2 m/s^2 twice a second along the upright phone's y). Chromium sends its motion
+    events every 16 ms with the readings in force."""
+
+    def __init__(self, phone: ChromiumPhone, still: tuple[float, float, float]) -> None:
+        phone.context.grant_permissions(["accelerometer", "gyroscope"])
+        self._cdp = phone.context.new_cdp_session(phone.page)
+        self._still = still
+        for sensor in ("accelerometer", "linear-acceleration", "gyroscope"):
+            self._cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
+        self.hold_still()
+
+    def _set(self, sensor: str, xyz: tuple[float, float, float]) -> None:
+        reading = {"xyz": dict(zip("xyz", xyz, strict=True))}
+        self._cdp.send("Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading})
+
+    def hold_still(self) -> None:
+        self._set("accelerometer", self._still)
+        self._set("linear-acceleration", (0.0, 0.0, 0.0))
+        self._set("gyroscope", (0.0, 0.0, 0.0))
+
+    def walk(self, seconds: float) -> None:
+        start = time.monotonic()
+        while (t := time.monotonic() - start) < seconds:
+            up = 2.0 * math.sin(2 * math.pi * 2.0 * t)
+            self._set("linear-acceleration", (0.0, up, 0.0))
+            self._set("accelerometer", (self._still[0], self._still[1] + up, self._still[2]))
+            time.sleep(1 / 30)
+        self.hold_still()
+
+
+def shift_clock(phone: Phone, ms: float) -> None:
+    """The page's clock (performance.now) moved on by ``ms``: the view's anchor that old."""
+    phone.evaluate(
+        """(ms) => {
+            const now = performance.now.bind(performance);
+            performance.now = () => now() + ms;
+        }""",
+        ms,
+    )
 
 
 def starter_by_api(server: str) -> tuple[dict[str, str], str]:
@@ -180,7 +229,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.goto(f"{server}/join/{code}")
     expect(joiner.get_by_test_id("open-camera")).to_be_visible()
     joiner.evaluate(SPY)
-    joiner.hold_still(still_reading([0.0, 1.0, 0.0]))
+    motion = Motion(joiner, still_reading([0.0, 1.0, 0.0]))
     orientation = Orientation(joiner)
     orientation.hold(UPRIGHT)
     joiner.get_by_test_id("open-camera").tap()
@@ -249,6 +298,11 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
         expect(joiner.get_by_test_id("live-frame")).to_have_count(0)
     # ...and back: the marker where it was.
     errors.append(marker_at(ahead + 3.0))
+    # Turning was no walk; walking away is said (the marker stays: it may still help).
+    expect(live).to_have_attribute("data-warning", "none")
+    motion.walk(3.0)
+    expect(joiner.get_by_test_id("live-warning")).to_contain_text("You have moved")
+    expect(live).to_have_attribute("data-warning", "moved")
 
     # After a reload the sensor's reference may have moved: Show me asks to align on a frame.
     joiner.reload()
@@ -274,6 +328,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.get_by_test_id("live-align").tap()
     expect(live).to_have_attribute("data-anchored", "true")
     errors.append(marker_at(ahead + 3.0))
+    expect(live).to_have_attribute("data-warning", "none")
     assert len(reanchoring.sent) == 2
     # The frame went as a JPEG with the focal length the phone assumed for it.
     form = reanchoring.sent[1]
@@ -281,6 +336,18 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     assert b"image/jpeg" in form, form[:300]
     assert b'name="frame_focal_px"' in form
     print(f"marker error, degrees: {[round(error, 3) for error in errors]}")
+    # Two minutes after the Align the view may have drifted: it says so; Re-align resets it.
+    shift_clock(joiner, 121_000)
+    expect(joiner.get_by_test_id("live-warning")).to_contain_text("may have drifted")
+    expect(live).to_have_attribute("data-warning", "drift")
+    joiner.get_by_test_id("live-align").tap()
+    # (Reading the page lets Playwright answer the route meanwhile.)
+    joiner.wait_for(
+        lambda: live.get_attribute("data-anchored") == "true" and len(reanchoring.sent) == 3,
+        "the frame of the Re-align",
+    )
+    expect(joiner.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")
+    expect(live).to_have_attribute("data-warning", "none")
 
     # Closed: the camera view is gone, the photo and its answer are back.
     joiner.get_by_test_id("live-close").tap()

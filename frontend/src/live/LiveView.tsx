@@ -37,11 +37,15 @@ import {
   type Size,
 } from "./pointer";
 import { OrientationSource, type Sample } from "./sensor";
+import { lastShutterTime } from "./shutter";
+import { mayHaveDrifted, motionReading, StepWatch } from "./trust";
 import {
   ALIGN_TEXT,
   ALIGN_UNAVAILABLE_TEXT,
   ALIGNING_TEXT,
   arrowLabel,
+  DRIFT_TEXT,
+  MOVED_TEXT,
   NO_MOTION_TEXT,
   NO_SENSOR_TEXT,
   NOT_MATCHED_TEXT,
@@ -65,6 +69,22 @@ const EDGE_INSET = 40;
 /** Screen px at the top kept for the words: no label goes there. */
 const CLEAR_TOP = 96;
 
+/** How often the view looks at the clock while open (for the drift's words), ms. */
+const TICK_MS = 1000;
+/** When each session's aligned anchor was read on this page (performance.now(), ms). */
+const alignedAt = new Map<string, number>();
+/** The anchor time of each session whose phone was seen walking since that anchor (the view
+ * closed and opened again still says so, until a new photo or an Align; a walk while it is
+ * closed goes unseen: no motion is read then). */
+const walked = new Map<string, number>();
+
+/** When the anchor the view opens with was read: the later of the shutter and an Align (the
+ * stored anchor is the later one), else now. */
+function anchorTime(sessionId: string): number {
+  const times = [alignedAt.get(sessionId), lastShutterTime() ?? undefined].filter((t): t is number => t !== undefined);
+  return times.length ? Math.max(...times) : performance.now();
+}
+
 type Phase = "opening" | "live" | "failed";
 type Aligning = { kind: "idle" } | { kind: "sending" } | { kind: "refused"; message: string };
 
@@ -80,6 +100,12 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   const [phase, setPhase] = useState<Phase>("opening");
   const [problem, setProblem] = useState<string>("");
   const [anchor, setAnchor] = useState<Matrix3 | null>(() => asMatrix(loadShutterAnchor(credentials.session_id)));
+  const [anchoredAt, setAnchoredAt] = useState<number>(() => anchorTime(credentials.session_id));
+  const [now, setNow] = useState<number>(() => performance.now());
+  const [moved, setMoved] = useState(() => walked.get(credentials.session_id) === anchorTime(credentials.session_id));
+  const steps = useRef(new StepWatch());
+  const since = useRef(anchoredAt);
+  since.current = anchoredAt;
   const [measured, setMeasured] = useState<number | null>(null);
   const [reading, setReading] = useState<Sample | null>(null);
   const [videoSize, setVideoSize] = useState<Size | null>(null);
@@ -89,7 +115,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   const stage = useRef<HTMLDivElement>(null);
   const source = useRef<OrientationSource | null>(null);
 
-  // The camera and the sensor while open; both stop on close.
+  // The camera, the orientation and the motion while open; all stop on close.
   useEffect(() => {
     let closed = false;
     let stream: MediaStream | null = null;
@@ -97,7 +123,20 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       if (!closed) setReading(sample);
     });
     source.current = sensor;
-    if (motionAccess() !== "denied") sensor.start();
+    const onMotion = (event: DeviceMotionEvent): void => {
+      const motion = motionReading(event, performance.now());
+      if (!motion || closed) return;
+      steps.current.push(motion);
+      if (steps.current.moved) {
+        walked.set(credentials.session_id, since.current);
+        setMoved(true);
+      }
+    };
+    const tick = window.setInterval(() => setNow(performance.now()), TICK_MS);
+    if (motionAccess() !== "denied") {
+      sensor.start();
+      window.addEventListener("devicemotion", onMotion);
+    }
     const open = async (): Promise<void> => {
       try {
         if (!navigator.mediaDevices?.getUserMedia) throw new DOMException("no camera API", "NotFoundError");
@@ -122,6 +161,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
     return () => {
       closed = true;
       sensor.stop();
+      window.removeEventListener("devicemotion", onMotion);
+      window.clearInterval(tick);
       source.current = null;
       stream?.getTracks().forEach((track) => track.stop());
     };
@@ -158,6 +199,14 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       setAnchor(aligned);
       // Kept as the photo's anchor on this page: the view opened again starts from it.
       saveShutterAnchor(credentials.session_id, aligned);
+      // The view matches the photo: the drift starts again, and the phone stands where it was.
+      const time = performance.now();
+      alignedAt.set(credentials.session_id, time);
+      setAnchoredAt(time);
+      setNow(time);
+      steps.current.reset();
+      walked.delete(credentials.session_id);
+      setMoved(false);
       setMeasured(found.frame_focal_px / Math.max(frame.size.width, frame.size.height));
       setAligning({ kind: "idle" });
     } catch (error) {
@@ -182,6 +231,9 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   else if (!anchor) words = ALIGN_TEXT;
   else if (!reading) words = NO_SENSOR_TEXT;
   else words = pointingText(layer?.pointing ?? null, curve);
+  // Said above the pointing while it points: the phone walked away, or the anchor is old.
+  const steady = phase === "live" && anchor && reading && aligning.kind === "idle";
+  const warning = !steady ? null : moved ? MOVED_TEXT : mayHaveDrifted(anchoredAt, now) ? DRIFT_TEXT : null;
 
   return (
     <div
@@ -193,6 +245,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       data-phase={phase}
       data-anchored={String(Boolean(anchor))}
       data-readings={String(source.current?.count ?? 0)}
+      data-warning={warning === MOVED_TEXT ? "moved" : warning === DRIFT_TEXT ? "drift" : "none"}
     >
       <div class="live-stage" ref={stage}>
         <video
@@ -233,6 +286,11 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
         )}
       </div>
       <p class="live-note" data-testid="live-note" role="status">
+        {warning && (
+          <strong class="live-warning" data-testid="live-warning">
+            {warning}{" "}
+          </strong>
+        )}
         {words}
         <span class="live-stay">{STAY_TEXT}</span>
       </p>
@@ -242,7 +300,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
         </button>
         <button
           type="button"
-          class={`button ${anchor ? "secondary" : "primary"}`}
+          class={`button ${anchor && !warning ? "secondary" : "primary"}`}
           data-testid="live-align"
           disabled={phase !== "live" || !reading || aligning.kind === "sending"}
           onClick={() => void align()}
