@@ -30,6 +30,7 @@ import {
   liveFocal,
   photoToScreen,
   pointAt,
+  pointAtCurve,
   screenPerPhotoPx,
   type Cover,
   type Point,
@@ -220,8 +221,9 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   };
 
   const ready = phase === "live" && anchor && reading && photo && photoFocal && videoSize && videoFocal;
-  const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine) : null;
-  const curve = Boolean(drawing?.curve);
+  const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine, drawing?.curve?.polylines ?? null) : null;
+  // The curve alone (no point): its arrow and words are the curve's.
+  const curve = Boolean(drawing?.curve) && !friendOf(mine);
 
   let words: string;
   if (phase === "failed") words = problem;
@@ -281,7 +283,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
               <LiveCurve lines={linesToScreen(layer.h, layer.cover, drawing.curve.polylines)} band={(drawing.curve.halfwidth ?? 0) * layer.perPhotoPx} />
             )}
             {drawing.frame && layer.pointing?.kind === "in-view" && <LiveFrame frame={drawing.frame} layer={layer} />}
-            {layer.pointing?.kind === "off-view" && <EdgeArrow pointing={layer.pointing} />}
+            {layer.pointing?.kind === "off-view" && <EdgeArrow pointing={layer.pointing} towards={curve ? "curve" : "friend"} />}
           </svg>
         )}
       </div>
@@ -326,16 +328,29 @@ interface Layer {
   pointing: Pointing | null;
 }
 
-/** The photo's drawing placed on the live screen by the turn `rotation`. */
-function place(rotation: Matrix3, photo: Size, photoFocal: number, video: Size, videoFocal: number, box: Size, mine: FriendInPhoto): Layer {
+/** The friend in the photo, homogeneous (w < 0: behind its camera), or null (no point). */
+function friendOf(mine: FriendInPhoto): Vector3 | null {
+  if (mine.friend_h) return [mine.friend_h[0], mine.friend_h[1], mine.friend_h[2]];
+  return mine.friend ? [mine.friend[0], mine.friend[1], 1] : null;
+}
+
+/** The photo's drawing placed on the live screen by the turn `rotation`: where the friend
+ * is, or, with no point, whether the curve is on the screen and which way it is if not. */
+function place(
+  rotation: Matrix3,
+  photo: Size,
+  photoFocal: number,
+  video: Size,
+  videoFocal: number,
+  box: Size,
+  mine: FriendInPhoto,
+  curve: ReadonlyArray<ReadonlyArray<readonly number[]>> | null,
+): Layer {
   const h = homography(rotation, photoFocal, photo, videoFocal, video);
   const c = cover(video, box);
-  const friend: Vector3 | null = mine.friend_h
-    ? [mine.friend_h[0], mine.friend_h[1], mine.friend_h[2]]
-    : mine.friend
-      ? [mine.friend[0], mine.friend[1], 1]
-      : null;
-  return { rotation, h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing: friend ? pointAt(h, c, video, friend, EDGE_INSET) : null };
+  const friend = friendOf(mine);
+  const pointing = friend ? pointAt(h, c, video, friend, EDGE_INSET) : curve ? pointAtCurve(h, c, video, videoFocal, curve, EDGE_INSET) : null;
+  return { rotation, h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing };
 }
 
 /** The server's brackets, turned onto the screen, spread to a finger's size at the least;
@@ -379,11 +394,12 @@ function LiveCurve({ lines, band }: { lines: Point[][]; band: number }) {
   );
 }
 
-/** An arrow inside the screen's edge towards the friend, saying which way to turn. */
-function EdgeArrow({ pointing }: { pointing: Extract<Pointing, { kind: "off-view" }> }) {
+/** An arrow inside the screen's edge towards the friend (or the nearest part of their
+ * curve), saying which way to turn. */
+function EdgeArrow({ pointing, towards }: { pointing: Extract<Pointing, { kind: "off-view" }>; towards: "friend" | "curve" }) {
   const { at, angle } = pointing;
   return (
-    <g data-testid="live-arrow" data-turn={pointing.turn} data-x={at.x.toFixed(2)} data-y={at.y.toFixed(2)}>
+    <g data-testid="live-arrow" data-turn={pointing.turn} data-towards={towards} data-x={at.x.toFixed(2)} data-y={at.y.toFixed(2)}>
       {/* The words inside the arrow's tail, kept on the screen. */}
       <ArrowMark tip={at} angle={angle} label={arrowLabel(pointing)} labelBack={30} />
     </g>

@@ -21,10 +21,12 @@ export const MOVED_TEXT =
   "You have moved: the pointer assumes you stand where you took the photo. Go back there, or take a new photo.";
 export const STAY_TEXT = "Stay where you took the photo: the marker follows your turns, not your steps.";
 
-/** The main sentence for where the friend is (null: the marker says nothing by itself). */
+/** The main sentence for where the friend is (null: the marker says nothing by itself, or
+ * the curve is on the screen); `curve`: the answer is a curve alone, no point. */
 export function pointingText(pointing: Pointing | null, curve: boolean): string {
   if (!pointing) return curve ? CURVE_LIVE_TEXT : "";
   if (pointing.kind === "in-view") return FRAME_LIVE_TEXT;
+  if (curve) return `Turn ${pointing.turn}: the dotted curve your friend is on is that way.`;
   return `Turn ${pointing.turn}: your friend is that way.`;
 }
 
