@@ -324,10 +324,24 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.get_by_test_id("live-align").tap()
     expect(joiner.get_by_test_id("live-note")).to_contain_text("did not match your photo")
     expect(live).to_have_attribute("data-anchored", "false")
-    # One that matches anchors the view: the marker where the friend is.
-    joiner.get_by_test_id("live-align").tap()
+    # One that matches anchors the view: the marker where the friend is. Tapped while the
+    # phone still turns (from 8 degrees right of where it comes to rest, in 0.7 s), the frame
+    # goes once the phone holds still, with the reading of that moment: the route's rotation
+    # is the resting phone's, so a frame sent at the tap would put the marker 5 degrees off.
+    rest = ahead + 3.0
+    steps = 21
+    for i in range(steps):
+        orientation.hold(turned_right(rest + 5.0 * (1 - i / (steps - 1))))
+        if i == 3:
+            joiner.get_by_test_id("live-align").tap()
+        time.sleep(0.033)
     expect(live).to_have_attribute("data-anchored", "true")
-    errors.append(marker_at(ahead + 3.0))
+    errors.append(marker_at(rest))
+    sent_rate = float(live.get_attribute("data-sent-rate") or "nan")
+    waited_ms = float(live.get_attribute("data-sent-wait") or "nan")
+    print(f"Align waited {waited_ms:.0f} ms for a still phone (turning {sent_rate:.2f} deg/s)")
+    assert sent_rate < 3.0, sent_rate
+    assert 300 <= waited_ms < 1600, waited_ms
     expect(live).to_have_attribute("data-warning", "none")
     assert len(reanchoring.sent) == 2
     # The frame went as a JPEG with the focal length the phone assumed for it.

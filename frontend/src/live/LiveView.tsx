@@ -8,10 +8,14 @@
  * The turn is measured from an anchor: the orientation at the in-app camera's shutter
  * (shutter.ts), or, for a photo without one (the gallery, a reload), a frame of this view
  * matched to the photo on the server (Align; Re-align at any time resets the gyroscope's
- * drift). The camera and the orientation sensor run only while the view is open.
+ * drift), taken once the phone holds still (still.ts). It says when its pointing is not to
+ * be trusted (trust.ts): two minutes after the anchor, or once the phone has walked. The
+ * camera, the orientation and the motion are read only while the view is open.
  *
  * It publishes what it drew for the browser tests: the frame's centre and the arrow's tip
- * (screen px), the video's size and focal length, the turn, the readings received.
+ * (screen px), the video's size and focal length, the turn, the readings received, the
+ * warning shown, and how still the phone was for the last frame sent (and how long Align
+ * waited for it).
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
@@ -39,6 +43,7 @@ import {
 } from "./pointer";
 import { OrientationSource, type Sample } from "./sensor";
 import { lastShutterTime } from "./shutter";
+import { StillWait, turnRate } from "./still";
 import { mayHaveDrifted, motionReading, StepWatch } from "./trust";
 import {
   ALIGN_TEXT,
@@ -46,6 +51,7 @@ import {
   ALIGNING_TEXT,
   arrowLabel,
   DRIFT_TEXT,
+  HOLD_STILL_TEXT,
   MOVED_TEXT,
   NO_MOTION_TEXT,
   NO_SENSOR_TEXT,
@@ -87,7 +93,9 @@ function anchorTime(sessionId: string): number {
 }
 
 type Phase = "opening" | "live" | "failed";
-type Aligning = { kind: "idle" } | { kind: "sending" } | { kind: "refused"; message: string };
+type Aligning = { kind: "idle" } | { kind: "steadying" } | { kind: "sending" } | { kind: "refused"; message: string };
+/** How often Align looks at the phone while it waits for it to hold still, ms. */
+const LOOK_MS = 33;
 
 interface Props {
   credentials: Credentials;
@@ -112,6 +120,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   const [videoSize, setVideoSize] = useState<Size | null>(null);
   const [box, setBox] = useState<Size>({ width: window.innerWidth, height: window.innerHeight });
   const [aligning, setAligning] = useState<Aligning>({ kind: "idle" });
+  /** The last frame sent: the phone's turn rate then (degrees a second) and the wait, ms. */
+  const [sent, setSent] = useState<{ rate: number | null; waited: number } | null>(null);
   const video = useRef<HTMLVideoElement>(null);
   const stage = useRef<HTMLDivElement>(null);
   const source = useRef<OrientationSource | null>(null);
@@ -187,11 +197,35 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   const align = async (): Promise<void> => {
     const element = video.current;
-    const at = source.current?.latest() ?? null;
-    if (!element || !videoSize || !at || aligning.kind === "sending") return;
+    const sensor = source.current;
+    if (!element || !videoSize || !sensor?.latest() || aligning.kind === "sending" || aligning.kind === "steadying") return;
+    setAligning({ kind: "steadying" });
+    // The frame of a still phone (still.ts), with the reading of its moment; else the
+    // stillest seen in the wait.
+    const started = performance.now();
+    const wait = new StillWait(started);
+    let kept: Grabbed | null = null;
+    let chosen: Grabbed | null = null;
+    while (!chosen) {
+      const now = performance.now();
+      const rate = turnRate(sensor.readings(), now);
+      const look = wait.look(now, rate);
+      const at = sensor.latest();
+      if (!at) break; // the view closed
+      if (look === "send") chosen = { canvas: drawFrame(element, videoSize), at, rate, waited: now - started };
+      else if (look === "best") chosen = kept ? { ...kept, waited: now - started } : { canvas: drawFrame(element, videoSize), at, rate, waited: now - started };
+      else if (look === "keep") kept = { canvas: drawFrame(element, videoSize), at, rate, waited: 0 };
+      if (!chosen) await new Promise((resolve) => window.setTimeout(resolve, LOOK_MS));
+    }
+    if (!chosen) {
+      setAligning({ kind: "idle" });
+      return;
+    }
+    setSent({ rate: chosen.rate, waited: chosen.waited });
+    const at = chosen.at;
     setAligning({ kind: "sending" });
     try {
-      const frame = await grabFrame(element, videoSize);
+      const frame = await encodeFrame(chosen.canvas);
       const hint = videoFocal ? (videoFocal * frame.size.width) / videoSize.width : null;
       const found = await reanchor(credentials, frame.blob, hint);
       const rotation = asMatrix(found.rotation);
@@ -227,6 +261,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   let words: string;
   if (phase === "failed") words = problem;
+  else if (aligning.kind === "steadying") words = HOLD_STILL_TEXT;
   else if (aligning.kind === "sending") words = ALIGNING_TEXT;
   else if (aligning.kind === "refused") words = aligning.message;
   else if (motionAccess() === "denied") words = NO_MOTION_TEXT;
@@ -248,6 +283,9 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       data-anchored={String(Boolean(anchor))}
       data-readings={String(source.current?.count ?? 0)}
       data-warning={warning === MOVED_TEXT ? "moved" : warning === DRIFT_TEXT ? "drift" : "none"}
+      data-aligning={aligning.kind}
+      data-sent-rate={sent ? (sent.rate?.toFixed(2) ?? "unknown") : undefined}
+      data-sent-wait={sent ? sent.waited.toFixed(0) : undefined}
     >
       <div class="live-stage" ref={stage}>
         <video
@@ -304,7 +342,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           type="button"
           class={`button ${anchor && !warning ? "secondary" : "primary"}`}
           data-testid="live-align"
-          disabled={phase !== "live" || !reading || aligning.kind === "sending"}
+          disabled={phase !== "live" || !reading || aligning.kind === "sending" || aligning.kind === "steadying"}
           onClick={() => void align()}
         >
           {anchor ? "Re-align" : "Align"}
@@ -406,15 +444,27 @@ function EdgeArrow({ pointing, towards }: { pointing: Extract<Pointing, { kind: 
   );
 }
 
-/** One frame of the live view as a small JPEG (long side FRAME_SIDE), and its size. */
-async function grabFrame(element: HTMLVideoElement, video: Size): Promise<{ blob: Blob; size: Size }> {
+/** A frame drawn for Align, with the reading of its moment and how still the phone was. */
+interface Grabbed {
+  canvas: HTMLCanvasElement;
+  at: Sample;
+  rate: number | null;
+  waited: number;
+}
+
+/** The live view's frame of the moment, small (long side FRAME_SIDE). */
+function drawFrame(element: HTMLVideoElement, video: Size): HTMLCanvasElement {
   const k = Math.min(1, FRAME_SIDE / Math.max(video.width, video.height));
-  const size = { width: Math.round(video.width * k), height: Math.round(video.height * k) };
   const canvas = document.createElement("canvas");
-  canvas.width = size.width;
-  canvas.height = size.height;
-  canvas.getContext("2d")?.drawImage(element, 0, 0, size.width, size.height);
+  canvas.width = Math.round(video.width * k);
+  canvas.height = Math.round(video.height * k);
+  canvas.getContext("2d")?.drawImage(element, 0, 0, canvas.width, canvas.height);
+  return canvas;
+}
+
+/** A frame drawn as a JPEG, and its size. */
+async function encodeFrame(canvas: HTMLCanvasElement): Promise<{ blob: Blob; size: Size }> {
   const blob = await new Promise<Blob | null>((resolve) => canvas.toBlob(resolve, "image/jpeg", FRAME_QUALITY));
   if (!blob) throw new Error("The view could not be read; try again.");
-  return { blob, size };
+  return { blob, size: { width: canvas.width, height: canvas.height } };
 }
