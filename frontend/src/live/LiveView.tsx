@@ -92,6 +92,10 @@ function anchorTime(sessionId: string): number {
   return times.length ? Math.max(...times) : performance.now();
 }
 
+/** The performance mark set when the first marker (the frame, the curve or the arrow) is
+ * drawn over the playing video: the opening's end (the browser tests time it from the tap). */
+export const MARKER_DRAWN = "show-me:marker-drawn";
+
 type Phase = "opening" | "live" | "failed";
 type Aligning = { kind: "idle" } | { kind: "steadying" } | { kind: "sending" } | { kind: "refused"; message: string };
 /** How often Align looks at the phone while it waits for it to hold still, ms. */
@@ -123,6 +127,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   /** The last frame sent: the phone's turn rate then (degrees a second) and the wait, ms. */
   const [sent, setSent] = useState<{ rate: number | null; waited: number } | null>(null);
   const video = useRef<HTMLVideoElement>(null);
+  const [playing, setPlaying] = useState(false);
+  const drawnOnce = useRef(false);
   const stage = useRef<HTMLDivElement>(null);
   const source = useRef<OrientationSource | null>(null);
 
@@ -268,6 +274,14 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   else if (!anchor) words = ALIGN_TEXT;
   else if (!reading) words = NO_SENSOR_TEXT;
   else words = pointingText(layer?.pointing ?? null, curve);
+  // The first marker over the playing video: marked in the animation frame that paints it.
+  const drawn = Boolean(layer && (layer.pointing || drawing?.curve));
+  useEffect(() => {
+    if (drawnOnce.current || !playing || !drawn) return;
+    drawnOnce.current = true;
+    requestAnimationFrame(() => performance.mark(MARKER_DRAWN));
+  });
+
   // Said above the pointing while it points: the phone walked away, or the anchor is old.
   const steady = phase === "live" && anchor && reading && aligning.kind === "idle";
   const warning = !steady ? null : moved ? MOVED_TEXT : mayHaveDrifted(anchoredAt, now) ? DRIFT_TEXT : null;
@@ -297,6 +311,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           autoplay
           muted
           playsInline
+          onLoadedData={() => setPlaying(true)}
+          onPlaying={() => setPlaying(true)}
           onLoadedMetadata={(event) => {
             const v = event.currentTarget;
             setVideoSize({ width: v.videoWidth, height: v.videoHeight });
