@@ -134,6 +134,17 @@ OPENING_MS = """() => {
 OPENING_TARGET_MS = 1000.0
 
 
+# The steps of the opening, ms after the tap (the app's marks, LiveView.tsx).
+OPENING_STEPS = """() => {
+    const [tap] = performance.getEntriesByName("show-me:tap");
+    const names = ["view-opened", "camera-started", "first-frame", "marker-drawn"];
+    return Object.fromEntries(names.map((name) => {
+        const [mark] = performance.getEntriesByName(`show-me:${name}`);
+        return [name, tap && mark ? Math.round(mark.startTime - tap.startTime) : null];
+    }));
+}"""
+
+
 def opening_ms(phone: Phone) -> float:
     """How long the view took to open, from the tap to the first marker, ms (waited for)."""
     took: list[float] = []
@@ -144,6 +155,7 @@ def opening_ms(phone: Phone) -> float:
         return bool(took)
 
     phone.wait_for(measured, "the first marker drawn")
+    print(f"Show me's opening ({phone}), ms after the tap: {phone.evaluate(OPENING_STEPS)}")
     return took[0]
 
 
@@ -166,11 +178,18 @@ def put_taps(server: str, starter: dict[str, str], taps: dict[str, Any]) -> None
 
 
 def expected_on_screen(
-    phone: Phone, friend: np.ndarray, focal: float, turn_deg: float
+    phone: Phone,
+    friend: np.ndarray,
+    focal: float,
+    turn_deg: float,
+    photo: tuple[float, float] | None = None,
 ) -> tuple[np.ndarray, float, np.ndarray]:
     """Where the answer's ``friend`` (photo px) is on the screen once the phone has turned
-    right by ``turn_deg``; the screen px per video px; the video's size. The live video is
-    the photo's own frames: the same size and focal length."""
+    right by ``turn_deg``; the screen px per video px (times the video's focal length: the
+    focal length in screen px); the video's size. Without ``photo`` (its width and height)
+    the live video is the photo's own frames: the same size and focal length; with it, the
+    video's focal length is the photo's scaled by their long sides (pointer.ts's liveFocal,
+    a stream showing the whole sensor), and the returned scale is per photo-focal px."""
     shown = phone.evaluate(
         """() => {
             const v = document.querySelector('[data-testid="live-video"]');
@@ -180,14 +199,16 @@ def expected_on_screen(
     )
     left, top, width, height, vw, vh = (float(value) for value in shown)
     centre = np.array([vw / 2, vh / 2])
-    dx, dy = friend - centre
+    pw, ph = photo or (vw, vh)
+    video_focal = focal * max(vw, vh) / max(pw, ph)
+    dx, dy = friend - np.array([pw / 2, ph / 2])
     t = math.radians(turn_deg)
     # Turning right moves the scene left: the direction about the camera's vertical.
     x, y, z = dx * math.cos(t) - focal * math.sin(t), dy, dx * math.sin(t) + focal * math.cos(t)
-    video = centre + focal * np.array([x / z, y / z])
+    video = centre + video_focal * np.array([x / z, y / z])
     scale = max(width / vw, height / vh)
     offset = np.array([left + (width - vw * scale) / 2, top + (height - vh * scale) / 2])
-    return offset + scale * video, scale, np.array([vw, vh])
+    return offset + scale * video, scale * video_focal / focal, np.array([vw, vh])
 
 
 def degrees_apart(a: np.ndarray, b: np.ndarray, focal_screen: float) -> float:

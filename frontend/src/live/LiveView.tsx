@@ -95,6 +95,10 @@ function anchorTime(sessionId: string): number {
 /** The performance mark set when the first marker (the frame, the curve or the arrow) is
  * drawn over the playing video: the opening's end (the browser tests time it from the tap). */
 export const MARKER_DRAWN = "show-me:marker-drawn";
+/** ...and on the way: the view mounted, the camera's stream given, its first frame loaded. */
+export const VIEW_OPENED = "show-me:view-opened";
+export const CAMERA_STARTED = "show-me:camera-started";
+export const FIRST_FRAME = "show-me:first-frame";
 
 type Phase = "opening" | "live" | "failed";
 type Aligning = { kind: "idle" } | { kind: "steadying" } | { kind: "sending" } | { kind: "refused"; message: string };
@@ -134,6 +138,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   // The camera, the orientation and the motion while open; all stop on close.
   useEffect(() => {
+    performance.mark(VIEW_OPENED);
     let closed = false;
     let stream: MediaStream | null = null;
     const sensor = new OrientationSource((sample) => {
@@ -158,6 +163,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       try {
         if (!navigator.mediaDevices?.getUserMedia) throw new DOMException("no camera API", "NotFoundError");
         stream = await navigator.mediaDevices.getUserMedia(CONSTRAINTS);
+        performance.mark(CAMERA_STARTED);
         if (closed) {
           stream.getTracks().forEach((track) => track.stop());
           return;
@@ -283,7 +289,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   });
 
   // Said above the pointing while it points: the phone walked away, or the anchor is old.
-  const steady = phase === "live" && anchor && reading && aligning.kind === "idle";
+  const steady = phase === "live" && anchor && reading && (aligning.kind === "idle" || aligning.kind === "refused");
   const warning = !steady ? null : moved ? MOVED_TEXT : mayHaveDrifted(anchoredAt, now) ? DRIFT_TEXT : null;
 
   return (
@@ -311,7 +317,10 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           autoplay
           muted
           playsInline
-          onLoadedData={() => setPlaying(true)}
+          onLoadedData={() => {
+            performance.mark(FIRST_FRAME);
+            setPlaying(true);
+          }}
           onPlaying={() => setPlaying(true)}
           onLoadedMetadata={(event) => {
             const v = event.currentTarget;
