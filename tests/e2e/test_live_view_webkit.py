@@ -29,7 +29,7 @@ marker unmoved.
 
 What WebKitGTK cannot give, so not tested here (docs/browsers.md):
 - **The 1 s opening.** The mock camera's stream is given about 0.2-0.4 s after the tap,
-  but its first frame comes 1.0-1.6 s after that; the app's part, from that frame to the
+  but its first frame comes 0.5-1.6 s after that; the app's part, from that frame to the
   marker, is held to the 1 s (0.1-0.6 s measured), the whole only in Chromium.
 - **The video's focal length.** The mock photo is 2560 x 1440 and the live video 1920 x
   1440: a drawing, no lens, so nothing says what field of view either has. The truth here
