@@ -8,10 +8,14 @@
  * The turn is measured from an anchor: the orientation at the in-app camera's shutter
  * (shutter.ts), or, for a photo without one (the gallery, a reload), a frame of this view
  * matched to the photo on the server (Align; Re-align at any time resets the gyroscope's
- * drift). The camera and the orientation sensor run only while the view is open.
+ * drift), taken once the phone holds still (still.ts). It says when its pointing is not to
+ * be trusted (trust.ts): two minutes after the anchor, or once the phone has walked. The
+ * camera, the orientation and the motion are read only while the view is open.
  *
  * It publishes what it drew for the browser tests: the frame's centre and the arrow's tip
- * (screen px), the video's size and focal length, the turn, the readings received.
+ * (screen px), the video's size and focal length, the turn, the readings received, the
+ * warning shown, and how still the phone was for the last frame sent (and how long Align
+ * waited for it).
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
@@ -30,6 +34,7 @@ import {
   liveFocal,
   photoToScreen,
   pointAt,
+  pointAtCurve,
   screenPerPhotoPx,
   type Cover,
   type Point,
@@ -37,11 +42,17 @@ import {
   type Size,
 } from "./pointer";
 import { OrientationSource, type Sample } from "./sensor";
+import { lastShutterTime } from "./shutter";
+import { StillWait, turnRate } from "./still";
+import { mayHaveDrifted, motionReading, StepWatch } from "./trust";
 import {
   ALIGN_TEXT,
   ALIGN_UNAVAILABLE_TEXT,
   ALIGNING_TEXT,
   arrowLabel,
+  DRIFT_TEXT,
+  HOLD_STILL_TEXT,
+  MOVED_TEXT,
   NO_MOTION_TEXT,
   NO_SENSOR_TEXT,
   NOT_MATCHED_TEXT,
@@ -65,8 +76,34 @@ const EDGE_INSET = 40;
 /** Screen px at the top kept for the words: no label goes there. */
 const CLEAR_TOP = 96;
 
+/** How often the view looks at the clock while open (for the drift's words), ms. */
+const TICK_MS = 1000;
+/** When each session's aligned anchor was read on this page (performance.now(), ms). */
+const alignedAt = new Map<string, number>();
+/** The anchor time of each session whose phone was seen walking since that anchor (the view
+ * closed and opened again still says so, until a new photo or an Align; a walk while it is
+ * closed goes unseen: no motion is read then). */
+const walked = new Map<string, number>();
+
+/** When the anchor the view opens with was read: the later of the shutter and an Align (the
+ * stored anchor is the later one), else now. */
+function anchorTime(sessionId: string): number {
+  const times = [alignedAt.get(sessionId), lastShutterTime() ?? undefined].filter((t): t is number => t !== undefined);
+  return times.length ? Math.max(...times) : performance.now();
+}
+
+/** The performance mark set when the first marker (the frame, the curve or the arrow) is
+ * drawn over the playing video: the opening's end (the browser tests time it from the tap). */
+export const MARKER_DRAWN = "show-me:marker-drawn";
+/** ...and on the way: the view mounted, the camera's stream given, its first frame loaded. */
+export const VIEW_OPENED = "show-me:view-opened";
+export const CAMERA_STARTED = "show-me:camera-started";
+export const FIRST_FRAME = "show-me:first-frame";
+
 type Phase = "opening" | "live" | "failed";
-type Aligning = { kind: "idle" } | { kind: "sending" } | { kind: "refused"; message: string };
+type Aligning = { kind: "idle" } | { kind: "steadying" } | { kind: "sending" } | { kind: "refused"; message: string };
+/** How often Align looks at the phone while it waits for it to hold still, ms. */
+const LOOK_MS = 33;
 
 interface Props {
   credentials: Credentials;
@@ -80,28 +117,53 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   const [phase, setPhase] = useState<Phase>("opening");
   const [problem, setProblem] = useState<string>("");
   const [anchor, setAnchor] = useState<Matrix3 | null>(() => asMatrix(loadShutterAnchor(credentials.session_id)));
+  const [anchoredAt, setAnchoredAt] = useState<number>(() => anchorTime(credentials.session_id));
+  const [now, setNow] = useState<number>(() => performance.now());
+  const [moved, setMoved] = useState(() => walked.get(credentials.session_id) === anchorTime(credentials.session_id));
+  const steps = useRef(new StepWatch());
+  const since = useRef(anchoredAt);
+  since.current = anchoredAt;
   const [measured, setMeasured] = useState<number | null>(null);
   const [reading, setReading] = useState<Sample | null>(null);
   const [videoSize, setVideoSize] = useState<Size | null>(null);
   const [box, setBox] = useState<Size>({ width: window.innerWidth, height: window.innerHeight });
   const [aligning, setAligning] = useState<Aligning>({ kind: "idle" });
+  /** The last frame sent: the phone's turn rate then (degrees a second) and the wait, ms. */
+  const [sent, setSent] = useState<{ rate: number | null; waited: number } | null>(null);
   const video = useRef<HTMLVideoElement>(null);
+  const [playing, setPlaying] = useState(false);
+  const drawnOnce = useRef(false);
   const stage = useRef<HTMLDivElement>(null);
   const source = useRef<OrientationSource | null>(null);
 
-  // The camera and the sensor while open; both stop on close.
+  // The camera, the orientation and the motion while open; all stop on close.
   useEffect(() => {
+    performance.mark(VIEW_OPENED);
     let closed = false;
     let stream: MediaStream | null = null;
     const sensor = new OrientationSource((sample) => {
       if (!closed) setReading(sample);
     });
     source.current = sensor;
-    if (motionAccess() !== "denied") sensor.start();
+    const onMotion = (event: DeviceMotionEvent): void => {
+      const motion = motionReading(event, performance.now());
+      if (!motion || closed) return;
+      steps.current.push(motion);
+      if (steps.current.moved) {
+        walked.set(credentials.session_id, since.current);
+        setMoved(true);
+      }
+    };
+    const tick = window.setInterval(() => setNow(performance.now()), TICK_MS);
+    if (motionAccess() !== "denied") {
+      sensor.start();
+      window.addEventListener("devicemotion", onMotion);
+    }
     const open = async (): Promise<void> => {
       try {
         if (!navigator.mediaDevices?.getUserMedia) throw new DOMException("no camera API", "NotFoundError");
         stream = await navigator.mediaDevices.getUserMedia(CONSTRAINTS);
+        performance.mark(CAMERA_STARTED);
         if (closed) {
           stream.getTracks().forEach((track) => track.stop());
           return;
@@ -122,6 +184,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
     return () => {
       closed = true;
       sensor.stop();
+      window.removeEventListener("devicemotion", onMotion);
+      window.clearInterval(tick);
       source.current = null;
       stream?.getTracks().forEach((track) => track.stop());
     };
@@ -145,11 +209,35 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   const align = async (): Promise<void> => {
     const element = video.current;
-    const at = source.current?.latest() ?? null;
-    if (!element || !videoSize || !at || aligning.kind === "sending") return;
+    const sensor = source.current;
+    if (!element || !videoSize || !sensor?.latest() || aligning.kind === "sending" || aligning.kind === "steadying") return;
+    setAligning({ kind: "steadying" });
+    // The frame of a still phone (still.ts), with the reading of its moment; else the
+    // stillest seen in the wait.
+    const started = performance.now();
+    const wait = new StillWait(started);
+    let kept: Grabbed | null = null;
+    let chosen: Grabbed | null = null;
+    while (!chosen) {
+      const now = performance.now();
+      const rate = turnRate(sensor.readings(), now);
+      const look = wait.look(now, rate);
+      const at = sensor.latest();
+      if (!at) break; // the view closed
+      if (look === "send") chosen = { canvas: drawFrame(element, videoSize), at, rate, waited: now - started };
+      else if (look === "best") chosen = kept ? { ...kept, waited: now - started } : { canvas: drawFrame(element, videoSize), at, rate, waited: now - started };
+      else if (look === "keep") kept = { canvas: drawFrame(element, videoSize), at, rate, waited: 0 };
+      if (!chosen) await new Promise((resolve) => window.setTimeout(resolve, LOOK_MS));
+    }
+    if (!chosen) {
+      setAligning({ kind: "idle" });
+      return;
+    }
+    setSent({ rate: chosen.rate, waited: chosen.waited });
+    const at = chosen.at;
     setAligning({ kind: "sending" });
     try {
-      const frame = await grabFrame(element, videoSize);
+      const frame = await encodeFrame(chosen.canvas);
       const hint = videoFocal ? (videoFocal * frame.size.width) / videoSize.width : null;
       const found = await reanchor(credentials, frame.blob, hint);
       const rotation = asMatrix(found.rotation);
@@ -158,6 +246,14 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       setAnchor(aligned);
       // Kept as the photo's anchor on this page: the view opened again starts from it.
       saveShutterAnchor(credentials.session_id, aligned);
+      // The view matches the photo: the drift starts again, and the phone stands where it was.
+      const time = performance.now();
+      alignedAt.set(credentials.session_id, time);
+      setAnchoredAt(time);
+      setNow(time);
+      steps.current.reset();
+      walked.delete(credentials.session_id);
+      setMoved(false);
       setMeasured(found.frame_focal_px / Math.max(frame.size.width, frame.size.height));
       setAligning({ kind: "idle" });
     } catch (error) {
@@ -171,17 +267,30 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   };
 
   const ready = phase === "live" && anchor && reading && photo && photoFocal && videoSize && videoFocal;
-  const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine) : null;
-  const curve = Boolean(drawing?.curve);
+  const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine, drawing?.curve?.polylines ?? null) : null;
+  // The curve alone (no point): its arrow and words are the curve's.
+  const curve = Boolean(drawing?.curve) && !friendOf(mine);
 
   let words: string;
   if (phase === "failed") words = problem;
+  else if (aligning.kind === "steadying") words = HOLD_STILL_TEXT;
   else if (aligning.kind === "sending") words = ALIGNING_TEXT;
   else if (aligning.kind === "refused") words = aligning.message;
   else if (motionAccess() === "denied") words = NO_MOTION_TEXT;
   else if (!anchor) words = ALIGN_TEXT;
   else if (!reading) words = NO_SENSOR_TEXT;
   else words = pointingText(layer?.pointing ?? null, curve);
+  // The first marker over the playing video: marked in the animation frame that paints it.
+  const drawn = Boolean(layer && (layer.pointing || drawing?.curve));
+  useEffect(() => {
+    if (drawnOnce.current || !playing || !drawn) return;
+    drawnOnce.current = true;
+    requestAnimationFrame(() => performance.mark(MARKER_DRAWN));
+  });
+
+  // Said above the pointing while it points: the phone walked away, or the anchor is old.
+  const steady = phase === "live" && anchor && reading && (aligning.kind === "idle" || aligning.kind === "refused");
+  const warning = !steady ? null : moved ? MOVED_TEXT : mayHaveDrifted(anchoredAt, now) ? DRIFT_TEXT : null;
 
   return (
     <div
@@ -193,6 +302,10 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       data-phase={phase}
       data-anchored={String(Boolean(anchor))}
       data-readings={String(source.current?.count ?? 0)}
+      data-warning={warning === MOVED_TEXT ? "moved" : warning === DRIFT_TEXT ? "drift" : "none"}
+      data-aligning={aligning.kind}
+      data-sent-rate={sent ? (sent.rate?.toFixed(2) ?? "unknown") : undefined}
+      data-sent-wait={sent ? sent.waited.toFixed(0) : undefined}
     >
       <div class="live-stage" ref={stage}>
         <video
@@ -204,6 +317,11 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           autoplay
           muted
           playsInline
+          onLoadedData={() => {
+            performance.mark(FIRST_FRAME);
+            setPlaying(true);
+          }}
+          onPlaying={() => setPlaying(true)}
           onLoadedMetadata={(event) => {
             const v = event.currentTarget;
             setVideoSize({ width: v.videoWidth, height: v.videoHeight });
@@ -228,11 +346,16 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
               <LiveCurve lines={linesToScreen(layer.h, layer.cover, drawing.curve.polylines)} band={(drawing.curve.halfwidth ?? 0) * layer.perPhotoPx} />
             )}
             {drawing.frame && layer.pointing?.kind === "in-view" && <LiveFrame frame={drawing.frame} layer={layer} />}
-            {layer.pointing?.kind === "off-view" && <EdgeArrow pointing={layer.pointing} />}
+            {layer.pointing?.kind === "off-view" && <EdgeArrow pointing={layer.pointing} towards={curve ? "curve" : "friend"} />}
           </svg>
         )}
       </div>
       <p class="live-note" data-testid="live-note" role="status">
+        {warning && (
+          <strong class="live-warning" data-testid="live-warning">
+            {warning}{" "}
+          </strong>
+        )}
         {words}
         <span class="live-stay">{STAY_TEXT}</span>
       </p>
@@ -242,9 +365,9 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
         </button>
         <button
           type="button"
-          class={`button ${anchor ? "secondary" : "primary"}`}
+          class={`button ${anchor && !warning ? "secondary" : "primary"}`}
           data-testid="live-align"
-          disabled={phase !== "live" || !reading || aligning.kind === "sending"}
+          disabled={phase !== "live" || !reading || aligning.kind === "sending" || aligning.kind === "steadying"}
           onClick={() => void align()}
         >
           {anchor ? "Re-align" : "Align"}
@@ -268,16 +391,29 @@ interface Layer {
   pointing: Pointing | null;
 }
 
-/** The photo's drawing placed on the live screen by the turn `rotation`. */
-function place(rotation: Matrix3, photo: Size, photoFocal: number, video: Size, videoFocal: number, box: Size, mine: FriendInPhoto): Layer {
+/** The friend in the photo, homogeneous (w < 0: behind its camera), or null (no point). */
+function friendOf(mine: FriendInPhoto): Vector3 | null {
+  if (mine.friend_h) return [mine.friend_h[0], mine.friend_h[1], mine.friend_h[2]];
+  return mine.friend ? [mine.friend[0], mine.friend[1], 1] : null;
+}
+
+/** The photo's drawing placed on the live screen by the turn `rotation`: where the friend
+ * is, or, with no point, whether the curve is on the screen and which way it is if not. */
+function place(
+  rotation: Matrix3,
+  photo: Size,
+  photoFocal: number,
+  video: Size,
+  videoFocal: number,
+  box: Size,
+  mine: FriendInPhoto,
+  curve: ReadonlyArray<ReadonlyArray<readonly number[]>> | null,
+): Layer {
   const h = homography(rotation, photoFocal, photo, videoFocal, video);
   const c = cover(video, box);
-  const friend: Vector3 | null = mine.friend_h
-    ? [mine.friend_h[0], mine.friend_h[1], mine.friend_h[2]]
-    : mine.friend
-      ? [mine.friend[0], mine.friend[1], 1]
-      : null;
-  return { rotation, h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing: friend ? pointAt(h, c, video, friend, EDGE_INSET) : null };
+  const friend = friendOf(mine);
+  const pointing = friend ? pointAt(h, c, video, friend, EDGE_INSET) : curve ? pointAtCurve(h, c, video, videoFocal, curve, EDGE_INSET) : null;
+  return { rotation, h, cover: c, perPhotoPx: screenPerPhotoPx(c, photoFocal, videoFocal), pointing };
 }
 
 /** The server's brackets, turned onto the screen, spread to a finger's size at the least;
@@ -321,26 +457,39 @@ function LiveCurve({ lines, band }: { lines: Point[][]; band: number }) {
   );
 }
 
-/** An arrow inside the screen's edge towards the friend, saying which way to turn. */
-function EdgeArrow({ pointing }: { pointing: Extract<Pointing, { kind: "off-view" }> }) {
+/** An arrow inside the screen's edge towards the friend (or the nearest part of their
+ * curve), saying which way to turn. */
+function EdgeArrow({ pointing, towards }: { pointing: Extract<Pointing, { kind: "off-view" }>; towards: "friend" | "curve" }) {
   const { at, angle } = pointing;
   return (
-    <g data-testid="live-arrow" data-turn={pointing.turn} data-x={at.x.toFixed(2)} data-y={at.y.toFixed(2)}>
+    <g data-testid="live-arrow" data-turn={pointing.turn} data-towards={towards} data-x={at.x.toFixed(2)} data-y={at.y.toFixed(2)}>
       {/* The words inside the arrow's tail, kept on the screen. */}
       <ArrowMark tip={at} angle={angle} label={arrowLabel(pointing)} labelBack={30} />
     </g>
   );
 }
 
-/** One frame of the live view as a small JPEG (long side FRAME_SIDE), and its size. */
-async function grabFrame(element: HTMLVideoElement, video: Size): Promise<{ blob: Blob; size: Size }> {
+/** A frame drawn for Align, with the reading of its moment and how still the phone was. */
+interface Grabbed {
+  canvas: HTMLCanvasElement;
+  at: Sample;
+  rate: number | null;
+  waited: number;
+}
+
+/** The live view's frame of the moment, small (long side FRAME_SIDE). */
+function drawFrame(element: HTMLVideoElement, video: Size): HTMLCanvasElement {
   const k = Math.min(1, FRAME_SIDE / Math.max(video.width, video.height));
-  const size = { width: Math.round(video.width * k), height: Math.round(video.height * k) };
   const canvas = document.createElement("canvas");
-  canvas.width = size.width;
-  canvas.height = size.height;
-  canvas.getContext("2d")?.drawImage(element, 0, 0, size.width, size.height);
+  canvas.width = Math.round(video.width * k);
+  canvas.height = Math.round(video.height * k);
+  canvas.getContext("2d")?.drawImage(element, 0, 0, canvas.width, canvas.height);
+  return canvas;
+}
+
+/** A frame drawn as a JPEG, and its size. */
+async function encodeFrame(canvas: HTMLCanvasElement): Promise<{ blob: Blob; size: Size }> {
   const blob = await new Promise<Blob | null>((resolve) => canvas.toBlob(resolve, "image/jpeg", FRAME_QUALITY));
   if (!blob) throw new Error("The view could not be read; try again.");
-  return { blob, size };
+  return { blob, size: { width: canvas.width, height: canvas.height } };
 }

@@ -8,6 +8,7 @@ import {
   liveFocal,
   photoToScreen,
   pointAt,
+  pointAtCurve,
   screenPerPhotoPx,
   warp,
 } from "./pointer";
@@ -134,5 +135,52 @@ describe("pointing at the friend", () => {
 
   it("sizes the band by the view's scale", () => {
     expect(screenPerPhotoPx(c, f, fv)).toBeCloseTo((915 / 960) * 0.5, 12);
+  });
+});
+
+describe("pointing at a curve with no part in view", () => {
+  const f = 2000;
+  const fv = liveFocal(f, PHOTO, VIDEO);
+  const c = cover(VIDEO, SCREEN);
+  // The friend's level: across the whole photo, 5 degrees above its centre, a point every
+  // 400 px (as the server's polylines come).
+  const level = [[-400, 0, 400, 800, 1200, 1600, 2000, 2400, 2800].map((x) => [x, 960 - f * Math.tan(5 * DEGREE)])];
+
+  function towards(alpha: number, up: number, lines = level) {
+    const h = homography(sinceShutter(anchorAt(phone(0)), phone(alpha, up)), f, PHOTO, fv, VIDEO);
+    return pointAtCurve(h, c, VIDEO, fv, lines, 30);
+  }
+
+  it("is none while part of the curve is on the screen", () => {
+    expect(towards(0, 0)).toBeNull();
+    expect(towards(-20, 3)).toBeNull();
+  });
+
+  it("turns up or down to the curve, towards its nearest part", () => {
+    // Tilted down 30 degrees: the level is 35 degrees up, off the screen's top.
+    const up = towards(0, -30);
+    expect(up).toMatchObject({ kind: "off-view", turn: "up" });
+    // Its nearest part is straight above: the arrow near the screen's vertical centre line
+    // (the nearest of the points tried, 50 photo px apart here: 0.6 degrees).
+    expect(Math.abs((up?.at.x ?? 0) - SCREEN.width / 2)).toBeLessThan(10);
+    expect(up?.at.y).toBeCloseTo(30, 6);
+    expect(towards(10, 40)).toMatchObject({ kind: "off-view", turn: "down" });
+  });
+
+  it("turns left or right to a curve that ends", () => {
+    // The level reaches 36 degrees either side of the photo's centre (f 2000, x from -400
+    // to 2800): turned 70 degrees right, its nearest part (its right end) is on the left.
+    expect(towards(-70, 0)).toMatchObject({ kind: "off-view", turn: "left" });
+    expect(towards(70, 0)).toMatchObject({ kind: "off-view", turn: "right" });
+    // Turned round: still towards the nearer end, never drawn behind.
+    expect(towards(-150, 0)).toMatchObject({ kind: "off-view", turn: "left" });
+  });
+
+  it("is in view when a long segment crosses the screen between its ends", () => {
+    // Two points far left and far right of the screen, none on it: the line between is.
+    const long = [[[-6000, 960], [8560, 960]]];
+    expect(towards(0, 0, long)).toBeNull();
+    // ... and off it once tilted away.
+    expect(towards(0, 30, long)).toMatchObject({ kind: "off-view", turn: "down" });
   });
 });

@@ -171,3 +171,73 @@ export function pointAt(h: Matrix3, c: Cover, video: Size, friend: Vector3, inse
 export function screenPerPhotoPx(c: Cover, photoFocal: number, videoFocal: number): number {
   return (c.scale * videoFocal) / photoFocal;
 }
+
+/** Pieces each segment of a curve is cut into when looking for its nearest part. */
+const CURVE_SUBDIVISIONS = 8;
+
+/** Whether the screen segment a-b meets the box [0, width] x [0, height] (Liang-Barsky). */
+function meetsBox(a: Point, b: Point, box: Size): boolean {
+  let [t0, t1] = [0, 1];
+  const d = { x: b.x - a.x, y: b.y - a.y };
+  const edges: [number, number][] = [
+    [-d.x, a.x],
+    [d.x, box.width - a.x],
+    [-d.y, a.y],
+    [d.y, box.height - a.y],
+  ];
+  for (const [p, q] of edges) {
+    if (p === 0) {
+      if (q < 0) return false;
+      continue;
+    }
+    const t = q / p;
+    if (p < 0) t0 = Math.max(t0, t);
+    else t1 = Math.min(t1, t);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+/**
+ * Where the curve the friend is on (`lines`: the drawing's polylines, photo px) is for the
+ * live view: null when some part of it is on the screen (it is drawn there), else an arrow
+ * towards its nearest part, as for a friend (pointAt): the point of the curve whose
+ * direction is the least angle from where the live camera looks (each segment cut into
+ * CURVE_SUBDIVISIONS; `videoFocal` px), or null for a curve with no point.
+ */
+export function pointAtCurve(
+  h: Matrix3,
+  c: Cover,
+  video: Size,
+  videoFocal: number,
+  lines: ReadonlyArray<ReadonlyArray<readonly number[]>>,
+  inset: number,
+): Pointing | null {
+  const { width, height } = c.box;
+  let nearest: Vector3 | null = null;
+  let least = Number.POSITIVE_INFINITY;
+  for (const line of lines) {
+    let previous: Point | null = null;
+    for (let i = 0; i < line.length; i += 1) {
+      const [px, py] = [line[i]?.[0] ?? Number.NaN, line[i]?.[1] ?? Number.NaN];
+      const next = line[i + 1];
+      const [qx, qy] = next ? [next[0] ?? Number.NaN, next[1] ?? Number.NaN] : [px, py];
+      const pieces = next ? CURVE_SUBDIVISIONS : 1;
+      for (let k = 0; k < pieces; k += 1) {
+        const t = k / pieces;
+        const point: Vector3 = [px + t * (qx - px), py + t * (qy - py), 1];
+        if (!Number.isFinite(point[0]) || !Number.isFinite(point[1])) continue;
+        const w = warp(h, point);
+        const seen = onScreen(c, w);
+        if (seen && seen.x >= 0 && seen.x <= width && seen.y >= 0 && seen.y <= height) return null;
+        if (seen && previous && meetsBox(previous, seen, c.box)) return null;
+        previous = seen;
+        // The angle from the live camera's axis: (x - cx w, y - cy w) over f, against w.
+        const off = Math.hypot(w[0] - (video.width / 2) * w[2], w[1] - (video.height / 2) * w[2]) / videoFocal;
+        const angle = Math.atan2(off, w[2]);
+        if (angle < least) [least, nearest] = [angle, point];
+      }
+    }
+  }
+  return nearest ? pointAt(h, c, video, nearest, inset) : null;
+}

@@ -35,6 +35,8 @@ export function stillOrientation(samples: readonly Sample[], now: number): Sampl
 
 let source: OrientationSource | null = null;
 let marked: Matrix3 | null = null;
+let markedAt: number | null = null;
+let takenAt: number | null = null;
 
 /** The camera opened: the orientation is read until stop(). */
 export function startShutterOrientation(): void {
@@ -48,13 +50,20 @@ export function startShutterOrientation(): void {
 export function markShutter(): void {
   const reading = source && motionAccess() === "granted" ? stillOrientation(source.readings(), performance.now()) : null;
   marked = reading ? anchorAt(reading) : null;
+  markedAt = reading ? performance.now() : null;
 }
 
 /** The anchor of the photo just taken (once), or null. */
 export function takeShutterAnchor(): Matrix3 | null {
   const anchor = marked;
+  if (anchor) takenAt = markedAt;
   marked = null;
   return anchor;
+}
+
+/** When (performance.now(), ms) the last anchor taken was read: the drift runs from then. */
+export function lastShutterTime(): number | null {
+  return takenAt;
 }
 
 /** The camera closed: no sensor is read. */

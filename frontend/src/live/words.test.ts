@@ -12,5 +12,9 @@ describe("what Show me says", () => {
   it("speaks of the curve when there is no point", () => {
     expect(pointingText(null, true)).toBe(CURVE_LIVE_TEXT);
     expect(pointingText(null, false)).toBe("");
+    // Off the screen: which way to turn to the curve.
+    const down = { kind: "off-view", at: { x: 0, y: 0 }, angle: Math.PI / 2, turn: "down" } as const;
+    expect(pointingText(down, true)).toBe("Turn down: the dotted curve your friend is on is that way.");
+    expect(arrowLabel(down)).toBe("turn down");
   });
 });

@@ -15,12 +15,18 @@ export const NOT_MATCHED_TEXT =
 export const ALIGN_UNAVAILABLE_TEXT = "The view cannot be matched to your photo right now: try again later.";
 export const NO_MOTION_TEXT = "Motion access is off: the view cannot follow the phone.";
 export const NO_SENSOR_TEXT = "Waiting for the phone to say how it is turned...";
+export const HOLD_STILL_TEXT = "Hold still...";
+export const DRIFT_TEXT = "The pointer may have drifted: hold the phone toward the stage and tap Re-align.";
+export const MOVED_TEXT =
+  "You have moved: the pointer assumes you stand where you took the photo. Go back there, or take a new photo.";
 export const STAY_TEXT = "Stay where you took the photo: the marker follows your turns, not your steps.";
 
-/** The main sentence for where the friend is (null: the marker says nothing by itself). */
+/** The main sentence for where the friend is (null: the marker says nothing by itself, or
+ * the curve is on the screen); `curve`: the answer is a curve alone, no point. */
 export function pointingText(pointing: Pointing | null, curve: boolean): string {
   if (!pointing) return curve ? CURVE_LIVE_TEXT : "";
   if (pointing.kind === "in-view") return FRAME_LIVE_TEXT;
+  if (curve) return `Turn ${pointing.turn}: the dotted curve your friend is on is that way.`;
   return `Turn ${pointing.turn}: your friend is that way.`;
 }
 
