@@ -18,6 +18,12 @@ export default defineConfig({
   },
   test: {
     environment: "node",
+    // One module graph per worker thread, not a process per test file: the files are pure
+    // modules whose tests undo their stubs (unstubGlobals below as a net), and isolating
+    // 34 files cost 40 s of a 45 s run beside make test's suite (7 s without).
+    pool: "threads",
+    isolate: false,
+    unstubGlobals: true,
     include: ["src/**/*.test.ts"],
     // The stylesheet as written (palette.test.ts reads it): vitest empties CSS otherwise.
     css: { include: [/styles\.css/] },

@@ -1,6 +1,6 @@
 """The suggestion benchmark (``benchmarks/suggestions.py``) at a tiny scale, in a subprocess as
 ``make bench-suggest`` runs it: it exits cleanly, and the report has every section, every
-table's rows and the targets. No figure and no timing is asserted: four scenes measure
+table's rows and the targets. No figure and no timing is asserted: three scenes measure
 nothing."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from pathlib import Path
 
 from benchmark_scripts import assert_report_has, run_benchmark, targets_of
 
-TINY = "--calibration 1 --evaluation 2 --compare 1 --arena-calibration 0 --arena-evaluation 1"
+TINY = "--calibration 1 --evaluation 1 --compare 1 --arena-calibration 0 --arena-evaluation 1"
 SECTIONS = """
     ## 1. The rendered venues
     ## 2. The band

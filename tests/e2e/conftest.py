@@ -55,9 +55,13 @@ def browser(playwright: Playwright) -> Iterator[Browser]:
     launched.close()
 
 
-@pytest.fixture
-def server(tmp_path: Path) -> Iterator[str]:
-    with serve(tmp_path) as running:
+@pytest.fixture(scope="session")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """One server per pytest worker for the tests that need a plain one: each test starts
+    searches of its own, which no other sees, and uvicorn takes 2-4 s to start (about 40
+    starts saved per run). A test that stops, cuts or configures its server starts its own
+    (``deploy.replica.serve``)."""
+    with serve(tmp_path_factory.mktemp("server")) as running:
         yield running.base_url
 
 
