@@ -4,10 +4,11 @@ quaternion), gets a point from the starter's mark and three landmarks, opens the
 and turns the phone by a known angle: the marker is drawn where the answer's friend now
 projects, within 1 degree; turned far away, an arrow says which way to turn. Turning is no
 walk, but a walk played on the motion sensors is said ("You have moved"). After a reload
-the view asks to align: a frame the server does not match is said so and anchors nothing,
-one it matches anchors the marker (the endpoint is played by the test's route, which
-answers with the truth); two minutes later by the page's clock the view says it may have
-drifted, and Re-align ends that.
+the view asks to align: a frame that is not matched is said so and anchors nothing; the
+server's matching of the live frame (the photo, filmed) anchors the marker where the friend
+is; a frame sent while the phone turns waits for it to hold still (that endpoint played by
+the test's route, which answers with the resting phone's turn); two minutes later by the
+page's clock the view says it may have drifted, and Re-align ends that.
 
 The joiner's camera films the temple photo (``--use-file-for-fake-video-capture``, the
 ``filming`` fixture), so the photo and the live video are the same 640 x 480 frames and the
@@ -226,9 +227,11 @@ def marker(phone: Phone) -> np.ndarray:
 
 
 class Reanchoring:
-    """The re-anchoring endpoint, played by the test (the server has none yet): refuses
-    the first frame (frame_not_matched), then answers with the rotation the phone has made
-    since its photo and the frame's focal length. Keeps what the phone sent."""
+    """The re-anchoring endpoint as the test plays it around the server's: the first frame
+    is refused (frame_not_matched: the fake camera films only the photo, which matches);
+    the second goes to the server, whose answer is kept (``served``); from the third on, the
+    test answers with the rotation the phone has made since its photo (the resting phone's,
+    for the still-frame check) and the frame's focal length. Keeps what the phone sent."""
 
     def __init__(self, turn_deg: float, focal: float) -> None:
         t = math.radians(turn_deg)
@@ -240,9 +243,15 @@ class Reanchoring:
         ]
         self.focal = focal
         self.sent: list[bytes] = []
+        self.served: dict[str, Any] | None = None
 
     def __call__(self, route: Route) -> None:
         self.sent.append(route.request.post_data_buffer or b"")
+        if len(self.sent) == 2:
+            response = route.fetch()
+            self.served = response.json() if response.ok else {"status": response.status}
+            route.fulfill(response=response)
+            return
         if len(self.sent) == 1:
             refusal = {
                 "code": "no_solution",
@@ -265,7 +274,7 @@ class Reanchoring:
 # A refused frame is a 422, which Chromium logs as an error of the page.
 @pytest.mark.expected_console_errors(r"status of 422")
 def test_show_me_points_at_the_friend_as_the_phone_turns(
-    server: str, filming: Callable[[Path], Phone], tmp_path: Path
+    server: str, filming: Callable[[Path], Phone], tmp_path: Path, screenshots: Path
 ) -> None:
     photo = cv2.imread(str(temple(PAIR[1])), cv2.IMREAD_COLOR)
     assert photo is not None
@@ -327,10 +336,11 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", off)
     expect(joiner.get_by_test_id("live-note")).to_contain_text(f"Turn {off}")
 
-    def marker_at(turn: float, when: str) -> float:
-        """Turned right by ``turn`` degrees: the marker where the friend projects; its
-        error, degrees."""
-        orientation.hold(turned_right(turn))
+    def marker_at(turn: float, when: str, anchor: float = 0.0) -> float:
+        """Turned right by ``turn`` degrees from the photo's heading, which the phone's
+        reading had at ``anchor`` degrees: the marker where the friend projects; its error,
+        degrees."""
+        orientation.hold(turned_right(anchor + turn))
         expected, scale, _ = expected_on_screen(joiner, friend, focal, turn)
         focal_screen = scale * focal
 
@@ -343,16 +353,17 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
             placed, f"the marker where the friend is, turned {turn:.1f} degrees, {when}"
         )
         return degrees_apart(marker(joiner), expected, focal_screen)
-        return degrees_apart(marker(joiner), expected, focal_screen)
 
     # Turned so that the friend is 3 degrees left of the view's centre, then 3 right of it.
     errors = [marker_at(ahead + 3.0, "at first"), marker_at(ahead - 3.0, "at first")]
     expect(joiner.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")
+    joiner.screenshot(path=screenshots / "14-show-me-joiner.png")
     # Turned 40 degrees away either way: off the screen, an arrow says which way to turn.
     for away, turn in ((-40.0, "right"), (40.0, "left")):
         orientation.hold(turned_right(ahead + away))
         expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", turn)
         expect(joiner.get_by_test_id("live-frame")).to_have_count(0)
+    joiner.screenshot(path=screenshots / "14b-show-me-turn-joiner.png")
     # ...and back: the marker where it was.
     errors.append(marker_at(ahead + 3.0, "back from 40 degrees away"))
     # Turning was no walk; walking away is said (the marker stays: it may still help).
@@ -381,6 +392,19 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.get_by_test_id("live-align").tap()
     expect(joiner.get_by_test_id("live-note")).to_contain_text("did not match your photo")
     expect(live).to_have_attribute("data-anchored", "false")
+    # The server's own matching: the frame is the photo (the fake camera films it), so the
+    # phone, held 3 degrees past the friend by its reading, was where it took the photo:
+    # that reading is the photo's heading from now on.
+    joiner.get_by_test_id("live-align").tap()
+    expect(live).to_have_attribute("data-anchored", "true")
+    served = reanchoring.served
+    assert served is not None
+    assert "rotation" in served, served
+    print(f"the server's match: {served['degrees']:.3f} degrees, {served['inliers']} inliers")
+    assert served["degrees"] < 0.5, served
+    held = ahead + 3.0
+    expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", off)
+    errors.append(marker_at(ahead + 3.0, "aligned by the server", anchor=held))
     # One that matches anchors the view: the marker where the friend is. Tapped while the
     # phone still turns (from 5 degrees right of where it comes to rest, in about 0.5 s), the
     # frame goes once the phone holds still, with the reading of that moment: the route's
@@ -402,9 +426,9 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     assert sent_rate < 3.0, sent_rate
     assert 300 <= waited_ms < 1600, waited_ms
     expect(live).to_have_attribute("data-warning", "none")
-    assert len(reanchoring.sent) == 2
+    assert len(reanchoring.sent) == 3
     # The frame went as a JPEG with the focal length the phone assumed for it.
-    form = reanchoring.sent[1]
+    form = reanchoring.sent[2]
     assert b'name="frame"' in form, form[:300]
     assert b"image/jpeg" in form, form[:300]
     assert b'name="frame_focal_px"' in form
@@ -416,7 +440,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.get_by_test_id("live-align").tap()
     # (Reading the page lets Playwright answer the route meanwhile.)
     joiner.wait_for(
-        lambda: live.get_attribute("data-anchored") == "true" and len(reanchoring.sent) == 3,
+        lambda: live.get_attribute("data-anchored") == "true" and len(reanchoring.sent) == 4,
         "the frame of the Re-align",
     )
     expect(joiner.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")
