@@ -13,7 +13,9 @@ exposure changes of a live view), Lowe's ratio test, a homography by MAGSAC (Ope
 columns are orthogonal once divided by ``f_f`` (:func:`frame_focal`), the nearest rotation
 to ``diag(1/f_f, 1/f_f, 1) A``, refined over the inliers' rays (Kabsch). A match is
 refused (``FRAME_NOT_MATCHED``) unless enough inliers, spread over the frame, fit the
-rotation itself, not just the homography: a wrong match must not move the marker.
+rotation itself, not just the homography: a wrong match must not move the marker. A frame
+refused at its size is tried once more at half of it (a turning phone's motion blur halves
+with it), under the same rules.
 """
 
 from __future__ import annotations
@@ -48,6 +50,10 @@ _MIN_SHARE = 0.8
 _MIN_COVER = 0.05
 # A frame focal length this far from the one expected (a factor) is no phone's video.
 _FOCAL_FACTOR = 4.0
+# A frame refused at its own size is tried once more at this scale, the photo with it: a
+# turning phone's motion blur shrinks with the pixels (15 px at 960 px is 7.5 at 480), and
+# SIFT finds its corners again. Only refused frames pay for it.
+_COARSE = 0.5
 
 
 @dataclass(frozen=True)
@@ -91,10 +97,32 @@ def reanchor(
         frame_focal_px: the frame's, when known; None: measured from the match.
 
     Raises:
-        SolverError: ``FRAME_NOT_MATCHED`` when no rotation explains enough of the frame.
+        SolverError: ``FRAME_NOT_MATCHED`` when no rotation explains enough of the frame,
+            at its size or at half of it.
     """
-    small, scale = _working(photo)
     seen = _grey(frame)
+    try:
+        return _reanchored(photo, seen, photo_focal_px, frame_focal_px, _WORKING_SIDE)
+    except SolverError:
+        size = (round(seen.shape[1] * _COARSE), round(seen.shape[0] * _COARSE))
+        coarse = np.asarray(cv2.resize(seen, size, interpolation=cv2.INTER_AREA), np.uint8)
+        known = None if frame_focal_px is None else frame_focal_px * _COARSE
+        found = _reanchored(photo, coarse, photo_focal_px, known, _WORKING_SIDE * _COARSE)
+    # In pixels of the frame as sent.
+    return Reanchored(
+        rotation=found.rotation,
+        frame_focal_px=found.frame_focal_px / _COARSE,
+        inliers=found.inliers,
+        residual_px=found.residual_px / _COARSE,
+    )
+
+
+def _reanchored(
+    photo: Image, seen: Image, photo_focal_px: float, frame_focal_px: float | None, side: float
+) -> Reanchored:
+    """:func:`reanchor` of the grey frame ``seen`` as it is, the photo scaled to at most
+    ``side`` px."""
+    small, scale = _working(photo, side)
     photo_points, frame_points = _matches(small, seen)
     if len(photo_points) < _MIN_INLIERS:
         raise SolverError(Reason.FRAME_NOT_MATCHED)
@@ -148,10 +176,10 @@ def frame_focal(homography: Array, photo_intrinsics: Array, frame_centre: Array)
     return 1.0 / math.sqrt(u) if u > 0 else math.nan
 
 
-def _working(photo: Image) -> tuple[Image, float]:
-    """The photo in grey, scaled down to at most ``_WORKING_SIDE``, and the scale."""
+def _working(photo: Image, side: float) -> tuple[Image, float]:
+    """The photo in grey, scaled down to at most ``side`` px, and the scale."""
     grey = _grey(photo)
-    scale = min(1.0, _WORKING_SIDE / max(grey.shape[:2]))
+    scale = min(1.0, side / max(grey.shape[:2]))
     if scale == 1.0:
         return grey, scale
     size = (round(grey.shape[1] * scale), round(grey.shape[0] * scale))

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from shared_solver import SolverError
+from shared_solver.matching import reanchor as matching
 from shared_solver.matching.reanchor import frame_focal, reanchor
 from testbed.live import Hall, live_view, marker_error_deg, rendered_hall
 
@@ -55,6 +56,20 @@ def test_a_turned_frame_puts_the_marker_within_a_third_of_a_degree(
     assert found.frame_focal_px == pytest.approx(view.camera.intrinsics[0, 0], rel=0.01)
     assert found.degrees == pytest.approx(turn_deg, abs=1.0)
     assert found.residual_px < 1.0
+
+
+def test_a_frame_blurred_by_a_fast_turn_is_matched_at_half_its_size(hall: Hall):
+    """A 15 px motion blur (a phone turning as the frame is exposed): refused at the
+    frame's size, matched once both images are halved, the focal length in the frame's own
+    pixels."""
+    view = live_view(hall, np.random.default_rng(0), turn_deg=30.0, crowd=40, blur_px=15)
+    focal = hall.camera.intrinsics[0, 0]
+    grey = cv2.cvtColor(view.frame, cv2.COLOR_BGR2GRAY)
+    with pytest.raises(SolverError):
+        matching._reanchored(hall.photo, grey, focal, None, 960)  # the first try alone
+    found = reanchor(hall.photo, view.frame, focal)
+    assert marker_error_deg(hall, view, found.rotation) < 0.3
+    assert found.frame_focal_px == pytest.approx(view.camera.intrinsics[0, 0], rel=0.01)
 
 
 def test_a_frame_of_another_place_is_refused(hall: Hall):

@@ -1,7 +1,7 @@
 /**
  * A still frame for Align and Re-align: the frame sent to be matched is taken when the phone
  * holds still, not at the tap. A turning phone blurs its frame (a 15 px motion blur is
- * refused 5 times in 6 by the server's matching: make bench-reanchor), and the orientation
+ * matched only by the server's second, coarser try: make bench-reanchor), and the orientation
  * paired with the frame is only as good as the moment they share.
  *
  * Still: the phone turned less than STILL_RATE_DEG_S over the last STILL_SPAN_MS, read from
