@@ -17,7 +17,11 @@ not count; the first search (imports, caches, the first statements) is left out.
 CPU ms per search by route (the sum of its calls) and per call, over ``--rounds`` rounds
 (each on a fresh database), median and spread.
 
-    .venv/bin/python benchmarks/search_cpu.py [--searches N] [--rounds R] [--profile PATH]
+    PYTHONPATH=. .venv/bin/python benchmarks/search_cpu.py [--searches N] [--rounds R]
+
+``PYTHONPATH=.``: this checkout's code first, before any other the virtualenv names (a
+worktree sharing another checkout's virtualenv would measure that checkout's code; the
+script refuses to).
 
 ``--profile PATH``: cProfile of the measured searches, written to PATH (pstats).
 """
@@ -38,7 +42,9 @@ from typing import Any
 
 from crowd import LANDMARKS, Crowd
 from fastapi.testclient import TestClient
+from report import ROOT
 
+import backend
 from backend.main import create_app
 from backend.settings import Settings
 
@@ -147,6 +153,9 @@ def main() -> None:
     parser.add_argument("--database", help="a database URL (default: SQLite in a temp folder)")
     parser.add_argument("--profile", type=Path, help="write a cProfile of the searches here")
     args = parser.parse_args()
+    measured = Path(backend.__file__).resolve()
+    if not measured.is_relative_to(ROOT.resolve()):
+        parser.error(f"this would measure {measured.parent}, not {ROOT}: run with PYTHONPATH=.")
     crowd = Crowd.made(PHOTO_SIDE, SEED)
     profile = cProfile.Profile() if args.profile else None
     rounds = [round_of(args.searches, crowd, args.database, profile) for _ in range(args.rounds)]

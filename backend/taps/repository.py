@@ -3,21 +3,22 @@
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from datetime import datetime
 
-from sqlalchemy import bindparam, update
+from sqlalchemy import bindparam, select, update
 from sqlalchemy.orm import Session
 
 from backend.eventstream.log import EventType, record
 from backend.participants import Participant
 from backend.storage.database import Database
-from backend.storage.tables import ParticipantRow, SessionRow, core
+from backend.storage.tables import ParticipantRow, PhotoRow, SessionRow, core
 from backend.storage.versions import bump_version
 
 from .schemas import StoredAnswer, Taps, TapsChanged
 from .shown import Shown
 
-_sessions, _participants = core(SessionRow), core(ParticipantRow)
+_sessions, _participants, _photos = core(SessionRow), core(ParticipantRow), core(PhotoRow)
 # Core, built once: every tap runs them.
 # (Bound names other than the columns': SQLAlchemy keeps those for the values.)
 _SET_TAPS = (
@@ -30,6 +31,31 @@ _SET_ANSWER = (
     .where(_sessions.c.id == bindparam("of"), _sessions.c.version == bindparam("at"))
     .values(answer=bindparam("found"), answer_version=bindparam("at"))
 )
+
+# What a landmark's crop needs of the session: one participant's taps and which photo they
+# are on (the photo's version names its bytes), not the whole session with its answer.
+_ON_PHOTO = (
+    select(_sessions.c.id, _participants.c.taps, _photos.c.version)
+    .select_from(_sessions)
+    .outerjoin(
+        _participants,
+        (_participants.c.session_id == _sessions.c.id) & (_participants.c.role == bindparam("who")),
+    )
+    .outerjoin(
+        _photos,
+        (_photos.c.session_id == _sessions.c.id) & (_photos.c.role == bindparam("who")),
+    )
+    .where(_sessions.c.id == bindparam("of"))
+)
+
+
+@dataclass(frozen=True)
+class OnPhoto:
+    """A participant's landmark and the photo it is on."""
+
+    x: float
+    y: float
+    photo_version: int | None  # the session's version that stored the photo
 
 
 class TapStore:
@@ -68,6 +94,21 @@ class TapStore:
             if answer is not None and answered:
                 _record_answer(tx, sid, version, answer=answer[0], shown=answer[1], now=now)
         return version, answered
+
+    def landmark(self, session_id: str, role: str, landmark_id: int) -> tuple[bool, OnPhoto | None]:
+        """Whether the session is still there, and where ``role`` tapped landmark
+        ``landmark_id`` and the photo it is on (None: no such landmark, or no photo). One
+        narrow read (the taps as stored, validated when they were written), for each crop."""
+        with self.database.query() as connection:
+            row = connection.execute(_ON_PHOTO, {"of": session_id, "who": role}).first()
+        if row is None:
+            return False, None
+        if row.taps is None or row.version is None:
+            return True, None
+        for tap in json.loads(row.taps)["landmarks"]:
+            if tap["id"] == landmark_id:
+                return True, OnPhoto(float(tap["x"]), float(tap["y"]), row.version)
+        return True, None
 
     def put_answer(
         self, session_id: str, version: int, answer: StoredAnswer, shown: Shown, now: datetime
