@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from datetime import datetime
+from typing import Any
 
 from sqlalchemy import bindparam, select, update
 from sqlalchemy.orm import Session
@@ -15,7 +16,7 @@ from backend.storage.database import Database
 from backend.storage.tables import ParticipantRow, PhotoRow, SessionRow, core
 from backend.storage.versions import bump_version
 
-from .schemas import StoredAnswer, Taps, TapsChanged
+from .schemas import Taps, TapsChanged
 from .shown import Shown
 
 _sessions, _participants, _photos = core(SessionRow), core(ParticipantRow), core(PhotoRow)
@@ -70,16 +71,17 @@ class TapStore:
         *,
         read: int,
         needed: int,
-        answer: tuple[StoredAnswer, Shown] | None = None,
+        answer: tuple[dict[str, Any], Shown] | None = None,
     ) -> tuple[int, bool]:
         """Replace a participant's taps (the answer goes with the old ones): the new
         version, and whether ``answer`` was recorded with them.
 
         ``needed`` (the landmarks still needed, before an answer) and ``answer`` (the
-        answer as stored, and as the phones show it) were computed from the session at
-        version ``read`` with these taps. They are recorded in the same transaction, so with
-        one write, unless another change came in between: then they are stale, the taps'
-        event says it cannot tell the count, and the caller answers the new version afresh.
+        answer as stored, ``StoredAnswer.as_json()``, and as the phones show it) were
+        computed from the session at version ``read`` with these taps. They are recorded in
+        the same transaction, so with one write, unless another change came in between: then
+        they are stale, the taps' event says it cannot tell the count, and the caller answers
+        the new version afresh.
         """
         sid, role = participant.session_id, participant.role
         with self.database.write() as tx:
@@ -111,7 +113,7 @@ class TapStore:
         return True, None
 
     def put_answer(
-        self, session_id: str, version: int, answer: StoredAnswer, shown: Shown, now: datetime
+        self, session_id: str, version: int, answer: dict[str, Any], shown: Shown, now: datetime
     ) -> bool:
         """Record the answer computed for ``version``, unless the session has moved on since
         (then a newer computation records its own)."""
@@ -124,14 +126,13 @@ def _record_answer(
     session_id: str,
     version: int,
     *,
-    answer: StoredAnswer,
+    answer: dict[str, Any],
     shown: Shown,
     now: datetime,
 ) -> bool:
-    """The answer for ``version`` and its event, if the session is still at that version."""
-    done = tx.execute(
-        _SET_ANSWER, {"of": session_id, "at": version, "found": json.dumps(answer.as_json())}
-    )
+    """The answer for ``version`` (``StoredAnswer.as_json()``: its caller keeps it as the
+    session's, dumped once) and its event, if the session is still at that version."""
+    done = tx.execute(_SET_ANSWER, {"of": session_id, "at": version, "found": json.dumps(answer)})
     if not done.rowcount:  # type: ignore[attr-defined]
         return False
     record(tx, session_id, EventType.ANSWER, shown.changed(version), now, locked=True)
