@@ -11,9 +11,11 @@ joiner loads its crop and taps its own; the starter deletes the search. The load
 benchmark's phones read the state when an event cannot be taken in; here each phone reads it
 once at the start and once at the end.
 
-Each call is timed with ``time.process_time`` (this process's CPU, every thread: the
-TestClient's event loop and the app's worker threads), so other work on the machine does
-not count; the first search (imports, caches, the first statements) is left out. Printed:
+Each call is timed with ``time.process_time`` less the calling thread's ``time.thread_time``:
+the CPU of the app's threads (the TestClient's event loop, the app's worker threads), not the
+client's, and no other work on the machine (though a busy machine slows everything a little:
+compare runs made at the same time); the first search (imports, caches, the first
+statements) is left out. Printed:
 CPU ms per search by route (the sum of its calls) and per call, over ``--rounds`` rounds
 (each on a fresh database), median and spread.
 
@@ -62,12 +64,15 @@ class Meter:
 
     @contextmanager
     def measure(self, name: str) -> Iterator[None]:
-        start = time.process_time()
+        """The app's CPU during the call: the process's less this thread's, the client's
+        (the TestClient's requests and answers: as much as the app's own work at times)."""
+        start, client = time.process_time(), time.thread_time()
         try:
             yield
         finally:
             if self.on:
-                self.seconds[name] += time.process_time() - start
+                spent = time.process_time() - start - (time.thread_time() - client)
+                self.seconds[name] += spent
                 self.calls[name] += 1
 
 
