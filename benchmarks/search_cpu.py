@@ -15,7 +15,9 @@ Each call is timed with ``time.process_time`` less the calling thread's ``time.t
 the CPU of the app's threads (the TestClient's event loop, the app's worker threads), not the
 client's, and no other work on the machine (though a busy machine slows everything a little:
 compare runs made at the same time); the first search (imports, caches, the first
-statements) is left out. Printed:
+statements) is left out. The TestClient's way into the app costs more than uvicorn's: a
+call that does nothing (``GET /api/version``) takes ~3.7 ms of the app's CPU here, against
+~1.5 ms per call for "HTTP around the calls" in ``make bench-load``'s report. Printed:
 CPU ms per search by route (the sum of its calls) and per call, over ``--rounds`` rounds
 (each on a fresh database), median and spread.
 
