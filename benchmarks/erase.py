@@ -17,7 +17,7 @@ import time
 
 import psutil
 import psycopg
-from searches import Crowd
+from crowd import Crowd
 
 from deploy.postgres import PostgresServer
 

@@ -38,8 +38,9 @@ import locust.env  # first of the third-party imports: Locust patches the standa
 import numpy as np
 import psutil
 import psycopg
+from crowd import Crowd
 from report import ROOT, command_line, markdown_table, ms, publish, source_state, verdict
-from searches import APP_MS, DATABASE_MS, Crowd, Search
+from searches import APP_MS, DATABASE_MS, Search
 from spy import RATE, Sampler
 
 from backend.storage.database import database_url

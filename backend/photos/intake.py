@@ -27,6 +27,7 @@ from PIL import Image, JpegImagePlugin
 from backend.errors import ErrorCode, RefusedError
 
 from . import exif
+from .jpeg_rows import restart_interval
 from .lens import LensFacts
 
 # Registers the "HEIF" format with PIL (a global registry, so once, at import).
@@ -110,9 +111,15 @@ def store_photo(data: bytes, *, max_pixels: int, max_side: int) -> StoredPhoto:
     # the stored photo keeps none of what came in.
     upright.info = {}
     buffer = io.BytesIO()
-    # A restart marker after every row of MCUs: a crop decodes only its rows (.jpeg_rows).
+    # Restart markers that cut each row of MCUs (16 px, 4:2:0) into segments of a few: a
+    # crop decodes only the segments it shows (.jpeg_rows).
     upright.save(
-        buffer, format="JPEG", quality=_STORED_QUALITY, optimize=False, restart_marker_rows=1
+        buffer,
+        format="JPEG",
+        quality=_STORED_QUALITY,
+        optimize=False,
+        subsampling="4:2:0",
+        restart_marker_blocks=restart_interval(upright.size[0]),
     )
     width, height = upright.size
     return StoredPhoto(data=buffer.getvalue(), width=width, height=height, scale=scale, lens=lens)

@@ -1,20 +1,21 @@
-"""A band of rows of a stored photo, decoded without decoding the rest of it.
+"""A window of a stored photo, decoded without decoding the rest of it.
 
-A landmark's crop needs 240 rows of a photo of 1200 or more; decoding all of it took
-most of a crop's time. Stored photos are written with a restart marker after every row
-of MCUs (JPEG's 8 or 16 px blocks of rows: ITU-T T.81, B.2.4.4 and F.1.2.3): the
-entropy-coded data between two markers is one row of MCUs that decodes on its own (each
-restart resets the DC predictions). A band of rows is then a JPEG of its own, made of the
-photo's header with the band's height, and those rows' data with their markers numbered
-afresh; decoding it costs what its rows cost.
+A landmark's crop needs 240 x 240 px of a photo of 1600 x 1200 or more; decoding all of
+it took most of a crop's time. Stored photos are written with restart markers that cut
+each row of MCUs (JPEG's 8 or 16 px blocks: ITU-T T.81, B.2.4.4 and F.1.2.3) into whole
+segments of a few MCUs (:func:`restart_interval`; older ones: one segment per row): the
+entropy-coded data between two markers decodes on its own (each restart resets the DC
+predictions). A window of whole segments is then a JPEG of its own, made of the photo's
+header with the window's size, and those segments' data with their markers numbered afresh;
+decoding it costs what its pixels cost.
 
-Its pixels are the photo's, bit for bit, but at the band's top and bottom edges, where the
-decoder's chroma upsampling has no row beyond to blend with: :meth:`RowIndex.band` reaches
-half an MCU further than the rows asked for, except at the photo's own edges.
+Its pixels are the photo's, bit for bit, but at the window's edges, where the decoder's
+chroma upsampling has no pixel beyond to blend with: :meth:`RowIndex.window` reaches half an
+MCU further than the pixels asked for, except at the photo's own edges.
 
-A JPEG without a restart marker per MCU row (written elsewhere, or before stored photos
-had them), progressive, arithmetic-coded or not a JPEG: :func:`row_index` says None, and
-the caller decodes all of it.
+A JPEG whose restart intervals do not cut every row of MCUs into whole segments (written
+elsewhere, or without markers), progressive, arithmetic-coded or not a JPEG:
+:func:`row_index` says None, and the caller decodes all of it.
 """
 
 from __future__ import annotations
@@ -35,21 +36,38 @@ _RESTART = re.compile(rb"\xff[\xd0-\xd7]")
 class _Frame:
     """What a frame header (SOF) says: its size, its MCU, its components."""
 
-    height_at: int  # offset of its height field in the file
+    height_at: int  # offset of its height field in the file (the width's follows)
     width: int
     height: int
     mcu_width: int
     mcu_height: int
     components: int
 
+    @property
+    def columns(self) -> int:
+        """MCUs in a row."""
+        return math.ceil(self.width / self.mcu_width)
+
+
+def restart_interval(width: int, mcu_width: int = 16, widest: int = 4) -> int:
+    """The restart interval (MCUs) a stored photo ``width`` px wide is written with: the
+    largest divisor of its MCUs per row up to ``widest`` (64 px segments at 16 px MCUs,
+    about 1 % more bytes), so that a crop decodes a few segments of each row; a whole row
+    when no divisor but 1 is that small (a marker per MCU would cost ~10 % more bytes)."""
+    columns = math.ceil(width / mcu_width)
+    interval = max(d for d in range(1, widest + 1) if columns % d == 0)
+    return columns if interval == 1 else interval
+
 
 @dataclass(frozen=True)
 class RowIndex:
-    """Where each row of MCUs of a stored JPEG is, found without decoding it."""
+    """Where each segment of each row of MCUs of a stored JPEG is, found without decoding
+    it."""
 
     data: bytes
     frame: _Frame
-    rows: list[tuple[int, int]]  # each MCU row's entropy-coded bytes: (start, end)
+    interval: int  # MCUs per segment: the photo's restart interval
+    segments: list[tuple[int, int]]  # each segment's entropy-coded bytes, row by row
 
     @property
     def width(self) -> int:
@@ -59,24 +77,46 @@ class RowIndex:
     def height(self) -> int:
         return self.frame.height
 
+    @property
+    def per_row(self) -> int:
+        return self.frame.columns // self.interval
+
+    @property
+    def mcu_rows(self) -> int:
+        return len(self.segments) // self.per_row
+
     def band(self, top: int, bottom: int) -> tuple[bytes, int]:
         """A JPEG of the photo's rows ``top`` to ``bottom`` (exclusive; clipped to the
-        photo), exactly as in the whole photo, and the photo row its first row is: whole
-        MCU rows, reaching half an MCU beyond the rows asked for."""
-        step = self.frame.mcu_height
-        first = min(max(0, (top - step // 2) // step), len(self.rows) - 1)
-        last = max(min(len(self.rows), math.ceil((bottom + step // 2) / step)), first + 1)
+        photo), all of their width, and the photo row its first row is."""
+        band, first, _ = self.window(top, bottom, 0, self.width)
+        return band, first
+
+    def window(self, top: int, bottom: int, left: int, right: int) -> tuple[bytes, int, int]:
+        """A JPEG of the photo's pixels in rows ``top`` to ``bottom`` and columns ``left`` to
+        ``right`` (exclusive; clipped to the photo), exactly as in the whole photo, and the
+        photo row and column its first pixel is: whole segments, reaching half an MCU beyond
+        the pixels asked for."""
+        step, wide = self.frame.mcu_height, self.frame.mcu_width
+        first = min(max(0, (top - step // 2) // step), self.mcu_rows - 1)
+        last = max(min(self.mcu_rows, math.ceil((bottom + step // 2) / step)), first + 1)
+        span = wide * self.interval  # px of a segment
+        start = min(max(0, (left - wide // 2) // span), self.per_row - 1)
+        end = max(min(self.per_row, math.ceil((right + wide // 2) / span)), start + 1)
         height = min(self.height, last * step) - first * step
-        header = bytearray(self.data[: self.rows[0][0]])  # up to the scan's data
+        width = min(self.width, end * span) - start * span
+        header = bytearray(self.data[: self.segments[0][0]])  # up to the scan's data
         at = self.frame.height_at
-        header[at : at + 2] = height.to_bytes(2, "big")
+        header[at : at + 4] = height.to_bytes(2, "big") + width.to_bytes(2, "big")
         parts = [bytes(header)]
-        for number, (start, end) in enumerate(self.rows[first:last]):
-            if number:
-                parts.append(bytes((0xFF, 0xD0 + (number - 1) % 8)))
-            parts.append(self.data[start:end])
+        number = 0
+        for row in range(first * self.per_row, last * self.per_row, self.per_row):
+            for start_at, end_at in self.segments[row + start : row + end]:
+                if number:
+                    parts.append(bytes((0xFF, 0xD0 + (number - 1) % 8)))
+                parts.append(self.data[start_at:end_at])
+                number += 1
         parts.append(_EOI)
-        return b"".join(parts), first * step
+        return b"".join(parts), first * step, start * span
 
 
 def row_index(data: bytes) -> RowIndex | None:
@@ -123,15 +163,17 @@ def _frame(segment: bytes, height_at: int) -> _Frame | None:
 
 
 def _indexed(data: bytes, entropy_at: int, frame: _Frame, interval: int) -> RowIndex | None:
-    """The index, if the scan from ``entropy_at`` has a restart marker per row of MCUs."""
+    """The index, if the scan from ``entropy_at`` has restart markers that cut each row of
+    MCUs into whole segments."""
     end = data.find(_EOI, entropy_at)  # entropy-coded data has no 0xFF 0xD9
-    if interval != math.ceil(frame.width / frame.mcu_width) or end < entropy_at:
+    if interval < 1 or frame.columns % interval or end < entropy_at:
         return None
     starts, ends = [entropy_at], []
     for restart in _RESTART.finditer(data, entropy_at, end):
         ends.append(restart.start())
         starts.append(restart.end())
     ends.append(end)
-    if len(starts) != math.ceil(frame.height / frame.mcu_height):
+    rows = math.ceil(frame.height / frame.mcu_height)
+    if len(starts) != rows * (frame.columns // interval):
         return None
-    return RowIndex(data, frame, list(zip(starts, ends, strict=True)))
+    return RowIndex(data, frame, interval, list(zip(starts, ends, strict=True)))

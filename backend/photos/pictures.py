@@ -109,8 +109,8 @@ def crop_around(
     ``(x, y)`` (stored-photo pixels) lands on pixel ``(size // 2, size // 2)`` of the crop,
     sub-pixel positions included, also near the photo's edges, where the crop is padded with
     grey. A thin white ring with four ticks, open in the middle, marks the point. Of a photo
-    stored here only the rows the crop shows are decoded (:mod:`.jpeg_rows`), with the same
-    pixels as the whole photo's.
+    stored here only the pixels the crop shows are decoded (:mod:`.jpeg_rows`), the same as
+    the whole photo's.
 
     ``rows``: ``row_index(data)``, when known already.
 
@@ -133,14 +133,14 @@ def crop_around(
         )
     centre = size // 2
     left, top = math.floor(x) - centre, math.floor(y) - centre  # the crop's first pixel
-    if rows is not None:  # a stored photo: only the rows the crop shows
-        band, first = rows.band(top, top + size + 1)
-        photo = decode_photo(band)
+    if rows is not None:  # a stored photo: only the pixels the crop shows
+        part, first, column = rows.window(top, top + size + 1, left, left + size + 1)
+        photo = decode_photo(part)
     else:
-        first = 0
+        first = column = 0
     # The whole pixels first (grey beyond the photo), one more row and column to
     # interpolate from; then the sub-pixel shift, which a whole-pixel tap does not need.
-    window = _window(photo, left, top - first, size + 1)
+    window = _window(photo, left - column, top - first, size + 1)
     shift = np.array([[1.0, 0.0, left - x + centre], [0.0, 1.0, top - y + centre]])
     warped = cv2.warpAffine(
         window,

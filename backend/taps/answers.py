@@ -51,10 +51,11 @@ class AnswerService:
         shown = self.shown(taps, found, levelled=snapshot.levelled)
         if found is None:
             return Answered(snapshot, taps, shown)
-        if not self.taps.put_answer(session_id, version, found, shown, self.clock()):
+        dumped = found.as_json()
+        if not self.taps.put_answer(session_id, version, dumped, shown, self.clock()):
             return None
         self.notifier.notify(session_id)
-        recorded = replace(snapshot, answer=found.as_json(), answer_version=version)
+        recorded = replace(snapshot, answer=dumped, answer_version=version)
         return Answered(recorded, taps, shown)
 
     def due(self, snapshot: Snapshot) -> Snapshot:

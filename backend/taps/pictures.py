@@ -67,14 +67,16 @@ class PictureService:
 
     def crop(self, participant: Participant, role: Role, landmark_id: int) -> bytes:
         """A small picture around one landmark of ``role``'s photo: "find this"."""
-        snapshot = self.answers.snapshot(participant.session_id)
-        taps = tap_sets(snapshot)[role]
-        tap = next((t for t in taps.landmarks if t.id == landmark_id), None) if taps else None
-        info = snapshot.photos.get(role)
+        # The tap and its photo's version alone: a crop is asked for each landmark found,
+        # and reading the whole session (its answer parsed, both tap sets validated) was a
+        # fifth of its CPU.
+        there, found = self.answers.taps.landmark(participant.session_id, role, landmark_id)
+        if not there:
+            raise RefusedError(ErrorCode.SESSION_NOT_FOUND, "This session has ended.")
         crop = (
             None
-            if tap is None or info is None
-            else self.photo_service.crop(participant, role, tap.x, tap.y, info.version)
+            if found is None
+            else self.photo_service.crop(participant, role, found.x, found.y, found.photo_version)
         )
         if crop is None:
             raise RefusedError(

@@ -219,7 +219,7 @@ def solved(
         return StoredAnswer(error=error.refusal)
     solution = result.model_dump(mode="json")
     guides = guidance.bands(result, task.order, taps, sizes, task.default_sigma)
-    told = answer(task, result, sizes)
+    told = answer(task, result, sizes, drawn=_known_drawings(task, known))
     for role, view in told.in_photo.items():
         view.bands = [LandmarkBand(id=i, **band.model_dump()) for i, band in guides[role].items()]
         view.misfits = misfits[role]
@@ -293,17 +293,29 @@ def fitted(
         return None
 
 
-def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]]) -> Answer:
+def answer(
+    task: Problem,
+    result: SolveResult,
+    sizes: dict[Role, tuple[int, int]],
+    *,
+    drawn: dict[Role, AnswerDrawing] | None = None,
+) -> Answer:
     """What each phone is told: where its friend is in its own photo. Photo 1's friend is
     the mark its phone tapped (refined by the fit), or the point the fit puts on its line,
     or (nothing marked) where the landmarks put them; photo 2's is what the fit found. Each
     gets the answer's drawing on its photo (``sizes``: width, height px), which it renders,
-    and the warnings about its photo or about both (never by their sentences)."""
+    and the warnings about its photo or about both (never by their sentences).
+
+    ``drawn``: the drawings made already for this very task and result (a known fit's),
+    used as they are when made for a photo of that size."""
     order = task.order
 
     def drawing(photo: PhotoNumber, points: list[Point]) -> AnswerDrawing:
-        landmarks = np.array(points, np.float64).reshape(-1, 2)
         size = sizes[order.role(photo)]
+        made = (drawn or {}).get(order.role(photo))
+        if made is not None and (made.width, made.height) == size:
+            return made
+        landmarks = np.array(points, np.float64).reshape(-1, 2)
         return answer_drawing(result, photo=photo, size=size, landmarks=landmarks, labels=task.ids)
 
     def warnings(photo: PhotoNumber) -> list[SolverWarning]:
@@ -348,6 +360,17 @@ def answer(task: Problem, result: SolveResult, sizes: dict[Role, tuple[int, int]
         used_heading=result.used_heading,
         in_photo={order.first: one, order.second: two},
     )
+
+
+def _known_drawings(task: Problem, known: KnownFit | None) -> dict[Role, AnswerDrawing] | None:
+    """The drawings of ``known``'s answer when it answered this very task: a drawing is the
+    result's, the task's landmarks and the photo's size alone, so it is the same again.
+    Half of a search's tap writes change no matched landmark (one phone taps a landmark the
+    other has not yet), and drawing both photos was a sixth of such a write's CPU."""
+    if known is None or known.task != task or known.stored.answer is None:
+        return None
+    views = known.stored.answer.in_photo.items()
+    return {role: view.drawing for role, view in views if view.drawing is not None}
 
 
 def _others(positions: list[Point | None], answer: Point | None) -> list[Point]:

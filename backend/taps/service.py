@@ -42,13 +42,15 @@ class TapService:
         found = self.answers.solve(after, now, previous=(snapshot, before))
         unanswered = self.answers.shown(now, None, levelled=snapshot.levelled)
         told = None if found is None else self.answers.shown(now, found, levelled=snapshot.levelled)
+        # Dumped once: stored, and kept as the session's answer below.
+        dumped = None if found is None or told is None else found.as_json()
         version, answered = self.taps.put_taps(
             participant,
             taps,
             self.clock(),
             read=snapshot.version,
             needed=unanswered.landmarks_needed,
-            answer=None if found is None or told is None else (found, told),
+            answer=None if dumped is None or told is None else (dumped, told),
         )
         self.notifier.notify(participant.session_id)
         if version != snapshot.version + 1:  # overtaken: answer the session as it now is
@@ -56,7 +58,7 @@ class TapService:
         recorded = replace(
             after,
             version=version,
-            answer=found.as_json() if answered and found is not None else None,
+            answer=dumped if answered else None,
             answer_version=version if answered else None,
         )
         # Nothing more is due: the answer is recorded, or these taps give none.

@@ -47,10 +47,44 @@ def test_a_band_of_a_stored_photo_is_its_rows_bit_for_bit(width: int, height: in
         assert np.array_equal(pixels[top - first : bottom - first], whole[top:bottom])
 
 
+@pytest.mark.parametrize(("width", "height"), SIZES)
+def test_a_window_of_a_stored_photo_is_its_pixels_bit_for_bit(width: int, height: int) -> None:
+    data = noisy_photo(width, height)
+    rows = row_index(data)
+    assert rows is not None
+    assert rows.interval * rows.frame.mcu_width <= 64  # a few MCUs per segment
+    whole = decode_photo(data)
+    for top, left in [(0, 0), (17, 33), (height - 50, width - 61), (height // 2, width // 3)]:
+        bottom, right = min(top + 50, height), min(left + 61, width)
+        part, first, column = rows.window(top, bottom, left, right)
+        pixels = decode_photo(part)
+        assert first <= top
+        assert column <= left
+        assert pixels.shape[1] < width or width <= 3 * 64  # not the whole of each row
+        shown = pixels[top - first : bottom - first, left - column : right - column]
+        assert np.array_equal(shown, whole[top:bottom, left:right])
+
+
+def test_a_photo_stored_with_a_marker_per_row_is_cropped_by_rows() -> None:
+    """Photos stored before the segments: one restart marker per row of MCUs."""
+    pixels = decode_photo(noisy_photo(1600, 1200))
+    buffer = io.BytesIO()
+    Image.fromarray(pixels[:, :, ::-1]).save(
+        buffer, format="JPEG", quality=90, restart_marker_rows=1
+    )
+    data = buffer.getvalue()
+    rows = row_index(data)
+    assert rows is not None
+    assert rows.per_row == 1
+    whole = encode_image(decode_photo(data), format="png")
+    for x, y in [(800.5, 600.25), (3.7, 1198.2), (1599, 117)]:
+        assert crop_around(data, x, y) == crop_around(whole, x, y)
+
+
 def test_a_grey_photo_is_stored_with_rows_too() -> None:
     rows = row_index(noisy_photo(200, 150, grey=True))
     assert rows is not None
-    assert len(rows.rows) == 150 // 16 + 1  # stored as RGB: 16 px rows of MCUs
+    assert rows.mcu_rows == 150 // 16 + 1  # stored as RGB: 16 px rows of MCUs
 
 
 @pytest.mark.parametrize(
@@ -74,7 +108,8 @@ def test_what_is_not_a_stored_photo_has_no_row_index() -> None:
 
     assert row_index(jpeg()) is None  # no restart markers
     assert row_index(jpeg(progressive=True, restart_marker_rows=1)) is None
-    assert row_index(jpeg(restart_marker_blocks=2)) is None  # markers, but not per row
+    assert row_index(jpeg(restart_marker_blocks=4)) is None  # markers across rows (6 MCUs)
+    assert row_index(jpeg(restart_marker_blocks=2)) is not None  # 3 whole segments a row
     assert row_index(jpeg(restart_marker_rows=1)) is not None
     assert row_index(b"") is None
     assert row_index(b"\xff\xd8\xff") is None

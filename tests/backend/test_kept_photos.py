@@ -1,4 +1,5 @@
-"""A replica keeps the photos it read lately by name, a minute at most, within its bytes."""
+"""A replica keeps the photos it read lately by name, a minute after their last use at most,
+within its bytes."""
 
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ class Reads:
         return StoredPhoto(data=bytes(self.size), width=4, height=3, scale=1.0)
 
 
-def test_a_photo_is_read_once_by_name_and_again_after_a_minute() -> None:
+def test_a_photo_is_read_once_by_name_and_again_a_minute_after_its_last_use() -> None:
     now = [0.0]
     kept = KeptPhotos(max_bytes=10_000, max_seconds=60, clock=lambda: now[0])
     reads = Reads()
@@ -36,13 +37,17 @@ def test_a_photo_is_read_once_by_name_and_again_after_a_minute() -> None:
     kept.get(("s", "joiner", 3), reads)
     assert reads.count == 3
     now[0] = 59.0
-    assert kept.get(("s", "starter", 3), reads) is first
+    assert kept.get(("s", "starter", 3), reads) is first  # used: kept until 119 s
     now[0] = 61.0
-    assert kept.get(("s", "starter", 3), reads) is not first
+    assert kept.get(("s", "starter", 3), reads) is first
+    assert kept.get(("s", "starter", 5), reads) is not None  # unused since 0 s: read again
     assert reads.count == 4
+    now[0] = 121.5
+    assert kept.get(("s", "starter", 3), reads) is not first
+    assert reads.count == 5
 
 
-def test_the_first_read_goes_first_when_the_bytes_run_out() -> None:
+def test_the_least_recently_used_goes_first_when_the_bytes_run_out() -> None:
     kept = KeptPhotos(max_bytes=2500, max_seconds=60, clock=lambda: 0.0)
     reads = Reads(size=1000)
     for version in (1, 2, 3):
@@ -50,11 +55,17 @@ def test_the_first_read_goes_first_when_the_bytes_run_out() -> None:
     kept.get(("s", "starter", 3), reads)
     kept.get(("s", "starter", 2), reads)
     assert reads.count == 3
-    kept.get(("s", "starter", 1), reads)  # gone: the first read
+    kept.get(("s", "starter", 1), reads)  # gone: the first read, unused since
     assert reads.count == 4
+    kept.get(("s", "starter", 2), reads)  # kept: used after 3, which made room for 1
+    assert reads.count == 4
+    kept.get(("s", "starter", 3), reads)
+    assert reads.count == 5
+    kept.get(("s", "starter", 1), reads)  # gone for 3: 2 was used after it
+    assert reads.count == 6
     assert kept.get(("s", "starter", 9), Reads(size=3000)) is not None  # too big: not kept
     assert kept.get(("s", "starter", 9), reads) is not None
-    assert reads.count == 5
+    assert reads.count == 7
 
 
 def test_no_photo_is_not_kept() -> None:

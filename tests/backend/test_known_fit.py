@@ -49,12 +49,23 @@ def test_answers_from_a_known_fit_are_those_of_solving_again(
         used.append(known.task)
         return remembered(known)
 
+    drawn = []
+    draw = problem.answer_drawing
+
+    def drawing(*args: Any, **kwargs: Any) -> Any:
+        drawn.append(kwargs["photo"])
+        return draw(*args, **kwargs)
+
     monkeypatch.setattr(problem.KnownFit, "result", result)
+    monkeypatch.setattr(problem, "answer_drawing", drawing)
     with_known = played(client, temple_photos)
     assert len(used) >= 6  # the starter's unmatched landmarks, the joiner's judged ones
+    drawn_with_known = len(drawn)
     monkeypatch.setattr(problem, "known_fit", lambda *_, **__: None)
+    drawn.clear()
     solved_again = played(client, temple_photos)
-    assert with_known == solved_again
+    assert with_known == solved_again  # the known fit's drawings reused are those drawn again
+    assert drawn_with_known < len(drawn)  # not drawn again for a known fit (here 12 of 18)
     flagged = [shown["answer"]["in_photo"]["joiner"]["misfits"] for shown in with_known[9:]]
     assert flagged == [[5], [5], [5], [], []]
     assert np.isfinite(with_known[-1]["answer"]["in_photo"]["joiner"]["friend"]).all()
