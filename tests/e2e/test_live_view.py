@@ -33,11 +33,20 @@ import httpx2
 import numpy as np
 import pytest
 from chromium_phone import ChromiumPhone
-from phone import Phone, expect
+from phone import Element, Phone, expect
 from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
-from test_two_phones import PAIR, cannot_see, find_landmarks, reported_position, scene, temple
+from test_two_phones import (
+    PAIR,
+    cannot_see,
+    find_landmarks,
+    reported_position,
+    scene,
+    session_state,
+    temple,
+)
 
+from testbed.scenes import Scene
 from testbed.y4m import write_y4m
 
 FILM_DIAGONAL_MM = math.hypot(36.0, 24.0)
@@ -183,6 +192,36 @@ def put_taps(server: str, starter: dict[str, str], taps: dict[str, Any]) -> None
     httpx2.put(url, headers=auth, json=taps).raise_for_status()
 
 
+def show_me(phone: Phone) -> tuple[Element, float]:
+    """Show me tapped, held as at the shutter: the view, live and anchored, and how long
+    after the tap its first marker was drawn, ms."""
+    phone.evaluate(MARK_TAP)
+    phone.get_by_test_id("show-me").tap()
+    live = phone.get_by_test_id("live-view")
+    expect(live).to_have_attribute("data-phase", "live")
+    expect(live).to_have_attribute("data-anchored", "true")
+    return live, opening_ms(phone)
+
+
+def answered(
+    server: str, starter: dict[str, str], joiner: Phone, truth: Scene, found: np.ndarray
+) -> dict[str, Any]:
+    """The starter (over the API) marks the joiner and taps ``truth``'s landmarks; the
+    joiner, who cannot see the starter, finds them at ``found`` (its photo's px): the
+    joiner's part of the answer, a point."""
+    landmarks = [
+        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(truth.landmarks1, 1)
+    ]
+    friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
+    put_taps(server, starter, {"friend": friend1, "landmarks": landmarks})
+    cannot_see(joiner)
+    find_landmarks(joiner, found)
+    _, _, how = reported_position(joiner)
+    assert how == "solved"
+    mine: dict[str, Any] = session_state(joiner)["answer"]["in_photo"]["joiner"]
+    return mine
+
+
 def expected_on_screen(
     phone: Phone,
     friend: np.ndarray,
@@ -302,33 +341,12 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
 
     # The starter marks the joiner and taps three landmarks; the joiner finds them.
-    landmarks = [
-        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(truth.landmarks1, 1)
-    ]
-    friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
-    put_taps(server, starter, {"friend": friend1, "landmarks": landmarks})
-    cannot_see(joiner)
-    find_landmarks(joiner, truth.landmarks2)
-    _, _, how = reported_position(joiner)
-    assert how == "solved"
-    state = joiner.evaluate(
-        """async () => {
-            const { session_id, token } = JSON.parse(localStorage.getItem("buddy-search.session"));
-            const headers = { Authorization: `Bearer ${token}` };
-            return (await fetch(`/api/sessions/${session_id}`, { headers })).json();
-        }"""
-    )
-    mine = state["answer"]["in_photo"]["joiner"]
+    mine = answered(server, starter, joiner, truth, truth.landmarks2)
     friend = np.array(mine["friend"], dtype=float)
     focal = mine["focal_35mm"] / FILM_DIAGONAL_MM * math.hypot(640, 480)
 
     # Show me, held as at the shutter: the marker on the friend, drawn within a second.
-    joiner.evaluate(MARK_TAP)
-    joiner.get_by_test_id("show-me").tap()
-    live = joiner.get_by_test_id("live-view")
-    expect(live).to_have_attribute("data-phase", "live")
-    expect(live).to_have_attribute("data-anchored", "true")
-    opened = opening_ms(joiner)
+    live, opened = show_me(joiner)
     print(f"Show me: the first marker over the live video {opened:.0f} ms after the tap")
     assert opened < OPENING_BOUND_MS, opened
     # The friend is off to the right of the photo's centre, beyond the screen's +-12 degrees

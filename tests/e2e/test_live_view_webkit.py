@@ -49,19 +49,18 @@ from phone import Phone, expect
 from test_in_app_camera import ASK_MOTION, SPY, still_reading, take_photo
 from test_live_view import (
     FILM_DIAGONAL_MM,
-    MARK_TAP,
     OPENING_BOUND_MS,
     OPENING_STEPS,
     TOLERANCE_DEG,
+    answered,
     degrees_apart,
     expected_on_screen,
     marker,
-    opening_ms,
-    put_taps,
     shift_clock,
+    show_me,
     starter_by_api,
 )
-from test_two_phones import cannot_see, find_landmarks, reported_position, scene
+from test_two_phones import scene
 
 pytestmark = pytest.mark.engines("webkit")
 
@@ -137,35 +136,15 @@ def test_show_me_in_webkit(server: str, pixel: Phone) -> None:
     centre, scene_centre = np.array([width, height]) / 2, np.array(SCENE_SIZE) / 2
 
     # The starter marks the joiner and taps three landmarks; the joiner finds them.
-    landmarks = [
-        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(truth.landmarks1, 1)
-    ]
-    friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
-    put_taps(server, starter, {"friend": friend1, "landmarks": landmarks})
-    cannot_see(pixel)
-    find_landmarks(pixel, centre + k * (np.asarray(truth.landmarks2, dtype=float) - scene_centre))
-    _, _, how = reported_position(pixel)
-    assert how == "solved"
-    state = pixel.evaluate(
-        """async () => {
-            const { session_id, token } = JSON.parse(localStorage.getItem("buddy-search.session"));
-            const headers = { Authorization: `Bearer ${token}` };
-            return (await fetch(`/api/sessions/${session_id}`, { headers })).json();
-        }"""
-    )
-    mine = state["answer"]["in_photo"]["joiner"]
+    found = centre + k * (np.asarray(truth.landmarks2, dtype=float) - scene_centre)
+    mine = answered(server, starter, pixel, truth, found)
     friend = np.array(mine["friend"], dtype=float)
     focal = mine["focal_35mm"] / FILM_DIAGONAL_MM * math.hypot(width, height)
     ahead = math.degrees(math.atan((friend[0] - width / 2) / focal))
     print(f"the friend {ahead:.1f} degrees right of the photo's centre")
 
     # Show me, held as at the shutter.
-    pixel.evaluate(MARK_TAP)
-    pixel.get_by_test_id("show-me").tap()
-    live = pixel.get_by_test_id("live-view")
-    expect(live).to_have_attribute("data-phase", "live")
-    expect(live).to_have_attribute("data-anchored", "true")
-    opened = opening_ms(pixel)
+    live, opened = show_me(pixel)
     print(f"Show me (WebKit): the first marker {opened:.0f} ms after the tap")
     video = pixel.evaluate(
         """() => {
