@@ -14,10 +14,12 @@
 import { tapSigma, type Aim } from "./precision";
 import type { Tap } from "./session";
 import {
+  NO_INSETS,
   isInsidePhoto,
   panBy,
   pinchTransform,
   toPhoto,
+  type Insets,
   type Point,
   type Size,
   type ViewTransform,
@@ -109,6 +111,7 @@ export function fingersMove(
   view: Size,
   photo: Size,
   zoomed: boolean,
+  slack: Insets = NO_INSETS,
 ): { gesture: Gesture; transform: ViewTransform | null } {
   switch (gesture.kind) {
     case "press": {
@@ -119,7 +122,7 @@ export function fingersMove(
       if (gesture.mouse && moved && !gesture.grab) {
         // A mouse drag pans (when zoomed); it never places.
         if (!zoomed) return { gesture: { kind: "pan", finger: gesture.finger, last: at }, transform: null };
-        const panned = panBy(transform, at.x - gesture.start.x, at.y - gesture.start.y, view, photo);
+        const panned = panBy(transform, at.x - gesture.start.x, at.y - gesture.start.y, view, photo, slack);
         return { gesture: { kind: "pan", finger: gesture.finger, last: at }, transform: panned };
       }
       return { gesture: { ...gesture, at, moved }, transform: null };
@@ -128,12 +131,12 @@ export function fingersMove(
       const a = fingers.get(gesture.fingers[0]);
       const b = fingers.get(gesture.fingers[1]);
       if (!a || !b) return { gesture, transform: null };
-      return { gesture, transform: pinchTransform(gesture.start, gesture.from, [a, b], view, photo) };
+      return { gesture, transform: pinchTransform(gesture.start, gesture.from, [a, b], view, photo, slack) };
     }
     case "pan": {
       const at = fingers.get(gesture.finger);
       if (!at) return { gesture, transform: null };
-      const panned = zoomed ? panBy(transform, at.x - gesture.last.x, at.y - gesture.last.y, view, photo) : null;
+      const panned = zoomed ? panBy(transform, at.x - gesture.last.x, at.y - gesture.last.y, view, photo, slack) : null;
       return { gesture: { ...gesture, last: at }, transform: panned };
     }
     default:

@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
-import { FOCUS_ZOOM, PanZoom, type Frames, type PanZoomState } from "./panZoom";
+import { FOCUS_ZOOM, PanZoom, QUIET_MS, type Frames, type PanZoomState } from "./panZoom";
 import { GLIDE_MS, boxInView, frameTarget, type Box } from "./reframe";
-import { fitTransform, isFitted, toScreen, zoomAbout, type Size } from "./viewTransform";
+import { fitTransform, isFitted, openingTransform, toScreen, zoomAbout, type Size } from "./viewTransform";
 
 const phone = { width: 412, height: 560 };
 const photo = { width: 640, height: 480 };
@@ -52,14 +52,28 @@ function zoomedOnBottomRight(panZoom: PanZoom): void {
 }
 
 describe("the view's size", () => {
-  it("is unknown until measured, then the photo is fitted", () => {
+  it("is unknown until measured, then the photo opens", () => {
     const { panZoom } = made(null);
     expect(panZoom.now()).toBeNull();
     panZoom.resize({ width: 0, height: 300 }); // not laid out yet
     expect(panZoom.now()).toBeNull();
     panZoom.resize(phone);
+    expect(panZoom.state.transform).toEqual(openingTransform(phone, photo));
+    expect(panZoom.now()).toEqual({ size: phone, transform: openingTransform(phone, photo), slack: NO_INSETS, photo });
+  });
+
+  it("a landscape photo on an upright phone opens filling its height, and opens again when turned", () => {
+    const { panZoom } = made(null);
+    panZoom.resize(phone);
+    const opened = panZoom.state.transform!;
+    expect(photo.height * opened.scale).toBeCloseTo(phone.height); // the height filled
+    expect(isFitted(opened, phone, photo)).toBe(false); // the whole photo is a button away
+    const turned = { width: 560, height: 412 };
+    panZoom.resize(turned); // a landscape view: the photo fits it well, whole
+    expect(panZoom.state.transform).toEqual(fitTransform(turned, photo));
+    panZoom.fit();
+    panZoom.resize(phone); // once fitted by hand, it stays the whole photo
     expect(panZoom.state.transform).toEqual(fitTransform(phone, photo));
-    expect(panZoom.now()).toEqual({ size: phone, transform: fitTransform(phone, photo), photo });
   });
 
   it("a fitted view fits again when turned; a zoomed one stays zoomed", () => {
@@ -104,6 +118,24 @@ describe("re-checking a landmark", () => {
 });
 
 describe("bringing the answer into view", () => {
+  it("brings it out again from under a band that grew, or after the phone turned", () => {
+    const { panZoom, frames } = made();
+    const top: Box = { centre: { x: 320, y: 30 }, half: { x: 20, y: 20 } };
+    panZoom.answer(top, false);
+    frames.run(GLIDE_MS);
+    expect(boxInView(top, panZoom.state.transform!, phone, NO_INSETS)).toBe(true);
+    // The status grows over the photo's top (a warning came): the view moves down.
+    const status = { top: 200, right: 12, bottom: 12, left: 12 };
+    panZoom.setInsets(status);
+    frames.run(GLIDE_MS);
+    expect(boxInView(top, panZoom.state.transform!, phone, status)).toBe(true);
+    // The phone turned: the view is measured again, and the answer is still clear.
+    const turned = { width: 560, height: 412 };
+    panZoom.resize(turned);
+    frames.run(GLIDE_MS);
+    expect(boxInView(top, panZoom.state.transform!, turned, status)).toBe(true);
+  });
+
   it("glides to it, published as gliding until the glide ends", () => {
     const { panZoom, frames } = made();
     zoomedOnBottomRight(panZoom);
@@ -130,7 +162,14 @@ describe("bringing the answer into view", () => {
     frames.run(GLIDE_MS * 2);
     expect(panZoom.state.transform).toEqual(during);
     panZoom.gestureEnded();
-    frames.run(GLIDE_MS * 2);
+    // ...and keeps still a moment more: the finger may be about to tap again.
+    frames.run(QUIET_MS / 2);
+    expect(panZoom.state.transform).toEqual(during);
+    panZoom.gestureStarted(); // it does: the wait starts again when it lifts
+    panZoom.gestureEnded();
+    frames.run(QUIET_MS * 0.9);
+    expect(panZoom.state.transform).toEqual(during);
+    frames.run(QUIET_MS / 2 + GLIDE_MS * 2);
     expect(boxInView(CORNER, panZoom.state.transform!, phone, NO_INSETS)).toBe(true);
   });
 

@@ -7,12 +7,15 @@
  */
 
 import type { ViewNow } from "./pointers";
-import { GLIDE_MS, easeInOut, frameTarget, glide, movedNoticeably, type Box, type Insets } from "./reframe";
+import { GLIDE_MS, boxInView, easeInOut, frameTarget, glide, movedNoticeably, overhang, shownPart, slackFor, type Box } from "./reframe";
 import {
+  NO_INSETS,
   centreOn,
   clampTransform,
   fitTransform,
   isFitted,
+  openingTransform,
+  type Insets,
   type Point,
   type Size,
   type ViewTransform,
@@ -20,6 +23,10 @@ import {
 
 /** A re-checked landmark is shown zoomed in at least this far, relative to the fitted view. */
 export const FOCUS_ZOOM = 3;
+/** After a finger lifts, the view keeps still this long before it moves to the answer: it
+ * never moves under a finger about to tap again (landmarks tapped one after another while
+ * the answer comes in), ms. */
+export const QUIET_MS = 1200;
 
 /** Animation frames (the browser's requestAnimationFrame, or a test's). */
 export interface Frames {
@@ -34,9 +41,10 @@ export interface PanZoomState {
   readonly transform: ViewTransform | null;
   /** Whether the view is gliding to the answer. */
   readonly gliding: boolean;
+  /** Whether an answer waits for the fingers' quiet ({@link QUIET_MS}) to be brought into view. */
+  readonly settling?: boolean;
 }
 
-const NO_INSETS: Insets = { top: 0, right: 0, bottom: 0, left: 0 };
 
 function sameSize(a: Size | null, b: Size): boolean {
   return !!a && a.width === b.width && a.height === b.height;
@@ -48,8 +56,16 @@ export class PanZoom {
   /** The answer last brought into view, and one waiting for a gesture to end. */
   private shown: Box | null = null;
   private pending: Box | null = null;
-  /** Screen px along each side covered by the status: the answer is brought into the rest. */
-  insets: Insets = NO_INSETS;
+  /** Screen px along each side covered by words and controls, and a margin: the answer is
+   * brought into the rest, and the photo's edge may come in that far (clampTransform). */
+  private insets: Insets = NO_INSETS;
+  /** How far the answer last brought into view reaches past the photo's edges, photo px. */
+  private reach: Insets = NO_INSETS;
+  /** Whether the view is as the photo opened: nothing has moved it since. */
+  private opening = true;
+  /** When the last gesture ended (frames' clock, ms), and the frame waiting for the quiet. */
+  private lastLift = Number.NEGATIVE_INFINITY;
+  private quietFrame: number | null = null;
 
   constructor(
     private photo: Size,
@@ -64,34 +80,96 @@ export class PanZoom {
   /** The view for the gestures; null until measured. */
   now(): ViewNow | null {
     const { view, transform } = this.current;
-    return view && transform ? { size: view, transform, photo: this.photo } : null;
+    return view && transform ? { size: view, transform, photo: this.photo, slack: this.slack(transform.scale) } : null;
   }
 
-  /** The view was measured at `size`: a zoomed view stays zoomed (clamped), a fitted one refits. */
+  /**
+   * The bands covered along the view's sides changed (the status grew, the phone turned):
+   * the answer last brought into view is brought out from under them again; `busy`: after
+   * the gesture in progress.
+   */
+  setInsets(insets: Insets, busy = false): void {
+    const before = this.insets;
+    this.insets = insets;
+    const same = (["top", "right", "bottom", "left"] as const).every((side) => before[side] === insets[side]);
+    if (!same) this.keepInView(busy);
+  }
+
+  /**
+   * The view was measured at `size`: a photo as it opened opens again at the new size
+   * (openingTransform), a zoomed view stays zoomed (clamped), a fitted one refits.
+   */
   resize(size: Size): void {
     if (size.width < 1 || size.height < 1) return;
     const { view: before, transform } = this.current;
     if (sameSize(before, size)) return;
-    const keepZoom = transform && before && !isFitted(transform, before, this.photo);
-    const next = keepZoom ? clampTransform(transform, size, this.photo) : fitTransform(size, this.photo);
+    const keepZoom = !this.opening && transform && before && !isFitted(transform, before, this.photo);
+    const next = keepZoom
+      ? clampTransform(transform, size, this.photo, this.slack(transform.scale))
+      : this.opening
+        ? openingTransform(size, this.photo)
+        : fitTransform(size, this.photo);
     this.update({ view: size, transform: next });
+    this.keepInView(false);
   }
 
-  /** A new photo: the whole of it. */
+  /** How far the photo's edge may come in at `scale`: the bands, and what the answer's frame
+   * needs beyond them (reframe.ts's slackFor). */
+  private slack(scale: number): Insets {
+    return slackFor(this.insets, this.reach, scale);
+  }
+
+  /** The answer last brought into view, out of sight or under a band now: shown again. */
+  private keepInView(busy: boolean): void {
+    const { view, transform } = this.current;
+    const box = this.shown;
+    if (!view || !transform || !box) return;
+    if (boxInView(shownPart(box, this.photo), transform, view, this.insets)) return;
+    this.request(box, busy);
+  }
+
+  /** Bring `box` into view: now, or once the gesture in progress (`busy`) has ended and the
+   * view has been quiet for {@link QUIET_MS}. */
+  private request(box: Box, busy: boolean): void {
+    this.pending = box;
+    if (busy) return;
+    const tick = (time: number): void => {
+      this.quietFrame = null;
+      if (time < this.lastLift + QUIET_MS) {
+        this.quietFrame = this.frames.request(tick);
+        return;
+      }
+      const waiting = this.pending;
+      this.pending = null;
+      this.update({ settling: false });
+      if (waiting) this.bringIntoView(waiting);
+    };
+    if (this.quietFrame !== null) return;
+    if (this.frames.now() >= this.lastLift + QUIET_MS) tick(this.frames.now());
+    else {
+      this.quietFrame = this.frames.request(tick);
+      this.update({ settling: true });
+    }
+  }
+
+  /** A new photo: as it opens (openingTransform), the whole of it unless that is small. */
   showPhoto(photo: Size): void {
     this.photo = photo;
+    this.opening = true;
     const { view } = this.current;
-    if (view) this.update({ transform: fitTransform(view, photo) });
+    if (view) this.update({ transform: openingTransform(view, photo) });
   }
 
   /** Where a gesture moved the view (already within limits). */
   set(transform: ViewTransform): void {
+    this.opening = false;
     this.update({ transform });
   }
 
   /** The whole photo again (the "whole photo" button). */
   fit(): void {
     const { view } = this.current;
+    this.opening = false;
     this.stopGlide();
     if (view) this.update({ transform: fitTransform(view, this.photo) });
   }
@@ -100,9 +178,10 @@ export class PanZoom {
   focus(p: Point): void {
     const { view, transform } = this.current;
     if (!view || !transform) return;
+    this.opening = false;
     this.stopGlide();
     const scale = Math.max(transform.scale, fitTransform(view, this.photo).scale * FOCUS_ZOOM);
-    this.update({ transform: centreOn(p, scale, view, this.photo) });
+    this.update({ transform: centreOn(p, scale, view, this.photo, this.slack(scale)) });
   }
 
   /**
@@ -113,15 +192,23 @@ export class PanZoom {
     if (!this.now()) return;
     if (!movedNoticeably(this.shown, box)) return;
     this.shown = box;
-    if (busy) this.pending = box;
-    else this.bringIntoView(box);
+    this.request(box, busy);
   }
 
-  /** After a gesture: an answer that arrived during it is brought into view now. */
+  /** A finger landed: a glide stops where it is, and an answer waiting stays waiting. */
+  gestureStarted(): void {
+    this.stopGlide();
+    if (this.quietFrame !== null) this.frames.cancel(this.quietFrame);
+    this.quietFrame = null;
+    if (this.current.settling) this.update({ settling: false });
+  }
+
+  /** After a gesture: an answer that arrived during it is brought into view once the view
+   * has been quiet for {@link QUIET_MS}. */
   gestureEnded(): void {
+    this.lastLift = this.frames.now();
     const box = this.pending;
-    this.pending = null;
-    if (box) this.bringIntoView(box);
+    if (box) this.request(box, false);
   }
 
   /** Glide so that `box` (photo px) is in sight with room around it (reframe.ts). */
@@ -129,15 +216,18 @@ export class PanZoom {
     const { view: size, transform: from } = this.current;
     if (!size || !from) return;
     const to = frameTarget(box, from, size, this.photo, this.insets);
+    this.reach = overhang(shownPart(box, this.photo), this.photo);
     this.stopGlide();
     if (!to) return;
+    this.opening = false;
     const start = this.frames.now();
     this.update({ gliding: true });
     const step = (time: number): void => {
       const k = easeInOut((time - start) / GLIDE_MS);
       const done = k >= 1;
       this.glideFrame = done ? null : this.frames.request(step);
-      this.update({ transform: clampTransform(glide(from, to, k, size), size, this.photo), gliding: !done });
+      const at = glide(from, to, k, size);
+      this.update({ transform: clampTransform(at, size, this.photo, this.slack(at.scale)), gliding: !done });
     };
     this.glideFrame = this.frames.request(step);
   }

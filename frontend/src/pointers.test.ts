@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import { LOUPE_AIM_MS, loupeTarget, type Gesture, type Grab, type Outcome } from "./gestures";
 import { PointerGestures, listen, type GestureHost, type PointerInput, type ViewNow } from "./pointers";
-import { fitTransform, zoomAbout, type Point, type ViewTransform } from "./viewTransform";
+import { NO_INSETS, fitTransform, zoomAbout, type Point, type ViewTransform } from "./viewTransform";
 
 const size = { width: 412, height: 560 };
 const photo = { width: 640, height: 480 };
@@ -21,7 +21,7 @@ class View implements GestureHost {
     this.transform = transform;
   }
   now(): ViewNow {
-    return { transform: this.transform, size, photo };
+    return { transform: this.transform, size, photo, slack: NO_INSETS };
   }
   origin(): Point {
     return ORIGIN;

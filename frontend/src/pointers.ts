@@ -25,7 +25,7 @@ import {
   type Grab,
   type Outcome,
 } from "./gestures";
-import { isFitted, zoomAbout, type Point, type Size, type ViewTransform } from "./viewTransform";
+import { isFitted, zoomAbout, type Insets, type Point, type Size, type ViewTransform } from "./viewTransform";
 
 /** What the gestures read of a pointer event (a PointerEvent is one). */
 export interface PointerInput {
@@ -56,6 +56,8 @@ export interface ViewNow {
   readonly transform: ViewTransform;
   readonly size: Size;
   readonly photo: Size;
+  /** The bands covered by words and controls: the photo's edge may come in that far. */
+  readonly slack: Insets;
 }
 
 /** The photo view's side: what the gestures read of it and tell it. */
@@ -134,7 +136,7 @@ export class PointerGestures {
     if (!view) return false;
     this.host.started();
     const factor = wheelFactor(event.deltaY, event.deltaMode);
-    this.host.transformed(zoomAbout(view.transform, factor, this.local(event), view.size, view.photo));
+    this.host.transformed(zoomAbout(view.transform, factor, this.local(event), view.size, view.photo, view.slack));
     return true;
   }
 
@@ -151,7 +153,7 @@ export class PointerGestures {
     const view = this.host.now();
     if (!view) return;
     const zoomed = !isFitted(view.transform, view.size, view.photo);
-    const next = fingersMove(this.gesture, this.fingers, view.transform, view.size, view.photo, zoomed);
+    const next = fingersMove(this.gesture, this.fingers, view.transform, view.size, view.photo, zoomed, view.slack);
     if (next.transform) this.host.transformed(next.transform);
     this.set(next.gesture);
   }

@@ -33,6 +33,22 @@ describe("bringing the answer into view", () => {
     if (target) expect(toScreen(target, box.centre).y - 15 * target.scale).toBeGreaterThan(250);
   });
 
+  it("moves a photo as tall as the view down from under the status to show its very top", () => {
+    // A portrait photo, fitted: its top is the view's top, and zooming in alone would
+    // never bring a box at its top edge below the status.
+    const portrait = { width: 300, height: 600 };
+    const insets = { top: 120, right: 12, bottom: 12, left: 12 };
+    const top: Box = { centre: { x: 150, y: 40 }, half: { x: 20, y: 30 } };
+    const fitted = fitTransform(VIEW, portrait);
+    expect(fitted.ty).toBe(0);
+    const target = frameTarget(top, fitted, VIEW, portrait, insets);
+    expect(target).not.toBeNull();
+    if (!target) return;
+    expect(boxInView(top, target, VIEW, insets)).toBe(true);
+    expect(target.scale).toBeCloseTo(fitted.scale); // moved, not zoomed
+    expect(target.ty).toBeLessThanOrEqual(insets.top); // the photo's edge no further in than the band
+  });
+
   it("aims at the nearest border point of an answer outside the photo", () => {
     const clipped = clipToPhoto({ centre: { x: 900, y: 100 }, half: { x: 10, y: 10 } }, PHOTO);
     expect(clipped.centre).toEqual({ x: 640, y: 100 });

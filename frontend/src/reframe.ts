@@ -6,12 +6,13 @@
  */
 
 import {
-  centreOn,
   clampTransform,
   fitTransform,
+  isInsidePhoto,
   scaleLimits,
   toPhoto,
   type Point,
+  type Insets,
   type Size,
   type ViewTransform,
 } from "./viewTransform";
@@ -22,13 +23,7 @@ export interface Box {
   half: { x: number; y: number };
 }
 
-/** Screen px along each side of the view hidden under the status or kept as a margin. */
-export interface Insets {
-  top: number;
-  right: number;
-  bottom: number;
-  left: number;
-}
+export type { Insets } from "./viewTransform";
 
 /** Room around the answer when the view reframes: the box shown this many times its size. */
 export const CONTEXT = 4;
@@ -61,7 +56,8 @@ export function boxInView(box: Box, t: ViewTransform, view: Size, insets: Insets
  * {@link CONTEXT} times the box in the clear area, never in further than `current`.
  */
 export function frameTarget(box: Box, current: ViewTransform, view: Size, photo: Size, insets: Insets): ViewTransform | null {
-  const clipped = clipToPhoto(box, photo);
+  const clipped = shownPart(box, photo);
+  const reach = overhang(clipped, photo);
   if (boxInView(clipped, current, view, insets)) return null;
   const area = clearArea(view, insets);
   const width = area.right - area.left;
@@ -69,21 +65,56 @@ export function frameTarget(box: Box, current: ViewTransform, view: Size, photo:
   const fits = Math.min(width / (2 * CONTEXT * clipped.half.x), height / (2 * CONTEXT * clipped.half.y));
   const fitted = fitTransform(view, photo).scale;
   const chosen = Math.max(fitted, Math.min(current.scale, fits));
-  // The box's centre in the middle of the clear area, not of the whole view.
-  const shift = { x: (area.left + area.right - view.width) / 2, y: (area.top + area.bottom - view.height) / 2 };
-  const at = (scale: number): ViewTransform => {
-    const centred = centreOn(clipped.centre, scale, view, photo);
-    return clampTransform({ scale, tx: centred.tx + shift.x, ty: centred.ty + shift.y }, view, photo);
-  };
-  // A fitted photo cannot move (it is centred), nor a photo's edge past the view's: zoom in
-  // a little further when that is what takes the box out from under the status, as far as
-  // the box still fits.
+  // The box's centre in the middle of the clear area, not of the whole view; the photo's
+  // edge may come in as far as the covered bands (clampTransform), not past them.
+  const middle = { x: (area.left + area.right) / 2, y: (area.top + area.bottom) / 2 };
+  const at = (scale: number): ViewTransform =>
+    clampTransform(
+      { scale, tx: middle.x - clipped.centre.x * scale, ty: middle.y - clipped.centre.y * scale },
+      view,
+      photo,
+      slackFor(insets, reach, scale),
+    );
+  // When that is not enough (a box wider than the clear area at this zoom), zoom in a
+  // little further, as far as the box still fits.
   const most = Math.max(chosen, Math.min(CONTEXT * fits, scaleLimits(view, photo).max));
   for (let scale = chosen; scale <= most; scale *= 1.25) {
     const candidate = at(scale);
     if (boxInView(clipped, candidate, view, insets)) return candidate;
   }
   return at(chosen);
+}
+
+/**
+ * What of the answer's box the view must show: all of it when its centre is on the photo
+ * (its frame is drawn whole, past the photo's edge too), else its part on the photo.
+ */
+export function shownPart(box: Box, photo: Size): Box {
+  return isInsidePhoto(box.centre, photo) ? box : clipToPhoto(box, photo);
+}
+
+/** How far `box` reaches past each of the photo's edges, photo px (0 where it does not). */
+export function overhang(box: Box, photo: Size): Insets {
+  return {
+    top: Math.max(0, box.half.y - box.centre.y),
+    right: Math.max(0, box.centre.x + box.half.x - photo.width),
+    bottom: Math.max(0, box.centre.y + box.half.y - photo.height),
+    left: Math.max(0, box.half.x - box.centre.x),
+  };
+}
+
+/**
+ * How far the photo's edge may come in from each side of the view at `scale`: as far as the
+ * covered bands, and further by what of the answer's frame reaches past the photo (`reach`,
+ * photo px), so that a frame at the photo's edge is shown whole, clear of the bands.
+ */
+export function slackFor(insets: Insets, reach: Insets, scale: number): Insets {
+  return {
+    top: insets.top + reach.top * scale,
+    right: insets.right + reach.right * scale,
+    bottom: insets.bottom + reach.bottom * scale,
+    left: insets.left + reach.left * scale,
+  };
 }
 
 /** The box's part on the photo; a box wholly off it shrinks to the nearest border point. */

@@ -5,6 +5,7 @@ import {
   fitTransform,
   isFitted,
   isInsidePhoto,
+  openingTransform,
   panBy,
   pinchTransform,
   scaleLimits,
@@ -44,6 +45,18 @@ describe("the fitted photo", () => {
     expect(t.scale).toBeCloseTo(300 / 480);
     expect(t.ty).toBeCloseTo(0);
     expect(t.tx).toBeCloseTo((1000 - 640 * t.scale) / 2);
+  });
+
+  it("opens fitted when that fills most of the view, else filling it around the middle", () => {
+    const portrait = { width: 480, height: 640 };
+    expect(openingTransform(phone, portrait)).toEqual(fitTransform(phone, portrait));
+    const wide = openingTransform(phone, photo); // 4:3 on an upright phone: 55 % fitted
+    expect(photo.height * wide.scale).toBeCloseTo(phone.height);
+    near(toScreen(wide, { x: 320, y: 240 }), { x: phone.width / 2, y: phone.height / 2 });
+    const aside = openingTransform(phone, photo, { x: 600, y: 240 }); // around a point: clamped
+    expect(aside.tx).toBeCloseTo(phone.width - photo.width * aside.scale);
+    const turned = { width: 560, height: 412 };
+    expect(openingTransform(turned, photo)).toEqual(fitTransform(turned, photo));
   });
 
   it("counts as fitted, and a zoomed view does not", () => {
@@ -145,6 +158,22 @@ describe("clamping", () => {
     const panned = panBy(t, 50, 50, phone, photo);
     expect(panned.tx).toBeCloseTo(t.tx);
     expect(panned.ty).toBeCloseTo(t.ty);
+  });
+
+  it("lets the photo's edge come in as far as a covered band, no further", () => {
+    const bands = { top: 100, right: 0, bottom: 60, left: 0 };
+    const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
+    const down = panBy(zoomed, 0, 10_000, phone, photo, bands);
+    expect(down.ty).toBe(100); // the photo's top at the status's bottom edge
+    const up = panBy(zoomed, 0, -10_000, phone, photo, bands);
+    expect(up.ty).toBeCloseTo(phone.height - 60 - photo.height * zoomed.scale);
+    // Sideways there is no band: the edges stay at the view's.
+    expect(panBy(zoomed, 10_000, 0, phone, photo, bands).tx).toBe(0);
+    // A photo smaller than the view along an axis: centred, or moved within the band.
+    const fitted = fitTransform(phone, photo);
+    const moved = panBy(fitted, 0, 500, phone, photo, { ...bands, top: 200 });
+    expect(moved.ty).toBe(200);
+    expect(isFitted(moved, phone, photo)).toBe(false); // not the whole photo as fitted any more
   });
 
   it("centres on a landmark as far as the edges allow", () => {

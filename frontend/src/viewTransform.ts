@@ -22,6 +22,21 @@ export interface ViewTransform {
   readonly ty: number;
 }
 
+/**
+ * Screen px along each side of the view covered by words or controls (the status over the
+ * photo's top, the buttons along its bottom) or kept as a margin. The photo's edge may come
+ * in that far from the view's edge, so that any part of it, the answer at its very top
+ * included, can be shown clear of them.
+ */
+export interface Insets {
+  readonly top: number;
+  readonly right: number;
+  readonly bottom: number;
+  readonly left: number;
+}
+
+export const NO_INSETS: Insets = { top: 0, right: 0, bottom: 0, left: 0 };
+
 /** How far in the photo can be zoomed, relative to the fitted view. */
 export const MAX_ZOOM = 8;
 /** Zoomed in at least this far (screen px per photo px), even for small photos. */
@@ -39,6 +54,26 @@ export function fitTransform(view: Size, photo: Size): ViewTransform {
     tx: (view.width - photo.width * scale) / 2,
     ty: (view.height - photo.height * scale) / 2,
   };
+}
+
+/** A fitted photo smaller than this share of its view opens larger (openingTransform): a
+ * 3:4 photo on an iPhone 13 upright fills 91 % of its view fitted, and opens filling it,
+ * 9 % of its height a drag away; on a Pixel 7 it fills 98 % and opens whole. */
+export const OPENING_SHARE = 0.95;
+
+/**
+ * The photo as it opens: fitted when that fills (nearly) all of the view; a photo of another
+ * shape than the view (a landscape photo on an upright phone, drawn fitted on a third of the
+ * screen) fills the view instead ("cover"), centred on `around` (photo px; its middle when
+ * not given): large enough to tap, the rest a drag or the whole-photo button away.
+ */
+export function openingTransform(view: Size, photo: Size, around: Point | null = null): ViewTransform {
+  const fitted = fitTransform(view, photo);
+  const share = (photo.width * photo.height * fitted.scale ** 2) / (view.width * view.height);
+  if (share >= OPENING_SHARE) return fitted;
+  const cover = Math.max(view.width / photo.width, view.height / photo.height);
+  const scale = Math.min(cover, scaleLimits(view, photo).max);
+  return centreOn(around ?? { x: photo.width / 2, y: photo.height / 2 }, scale, view, photo);
 }
 
 /** Smallest scale (the fitted photo) and largest (zoomed in MAX_ZOOM times, at least 2). */
@@ -61,19 +96,24 @@ export function isInsidePhoto(p: Point, photo: Size): boolean {
 
 /**
  * The nearest allowed transform: scale within the limits; along each axis the photo either
- * covers the view (no empty margin beyond its edge) or, when smaller, is centred.
+ * covers the view (no empty margin beyond its edge) or, when smaller, is centred; with
+ * `slack`, its edge may also come in as far as the covered band along that side (never
+ * further), so that what the band would hide can be brought out from under it.
  */
-export function clampTransform(t: ViewTransform, view: Size, photo: Size): ViewTransform {
+export function clampTransform(t: ViewTransform, view: Size, photo: Size, slack: Insets = NO_INSETS): ViewTransform {
   const { min, max } = scaleLimits(view, photo);
   const scale = clamp(t.scale, min, max);
-  const axis = (offset: number, viewSide: number, photoSide: number): number => {
+  // Centred, or anywhere between the photo's far edge at the far band and its near edge at
+  // the near band (with no slack: covering the view, or centred when smaller).
+  const axis = (offset: number, viewSide: number, photoSide: number, before: number, after: number): number => {
     const drawn = photoSide * scale;
-    return drawn <= viewSide ? (viewSide - drawn) / 2 : clamp(offset, viewSide - drawn, 0);
+    const centred = (viewSide - drawn) / 2;
+    return clamp(offset, Math.min(centred, viewSide - after - drawn), Math.max(centred, before));
   };
   return {
     scale,
-    tx: axis(t.tx, view.width, photo.width),
-    ty: axis(t.ty, view.height, photo.height),
+    tx: axis(t.tx, view.width, photo.width, slack.left, slack.right),
+    ty: axis(t.ty, view.height, photo.height, slack.top, slack.bottom),
   };
 }
 
@@ -84,6 +124,7 @@ export function zoomAbout(
   centre: Point,
   view: Size,
   photo: Size,
+  slack: Insets = NO_INSETS,
 ): ViewTransform {
   const { min, max } = scaleLimits(view, photo);
   const scale = clamp(t.scale * factor, min, max);
@@ -92,6 +133,7 @@ export function zoomAbout(
     { scale, tx: centre.x - anchor.x * scale, ty: centre.y - anchor.y * scale },
     view,
     photo,
+    slack,
   );
 }
 
@@ -101,8 +143,9 @@ export function panBy(
   dy: number,
   view: Size,
   photo: Size,
+  slack: Insets = NO_INSETS,
 ): ViewTransform {
-  return clampTransform({ scale: t.scale, tx: t.tx + dx, ty: t.ty + dy }, view, photo);
+  return clampTransform({ scale: t.scale, tx: t.tx + dx, ty: t.ty + dy }, view, photo, slack);
 }
 
 function midpoint(a: Point, b: Point): Point {
@@ -124,6 +167,7 @@ export function pinchTransform(
   to: readonly [Point, Point],
   view: Size,
   photo: Size,
+  slack: Insets = NO_INSETS,
 ): ViewTransform {
   const before = distance(from[0], from[1]);
   const factor = before > 0 ? distance(to[0], to[1]) / before : 1;
@@ -135,19 +179,23 @@ export function pinchTransform(
     { scale, tx: centre.x - anchor.x * scale, ty: centre.y - anchor.y * scale },
     view,
     photo,
+    slack,
   );
 }
 
 /** Zoomed to `scale` with the photo point `p` in the middle of the view (as far as allowed). */
-export function centreOn(p: Point, scale: number, view: Size, photo: Size): ViewTransform {
+export function centreOn(p: Point, scale: number, view: Size, photo: Size, slack: Insets = NO_INSETS): ViewTransform {
   return clampTransform(
     { scale, tx: view.width / 2 - p.x * scale, ty: view.height / 2 - p.y * scale },
     view,
     photo,
+    slack,
   );
 }
 
-/** Whether the view shows the whole photo (not zoomed in). */
+/** Whether the view shows the whole photo as fitted: not zoomed in, nor moved aside (to
+ * bring the answer out from under the status). */
 export function isFitted(t: ViewTransform, view: Size, photo: Size): boolean {
-  return t.scale <= scaleLimits(view, photo).min * 1.001;
+  const fitted = fitTransform(view, photo);
+  return t.scale <= fitted.scale * 1.001 && Math.abs(t.tx - fitted.tx) < 0.5 && Math.abs(t.ty - fitted.ty) < 0.5;
 }

@@ -69,6 +69,9 @@ class ChromiumPhone(Phone):
     def zoom(self, around: tuple[float, float], factor: float) -> None:
         self.pinch(around, factor)
 
+    def resize(self, width: int, height: int) -> None:
+        self.page.set_viewport_size({"width": width, "height": height})
+
     def screenshot(self, path: Path) -> None:
         self._page.screenshot(path=path)
 

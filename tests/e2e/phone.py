@@ -97,10 +97,12 @@ TAP_POINT = f"""(steps) => {{
 TRANSFORM = f"""(steps) => {{
   const element = ({RESOLVE})(steps)[0];
   if (!element || !element.hasAttribute("data-scale")) return null;
-  if (element.hasAttribute("data-gliding")) return null;
+  // Moving, or about to (an answer waiting for the fingers' quiet): not yet where it stays.
+  if (element.hasAttribute("data-gliding") || element.hasAttribute("data-settling")) return null;
   const rect = element.getBoundingClientRect();
   const read = (name) => Number(element.getAttribute(name));
-  return [rect.left, rect.top, read("data-scale"), read("data-tx"), read("data-ty")];
+  return [rect.left, rect.top, read("data-scale"), read("data-tx"), read("data-ty"),
+          rect.width, rect.height];
 }}"""
 
 
@@ -158,6 +160,11 @@ class Phone(ABC):
     def zoom(self, around: tuple[float, float], factor: float) -> None:
         """Zoom the photo by about ``factor`` about a client point, as a person would on
         this engine: a two-finger pinch where there is touch input, else the wheel."""
+
+    @abstractmethod
+    def resize(self, width: int, height: int) -> None:
+        """The viewport at ``width`` x ``height`` CSS px: the phone turned on its side (the
+        sizes swapped) or back upright."""
 
     @abstractmethod
     def screenshot(self, path: Path) -> None:
@@ -221,6 +228,12 @@ class Phone(ABC):
 
     def photo_to_screen(self, x: float, y: float) -> tuple[float, float]:
         """Client coordinates of photo pixel (x, y), from the view's published transform."""
+        left, top, scale, tx, ty, _, _ = self.view_box()
+        return left + tx + scale * x, top + ty + scale * y
+
+    def view_box(self) -> list[float]:
+        """The photo view's rect and transform once published and settled: left, top,
+        scale, tx, ty, width, height."""
         view = self.get_by_test_id("photo-view")
         found: list[list[float]] = []
 
@@ -231,12 +244,19 @@ class Phone(ABC):
             return transform is not None
 
         self.wait_for(published, "the photo view's transform")
-        left, top, scale, tx, ty = found[-1]
-        return left + tx + scale * x, top + ty + scale * y
+        return found[-1]
 
     def tap_photo(self, x: float, y: float) -> None:
-        """A one-finger tap on the photo at pixel (x, y)."""
-        self.tap_at(*self.photo_to_screen(x, y))
+        """A one-finger tap on the photo at pixel (x, y); first, as a person would, the whole
+        photo ("Whole photo") when the view is zoomed or moved and the pixel is out of it."""
+        left, top, scale, tx, ty, width, height = self.view_box()
+        at = (left + tx + scale * x, top + ty + scale * y)
+        seen = left < at[0] < left + width and top < at[1] < top + height
+        if not seen and self.get_by_test_id("fit").count() > 0:
+            self.get_by_test_id("fit").tap()
+            self.wait_for(lambda: self.get_by_test_id("fit").count() == 0, "the whole photo")
+            at = self.photo_to_screen(x, y)
+        self.tap_at(*at)
 
     def drag(self, start: Point, end: Point, steps: int = 10) -> None:
         """One finger down at ``start`` and moved to ``end`` in ``steps`` even steps (client

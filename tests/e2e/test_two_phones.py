@@ -161,9 +161,11 @@ def step(page: Phone, title: str, to_tap: int | None = None) -> None:
 
 
 def framed(page: Phone) -> tuple[float, float, float, float]:
-    """The answer's frame as drawn on the phone: (x0, y0, x1, y1), photo px."""
+    """The answer's frame as drawn on the phone: (x0, y0, x1, y1), photo px; once the view
+    has settled (it may wait for the fingers' quiet, then glide, to bring it into view)."""
     frame = page.get_by_test_id("answer-frame")
     expect(frame).to_be_visible()
+    page.view_box()
     x0, y0, x1, y1 = (
         float(frame.get_attribute(f"data-{n}") or "nan") for n in ("x0", "y0", "x1", "y1")
     )
@@ -241,6 +243,10 @@ def test_the_starter_marks_the_joiner(
     joiner.screenshot(path=screenshots / "3-tap-your-friend-joiner.png")
 
     truth = scene(5, seed=16)  # a layout that pins the friend down (seed 11: +-3000 px)
+    # The landscape photo opened filling the upright phone's height: the starter looks at
+    # the whole of it to tap across it.
+    starter.get_by_test_id("fit").tap()
+    expect(starter.get_by_test_id("fit")).to_have_count(0)
     fitted = view_scale(starter)
     mark_friend(starter, *truth.epipole1)
     step(starter, "Tap 3 more landmarks", 3)

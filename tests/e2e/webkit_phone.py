@@ -153,11 +153,12 @@ class WebKitPhone(Phone):
         assert not absent, f"not installed: {absent} (`make test` installs them: `make webkit`)"
         # GTK scales by whole numbers only: 2.625 (a Pixel 7) becomes 3.
         self.scale = max(1, round(screen.scale))
-        width, height = screen.screen
+        # A square screen, as long as the phone's long side: room for the phone on its side.
+        side = max(screen.screen) * self.scale
         folder.mkdir(parents=True, exist_ok=True)
         self._display = Display(
             backend="xvfb",
-            size=(width * self.scale, height * self.scale),
+            size=(side, side),
             color_depth=24,
             manage_global_env=False,
         )
@@ -261,6 +262,9 @@ class WebKitPhone(Phone):
         # A finger does not glide to where it lands: moves take no time.
         finger = PointerInput(interaction.POINTER_TOUCH, "finger")
         return ActionBuilder(self._driver, mouse=finger, duration=0)
+
+    def resize(self, width: int, height: int) -> None:
+        self._fit((width, height))
 
     def screenshot(self, path: Path) -> None:
         # WebKitGTK's screenshot is the last frame painted, which may not show the latest

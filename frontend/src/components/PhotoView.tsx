@@ -3,7 +3,8 @@
  * on top at a constant size, and the loupe while a finger presses. It publishes its view
  * transform as data attributes (data-scale, data-tx, data-ty): photo pixel (x, y) is at
  * (rect.left + tx + scale * x, rect.top + ty + scale * y); `data-gliding` while the view glides
- * to the answer (reframe.ts).
+ * to the answer (reframe.ts), `data-settling` while an answer waits for the fingers' quiet
+ * to be brought into view (panZoom.ts).
  *
  * The controls over the photo (the whole-photo button, the arrow to the answer) are not
  * inside the photo view but beside it, in a layer of their own over it. Browsers move a
@@ -23,9 +24,9 @@ import { useEffect, useRef, useState } from "preact/hooks";
 import { loupeTarget, type Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
 import type { AnswerView } from "../answer";
-import type { Box, Insets } from "../reframe";
+import type { Box } from "../reframe";
 import type { Tap } from "../session";
-import { isFitted, type Point, type Size, type ViewTransform } from "../viewTransform";
+import { isFitted, type Insets, type Point, type Size, type ViewTransform } from "../viewTransform";
 import { AnswerArrow } from "./AnswerArrow";
 import { AnswerLayer, answerBox } from "./AnswerLayer";
 import { GuideLayer, type Guide } from "./GuideLayer";
@@ -68,8 +69,11 @@ export function PhotoView(props: Props) {
   const box = useRef<HTMLDivElement>(null);
   const image = useRef<HTMLImageElement>(null);
   const [loaded, setLoaded] = useState(false);
-  const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets);
+  // Whether a finger is down, for the view's moves that wait for the gesture's end.
+  const busy = useRef<() => boolean>(() => false);
+  const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets, () => busy.current());
   const { gesture, gestures } = useGestures(box, panZoom, props);
+  busy.current = () => gestures.active;
   const { view, transform, gliding } = state;
 
   useEffect(() => setLoaded(false), [props.photoUrl]);
@@ -98,6 +102,7 @@ export function PhotoView(props: Props) {
         "data-tx": String(transform.tx),
         "data-ty": String(transform.ty),
         ...(gliding ? { "data-gliding": "" } : {}),
+        ...(state.settling ? { "data-settling": "" } : {}),
       }
     : {};
 

@@ -17,7 +17,7 @@ import { canUndo, friendMarked, fromServerTaps, landmarkIds } from "../landmarks
 import { lensNote } from "../lens";
 import { nextStep, type Step } from "../nextStep";
 import { landmarkColour } from "../palette";
-import type { Insets } from "../reframe";
+import type { Insets } from "../viewTransform";
 import type { Mode, SessionController, SessionView } from "../session";
 import { otherRole, type SessionState } from "../types";
 import { LineIcon, PersonIcon, PinIcon, TrashIcon, UndoIcon } from "./icons";
@@ -35,6 +35,9 @@ interface Props {
 
 /** Room kept clear at the view's sides and bottom when the answer is brought into view. */
 const MARGIN = 12;
+/** The controls along the photo's bottom (the whole-photo button, 48 px at 12 px from the
+ * edge; the hints and the upload bar are no taller): the answer is brought above them. */
+const CONTROLS = 60;
 
 export function TapScreen({ controller, view, state, top }: Props) {
   const { credentials, editor, photo } = view;
@@ -112,7 +115,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const recheck = [...new Set([...answer.suspects, ...misfitsOf(answerState, role)])].sort((a, b) => a - b);
 
   if (!photo) return null;
-  const insets: Insets = { top: covered + MARGIN, right: MARGIN, bottom: MARGIN, left: MARGIN };
+  const insets: Insets = { top: covered + MARGIN, right: MARGIN, bottom: CONTROLS + MARGIN, left: MARGIN };
 
   return (
     <main class="screen session tap-screen">
@@ -174,14 +177,15 @@ function stepOf(state: SessionState, view: SessionView, answer: AnswerView): Ste
   });
 }
 
-/** What to do while there is no answer yet. */
-function statusHint(state: SessionState, view: SessionView): string {
+/** What to do while there is no answer yet; null when the prompt below already says it
+ * ("Tap your friend"): words over the photo only where they tell something new. */
+function statusHint(state: SessionState, view: SessionView): string | null {
   const other = otherRole(view.credentials.role);
   const theirs = fromServerTaps(state.taps[other]);
   if (!friendMarked(view.editor.taps) && !view.unseen) {
     return friendMarked(theirs)
       ? "Your friend marked you. If you can see them too, mark them: fewer landmarks are needed."
-      : "Whoever can see the other marks them: then fewer landmarks are needed.";
+      : null;
   }
   if (!state.photos[other]) return "Your friend is taking their photo.";
   return "Both tap the same spots: #3 here is #3 there.";
@@ -189,7 +193,7 @@ function statusHint(state: SessionState, view: SessionView): string {
 
 interface StatusProps {
   panel: { current: HTMLElement | null };
-  hint: string;
+  hint: string | null;
   saveError: string | null;
   answer: AnswerView;
   /** What the phone says of its photo's lens. */
@@ -217,7 +221,7 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
           {saveError}
         </p>
       )}
-      {answer.kind === "none" && <p class="hint">{hint}</p>}
+      {answer.kind === "none" && hint && <p class="hint">{hint}</p>}
       {answer.kind === "none" && lens && (
         <p class="lens-note" data-testid="lens-note">
           {lens}

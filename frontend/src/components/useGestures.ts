@@ -48,7 +48,7 @@ export function useGestures(
       else if (edit?.kind === "move") now.onMove(edit.id, edit.tap);
       else if (edit?.kind === "select") now.onSelect(now.selected === edit.id ? null : edit.id);
     },
-    started: () => panZoom.stopGlide(),
+    started: () => panZoom.gestureStarted(),
     ended: () => panZoom.gestureEnded(),
   });
   const gestures = made.current;

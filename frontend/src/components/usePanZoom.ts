@@ -5,7 +5,7 @@
 
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
 import { PanZoom, type Frames, type PanZoomState } from "../panZoom";
-import type { Insets } from "../reframe";
+import type { Insets } from "../viewTransform";
 import type { Size } from "../viewTransform";
 
 const BROWSER_FRAMES: Frames = {
@@ -20,12 +20,13 @@ export function usePanZoom(
   photoUrl: string,
   photoSize: Size,
   insets: Insets,
+  busy: () => boolean,
 ): { panZoom: PanZoom; state: PanZoomState } {
   const [state, setState] = useState<PanZoomState>({ view: null, transform: null, gliding: false });
   const made = useRef<PanZoom | null>(null);
   made.current ??= new PanZoom(photoSize, setState, BROWSER_FRAMES);
   const panZoom = made.current;
-  panZoom.insets = insets;
+  useEffect(() => panZoom.setInsets(insets, busy()), [insets.top, insets.right, insets.bottom, insets.left]);
 
   useLayoutEffect(() => {
     const element = box.current;
