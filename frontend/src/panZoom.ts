@@ -50,6 +50,8 @@ export class PanZoom {
   private pending: Box | null = null;
   /** Screen px along each side covered by the status: the answer is brought into the rest. */
   insets: Insets = NO_INSETS;
+  /** The person asked their phone for less motion (a11y/motion.ts): jump, never glide. */
+  reducedMotion = false;
 
   constructor(
     private photo: Size,
@@ -131,6 +133,10 @@ export class PanZoom {
     const to = frameTarget(box, from, size, this.photo, this.insets);
     this.stopGlide();
     if (!to) return;
+    if (this.reducedMotion) {
+      this.update({ transform: clampTransform(to, size, this.photo) });
+      return;
+    }
     const start = this.frames.now();
     this.update({ gliding: true });
     const step = (time: number): void => {

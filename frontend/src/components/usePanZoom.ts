@@ -4,6 +4,7 @@
  */
 
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
+import { prefersReducedMotion } from "../a11y/motion";
 import { PanZoom, type Frames, type PanZoomState } from "../panZoom";
 import type { Insets } from "../reframe";
 import type { Size } from "../viewTransform";
@@ -26,6 +27,7 @@ export function usePanZoom(
   made.current ??= new PanZoom(photoSize, setState, BROWSER_FRAMES);
   const panZoom = made.current;
   panZoom.insets = insets;
+  panZoom.reducedMotion = prefersReducedMotion();
 
   useLayoutEffect(() => {
     const element = box.current;
