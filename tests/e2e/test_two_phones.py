@@ -82,7 +82,7 @@ def start_and_join(
     )  # the join link, opened on the friend's phone
     expect(starter.get_by_test_id("waiting")).to_be_hidden()
     if audit:
-        expect(joiner.get_by_test_id("photo-input")).to_be_attached()
+        focused(joiner, "photo-step-title")  # a new screen: its title is read first
         joiner.audit("the photo step")
     if photos:
         upload(starter, temple(PAIR[0]))
@@ -523,5 +523,6 @@ def test_delete_now_ends_it_for_both(
     expect(joiner.get_by_test_id("ended")).to_be_visible()
     expect(starter.get_by_test_id("ended")).to_be_visible()
     starter.screenshot(path=screenshots / "9-ended-starter.png")
+    starter.audit("the search ended")
     starter.reload()  # nothing to come back to
     expect(starter.get_by_test_id("start")).to_be_visible()

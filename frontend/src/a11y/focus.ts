@@ -1,9 +1,9 @@
 /**
- * Focus follows the next step: when the screen changes under the person (their photo is
- * shown, an answer arrives), focus moves to what to read or do next, so a screen reader says
- * it at once and a keyboard starts there. Smaller changes (the next landmark to tap, a new
- * mark) are announced by live regions instead: moving focus on every tap would pull a
- * screen reader away from the photo.
+ * Focus follows the next step: when the screen changes under the person (the photo step
+ * opens, their photo is shown, an answer arrives), focus moves to what to read or do next,
+ * so a screen reader says it at once and a keyboard starts there. Smaller changes (the next
+ * landmark to tap, a new mark) are announced by live regions instead: moving focus on every
+ * tap would pull a screen reader away from the photo.
  */
 
 import { useEffect } from "preact/hooks";
