@@ -8,7 +8,7 @@
 import type { AnswerView } from "../answer";
 import type { TapSet } from "../landmarks";
 import type { Size } from "../viewTransform";
-import { NO_MARKS, describeAnswer, describeMarks } from "./describe";
+import { NO_MARKS, describeAnswerPlace, describeMarks } from "./describe";
 import { MARKS_TITLE } from "./labels";
 
 /** The id the photo view's aria-describedby names. */
@@ -23,7 +23,7 @@ interface Props {
 }
 
 export function PhotoDescription({ taps, photo, selected, suspects, answer }: Props) {
-  const where = describeAnswer(answer, photo);
+  const where = describeAnswerPlace(answer, photo);
   const marks = describeMarks(taps, photo, selected, suspects);
   return (
     <div id={PHOTO_DESCRIPTION_ID} class="visually-hidden" data-testid="photo-description">

@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { AnswerView } from "../answer";
 import type { TapSet } from "../landmarks";
-import { describeAnswer, describeLandmark, describeMarks, directionWords, placeIn } from "./describe";
+import { describeAnswerPlace, describeLandmark, describeMarks, directionWords, placeIn } from "./describe";
 
 const PHOTO = { width: 640, height: 480 };
 
@@ -68,27 +68,33 @@ describe("marks", () => {
   });
 });
 
-describe("describeAnswer", () => {
+describe("describeAnswerPlace", () => {
   it("says nothing before an answer", () => {
-    expect(describeAnswer(NONE, PHOTO)).toBeNull();
+    expect(describeAnswerPlace(NONE, PHOTO)).toBeNull();
   });
 
   it("says where the frame is", () => {
-    expect(describeAnswer(at(100, 80), PHOTO)).toBe("your friend is inside the frame, upper left");
-    expect(describeAnswer(at(100, 80, "solved", false), PHOTO)).toBe(
+    expect(describeAnswerPlace(at(100, 80), PHOTO)).toBe("your friend is inside the frame, upper left");
+    expect(describeAnswerPlace(at(100, 80, "solved", false), PHOTO)).toBe(
       "your friend is most likely inside the frame, upper left",
     );
-    expect(describeAnswer(at(500, 400, "marked"), PHOTO)).toBe("your friend is at your mark, lower right");
+    expect(describeAnswerPlace(at(500, 400, "marked"), PHOTO)).toBe("your friend is at your mark, lower right");
+    expect(describeAnswerPlace(at(320, 240, "on_line"), PHOTO)).toBe(
+      "your friend is most likely inside the frame on your line, centre",
+    );
+    expect(describeAnswerPlace({ ...NONE, kind: "curve" }, PHOTO)).toBe(
+      "your friend is somewhere on the curve drawn across the photo",
+    );
   });
 
   it("says which way off the photo the friend is", () => {
-    expect(describeAnswer(at(900, 240), PHOTO)).toBe("your friend is off the photo to the right");
+    expect(describeAnswerPlace(at(900, 240), PHOTO)).toBe("your friend is off the photo to the right");
     const far: AnswerView = {
       ...NONE,
       kind: "elsewhere",
       drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
     };
-    expect(describeAnswer(far, PHOTO)).toBe("your friend is far off the photo, above");
+    expect(describeAnswerPlace(far, PHOTO)).toBe("your friend is far off the photo, above");
   });
 
   it("names the eight directions", () => {

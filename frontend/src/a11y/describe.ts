@@ -96,7 +96,7 @@ export function directionWords([dx, dy]: readonly [number, number]): string {
  * when there is no answer (or it was refused: its sentence, shown, says why). The answer's
  * sentence (answer.ts) says what is drawn; this says where.
  */
-export function describeAnswer(answer: AnswerView, photo: Size): string | null {
+export function describeAnswerPlace(answer: AnswerView, photo: Size): string | null {
   const { position } = answer;
   if (answer.kind === "none" || answer.kind === "refused") return null;
   if (answer.kind === "curve") return "your friend is somewhere on the curve drawn across the photo";
