@@ -154,6 +154,18 @@ describe("bringing the answer into view", () => {
     expect(boxInView(CORNER, panZoom.state.transform!, phone, NO_INSETS)).toBe(true);
   });
 
+  it("jumps to it at once when the person asked for less motion", () => {
+    const { panZoom, frames, states } = made();
+    panZoom.reducedMotion = true;
+    zoomedOnBottomRight(panZoom);
+    const from = panZoom.state.transform!;
+    const before = states.length;
+    panZoom.answer(CORNER, false);
+    expect(frames.pending).toBe(0);
+    expect(states.slice(before).some((state) => state.gliding)).toBe(false);
+    expect(panZoom.state.transform).toEqual(frameTarget(CORNER, from, phone, photo, NO_INSETS));
+  });
+
   it("waits for the gesture in progress to end", () => {
     const { panZoom, frames } = made();
     zoomedOnBottomRight(panZoom);

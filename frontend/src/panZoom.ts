@@ -66,6 +66,8 @@ export class PanZoom {
   /** When the last gesture ended (frames' clock, ms), and the frame waiting for the quiet. */
   private lastLift = Number.NEGATIVE_INFINITY;
   private quietFrame: number | null = null;
+  /** The person asked their phone for less motion (a11y/motion.ts): jump, never glide. */
+  reducedMotion = false;
 
   constructor(
     private photo: Size,
@@ -220,6 +222,10 @@ export class PanZoom {
     this.stopGlide();
     if (!to) return;
     this.opening = false;
+    if (this.reducedMotion) {
+      this.update({ transform: clampTransform(to, size, this.photo, this.slack(to.scale)) });
+      return;
+    }
     const start = this.frames.now();
     this.update({ gliding: true });
     const step = (time: number): void => {

@@ -120,6 +120,10 @@ class ChromiumPhone(Phone):
             {"type": "absolute-orientation", "reading": reading},
         )
 
+    def reduce_motion(self) -> None:
+        """The phone's "reduce motion" setting on (``prefers-reduced-motion: reduce``)."""
+        self._page.emulate_media(reduced_motion="reduce")
+
     def _handle(self, steps: tuple[Step, ...]) -> ElementHandle:
         handle = self._page.evaluate_handle(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))
         element = handle.as_element()

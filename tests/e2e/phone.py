@@ -23,6 +23,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar, Literal
 
+import audit
+
 TIMEOUT_S = 20.0
 POLL_S = 0.05
 
@@ -280,6 +282,11 @@ class Phone(ABC):
         for k in range(1, steps + 1):
             self.touch("move", fingers(start * factor ** (k / steps)))
         self.touch("up")
+
+    def audit(self, screen: str) -> None:
+        """The accessibility audit (axe-core, ``audit.py``) of the page as it is now: fails
+        on a serious or critical violation, naming ``screen``."""
+        audit.audit(self, screen)
 
     def __str__(self) -> str:
         return f"{self.model} ({self.engine})"

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 from PIL import Image
 from test_two_phones import (
@@ -149,12 +150,22 @@ def test_the_friend_stays_visible_inside_the_frame(
     assert framing.mean() > 0.02
 
 
+# Records whether the photo view ever publishes that it is gliding (data-gliding).
+WATCH_GLIDE = """(view) => {
+  window.__glided = false;
+  new MutationObserver(() => {
+    if (view.hasAttribute("data-gliding")) window.__glided = true;
+  }).observe(view, { attributes: true, attributeFilter: ["data-gliding"] });
+}"""
+
+
 def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
     server: str, pixel: Phone, iphone: Phone
 ) -> None:
     """The joiner is zoomed in on a landmark far from the friend when the answer arrives: the
     view glides to show it. Zoomed away again, an arrow at the edge points to it, and one
-    tap on it brings it back."""
+    tap on it brings it back; with the phone's "reduce motion" on (Chromium), at once,
+    without gliding."""
     truth = scene(5, seed=16)
     # The landmark farthest from the friend is tapped third: the answer arrives with it.
     order = np.argsort(-np.linalg.norm(truth.landmarks2 - truth.epipole2, axis=1))
@@ -183,6 +194,16 @@ def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
     arrow.tap()
     joiner.wait_for(lambda: in_view(joiner, frame_centre(joiner)), "the answer back in view")
     expect(arrow).to_have_count(0)
+
+    if isinstance(joiner, ChromiumPhone):  # the setting is emulated in Chromium only
+        # With "reduce motion" on, the view jumps to the answer: it never glides.
+        joiner.reduce_motion()
+        joiner.zoom(joiner.photo_to_screen(*points2[2]), 4.0)
+        joiner.wait_for(lambda: not in_view(joiner, frame_centre(joiner)), "the answer away")
+        joiner.get_by_test_id("photo-view").evaluate(WATCH_GLIDE)
+        arrow.tap()
+        joiner.wait_for(lambda: in_view(joiner, frame_centre(joiner)), "the answer in view")
+        assert joiner.evaluate("() => window.__glided") is False, "the view glided"
 
 
 def box_of(page: Phone, test_id: str) -> list[float]:

@@ -337,6 +337,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.get_by_test_id("open-camera").tap()
     joiner.get_by_test_id("motion-allow").tap()
     expect(joiner.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
+    joiner.audit("the in-app camera")
     take_photo(joiner)
     expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
 
@@ -348,6 +349,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     # Show me, held as at the shutter: the marker on the friend, drawn within a second.
     live, opened = show_me(joiner)
     print(f"Show me: the first marker over the live video {opened:.0f} ms after the tap")
+    joiner.audit("Show me")
     assert opened < OPENING_BOUND_MS, opened
     # The friend is off to the right of the photo's centre, beyond the screen's +-12 degrees
     # of the 4:3 video's width: the arrow says so until the phone turns their way.

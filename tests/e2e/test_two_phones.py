@@ -57,6 +57,7 @@ def start_and_join(
     screenshots: Path | None = None,
     joiner_server: str | None = None,
     photos: bool = False,
+    audit: bool = False,
 ) -> tuple[Phone, Phone]:
     """One friend starts a search; the other opens its join link (at ``joiner_server`` when
     its network goes another way); with ``photos``, each then uploads its temple photo."""
@@ -64,6 +65,8 @@ def start_and_join(
     if screenshots:
         starter.screenshot(path=screenshots / "1-start.png")
     expect(starter.get_by_test_id("start")).to_have_text("Start a search")
+    if audit:
+        starter.audit("the start")
     starter.get_by_test_id("start").tap()
     code = starter.get_by_test_id("code")
     expect(code).to_have_text(re.compile(r"^\s*\d{4}\s?\d{4}\s*$"))
@@ -71,11 +74,16 @@ def start_and_join(
     expect(starter.get_by_test_id("waiting")).to_be_visible()
     if screenshots:
         starter.screenshot(path=screenshots / "2-share.png")
+    if audit:
+        starter.audit("sharing the code")
     digits = re.sub(r"\D", "", code.inner_text())
     joiner.goto(
         f"{joiner_server or server}/join/{digits}"
     )  # the join link, opened on the friend's phone
     expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    if audit:
+        focused(joiner, "photo-step-title")  # a new screen: its title is read first
+        joiner.audit("the photo step")
     if photos:
         upload(starter, temple(PAIR[0]))
         upload(joiner, temple(PAIR[1]))
@@ -100,6 +108,21 @@ def landscape(page: ChromiumPhone, path: Path) -> None:
 
 def temple(name: str) -> Path:
     return TEMPLE / f"{name}.png"
+
+
+def focused(page: Phone, test_id: str) -> None:
+    """Focus is on the element of ``test_id`` (the app moves it to the next step)."""
+    active = "() => document.activeElement && document.activeElement.outerHTML.slice(0, 80)"
+    seen: list[str] = []
+
+    def there() -> bool:
+        seen[:] = [page.evaluate(active)]
+        return f'data-testid="{test_id}"' in seen[0]
+
+    try:
+        page.wait_for(there, f"focus on {test_id}")
+    except AssertionError as failed:
+        raise AssertionError(f"{failed}; it is on {seen[-1:]}") from None
 
 
 def saved(page: Phone) -> None:
@@ -239,8 +262,9 @@ def test_the_starter_marks_the_joiner(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path, engine: str
 ) -> None:
     """Friend A (who started) sees friend B and marks them; B's phone finds A."""
-    starter, joiner = start_and_join(server, pixel, iphone, screenshots, photos=True)
+    starter, joiner = start_and_join(server, pixel, iphone, screenshots, photos=True, audit=True)
     joiner.screenshot(path=screenshots / "3-tap-your-friend-joiner.png")
+    focused(joiner, "photo-view")  # the photo shown: the thing to tap next
 
     truth = scene(5, seed=16)  # a layout that pins the friend down (seed 11: +-3000 px)
     # The landscape photo opened filling the upright phone's height: the starter looks at
@@ -259,10 +283,15 @@ def test_the_starter_marks_the_joiner(
     assert zoomed > 1.3 * fitted
     tap_landmarks(starter, truth.landmarks1[4:], first_id=5)
     starter.screenshot(path=screenshots / "4-taps-starter.png")
+    starter.audit("the tap screen with marks")
+    marks = starter.get_by_test_id("mark-descriptions")
+    expect(marks).to_contain_text("your friend, marked by you")
+    expect(marks).to_contain_text("landmark 5, placed by you")
     cannot_see(joiner)
     expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", "1")
     step(joiner, "Find #1 here", 3)
     joiner.screenshot(path=screenshots / "5-find-joiner.png")
+    joiner.audit("finding a landmark")
 
     find_landmarks(joiner, truth.landmarks2[:2])
     step(joiner, "Find #3 here", 1)
@@ -280,6 +309,10 @@ def test_the_starter_marks_the_joiner(
     )
     expect(joiner.get_by_test_id("result-position")).to_contain_text("the frame is about")
     joiner.screenshot(path=screenshots / "6-answer-joiner.png")
+    joiner.audit("the answer")
+    focused(joiner, "status")  # the answer arrived: read out where the friend is
+    where = joiner.get_by_test_id("answer-where")
+    expect(where).to_have_text(re.compile(r"^your friend is inside the frame, \w+( \w+)?$"))
     if isinstance(joiner, ChromiumPhone):  # the same, the phone on its side
         landscape(joiner, screenshots / "6b-answer-joiner-landscape.png")
     step(starter, "Your friend sees where you are.", 0)
@@ -287,6 +320,7 @@ def test_the_starter_marks_the_joiner(
     expect(starter.get_by_test_id("seen-status")).to_be_visible()
     expect(starter.get_by_test_id("result-position")).to_have_attribute("data-how", "marked")
     starter.screenshot(path=screenshots / "7-answer-starter.png")
+    starter.audit("the answer, seen by the friend")
 
     # Each tap says how precise it was, at the zoom it was made at.
     taps = session_state(starter)["taps"]["starter"]
@@ -495,5 +529,6 @@ def test_delete_now_ends_it_for_both(
     expect(joiner.get_by_test_id("ended")).to_be_visible()
     expect(starter.get_by_test_id("ended")).to_be_visible()
     starter.screenshot(path=screenshots / "9-ended-starter.png")
+    starter.audit("the search ended")
     starter.reload()  # nothing to come back to
     expect(starter.get_by_test_id("start")).to_be_visible()

@@ -3,6 +3,7 @@
  * camera, one the gallery. Always in the page while in a session.
  */
 
+import { PHOTO_INPUTS, PICK_PHOTO, TAKE_PHOTO } from "../a11y/labels";
 import type { SessionController } from "../session";
 
 export function PhotoInputs({ controller }: { controller: SessionController }) {
@@ -12,8 +13,9 @@ export function PhotoInputs({ controller }: { controller: SessionController }) {
     input.value = ""; // the same photo can be chosen again
     if (file) void controller.photo.choose(file);
   };
+  // A named region: every part of the page is in a landmark, these inputs too (axe's "region").
   return (
-    <>
+    <section aria-label={PHOTO_INPUTS}>
       <input
         id="photo-input"
         data-testid="photo-input"
@@ -21,9 +23,10 @@ export function PhotoInputs({ controller }: { controller: SessionController }) {
         type="file"
         accept="image/*"
         capture="environment"
+        aria-label={TAKE_PHOTO}
         onChange={chosen}
       />
-      <input id="photo-pick" class="visually-hidden" type="file" accept="image/*" onChange={chosen} />
-    </>
+      <input id="photo-pick" class="visually-hidden" type="file" accept="image/*" aria-label={PICK_PHOTO} onChange={chosen} />
+    </section>
   );
 }

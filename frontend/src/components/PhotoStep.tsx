@@ -1,7 +1,8 @@
 /** Taking (or picking) the photo of the other side, and sending it. */
 
 import type { ComponentChildren } from "preact";
-import { useEffect, useState } from "preact/hooks";
+import { useEffect, useRef, useState } from "preact/hooks";
+import { useFocusOnChange } from "../a11y/focus";
 import { InAppCamera } from "../camera/InAppCamera";
 import { startShutterOrientation, stopShutterOrientation, takeShutterAnchor } from "../live/shutter";
 import type { SessionController, SessionView } from "../session";
@@ -58,6 +59,9 @@ export function PhotoStep({ controller, view, top }: Props) {
   const busy = view.upload.phase === "preparing" || view.upload.phase === "uploading";
   const [camera, setCamera] = useState<"closed" | "open">("closed");
   const [cameraProblem, setCameraProblem] = useState<string | null>(null);
+  // The screen changed (the friend joined, or the link was opened): its title is read first.
+  const title = useRef<HTMLHeadingElement>(null);
+  useFocusOnChange(() => title.current, "photo-step");
   // The orientation is read while the camera is open, for "Show me" (live/shutter.ts).
   useEffect(() => {
     if (camera !== "open") return;
@@ -71,7 +75,9 @@ export function PhotoStep({ controller, view, top }: Props) {
         <div class="photo-hint" aria-hidden="true">
           <CameraIcon />
         </div>
-        <h1>Photo of the other side</h1>
+        <h1 ref={title} tabIndex={-1} data-testid="photo-step-title">
+          Photo of the other side
+        </h1>
         <p class="lead">
           Aim across the venue, where your friend is. Get some clear landmarks in too: corners,
           signs, lights, pillars.

@@ -21,6 +21,7 @@
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
+import { PHOTO_DESCRIPTION_ID } from "../a11y/PhotoDescription";
 import { loupeTarget, type Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
 import type { AnswerView } from "../answer";
@@ -115,6 +116,8 @@ export function PhotoView(props: Props) {
         data-testid="photo-view"
         role="application"
         aria-label="Your photo: tap to mark, two fingers to zoom"
+        aria-describedby={PHOTO_DESCRIPTION_ID}
+        tabIndex={-1}
         {...attributes}
       >
         {ready && (

@@ -2,6 +2,7 @@
 
 import type { ComponentChildren } from "preact";
 import { useMemo, useState } from "preact/hooks";
+import { SHARE_SCREEN_TITLE } from "../a11y/labels";
 import { codeGroups } from "../joinCode";
 import { makeQr } from "../qr";
 import type { SessionController, SessionView } from "../session";
@@ -67,6 +68,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
 
   return (
     <main class="screen session share">
+      <h1 class="visually-hidden">{SHARE_SCREEN_TITLE}</h1>
       {top}
       <section class="share-body">
         {code && link ? (

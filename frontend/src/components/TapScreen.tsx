@@ -7,6 +7,9 @@
 
 import type { ComponentChildren } from "preact";
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
+import { answerFocusKey, useFocusOnChange } from "../a11y/focus";
+import { TAP_SCREEN_TITLE } from "../a11y/labels";
+import { PhotoDescription } from "../a11y/PhotoDescription";
 import { cropUrl, photoUrl } from "../api";
 import { describeAnswer, type AnswerView } from "../answer";
 import { SUGGESTED_SIGMA_PX, bandOf, misfitsOf } from "../guidance";
@@ -104,6 +107,11 @@ export function TapScreen({ controller, view, state, top }: Props) {
     return () => window.removeEventListener("keydown", onKey);
   }, [controller]);
 
+  // Focus follows the next step (a11y/focus.ts): the photo to tap once it is shown, the
+  // answer's status once one arrives (later, on its own), which the status then reads out.
+  useFocusOnChange(() => stage.current?.querySelector<HTMLElement>('[data-testid="photo-view"]'), photo?.key ?? null);
+  useFocusOnChange(() => status.current, answerFocusKey(answer.kind, answer.position?.how ?? null));
+
   const step = stepOf(state, view, answer);
   // The landmark to find, its band under the answer, and a suggested spot on it.
   const findId = step.next.find ? step.next.id : null;
@@ -119,6 +127,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
 
   return (
     <main class="screen session tap-screen">
+      <h1 class="visually-hidden">{TAP_SCREEN_TITLE}</h1>
       {top}
       <div class="stage" ref={stage}>
         <PhotoView
@@ -137,6 +146,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
           onMove={(id, to) => controller.taps.moveLandmark(id, to)}
           onSelect={(id) => controller.taps.select(id)}
         />
+        <PhotoDescription taps={editor.taps} photo={photo.size} selected={editor.selected} suspects={recheck} answer={answer} />
       </div>
       <StatusPanel
         panel={status}
@@ -215,7 +225,7 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
   const { position } = answer;
   const ellipse = position?.ellipse ?? null;
   return (
-    <section class="status" aria-live="polite" ref={panel}>
+    <section class="status" data-testid="status" aria-live="polite" tabIndex={-1} ref={panel}>
       {saveError && (
         <p class="save-error" role="alert">
           {saveError}
@@ -307,7 +317,9 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
     "data-kind": mode === "landmark" ? step.kind : mode,
     "data-needed": String(state.landmarks_needed),
     "data-to-tap": String(step.toTap),
-  };
+    // The next step is said as it changes (the next landmark to tap or find): a11y/focus.ts.
+    "aria-live": "polite",
+  } as const;
 
   if (uploadReplacesPrompt(view)) {
     // A new photo on its way: its progress (or why it failed) instead of the prompt.

@@ -40,7 +40,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
           >
             {SAVE_WORDS[view.save.status]}
           </button>
-          <label class="icon-button" for="photo-input" title="New photo" aria-label="New photo">
+          <label class="icon-button" for="photo-input" title="New photo">
             <CameraIcon />
           </label>
         </>

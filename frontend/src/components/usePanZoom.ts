@@ -4,6 +4,7 @@
  */
 
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
+import { prefersReducedMotion } from "../a11y/motion";
 import { PanZoom, type Frames, type PanZoomState } from "../panZoom";
 import type { Insets } from "../viewTransform";
 import type { Size } from "../viewTransform";
@@ -26,6 +27,7 @@ export function usePanZoom(
   const made = useRef<PanZoom | null>(null);
   made.current ??= new PanZoom(photoSize, setState, BROWSER_FRAMES);
   const panZoom = made.current;
+  panZoom.reducedMotion = prefersReducedMotion();
   useEffect(() => panZoom.setInsets(insets, busy()), [insets.top, insets.right, insets.bottom, insets.left]);
 
   useLayoutEffect(() => {

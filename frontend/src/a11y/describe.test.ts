@@ -1,0 +1,105 @@
+import { describe, expect, it } from "vitest";
+import type { AnswerView } from "../answer";
+import type { TapSet } from "../landmarks";
+import { describeAnswerPlace, describeLandmark, describeMarks, directionWords, placeIn } from "./describe";
+
+const PHOTO = { width: 640, height: 480 };
+
+const NONE: AnswerView = {
+  kind: "none",
+  text: "",
+  position: null,
+  seen: false,
+  news: false,
+  warnings: [],
+  suspects: [],
+  sureness: null,
+  curve: null,
+  drawing: null,
+};
+
+function at(x: number, y: number, how: "solved" | "marked" | "on_line" = "solved", sure = true): AnswerView {
+  const ellipse = sure ? { axes: [10, 5] as [number, number], angle_deg: 0 } : null;
+  return {
+    ...NONE,
+    kind: "position",
+    position: { x, y, ellipse, quality: "good", how } as AnswerView["position"],
+  };
+}
+
+describe("placeIn", () => {
+  it("names the ninth of the photo a point is in", () => {
+    expect(placeIn({ x: 10, y: 10 }, PHOTO)).toBe("upper left");
+    expect(placeIn({ x: 320, y: 10 }, PHOTO)).toBe("upper middle");
+    expect(placeIn({ x: 320, y: 240 }, PHOTO)).toBe("centre");
+    expect(placeIn({ x: 630, y: 240 }, PHOTO)).toBe("middle right");
+    expect(placeIn({ x: 0, y: 480 }, PHOTO)).toBe("lower left");
+  });
+
+  it("says which way off the photo a point is", () => {
+    expect(placeIn({ x: 700, y: 240 }, PHOTO)).toBe("off the photo to the right");
+    expect(placeIn({ x: -5, y: -5 }, PHOTO)).toBe("off the photo above, to the left");
+    expect(placeIn({ x: 320, y: 500 }, PHOTO)).toBe("off the photo below");
+  });
+});
+
+describe("marks", () => {
+  it("says a landmark's number, who placed it, where, and its state", () => {
+    expect(describeLandmark(3, { x: 10, y: 10 }, PHOTO)).toBe("landmark 3, placed by you, upper left");
+    expect(describeLandmark(4, { x: 600, y: 400 }, PHOTO, { suspect: true, selected: true })).toBe(
+      "landmark 4, placed by you, lower right, to re-check, selected",
+    );
+  });
+
+  it("lists the friend's mark first, then the landmarks by number", () => {
+    const taps: TapSet = {
+      landmarks: [
+        { id: 2, x: 600, y: 20, sigma: null },
+        { id: 1, x: 20, y: 460, sigma: null },
+      ],
+      friend: { x: 320, y: 240, sigma: null },
+      friend_line: null,
+    };
+    expect(describeMarks(taps, PHOTO, 2, [1])).toEqual([
+      "your friend, marked by you, centre",
+      "landmark 1, placed by you, lower left, to re-check",
+      "landmark 2, placed by you, upper right, selected",
+    ]);
+  });
+});
+
+describe("describeAnswerPlace", () => {
+  it("says nothing before an answer", () => {
+    expect(describeAnswerPlace(NONE, PHOTO)).toBeNull();
+  });
+
+  it("says where the frame is", () => {
+    expect(describeAnswerPlace(at(100, 80), PHOTO)).toBe("your friend is inside the frame, upper left");
+    expect(describeAnswerPlace(at(100, 80, "solved", false), PHOTO)).toBe(
+      "your friend is most likely inside the frame, upper left",
+    );
+    expect(describeAnswerPlace(at(500, 400, "marked"), PHOTO)).toBe("your friend is at your mark, lower right");
+    expect(describeAnswerPlace(at(320, 240, "on_line"), PHOTO)).toBe(
+      "your friend is most likely inside the frame on your line, centre",
+    );
+    expect(describeAnswerPlace({ ...NONE, kind: "curve" }, PHOTO)).toBe(
+      "your friend is somewhere on the curve drawn across the photo",
+    );
+  });
+
+  it("says which way off the photo the friend is", () => {
+    expect(describeAnswerPlace(at(900, 240), PHOTO)).toBe("your friend is off the photo to the right");
+    const far: AnswerView = {
+      ...NONE,
+      kind: "elsewhere",
+      drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
+    };
+    expect(describeAnswerPlace(far, PHOTO)).toBe("your friend is far off the photo, above");
+  });
+
+  it("names the eight directions", () => {
+    expect(directionWords([1, 0])).toBe("to the right");
+    expect(directionWords([-0.7, 0.7])).toBe("below, to the left");
+    expect(directionWords([0.7, -0.7])).toBe("above, to the right");
+  });
+});
