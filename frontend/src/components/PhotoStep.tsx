@@ -4,6 +4,7 @@ import type { ComponentChildren } from "preact";
 import { useEffect, useState } from "preact/hooks";
 import { InAppCamera } from "../camera/InAppCamera";
 import { startShutterOrientation, stopShutterOrientation, takeShutterAnchor } from "../live/shutter";
+import { t } from "../i18n";
 import type { SessionController, SessionView } from "../session";
 import { CameraIcon } from "./icons";
 
@@ -12,7 +13,7 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
   if (upload.phase === "preparing") {
     return (
       <p class="note" role="status">
-        Making the photo smaller...
+        {t("photo.preparing")}
       </p>
     );
   }
@@ -21,7 +22,7 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
     return (
       <div class="progress" data-testid="upload-progress" role="progressbar" aria-valuenow={percent} aria-valuemin={0} aria-valuemax={100}>
         <div class="progress-bar" style={{ width: `${percent}%` }} />
-        <span class="progress-text">Sending photo... {percent} %</span>
+        <span class="progress-text">{t("photo.sending", { percent })}</span>
       </div>
     );
   }
@@ -33,12 +34,12 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
         </p>
         {upload.retryable ? (
           <button type="button" class="button primary wide" data-testid="upload-retry" onClick={() => void controller.photo.retry()}>
-            Retry
+            {t("photo.retry")}
           </button>
         ) : (
           view.photo && (
             <button type="button" class="button secondary wide" onClick={() => controller.photo.dismiss()}>
-              Keep old photo
+              {t("photo.keepOld")}
             </button>
           )
         )}
@@ -71,10 +72,9 @@ export function PhotoStep({ controller, view, top }: Props) {
         <div class="photo-hint" aria-hidden="true">
           <CameraIcon />
         </div>
-        <h1>Photo of the other side</h1>
+        <h1>{t("photo.title")}</h1>
         <p class="lead">
-          Aim across the venue, where your friend is. Get some clear landmarks in too: corners,
-          signs, lights, pillars.
+          {t("photo.lead")}
         </p>
       </section>
       <footer class="bottom-actions">
@@ -85,10 +85,10 @@ export function PhotoStep({ controller, view, top }: Props) {
           </p>
         )}
         <label class={`button primary huge ${busy ? "disabled" : ""}`} for="photo-input">
-          {view.upload.phase === "failed" && !view.upload.retryable ? "Take another photo" : "Take photo"}
+          {view.upload.phase === "failed" && !view.upload.retryable ? t("photo.takeAnother") : t("photo.take")}
         </label>
         <label class={`button secondary wide ${busy ? "disabled" : ""}`} for="photo-pick">
-          Choose from gallery
+          {t("photo.gallery")}
         </label>
         <button
           type="button"
@@ -100,7 +100,7 @@ export function PhotoStep({ controller, view, top }: Props) {
             setCamera("open");
           }}
         >
-          In-app camera: knows which way is down
+          {t("photo.inAppCamera")}
         </button>
       </footer>
       {camera === "open" && (

@@ -19,6 +19,7 @@
  * (Loupe.tsx), the guide (GuideLayer.tsx).
  */
 
+import { t as tr } from "../i18n";
 import { useEffect, useRef, useState } from "preact/hooks";
 import { loupeTarget, type Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
@@ -109,7 +110,7 @@ export function PhotoView(props: Props) {
         class="photo-view"
         data-testid="photo-view"
         role="application"
-        aria-label="Your photo: tap to mark, two fingers to zoom"
+        aria-label={tr("photo.viewLabel")}
         {...attributes}
       >
         {ready && (
@@ -126,7 +127,7 @@ export function PhotoView(props: Props) {
       </div>
       {ready && (
         <div class="photo-controls">
-          {zoomed && <p class="pan-hint">Drag to look around</p>}
+          {zoomed && <p class="pan-hint">{tr("photo.panHint")}</p>}
           <AnswerArrow
             answer={props.answer}
             photoSize={photoSize}
@@ -140,7 +141,7 @@ export function PhotoView(props: Props) {
               type="button"
               class="fit-button"
               data-testid="fit"
-              aria-label="Whole photo"
+              aria-label={tr("photo.wholePhoto")}
               onClick={() => panZoom.fit()}
             >
               <FitIcon />
@@ -175,7 +176,7 @@ function Drawing(props: DrawingProps) {
         class="layer"
         src={props.photoUrl}
         style={layer}
-        alt="Your photo"
+        alt={tr("photo.yourPhoto")}
         draggable={false}
         onLoad={props.onLoaded}
       />
@@ -203,7 +204,7 @@ function Drawing(props: DrawingProps) {
           marks={taps.friend ? [taps.friend] : []}
         />
       )}
-      {!props.loaded && <p class="photo-loading">Loading photo...</p>}
+      {!props.loaded && <p class="photo-loading">{tr("photo.loading")}</p>}
     </>
   );
 }
