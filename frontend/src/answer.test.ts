@@ -181,7 +181,13 @@ describe("the answer on each phone", () => {
     });
     const view = describeAnswer(refused, "joiner");
     expect(view.kind).toBe("refused");
+    // An older server says no reader: its own sentence, which names the photos for this phone.
     expect(view.text).toBe("All landmarks in your photo lie on one straight line; add landmarks off that line.");
+    const error = refused.answer_error;
+    if (error) refused.answer_error = { ...error, reader: 1, message: "" };
+    expect(describeAnswer(refused, "starter").text).toBe(
+      "All landmarks in your friend's photo lie on one straight line; add landmarks off that line.",
+    );
   });
 
   it("says how sure the frame is in people, never in pixels", () => {

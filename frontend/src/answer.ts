@@ -70,7 +70,7 @@ function isInside(x: number, y: number, size: { width: number; height: number } 
 /** The answer as the phone of `role` tells it. */
 export function describeAnswer(state: SessionState, role: Role): AnswerView {
   if (state.answer_error) {
-    return { ...NOTHING, kind: "refused", text: refusalText(state.answer_error, null) };
+    return { ...NOTHING, kind: "refused", text: refusalText(state.answer_error) };
   }
   const answer = state.answer;
   const mine = answer?.in_photo[role];

@@ -7,11 +7,9 @@
 
 import i18next from "i18next";
 import { ApiError } from "../api";
-import type { components } from "../generated/openapi";
+import type { Refusal, SolverWarning as Warning } from "../types";
 import { formatNumber, t } from "./index";
 
-type Warning = components["schemas"]["SolverWarning"];
-type Refusal = components["schemas"]["Refusal"];
 
 /** A key the catalogue may or may not hold (server codes are open-ended). */
 function has(key: string): boolean {
@@ -43,11 +41,12 @@ export function warningText(warning: Warning): string {
 }
 
 /**
- * A refusal of the answer in the language shown. `yours`: which of the solver's photos is this
- * phone's (1 or 2), when known; a sentence that names a photo needs it, else the server's own
- * sentence (which names the photos for this phone already) is shown.
+ * A refusal of the answer in the language shown. Its `reader` says which of the solver's
+ * photos is this phone's ("your photo"); a sentence that names a photo needs it, so without
+ * one (an older server) the server's own sentence is shown.
  */
-export function refusalText(refusal: Refusal, yours: 1 | 2 | null): string {
+export function refusalText(refusal: Refusal): string {
+  const yours = refusal.reader ?? null;
   const key = `refusal.${refusal.reason}`;
   // A sentence with a count is kept by its plural forms only (`_one`, `_other`...).
   const template = has(key) ? key : has(`${key}_other`) ? `${key}_other` : null;
