@@ -91,14 +91,20 @@ def each_language(page: Page, screen: str) -> list[list[str]]:
 def test_the_phones_language_is_chosen_and_kept(
     server: str, playwright: Playwright, browser: Browser, screenshots: Path
 ) -> None:
-    """An Austrian phone reads German; the switch's Spanish is kept across a reload. The
-    Spanish start screen is the README's second language."""
+    """An Austrian phone reads German, and fetches the German words only (no other language,
+    nor the chunks only later screens need: the QR code, Show me, EXIF); the switch's
+    Spanish is kept across a reload. The Spanish start screen is the README's second
+    language."""
     opened = context(playwright, browser, "de-AT")
     page = opened.new_page()
+    scripts: list[str] = []
+    page.on("request", lambda r: scripts.append(r.url) if r.resource_type == "script" else None)
     try:
         page.goto(f"{server}/")
         speaks(page, "de")
         assert page.get_by_test_id("start").inner_text() == "Suche starten"
+        names = sorted(url.rsplit("/", 1)[-1].split("-")[0] for url in scripts)
+        assert names == ["de", "index"], scripts
         page.locator("[data-testid=language] select").select_option("es")
         speaks(page, "es")
         page.reload()
