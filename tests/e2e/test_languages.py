@@ -93,8 +93,8 @@ def test_the_phones_language_is_chosen_and_kept(
 ) -> None:
     """An Austrian phone reads German, and fetches the German words only (no other language,
     nor the chunks only later screens need: the QR code, Show me, EXIF); the switch's
-    Spanish is kept across a reload. The Spanish start screen is the README's second
-    language."""
+    Spanish is kept across a reload. The Spanish start and share screens are the README's
+    second language."""
     opened = context(playwright, browser, "de-AT")
     page = opened.new_page()
     scripts: list[str] = []
@@ -111,6 +111,10 @@ def test_the_phones_language_is_chosen_and_kept(
         speaks(page, "es")
         assert page.get_by_test_id("start").inner_text() == "Empezar a buscar"
         page.screenshot(path=screenshots / "15-start-es.png")
+        page.get_by_test_id("start").tap()
+        page.get_by_test_id("qr").wait_for()
+        assert page.get_by_test_id("waiting").inner_text().strip() == "Esperando a tu amigo..."
+        page.screenshot(path=screenshots / "15b-share-es.png")
     finally:
         opened.close()
 
