@@ -1,7 +1,7 @@
 """The app in each language: the phone's own language is chosen, the switch changes it in
 place, and no button's or control's words overflow their box or leave the screen at 200 %
-text size (the screens of a search a phone sees most: start, share, photo, tapping and its
-prompts, the delete sheet).
+text size (the screens of a search a phone sees most: start, share, photo, the in-app camera,
+tapping and its prompts, the delete sheet).
 
 200 % text is emulated as the browsers' text zoom does it (Chrome for Android's text
 scaling and Safari's page zoom are page zooms; WCAG 1.4.4's test): the CSS viewport halves
@@ -136,6 +136,10 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
     httpx2.post(f"{server}/api/sessions/join", json={"code": code}).raise_for_status()
     page.get_by_test_id("open-camera").wait_for()
     found += each_language(page, "photo")
+    page.get_by_test_id("open-camera").tap()  # the in-app camera, on Chromium's fake camera
+    page.get_by_test_id("camera-close").wait_for()
+    found += each_language(page, "camera")
+    page.get_by_test_id("camera-close").tap()
 
     page.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
     page.get_by_test_id("photo-view").wait_for()
