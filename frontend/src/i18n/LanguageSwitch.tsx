@@ -25,7 +25,8 @@ export function LanguageSwitch({ compact = false }: { compact?: boolean }) {
         value={language}
         onChange={(event) => {
           const chosen = (event.target as HTMLSelectElement).value;
-          if (isLanguage(chosen)) void switchLanguage(chosen);
+          // Offline with the catalogue not yet fetched: the language stays as it was.
+          if (isLanguage(chosen)) switchLanguage(chosen).catch(() => undefined);
         }}
       >
         {Object.entries(LANGUAGES).map(([code, name]) => (
