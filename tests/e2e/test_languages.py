@@ -38,12 +38,16 @@ OVERFLOWING = """() => {
     const box = element.getBoundingClientRect();
     if (box.width === 0 || getComputedStyle(element).visibility === "hidden") continue;
     const why = [];
+    // An empty field is measured with its placeholder in it: the words it shows.
+    const empty = element.tagName === "INPUT" && !element.value && element.placeholder;
+    if (empty) element.value = element.placeholder;
     // The top bar's status words give way with an ellipsis by design (styles.css): the
     // buttons beside them never do.
     const givesWay = getComputedStyle(element).textOverflow === "ellipsis";
     if (!givesWay && element.scrollWidth > element.clientWidth + 1) why.push("wider than its box");
     if (element.scrollHeight > element.clientHeight + 1) why.push("taller than its box");
     if (box.left < -0.5 || box.right > innerWidth + 0.5) why.push("off the screen");
+    if (empty) element.value = "";
     if (why.length) found.push([element.tagName.toLowerCase() + "." + element.className,
                                 element.textContent.trim().slice(0, 40), why.join(", ")]);
   }
