@@ -1,7 +1,7 @@
 """The app in each language: the phone's own language is chosen, the switch changes it in
 place, and no button's or control's words overflow their box or leave the screen at 200 %
 text size (the screens of a search a phone sees most: start, share, photo, the in-app camera,
-tapping and its prompts, the delete sheet).
+tapping and its prompts, finding a landmark the friend tapped, the delete sheet).
 
 200 % text is emulated as the browsers' text zoom does it (Chrome for Android's text
 scaling and Safari's page zoom are page zooms; WCAG 1.4.4's test): the CSS viewport halves
@@ -137,7 +137,8 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
 
     # The friend joins (over the API): the starter's photo step, then tapping on its photo.
     code = "".join(ch for ch in shown.inner_text() if ch.isdigit())
-    httpx2.post(f"{server}/api/sessions/join", json={"code": code}).raise_for_status()
+    friend = httpx2.post(f"{server}/api/sessions/join", json={"code": code}).raise_for_status()
+    joined = friend.json()
     page.get_by_test_id("open-camera").wait_for()
     found += each_language(page, "photo")
     page.get_by_test_id("open-camera").tap()  # the in-app camera, on Chromium's fake camera
@@ -152,6 +153,18 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
     found += each_language(page, "line")
     page.get_by_test_id("mark-landmark").tap()
     found += each_language(page, "landmarks")
+
+    # The friend's photo and two landmarks on it: this phone is asked to find #1.
+    session = f"{server}/api/sessions/{joined['session_id']}"
+    auth = {"Authorization": f"Bearer {joined['token']}"}
+    with (TEMPLE / "templeSR0003.png").open("rb") as photo:
+        files = {"photo": ("joiner.png", photo, "image/png")}
+        httpx2.put(f"{session}/photo", headers=auth, files=files).raise_for_status()
+    landmarks = [{"id": 1, "x": 200.0, "y": 150.0}, {"id": 2, "x": 420.0, "y": 300.0}]
+    taps = {"landmarks": landmarks}
+    httpx2.put(f"{session}/taps", headers=auth, json=taps).raise_for_status()
+    page.get_by_test_id("find-prompt").wait_for()
+    found += each_language(page, "find")
 
     page.get_by_test_id("delete-session").tap()
     page.get_by_test_id("confirm-delete").wait_for()
