@@ -25,6 +25,8 @@ export default defineConfig({
     isolate: false,
     unstubGlobals: true,
     include: ["src/**/*.test.ts"],
+    // The app's words in English, loaded once for every test file (src/i18n/testSetup.ts).
+    setupFiles: ["src/i18n/testSetup.ts"],
     // The stylesheet as written (palette.test.ts reads it): vitest empties CSS otherwise.
     css: { include: [/styles\.css/] },
   },

@@ -70,6 +70,12 @@ class Refusal(BaseModel):
         None, description="not_a_camera: what is wrong with it; bad_photo: the value given."
     )
     message: str = Field(description="The sentence a person reads.")
+    reader: Literal[1, 2] | None = Field(
+        None,
+        description="The photo of the phone it is said to (its sentence calls that one "
+        "'your photo', the other 'your friend's photo'), so a phone can word it in its own "
+        "language; null: said to a script (photo 1, photo 2).",
+    )
 
     @classmethod
     def of(cls, reason: Reason, **parameters: Unpack[Parameters]) -> Refusal:
@@ -96,14 +102,14 @@ class Refusal(BaseModel):
     @property
     def parameters(self) -> Parameters:
         """What its sentence says beside its reason."""
-        given = self.model_dump(exclude_none=True, exclude={"code", "reason", "message"})
+        given = self.model_dump(exclude_none=True, exclude={"code", "reason", "message", "reader"})
         return Parameters(**given)  # type: ignore[typeddict-item]
 
     def said_to(self, reader: words.Reader) -> Refusal:
         """The same refusal worded for ``reader``: the phone of photo 1 or 2 (its photo is
         "your photo"), or None, a script."""
         message = words.refusal(self.reason, self.parameters, reader=reader)
-        return self.model_copy(update={"message": message})
+        return self.model_copy(update={"message": message, "reader": reader})
 
 
 class SolverError(ValueError):

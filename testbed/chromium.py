@@ -24,7 +24,8 @@ def launch(playwright: Any, extra: tuple[str, ...] = ()) -> Any:
 
 def phone(playwright: Any, browser: Any, model: str) -> Any:
     """A new context of ``browser`` emulating Playwright's phone ``model`` (viewport, device
-    scale, touch, user agent)."""
+    scale, touch, user agent), speaking English: the app picks the phone's language, and the
+    tests read its English words (tests/e2e/test_languages.py sets the others itself)."""
     device = dict(playwright.devices[model])
     device.pop("default_browser_type", None)
-    return browser.new_context(**device)
+    return browser.new_context(**{"locale": "en-US", **device})

@@ -1,5 +1,13 @@
 import { describe, expect, it } from "vitest";
-import { COMPASS_TEXT, CURVE_TEXT, LEVEL_TEXT, FRAME_TEXT, OUTSIDE_TEXT, WAVE_TEXT, describeAnswer, surenessText } from "./answer";
+import { describeAnswer, surenessText } from "./answer";
+import { t } from "./i18n";
+
+const CURVE_TEXT = t("answer.curve");
+const LEVEL_TEXT = t("answer.level");
+const COMPASS_TEXT = t("answer.compass");
+const FRAME_TEXT = t("answer.frame");
+const OUTSIDE_TEXT = t("answer.outside");
+const WAVE_TEXT = t("answer.wave");
 import type { Answer, FriendInPhoto, SessionState, SolverWarning } from "./types";
 
 const RING = { center: [300, 200] as [number, number], axes: [12, 5] as [number, number], angle_deg: 30 };
@@ -150,9 +158,16 @@ describe("the answer on each phone", () => {
     const compasses: SolverWarning = { code: "heading_disagrees", message: "The phones' compasses do not fit these marks." };
     const answer = state(inPhoto({ warnings: [compasses, misfit] }, { warnings: [compasses, uncertain] }));
     if (answer.answer) answer.answer.suspects = [2, 5];
-    expect(describeAnswer(answer, "starter").warnings).toEqual([compasses.message, misfit.message]);
-    expect(describeAnswer(answer, "joiner").warnings).toEqual([compasses.message, uncertain.message]);
+    // Each in the catalogue's words for its code and parameters, not the server's sentence.
+    const heading = t("warning.heading_disagrees");
+    expect(describeAnswer(answer, "starter").warnings).toEqual([heading, misfit.message]);
+    expect(describeAnswer(answer, "joiner").warnings).toEqual([heading, t("warning.uncertain")]);
     expect(describeAnswer(answer, "joiner").suspects).toEqual([2, 5]);
+  });
+
+  it("keeps the server's sentence for a warning code the catalogue does not know", () => {
+    const newer = { code: "from_a_newer_server", message: "Something new." } as unknown as SolverWarning;
+    expect(describeAnswer(state(inPhoto({ warnings: [newer] }, {})), "starter").warnings).toEqual(["Something new."]);
   });
 
   it("passes on the solver's refusal", () => {
@@ -166,7 +181,13 @@ describe("the answer on each phone", () => {
     });
     const view = describeAnswer(refused, "joiner");
     expect(view.kind).toBe("refused");
+    // An older server says no reader: its own sentence, which names the photos for this phone.
     expect(view.text).toBe("All landmarks in your photo lie on one straight line; add landmarks off that line.");
+    const error = refused.answer_error;
+    if (error) refused.answer_error = { ...error, reader: 1, message: "" };
+    expect(describeAnswer(refused, "starter").text).toBe(
+      "All landmarks in your friend's photo lie on one straight line; add landmarks off that line.",
+    );
   });
 
   it("says how sure the frame is in people, never in pixels", () => {

@@ -4,6 +4,8 @@
  * geometry is the server's; this only chooses words.
  */
 
+import { t } from "./i18n";
+import { refusalText, warningText } from "./i18n/server";
 import type { AnswerDrawing, Ellipse, FriendInPhoto, Quality, Role, SessionState } from "./types";
 import { otherRole } from "./types";
 
@@ -44,19 +46,9 @@ export interface AnswerView {
   drawing: AnswerDrawing | null;
 }
 
-export const CURVE_TEXT =
-  "Your friend is somewhere on the dotted yellow curve: 1 more landmark pins it down";
-/** No landmark yet, both phones' gravity: the level of the venue the friend is on. */
-export const LEVEL_TEXT =
-  "Your friend is somewhere along the yellow band: on this level. Tap 1 landmark in both photos for the spot";
-/** The level with the stretch both phones' compasses point to, drawn bolder on the band. */
-export const COMPASS_TEXT =
-  "Your friend is somewhere along the yellow band: on this level. The compass points to its bold part: a hint, steel bends compasses. Tap 1 landmark in both photos for the spot";
-export const FRAME_TEXT = "Your friend is inside the yellow frame marked \u201cfriend\u201d.";
-export const LIKELY_TEXT =
-  "Your friend is most likely inside the yellow frame marked \u201cfriend?\u201d. Ask them to mark you as a point to be sure.";
-export const OUTSIDE_TEXT = "Your friend is outside your photo: turn towards the yellow arrow at its edge.";
-export const WAVE_TEXT = "Stay where you are and wave.";
+// The sentences are the catalogue's (i18n/locales): "answer.curve" is the curve alone,
+// "answer.level" the level of the venue (no landmark yet, both phones' gravity),
+// "answer.compass" the level with the stretch both phones' compasses point to.
 
 const NOTHING: AnswerView = {
   kind: "none",
@@ -78,14 +70,14 @@ function isInside(x: number, y: number, size: { width: number; height: number } 
 /** The answer as the phone of `role` tells it. */
 export function describeAnswer(state: SessionState, role: Role): AnswerView {
   if (state.answer_error) {
-    return { ...NOTHING, kind: "refused", text: state.answer_error.message };
+    return { ...NOTHING, kind: "refused", text: refusalText(state.answer_error) };
   }
   const answer = state.answer;
   const mine = answer?.in_photo[role];
   if (!answer || !mine) return NOTHING;
   const theirs = answer.in_photo[otherRole(role)];
   const base = {
-    warnings: (mine.warnings ?? []).map((warning) => warning.message),
+    warnings: (mine.warnings ?? []).map(warningText),
     suspects: answer.suspects ?? [],
     curve: mine.curve ?? null,
     drawing: mine.drawing ?? null,
@@ -107,31 +99,31 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     // This phone marked its friend (or drew a line through them): its mark, refined.
     const text =
       theirs?.how === "marked"
-        ? "You marked each other: your mark, refined by the landmarks."
+        ? t("answer.markedEachOther")
         : mine.how === "on_line"
-          ? `Your friend is most likely inside the yellow frame on your line. ${WAVE_TEXT}`
-          : WAVE_TEXT;
+          ? t("answer.onLine")
+          : t("answer.wave");
     return { ...base, kind: position ? "position" : "elsewhere", position, news, text, sureness };
   }
   if (!position) {
     if (mine.level) {
-      const text = mine.drawing?.curve?.stretch?.length ? COMPASS_TEXT : LEVEL_TEXT;
+      const text = mine.drawing?.curve?.stretch?.length ? t("answer.compass") : t("answer.level");
       return { ...base, kind: "curve", position: null, news, text, sureness: null };
     }
-    if (mine.curve) return { ...base, kind: "curve", position: null, news, text: CURVE_TEXT, sureness: null };
+    if (mine.curve) return { ...base, kind: "curve", position: null, news, text: t("answer.curve"), sureness: null };
     const behind = (mine.friend_h?.[2] ?? 0) < 0;
     const text = behind
-      ? "Your friend is behind you: turn around."
-      : "Your friend is far off to the side: follow the yellow arrow.";
+      ? t("answer.behind")
+      : t("answer.farSide");
     return { ...base, kind: "elsewhere", position: null, news, text, sureness: null };
   }
   let text: string;
   if (!isInside(x, y, state.photos[role])) {
-    text = OUTSIDE_TEXT;
+    text = t("answer.outside");
   } else if (region === null) {
-    text = LIKELY_TEXT;
+    text = t("answer.likely");
   } else {
-    text = FRAME_TEXT;
+    text = t("answer.frame");
   }
   return { ...base, kind: "position", position, news, text, sureness };
 }
@@ -144,10 +136,10 @@ export const GOOD_PEOPLE = 2;
  * long diameter in persons far across a hall (`person` px: the answer's drawing says it).
  */
 export function surenessText(region: Ellipse | null, quality: Quality, person: number): string {
-  if (region === null) return "Rough: no sure region yet.";
+  if (region === null) return t("answer.roughNoRegion");
   const people = (2 * Math.max(...region.axes)) / person;
   if (people <= GOOD_PEOPLE) {
-    return quality === "poor" ? "Rough: the landmarks disagree; re-check them." : "Good: the frame is about one person across.";
+    return quality === "poor" ? t("answer.roughDisagree") : t("answer.good");
   }
-  return `Rough: the frame is about ${Math.round(people)} people across.`;
+  return t("answer.roughPeople", { count: Math.round(people) });
 }

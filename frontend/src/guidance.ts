@@ -6,6 +6,7 @@
  * only reads them for the screen.
  */
 
+import { t } from "./i18n";
 import type { Point } from "./viewTransform";
 import type { FriendInPhoto, LandmarkBand, Role, SessionState } from "./types";
 
@@ -35,9 +36,7 @@ export function misfitsOf(state: SessionState, you: Role): readonly number[] {
 export function misfitText(misfits: readonly number[]): string | null {
   if (misfits.length === 0) return null;
   const names = misfits.map((id) => `#${id}`).join(", ");
-  return misfits.length === 1
-    ? `${names} does not fit the others: check it`
-    : `${names} do not fit the others: check them`;
+  return t("answer.misfit", { count: misfits.length, names });
 }
 
 /** The band's outline on the screen, as an SVG `points` attribute. */

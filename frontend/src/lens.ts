@@ -8,7 +8,7 @@
  * nothing is sent, and the server assumes a phone's main camera.
  */
 
-import exifr from "exifr/dist/lite.esm.mjs";
+import { t } from "./i18n";
 import type { LensFields, PhotoStored } from "./types";
 
 /**
@@ -56,6 +56,8 @@ export function lensFields(tags: unknown): LensFields {
  */
 export async function readLens(file: Blob): Promise<LensFields> {
   try {
+    // exifr is a chunk of its own: only a chosen photo needs it, never the start screen.
+    const { default: exifr } = await import("exifr/dist/lite.esm.mjs");
     return lensFields(await exifr.parse(await file.arrayBuffer(), READ));
   } catch {
     return {};
@@ -66,7 +68,7 @@ export async function readLens(file: Blob): Promise<LensFields> {
 export function lensNote(photo: PhotoStored | null | undefined): string | null {
   if (!photo) return null;
   const lens = photo.lens;
-  if (!lens) return "Your photo did not say which lens took it: a typical phone camera is assumed.";
-  const who = lens.told_by === "phone" ? "Your phone" : "Your photo";
-  return `${who} told us its lens (${Math.round(lens.focal_35mm)} mm): the answer uses it.`;
+  if (!lens) return t("photo.lensUnknown");
+  const mm = Math.round(lens.focal_35mm);
+  return lens.told_by === "phone" ? t("photo.lensByPhone", { mm }) : t("photo.lensByPhoto", { mm });
 }

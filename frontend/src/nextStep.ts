@@ -6,6 +6,7 @@
  * already tapped and the friend has still to find are taken off what it is asked to tap.
  */
 
+import { t } from "./i18n";
 import { nextLandmark, type NextLandmark } from "./landmarks";
 
 export interface StepInput {
@@ -42,10 +43,6 @@ export interface Step {
   toTap: number;
 }
 
-function landmarks(count: number): string {
-  return count === 1 ? "1 more landmark" : `${count} more landmarks`;
-}
-
 /** This phone's next step. */
 export function nextStep(input: StepInput): Step {
   const next = nextLandmark(input.mine, input.theirs, input.skipped);
@@ -58,17 +55,17 @@ export function nextStep(input: StepInput): Step {
 
   if (input.needed <= 0) {
     if (toFind.length > 0) {
-      return { title: `Find #${next.id} here`, detail: "It sharpens the answer.", next, kind: "find", toTap: 0 };
+      return { title: t("step.findHere", { id: next.id }), detail: t("step.sharpens"), next, kind: "find", toTap: 0 };
     }
     // Told where the friend is: this phone's search is done; else it helped the other find.
-    const title = input.toldWhere ? "Done" : input.seen ? "Your friend sees where you are." : "Done";
-    const detail = input.toldWhere ? "Wave to each other. Add a landmark to sharpen it." : "Add a landmark to sharpen it.";
+    const title = input.toldWhere ? t("step.done") : input.seen ? t("step.seesYou") : t("step.done");
+    const detail = input.toldWhere ? t("step.waveAndAdd") : t("step.addToSharpen");
     return { title, detail, next, kind: "done", toTap: 0 };
   }
   if (!input.theirPhoto && input.mine.length === 0) {
     return {
-      title: "Your friend is taking their photo",
-      detail: input.iMarked ? `Meanwhile, tap ${landmarks(input.needed)} you both can see.` : "Mark them if you can see them.",
+      title: t("step.friendTakingPhoto"),
+      detail: input.iMarked ? t("step.meanwhileTap", { count: input.needed }) : t("step.markIfSee"),
       next,
       kind: "wait",
       toTap: 0,
@@ -76,8 +73,8 @@ export function nextStep(input: StepInput): Step {
   }
   if (next.find) {
     return {
-      title: `Find #${next.id} here`,
-      detail: toTap > 1 ? `Tap ${landmarks(toTap)}, this one first.` : "Tap the same spot as in your friend's photo.",
+      title: t("step.findHere", { id: next.id }),
+      detail: toTap > 1 ? t("step.tapThisFirst", { count: toTap }) : t("step.tapSameSpot"),
       next,
       kind: "find",
       toTap,
@@ -85,8 +82,8 @@ export function nextStep(input: StepInput): Step {
   }
   if (toTap === 0) {
     return {
-      title: `Waiting for your friend to find #${awaited[0] ?? next.id}`,
-      detail: "Meanwhile you may add a landmark: it sharpens the answer.",
+      title: t("step.waitingFind", { id: awaited[0] ?? next.id }),
+      detail: t("step.meanwhileAdd"),
       next,
       kind: "wait",
       toTap: 0,
@@ -95,16 +92,16 @@ export function nextStep(input: StepInput): Step {
   // Nothing tapped on either phone, and the friend marked this phone's owner: they lead.
   if (input.mine.length === 0 && input.theirs.length === 0 && input.theyMarked && !input.iMarked) {
     return {
-      title: `Waiting for your friend to tap #${next.id}`,
-      detail: "Or tap a spot you both can see yourself.",
+      title: t("step.waitingTap", { id: next.id }),
+      detail: t("step.orTapYourself"),
       next,
       kind: "wait",
       toTap,
     };
   }
   return {
-    title: `Tap ${landmarks(toTap)}`,
-    detail: "Spots you both can see: a corner, a sign, a lamp.",
+    title: t("step.tapMore", { count: toTap }),
+    detail: t("step.spotsBoth"),
     next,
     kind: "tap",
     toTap,

@@ -9,6 +9,7 @@
  * (gestures.ts). Changes made while a PUT is on its way go together after it, the newest.
  */
 
+import { errorText } from "./i18n/server";
 import { ApiError } from "./api";
 import { backoffDelay } from "./reconnect";
 import type { SessionState, Taps } from "./types";
@@ -155,7 +156,7 @@ export class TapSaver {
         return;
       }
       this.options.onSettled?.();
-      this.setState({ status: "error", message: refusal.message });
+      this.setState({ status: "error", message: errorText(refusal) });
       if (refusal.retryable) {
         this.schedule(this.delay(this.failures++));
       } else if (this.wantedJson !== json) {

@@ -20,6 +20,8 @@ export type Answer = Schemas["Answer"];
 export type FriendInPhoto = Schemas["FriendInPhoto"];
 /** A warning said to this phone: its code, parameters and sentence (docs/api.md, "Warning codes"). */
 export type SolverWarning = Schemas["SolverWarning"];
+/** Why there is no answer: its code, reason, parameters, sentence and the photo of its reader. */
+export type Refusal = Schemas["Refusal"];
 export type Ellipse = Schemas["Ellipse"];
 export type LandmarkBand = Schemas["LandmarkBand"];
 /** What to draw of the answer on one photo, px (shared_solver/drawing/shapes.py). */

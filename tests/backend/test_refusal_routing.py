@@ -79,9 +79,11 @@ def test_a_refusal_names_each_phones_photo_as_its_own(
         assert said is not None
         for role, whose_photo in ((whose, "your photo"), (other(whose), "your friend's photo")):
             told = said[role]
-            assert told.model_dump(exclude={"message"}) == stored.error.model_dump(
-                exclude={"message"}
+            assert told.model_dump(exclude={"message", "reader"}) == stored.error.model_dump(
+                exclude={"message", "reader"}
             )
+            # Its reader, so that the phone can word it in its own language.
+            assert told.reader == (told.photo if role == whose else 3 - (told.photo or 0))
             assert whose_photo in told.message, (role, told.message)
             assert "photo 1" not in told.message
             assert "photo 2" not in told.message

@@ -183,6 +183,10 @@ class WebKitPhone(Phone):
             "XDG_CACHE_HOME": str(home / "cache"),
             "XDG_CONFIG_HOME": str(home / "config"),
             "XDG_DATA_HOME": str(home / "data"),
+            # navigator.languages follows the locale: English, whatever the machine's, since
+            # the app speaks the phone's language and the tests read its English words.
+            "LANG": "en_US.UTF-8",
+            "LANGUAGE": "en_US",
         }
         options = Options()
         options.binary_location = MINIBROWSERS[0]

@@ -9,6 +9,7 @@
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
+import { t } from "../i18n";
 import type { SensorFields } from "../types";
 import { markShutter } from "../live/shutter";
 import { takePicture } from "./capture";
@@ -16,8 +17,6 @@ import type { GravityReading } from "./gravity";
 import type { HeadingReading } from "./heading";
 import { answerMotion, motionAccess, MotionRecorder } from "./motion";
 
-export const MOTION_QUESTION =
-  "Let Buddy Search know which way is down when you take the photo? It finds your friend's level with no landmark.";
 
 /** The highest resolution the phone gives (a 12 MP sensor's 4:3); the back camera. */
 const CONSTRAINTS: MediaStreamConstraints = {
@@ -40,20 +39,20 @@ interface Props {
 export function cameraProblem(error: unknown): string {
   const name = error instanceof DOMException || error instanceof Error ? error.name : "";
   if (name === "NotAllowedError" || name === "SecurityError") {
-    return "The camera was not allowed. Take the photo with your phone's camera or choose one from the gallery.";
+    return t("camera.notAllowed");
   }
   if (name === "NotFoundError" || name === "OverconstrainedError") {
-    return "No camera was found. Take the photo with your phone's camera or choose one from the gallery.";
+    return t("camera.notFound");
   }
-  return "The camera could not start. Take the photo with your phone's camera or choose one from the gallery.";
+  return t("camera.failed");
 }
 
 /** The words under the live view for what the phone knows of down right now. */
 export function stillnessWords(access: "granted" | "denied", reading: GravityReading): string {
-  if (access === "denied") return "Motion access is off: the photo goes without which way is down.";
-  if (reading.kind === "moving") return "Hold the phone still: it is moving.";
-  if (reading.kind === "none") return "The phone has not said which way is down (yet).";
-  return "Which way is down is known. Hold still as you take the photo.";
+  if (access === "denied") return t("camera.motionOff");
+  if (reading.kind === "moving") return t("camera.moving");
+  if (reading.kind === "none") return t("camera.noDown");
+  return t("camera.downKnown");
 }
 
 /**
@@ -142,43 +141,43 @@ export function InAppCamera({ onPhoto, onClose }: Props) {
   };
 
   return (
-    <div class="camera" role="dialog" aria-modal="true" aria-label="Camera" data-testid="in-app-camera" data-phase={phase}>
+    <div class="camera" role="dialog" aria-modal="true" aria-label={t("camera.dialog")} data-testid="in-app-camera" data-phase={phase}>
       <video
         ref={video}
         class="camera-view"
         data-testid="camera-view"
         role="img"
-        aria-label="What the camera sees"
+        aria-label={t("camera.sees")}
         autoplay
         muted
         playsInline
       />
       {phase === "ask" ? (
         <div class="camera-ask" data-testid="motion-question">
-          <p>{MOTION_QUESTION}</p>
+          <p>{t("camera.motionAsk")}</p>
           <div class="camera-ask-actions">
             <button type="button" class="button primary wide" data-testid="motion-allow" onClick={() => void answer(true)}>
-              Allow
+              {t("camera.allow")}
             </button>
             <button type="button" class="button secondary wide" data-testid="motion-skip" onClick={() => void answer(false)}>
-              Not now
+              {t("camera.notNow")}
             </button>
           </div>
         </div>
       ) : (
         <p class="camera-note" data-testid="camera-note" role="status">
-          {phase === "opening" ? "Opening the camera..." : phase === "taking" ? "Taking the photo..." : words}
+          {phase === "opening" ? t("camera.opening") : phase === "taking" ? t("camera.taking") : words}
         </p>
       )}
       <div class="camera-bar">
         <button type="button" class="button secondary" data-testid="camera-close" onClick={() => onClose(null)}>
-          Close
+          {t("camera.close")}
         </button>
         <button
           type="button"
           class="camera-shutter"
           data-testid="shutter"
-          aria-label="Take the photo"
+          aria-label={t("camera.shutter")}
           disabled={phase !== "live"}
           onClick={() => void shoot()}
         />

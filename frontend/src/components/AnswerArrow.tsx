@@ -3,6 +3,7 @@
  * sits in the controls' layer beside the photo view, not inside it (PhotoView.tsx says why).
  */
 
+import { t as tr } from "../i18n";
 import type { AnswerView } from "../answer";
 import { clearArea, clipToPhoto, edgeArrow, type Insets } from "../reframe";
 import { toScreen, type Size, type ViewTransform } from "../viewTransform";
@@ -35,7 +36,7 @@ export function AnswerArrow({ answer, photoSize, transform: t, view, insets, onS
       type="button"
       class="answer-arrow"
       data-testid="answer-arrow"
-      aria-label="Show where your friend is"
+      aria-label={tr("answer.showWhere")}
       style={`${at(arrow.at)};transform:translate(-50%,-50%) rotate(${degrees}deg)`}
       onClick={onShow}
     >

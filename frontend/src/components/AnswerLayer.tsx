@@ -12,6 +12,8 @@
  * the curve's points too, as the server simplified them (within 0.25 px of the curve).
  */
 
+import { t as tr } from "../i18n";
+import { drawnLabel } from "../i18n/server";
 import type { AnswerView } from "../answer";
 import { FRIEND_COLOUR, OUTLINE_COLOUR } from "../palette";
 import type { ArrowShape, CurveShape, FrameShape } from "../types";
@@ -94,7 +96,7 @@ function FrameMark({ frame, clearTop, transform: t }: FrameProps) {
   return (
     <g data-testid="answer-frame" data-sure={String(frame.sure)} data-outlined={String(outlined)} {...box}>
       {outlined && <Outline lines={outline} transform={t} />}
-      <LabelledFrame brackets={path} centre={centre} top={centre.y - half.y} bottom={centre.y + half.y} above={above} label={frame.label} />
+      <LabelledFrame brackets={path} centre={centre} top={centre.y - half.y} bottom={centre.y + half.y} above={above} label={drawnLabel(frame.label)} />
     </g>
   );
 }
@@ -136,7 +138,7 @@ function BorderArrow({ arrow, transform: t }: { arrow: ArrowShape; transform: Vi
   const angle = Math.atan2(arrow.direction[1], arrow.direction[0]);
   return (
     <g data-testid="answer-border-arrow" data-tip-x={String(arrow.tip[0])} data-tip-y={String(arrow.tip[1])}>
-      <ArrowMark tip={at} angle={angle} label="friend" labelBack={18} />
+      <ArrowMark tip={at} angle={angle} label={tr("answer.drawnFriend")} labelBack={18} />
     </g>
   );
 }

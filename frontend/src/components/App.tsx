@@ -2,6 +2,8 @@
 
 import { useEffect, useState } from "preact/hooks";
 import { createSession, joinSession } from "../api";
+import { t, useLanguage } from "../i18n";
+import { errorText } from "../i18n/server";
 import { SESSION_PATH, go, parseRoute, type Route } from "../routes";
 import { loadCredentials, saveCredentials } from "../storage";
 import type { Credentials } from "../types";
@@ -9,6 +11,8 @@ import { SessionScreen } from "./SessionScreen";
 import { StartScreen } from "./StartScreen";
 
 export function App() {
+  // The switch re-renders the whole app in the new language, its state kept.
+  useLanguage();
   const [route, setRoute] = useState<Route>(() => parseRoute(location.pathname));
   const [credentials, setCredentials] = useState<Credentials | null>(loadCredentials);
   const [joinError, setJoinError] = useState<{ code: string; message: string } | null>(null);
@@ -50,7 +54,7 @@ export function App() {
       },
       (error: unknown) => {
         if (!active) return;
-        setJoinError({ code: route.code, message: error instanceof Error ? error.message : String(error) });
+        setJoinError({ code: route.code, message: errorText(error) });
         go("/", true);
         setRoute({ name: "start" });
       },
@@ -64,7 +68,7 @@ export function App() {
     return (
       <main class="screen center">
         <p class="big-note" role="status">
-          Joining...
+          {t("app.joining")}
         </p>
       </main>
     );

@@ -5,6 +5,7 @@
  * landmark (`data-landmark-label`, read by the gestures).
  */
 
+import { t } from "../i18n";
 import { clipLine, type Landmark, type TapSet } from "../landmarks";
 import { labelPositions } from "../markLayout";
 import { FRIEND_COLOUR, OUTLINE_COLOUR, landmarkColour } from "../palette";
@@ -84,7 +85,7 @@ export function Marks({ taps, landmarks, selected, suspects, linePoint, keepClea
       {linePoint && <div class="line-point" style={at(screen(linePoint))} />}
       {taps.friend && (
         <div class="friend-mark" data-testid="friend-mark" style={at(screen(taps.friend))}>
-          <span>Friend</span>
+          <span>{t("tap.friend")}</span>
         </div>
       )}
       {landmarks.map((l) => {

@@ -5,6 +5,7 @@ import { useEffect, useRef, useState } from "preact/hooks";
 import { useFocusOnChange } from "../a11y/focus";
 import { InAppCamera } from "../camera/InAppCamera";
 import { startShutterOrientation, stopShutterOrientation, takeShutterAnchor } from "../live/shutter";
+import { t } from "../i18n";
 import type { SessionController, SessionView } from "../session";
 import { CameraIcon } from "./icons";
 
@@ -13,7 +14,7 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
   if (upload.phase === "preparing") {
     return (
       <p class="note" role="status">
-        Making the photo smaller...
+        {t("photo.preparing")}
       </p>
     );
   }
@@ -22,7 +23,7 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
     return (
       <div class="progress" data-testid="upload-progress" role="progressbar" aria-valuenow={percent} aria-valuemin={0} aria-valuemax={100}>
         <div class="progress-bar" style={{ width: `${percent}%` }} />
-        <span class="progress-text">Sending photo... {percent} %</span>
+        <span class="progress-text">{t("photo.sending", { percent })}</span>
       </div>
     );
   }
@@ -34,12 +35,12 @@ export function UploadStatus({ controller, view }: { controller: SessionControll
         </p>
         {upload.retryable ? (
           <button type="button" class="button primary wide" data-testid="upload-retry" onClick={() => void controller.photo.retry()}>
-            Retry
+            {t("photo.retry")}
           </button>
         ) : (
           view.photo && (
             <button type="button" class="button secondary wide" onClick={() => controller.photo.dismiss()}>
-              Keep old photo
+              {t("photo.keepOld")}
             </button>
           )
         )}
@@ -76,11 +77,10 @@ export function PhotoStep({ controller, view, top }: Props) {
           <CameraIcon />
         </div>
         <h1 ref={title} tabIndex={-1} data-testid="photo-step-title">
-          Photo of the other side
+          {t("photo.title")}
         </h1>
         <p class="lead">
-          Aim across the venue, where your friend is. Get some clear landmarks in too: corners,
-          signs, lights, pillars.
+          {t("photo.lead")}
         </p>
       </section>
       <footer class="bottom-actions">
@@ -91,10 +91,10 @@ export function PhotoStep({ controller, view, top }: Props) {
           </p>
         )}
         <label class={`button primary huge ${busy ? "disabled" : ""}`} for="photo-input">
-          {view.upload.phase === "failed" && !view.upload.retryable ? "Take another photo" : "Take photo"}
+          {view.upload.phase === "failed" && !view.upload.retryable ? t("photo.takeAnother") : t("photo.take")}
         </label>
         <label class={`button secondary wide ${busy ? "disabled" : ""}`} for="photo-pick">
-          Choose from gallery
+          {t("photo.gallery")}
         </label>
         <button
           type="button"
@@ -106,7 +106,7 @@ export function PhotoStep({ controller, view, top }: Props) {
             setCamera("open");
           }}
         >
-          In-app camera: knows which way is down
+          {t("photo.inAppCamera")}
         </button>
       </footer>
       {camera === "open" && (

@@ -20,6 +20,7 @@
  * (Loupe.tsx), the guide (GuideLayer.tsx).
  */
 
+import { t as tr } from "../i18n";
 import { useEffect, useRef, useState } from "preact/hooks";
 import { PHOTO_DESCRIPTION_ID } from "../a11y/PhotoDescription";
 import { loupeTarget, type Gesture } from "../gestures";
@@ -115,7 +116,7 @@ export function PhotoView(props: Props) {
         class="photo-view"
         data-testid="photo-view"
         role="application"
-        aria-label="Your photo: tap to mark, two fingers to zoom"
+        aria-label={tr("photo.viewLabel")}
         aria-describedby={PHOTO_DESCRIPTION_ID}
         tabIndex={-1}
         {...attributes}
@@ -134,7 +135,7 @@ export function PhotoView(props: Props) {
       </div>
       {ready && (
         <div class="photo-controls">
-          {zoomed && <p class="pan-hint">Drag to look around</p>}
+          {zoomed && <p class="pan-hint">{tr("photo.panHint")}</p>}
           <AnswerArrow
             answer={props.answer}
             photoSize={photoSize}
@@ -148,7 +149,7 @@ export function PhotoView(props: Props) {
               type="button"
               class="fit-button"
               data-testid="fit"
-              aria-label="Whole photo"
+              aria-label={tr("photo.wholePhoto")}
               onClick={() => panZoom.fit()}
             >
               <FitIcon />
@@ -183,7 +184,7 @@ function Drawing(props: DrawingProps) {
         class="layer"
         src={props.photoUrl}
         style={layer}
-        alt="Your photo"
+        alt={tr("photo.yourPhoto")}
         draggable={false}
         onLoad={props.onLoaded}
       />
@@ -211,7 +212,7 @@ function Drawing(props: DrawingProps) {
           marks={taps.friend ? [taps.friend] : []}
         />
       )}
-      {!props.loaded && <p class="photo-loading">Loading photo...</p>}
+      {!props.loaded && <p class="photo-loading">{tr("photo.loading")}</p>}
     </>
   );
 }

@@ -1,5 +1,6 @@
 /** One session on this phone: share the code, take the photo, tap, see the answer. */
 
+import { t } from "../i18n";
 import type { JSX } from "preact";
 import { useEffect } from "preact/hooks";
 import type { Credentials } from "../types";
@@ -37,12 +38,12 @@ export function SessionScreen({ credentials, onLeave, onNewSearch }: Props) {
               {view.loadError}
             </p>
             <button type="button" class="button primary" onClick={() => controller.sync.reload()}>
-              Try again
+              {t("app.tryAgain")}
             </button>
           </>
         ) : (
           <p class="big-note" role="status">
-            Loading...
+            {t("app.loading")}
           </p>
         )}
       </main>

@@ -1,10 +1,11 @@
 /** The starter's screen until their friend joins: the code, its QR code, a share button. */
 
 import type { ComponentChildren } from "preact";
-import { useMemo, useState } from "preact/hooks";
+import { useEffect, useState } from "preact/hooks";
 import { SHARE_SCREEN_TITLE } from "../a11y/labels";
+import { t } from "../i18n";
 import { codeGroups } from "../joinCode";
-import { makeQr } from "../qr";
+import type { QrCode } from "../qr";
 import type { SessionController, SessionView } from "../session";
 import type { SessionState } from "../types";
 import { ShareIcon } from "./icons";
@@ -50,11 +51,22 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
   const [shared, setShared] = useState<string | null>(null);
   const code = state.join_code;
   const link = state.join_url;
-  const qr = useMemo(() => (link ? makeQr(link) : null), [link]);
+  const [qr, setQr] = useState<QrCode | null>(null);
+  // The QR encoder is a chunk of its own (only this panel needs it): fetched when shown.
+  useEffect(() => {
+    if (!link) return;
+    let active = true;
+    void import("../qr").then(({ makeQr }) => {
+      if (active) setQr(makeQr(link));
+    });
+    return () => {
+      active = false;
+    };
+  }, [link]);
 
   const share = async (): Promise<void> => {
     if (!link) return;
-    const text = `Join my Buddy Search: code ${code ?? ""}`;
+    const text = t("share.shareText", { code: code ?? "" });
     if (typeof navigator.share === "function") {
       try {
         await navigator.share({ title: "Buddy Search", text, url: link });
@@ -63,7 +75,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
         if (error instanceof DOMException && error.name === "AbortError") return;
       }
     }
-    setShared((await copy(link)) ? "Link copied: paste it to your friend." : `Send this link: ${link}`);
+    setShared((await copy(link)) ? t("share.copied") : t("share.sendLink", { link }));
   };
 
   return (
@@ -73,16 +85,15 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
       <section class="share-body">
         {code && link ? (
           <>
-            <p class="label">Your friend types this code, or scans it</p>
-            <p class="code" data-testid="code" aria-label={`Code ${code.split("").join(" ")}`}>
+            <p class="label">{t("share.typeOrScan")}</p>
+            <p class="code" data-testid="code" aria-label={t("share.codeAria", { digits: code.split("").join(" ") })}>
               {codeGroups(code).map((group, index) => (
                 <span key={index}>{group}</span>
               ))}
             </p>
             {state.join_code_renewals > 0 && (
               <p class="note" data-testid="code-renewed" role="status">
-                New code: someone typed wrong codes for your search, so the last one no longer
-                works. Give your friend this one.
+                {t("share.renewed")}
               </p>
             )}
             {qr && (
@@ -91,7 +102,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
                 data-testid="qr"
                 viewBox={`-4 -4 ${qr.size + 8} ${qr.size + 8}`}
                 role="img"
-                aria-label="QR code of the join link"
+                aria-label={t("share.qrAria")}
                 shape-rendering="crispEdges"
               >
                 <rect x="-4" y="-4" width={qr.size + 8} height={qr.size + 8} fill="#fff" />
@@ -99,7 +110,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
               </svg>
             )}
             <button type="button" class="button secondary wide" data-testid="share" onClick={() => void share()}>
-              <ShareIcon /> Share link
+              <ShareIcon /> {t("share.shareLink")}
             </button>
             {shared && (
               <p class="note" role="status">
@@ -107,31 +118,31 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
               </p>
             )}
             <p class="waiting" data-testid="waiting" role="status">
-              <span class="spinner" aria-hidden="true" /> Waiting for your friend...
+              <span class="spinner" aria-hidden="true" /> {t("share.waiting")}
             </p>
           </>
         ) : (
           <>
             <p class="error" role="alert">
-              The code ran out before your friend joined.
+              {t("share.ranOut")}
             </p>
             <p class="waiting" data-testid="waiting">
-              Your friend has not joined yet.
+              {t("share.notJoined")}
             </p>
             <button type="button" class="button primary wide" onClick={onNewSearch}>
-              New code
+              {t("share.newCode")}
             </button>
           </>
         )}
       </section>
       <footer class="bottom-actions">
         {view.photo ? (
-          <p class="note">Your photo is ready.</p>
+          <p class="note">{t("share.photoReady")}</p>
         ) : (
           <>
             <UploadStatus controller={controller} view={view} />
             <label class="button secondary huge" for="photo-input">
-              Take your photo meanwhile
+              {t("share.takeMeanwhile")}
             </label>
           </>
         )}

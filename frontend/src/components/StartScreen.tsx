@@ -2,6 +2,9 @@
 
 import { useState } from "preact/hooks";
 import { createSession, joinSession } from "../api";
+import { t } from "../i18n";
+import { LanguageSwitch } from "../i18n/LanguageSwitch";
+import { errorText } from "../i18n/server";
 import { codeFrom } from "../joinCode";
 import { CODE_DIGITS } from "../limits";
 import type { Credentials } from "../types";
@@ -26,7 +29,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
       const created = await createSession();
       onEnter({ session_id: created.session_id, token: created.token, role: created.role });
     } catch (failure) {
-      setError(failure instanceof Error ? failure.message : String(failure));
+      setError(errorText(failure));
       setBusy(null);
     }
   };
@@ -35,7 +38,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
     event.preventDefault();
     const digits = codeFrom(code);
     if (digits === null) {
-      setError(`The code has ${CODE_DIGITS} digits.`);
+      setError(t("start.codeDigits", { digits: CODE_DIGITS }));
       return;
     }
     setBusy("join");
@@ -44,7 +47,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
       const joined = await joinSession(digits);
       onEnter({ session_id: joined.session_id, token: joined.token, role: joined.role });
     } catch (failure) {
-      setError(failure instanceof Error ? failure.message : String(failure));
+      setError(errorText(failure));
       setBusy(null);
     }
   };
@@ -52,21 +55,22 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
   return (
     <main class="screen start">
       <header class="start-head">
+        <LanguageSwitch />
         <h1>
           Buddy<span class="accent"> Search</span>
         </h1>
-        <p class="lead">Lost your friend across the venue? Two photos and a few taps show where they are.</p>
+        <p class="lead">{t("start.lead")}</p>
       </header>
 
       {resume && (
         <button type="button" class="button secondary wide" onClick={onResume}>
-          Back to your search
+          {t("start.resume")}
         </button>
       )}
 
       <form class="join" onSubmit={join}>
         <label for="join-code" class="label">
-          Join your friend: type their code
+          {t("start.joinLabel")}
         </label>
         <div class="join-row">
           <input
@@ -82,7 +86,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
             onInput={(event) => setCode((event.target as HTMLInputElement).value)}
           />
           <button type="submit" data-testid="join" class="button secondary" disabled={busy !== null}>
-            {busy === "join" ? "Joining..." : "Join"}
+            {busy === "join" ? t("start.joining") : t("start.join")}
           </button>
         </div>
       </form>
@@ -101,7 +105,7 @@ export function StartScreen({ resume, onResume, onEnter, initialCode, initialErr
           disabled={busy !== null}
           onClick={() => void start()}
         >
-          {busy === "start" ? "Starting..." : "Start a search"}
+          {busy === "start" ? t("start.starting") : t("start.start")}
         </button>
       </div>
     </main>

@@ -14,8 +14,8 @@ import { cropUrl, photoUrl } from "../api";
 import { describeAnswer, type AnswerView } from "../answer";
 import { SUGGESTED_SIGMA_PX, bandOf, misfitsOf } from "../guidance";
 import { answerMotion, motionAccess } from "../camera/motion";
-import { LiveView } from "../live/LiveView";
 import { askOrientation } from "../live/sensor";
+import { t } from "../i18n";
 import { canUndo, friendMarked, fromServerTaps, landmarkIds } from "../landmarks";
 import { lensNote } from "../lens";
 import { nextStep, type Step } from "../nextStep";
@@ -36,6 +36,9 @@ interface Props {
   top: ComponentChildren;
 }
 
+/** The live view ("Show me"): a chunk of its own, fetched when first opened. */
+type LiveViewComponent = typeof import("../live/LiveView").LiveView;
+
 /** Room kept clear at the view's sides and bottom when the answer is brought into view. */
 const MARGIN = 12;
 /** The controls along the photo's bottom (the whole-photo button, 48 px at 12 px from the
@@ -52,6 +55,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const stage = useRef<HTMLDivElement>(null);
   const [covered, setCovered] = useState(0);
   const [live, setLive] = useState(false);
+  const [LiveView, setLiveView] = useState<LiveViewComponent | null>(null);
   // This phone's part of the answer, for "Show me": once there is a point or a curve.
   const mine = answerState.answer?.in_photo[role] ?? null;
   const canShow = Boolean(mine?.drawing) && (answer.position !== null || answer.kind === "curve");
@@ -64,6 +68,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
     if (motionAccess() === "ask") void answerMotion(true);
     void askOrientation();
     setLive(true);
+    if (!LiveView) void import("../live/LiveView").then((module) => setLiveView(() => module.LiveView));
   };
 
   const focusOn = (id: number): void => {
@@ -161,7 +166,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
       <Prompt controller={controller} view={view} state={state} step={step} guide={guide} suggestion={suggestion} />
       <UploadBar view={view} />
       <Toolbar controller={controller} view={view} />
-      {live && shown.current && (
+      {live && shown.current && LiveView && (
         <LiveView credentials={credentials} answer={shown.current.answer} mine={shown.current.mine} onClose={() => setLive(false)} />
       )}
     </main>
@@ -194,11 +199,11 @@ function statusHint(state: SessionState, view: SessionView): string | null {
   const theirs = fromServerTaps(state.taps[other]);
   if (!friendMarked(view.editor.taps) && !view.unseen) {
     return friendMarked(theirs)
-      ? "Your friend marked you. If you can see them too, mark them: fewer landmarks are needed."
+      ? t("tap.hintTheyMarked")
       : null;
   }
-  if (!state.photos[other]) return "Your friend is taking their photo.";
-  return "Both tap the same spots: #3 here is #3 there.";
+  if (!state.photos[other]) return t("tap.hintTakingPhoto");
+  return t("tap.hintSameSpots");
 }
 
 interface StatusProps {
@@ -239,7 +244,7 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
       )}
       {answer.seen && (
         <p class="seen-status" data-testid="seen-status">
-          Your friend can now see where you are.
+          {t("tap.seen")}
         </p>
       )}
       {answer.text && (
@@ -263,13 +268,13 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
               }
             : {})}
         >
-          {answer.sureness ?? (position.how === "solved" ? "" : "Your mark, refined by the landmarks.")}
+          {answer.sureness ?? (position.how === "solved" ? "" : t("tap.ownMark"))}
         </p>
       )}
       {onShowMe && (
         <div class="status-row">
           <button type="button" class="chip show-me" data-testid="show-me" onClick={onShowMe}>
-            Show me
+            {t("tap.showMe")}
           </button>
         </div>
       )}
@@ -277,7 +282,7 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
         <div class="status-row wrap">
           {recheck.map((id) => (
             <button type="button" class="chip suspect" data-testid="recheck" key={id} onClick={() => onRecheck(id)}>
-              Re-check #{id}
+              {t("tap.recheck", { id })}
             </button>
           ))}
         </div>
@@ -334,16 +339,16 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
     return (
       <section class="prompt" {...data}>
         <div class="prompt-text" data-testid="friend-prompt">
-          <strong>{marked ? "Move your mark?" : "Tap your friend"}</strong>
-          <span>{marked ? "Tap where they are." : "Not sure where? Line."}</span>
+          <strong>{marked ? t("tap.moveMark") : t("tap.tapFriend")}</strong>
+          <span>{marked ? t("tap.tapWhere") : t("tap.notSure")}</span>
         </div>
         {marked ? (
           <button type="button" class="button secondary small" data-testid="remove-friend" onClick={() => controller.taps.removeFriend()}>
-            Remove mark
+            {t("tap.removeMark")}
           </button>
         ) : (
           <button type="button" class="button secondary small" data-testid="cannot-see" onClick={() => controller.taps.cannotSee()}>
-            I can't see them
+            {t("tap.cantSeeThem")}
           </button>
         )}
       </section>
@@ -353,13 +358,13 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
     return (
       <section class="prompt" {...data}>
         <div class="prompt-text" data-testid="line-prompt">
-          <strong>{view.linePoint ? "Now a second point" : "Somewhere along here?"}</strong>
+          <strong>{view.linePoint ? t("tap.secondPoint") : t("tap.alongHere")}</strong>
           <span>
-            {view.linePoint ? "Tap another point on the line." : "Tap 2 points on a line through your friend."}
+            {view.linePoint ? t("tap.tapAnother") : t("tap.tapTwo")}
           </span>
         </div>
         <button type="button" class="button secondary small" onClick={() => controller.taps.setMode(marked || view.unseen ? "landmark" : "friend")}>
-          Cancel
+          {t("tap.cancel")}
         </button>
       </section>
     );
@@ -376,7 +381,7 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
     return (
       <section class="prompt find" {...data}>
         <div class="prompt-main" data-testid="find-prompt" data-id={String(next.id)} data-suggestion={suggestion}>
-          <img class="crop" src={cropUrl(credentials, other, next.id, key)} width={64} height={64} alt={`Landmark #${next.id} in the other photo`} />
+          <img class="crop" src={cropUrl(credentials, other, next.id, key)} width={64} height={64} alt={t("tap.cropAlt", { id: next.id })} />
           <div class="prompt-text">
             <strong data-testid="step-title">{step.title}</strong>
             <span data-testid="step-detail">{step.detail}</span>
@@ -390,11 +395,11 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
               data-testid="accept-suggestion"
               onClick={() => guide.spot && controller.taps.tap({ ...guide.spot, sigma: SUGGESTED_SIGMA_PX })}
             >
-              Use #{next.id}?
+              {t("tap.useSuggestion", { id: next.id })}
             </button>
           ) : null}
           <button type="button" class="button secondary small" onClick={() => controller.taps.skip(next.id)}>
-            Can't see it
+            {t("tap.cantSeeIt")}
           </button>
         </div>
       </section>
@@ -431,13 +436,13 @@ function Toolbar({ controller, view }: { controller: SessionController; view: Se
   const { editor, mode } = view;
   const pick = (next: Mode): void => controller.taps.setMode(next);
   return (
-    <nav class="toolbar" aria-label="Tools">
-      <ModeButton mode="friend" current={mode} testId="mark-friend" label="Friend" icon={<PersonIcon />} onPick={pick} />
-      <ModeButton mode="line" current={mode} testId="mark-line" label="Line" icon={<LineIcon />} onPick={pick} />
-      <ModeButton mode="landmark" current={mode} testId="mark-landmark" label="Landmarks" icon={<PinIcon />} onPick={pick} />
+    <nav class="toolbar" aria-label={t("tap.tools")}>
+      <ModeButton mode="friend" current={mode} testId="mark-friend" label={t("tap.friend")} icon={<PersonIcon />} onPick={pick} />
+      <ModeButton mode="line" current={mode} testId="mark-line" label={t("tap.line")} icon={<LineIcon />} onPick={pick} />
+      <ModeButton mode="landmark" current={mode} testId="mark-landmark" label={t("tap.landmarks")} icon={<PinIcon />} onPick={pick} />
       <button type="button" class="tool" data-testid="undo" disabled={!canUndo(editor)} onClick={() => controller.taps.undo()}>
         <UndoIcon />
-        <span>Undo</span>
+        <span>{t("tap.undo")}</span>
       </button>
       <button
         type="button"
@@ -447,7 +452,7 @@ function Toolbar({ controller, view }: { controller: SessionController; view: Se
         onClick={() => controller.taps.deleteSelected()}
       >
         <TrashIcon />
-        <span>{editor.selected === null ? "Delete" : `Delete #${editor.selected}`}</span>
+        <span>{editor.selected === null ? t("tap.delete") : t("tap.deleteId", { id: editor.selected })}</span>
       </button>
     </nav>
   );

@@ -1,11 +1,13 @@
 /** The bar on top of every session screen: the other phone, saving, new photo, delete. */
 
 import { useState } from "preact/hooks";
+import { t } from "../i18n";
+import { LanguageSwitch } from "../i18n/LanguageSwitch";
 import type { SessionController, SessionView } from "../session";
 import { otherRole } from "../types";
 import { CameraIcon, TrashIcon } from "./icons";
 
-const SAVE_WORDS = { saved: "Saved", saving: "Saving...", error: "Not saved" } as const;
+const SAVE_WORDS = { saved: "top.saved", saving: "top.saving", error: "top.notSaved" } as const;
 
 export function TopBar({ controller, view }: { controller: SessionController; view: SessionView }) {
   const [confirming, setConfirming] = useState(false);
@@ -14,7 +16,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
   const other = otherRole(credentials.role);
   const peer = state?.participants[other];
   const online = peer?.online ?? false;
-  const peerWords = !peer?.joined ? "Friend not here yet" : online ? "Friend online" : "Friend offline";
+  const peerWords = !peer?.joined ? t("top.friendAway") : online ? t("top.friendOnline") : t("top.friendOffline");
 
   return (
     <header class="top-bar">
@@ -24,10 +26,11 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
       </span>
       {view.stream === "down" && (
         <span class="reconnecting" data-testid="reconnecting" role="status">
-          Reconnecting...
+          {t("top.reconnecting")}
         </span>
       )}
       <span class="spacer" />
+      <LanguageSwitch compact />
       {view.photo && (
         <>
           <button
@@ -38,9 +41,9 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
             title={view.save.message ?? undefined}
             onClick={() => controller.taps.retrySave()}
           >
-            {SAVE_WORDS[view.save.status]}
+            {t(SAVE_WORDS[view.save.status])}
           </button>
-          <label class="icon-button" for="photo-input" title="New photo">
+          <label class="icon-button" for="photo-input" title={t("top.newPhoto")}>
             <CameraIcon />
           </label>
         </>
@@ -49,8 +52,8 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
         type="button"
         class="icon-button danger"
         data-testid="delete-session"
-        aria-label="Delete now"
-        title="Delete now"
+        aria-label={t("top.deleteNow")}
+        title={t("top.deleteNow")}
         onClick={() => setConfirming(true)}
       >
         <TrashIcon />
@@ -58,8 +61,8 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
       {confirming && (
         <div class="sheet-backdrop" role="dialog" aria-modal="true" aria-labelledby="delete-title">
           <div class="sheet">
-            <h2 id="delete-title">Delete now?</h2>
-            <p>The search ends on both phones. Photos and taps are deleted at once.</p>
+            <h2 id="delete-title">{t("top.deleteTitle")}</h2>
+            <p>{t("top.deleteBody")}</p>
             {view.deleteError && (
               <p class="error" role="alert">
                 {view.deleteError}
@@ -76,7 +79,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
                 if (!done) setDeleting(false);
               }}
             >
-              {deleting ? "Deleting..." : "Delete now"}
+              {deleting ? t("top.deleting") : t("top.deleteNow")}
             </button>
             <button
               type="button"
@@ -86,7 +89,7 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
                 setConfirming(false);
               }}
             >
-              Keep searching
+              {t("top.keepSearching")}
             </button>
           </div>
         </div>

@@ -4,6 +4,7 @@
  * takes the prompt's place instead, with its Retry.
  */
 
+import { t } from "../i18n";
 import type { SessionView } from "../session";
 
 /** Whether the upload's status takes the prompt's place: while no copy of the photo is shown
@@ -27,7 +28,7 @@ export function UploadBar({ view }: { view: SessionView }) {
       aria-valuemax={100}
     >
       <div class="progress-bar" style={{ width: `${percent}%` }} />
-      <span class="progress-text">Sending photo... {percent} %</span>
+      <span class="progress-text">{t("photo.sending", { percent })}</span>
     </div>
   );
 }

@@ -1531,6 +1531,11 @@ export interface components {
              * @description The photo it is about (its landmarks, its friend mark); null: both or neither.
              */
             photo?: (1 | 2) | null;
+            /**
+             * Reader
+             * @description The photo of the phone it is said to (its sentence calls that one 'your photo', the other 'your friend's photo'), so a phone can word it in its own language; null: said to a script (photo 1, photo 2).
+             */
+            reader?: (1 | 2) | null;
             /** @description Which refusal of the code: the key of its sentence. */
             reason: components["schemas"]["Reason"];
             /**

@@ -20,6 +20,8 @@
 
 import { useEffect, useRef, useState } from "preact/hooks";
 import { ApiError, reanchor } from "../api";
+import { t } from "../i18n";
+import { drawnLabel, errorText } from "../i18n/server";
 import type { AnswerView } from "../answer";
 import { motionAccess } from "../camera/motion";
 import { ArrowMark, DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, pathOf } from "../components/answerMarks";
@@ -45,20 +47,7 @@ import { OrientationSource, type Sample } from "./sensor";
 import { lastShutterTime } from "./shutter";
 import { StillWait, turnRate } from "./still";
 import { mayHaveDrifted, motionReading, StepWatch } from "./trust";
-import {
-  ALIGN_TEXT,
-  ALIGN_UNAVAILABLE_TEXT,
-  ALIGNING_TEXT,
-  arrowLabel,
-  DRIFT_TEXT,
-  HOLD_STILL_TEXT,
-  MOVED_TEXT,
-  NO_MOTION_TEXT,
-  NO_SENSOR_TEXT,
-  NOT_MATCHED_TEXT,
-  pointingText,
-  STAY_TEXT,
-} from "./words";
+import { arrowLabel, pointingText } from "./words";
 
 /** The back camera, 4:3 (the whole sensor, as photos are: pointer.ts's focal assumes it). */
 const CONSTRAINTS: MediaStreamConstraints = {
@@ -176,7 +165,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
         setPhase("live");
       } catch {
         if (closed) return;
-        setProblem("The camera could not start, so there is no live view. Your photo shows where your friend is.");
+        setProblem(t("live.cameraFailed"));
         setPhase("failed");
       }
     };
@@ -241,7 +230,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       const hint = videoFocal ? (videoFocal * frame.size.width) / videoSize.width : null;
       const found = await reanchor(credentials, frame.blob, hint);
       const rotation = asMatrix(found.rotation);
-      if (!rotation) throw new ApiError(200, "bad_answer", NOT_MATCHED_TEXT);
+      if (!rotation) throw new ApiError(200, "bad_answer", t("live.notMatched"));
       const aligned = anchorFromFrame(at, rotation);
       setAnchor(aligned);
       // Kept as the photo's anchor on this page: the view opened again starts from it.
@@ -261,7 +250,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       const notMatched = error instanceof ApiError && error.reason === "frame_not_matched";
       // A server without the endpoint (or a proxy's page) has no sentence of its own.
       const bare = error instanceof ApiError && error.code.startsWith("http_");
-      const message = notMatched ? NOT_MATCHED_TEXT : bare ? ALIGN_UNAVAILABLE_TEXT : error instanceof Error ? error.message : String(error);
+      const message = notMatched ? t("live.notMatched") : bare ? t("live.unavailable") : errorText(error);
       setAligning({ kind: "refused", message });
     }
   };
@@ -273,12 +262,12 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   let words: string;
   if (phase === "failed") words = problem;
-  else if (aligning.kind === "steadying") words = HOLD_STILL_TEXT;
-  else if (aligning.kind === "sending") words = ALIGNING_TEXT;
+  else if (aligning.kind === "steadying") words = t("live.holdStill");
+  else if (aligning.kind === "sending") words = t("live.aligning");
   else if (aligning.kind === "refused") words = aligning.message;
-  else if (motionAccess() === "denied") words = NO_MOTION_TEXT;
-  else if (!anchor) words = ALIGN_TEXT;
-  else if (!reading) words = NO_SENSOR_TEXT;
+  else if (motionAccess() === "denied") words = t("live.noMotion");
+  else if (!anchor) words = t("live.align");
+  else if (!reading) words = t("live.noSensor");
   else words = pointingText(layer?.pointing ?? null, curve);
   // The first marker over the playing video: marked in the animation frame that paints it.
   const drawn = Boolean(layer && (layer.pointing || drawing?.curve));
@@ -290,19 +279,19 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   // Said above the pointing while it points: the phone walked away, or the anchor is old.
   const steady = phase === "live" && anchor && reading && (aligning.kind === "idle" || aligning.kind === "refused");
-  const warning = !steady ? null : moved ? MOVED_TEXT : mayHaveDrifted(anchoredAt, now) ? DRIFT_TEXT : null;
+  const warning = !steady ? null : moved ? "moved" : mayHaveDrifted(anchoredAt, now) ? "drift" : null;
 
   return (
     <div
       class="live"
       role="dialog"
       aria-modal="true"
-      aria-label="Show me"
+      aria-label={t("live.dialog")}
       data-testid="live-view"
       data-phase={phase}
       data-anchored={String(Boolean(anchor))}
       data-readings={String(source.current?.count ?? 0)}
-      data-warning={warning === MOVED_TEXT ? "moved" : warning === DRIFT_TEXT ? "drift" : "none"}
+      data-warning={warning ?? "none"}
       data-aligning={aligning.kind}
       data-sent-rate={sent ? (sent.rate?.toFixed(2) ?? "unknown") : undefined}
       data-sent-wait={sent ? sent.waited.toFixed(0) : undefined}
@@ -313,7 +302,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           class="live-video"
           data-testid="live-video"
           role="img"
-          aria-label="What the camera sees"
+          aria-label={t("camera.sees")}
           autoplay
           muted
           playsInline
@@ -353,15 +342,15 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       <p class="live-note" data-testid="live-note" role="status">
         {warning && (
           <strong class="live-warning" data-testid="live-warning">
-            {warning}{" "}
+            {t(`live.${warning}`)}{" "}
           </strong>
         )}
         {words}
-        <span class="live-stay">{STAY_TEXT}</span>
+        <span class="live-stay">{t("live.stay")}</span>
       </p>
       <div class="live-bar">
         <button type="button" class="button secondary" data-testid="live-close" onClick={onClose}>
-          Close
+          {t("live.close")}
         </button>
         <button
           type="button"
@@ -370,7 +359,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           disabled={phase !== "live" || !reading || aligning.kind === "sending" || aligning.kind === "steadying"}
           onClick={() => void align()}
         >
-          {anchor ? "Re-align" : "Align"}
+          {anchor ? t("live.realign") : t("live.alignButton")}
         </button>
       </div>
     </div>
@@ -442,7 +431,7 @@ function LiveFrame({ frame, layer }: { frame: FrameShape; layer: Layer }) {
         top={top}
         bottom={bottom}
         above={top - LEADER - FONT >= CLEAR_TOP}
-        label={frame.label}
+        label={drawnLabel(frame.label)}
       />
     </g>
   );
@@ -490,6 +479,6 @@ function drawFrame(element: HTMLVideoElement, video: Size): HTMLCanvasElement {
 /** A frame drawn as a JPEG, and its size. */
 async function encodeFrame(canvas: HTMLCanvasElement): Promise<{ blob: Blob; size: Size }> {
   const blob = await new Promise<Blob | null>((resolve) => canvas.toBlob(resolve, "image/jpeg", FRAME_QUALITY));
-  if (!blob) throw new Error("The view could not be read; try again.");
+  if (!blob) throw new Error(t("live.unreadable"));
   return { blob, size: { width: canvas.width, height: canvas.height } };
 }

@@ -1,5 +1,9 @@
 import { describe, expect, it } from "vitest";
-import { arrowLabel, CURVE_LIVE_TEXT, FRAME_LIVE_TEXT, pointingText } from "./words";
+import { t } from "../i18n";
+import { arrowLabel, pointingText } from "./words";
+
+const CURVE_LIVE_TEXT = t("live.curve");
+const FRAME_LIVE_TEXT = t("live.frame");
 
 describe("what Show me says", () => {
   it("says where the friend is, or which way to turn", () => {

@@ -2,6 +2,7 @@
  * Deleting the session: "Delete now" (it ends on both phones), or leaving it for a new one.
  */
 
+import { errorText } from "../i18n/server";
 import { ApiError, deleteSession } from "../api";
 import { forgetSession } from "../storage";
 import type { Ending, ViewStore } from "./view";
@@ -25,7 +26,7 @@ export class Deletion {
       await deleteSession(this.store.view.credentials);
     } catch (error) {
       if (!(error instanceof ApiError && error.sessionEnded)) {
-        this.store.set({ deleteError: error instanceof Error ? error.message : String(error) });
+        this.store.set({ deleteError: errorText(error) });
         return false;
       }
     }

@@ -4,6 +4,8 @@
  * copy meanwhile wait (the tap saver holds) and go when the server has the photo.
  */
 
+import { t } from "../i18n";
+import { errorText } from "../i18n/server";
 import { ApiError, isRetryable } from "../api";
 import { browserDecoder, preparePhoto, type PreparedPhoto } from "../downscale";
 import { fromServerTaps, newEditor, toServerTaps } from "../landmarks";
@@ -124,10 +126,8 @@ export class PhotoUpload {
       }
       const retryable = isRetryable(error);
       const message = retryable
-        ? "The photo could not be sent: no connection. Your taps are kept. Retry when you have a signal."
-        : error instanceof Error
-          ? error.message
-          : String(error);
+        ? t("photo.notSent")
+        : errorText(error);
       this.store.set({
         upload: { ...IDLE_UPLOAD, phase: "failed", message, retryable },
       });

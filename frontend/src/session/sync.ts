@@ -5,6 +5,7 @@
  * without them; the page shown again or the network back reopens the stream at once.
  */
 
+import { errorText } from "../i18n/server";
 import { ApiError, fetchState, eventsUrl } from "../api";
 import { takeIn, type Change } from "../changes";
 import { LiveStream, Refetcher } from "../reconnect";
@@ -130,7 +131,7 @@ export class SessionSync {
     } catch (error) {
       if (error instanceof ApiError && error.sessionEnded) this.parts.onEnded();
       else if (!this.view.state) {
-        this.store.set({ loadError: error instanceof Error ? error.message : String(error) });
+        this.store.set({ loadError: errorText(error) });
       }
     }
   }

@@ -1,0 +1,172 @@
+"""The app in each language: the phone's own language is chosen, the switch changes it in
+place, and no button's or control's words overflow their box or leave the screen at 200 %
+text size (the screens of a search a phone sees most: start, share, photo, the in-app camera,
+tapping and its prompts, finding a landmark the friend tapped, the delete sheet).
+
+200 % text is emulated as the browsers' text zoom does it (Chrome for Android's text
+scaling and Safari's page zoom are page zooms; WCAG 1.4.4's test): the CSS viewport halves
+and each CSS px covers twice the device pixels. A root font-size of 200 % would not do: the
+stylesheet sizes its text in px, which a root font-size does not scale, so that test would
+pass whatever the words' length.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx2
+import pytest
+from playwright.sync_api import Browser, BrowserContext, Page, Playwright
+from test_two_phones import TEMPLE
+
+LANGUAGES = ("en", "es", "fr", "de", "ja")
+MODEL = "Pixel 7"
+ZOOM = 2
+
+# Every control a finger uses, and what it says: [what, its words, why it fails]. A box too
+# small for its words scrolls (scrollWidth > clientWidth, or taller than it shows); a box
+# past the window's edge is out of reach. The switch's picker is invisible over its label,
+# which is measured instead.
+OVERFLOWING = """() => {
+  const found = [];
+  const controls = "button, .button, .chip, .tool, .icon-button, .language-switch, input, select";
+  for (const element of document.querySelectorAll(controls)) {
+    if (element.closest(".language-switch") && element.tagName === "SELECT") continue;
+    if (element.classList.contains("visually-hidden")) continue; // a file input behind its label
+    const box = element.getBoundingClientRect();
+    if (box.width === 0 || getComputedStyle(element).visibility === "hidden") continue;
+    const why = [];
+    // An empty field is measured with its placeholder in it: the words it shows.
+    const empty = element.tagName === "INPUT" && !element.value && element.placeholder;
+    if (empty) element.value = element.placeholder;
+    // The top bar's status words give way with an ellipsis by design (styles.css): the
+    // buttons beside them never do.
+    const givesWay = getComputedStyle(element).textOverflow === "ellipsis";
+    if (!givesWay && element.scrollWidth > element.clientWidth + 1) why.push("wider than its box");
+    if (element.scrollHeight > element.clientHeight + 1) why.push("taller than its box");
+    if (box.left < -0.5 || box.right > innerWidth + 0.5) why.push("off the screen");
+    if (empty) element.value = "";
+    if (why.length) found.push([element.tagName.toLowerCase() + "." + element.className,
+                                element.textContent.trim().slice(0, 40), why.join(", ")]);
+  }
+  return found;
+}"""
+
+
+def context(playwright: Playwright, browser: Browser, locale: str, zoom: int = 1) -> BrowserContext:
+    """A Pixel 7 whose language is ``locale``, its text zoomed ``zoom`` times."""
+    device: dict[str, Any] = dict(playwright.devices[MODEL])
+    device.pop("default_browser_type", None)
+    viewport = device["viewport"]
+    device["viewport"] = {"width": viewport["width"] // zoom, "height": viewport["height"] // zoom}
+    device["device_scale_factor"] = device["device_scale_factor"] * zoom
+    return browser.new_context(**device, locale=locale)
+
+
+@pytest.fixture
+def zoomed(playwright: Playwright, browser: Browser) -> Iterator[Page]:
+    """A Japanese phone at 200 % text size (the app starts in its language)."""
+    opened = context(playwright, browser, "ja-JP", ZOOM)
+    page = opened.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    yield page
+    opened.close()
+    assert errors == []
+
+
+def speaks(page: Page, language: str) -> None:
+    page.wait_for_function("(lang) => document.documentElement.lang === lang", arg=language)
+
+
+def each_language(page: Page, screen: str) -> list[list[str]]:
+    """Switch through every language on this screen; what overflows, by language."""
+    found: list[list[str]] = []
+    for language in LANGUAGES:
+        page.locator("[data-testid=language] select").first.select_option(language)
+        speaks(page, language)
+        page.wait_for_timeout(50)  # one frame: the words laid out
+        found += [[language, screen, *problem] for problem in page.evaluate(OVERFLOWING)]
+    return found
+
+
+def test_the_phones_language_is_chosen_and_kept(
+    server: str, playwright: Playwright, browser: Browser, screenshots: Path
+) -> None:
+    """An Austrian phone reads German, and fetches the German words only (no other language,
+    nor the chunks only later screens need: the QR code, Show me, EXIF); the switch's
+    Spanish is kept across a reload. The Spanish start and share screens are the README's
+    second language."""
+    opened = context(playwright, browser, "de-AT")
+    page = opened.new_page()
+    scripts: list[str] = []
+    page.on("request", lambda r: scripts.append(r.url) if r.resource_type == "script" else None)
+    try:
+        page.goto(f"{server}/")
+        speaks(page, "de")
+        assert page.get_by_test_id("start").inner_text() == "Suche starten"
+        names = sorted(url.rsplit("/", 1)[-1].split("-")[0] for url in scripts)
+        assert names == ["de", "index"], scripts
+        page.locator("[data-testid=language] select").select_option("es")
+        speaks(page, "es")
+        page.reload()
+        speaks(page, "es")
+        assert page.get_by_test_id("start").inner_text() == "Empezar a buscar"
+        page.screenshot(path=screenshots / "15-start-es.png")
+        page.get_by_test_id("start").tap()
+        page.get_by_test_id("qr").wait_for()
+        assert page.get_by_test_id("waiting").inner_text().strip() == "Esperando a tu amigo..."
+        page.screenshot(path=screenshots / "15b-share-es.png")
+    finally:
+        opened.close()
+
+
+def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots: Path) -> None:
+    page = zoomed
+    found: list[list[str]] = []
+    page.goto(f"{server}/")
+    speaks(page, "ja")  # the phone's language, unasked
+    found += each_language(page, "start")
+
+    page.get_by_test_id("start").tap()
+    shown = page.get_by_test_id("code")
+    shown.wait_for()
+    found += each_language(page, "share")
+
+    # The friend joins (over the API): the starter's photo step, then tapping on its photo.
+    code = "".join(ch for ch in shown.inner_text() if ch.isdigit())
+    friend = httpx2.post(f"{server}/api/sessions/join", json={"code": code}).raise_for_status()
+    joined = friend.json()
+    page.get_by_test_id("open-camera").wait_for()
+    found += each_language(page, "photo")
+    page.get_by_test_id("open-camera").tap()  # the in-app camera, on Chromium's fake camera
+    page.get_by_test_id("camera-close").wait_for()
+    found += each_language(page, "camera")
+    page.get_by_test_id("camera-close").tap()
+
+    page.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
+    page.get_by_test_id("photo-view").wait_for()
+    found += each_language(page, "tap your friend")
+    page.get_by_test_id("mark-line").tap()
+    found += each_language(page, "line")
+    page.get_by_test_id("mark-landmark").tap()
+    found += each_language(page, "landmarks")
+
+    # The friend's photo and two landmarks on it: this phone is asked to find #1.
+    session = f"{server}/api/sessions/{joined['session_id']}"
+    auth = {"Authorization": f"Bearer {joined['token']}"}
+    with (TEMPLE / "templeSR0003.png").open("rb") as photo:
+        files = {"photo": ("joiner.png", photo, "image/png")}
+        httpx2.put(f"{session}/photo", headers=auth, files=files).raise_for_status()
+    landmarks = [{"id": 1, "x": 200.0, "y": 150.0}, {"id": 2, "x": 420.0, "y": 300.0}]
+    taps = {"landmarks": landmarks}
+    httpx2.put(f"{session}/taps", headers=auth, json=taps).raise_for_status()
+    page.get_by_test_id("find-prompt").wait_for()
+    found += each_language(page, "find")
+
+    page.get_by_test_id("delete-session").tap()
+    page.get_by_test_id("confirm-delete").wait_for()
+    found += each_language(page, "delete")
+    assert found == [], "\n".join(" | ".join(row) for row in found)
