@@ -100,7 +100,8 @@ def phone(
         launched = browser or request.getfixturevalue("browser")
         started = ChromiumPhone(playwright, launched, model)
     else:
-        started = WebKitPhone(model, screen(playwright, model), folder)
+        turns = request.node.get_closest_marker("turns") is not None
+        started = WebKitPhone(model, screen(playwright, model), folder, turns)
     try:
         yield started
         errors = started.console_errors()

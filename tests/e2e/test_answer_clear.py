@@ -24,7 +24,7 @@ from test_two_phones import cannot_see, find_landmarks, reported_position
 
 from testbed.scenes import Camera, Scene, in_photo, look_at
 
-pytestmark = pytest.mark.engines("chromium", "webkit")
+pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.turns]
 
 # The joiner's portrait photo and the starter's landscape one: sizes (px) and focal lengths
 # (px): a phone's main camera (about 30 and 24 mm equivalent).
@@ -64,7 +64,7 @@ OVERLAID = """() => {
     return true;
   };
   return [...document.querySelectorAll(".tap-screen *")]
-    .filter((e) => !view.contains(e) && !e.contains(view))
+    .filter((e) => !view.contains(e) && !e.contains(view) && !e.closest(".visually-hidden"))
     .filter((e) => !e.classList.contains("photo-controls"))
     .filter((e) => e.getClientRects().length > 0 && shown(e))
     .map((e) => [e.tagName.toLowerCase() + "." + String(e.className), e.getBoundingClientRect()])

@@ -147,18 +147,19 @@ class WebKitPhone(Phone):
     engine = "webkit"
     pointer = "mouse"
 
-    def __init__(self, model: str, screen: Screen, folder: Path) -> None:
+    def __init__(self, model: str, screen: Screen, folder: Path, turns: bool = False) -> None:
         super().__init__(model)
         absent = missing()
         assert not absent, f"not installed: {absent} (`make test` installs them: `make webkit`)"
         # GTK scales by whole numbers only: 2.625 (a Pixel 7) becomes 3.
         self.scale = max(1, round(screen.scale))
-        # A square screen, as long as the phone's long side: room for the phone on its side.
-        side = max(screen.screen) * self.scale
+        width, height = screen.screen
+        if turns:  # a square screen, as long as the phone's long side: room on its side too
+            width = height = max(width, height)
         folder.mkdir(parents=True, exist_ok=True)
         self._display = Display(
             backend="xvfb",
-            size=(side, side),
+            size=(width * self.scale, height * self.scale),
             color_depth=24,
             manage_global_env=False,
         )
