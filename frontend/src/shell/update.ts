@@ -1,0 +1,95 @@
+/**
+ * The app shell's service worker (vite.config.ts builds it: Workbox precaches index.html,
+ * every chunk and the icons; it never answers the API or a photo): registered once the page
+ * has loaded, and how a page moves to a new build.
+ *
+ * No stale mix: Workbox's precache keeps one build's files, all of them, and a worker that
+ * is installed but waiting (the new build) does not touch what the active one serves. So an
+ * open page keeps getting its own build's lazily loaded chunks from the old worker. The page
+ * moves on its own, with no prompt: once a new worker has installed (its whole build
+ * cached) and the page holds nothing a reload would lose (busy.ts: a photo not sent yet),
+ * it tells the worker to take over and reloads when it has, once. The reload runs the new
+ * build only (index.html and its chunks from the new precache; the old entries are gone).
+ * Two nets: a lazily loaded chunk that still fails to load (a server already on another
+ * build, no worker) reloads the page, as Vite's docs advise, at most once in 10 s; and a
+ * page that was not controlled when it loaded (the first visit) is not reloaded when the
+ * first worker starts.
+ */
+
+import { pageHoldsUnsent } from "./busy";
+
+/** The build, set at build time (VITE_APP_VERSION): shown on <html data-build>. */
+export const BUILD: string = import.meta.env.VITE_APP_VERSION ?? "dev";
+/** How often a page that holds an unsent photo asks again whether it may update, ms. */
+const RETRY_MS = 2_000;
+const RELOADED_KEY = "buddy-search.shell-reloaded";
+
+export function startShell(): void {
+  document.documentElement.dataset.build = BUILD;
+  window.addEventListener("vite:preloadError", (event) => {
+    if (reloadSoon()) event.preventDefault();
+  });
+  // The dev server serves no worker; a browser without them (or blocking them) runs as before.
+  if (import.meta.env.DEV || !("serviceWorker" in navigator)) return;
+  if (document.readyState === "complete") void register();
+  else window.addEventListener("load", () => void register(), { once: true });
+}
+
+async function register(): Promise<void> {
+  const container = navigator.serviceWorker;
+  const controlled = container.controller !== null;
+  let registration: ServiceWorkerRegistration | undefined;
+  try {
+    registration = await container.register("/sw.js", { scope: "/", updateViaCache: "none" });
+  } catch {
+    // refused (a private window, a site setting): the app works online as before
+  }
+  // (Playwright's "block" answers with no registration at all.)
+  if (!registration) return;
+  let reloading = false;
+  container.addEventListener("controllerchange", () => {
+    if (!controlled || reloading) return;
+    reloading = true;
+    location.reload();
+  });
+  const installed = (worker: ServiceWorker | null): void => {
+    if (worker && container.controller) takeOverWhenIdle(worker);
+  };
+  installed(registration.waiting);
+  registration.addEventListener("updatefound", () => {
+    const worker = registration.installing;
+    worker?.addEventListener("statechange", () => {
+      if (worker.state === "installed") installed(worker);
+    });
+  });
+  // A page kept open for hours (the stands) looks for a new build when shown again; with
+  // no signal the check fails, quietly.
+  document.addEventListener("visibilitychange", () => {
+    if (document.visibilityState === "visible") registration?.update().catch(() => undefined);
+  });
+}
+
+/** Tell `worker` (installed, waiting) to take over once no photo waits to be sent. */
+function takeOverWhenIdle(worker: ServiceWorker): void {
+  if (pageHoldsUnsent()) {
+    setTimeout(() => takeOverWhenIdle(worker), RETRY_MS);
+    return;
+  }
+  // vite-plugin-pwa's prompt mode: the generated worker calls skipWaiting() on this message.
+  worker.postMessage({ type: "SKIP_WAITING" });
+}
+
+/** Reload unless this page was reloaded for a failed chunk in the last 10 s (no loop). */
+function reloadSoon(): boolean {
+  const now = Date.now();
+  let last = 0;
+  try {
+    last = Number(sessionStorage.getItem(RELOADED_KEY) ?? 0);
+    sessionStorage.setItem(RELOADED_KEY, String(now));
+  } catch {
+    return false; // without storage a loop could not be told: let the import fail
+  }
+  if (now - last < 10_000) return false;
+  location.reload();
+  return true;
+}
