@@ -68,11 +68,17 @@ export function PhotoView(props: Props) {
   const box = useRef<HTMLDivElement>(null);
   const image = useRef<HTMLImageElement>(null);
   const [loaded, setLoaded] = useState(false);
+  // The server's photo did not come (no signal after an offline reload): said so, not
+  // "Loading"; it is asked for again when the phone is back online (session/sync.ts).
+  const [failed, setFailed] = useState(false);
   const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets);
   const { gesture, gestures } = useGestures(box, panZoom, props);
   const { view, transform, gliding } = state;
 
-  useEffect(() => setLoaded(false), [props.photoUrl]);
+  useEffect(() => {
+    setLoaded(false);
+    setFailed(false);
+  }, [props.photoUrl]);
 
   // "Re-check #3": zoom to that landmark.
   useEffect(() => {
@@ -121,6 +127,8 @@ export function PhotoView(props: Props) {
             image={image}
             loaded={loaded}
             onLoaded={() => setLoaded(true)}
+            failed={failed}
+            onFailed={() => setFailed(true)}
           />
         )}
       </div>
@@ -159,6 +167,8 @@ interface DrawingProps extends Props {
   image: { current: HTMLImageElement | null };
   loaded: boolean;
   onLoaded: () => void;
+  failed: boolean;
+  onFailed: () => void;
 }
 
 /** The picture: photo, guide, marks, the answer on top, loupe. */
@@ -178,6 +188,7 @@ function Drawing(props: DrawingProps) {
         alt="Your photo"
         draggable={false}
         onLoad={props.onLoaded}
+        onError={props.onFailed}
       />
       {props.guide && <GuideLayer guide={props.guide} transform={t} view={view} />}
       <Marks
@@ -203,7 +214,11 @@ function Drawing(props: DrawingProps) {
           marks={taps.friend ? [taps.friend] : []}
         />
       )}
-      {!props.loaded && <p class="photo-loading">Loading photo...</p>}
+      {!props.loaded && (
+        <p class="photo-loading" data-testid="photo-loading">
+          {props.failed ? "The photo shows when you are back online." : "Loading photo..."}
+        </p>
+      )}
     </>
   );
 }

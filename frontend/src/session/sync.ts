@@ -5,9 +5,10 @@
  * without them; the page shown again or the network back reopens the stream at once.
  */
 
-import { ApiError, fetchState, eventsUrl } from "../api";
+import { ApiError, fetchState, eventsUrl, isRetryable } from "../api";
 import { takeIn, type Change } from "../changes";
 import { LiveStream, Refetcher } from "../reconnect";
+import { keepState, loadKeptState } from "../storage";
 import type { SessionState } from "../types";
 import type { SharedParts } from "./parts";
 import type { SessionView, ViewStore } from "./view";
@@ -130,7 +131,11 @@ export class SessionSync {
     } catch (error) {
       if (error instanceof ApiError && error.sessionEnded) this.parts.onEnded();
       else if (!this.view.state) {
-        this.store.set({ loadError: error instanceof Error ? error.message : String(error) });
+        // No signal since the page (re)loaded: the last state this phone saw, marked as
+        // such, rather than an error; the stream's reconnecting brings the server's.
+        const kept = isRetryable(error) ? loadKeptState(this.view.credentials.session_id) : null;
+        if (kept) this.applyState(kept, true);
+        else this.store.set({ loadError: error instanceof Error ? error.message : String(error) });
       }
     }
   }
@@ -141,8 +146,11 @@ export class SessionSync {
     this.stream.wake();
   }
 
-  /** A state from the server (fetched, or the reply to a PUT): shown unless older. */
-  applyState(state: SessionState): void {
+  /**
+   * A state from the server (fetched, or the reply to a PUT): shown unless older. `kept`:
+   * the phone's copy of the last one it saw (storage.ts), shown while there is no signal.
+   */
+  applyState(state: SessionState, kept = false): void {
     if (this.view.ended) return;
     const current = this.view.state;
     if (current && state.version < current.version) return; // an older answer arrived late
@@ -153,7 +161,11 @@ export class SessionSync {
       extra = { ...this.parts.taps.firstLoad(state), photo: mine ? { size: mine, key: `${state.version}` } : null };
     } else if (mine && !this.view.photo) {
       extra = { photo: { size: mine, key: `${state.version}` } };
+    } else if (mine && this.view.kept && !this.view.photo?.pending) {
+      // Back online after an offline start: the photo failed to load then; ask again.
+      extra = { photo: { size: mine, key: `${state.version}-online` } };
     }
-    this.store.set({ state, loadError: null, ...this.parts.answer.patchFor(state), ...extra });
+    if (!kept) keepState(this.view.credentials.session_id, state);
+    this.store.set({ state, kept, loadError: null, ...this.parts.answer.patchFor(state), ...extra });
   }
 }
