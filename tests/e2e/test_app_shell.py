@@ -16,7 +16,7 @@ import os
 import shutil
 import subprocess
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -67,7 +67,8 @@ def worker_ready(phone: ChromiumPhone) -> None:
         lambda: phone.evaluate(
             """async () => {
                 const registration = await navigator.serviceWorker.getRegistration();
-                return registration?.active?.state === "activated";
+                return registration?.active?.state === "activated"
+                    && navigator.serviceWorker.controller !== null;
             }"""
         ),
         "the service worker to be active",
@@ -82,9 +83,9 @@ def worker_fetch(phone: ChromiumPhone, path: str) -> Any:
 
 @pytest.mark.expected_console_errors(DROPPED)
 def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
-    server: str, installed: ChromiumPhone, iphone: Phone
+    shell_server: ShellServer, installed: ChromiumPhone, iphone: Phone
 ) -> None:
-    starter, _ = start_and_join(server, installed, iphone)
+    starter, _ = start_and_join(shell_server.base_url, installed, iphone)
     upload(starter, temple(PAIR[0]))
     truth = scene(3, seed=25)
     mark_friend(starter, *truth.epipole1)
@@ -116,20 +117,63 @@ def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
     assert ids == [1, 2, 3]
 
 
-@contextmanager
-def building(version: str, folder: Path) -> Iterator[Callable[[], set[str]]]:
-    """The app built as ``version`` into ``folder``, in the background (vite build takes
-    2-20 s on a busy machine, as long as a server's start): the function it yields waits
-    for the build and gives its files' paths (``/assets/...``)."""
-    command = ["npx", "vite", "build", "--outDir", str(folder), "--emptyOutDir"]
+def test_the_manifest_makes_the_app_installable(
+    installed: ChromiumPhone, shell_server: ShellServer
+) -> None:
+    """Chromium's own reading of the manifest: no errors, and nothing keeps it from being
+    installed (a service worker, icons of the right sizes, standalone)."""
+    installed.goto(f"{shell_server.base_url}/")
+    worker_ready(installed)
+    devtools = installed.context.new_cdp_session(installed.page)
+    manifest = devtools.send("Page.getAppManifest", {})
+    assert manifest["errors"] == [], manifest["errors"]
+    # (The parsed manifest comes back in Chromium's own enum names: "kStandalone".)
+    parsed = manifest["manifest"]
+    assert parsed["name"] == "Buddy Search"
+    assert parsed["display"] == "kStandalone"
+    # Playwright's contexts are incognito ones, where Chromium installs nothing: the one
+    # error there is of the browser, none of the app.
+    errors = devtools.send("Page.getInstallabilityErrors")["installabilityErrors"]
+    assert [error["errorId"] for error in errors] == ["in-incognito"], errors
+
+
+@dataclass(frozen=True)
+class Build:
+    version: str
+    folder: Path
+
+
+@dataclass(frozen=True)
+class ShellServer:
+    """A server of the checked-out build (A) in ``dist``, and a new build (B) on its way:
+    ``new_build()`` waits for it."""
+
+    base_url: str
+    dist: Path
+    new_build: Callable[[], Build]
+
+
+@pytest.fixture(scope="module")
+def shell_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ShellServer]:
+    """This module's server, whose build the version bump replaces, and B's build, started
+    at once: vite build took 12 to 23 s here on a busy machine, about as long as a server's
+    start and the tests before the version bump, which run meanwhile."""
+    folder = tmp_path_factory.mktemp("shell")
+    dist, b_dist = folder / "dist", folder / "b"
+    shutil.copytree(FRONTEND / "dist", dist)
+    version = f"b-{os.getpid()}"
+    command = ["npx", "vite", "build", "--outDir", str(b_dist), "--emptyOutDir"]
     environment = os.environ | {"VITE_APP_VERSION": version}
-    with subprocess.Popen([*command, "--logLevel", "warn"], cwd=FRONTEND, env=environment) as vite:
+    with (
+        subprocess.Popen([*command, "--logLevel", "warn"], cwd=FRONTEND, env=environment) as vite,
+        serve(folder, env={"BUDDY_FRONTEND_DIR": str(dist)}) as server,
+    ):
 
-        def built() -> set[str]:
+        def new_build() -> Build:
             assert vite.wait(timeout=120) == 0, "vite build failed"
-            return files(folder)
+            return Build(version, b_dist)
 
-        yield built
+        yield ShellServer(server.base_url, dist, new_build)
 
 
 def files(folder: Path) -> set[str]:
@@ -163,64 +207,44 @@ def cached(phone: ChromiumPhone) -> set[str]:
     return set(paths)
 
 
-def test_a_new_build_replaces_the_whole_shell(installed: ChromiumPhone, tmp_path: Path) -> None:
-    """Build A served and installed; the server then has build B: a reload runs B only."""
-    dist = tmp_path / "dist"
-    shutil.copytree(FRONTEND / "dist", dist)
-    version = f"b-{os.getpid()}"
-    with (
-        building(version, tmp_path / "b") as built,
-        serve(tmp_path, env={"BUDDY_FRONTEND_DIR": str(dist)}) as server,
-    ):
-        installed.goto(f"{server.base_url}/")
-        expect(installed.get_by_test_id("start")).to_be_visible()
-        worker_ready(installed)
-        old_scripts = scripts(installed)
-        assert old_scripts
-        assert old_scripts <= files(dist)
-        assert installed.evaluate("() => document.documentElement.dataset.build") != version
-
-        new_build = built()
-        shutil.rmtree(dist)
-        shutil.copytree(tmp_path / "b", dist)
-        # The open page of A still gets A's files, from A's precache: the server has no more.
-        (entry,) = old_scripts - new_build
-        assert httpx2.get(f"{server.base_url}{entry}").status_code == 404
-        assert installed.evaluate(f"fetch({entry!r}).then((r) => r.status)") == 200
-
-        installed.reload()  # A's shell, from A's worker: it finds B and moves to it
-        installed.wait_for(
-            lambda: installed.evaluate("() => document.documentElement.dataset.build") == version,
-            "the page to run build B",
-        )
-        expect(installed.get_by_test_id("start")).to_be_visible()
-        loaded = scripts(installed)
-        assert loaded
-        assert loaded <= new_build, loaded - new_build
-        in_cache = cached(installed)
-        assert "/index.html" in in_cache
-        assert in_cache <= new_build, in_cache - new_build
-        assert installed.evaluate(
-            """async () => {
-                const registration = await navigator.serviceWorker.getRegistration();
-                return registration.waiting === null && registration.installing === null;
-            }"""
-        )
-
-
-def test_the_manifest_makes_the_app_installable(installed: ChromiumPhone, server: str) -> None:
-    """Chromium's own reading of the manifest: no errors, and nothing keeps it from being
-    installed (a service worker, icons of the right sizes, standalone)."""
-    installed.goto(f"{server}/")
+def test_a_new_build_replaces_the_whole_shell(
+    installed: ChromiumPhone, shell_server: ShellServer
+) -> None:
+    """Build A (the checked-out one) served and installed; the server then has build B: a
+    reload runs B only."""
+    server, dist = shell_server, shell_server.dist
+    installed.goto(f"{server.base_url}/")
+    expect(installed.get_by_test_id("start")).to_be_visible()
     worker_ready(installed)
-    devtools = installed.context.new_cdp_session(installed.page)
-    manifest = devtools.send("Page.getAppManifest", {})
-    assert manifest["errors"] == [], manifest["errors"]
-    # (The parsed manifest comes back in Chromium's own enum names: "kStandalone".)
-    parsed = manifest["manifest"]
-    assert parsed["name"] == "Buddy Search"
-    assert parsed["display"] == "kStandalone"
-    # Playwright's contexts are incognito ones, where Chromium installs nothing: the one
-    # error there is of the browser, none of the app.
-    errors = devtools.send("Page.getInstallabilityErrors")["installabilityErrors"]
-    assert [error["errorId"] for error in errors] == ["in-incognito"], errors
+    old_scripts = scripts(installed)
+    assert old_scripts
+    assert old_scripts <= files(dist)
+    b = server.new_build()
+    assert installed.evaluate("() => document.documentElement.dataset.build") != b.version
+
+    shutil.rmtree(dist)
+    shutil.copytree(b.folder, dist)
+    b_files = files(dist)
+    # The open page of A still gets A's files, from A's precache: the server has no more.
+    (entry,) = old_scripts - b_files
+    assert httpx2.get(f"{server.base_url}{entry}").status_code == 404
+    assert installed.evaluate(f"fetch({entry!r}).then((r) => r.status)") == 200
+
+    installed.reload()  # A's shell, from A's worker: it finds B and moves to it
+    installed.wait_for(
+        lambda: installed.evaluate("() => document.documentElement.dataset.build") == b.version,
+        "the page to run build B",
+    )
+    expect(installed.get_by_test_id("start")).to_be_visible()
+    loaded = scripts(installed)
+    assert loaded
+    assert loaded <= b_files, loaded - b_files
+    in_cache = cached(installed)
+    assert "/index.html" in in_cache
+    assert in_cache <= b_files, in_cache - b_files
+    assert installed.evaluate(
+        """async () => {
+            const registration = await navigator.serviceWorker.getRegistration();
+            return registration.waiting === null && registration.installing === null;
+        }"""
+    )

@@ -10,10 +10,10 @@
  * cached) and the page holds nothing a reload would lose (busy.ts: a photo not sent yet),
  * it tells the worker to take over and reloads when it has, once. The reload runs the new
  * build only (index.html and its chunks from the new precache; the old entries are gone).
- * Two nets: a lazily loaded chunk that still fails to load (a server already on another
- * build, no worker) reloads the page, as Vite's docs advise, at most once in 10 s; and a
- * page that was not controlled when it loaded (the first visit) is not reloaded when the
- * first worker starts.
+ * A net: a lazily loaded chunk that still fails to load (a server already on another
+ * build, no worker) reloads the page, as Vite's docs advise, at most once in 10 s. The
+ * first worker claims the page that installed it (clientsClaim, vite.config.ts) with no
+ * reload: there is nothing older to mix with.
  */
 
 import { pageHoldsUnsent } from "./busy";
@@ -31,13 +31,13 @@ export function startShell(): void {
   });
   // The dev server serves no worker; a browser without them (or blocking them) runs as before.
   if (import.meta.env.DEV || !("serviceWorker" in navigator)) return;
-  if (document.readyState === "complete") void register();
-  else window.addEventListener("load", () => void register(), { once: true });
+  const start = (): void => void register(navigator.serviceWorker, () => location.reload());
+  if (document.readyState === "complete") start();
+  else window.addEventListener("load", start, { once: true });
 }
 
-async function register(): Promise<void> {
-  const container = navigator.serviceWorker;
-  const controlled = container.controller !== null;
+/** Register the app's worker in `container` and move the page to each new build (`reload`). */
+export async function register(container: ServiceWorkerContainer, reload: () => void): Promise<void> {
   let registration: ServiceWorkerRegistration | undefined;
   try {
     registration = await container.register("/sw.js", { scope: "/", updateViaCache: "none" });
@@ -46,14 +46,24 @@ async function register(): Promise<void> {
   }
   // (Playwright's "block" answers with no registration at all.)
   if (!registration) return;
+  // The page reloads when a worker replaces the one that served it (this page asked it to,
+  // or another tab of the app did), not when the first worker claims a page that no worker
+  // served (the first visit: nothing older to mix with).
+  let previous = container.controller;
+  let asked = false;
   let reloading = false;
   container.addEventListener("controllerchange", () => {
-    if (!controlled || reloading) return;
+    const replaced = previous !== null || asked;
+    previous = container.controller;
+    if (!replaced || reloading) return;
     reloading = true;
-    location.reload();
+    reload();
   });
   const installed = (worker: ServiceWorker | null): void => {
-    if (worker && container.controller) takeOverWhenIdle(worker);
+    if (!worker || !container.controller) return;
+    takeOverWhenIdle(worker, () => {
+      asked = true;
+    });
   };
   installed(registration.waiting);
   registration.addEventListener("updatefound", () => {
@@ -70,11 +80,12 @@ async function register(): Promise<void> {
 }
 
 /** Tell `worker` (installed, waiting) to take over once no photo waits to be sent. */
-function takeOverWhenIdle(worker: ServiceWorker): void {
+function takeOverWhenIdle(worker: ServiceWorker, asking: () => void): void {
   if (pageHoldsUnsent()) {
-    setTimeout(() => takeOverWhenIdle(worker), RETRY_MS);
+    setTimeout(() => takeOverWhenIdle(worker, asking), RETRY_MS);
     return;
   }
+  asking();
   // vite-plugin-pwa's prompt mode: the generated worker calls skipWaiting() on this message.
   worker.postMessage({ type: "SKIP_WAITING" });
 }
