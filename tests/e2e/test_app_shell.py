@@ -115,6 +115,10 @@ def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
     expect(starter.get_by_test_id("photo-loading")).to_have_count(0)
     ids = sorted(t["id"] for t in session_state(starter)["taps"]["starter"]["landmarks"])
     assert ids == [1, 2, 3]
+    # The worker kept the build's files and nothing else: no state, no photo, no crop.
+    in_cache = cached(installed)
+    assert in_cache
+    assert in_cache <= files(shell_server.dist), in_cache - files(shell_server.dist)
 
 
 def test_the_manifest_makes_the_app_installable(
