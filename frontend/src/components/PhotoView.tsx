@@ -184,7 +184,8 @@ function Drawing(props: DrawingProps) {
         ref={props.image}
         class="layer"
         src={props.photoUrl}
-        style={layer}
+        // A photo that did not come draws no broken-image sign over the marks.
+        style={props.failed ? `${layer};visibility:hidden` : layer}
         alt="Your photo"
         draggable={false}
         onLoad={props.onLoaded}
