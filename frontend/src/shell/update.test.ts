@@ -18,6 +18,7 @@ class FakeWorker extends EventTarget {
 }
 
 class FakeRegistration extends EventTarget {
+  active: FakeWorker | null = null;
   waiting: FakeWorker | null = null;
   installing: FakeWorker | null = null;
   update = vi.fn(() => Promise.resolve());
@@ -45,6 +46,7 @@ class FakeContainer extends EventTarget {
 
 async function started(controller: FakeWorker | null): Promise<{ container: FakeContainer; reload: ReturnType<typeof vi.fn> }> {
   const container = new FakeContainer(controller, new FakeRegistration());
+  container.registration.active = controller;
   const reload = vi.fn();
   await register(container as unknown as ServiceWorkerContainer, reload);
   return { container, reload };
@@ -60,10 +62,18 @@ describe("moving the page to a new build", () => {
     vi.unstubAllGlobals();
   });
 
-  it("does not reload a first visit that the first worker claims", async () => {
+  it("does not reload a first visit that the first worker claims, even when told twice", async () => {
     const { container, reload } = await started(null);
-    container.controlledBy(new FakeWorker("activated"));
+    const first = new FakeWorker("activated");
+    container.controlledBy(first);
+    container.controlledBy(first);
     expect(reload).not.toHaveBeenCalled();
+  });
+
+  it("reloads a page a worker served when another tab moves to a new build", async () => {
+    const { container, reload } = await started(new FakeWorker("activated"));
+    container.controlledBy(new FakeWorker("activated"));
+    expect(reload).toHaveBeenCalledTimes(1);
   });
 
   it("asks an installed new build to take over, then reloads once", async () => {
@@ -79,9 +89,23 @@ describe("moving the page to a new build", () => {
     expect(reload).toHaveBeenCalledTimes(1);
   });
 
+  it("takes the first install for no update, whenever it says it is installed", async () => {
+    const { container, reload } = await started(null);
+    const first = new FakeWorker("installing");
+    container.registration.found(first);
+    // WebKitGTK: the first worker claimed the page before its "installed" reached it.
+    container.registration.active = first;
+    container.controlledBy(first);
+    first.become("installed");
+    expect(first.messages).toEqual([]);
+    expect(reload).not.toHaveBeenCalled();
+  });
+
   it("reloads a first-visit page that a new build replaces later", async () => {
     const { container, reload } = await started(null);
-    container.controlledBy(new FakeWorker("activated"));
+    const first = new FakeWorker("activated");
+    container.registration.active = first;
+    container.controlledBy(first);
     const next = new FakeWorker("installing");
     container.registration.found(next);
     next.become("installed");
@@ -91,8 +115,9 @@ describe("moving the page to a new build", () => {
 
   it("takes a build that waits since the last visit", async () => {
     const registration = new FakeRegistration();
+    registration.active = new FakeWorker("activated");
     registration.waiting = new FakeWorker("installed");
-    const container = new FakeContainer(new FakeWorker("activated"), registration);
+    const container = new FakeContainer(registration.active, registration);
     await register(container as unknown as ServiceWorkerContainer, vi.fn());
     expect(registration.waiting.messages).toEqual([{ type: "SKIP_WAITING" }]);
   });
