@@ -5,9 +5,10 @@
 - ``Content-Security-Policy``: the app loads its own script and stylesheet and nothing else;
   photos are shown from the API, from ``blob:`` URLs (the phone decodes a picked photo before
   sending it) and the icon from a ``data:`` URL; it talks to its own origin only (``fetch``,
-  ``EventSource``). No inline script or ``<style>`` (Preact sets styles through the CSSOM,
-  which CSP allows). A route may send a policy of its own (``/docs``: the app's, with
-  Swagger UI's one inline script allowed by its hash).
+  ``EventSource``) and installs its own service worker and manifest. No inline script or
+  ``<style>`` (Preact sets styles through the CSSOM, which CSP allows). A route may send a
+  policy of its own (``/docs``: the app's, with Swagger UI's one inline script allowed by
+  its hash).
 - ``Referrer-Policy: no-referrer``: pictures and event streams carry ``?token=``; no
   address of this app is ever sent to another site.
 - ``X-Frame-Options``/``frame-ancestors``, ``nosniff``, ``Cross-Origin-Opener-Policy`` and
@@ -40,6 +41,10 @@ APP_POLICY = "; ".join(
         "connect-src 'self'",
         "script-src 'self'",
         "style-src 'self'",
+        # The app shell's service worker and the web app manifest (default-src allows
+        # them too; said outright so that a narrower default-src cannot drop them).
+        "worker-src 'self'",
+        "manifest-src 'self'",
         "object-src 'none'",
         "base-uri 'none'",
         "frame-ancestors 'none'",

@@ -1,11 +1,69 @@
+import { VitePWA } from "vite-plugin-pwa";
 import { defineConfig } from "vitest/config";
+import palette from "../shared_solver/drawing/palette.json";
 
 // Preact through esbuild's automatic JSX runtime: no Babel, no plugin.
 // The API runs on the backend (`make run`: port 8000): the dev server forwards /api to it.
 // The app reads two files it shares with the server, outside this folder: the palette
 // (shared_solver/drawing/palette.json) and the limits (backend/limits.json).
+// The app's theme colour (manifest, browser bar, splash screen, icon tile) is the palette's
+// outline: the icons (docsgen/app_icons.py) are drawn from the same file.
+const THEME_COLOUR = palette.outline;
+
 export default defineConfig({
   esbuild: { jsx: "automatic", jsxImportSource: "preact" },
+  plugins: [
+    { name: "theme-colour", transformIndexHtml: (html: string) => html.replaceAll("%THEME_COLOUR%", THEME_COLOUR) },
+    // Installable, and it opens with no signal (docs/app.md, "Installed and offline"): the
+    // manifest and a Workbox service worker that precaches the built shell. The page
+    // registers it itself (src/shell/), which also decides when a new one takes over.
+    VitePWA({
+      injectRegister: false,
+      // No skipWaiting: a new worker waits until the page says so (src/shell/update.ts),
+      // so an open page keeps being served its own build's chunks until it reloads.
+      registerType: "prompt",
+      manifest: {
+        name: "Buddy Search",
+        short_name: "Buddy Search",
+        description: "Find your friend across the venue from two photos.",
+        id: "/",
+        start_url: "/",
+        scope: "/",
+        display: "standalone",
+        orientation: "portrait",
+        theme_color: THEME_COLOUR,
+        background_color: THEME_COLOUR,
+        icons: [
+          { src: "/icon-192.png", sizes: "192x192", type: "image/png", purpose: "any" },
+          { src: "/icon-512.png", sizes: "512x512", type: "image/png", purpose: "any" },
+          { src: "/icon-maskable-512.png", sizes: "512x512", type: "image/png", purpose: "maskable" },
+        ],
+      },
+      includeAssets: ["icon.svg"],
+      workbox: {
+        // The shell: the page and every chunk Vite wrote (lazily loaded ones and per-language
+        // catalogues included: all under assets/); the plugin adds the manifest, its icons
+        // and includeAssets. Never the API or a photo: no runtime caching at all, so every
+        // request the precache does not hold goes to the network as if there were no worker.
+        globPatterns: ["index.html", "assets/**/*.{js,css,json,woff2,svg,png,wasm}"],
+        runtimeCaching: [],
+        // The app's own addresses (/, /join/<code>, /s) answer the precached page offline;
+        // the server's other pages are never the app's.
+        navigateFallback: "/index.html",
+        navigateFallbackDenylist: [/^\/api\//, /^\/docs/, /^\/openapi\.json/, /^\/healthz/],
+        cleanupOutdatedCaches: true,
+        // The first worker takes the page that installed it at once (nothing older to mix
+        // with), so that page's lazily loaded chunks already come from the precache when
+        // the signal goes. A later worker starts only when the page asks (src/shell/).
+        clientsClaim: true,
+        // One file to serve and to cache-bust (backend/frontend.py sends it with no-cache).
+        inlineWorkboxRuntime: true,
+        // The chunks are content-hashed: Workbox need not add a revision to their URLs.
+        dontCacheBustURLsMatching: /^assets\//,
+        sourcemap: false,
+      },
+    }),
+  ],
   build: {
     outDir: "dist",
     assetsDir: "assets",

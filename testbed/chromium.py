@@ -22,10 +22,16 @@ def launch(playwright: Any, extra: tuple[str, ...] = ()) -> Any:
     return playwright.chromium.launch(executable_path=CHROMIUM, args=[*FLAGS, *extra])
 
 
-def phone(playwright: Any, browser: Any, model: str) -> Any:
+def phone(playwright: Any, browser: Any, model: str, *, service_workers: bool = False) -> Any:
     """A new context of ``browser`` emulating Playwright's phone ``model`` (viewport, device
     scale, touch, user agent), speaking English: the app picks the phone's language, and the
-    tests read its English words (tests/e2e/test_languages.py sets the others itself)."""
+    tests read its English words (tests/e2e/test_languages.py sets the others itself).
+
+    The app's service worker (its shell, offline) is blocked unless ``service_workers``:
+    Playwright's routes do not see what a worker answers, and tests and benchmarks that
+    play network faults or time requests should meet the server, as before the worker.
+    tests/e2e/test_app_shell.py runs with it."""
     device = dict(playwright.devices[model])
     device.pop("default_browser_type", None)
-    return browser.new_context(**{"locale": "en-US", **device})
+    workers = "allow" if service_workers else "block"
+    return browser.new_context(**{"locale": "en-US", **device}, service_workers=workers)

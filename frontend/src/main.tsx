@@ -2,6 +2,7 @@ import { render } from "preact";
 import { App } from "./components/App";
 import { startLanguage } from "./i18n";
 import { applyPalette } from "./palette";
+import { startShell } from "./shell/update";
 import "./styles.css";
 
 // The stylesheet's palette colours, from the one palette the server draws with.
@@ -12,3 +13,6 @@ const root = document.getElementById("app");
 void startLanguage().finally(() => {
   if (root) render(<App />, root);
 });
+
+// Installable and offline: the app shell's service worker, and moving to a new build.
+startShell();

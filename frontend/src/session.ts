@@ -12,6 +12,7 @@ import { ShownAnswer } from "./session/shownAnswer";
 import { SessionSync } from "./session/sync";
 import { TapEditing } from "./session/taps";
 import { ViewStore, type Ending, type SessionView } from "./session/view";
+import { holdsUnsent } from "./shell/busy";
 import { forgetSession } from "./storage";
 import { TapSaver } from "./tapSaver";
 import type { Credentials } from "./types";
@@ -62,6 +63,8 @@ export class SessionController {
     this.deletion = new Deletion(store, { end: (ending) => this.end(ending), stop: () => this.stop() });
   }
 
+  private releaseShell: () => void = () => undefined;
+
   get view(): SessionView {
     return this.store.view;
   }
@@ -72,9 +75,12 @@ export class SessionController {
 
   start(): void {
     this.sync.start();
+    // A photo only this page holds (not sent yet) keeps a new build from reloading it.
+    this.releaseShell = holdsUnsent(() => this.view.photo?.pending === true);
   }
 
   stop(): void {
+    this.releaseShell();
     this.photo.stop();
     this.sync.stop();
     this.saver.stop();

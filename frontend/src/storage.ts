@@ -1,13 +1,15 @@
 /**
- * What survives a reload: the session this phone is in (id, token, role), and taps not yet
- * on the server. Kept in localStorage; a phone without it (private mode) still works until
- * the page is closed.
+ * What survives a reload: the session this phone is in (id, token, role), taps not yet on
+ * the server, and the server's last state this phone saw (shown after a reload with no
+ * signal). Kept in localStorage; a phone without it (private mode) still works until the
+ * page is closed.
  */
 
-import { isRole, type Credentials, type Taps } from "./types";
+import { isRole, type Credentials, type SessionState, type Taps } from "./types";
 
 const SESSION_KEY = "buddy-search.session";
 const DRAFT_KEY = "buddy-search.draft";
+const KEPT_STATE_KEY = "buddy-search.state";
 
 function read<T>(key: string): T | null {
   try {
@@ -43,11 +45,28 @@ export function loadCredentials(): Credentials | null {
 export function saveCredentials(credentials: Credentials): void {
   write(SESSION_KEY, credentials);
   write(DRAFT_KEY, null);
+  write(KEPT_STATE_KEY, null);
 }
 
 export function forgetSession(): void {
   write(SESSION_KEY, null);
   write(DRAFT_KEY, null);
+  write(KEPT_STATE_KEY, null);
+}
+
+/**
+ * The server's latest state of the session, kept on the phone: after a reload with no
+ * signal the session screen shows it (and the draft's taps over it) instead of an error.
+ * It holds nothing the phone did not already have (its token is kept beside it).
+ */
+export function keepState(sessionId: string, state: SessionState): void {
+  write(KEPT_STATE_KEY, { session_id: sessionId, state });
+}
+
+export function loadKeptState(sessionId: string): SessionState | null {
+  const kept = read<{ session_id?: unknown; state?: SessionState }>(KEPT_STATE_KEY);
+  const state = kept?.session_id === sessionId ? kept.state : undefined;
+  return state && typeof state.version === "number" ? state : null;
 }
 
 /**

@@ -379,6 +379,7 @@ def test_the_app_policy_allows_only_the_apps_own_files() -> None:
     assert directives["script-src"] == "'self'"
     assert directives["style-src"] == "'self'"
     assert directives["connect-src"] == "'self'"
+    assert directives["worker-src"] == directives["manifest-src"] == "'self'"
     assert directives["frame-ancestors"] == "'none'"
     assert directives["object-src"] == "'none'"
     assert "unsafe" not in APP_POLICY

@@ -123,6 +123,8 @@ def app_client(tmp_path: Path, database_url: str, built: bool) -> TestClient:
         (dist / "index.html").write_text("<!doctype html><title>Buddy Search</title><div id=app>")
         (dist / "assets" / "app.js").write_text("console.log('buddy')")
         (dist / "icon.svg").write_text("<svg/>")
+        (dist / "sw.js").write_text("self.addEventListener('fetch', () => {})")
+        (dist / "manifest.webmanifest").write_text('{"name": "Buddy Search"}')
     settings = Settings(database_url=database_url, frontend_dir=str(dist))
     return TestClient(create_app(settings))
 
@@ -135,6 +137,15 @@ def test_the_app_and_its_routes_are_served(tmp_path: Path, database_url: str) ->
             assert "Buddy Search" in page.text
         assert client.get("/assets/app.js").text == "console.log('buddy')"
         assert client.get("/icon.svg").status_code == 200
+        # The service worker and the manifest: always asked for again, in their own types.
+        for path, media_type in (
+            ("/sw.js", "text/javascript"),
+            ("/manifest.webmanifest", "application/manifest+json"),
+            ("/", "text/html"),
+        ):
+            answer = client.get(path)
+            assert answer.headers["cache-control"] == "no-cache", path
+            assert answer.headers["content-type"].startswith(media_type), path
         assert client.get("/../pyproject.toml").status_code in (200, 404)
         assert "pyproject" not in client.get("/%2e%2e/pyproject.toml").text
         # The API keeps its own answers.

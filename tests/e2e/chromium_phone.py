@@ -21,9 +21,13 @@ class ChromiumPhone(Phone):
     engine = "chromium"
     pointer = "touch"
 
-    def __init__(self, playwright: Playwright, browser: Browser, model: str) -> None:
+    def __init__(
+        self, playwright: Playwright, browser: Browser, model: str, *, service_workers: bool = False
+    ) -> None:
         super().__init__(model)
-        self._context: BrowserContext = chromium.phone(playwright, browser, model)
+        self._context: BrowserContext = chromium.phone(
+            playwright, browser, model, service_workers=service_workers
+        )
         self._context.set_default_navigation_timeout(NAVIGATION_TIMEOUT_MS)
         self._page = self._context.new_page()
         self._errors: list[str] = []

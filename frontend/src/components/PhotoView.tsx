@@ -73,12 +73,18 @@ export function PhotoView(props: Props) {
   const [loaded, setLoaded] = useState(false);
   // Whether a finger is down, for the view's moves that wait for the gesture's end.
   const busy = useRef<() => boolean>(() => false);
+  // The server's photo did not come (no signal after an offline reload): said so, not
+  // "Loading"; it is asked for again when the phone is back online (session/sync.ts).
+  const [failed, setFailed] = useState(false);
   const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets, () => busy.current());
   const { gesture, gestures } = useGestures(box, panZoom, props);
   busy.current = () => gestures.active;
   const { view, transform, gliding } = state;
 
-  useEffect(() => setLoaded(false), [props.photoUrl]);
+  useEffect(() => {
+    setLoaded(false);
+    setFailed(false);
+  }, [props.photoUrl]);
 
   // "Re-check #3": zoom to that landmark.
   useEffect(() => {
@@ -130,6 +136,8 @@ export function PhotoView(props: Props) {
             image={image}
             loaded={loaded}
             onLoaded={() => setLoaded(true)}
+            failed={failed}
+            onFailed={() => setFailed(true)}
           />
         )}
       </div>
@@ -168,6 +176,8 @@ interface DrawingProps extends Props {
   image: { current: HTMLImageElement | null };
   loaded: boolean;
   onLoaded: () => void;
+  failed: boolean;
+  onFailed: () => void;
 }
 
 /** The picture: photo, guide, marks, the answer on top, loupe. */
@@ -183,10 +193,12 @@ function Drawing(props: DrawingProps) {
         ref={props.image}
         class="layer"
         src={props.photoUrl}
-        style={layer}
+        // A photo that did not come draws no broken-image sign over the marks.
+        style={props.failed ? `${layer};visibility:hidden` : layer}
         alt={tr("photo.yourPhoto")}
         draggable={false}
         onLoad={props.onLoaded}
+        onError={props.onFailed}
       />
       {props.guide && <GuideLayer guide={props.guide} transform={t} view={view} />}
       <Marks
@@ -212,7 +224,11 @@ function Drawing(props: DrawingProps) {
           marks={taps.friend ? [taps.friend] : []}
         />
       )}
-      {!props.loaded && <p class="photo-loading">{tr("photo.loading")}</p>}
+      {!props.loaded && (
+        <p class="photo-loading" data-testid="photo-loading">
+          {props.failed ? tr("photo.backOnline") : tr("photo.loading")}
+        </p>
+      )}
     </>
   );
 }

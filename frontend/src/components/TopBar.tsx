@@ -20,11 +20,20 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
 
   return (
     <header class="top-bar">
-      <span class={`peer ${online ? "on" : "off"}`} data-testid="peer-online" data-online={String(online)}>
-        <span class="dot" aria-hidden="true" />
-        <span class="peer-words">{peerWords}</span>
-      </span>
-      {view.stream === "down" && (
+      {view.kept ? (
+        // Reloaded with no signal: what is shown is this phone's copy (session/sync.ts),
+        // and whether the friend is online is not known.
+        <span class="peer off" data-testid="offline" role="status">
+          <span class="dot" aria-hidden="true" />
+          <span class="peer-words">{t("top.offline")}</span>
+        </span>
+      ) : (
+        <span class={`peer ${online ? "on" : "off"}`} data-testid="peer-online" data-online={String(online)}>
+          <span class="dot" aria-hidden="true" />
+          <span class="peer-words">{peerWords}</span>
+        </span>
+      )}
+      {view.stream === "down" && !view.kept && (
         <span class="reconnecting" data-testid="reconnecting" role="status">
           {t("top.reconnecting")}
         </span>

@@ -6,9 +6,10 @@
  */
 
 import { errorText } from "../i18n/server";
-import { ApiError, fetchState, eventsUrl } from "../api";
+import { ApiError, fetchState, eventsUrl, isRetryable } from "../api";
 import { takeIn, type Change } from "../changes";
 import { LiveStream, Refetcher } from "../reconnect";
+import { keepState, loadKeptState } from "../storage";
 import type { SessionState } from "../types";
 import type { SharedParts } from "./parts";
 import type { SessionView, ViewStore } from "./view";
@@ -131,7 +132,11 @@ export class SessionSync {
     } catch (error) {
       if (error instanceof ApiError && error.sessionEnded) this.parts.onEnded();
       else if (!this.view.state) {
-        this.store.set({ loadError: errorText(error) });
+        // No signal since the page (re)loaded: the last state this phone saw, marked as
+        // such, rather than an error; the stream's reconnecting brings the server's.
+        const kept = isRetryable(error) ? loadKeptState(this.view.credentials.session_id) : null;
+        if (kept) this.applyState(kept, true);
+        else this.store.set({ loadError: errorText(error) });
       }
     }
   }
@@ -142,8 +147,11 @@ export class SessionSync {
     this.stream.wake();
   }
 
-  /** A state from the server (fetched, or the reply to a PUT): shown unless older. */
-  applyState(state: SessionState): void {
+  /**
+   * A state from the server (fetched, or the reply to a PUT): shown unless older. `kept`:
+   * the phone's copy of the last one it saw (storage.ts), shown while there is no signal.
+   */
+  applyState(state: SessionState, kept = false): void {
     if (this.view.ended) return;
     const current = this.view.state;
     if (current && state.version < current.version) return; // an older answer arrived late
@@ -154,7 +162,11 @@ export class SessionSync {
       extra = { ...this.parts.taps.firstLoad(state), photo: mine ? { size: mine, key: `${state.version}` } : null };
     } else if (mine && !this.view.photo) {
       extra = { photo: { size: mine, key: `${state.version}` } };
+    } else if (mine && this.view.kept && !this.view.photo?.pending) {
+      // Back online after an offline start: the photo failed to load then; ask again.
+      extra = { photo: { size: mine, key: `${state.version}-online` } };
     }
-    this.store.set({ state, loadError: null, ...this.parts.answer.patchFor(state), ...extra });
+    if (!kept) keepState(this.view.credentials.session_id, state);
+    this.store.set({ state, kept, loadError: null, ...this.parts.answer.patchFor(state), ...extra });
   }
 }

@@ -33,6 +33,8 @@ export type Ending = "deleted" | "ended";
 export interface SessionView {
   readonly credentials: Credentials;
   readonly state: SessionState | null;
+  /** `state` is the phone's kept copy, not yet confirmed by the server: it is offline. */
+  readonly kept: boolean;
   /** The state with the latest answer shown (held briefly while an answer is renewed). */
   readonly answerState: SessionState | null;
   readonly loadError: string | null;
@@ -68,6 +70,7 @@ export class ViewStore {
     this.view = {
       credentials,
       state: null,
+      kept: false,
       answerState: null,
       loadError: null,
       editor: newEditor(),
