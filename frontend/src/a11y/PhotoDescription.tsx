@@ -8,8 +8,8 @@
 import type { AnswerView } from "../answer";
 import type { TapSet } from "../landmarks";
 import type { Size } from "../viewTransform";
-import { NO_MARKS, describeAnswerPlace, describeMarks } from "./describe";
-import { MARKS_TITLE } from "./labels";
+import { t } from "../i18n";
+import { describeAnswerPlace, describeMarks } from "./describe";
 
 /** The id the photo view's aria-describedby names. */
 export const PHOTO_DESCRIPTION_ID = "photo-description";
@@ -30,9 +30,9 @@ export function PhotoDescription({ taps, photo, selected, suspects, answer }: Pr
       <p aria-live="polite" data-testid="answer-where">
         {where ?? ""}
       </p>
-      <p>{MARKS_TITLE}:</p>
+      <p>{t("a11y.marksTitle")}</p>
       <ul aria-live="polite" data-testid="mark-descriptions">
-        {marks.length === 0 ? <li>{NO_MARKS}</li> : marks.map((words) => <li key={words.split(",")[0]}>{words}</li>)}
+        {marks.length === 0 ? <li>{t("a11y.noMarks")}</li> : marks.map(({ key, words }) => <li key={key}>{words}</li>)}
       </ul>
     </div>
   );

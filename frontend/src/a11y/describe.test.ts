@@ -1,5 +1,12 @@
-import { describe, expect, it } from "vitest";
+import { afterAll, describe, expect, it } from "vitest";
 import type { AnswerView } from "../answer";
+import { speak } from "../i18n";
+import de from "../i18n/locales/de.json";
+import en from "../i18n/locales/en.json";
+import es from "../i18n/locales/es.json";
+import fr from "../i18n/locales/fr.json";
+import ja from "../i18n/locales/ja.json";
+import type { Language } from "../i18n/languages";
 import type { TapSet } from "../landmarks";
 import { describeAnswerPlace, describeLandmark, describeMarks, directionWords, placeIn } from "./describe";
 
@@ -60,7 +67,8 @@ describe("marks", () => {
       friend: { x: 320, y: 240, sigma: null },
       friend_line: null,
     };
-    expect(describeMarks(taps, PHOTO, 2, [1])).toEqual([
+    expect(describeMarks(taps, PHOTO, 2, [1]).map((mark) => mark.key)).toEqual(["friend", "landmark 1", "landmark 2"]);
+    expect(describeMarks(taps, PHOTO, 2, [1]).map((mark) => mark.words)).toEqual([
       "your friend, marked by you, centre",
       "landmark 1, placed by you, lower left, to re-check",
       "landmark 2, placed by you, upper right, selected",
@@ -102,4 +110,34 @@ describe("describeAnswerPlace", () => {
     expect(directionWords([-0.7, 0.7])).toBe("below, to the left");
     expect(directionWords([0.7, -0.7])).toBe("above, to the right");
   });
+});
+
+/** The same marks and answers in each other language: the phone's own words, in its order. */
+describe("in the language shown", () => {
+  afterAll(async () => {
+    await speak("en", en);
+  });
+
+  const CASES: [Language, Record<string, unknown>, string, string, string][] = [
+    ["de", de, "Fixpunkt 3, von dir gesetzt, oben links, zu prüfen", "dein Freund ist rechts außerhalb des Fotos", "dein Freund ist weit oben außerhalb des Fotos"],
+    ["es", es, "referencia 3, puesta por ti, arriba a la izquierda, por revisar", "tu amigo está fuera de la foto, a la derecha", "tu amigo está lejos, fuera de la foto, arriba"],
+    ["fr", fr, "repère 3, placé par toi, en haut à gauche, à revoir", "ton ami est hors de la photo, à droite", "ton ami est loin hors de la photo, vers le haut"],
+    ["ja", ja, "あなたが置いた目印3、左上、要確認", "友だちは写真の外の右側にいます", "友だちは写真のはるか外、上の方にいます"],
+  ];
+  const far: AnswerView = {
+    ...NONE,
+    kind: "elsewhere",
+    drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
+  };
+
+  for (const [language, words, landmark, off, away] of CASES) {
+    it(`${language}: says a landmark and the friend's place in its own words`, async () => {
+      await speak(language, words);
+      const said = describeLandmark(3, { x: 10, y: 10 }, PHOTO, { suspect: true });
+      expect(said).not.toBe("landmark 3, placed by you, upper left, to re-check");
+      expect(said).toBe(landmark);
+      expect(describeAnswerPlace(at(900, 240), PHOTO)).toBe(off);
+      expect(describeAnswerPlace(far, PHOTO)).toBe(away);
+    });
+  }
 });

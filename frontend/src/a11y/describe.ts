@@ -5,22 +5,46 @@
  * alternative (the photo view's description, a11y/PhotoDescription.tsx).
  *
  * Pure functions of the marks, the answer's geometry (answer.ts: the server's) and the
- * photo's size: no geometry is computed here but which ninth of the photo a point is in.
- * Every English word of the app's accessibility lives in this folder, so it moves into the
- * catalogues (frontend/src/i18n/) in one go.
+ * photo's size: no geometry is computed here but which ninth of the photo a point is in, or
+ * which way off it. The words are the catalogue's (`a11y.*`, frontend/src/i18n/), in the
+ * language shown: a whole sentence per case, the place put in with `{{place}}`, so each
+ * language orders its sentence its own way ("rechts außerhalb des Fotos", "写真の外の右側").
+ * Called at render, so a switch of language re-words them.
  */
 
 import type { AnswerView } from "../answer";
+import { t, type Catalogue } from "../i18n";
 import type { TapSet } from "../landmarks";
 import type { Point, Size } from "../viewTransform";
 
-/** The photo in thirds each way: a place a person can turn to without numbers. */
-const ROWS = ["upper", "middle", "lower"] as const;
-const COLUMNS = ["left", "centre", "right"] as const;
+/** The photo in thirds each way (rows top to bottom, columns left to right): a place a
+ * person can turn to without numbers. */
+const NINTHS = [
+  ["upperLeft", "upperMiddle", "upperRight"],
+  ["middleLeft", "centre", "middleRight"],
+  ["lowerLeft", "lowerMiddle", "lowerRight"],
+] as const;
+
+/** Off the photo: by the side(s) it is beyond. */
+const OFF = {
+  above: { left: "aboveLeft", right: "aboveRight", none: "above" },
+  below: { left: "belowLeft", right: "belowRight", none: "below" },
+  none: { left: "left", right: "right", none: null },
+} as const;
+
+/** The eight directions, from "to the right" turning clockwise on the photo (y down). */
+const OCTANTS = ["right", "belowRight", "below", "belowLeft", "left", "aboveLeft", "above", "aboveRight"] as const;
 
 function third(value: number, length: number): 0 | 1 | 2 {
   const k = Math.floor((3 * value) / length);
   return k <= 0 ? 0 : k >= 2 ? 2 : 1;
+}
+
+/** Which way off the photo point `p` is (a key of `a11y.place.off`), or null on it. */
+function offPhoto(p: Point, photo: Size): keyof Catalogue["a11y"]["place"]["off"] | null {
+  const vertical = p.y < 0 ? "above" : p.y > photo.height ? "below" : "none";
+  const horizontal = p.x < 0 ? "left" : p.x > photo.width ? "right" : "none";
+  return OFF[vertical][horizontal];
 }
 
 /**
@@ -29,13 +53,10 @@ function third(value: number, length: number): 0 | 1 | 2 {
  * left").
  */
 export function placeIn(p: Point, photo: Size): string {
-  const vertical = p.y < 0 ? "above" : p.y > photo.height ? "below" : null;
-  const horizontal = p.x < 0 ? "to the left" : p.x > photo.width ? "to the right" : null;
-  if (vertical || horizontal) return `off the photo ${[vertical, horizontal].filter(Boolean).join(", ")}`;
-  const row = ROWS[third(p.y, photo.height)];
-  const column = COLUMNS[third(p.x, photo.width)];
-  if (row === "middle" && column === "centre") return "centre";
-  return row === "middle" ? `middle ${column}` : `${row} ${column === "centre" ? "middle" : column}`;
+  const off = offPhoto(p, photo);
+  if (off) return t(`a11y.place.off.${off}`);
+  const row = NINTHS[third(p.y, photo.height)];
+  return t(`a11y.place.${row[third(p.x, photo.width)]}`);
 }
 
 /** One landmark as a screen reader says it. */
@@ -45,17 +66,21 @@ export function describeLandmark(
   photo: Size,
   { selected = false, suspect = false }: { selected?: boolean; suspect?: boolean } = {},
 ): string {
-  const parts = [`landmark ${id}, placed by you`, placeIn(at, photo)];
-  if (suspect) parts.push("to re-check");
-  if (selected) parts.push("selected");
-  return parts.join(", ");
+  const state = suspect ? (selected ? "recheckSelected" : "recheck") : selected ? "selected" : "plain";
+  return t(`a11y.landmark.${state}`, { id, place: placeIn(at, photo) });
 }
 
 /** This phone's mark on its friend (a point, or a line through them). */
 export function describeFriendMark(taps: TapSet, photo: Size): string | null {
-  if (taps.friend) return `your friend, marked by you, ${placeIn(taps.friend, photo)}`;
-  if (taps.friend_line) return "a line through your friend, drawn by you";
+  if (taps.friend) return t("a11y.friend.point", { place: placeIn(taps.friend, photo) });
+  if (taps.friend_line) return t("a11y.friend.line");
   return null;
+}
+
+/** A mark's words, and what it is ("friend", "landmark 3": a key that stays as its words change). */
+export interface MarkWords {
+  key: string;
+  words: string;
 }
 
 /** Every mark on this phone's photo, the friend's first, then the landmarks by number. */
@@ -64,31 +89,22 @@ export function describeMarks(
   photo: Size,
   selected: number | null,
   suspects: readonly number[],
-): string[] {
+): MarkWords[] {
   const friend = describeFriendMark(taps, photo);
   const landmarks = [...taps.landmarks]
     .sort((a, b) => a.id - b.id)
-    .map((l) => describeLandmark(l.id, l, photo, { selected: l.id === selected, suspect: suspects.includes(l.id) }));
-  return [...(friend ? [friend] : []), ...landmarks];
+    .map((l) => ({
+      key: `landmark ${l.id}`,
+      words: describeLandmark(l.id, l, photo, { selected: l.id === selected, suspect: suspects.includes(l.id) }),
+    }));
+  return [...(friend ? [{ key: "friend", words: friend }] : []), ...landmarks];
 }
-
-/** The words for a photo without marks. */
-export const NO_MARKS = "no marks yet";
 
 /** Which way a unit vector on the photo points (y down), to the nearest of eight. */
 export function directionWords([dx, dy]: readonly [number, number]): string {
   const angle = (Math.atan2(dy, dx) * 180) / Math.PI; // 0: right, 90: down
   const octant = ((Math.round(angle / 45) % 8) + 8) % 8;
-  return [
-    "to the right",
-    "below, to the right",
-    "below",
-    "below, to the left",
-    "to the left",
-    "above, to the left",
-    "above",
-    "above, to the right",
-  ][octant] as string;
+  return t(`a11y.direction.${OCTANTS[octant] ?? "right"}`);
 }
 
 /**
@@ -99,18 +115,15 @@ export function directionWords([dx, dy]: readonly [number, number]): string {
 export function describeAnswerPlace(answer: AnswerView, photo: Size): string | null {
   const { position } = answer;
   if (answer.kind === "none" || answer.kind === "refused") return null;
-  if (answer.kind === "curve") return "your friend is somewhere on the curve drawn across the photo";
+  if (answer.kind === "curve") return t("a11y.answer.curve");
   if (position) {
     const place = placeIn(position, photo);
-    const outside = place.startsWith("off the photo");
-    if (position.how === "marked") return `your friend is at your mark, ${place}`;
-    if (outside) return `your friend is ${place}`;
-    if (position.how === "on_line") return `your friend is most likely inside the frame on your line, ${place}`;
-    return position.ellipse
-      ? `your friend is inside the frame, ${place}`
-      : `your friend is most likely inside the frame, ${place}`;
+    if (position.how === "marked") return t("a11y.answer.marked", { place });
+    if (offPhoto(position, photo)) return t("a11y.answer.outside", { place });
+    if (position.how === "on_line") return t("a11y.answer.onLine", { place });
+    return t(position.ellipse ? "a11y.answer.frame" : "a11y.answer.likely", { place });
   }
   const arrow = answer.drawing?.arrow;
-  if (arrow) return `your friend is far off the photo, ${directionWords(arrow.direction)}`;
+  if (arrow) return t("a11y.answer.far", { direction: directionWords(arrow.direction) });
   return null;
 }

@@ -3,7 +3,7 @@
  * camera, one the gallery. Always in the page while in a session.
  */
 
-import { PHOTO_INPUTS, PICK_PHOTO, TAKE_PHOTO } from "../a11y/labels";
+import { t } from "../i18n";
 import type { SessionController } from "../session";
 
 export function PhotoInputs({ controller }: { controller: SessionController }) {
@@ -15,7 +15,7 @@ export function PhotoInputs({ controller }: { controller: SessionController }) {
   };
   // A named region: every part of the page is in a landmark, these inputs too (axe's "region").
   return (
-    <section aria-label={PHOTO_INPUTS}>
+    <section aria-label={t("a11y.photoInputs")}>
       <input
         id="photo-input"
         data-testid="photo-input"
@@ -23,10 +23,10 @@ export function PhotoInputs({ controller }: { controller: SessionController }) {
         type="file"
         accept="image/*"
         capture="environment"
-        aria-label={TAKE_PHOTO}
+        aria-label={t("a11y.takePhoto")}
         onChange={chosen}
       />
-      <input id="photo-pick" class="visually-hidden" type="file" accept="image/*" aria-label={PICK_PHOTO} onChange={chosen} />
+      <input id="photo-pick" class="visually-hidden" type="file" accept="image/*" aria-label={t("a11y.pickPhoto")} onChange={chosen} />
     </section>
   );
 }

@@ -2,7 +2,6 @@
 
 import type { ComponentChildren } from "preact";
 import { useEffect, useState } from "preact/hooks";
-import { SHARE_SCREEN_TITLE } from "../a11y/labels";
 import { t } from "../i18n";
 import { codeGroups } from "../joinCode";
 import type { QrCode } from "../qr";
@@ -80,7 +79,7 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
 
   return (
     <main class="screen session share">
-      <h1 class="visually-hidden">{SHARE_SCREEN_TITLE}</h1>
+      <h1 class="visually-hidden">{t("a11y.shareScreenTitle")}</h1>
       {top}
       <section class="share-body">
         {code && link ? (

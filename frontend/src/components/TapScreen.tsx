@@ -8,7 +8,6 @@
 import type { ComponentChildren } from "preact";
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
 import { answerFocusKey, useFocusOnChange } from "../a11y/focus";
-import { TAP_SCREEN_TITLE } from "../a11y/labels";
 import { PhotoDescription } from "../a11y/PhotoDescription";
 import { cropUrl, photoUrl } from "../api";
 import { describeAnswer, type AnswerView } from "../answer";
@@ -132,7 +131,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
 
   return (
     <main class="screen session tap-screen">
-      <h1 class="visually-hidden">{TAP_SCREEN_TITLE}</h1>
+      <h1 class="visually-hidden">{t("a11y.tapScreenTitle")}</h1>
       {top}
       <div class="stage" ref={stage}>
         <PhotoView
