@@ -93,6 +93,10 @@ def _spread(values: Sequence[float], show: Callable[[float], str] = _ms) -> str:
     return f"{show(statistics.median(values))} ({show(max(values))})"
 
 
+def _files(count: int) -> str:
+    return f"{count} file" + ("s" if count != 1 else "")
+
+
 def _rate(rate: float) -> str:
     return f"{rate:g}x" if rate != 1 else "1x (not throttled)"
 
@@ -228,8 +232,8 @@ def report(
         ),
         (
             f"JavaScript fetched for the start and tap screens <= {JS_KB:g} kB gzipped "
-            f"({loaded_js.kb:.1f} kB in {loaded_js.files} files; the whole build "
-            f"{every_js.kb:.1f} kB in {every_js.files})",
+            f"({loaded_js.kb:.1f} kB in {_files(loaded_js.files)}; the whole build "
+            f"{every_js.kb:.1f} kB in {_files(every_js.files)})",
             loaded_js.kb <= JS_KB,
         ),
     ]

@@ -51,7 +51,7 @@ def test_targets_are_judged_on_the_slow_rates_worst_run(tmp_path: Path) -> None:
     assert "- PASS: CPU 4x: a tap -> its mark painted <= 100 ms (worst of 4: 80 ms;" in targets
     assert "- PASS: JavaScript fetched for the start and tap screens <= 70 kB gzipped" in targets
     assert "in 2 files; the whole build" in targets
-    assert "in 3)" in targets
+    assert "in 3 files)" in targets
     assert f"| {TEMPLE} | 4x | 1.50 s (2.10 s) | 50 ms (80 ms) |" in text
     assert "| 4x | 2 of 4 | pointerdown 2 | 2 ms (2 ms) | 3 ms (3 ms) |" in text
     assert "load average 1.00 1.00 1.00 before the run, 1.20 1.00 1.00 after" in text
