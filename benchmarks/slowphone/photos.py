@@ -10,7 +10,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 TEMPLE = ROOT / "tests" / "data" / "temple" / "templeSR0006.png"
-# A phone's main camera: 12 MP, 4032 x 3024; its JPEGs are about 3-5 MB.
+# A phone's main camera: 12 MP, 4032 x 3024; its JPEGs weigh a few MB (this one 2.5 MB).
 PHONE_SIZE = (4032, 3024)
 PHONE_QUALITY = 92
 GRAIN = 6.0  # sensor noise, sd in grey levels: an enlarged photo alone compresses unlike one
