@@ -24,7 +24,7 @@ UV_VERSION := 0.13.9
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test suite system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-reanchor bench-taps bench-load bench-suggest bench-network bench-real bench-all docs-figures demo lock clean
+.PHONY: run run-cluster test suite system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-reanchor bench-taps bench-load bench-suggest bench-network bench-slow-phone bench-real bench-all docs-figures demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -156,6 +156,12 @@ bench-real: $(INSTALLED)
 # venue, in one run (docs/network-benchmark.md).
 bench-network: $(INSTALLED) $(APP) browser
 	$(BIN)/python benchmarks/network.py
+
+# The app on a slow phone: one phone in Chromium with its CPU throttled 4x, against the same
+# runs unthrottled, in one run: a photo tappable, a tap painted, the JavaScript fetched
+# (docs/slow-phone.md).
+bench-slow-phone: $(INSTALLED) $(APP) browser
+	$(BIN)/python benchmarks/slow_phone.py
 
 # Every benchmark above at one commit (a tree with uncommitted changes is refused), each
 # writing its report in docs/, then the figures of the README and docs/ from the reports,

@@ -46,6 +46,7 @@ BENCHMARKS = (
     Benchmark("bench-taps", "docs/tap-precision.md", "200 searches, finger taps on two phones"),
     Benchmark("bench-suggest", "docs/suggestions.md", "rendered arenas full of look-alikes"),
     Benchmark("bench-network", "docs/network-benchmark.md", "a search on a congested venue"),
+    Benchmark("bench-slow-phone", "docs/slow-phone.md", "one phone, its CPU throttled 4x"),
     Benchmark("bench-load", "docs/load-benchmark.md", "400 searches at once, nginx, PostgreSQL"),
     Benchmark("bench-reanchor", "docs/reanchor-benchmark.md", "live frames matched to the photo"),
 )
