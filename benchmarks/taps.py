@@ -113,6 +113,7 @@ def open_session(
     )
     page.goto(f"{server}/s")  # the session's screen, as after a reload
     expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", str(size[0]))
+    chromium.whole_photo(page)
 
 
 def play(

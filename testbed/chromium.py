@@ -35,3 +35,13 @@ def phone(playwright: Any, browser: Any, model: str, *, service_workers: bool = 
     device.pop("default_browser_type", None)
     workers = "allow" if service_workers else "block"
     return browser.new_context(**{"locale": "en-US", **device}, service_workers=workers)
+
+
+def whole_photo(page: Any) -> None:
+    """The whole photo in view, as a person who taps across it would ask for it: a photo of
+    another shape than the screen opens filling it, part of it a drag away (the app's
+    openingTransform); a Playwright ``page`` whose photo is shown."""
+    button = page.get_by_test_id("fit")
+    if button.count() > 0:
+        button.tap()
+        button.wait_for(state="detached")

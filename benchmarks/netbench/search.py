@@ -189,6 +189,7 @@ def play(
         joiner.get_by_test_id("photo-input").set_input_files(photos.original2)
         for page in (starter, joiner):
             page.wait_for_function("() => window.__bench.tappable !== null", timeout=WAIT_MS)
+            chromium.whole_photo(page)
 
         # The joiner taps at once, its upload still on its way.
         joiner.get_by_test_id("cannot-see").tap()

@@ -155,6 +155,7 @@ def play(
         # A person looks at the photo before tapping: its upload has ended by then.
         expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
         page.get_by_test_id("cannot-see").tap()  # the joiner cannot see the starter
+        chromium.whole_photo(page)
         for fx, fy in SPOTS:
             _tap(page, fx, fy)
             page.evaluate(AWAIT, "painted")

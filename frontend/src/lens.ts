@@ -56,12 +56,38 @@ export function lensFields(tags: unknown): LensFields {
  */
 export async function readLens(file: Blob): Promise<LensFields> {
   try {
-    // exifr is a chunk of its own: only a chosen photo needs it, never the start screen.
-    const { default: exifr } = await import("exifr/dist/lite.esm.mjs");
+    const exifr = await Promise.race([lensReader(), giveUp(READER_WAIT_MS)]);
     return lensFields(await exifr.parse(await file.arrayBuffer(), READ));
   } catch {
     return {};
   }
+}
+
+type Exifr = (typeof import("exifr/dist/lite.esm.mjs"))["default"];
+
+/** How long a chosen photo waits for exifr's chunk, ms: a phone with no signal that never
+ * fetched it shows its photo without the lens rather than not at all. */
+const READER_WAIT_MS = 1500;
+let reader: Promise<Exifr> | null = null;
+
+/**
+ * exifr, a chunk of its own: only a chosen photo needs it, never the start screen. The
+ * photo step fetches it ahead (while there is a signal, before the photo is chosen); a
+ * failed fetch is tried again next time.
+ */
+export function lensReader(): Promise<Exifr> {
+  reader ??= import("exifr/dist/lite.esm.mjs").then(
+    (module) => module.default,
+    (error: unknown) => {
+      reader = null;
+      throw error;
+    },
+  );
+  return reader;
+}
+
+function giveUp(ms: number): Promise<never> {
+  return new Promise((_, reject) => setTimeout(() => reject(new Error("no lens reader")), ms));
 }
 
 /** What the phone says of its photo's lens, once the photo is stored. */

@@ -6,6 +6,7 @@ import { useFocusOnChange } from "../a11y/focus";
 import { InAppCamera } from "../camera/InAppCamera";
 import { startShutterOrientation, stopShutterOrientation, takeShutterAnchor } from "../live/shutter";
 import { t } from "../i18n";
+import { lensReader } from "../lens";
 import type { SessionController, SessionView } from "../session";
 import { CameraIcon } from "./icons";
 
@@ -63,6 +64,8 @@ export function PhotoStep({ controller, view, top }: Props) {
   // The screen changed (the friend joined, or the link was opened): its title is read first.
   const title = useRef<HTMLHeadingElement>(null);
   useFocusOnChange(() => title.current, "photo-step");
+  // The lens reader fetched while there is a signal: the photo may be chosen without one.
+  useEffect(() => void lensReader().catch(() => undefined), []);
   // The orientation is read while the camera is open, for "Show me" (live/shutter.ts).
   useEffect(() => {
     if (camera !== "open") return;
