@@ -75,8 +75,11 @@ export class SessionController {
 
   start(): void {
     this.sync.start();
-    // A photo only this page holds (not sent yet) keeps a new build from reloading it.
-    this.releaseShell = holdsUnsent(() => this.view.photo?.pending === true);
+    // A photo only this page holds (being prepared, or not sent yet) keeps a new build, or
+    // a lazily loaded chunk that failed, from reloading it.
+    this.releaseShell = holdsUnsent(
+      () => this.view.photo?.pending === true || this.view.upload.phase === "preparing",
+    );
   }
 
   stop(): void {

@@ -92,8 +92,13 @@ function takeOverWhenIdle(worker: ServiceWorker, asking: () => void): void {
   worker.postMessage({ type: "SKIP_WAITING" });
 }
 
-/** Reload unless this page was reloaded for a failed chunk in the last 10 s (no loop). */
+/**
+ * Reload unless this page was reloaded for a failed chunk in the last 10 s (no loop), or
+ * holds what a reload would lose (a photo being prepared or not sent: a chunk fetched with
+ * no signal fails too, and the one who asked, the photo's lens reader, goes on without it).
+ */
 function reloadSoon(): boolean {
+  if (pageHoldsUnsent()) return false;
   const now = Date.now();
   let last = 0;
   try {
