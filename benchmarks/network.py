@@ -33,7 +33,7 @@ from netbench.link import link
 from netbench.meter import PROFILES
 from netbench.search import PhoneRun, SearchRun, hall_photos, play
 from playwright.sync_api import sync_playwright
-from report import ROOT, command_line, log, markdown_table, publish, source_state, verdict
+from report import ROOT, command_line, log, markdown_table, publish, source_state, targets_section
 
 from deploy.replica import serve
 from testbed import chromium
@@ -253,9 +253,7 @@ def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str
         "",
         by_kind,
         "",
-        "## Targets",
-        "",
-        *(f"- {verdict(passed)}: {what}" for what, passed in checks),
+        *targets_section(checks),
     ]
     return "\n".join(lines) + "\n"
 

@@ -43,6 +43,11 @@ def verdict(passed: bool) -> str:
     return "PASS" if passed else "FAIL"
 
 
+def targets_section(checks: Sequence[tuple[str, bool]]) -> list[str]:
+    """A report's closing "## Targets" lines: each (what, passed) as "- PASS: what"."""
+    return ["## Targets", "", *(f"- {verdict(passed)}: {what}" for what, passed in checks)]
+
+
 def percent(fraction: float) -> str:
     return f"{100 * fraction:.0f} %"
 

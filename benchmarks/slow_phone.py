@@ -37,7 +37,7 @@ from report import (
     percent,
     publish,
     source_state,
-    verdict,
+    targets_section,
 )
 from slowphone import size
 from slowphone.photos import NAMES, photo
@@ -287,9 +287,7 @@ def report(
         "",
         js,
         "",
-        "## Targets",
-        "",
-        *(f"- {verdict(passed)}: {what}" for what, passed in checks),
+        *targets_section(checks),
     ]
     return "\n".join(lines) + "\n"
 

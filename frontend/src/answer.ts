@@ -50,7 +50,8 @@ export interface AnswerView {
 // "answer.level" the level of the venue (no landmark yet, both phones' gravity),
 // "answer.compass" the level with the stretch both phones' compasses point to.
 
-const NOTHING: AnswerView = {
+/** No answer yet: nothing drawn, nothing said. */
+export const NOTHING: AnswerView = {
   kind: "none",
   text: "",
   position: null,

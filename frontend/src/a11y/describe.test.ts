@@ -1,5 +1,5 @@
 import { afterAll, describe, expect, it } from "vitest";
-import type { AnswerView } from "../answer";
+import { NOTHING, type AnswerView } from "../answer";
 import { speak } from "../i18n";
 import de from "../i18n/locales/de.json";
 import en from "../i18n/locales/en.json";
@@ -12,23 +12,10 @@ import { describeAnswerPlace, describeLandmark, describeMarks, directionWords, p
 
 const PHOTO = { width: 640, height: 480 };
 
-const NONE: AnswerView = {
-  kind: "none",
-  text: "",
-  position: null,
-  seen: false,
-  news: false,
-  warnings: [],
-  suspects: [],
-  sureness: null,
-  curve: null,
-  drawing: null,
-};
-
 function at(x: number, y: number, how: "solved" | "marked" | "on_line" = "solved", sure = true): AnswerView {
   const ellipse = sure ? { axes: [10, 5] as [number, number], angle_deg: 0 } : null;
   return {
-    ...NONE,
+    ...NOTHING,
     kind: "position",
     position: { x, y, ellipse, quality: "good", how } as AnswerView["position"],
   };
@@ -78,7 +65,7 @@ describe("marks", () => {
 
 describe("describeAnswerPlace", () => {
   it("says nothing before an answer", () => {
-    expect(describeAnswerPlace(NONE, PHOTO)).toBeNull();
+    expect(describeAnswerPlace(NOTHING, PHOTO)).toBeNull();
   });
 
   it("says where the frame is", () => {
@@ -90,7 +77,7 @@ describe("describeAnswerPlace", () => {
     expect(describeAnswerPlace(at(320, 240, "on_line"), PHOTO)).toBe(
       "your friend is most likely inside the frame on your line, centre",
     );
-    expect(describeAnswerPlace({ ...NONE, kind: "curve" }, PHOTO)).toBe(
+    expect(describeAnswerPlace({ ...NOTHING, kind: "curve" }, PHOTO)).toBe(
       "your friend is somewhere on the curve drawn across the photo",
     );
   });
@@ -98,7 +85,7 @@ describe("describeAnswerPlace", () => {
   it("says which way off the photo the friend is", () => {
     expect(describeAnswerPlace(at(900, 240), PHOTO)).toBe("your friend is off the photo to the right");
     const far: AnswerView = {
-      ...NONE,
+      ...NOTHING,
       kind: "elsewhere",
       drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
     };
@@ -125,7 +112,7 @@ describe("in the language shown", () => {
     ["ja", ja, "あなたが置いた目印3、左上、要確認", "友だちは写真の外の右側にいます", "友だちは写真のはるか外、上の方にいます"],
   ];
   const far: AnswerView = {
-    ...NONE,
+    ...NOTHING,
     kind: "elsewhere",
     drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
   };
