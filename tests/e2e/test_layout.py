@@ -92,6 +92,7 @@ def test_the_photo_takes_the_screen_either_way_up(
             view = phone.get_by_test_id("photo-view")
             expect(view).to_have_attribute("data-photo-height", str(height))
             expect(view).to_have_attribute("data-photo-width", str(width))
+            expect(phone.get_by_test_id("photo-loading")).to_have_count(0)  # drawn, not loading
             assert view.evaluate("(view) => view.getBoundingClientRect().width") == phone.evaluate(
                 "() => innerWidth"
             )

@@ -70,21 +70,21 @@ export function PhotoView(props: Props) {
   const { photoSize, taps } = props;
   const box = useRef<HTMLDivElement>(null);
   const image = useRef<HTMLImageElement>(null);
-  const [loaded, setLoaded] = useState(false);
+  // The photo whose picture has loaded, or failed to: per URL, so that a new photo's is
+  // never taken for the old one's (a cached picture may load before an effect could reset
+  // a flag, and then "Loading" stayed over the new photo).
+  const [loadedUrl, setLoadedUrl] = useState<string | null>(null);
+  const loaded = loadedUrl === props.photoUrl;
   // Whether a finger is down, for the view's moves that wait for the gesture's end.
   const busy = useRef<() => boolean>(() => false);
   // The server's photo did not come (no signal after an offline reload): said so, not
   // "Loading"; it is asked for again when the phone is back online (session/sync.ts).
-  const [failed, setFailed] = useState(false);
+  const [failedUrl, setFailedUrl] = useState<string | null>(null);
+  const failed = failedUrl === props.photoUrl;
   const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets, () => busy.current());
   const { gesture, gestures } = useGestures(box, panZoom, props);
   busy.current = () => gestures.active;
   const { view, transform, gliding } = state;
-
-  useEffect(() => {
-    setLoaded(false);
-    setFailed(false);
-  }, [props.photoUrl]);
 
   // "Re-check #3": zoom to that landmark.
   useEffect(() => {
@@ -135,9 +135,9 @@ export function PhotoView(props: Props) {
             gesture={gesture}
             image={image}
             loaded={loaded}
-            onLoaded={() => setLoaded(true)}
+            onLoaded={() => setLoadedUrl(props.photoUrl)}
             failed={failed}
-            onFailed={() => setFailed(true)}
+            onFailed={() => setFailedUrl(props.photoUrl)}
           />
         )}
       </div>
