@@ -21,6 +21,7 @@ from __future__ import annotations
 import glob
 import math
 import shutil
+import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -45,6 +46,8 @@ MINIBROWSERS = sorted(
 )  # per architecture
 XVFB = "/usr/bin/Xvfb"
 PAGE_LOAD_S = 30
+# How long a new window size may take to reach the page, s.
+RESIZE_S = 5.0
 # One wheel notch of a mouse (px). The app zooms by exp(0.002 * px) per wheel event
 # (frontend/src/gestures.ts, wheelFactor), so a notch is a factor of about 1.22.
 WHEEL_NOTCH_PX = 100
@@ -269,6 +272,14 @@ class WebKitPhone(Phone):
         return ActionBuilder(self._driver, mouse=finger, duration=0)
 
     def resize(self, width: int, height: int) -> None:
+        # GTK may apply a new size a moment later than asked (a fresh-clone run once read
+        # the old size back at once): asked again until the page has it, then checked.
+        deadline = time.monotonic() + RESIZE_S
+        while time.monotonic() < deadline:
+            self._driver.set_window_rect(0, 0, width, height)
+            if self.evaluate("() => [innerWidth, innerHeight]") == [width, height]:
+                break
+            time.sleep(0.2)
         self._fit((width, height))
 
     def screenshot(self, path: Path) -> None:
