@@ -240,6 +240,13 @@ class Listener(threading.Thread):
             )
             time.sleep(0.02)
 
+    def wait_for_id(self, event_id: int, seconds: float = 15) -> None:
+        """Until the event numbered ``event_id`` (or a later one) has arrived."""
+        deadline = time.monotonic() + seconds
+        while not self.ids or self.ids[-1] < event_id:
+            assert time.monotonic() < deadline, f"no event {event_id} in {seconds} s: {self.ids}"
+            time.sleep(0.02)
+
 
 def follow(starter: Phone, joiner: Phone, seconds: float = 15) -> tuple[Listener, Listener]:
     """Both phones' event streams. The starter's is open first (its own presence came

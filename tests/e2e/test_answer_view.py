@@ -60,6 +60,9 @@ def with_figure(
     return path, (left, top, left + FIGURE_WIDTH, top + FIGURE_HEIGHT)
 
 
+SHOTS = 4  # screenshot pairs taken at most until one shows the answer drawn
+
+
 def screen_pixels(page: Phone, folder: Path, name: str) -> tuple[np.ndarray, float]:
     """The visible page as an (H, W, 3) array, and its device px per CSS px."""
     path = folder / f"{name}.png"
@@ -137,17 +140,22 @@ def test_the_friend_stays_visible_inside_the_frame(
     assert in_view(joiner, ((figure[0] + figure[2]) / 2, (figure[1] + figure[3]) / 2))
     person = on_screen(joiner, figure)
     around = on_screen(joiner, (x0, y0, x1, y1), pad=20)
-    drawn, ratio = screen_pixels(joiner, tmp_path, "drawn")
-    set_answer_shown(joiner, False)
-    bare, _ = screen_pixels(joiner, tmp_path, "bare")
-    set_answer_shown(joiner, True)
+    # A busy WebKit may hand back a screenshot a frame or two old (its last painted frame):
+    # the pair is taken again, a bounded number of times, until the drawing shows in it.
+    for _ in range(SHOTS):
+        drawn, ratio = screen_pixels(joiner, tmp_path, "drawn")
+        set_answer_shown(joiner, False)
+        bare, _ = screen_pixels(joiner, tmp_path, "bare")
+        set_answer_shown(joiner, True)
+        # The answer is drawn around them (the comparison sees the drawing where it is).
+        framing = np.abs(crop(drawn, ratio, around) - crop(bare, ratio, around)).max(axis=2) > 40
+        if framing.mean() > 0.02:
+            break
+    assert framing.mean() > 0.02
 
     changed = np.abs(crop(drawn, ratio, person) - crop(bare, ratio, person)).max(axis=2) > 40
     assert changed.size > 0
     assert changed.mean() < 0.05, f"{changed.mean():.0%} of the person's pixels are drawn over"
-    # The answer is drawn around them (the comparison sees the drawing where it is).
-    framing = np.abs(crop(drawn, ratio, around) - crop(bare, ratio, around)).max(axis=2) > 40
-    assert framing.mean() > 0.02
 
 
 # Records whether the photo view ever publishes that it is gliding (data-gliding).
