@@ -18,8 +18,10 @@ from typing import Any
 
 import httpx2
 import pytest
-from playwright.sync_api import Browser, BrowserContext, Page, Playwright
+from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expect
 from test_two_phones import TEMPLE
+
+from testbed.client import Phone as ApiPhone
 
 LANGUAGES = ("en", "es", "fr", "de", "ja")
 MODEL = "Pixel 7"
@@ -28,7 +30,8 @@ ZOOM = 2
 # Every control a finger uses, and what it says: [what, its words, why it fails]. A box too
 # small for its words scrolls (scrollWidth > clientWidth, or taller than it shows); a box
 # past the window's edge is out of reach. The switch's picker is invisible over its label,
-# which is measured instead.
+# which is measured instead. The tap screen's instruction is checked too: its words are
+# never under the buttons beside them (at 200 % they once were, in German and Japanese).
 OVERFLOWING = """() => {
   const found = [];
   const controls = "button, .button, .chip, .tool, .icon-button, .language-switch, input, select";
@@ -50,6 +53,19 @@ OVERFLOWING = """() => {
     if (empty) element.value = "";
     if (why.length) found.push([element.tagName.toLowerCase() + "." + element.className,
                                 element.textContent.trim().slice(0, 40), why.join(", ")]);
+  }
+  // The instruction's words: no word wider than its line, none under a button beside it.
+  for (const words of document.querySelectorAll(".prompt-text > *")) {
+    const box = words.getBoundingClientRect();
+    const why = [];
+    if (words.scrollWidth > words.clientWidth + 1) why.push("wider than its box");
+    for (const control of words.closest(".prompt").querySelectorAll("button, .button")) {
+      const other = control.getBoundingClientRect();
+      if (box.left < other.right && other.left < box.right &&
+          box.top < other.bottom && other.top < box.bottom) why.push("under a button");
+    }
+    if (why.length) found.push(["prompt words", words.textContent.trim().slice(0, 40),
+                                why.join(", ")]);
   }
   return found;
 }"""
@@ -170,3 +186,41 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
     page.get_by_test_id("confirm-delete").wait_for()
     found += each_language(page, "delete")
     assert found == [], "\n".join(" | ".join(row) for row in found)
+
+
+# The top bar's words that are cut (an ellipsis: text wider than its box).
+CUT = """() => [...document.querySelectorAll(".top-bar .peer-words, .top-bar .save-state")]
+  .filter((element) => element.scrollWidth > element.clientWidth + 1)
+  .map((element) => element.textContent)"""
+
+
+def test_the_top_bar_says_friend_online_in_full(
+    server: str, playwright: Playwright, browser: Browser
+) -> None:
+    """On an iPhone 13 (390 px), with a photo, the friend online and the taps saved, the
+    top bar says so in full in every language: its words give way only when more must fit
+    (reconnecting, not saved: test_layout.py)."""
+    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
+    with httpx2.Client(base_url=server, timeout=30) as http:
+        starter = ApiPhone(http, created["session_id"], created["token"], "starter")
+        events = starter.listen()  # the friend is online
+        device: dict[str, Any] = dict(playwright.devices["iPhone 13"])
+        device.pop("default_browser_type", None)
+        opened = browser.new_context(**device)
+        try:
+            page = opened.new_page()
+            page.goto(f"{server}/join/{created['join_code']}")
+            page.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
+            expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+            expect(page.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
+            cut = []
+            for language in LANGUAGES:
+                page.locator("[data-testid=language] select").first.select_option(language)
+                speaks(page, language)
+                page.wait_for_timeout(50)  # one frame: the words laid out
+                cut += [[language, words] for words in page.evaluate(CUT)]
+            assert cut == []
+        finally:
+            opened.close()
+            starter.ok("DELETE", expect=204)  # which ends the friend's stream
+            assert events.ended.wait(10)

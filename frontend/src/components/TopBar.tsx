@@ -50,7 +50,13 @@ export function TopBar({ controller, view }: { controller: SessionController; vi
             title={view.save.message ?? undefined}
             onClick={() => controller.taps.retrySave()}
           >
-            {t(SAVE_WORDS[view.save.status])}
+            {view.save.status === "saved" ? (
+              // Saved, the quiet state: a check mark, its word for screen readers only, so
+              // that "Friend online" is said in full beside it on a 390 px phone.
+              <span class="visually-hidden">{t(SAVE_WORDS.saved)}</span>
+            ) : (
+              t(SAVE_WORDS[view.save.status])
+            )}
           </button>
           <label class="icon-button" for="photo-input" title={t("top.newPhoto")}>
             <CameraIcon />

@@ -8,7 +8,8 @@ import { switchLanguage, t, useLanguage } from "./index";
 import { LANGUAGES, isLanguage } from "./languages";
 import "./switch.css";
 
-/** `compact`: the language's code only (the session's top bar has little room). */
+/** `compact`: the globe only (the session's top bar has little room: with the language's
+ * code beside it, "Friend online" gave way on a 390 px phone). */
 export function LanguageSwitch({ compact = false }: { compact?: boolean }) {
   const language = useLanguage();
   return (
@@ -17,9 +18,11 @@ export function LanguageSwitch({ compact = false }: { compact?: boolean }) {
         <circle cx="12" cy="12" r="9" />
         <path d="M3 12h18M12 3c2.5 2.7 3.8 5.7 3.8 9s-1.3 6.3-3.8 9c-2.5-2.7-3.8-5.7-3.8-9S9.5 5.7 12 3z" />
       </svg>
-      <span class="language-shown" aria-hidden="true">
-        {compact ? language.toUpperCase() : LANGUAGES[language]}
-      </span>
+      {!compact && (
+        <span class="language-shown" aria-hidden="true">
+          {LANGUAGES[language]}
+        </span>
+      )}
       <select
         aria-label={t("app.language")}
         value={language}

@@ -27,4 +27,18 @@ describe("the language shown", () => {
     await startLanguage();
     expect(t("tap.undo")).toBe("Zurück");
   });
+
+  it("remembers words per language and options, and forgets them on a switch", async () => {
+    stubLocalStorage();
+    await switchLanguage("en");
+    expect(t("step.findHere", { id: 3 })).toBe(t("step.findHere", { id: 3 }));
+    const three = t("step.findHere", { id: 3 });
+    expect(three).toContain("3");
+    expect(t("step.findHere", { id: 4 })).toContain("4");
+    expect(formatNumber(1234.5)).toBe("1,234.5");
+    await switchLanguage("de");
+    expect(t("step.findHere", { id: 3 })).not.toBe(three);
+    expect(t("step.findHere", { id: 3 })).toContain("3");
+    expect(formatNumber(1234.5)).toBe("1.234,5");
+  });
 });

@@ -28,7 +28,40 @@ const CATALOGUES: Record<Language, () => Promise<{ default: unknown }>> = {
   ja: () => import("./locales/ja.json"),
 };
 
-export { t } from "i18next";
+/**
+ * A word or sentence in the language shown: i18next's `t`, remembered per language, key and
+ * options. i18next resolves a key afresh on every call (its path, plural rule and
+ * interpolation), and a tap re-renders screens that ask for a hundred words: on a phone
+ * slowed 4x that was a fifth of a tap's time (docs/slow-phone.md). Forgotten when the
+ * language or a catalogue changes.
+ */
+export const t = ((key: unknown, options?: unknown): string => {
+  const id = remembered(key, options);
+  if (id === null) return (i18next.t as (k: unknown, o?: unknown) => string)(key, options);
+  let words = WORDS.get(id);
+  if (words === undefined) {
+    if (WORDS.size >= MOST_WORDS) WORDS.clear();
+    words = (i18next.t as (k: unknown, o?: unknown) => string)(key, options);
+    WORDS.set(id, words);
+  }
+  return words;
+}) as typeof i18next.t;
+
+const WORDS = new Map<string, string>();
+const MOST_WORDS = 4000; // a bound: counts and distances make new options without end
+
+/** The memo's key for a call; null for options the memo cannot tell apart (objects). */
+function remembered(key: unknown, options: unknown): string | null {
+  if (typeof key !== "string") return null;
+  if (options === undefined) return `${i18next.language}\u0000${key}`;
+  if (typeof options !== "object" || options === null) return null;
+  for (const value of Object.values(options)) {
+    if (value !== null && typeof value === "object") return null;
+  }
+  return `${i18next.language}\u0000${key}\u0000${JSON.stringify(options)}`;
+}
+
+i18next.on("languageChanged", () => WORDS.clear());
 
 /** The language shown now. */
 export function currentLanguage(): Language {
@@ -77,6 +110,7 @@ export async function speak(language: Language, words: Record<string, unknown>):
     });
   } else {
     i18next.addResourceBundle(language, "translation", words, true, true);
+    WORDS.clear();
     await i18next.changeLanguage(language);
   }
   markPage(language);
@@ -86,6 +120,7 @@ export async function speak(language: Language, words: Record<string, unknown>):
 export async function switchLanguage(language: Language): Promise<void> {
   const words = i18next.hasResourceBundle(language, "translation") ? null : await catalogue(language);
   if (words) i18next.addResourceBundle(language, "translation", words, true, true);
+  WORDS.clear();
   await i18next.changeLanguage(language);
   markPage(language);
   try {
@@ -108,5 +143,14 @@ export function useLanguage(): Language {
 
 /** A number as the language shown writes it ("1,234.5", "1.234,5", "1 234,5"). */
 export function formatNumber(value: number, options?: Intl.NumberFormatOptions): string {
-  return new Intl.NumberFormat(currentLanguage(), options).format(value);
+  const id = `${currentLanguage()} ${JSON.stringify(options ?? {})}`;
+  let format = FORMATS.get(id);
+  if (!format) {
+    format = new Intl.NumberFormat(currentLanguage(), options);
+    FORMATS.set(id, format);
+  }
+  return format.format(value);
 }
+
+// Made once per language and options: a new Intl.NumberFormat costs far more than a format.
+const FORMATS = new Map<string, Intl.NumberFormat>();

@@ -26,13 +26,21 @@ describe("this phone's taps", () => {
       onEnded: () => undefined,
     });
     taps = new TapEditing(store, saver);
-    return () => vi.unstubAllGlobals();
+    return () => {
+      vi.useRealTimers();
+      vi.unstubAllGlobals();
+    };
   });
 
-  it("marks the friend first, then places landmarks, sending each", () => {
+  it("marks the friend first, then places landmarks, sending each once it is shown", () => {
+    vi.useFakeTimers();
     taps.tap({ x: 100, y: 50, sigma: 3 });
     expect(store.view.mode).toBe("landmark");
+    expect(sent).toEqual([]); // the mark is drawn first (afterPaint)
+    vi.advanceTimersByTime(100);
+    expect(sent).toHaveLength(1);
     taps.tap({ x: 20, y: 30, sigma: 2 });
+    vi.advanceTimersByTime(100);
     expect(store.view.editor.taps.friend).toMatchObject({ x: 100, y: 50 });
     expect(store.view.editor.taps.landmarks.map(({ id, x, y }) => [id, x, y])).toEqual([[1, 20, 30]]);
     expect(sent).toHaveLength(1); // the landmark waits for the PUT of the friend on its way
@@ -40,7 +48,19 @@ describe("this phone's taps", () => {
     expect(store.view.save.status).toBe("saving");
   });
 
+  it("sends and keeps changes made before the screen could show them together, the newest", () => {
+    vi.useFakeTimers();
+    taps.tap({ x: 100, y: 50, sigma: 3 });
+    taps.tap({ x: 20, y: 30, sigma: 2 });
+    expect(loadDraft("s")).toBeNull();
+    vi.advanceTimersByTime(100);
+    expect(sent).toHaveLength(1);
+    expect(sent[0]?.landmarks).toHaveLength(1);
+    expect(loadDraft("s")?.taps?.landmarks).toHaveLength(1);
+  });
+
   it("draws a line through the friend from two points apart, waiting for the second", () => {
+    vi.useFakeTimers();
     taps.setMode("line");
     taps.tap({ x: 10, y: 10, sigma: 2 });
     taps.tap({ x: 11, y: 10, sigma: 2 }); // too close to tell a direction: it starts again
@@ -49,6 +69,7 @@ describe("this phone's taps", () => {
     taps.tap({ x: 11, y: 60, sigma: 2 });
     expect(store.view.linePoint).toBeNull();
     expect(store.view.mode).toBe("landmark");
+    vi.advanceTimersByTime(100);
     const line = sent[0]?.friend_line;
     expect(line && Math.abs(line.a * 11 + line.b * 35 + line.c)).toBeLessThan(1e-9);
   });

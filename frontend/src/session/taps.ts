@@ -20,6 +20,7 @@ import {
   undo,
   type TapEditor,
 } from "../landmarks";
+import { afterPaint } from "../afterPaint";
 import { lineSigma } from "../precision";
 import { loadDraft, saveDraft } from "../storage";
 import type { TapSaver } from "../tapSaver";
@@ -27,6 +28,9 @@ import { otherRole, type SessionState } from "../types";
 import { startingMode, type Mode, type SessionView, type Tap, type ViewStore } from "./view";
 
 export class TapEditing {
+  /** A change waits to be sent and kept until the screen shows it (afterPaint). */
+  private saveQueued = false;
+
   constructor(
     private readonly store: ViewStore,
     private readonly saver: TapSaver,
@@ -78,9 +82,14 @@ export class TapEditing {
   private edit(editor: TapEditor, patch: Partial<SessionView> = {}): void {
     const changed = editor.taps !== this.view.editor.taps;
     this.store.set({ editor, ...patch });
-    if (changed) {
-      this.saver.update(toServerTaps(editor.taps));
-      this.keepDraft();
+    if (changed && !this.saveQueued) {
+      // Sent and kept once the change is on screen, the newest taps of that moment.
+      this.saveQueued = true;
+      afterPaint(() => {
+        this.saveQueued = false;
+        this.saver.update(toServerTaps(this.view.editor.taps));
+        this.keepDraft();
+      });
     }
   }
 
