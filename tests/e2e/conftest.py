@@ -9,7 +9,7 @@ per engine, both phones in that engine.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator, Iterator
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
@@ -17,7 +17,8 @@ import pytest
 from chromium_phone import ChromiumPhone
 from phone import Phone
 from playwright.sync_api import Browser, Playwright, sync_playwright
-from webkit_phone import Screen, WebKitPhone
+from webkit_phone import Screen
+from webkit_pool import Kind, WebKitPool
 
 from deploy.replica import serve
 from testbed import chromium
@@ -30,6 +31,8 @@ VENUE_NAME = "--host-resolver-rules=MAP buddy.test 127.0.0.1"
 FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream")
 SCREENSHOTS = ROOT / "artifacts" / "screenshots"
 ENGINES = ("chromium", "webkit")
+# Each test's reports (setup, call, teardown), for its phones' teardown.
+REPORTS = pytest.StashKey[dict[str, pytest.TestReport]]()
 
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
@@ -39,6 +42,16 @@ def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
         engines = marker.args if marker else ("chromium",)
         assert set(engines) <= set(ENGINES), engines
         metafunc.parametrize("engine", engines)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(
+    item: pytest.Item,
+) -> Generator[None, pytest.TestReport, pytest.TestReport]:
+    """Keep the report on the test: a WebKit phone is reused only after a passed test."""
+    report = yield
+    item.stash.setdefault(REPORTS, {})[report.when] = report
+    return report
 
 
 @pytest.fixture(scope="session")
@@ -53,6 +66,14 @@ def browser(playwright: Playwright) -> Iterator[Browser]:
     launched = chromium.launch(playwright, (VENUE_NAME, *FAKE_CAMERA))
     yield launched
     launched.close()
+
+
+@pytest.fixture(scope="session")
+def webkit_pool(tmp_path_factory: pytest.TempPathFactory) -> Iterator[WebKitPool]:
+    """This worker's WebKit phones, kept from test to test (webkit_pool.py)."""
+    pool = WebKitPool(tmp_path_factory.mktemp("webkit"))
+    yield pool
+    pool.close()
 
 
 @pytest.fixture(scope="session")
@@ -90,18 +111,30 @@ def phone(
     model: str,
     playwright: Playwright,
     request: pytest.FixtureRequest,
-    folder: Path,
     browser: Browser | None = None,
 ) -> Iterator[Phone]:
     """A phone of ``model`` in ``engine`` (in Chromium, a context of ``browser``, else of the
-    shared one); the test fails if its page reported errors."""
-    started: Phone
+    shared one; in WebKit, one of the worker's pool, given back after a passed test); the
+    test fails if its page reported errors."""
     if engine == "chromium":
         launched = browser or request.getfixturevalue("browser")
-        started = ChromiumPhone(playwright, launched, model)
-    else:
-        turns = request.node.get_closest_marker("turns") is not None
-        started = WebKitPhone(model, screen(playwright, model), folder, turns)
+        yield from _closed_after(ChromiumPhone(playwright, launched, model), request)
+        return
+    turns = request.node.get_closest_marker("turns") is not None
+    kind: Kind = (model, screen(playwright, model), turns)
+    pool: WebKitPool = request.getfixturevalue("webkit_pool")
+    taken = pool.take(kind)
+    found: list[str] | None = None
+    try:
+        yield taken
+        found = unexpected(taken.console_errors(), request)
+    finally:
+        call = request.node.stash.get(REPORTS, {}).get("call")
+        pool.give_back(kind, taken, reuse=found == [] and call is not None and call.passed)
+    assert found == [], f"the {taken}'s pages reported errors"
+
+
+def _closed_after(started: Phone, request: pytest.FixtureRequest) -> Iterator[Phone]:
     try:
         yield started
         errors = started.console_errors()
@@ -111,17 +144,13 @@ def phone(
 
 
 @pytest.fixture
-def pixel(
-    engine: str, playwright: Playwright, request: pytest.FixtureRequest, tmp_path: Path
-) -> Iterator[Phone]:
-    yield from phone(engine, "Pixel 7", playwright, request, tmp_path / "pixel")
+def pixel(engine: str, playwright: Playwright, request: pytest.FixtureRequest) -> Iterator[Phone]:
+    yield from phone(engine, "Pixel 7", playwright, request)
 
 
 @pytest.fixture
-def iphone(
-    engine: str, playwright: Playwright, request: pytest.FixtureRequest, tmp_path: Path
-) -> Iterator[Phone]:
-    yield from phone(engine, "iPhone 13", playwright, request, tmp_path / "iphone")
+def iphone(engine: str, playwright: Playwright, request: pytest.FixtureRequest) -> Iterator[Phone]:
+    yield from phone(engine, "iPhone 13", playwright, request)
 
 
 @pytest.fixture
@@ -139,7 +168,7 @@ def filming(
             stack.callback(launched.close)
             managed = contextmanager(phone)
             return stack.enter_context(
-                managed("chromium", "Pixel 7", playwright, request, tmp_path, launched)
+                managed("chromium", "Pixel 7", playwright, request, launched)
             )
 
         yield film

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import glob
 import math
+import re
 import shutil
 import time
 import warnings
@@ -27,6 +28,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
+from urllib.parse import urlsplit
 
 from phone import RESOLVE, Phone, Point, Step
 from pyvirtualdisplay.display import Display
@@ -35,6 +37,7 @@ from selenium.webdriver.common.actions import interaction
 from selenium.webdriver.common.actions.action_builder import ActionBuilder
 from selenium.webdriver.common.actions.pointer_input import PointerInput
 from selenium.webdriver.common.actions.wheel_input import WheelInput
+from selenium.webdriver.remote.command import Command
 from selenium.webdriver.remote.webelement import WebElement
 from selenium.webdriver.webkitgtk.options import Options
 from selenium.webdriver.webkitgtk.service import Service
@@ -52,6 +55,26 @@ RESIZE_S = 5.0
 # (frontend/src/gestures.ts, wheelFactor), so a notch is a factor of about 1.22.
 WHEEL_NOTCH_PX = 100
 WHEEL_NOTCH_ZOOM = math.exp(0.002 * WHEEL_NOTCH_PX)
+
+# MiniBrowser's own page of the browser's website data ("Clear all" per kind): its script
+# hands "<page id>:<kinds>" to MiniBrowser, which clears those kinds for every site
+# (webkit_website_data_manager_clear). The page id is read from a button of the page.
+WEBSITE_DATA = "minibrowser-about:data"
+# WEBKIT_WEBSITE_DATA_ALL (WebKitGTK 2.50): caches, storage, IndexedDB, cookies, HSTS,
+# Cache Storage... Service workers too, in name: an automation (ephemeral) session keeps its
+# registrations through it, so :meth:`WebKitPhone.reset` unregisters them itself.
+ALL_WEBSITE_DATA = (1 << 14) - 1
+# How long clearing the website data may take, s.
+CLEAR_S = 10.0
+# A file of the app's precache (vite.config.ts) that runs no app: opened on a site to reach
+# its service workers, from the worker's precache when the site's server has stopped.
+SW_PROBE = "/icon.svg"
+UNREGISTER = """async () => {
+  if (!navigator.serviceWorker) return 0;  // an error page: the server gone, no worker
+  const all = await navigator.serviceWorker.getRegistrations();
+  await Promise.all(all.map((registration) => registration.unregister()));
+  return all.length;
+}"""
 
 # Collects what the page reports as errors into window.__phoneErrors (read by HARVEST).
 WATCH = r"""() => {
@@ -152,6 +175,7 @@ class WebKitPhone(Phone):
 
     def __init__(self, model: str, screen: Screen, folder: Path, turns: bool = False) -> None:
         super().__init__(model)
+        self.viewport = screen.viewport
         absent = missing()
         assert not absent, f"not installed: {absent} (`make test` installs them: `make webkit`)"
         # GTK scales by whole numbers only: 2.625 (a Pixel 7) becomes 3.
@@ -169,6 +193,9 @@ class WebKitPhone(Phone):
         self._display.start()
         self._errors: list[str] = []
         self._wheels = 0
+        # Every site (scheme://host:port) a page was opened on, for reset().
+        self._origins: set[str] = set()
+        self.closed = False
         try:
             self._driver = self._start(folder)
             self._fit(screen.viewport)
@@ -223,6 +250,7 @@ class WebKitPhone(Phone):
 
     def goto(self, url: str) -> None:
         self._harvest()
+        self._visit(url)
         self._driver.get(url)
         self.evaluate(WATCH)
 
@@ -295,6 +323,7 @@ class WebKitPhone(Phone):
         return list(self._errors)
 
     def close(self) -> None:
+        self.closed = True
         try:
             self._driver.quit()
         finally:
@@ -315,6 +344,59 @@ class WebKitPhone(Phone):
         element = self.evaluate(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))
         assert isinstance(element, WebElement), f"{self}: nothing matches {steps}"
         return element
+
+    def reset(self) -> None:
+        """Back to what a new phone is to the app, so the next test may take this one
+        (conftest's pool): no page, no website data on any site, the model's window size,
+        nothing in the Python state a test could have left. Raises if any of it fails (the
+        pool then closes the phone).
+
+        - Service workers (the app's, WebKit runs it) are unregistered on each site opened:
+          MiniBrowser's clearing keeps them. The page that asks is :data:`SW_PROBE`, so
+          no app runs (which would register one) and a stopped server's site is reached
+          through its worker's precache (without a worker there is nothing to do).
+        - Everything else, on every site at once (so also those of servers that have
+          stopped, whose port a later server may take): MiniBrowser's website data page.
+        - The pointer's pressed buttons released (W3C Release Actions). The wheel sources'
+          count is kept: a source name used again would scroll by its difference from the
+          last scroll (see :meth:`zoom`).
+        """
+        self._visit(self._driver.current_url)
+        for origin in sorted(self._origins):
+            self._driver.get(origin + SW_PROBE)
+            self.evaluate(UNREGISTER)
+        self._driver.get("about:blank")
+        self._clear_website_data()
+        self._driver.get("about:blank")
+        self._driver.execute(Command.W3C_CLEAR_ACTIONS)
+        if self.evaluate("() => [innerWidth, innerHeight]") != list(self.viewport):
+            self.resize(*self.viewport)
+        self._errors.clear()
+        self._origins.clear()
+
+    def _clear_website_data(self) -> None:
+        """Every kind of website data of every site, through MiniBrowser's page, which shows
+        itself again once cleared; then checked on a fresh look at the page."""
+        self._driver.get(WEBSITE_DATA)
+        listed = re.search(r"clearData\('(\d+):", self._driver.page_source)
+        if listed is None:
+            return  # nothing stored
+        self.evaluate(
+            "(message) => window.webkit.messageHandlers.aboutData.postMessage(message)",
+            f"{listed[1]}:{ALL_WEBSITE_DATA}",
+        )
+        deadline = time.monotonic() + CLEAR_S
+        while "clearData('" in self._driver.page_source:
+            assert time.monotonic() < deadline, f"{self}: website data not cleared"
+            time.sleep(0.05)
+        self._driver.get("about:blank")
+        self._driver.get(WEBSITE_DATA)
+        assert "clearData('" not in self._driver.page_source, f"{self}: website data left"
+
+    def _visit(self, url: str) -> None:
+        parts = urlsplit(url)
+        if parts.scheme in ("http", "https"):
+            self._origins.add(f"{parts.scheme}://{parts.netloc}")
 
     def _harvest(self) -> None:
         """Move what the page's watcher collected into ``_errors`` (before the page goes)."""
