@@ -33,6 +33,7 @@ from urllib.parse import urlsplit
 from phone import RESOLVE, Phone, Point, Step
 from pyvirtualdisplay.display import Display
 from selenium import webdriver
+from selenium.common.exceptions import StaleElementReferenceException
 from selenium.webdriver.common.actions import interaction
 from selenium.webdriver.common.actions.action_builder import ActionBuilder
 from selenium.webdriver.common.actions.pointer_input import PointerInput
@@ -49,6 +50,7 @@ MINIBROWSERS = sorted(
 )  # per architecture
 XVFB = "/usr/bin/Xvfb"
 PAGE_LOAD_S = 30
+STALE_TRIES = 5  # finds of an element the page replaced while it was being used
 # How long a new window size may take to reach the page, s.
 RESIZE_S = 5.0
 # One wheel notch of a mouse (px). The app zooms by exp(0.002 * px) per wheel event
@@ -335,7 +337,17 @@ class WebKitPhone(Phone):
         element.send_keys(text)
 
     def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
-        self._element(steps).send_keys(str(path))
+        # The app may render the file input anew between finding it and sending the file
+        # to it (seen in test_upload_behind under load): found again, a bounded number of
+        # times.
+        for attempt in range(STALE_TRIES):
+            try:
+                self._element(steps).send_keys(str(path))
+                return
+            except StaleElementReferenceException:
+                if attempt == STALE_TRIES - 1:
+                    raise
+                time.sleep(0.1)
 
     def hold_still(self, acceleration: tuple[float, float, float]) -> None:
         self.evaluate(MOTION, list(acceleration))
