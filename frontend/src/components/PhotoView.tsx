@@ -180,12 +180,32 @@ interface DrawingProps extends Props {
   onFailed: () => void;
 }
 
+/** A finger held still this long (ms) brings the loupe; one that slides brings it at once.
+ * A quick tap (about 100 ms) never draws it: on a phone slowed 4x, drawing the loupe on
+ * every touch was most of a tap's time to the screen (docs/slow-phone.md). */
+export const LOUPE_SHOW_MS = 150;
+
+/** The loupe's target while a press asks for it (gestures.ts), once it has lasted
+ * LOUPE_SHOW_MS or moved. */
+function useLoupeTarget(gesture: Gesture): Point | null {
+  const press = gesture.kind === "press" && !gesture.mouse ? gesture.since : null;
+  const [due, setDue] = useState<number | null>(null);
+  useEffect(() => {
+    if (press === null) return undefined;
+    const timer = setTimeout(() => setDue(press), LOUPE_SHOW_MS);
+    return () => clearTimeout(timer);
+  }, [press]);
+  const target = loupeTarget(gesture);
+  if (!target || gesture.kind !== "press") return null;
+  return gesture.moved || due === gesture.since ? target : null;
+}
+
 /** The picture: photo, guide, marks, the answer on top, loupe. */
 function Drawing(props: DrawingProps) {
   const { view, transform: t, gesture, taps, photoSize } = props;
   const layer = `width:${photoSize.width}px;height:${photoSize.height}px;transform:translate(${t.tx}px,${t.ty}px) scale(${t.scale})`;
   const landmarks = drawnLandmarks(taps, gesture, t);
-  const target = loupeTarget(gesture);
+  const target = useLoupeTarget(gesture);
 
   return (
     <>

@@ -36,7 +36,8 @@ describe("this phone's taps", () => {
     vi.useFakeTimers();
     taps.tap({ x: 100, y: 50, sigma: 3 });
     expect(store.view.mode).toBe("landmark");
-    expect(sent).toEqual([]); // the mark is drawn first (afterPaint)
+    expect(sent).toEqual([]); // the mark is drawn first (afterPaint), not yet "Saved"
+    expect(store.view.save.status).toBe("saving");
     vi.advanceTimersByTime(100);
     expect(sent).toHaveLength(1);
     taps.tap({ x: 20, y: 30, sigma: 2 });

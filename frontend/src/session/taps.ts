@@ -81,7 +81,9 @@ export class TapEditing {
 
   private edit(editor: TapEditor, patch: Partial<SessionView> = {}): void {
     const changed = editor.taps !== this.view.editor.taps;
-    this.store.set({ editor, ...patch });
+    // Not "Saved" while a change waits for the screen: the saver takes it from there.
+    const saving = changed ? { save: { status: "saving" as const, message: null } } : {};
+    this.store.set({ editor, ...patch, ...saving });
     if (changed && !this.saveQueued) {
       // Sent and kept once the change is on screen, the newest taps of that moment.
       this.saveQueued = true;
