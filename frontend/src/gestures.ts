@@ -31,6 +31,10 @@ export const MOUSE_SLOP = 4;
 export const TOUCH_SLOP = 6;
 /** A finger held this long (ms) before it lifts had time to aim with the loupe. */
 export const LOUPE_AIM_MS = 500;
+/** A finger held still this long (ms) brings the loupe; one that slides brings it at once.
+ * A quick tap (about 100 ms) never draws it: on a phone slowed 4x, drawing the loupe on
+ * every touch was most of a tap's time to the screen (docs/slow-phone.md). */
+export const LOUPE_SHOW_MS = 150;
 
 export interface Grab {
   /** The landmark's number. */

@@ -23,7 +23,7 @@
 import { t as tr } from "../i18n";
 import { useEffect, useRef, useState } from "preact/hooks";
 import { PHOTO_DESCRIPTION_ID } from "../a11y/PhotoDescription";
-import { loupeTarget, type Gesture } from "../gestures";
+import type { Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
 import type { AnswerView } from "../answer";
 import type { Box } from "../reframe";
@@ -35,7 +35,7 @@ import { GuideLayer, type Guide } from "./GuideLayer";
 import { FitIcon } from "./icons";
 import { Loupe } from "./Loupe";
 import { Marks, drawnLandmarks } from "./Marks";
-import { useGestures } from "./useGestures";
+import { useGestures, useLoupeTarget } from "./useGestures";
 import { usePanZoom } from "./usePanZoom";
 
 export interface Focus {
@@ -178,26 +178,6 @@ interface DrawingProps extends Props {
   onLoaded: () => void;
   failed: boolean;
   onFailed: () => void;
-}
-
-/** A finger held still this long (ms) brings the loupe; one that slides brings it at once.
- * A quick tap (about 100 ms) never draws it: on a phone slowed 4x, drawing the loupe on
- * every touch was most of a tap's time to the screen (docs/slow-phone.md). */
-export const LOUPE_SHOW_MS = 150;
-
-/** The loupe's target while a press asks for it (gestures.ts), once it has lasted
- * LOUPE_SHOW_MS or moved. */
-function useLoupeTarget(gesture: Gesture): Point | null {
-  const press = gesture.kind === "press" && !gesture.mouse ? gesture.since : null;
-  const [due, setDue] = useState<number | null>(null);
-  useEffect(() => {
-    if (press === null) return undefined;
-    const timer = setTimeout(() => setDue(press), LOUPE_SHOW_MS);
-    return () => clearTimeout(timer);
-  }, [press]);
-  const target = loupeTarget(gesture);
-  if (!target || gesture.kind !== "press") return null;
-  return gesture.moved || due === gesture.since ? target : null;
 }
 
 /** The picture: photo, guide, marks, the answer on top, loupe. */

@@ -5,10 +5,11 @@
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
-import { IDLE, editOf, type Gesture } from "../gestures";
+import { IDLE, LOUPE_SHOW_MS, editOf, loupeTarget, type Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
 import type { PanZoom } from "../panZoom";
 import { PointerGestures, listen } from "../pointers";
+import type { Point } from "../viewTransform";
 import type { Tap } from "../session";
 import { grabAt } from "./Marks";
 
@@ -58,4 +59,19 @@ export function useGestures(
     return element ? listen(element, window, gestures) : undefined;
   }, []);
   return { gesture, gestures };
+}
+
+/** The loupe's target while a press asks for it (gestures.ts), once it has lasted
+ * LOUPE_SHOW_MS or moved. */
+export function useLoupeTarget(gesture: Gesture): Point | null {
+  const press = gesture.kind === "press" && !gesture.mouse ? gesture.since : null;
+  const [due, setDue] = useState<number | null>(null);
+  useEffect(() => {
+    if (press === null) return undefined;
+    const timer = setTimeout(() => setDue(press), LOUPE_SHOW_MS);
+    return () => clearTimeout(timer);
+  }, [press]);
+  const target = loupeTarget(gesture);
+  if (!target || gesture.kind !== "press") return null;
+  return gesture.moved || due === gesture.since ? target : null;
 }
