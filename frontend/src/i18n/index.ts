@@ -1,23 +1,32 @@
 /**
- * The app's words: i18next with one catalogue per language (locales/*.json), each its own
- * chunk, so a phone fetches only the language it speaks before the first render. Keys are
- * typed from the English catalogue (a missing or misspelt key fails `tsc`); plurals use
- * i18next's `_one`/`_other` suffixes, chosen by `Intl.PluralRules`; numbers are formatted by
- * `Intl.NumberFormat` in the language shown (`{{n, number}}` in a catalogue, or `formatNumber`).
+ * The app's words: one catalogue per language (locales/*.json), each its own chunk, so a
+ * phone fetches only the language it speaks before the first render. rosetta (300 bytes)
+ * holds the catalogues and fills a sentence's `{{name}}`s; Intl does the rest: a count picks
+ * its plural form (i18next's JSON v4 suffixes, `_one`/`_many`/`_other`) by
+ * `Intl.PluralRules`, and numbers are written by `Intl.NumberFormat` in the language shown
+ * (`formatNumber`). Not i18next: it was 16 kB gzipped of the 70 kB the start and tap screens
+ * may load (docs/slow-phone.md), and its plural rules and number formats came from Intl
+ * anyway. Keys are typed from the English catalogue: a missing or misspelt key fails `tsc`.
  */
 
-import i18next from "i18next";
+import rosetta from "rosetta";
 import { useEffect, useState } from "preact/hooks";
 import type en from "./locales/en.json";
 import { DEFAULT_LANGUAGE, LANGUAGE_KEY, chooseLanguage, isLanguage, type Language } from "./languages";
 
-declare module "i18next" {
-  interface CustomTypeOptions {
-    resources: { translation: typeof en };
-  }
-}
-
 export type Catalogue = typeof en;
+
+/** A catalogue's nested keys, dot-joined ("start.start"). */
+type Paths<T> = { [K in keyof T & string]: T[K] extends string ? K : `${K}.${Paths<T[K]>}` }[keyof T & string];
+
+/** A plural's forms under the one key the code asks for (`t("step.tapMore", { count })`). */
+type Singular<K> = K extends `${infer Base}_one` | `${infer Base}_many` | `${infer Base}_other` ? Base : K;
+
+/** Every key `t` takes: the English catalogue's, its plurals by their base. */
+export type Key = Singular<Paths<Catalogue>>;
+
+/** A sentence's `{{name}}`s; a numeric `count` also picks its plural form. */
+export type Params = Readonly<Record<string, string | number>>;
 
 /** One loader per language: Vite makes each catalogue a chunk of its own. */
 const CATALOGUES: Record<Language, () => Promise<{ default: unknown }>> = {
@@ -28,46 +37,76 @@ const CATALOGUES: Record<Language, () => Promise<{ default: unknown }>> = {
   ja: () => import("./locales/ja.json"),
 };
 
+const i18n = rosetta<Record<string, unknown>>();
+
 /**
- * A word or sentence in the language shown: i18next's `t`, remembered per language, key and
- * options. i18next resolves a key afresh on every call (its path, plural rule and
- * interpolation), and a tap re-renders screens that ask for a hundred words: on a phone
- * slowed 4x that was a fifth of a tap's time (docs/slow-phone.md). Forgotten when the
- * language or a catalogue changes.
+ * Values made once per id: at most `most` kept, all forgotten beyond it (counts and
+ * distances make new ids without end).
  */
-export const t = ((key: unknown, options?: unknown): string => {
-  const id = remembered(key, options);
-  if (id === null) return (i18next.t as (k: unknown, o?: unknown) => string)(key, options);
-  let words = WORDS.get(id);
-  if (words === undefined) {
-    if (WORDS.size >= MOST_WORDS) WORDS.clear();
-    words = (i18next.t as (k: unknown, o?: unknown) => string)(key, options);
-    WORDS.set(id, words);
-  }
-  return words;
-}) as typeof i18next.t;
-
-const WORDS = new Map<string, string>();
-const MOST_WORDS = 4000; // a bound: counts and distances make new options without end
-
-/** The memo's key for a call; null for options the memo cannot tell apart (objects). */
-function remembered(key: unknown, options: unknown): string | null {
-  if (typeof key !== "string") return null;
-  if (options === undefined) return `${i18next.language}\u0000${key}`;
-  if (typeof options !== "object" || options === null) return null;
-  for (const value of Object.values(options)) {
-    if (value !== null && typeof value === "object") return null;
-  }
-  return `${i18next.language}\u0000${key}\u0000${JSON.stringify(options)}`;
+function memo<T>(most: number): { get(id: string, make: () => T): T; clear(): void } {
+  const kept = new Map<string, T>();
+  return {
+    get(id, make) {
+      let value = kept.get(id);
+      if (value === undefined) {
+        if (kept.size >= most) kept.clear();
+        value = make();
+        kept.set(id, value);
+      }
+      return value;
+    },
+    clear: () => kept.clear(),
+  };
 }
 
-i18next.on("languageChanged", () => WORDS.clear());
+/**
+ * Sentences by language, key and parameters. A tap re-renders screens that ask for a hundred
+ * words; resolving each afresh was a fifth of a tap's time on a phone slowed 4x
+ * (docs/slow-phone.md). Forgotten when a catalogue is given.
+ */
+const WORDS = memo<string>(4000);
+// Made once per language (and options): a new Intl object costs far more than using one.
+const FORMATS = memo<Intl.NumberFormat>(100);
+const PLURALS = memo<Intl.PluralRules>(10);
+
+/** A word or sentence in the language shown; a key the catalogue lacks shows as itself. */
+export function t(key: Key, params?: Params): string {
+  const language = currentLanguage();
+  const id = params ? `${language}\u0000${key}\u0000${JSON.stringify(params)}` : `${language}\u0000${key}`;
+  return WORDS.get(id, () => {
+    const count = params?.count;
+    const forms =
+      typeof count === "number"
+        ? [`${key}_${PLURALS.get(language, () => new Intl.PluralRules(language)).select(count)}`, `${key}_other`]
+        : [];
+    const found = [...forms, key].find(exists);
+    return found === undefined ? key : i18n.t(found, params, language);
+  });
+}
+
+/**
+ * The sentence `key` names in the language shown as the catalogue writes it, `{{name}}`s and
+ * all; undefined when the catalogue has none (keys made from a server's code are open-ended).
+ */
+export function template(key: string): string | undefined {
+  let node: unknown = i18n.table(currentLanguage());
+  for (const part of key.split(".")) node = (node as Record<string, unknown> | undefined)?.[part];
+  return typeof node === "string" ? node : undefined;
+}
+
+/** Whether the language shown has a sentence for `key` (a plural's only under its forms). */
+export function exists(key: string): boolean {
+  return template(key) !== undefined;
+}
 
 /** The language shown now. */
 export function currentLanguage(): Language {
-  const language = i18next.language;
+  const language = i18n.locale();
   return isLanguage(language) ? language : DEFAULT_LANGUAGE;
 }
+
+/** Who re-renders when the language changes (`useLanguage`). */
+const LISTENERS = new Set<(language: Language) => void>();
 
 function storedChoice(): string | null {
   try {
@@ -81,8 +120,13 @@ async function catalogue(language: Language): Promise<Record<string, unknown>> {
   return (await CATALOGUES[language]()).default as Record<string, unknown>;
 }
 
-function markPage(language: Language): void {
+/** Show `language`, with `words` as its catalogue when given. */
+function show(language: Language, words: Record<string, unknown> | null): void {
+  if (words) i18n.set(language, words);
+  WORDS.clear();
+  i18n.locale(language);
   if (typeof document !== "undefined") document.documentElement.lang = language;
+  for (const listener of LISTENERS) listener(language);
 }
 
 /** Start in the phone's language (or the one the person chose): before the first render. */
@@ -98,31 +142,12 @@ export async function startLanguage(): Promise<void> {
  * test keeps every language complete.
  */
 export async function speak(language: Language, words: Record<string, unknown>): Promise<void> {
-  if (!i18next.isInitialized) {
-    await i18next.init({
-      lng: language,
-      resources: { [language]: { translation: words } },
-      fallbackLng: false,
-      initAsync: false,
-      // Preact escapes what it renders; escaping here would show "&amp;".
-      interpolation: { escapeValue: false },
-      returnNull: false,
-    });
-  } else {
-    i18next.addResourceBundle(language, "translation", words, true, true);
-    WORDS.clear();
-    await i18next.changeLanguage(language);
-  }
-  markPage(language);
+  show(language, words);
 }
 
 /** The switch: fetch the language's catalogue, speak it, and remember the choice. */
 export async function switchLanguage(language: Language): Promise<void> {
-  const words = i18next.hasResourceBundle(language, "translation") ? null : await catalogue(language);
-  if (words) i18next.addResourceBundle(language, "translation", words, true, true);
-  WORDS.clear();
-  await i18next.changeLanguage(language);
-  markPage(language);
+  show(language, i18n.table(language) ? null : await catalogue(language));
   try {
     localStorage.setItem(LANGUAGE_KEY, language);
   } catch {
@@ -134,23 +159,17 @@ export async function switchLanguage(language: Language): Promise<void> {
 export function useLanguage(): Language {
   const [language, setLanguage] = useState(currentLanguage);
   useEffect(() => {
-    const changed = (): void => setLanguage(currentLanguage());
-    i18next.on("languageChanged", changed);
-    return () => i18next.off("languageChanged", changed);
+    LISTENERS.add(setLanguage);
+    return () => {
+      LISTENERS.delete(setLanguage);
+    };
   }, []);
   return language;
 }
 
 /** A number as the language shown writes it ("1,234.5", "1.234,5", "1 234,5"). */
 export function formatNumber(value: number, options?: Intl.NumberFormatOptions): string {
-  const id = `${currentLanguage()} ${JSON.stringify(options ?? {})}`;
-  let format = FORMATS.get(id);
-  if (!format) {
-    format = new Intl.NumberFormat(currentLanguage(), options);
-    FORMATS.set(id, format);
-  }
-  return format.format(value);
+  const language = currentLanguage();
+  const id = `${language} ${JSON.stringify(options ?? {})}`;
+  return FORMATS.get(id, () => new Intl.NumberFormat(language, options)).format(value);
 }
-
-// Made once per language and options: a new Intl.NumberFormat costs far more than a format.
-const FORMATS = new Map<string, Intl.NumberFormat>();

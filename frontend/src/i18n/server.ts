@@ -5,20 +5,13 @@
  * for a code this app does not know yet (a newer server), so nothing is ever left unsaid.
  */
 
-import i18next from "i18next";
 import { ApiError } from "../api";
 import type { Refusal, SolverWarning as Warning } from "../types";
-import { formatNumber, t } from "./index";
+import { exists, formatNumber, t, template, type Key, type Params } from "./index";
 
-
-/** A key the catalogue may or may not hold (server codes are open-ended). */
-function has(key: string): boolean {
-  return i18next.exists(key);
-}
-
-/** Untyped lookup for keys made from a server's code, checked with `has` first. */
-function say(key: string, options: Record<string, unknown>): string {
-  return (i18next.t as (key: string, options: Record<string, unknown>) => string)(key, options);
+/** `t` for a key made from a server's code, checked with `exists` first (or by its plural's forms). */
+function say(key: string, params: Params): string {
+  return t(key as Key, params);
 }
 
 /** A distance in px as the language writes it, whole. */
@@ -29,7 +22,7 @@ function px(value: number | null | undefined): string {
 /** A warning's sentence in the language shown. */
 export function warningText(warning: Warning): string {
   const key = `warning.${warning.code}`;
-  if (!has(key)) return warning.message;
+  if (!exists(key)) return warning.message;
   const side = warning.side ?? "left";
   return say(key, {
     landmark: warning.landmark ?? "",
@@ -49,11 +42,9 @@ export function refusalText(refusal: Refusal): string {
   const yours = refusal.reader ?? null;
   const key = `refusal.${refusal.reason}`;
   // A sentence with a count is kept by its plural forms only (`_one`, `_other`...).
-  const template = has(key) ? key : has(`${key}_other`) ? `${key}_other` : null;
-  if (template === null) return refusal.message;
-  const namesPhoto = /\{\{(photo|photo1|photo2|Photo1)\}\}/.test(
-    String(i18next.getResource(i18next.language, "translation", template) ?? ""),
-  );
+  const sentence = template(key) ?? template(`${key}_other`);
+  if (sentence === undefined) return refusal.message;
+  const namesPhoto = /\{\{(photo|photo1|photo2|Photo1)\}\}/.test(sentence);
   if (namesPhoto && yours === null) return refusal.message;
   const name = (number: 1 | 2, capital: boolean): string =>
     say(number === yours ? (capital ? "refusal.YourPhoto" : "refusal.yourPhoto") : capital ? "refusal.FriendsPhoto" : "refusal.friendsPhoto", {});
@@ -95,5 +86,5 @@ export function errorText(error: unknown): string {
     return error.status >= 500 ? t("error.server") : t("error.refused", { status: error.status });
   }
   const key = `error.${error.code}`;
-  return has(key) ? say(key, {}) : error.message;
+  return exists(key) ? say(key, {}) : error.message;
 }
