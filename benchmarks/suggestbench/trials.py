@@ -34,6 +34,7 @@ from shared_solver.matching.polar import Image
 from shared_solver.matching.suggestion import (
     RULES,
     Evidence,
+    LandmarkSearch,
     Rules,
     check_back,
     gather,
@@ -318,10 +319,9 @@ def timed_search(
     the band, and the search back only when the match leads (as ``suggest`` does). The
     search back is made for every match with ``always_back`` (to weigh other rules), but
     timed only as ``suggest`` would make it."""
+    search = LandmarkSearch(photo_a, photo_b, point, epipolar, band, point_covariance=covariance)
     wall, cpu = time.perf_counter(), time.process_time()
-    evidence = gather(
-        photo_a, photo_b, point, epipolar, band, point_covariance=covariance, rules=rules
-    )
+    evidence = gather(search, rules=rules)
     forward = (time.perf_counter() - wall, time.process_time() - cpu)
     if evidence is None:
         return Timed(None, *forward)
@@ -329,9 +329,7 @@ def timed_search(
     if not (counted or always_back):
         return Timed(evidence, *forward)
     wall, cpu = time.perf_counter(), time.process_time()
-    checked = check_back(
-        evidence, photo_a, photo_b, point, epipolar, point_covariance=covariance, rules=rules
-    )
+    checked = check_back(evidence, search, rules=rules)
     back = (time.perf_counter() - wall, time.process_time() - cpu)
     share = 1.0 if counted else 0.0
     return Timed(checked, forward[0] + share * back[0], forward[1] + share * back[1])

@@ -29,7 +29,7 @@ from ..result import SolveResult
 from .band import FLAG_SIGMAS, LEVEL, Band, BandShape, TapCheck, epipolar_band
 from .epipolar import Epipolar
 from .polar import Image
-from .suggestion import RULES, Rules, Suggestion, suggest
+from .suggestion import RULES, LandmarkSearch, Rules, Suggestion, suggest
 
 __all__ = [
     "FLAG_SIGMAS",
@@ -39,6 +39,7 @@ __all__ = [
     "BandShape",
     "Epipolar",
     "Guide",
+    "LandmarkSearch",
     "Rules",
     "Suggestion",
     "TapCheck",
@@ -92,17 +93,12 @@ def guide_landmark(
         return None
     photo_a, photo_b = (photo1, photo2) if tapped_in == 1 else (photo2, photo1)
     height, width = photo_b.shape[:2]
+    tapped = np.asarray(point, float)
     covariance = tap_sigma**2 * np.eye(2)
-    band = epipolar_band(
-        epipolar, np.asarray(point, float), image_size=(width, height), point_covariance=covariance
-    )
+    band = epipolar_band(epipolar, tapped, image_size=(width, height), point_covariance=covariance)
     if band is None:
         return None
-    found = (
-        suggest(
-            photo_a, photo_b, np.asarray(point, float), epipolar, band, point_covariance=covariance
-        )
-        if search
-        else None
-    )
-    return Guide(band, found)
+    if not search:
+        return Guide(band, None)
+    sought = LandmarkSearch(photo_a, photo_b, tapped, epipolar, band, point_covariance=covariance)
+    return Guide(band, suggest(sought))

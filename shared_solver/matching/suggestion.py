@@ -25,7 +25,7 @@ on rendered halls and arenas, and are measured on others, in docs/suggestions.md
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -105,82 +105,61 @@ class Evidence:
     returned: float = math.inf
 
 
-def suggest(
-    photo_a: Image,
-    photo_b: Image,
-    point: Array,
-    epipolar: Epipolar,
-    band: Band,
-    *,
-    point_covariance: Array,
-    rules: Rules = RULES,
-) -> Suggestion | None:
-    """Search photo B's band for the landmark tapped at ``point`` (2,) in photo A.
+@dataclass(frozen=True)
+class LandmarkSearch:
+    """One landmark's search: where it was tapped in photo A, and its band in photo B.
 
-    Args:
+    Attributes:
         photo_a, photo_b: the stored photos, (H, W, 3) uint8 BGR (or (H, W) grey).
-        point: where the landmark was tapped in A, px.
+        point: (2,) where the landmark was tapped in A, px.
         epipolar: the answer's geometry from A to B, oriented by the shared landmarks.
         band: the landmark's band in B (:func:`.band.epipolar_band`).
         point_covariance: (2, 2) the tap's covariance, px^2 (for the tap check and the
             band of the search back from B to A).
+    """
+
+    photo_a: Image
+    photo_b: Image
+    point: Array
+    epipolar: Epipolar
+    band: Band
+    point_covariance: Array = field(kw_only=True)
+
+
+def suggest(search: LandmarkSearch, *, rules: Rules = RULES) -> Suggestion | None:
+    """Search photo B's band for the landmark tapped in photo A.
+
+    Args:
+        search: the photos, the tap and its band.
         rules: the thresholds (the default is the calibrated one).
 
     Returns:
         The suggestion, or None when no place along the band is a sure match.
     """
-    evidence = gather(
-        photo_a, photo_b, point, epipolar, band, point_covariance=point_covariance, rules=rules
-    )
+    evidence = gather(search, rules=rules)
     if evidence is None or not leads(evidence.match, rules):
         return None  # the search back is only worth its time for a match that leads
-    checked = check_back(
-        evidence, photo_a, photo_b, point, epipolar, point_covariance=point_covariance, rules=rules
+    return decide(check_back(evidence, search, rules=rules), rules)
+
+
+def gather(search: LandmarkSearch, *, rules: Rules = RULES) -> Evidence | None:
+    """The search along the band: the evidence before the search back; None when the band
+    gives no place at all."""
+    match = search_band(
+        search.photo_a, search.photo_b, search.point, search.epipolar, search.band, rules=rules
     )
-    return decide(checked, rules)
-
-
-def gather(
-    photo_a: Image,
-    photo_b: Image,
-    point: Array,
-    epipolar: Epipolar,
-    band: Band,
-    *,
-    point_covariance: Array,
-    rules: Rules = RULES,
-) -> Evidence | None:
-    """The search along the band (arguments as :func:`suggest`'s): the evidence before
-    the search back; None when the band gives no place at all."""
-    match = search_band(photo_a, photo_b, point, epipolar, band, rules=rules)
     if match is None:
         return None
-    return Evidence(match, band.check(match.point, point_covariance).sigmas)
+    return Evidence(match, search.band.check(match.point, search.point_covariance).sigmas)
 
 
-def check_back(
-    evidence: Evidence,
-    photo_a: Image,
-    photo_b: Image,
-    point: Array,
-    epipolar: Epipolar,
-    *,
-    point_covariance: Array,
-    rules: Rules = RULES,
-) -> Evidence:
+def check_back(evidence: Evidence, search: LandmarkSearch, *, rules: Rules = RULES) -> Evidence:
     """The evidence with the search back from its match (:func:`search_back`)."""
-    found = search_back(
-        photo_a,
-        photo_b,
-        epipolar,
-        evidence.match,
-        point_covariance=point_covariance,
-        rules=rules,
-    )
+    found = search_back(search, evidence.match, rules=rules)
     if found is None:
         return evidence
-    height, width = photo_a.shape[:2]
-    returned = float(np.hypot(*(found.point - point))) / math.hypot(width, height)
+    height, width = search.photo_a.shape[:2]
+    returned = float(np.hypot(*(found.point - search.point))) / math.hypot(width, height)
     return replace(evidence, back=found, returned=returned)
 
 
@@ -220,25 +199,20 @@ def leads(match: Match, rules: Rules = RULES) -> bool:
     )
 
 
-def search_back(
-    photo_a: Image,
-    photo_b: Image,
-    epipolar: Epipolar,
-    match: Match,
-    *,
-    point_covariance: Array,
-    rules: Rules = RULES,
-) -> Match | None:
+def search_back(search: LandmarkSearch, match: Match, *, rules: Rules = RULES) -> Match | None:
     """The best place in A for the patch of B at ``match``, along its own band in A
     (None when that band misses A or holds no place)."""
-    back = epipolar.transposed()
-    height_a, width_a = photo_a.shape[:2]
+    back = search.epipolar.transposed()
+    height_a, width_a = search.photo_a.shape[:2]
     back_band = epipolar_band(
-        back, match.point, image_size=(width_a, height_a), point_covariance=point_covariance
+        back,
+        match.point,
+        image_size=(width_a, height_a),
+        point_covariance=search.point_covariance,
     )
     if back_band is None:
         return None
-    return search_band(photo_b, photo_a, match.point, back, back_band, rules=rules)
+    return search_band(search.photo_b, search.photo_a, match.point, back, back_band, rules=rules)
 
 
 def search_band(

@@ -16,11 +16,11 @@ from typing import Any
 
 import httpx2
 import numpy as np
+import play
 import pytest
 from phone import Phone, expect
 from PIL import Image
 from test_live_view import put_taps
-from test_two_phones import cannot_see, find_landmarks, reported_position
 
 from testbed.scenes import Camera, Scene, in_photo, look_at
 
@@ -159,8 +159,8 @@ def test_the_frame_lands_clear_of_every_word_and_control(
     expect(view).to_have_attribute("data-photo-height", str(JOINER_SIZE[1]))
     # The first answer elsewhere: each place below is then a new one, brought into view.
     put_taps(server, created, starter_taps(starter_at((0.6, 0.45))))
-    cannot_see(iphone)
-    find_landmarks(iphone, JOINER.project(POINTS))
+    play.cannot_see(iphone)
+    play.find_landmarks(iphone, JOINER.project(POINTS))
 
     upright = iphone.evaluate("() => [innerWidth, innerHeight]")
     for where, place in PLACES.items():
@@ -169,7 +169,7 @@ def test_the_frame_lands_clear_of_every_word_and_control(
 
         def moved(truth: np.ndarray = truth) -> bool:
             """The joiner's answer is where the starter now is."""
-            return bool(np.linalg.norm(reported_position(iphone)[0] - truth) < 40)
+            return bool(np.linalg.norm(play.reported_position(iphone)[0] - truth) < 40)
 
         iphone.wait_for(moved, f"the answer at the {where}")
         clear_of_everything(iphone, f"the {where}, upright")

@@ -14,24 +14,11 @@ import io
 from pathlib import Path
 
 import numpy as np
+import play
 import pytest
 from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 from PIL import Image
-from test_two_phones import (
-    PAIR,
-    cannot_see,
-    find_landmarks,
-    framed,
-    mark_friend,
-    saved,
-    scene,
-    start_and_join,
-    tap_landmarks,
-    temple,
-    upload,
-    view_scale,
-)
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -45,7 +32,7 @@ def with_figure(
 ) -> tuple[Path, tuple[float, float, float, float]]:
     """The temple photo with a person standing at ``at`` (a head, a red shirt, dark legs);
     the photo's path and the figure's box (x0, y0, x1, y1), photo px."""
-    with Image.open(temple(name)) as opened:
+    with Image.open(play.temple(name)) as opened:
         pixels = np.array(opened.convert("RGB"))
     x, y = (round(v) for v in at)
     top, left = y - FIGURE_HEIGHT // 2, x - FIGURE_WIDTH // 2
@@ -112,7 +99,7 @@ def in_view(page: Phone, point: tuple[float, float]) -> bool:
 
 
 def frame_centre(page: Phone) -> tuple[float, float]:
-    x0, y0, x1, y1 = framed(page)
+    x0, y0, x1, y1 = play.framed(page)
     return (x0 + x1) / 2, (y0 + y1) / 2
 
 
@@ -122,17 +109,17 @@ def test_the_friend_stays_visible_inside_the_frame(
     """The joiner's photo shows a person where the friend really is: once the answer is in,
     the frame holds the whole person, and the person's pixels on screen are the same with
     the answer drawn as without it."""
-    truth = scene(5, seed=16)
-    photo, figure = with_figure(PAIR[1], truth.epipole2, tmp_path)
-    starter, joiner = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
-    upload(joiner, photo)
-    mark_friend(starter, *truth.epipole1)
-    tap_landmarks(starter, truth.landmarks1)
-    cannot_see(joiner)
-    find_landmarks(joiner, truth.landmarks2)
+    truth = play.scene(5, seed=16)
+    photo, figure = with_figure(play.PAIR[1], truth.epipole2, tmp_path)
+    starter, joiner = play.start_and_join(server, pixel, iphone)
+    play.upload(starter, play.temple(play.PAIR[0]))
+    play.upload(joiner, photo)
+    play.mark_friend(starter, *truth.epipole1)
+    play.tap_landmarks(starter, truth.landmarks1)
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, truth.landmarks2)
 
-    x0, y0, x1, y1 = framed(joiner)
+    x0, y0, x1, y1 = play.framed(joiner)
     assert x0 <= figure[0], (x0, figure)
     assert y0 <= figure[1], (y0, figure)
     assert figure[2] <= x1, (x1, figure)
@@ -174,25 +161,25 @@ def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
     view glides to show it. Zoomed away again, an arrow at the edge points to it, and one
     tap on it brings it back; with the phone's "reduce motion" on (Chromium), at once,
     without gliding."""
-    truth = scene(5, seed=16)
+    truth = play.scene(5, seed=16)
     # The landmark farthest from the friend is tapped third: the answer arrives with it.
     order = np.argsort(-np.linalg.norm(truth.landmarks2 - truth.epipole2, axis=1))
     order = np.concatenate([order[1:3], order[:1], order[3:]])
     points1, points2 = truth.landmarks1[order], truth.landmarks2[order]
-    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
-    mark_friend(starter, *truth.epipole1)
-    tap_landmarks(starter, points1)
-    cannot_see(joiner)
-    find_landmarks(joiner, points2[:2])
+    starter, joiner = play.start_and_join(server, pixel, iphone, photos=True)
+    play.mark_friend(starter, *truth.epipole1)
+    play.tap_landmarks(starter, points1)
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, points2[:2])
     expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
 
     far = joiner.photo_to_screen(*points2[2])
     joiner.zoom(far, 4.0)
     assert not in_view(joiner, tuple(truth.epipole2)), "the friend was in view already"
-    find_landmarks(joiner, points2[2:3], first_id=3)
-    framed(joiner)
+    play.find_landmarks(joiner, points2[2:3], first_id=3)
+    play.framed(joiner)
     joiner.wait_for(lambda: in_view(joiner, frame_centre(joiner)), "the answer in view")
-    assert view_scale(joiner) > 0  # the published transform is settled (not gliding)
+    assert play.view_scale(joiner) > 0  # the published transform is settled (not gliding)
 
     # Zoomed in away from it: the arrow, and a tap on it.
     joiner.zoom(joiner.photo_to_screen(*points2[2]), 4.0)
@@ -227,18 +214,18 @@ def test_a_tap_beside_a_control_places_a_mark_or_nothing(
     """Zoomed in, taps on the photo 8 CSS px beside the whole-photo button, and just above
     the button below the photo, never trigger them: the view stays zoomed and each tap places
     a mark where it was made (the friend's first, then landmarks)."""
-    starter, _ = start_and_join(server, pixel, iphone)
-    upload(starter, temple(PAIR[0]))
+    starter, _ = play.start_and_join(server, pixel, iphone)
+    play.upload(starter, play.temple(play.PAIR[0]))
     left, top, right, bottom = view_rect(starter)
     starter.zoom(((left + right) / 2, (top + bottom) / 2), 3.0)
-    zoomed = view_scale(starter)
+    zoomed = play.view_scale(starter)
     expect(starter.get_by_test_id("fit")).to_be_visible()
     fit = box_of(starter, "fit")
     mark = starter.get_by_test_id("friend-mark")
     for x, y in ((fit[0] - 8, (fit[1] + fit[3]) / 2), ((fit[0] + fit[2]) / 2, fit[1] - 8)):
         starter.tap_at(x, y)
         starter.wait_for(lambda x=x, y=y: marked_at(starter, x, y), f"a mark at {x, y}")
-        assert view_scale(starter) == pytest.approx(zoomed)
+        assert play.view_scale(starter) == pytest.approx(zoomed)
 
     # The friend's prompt with its button, just below the photo.
     starter.get_by_test_id("mark-friend").tap()
@@ -248,11 +235,11 @@ def test_a_tap_beside_a_control_places_a_mark_or_nothing(
     starter.tap_at(x, y)
     starter.wait_for(lambda: marked_at(starter, x, y), "the friend's mark moved, not removed")
     expect(mark).to_be_visible()
-    saved(starter)
-    assert view_scale(starter) == pytest.approx(zoomed)
+    play.saved(starter)
+    assert play.view_scale(starter) == pytest.approx(zoomed)
     # The button itself still works.
     starter.get_by_test_id("fit").tap()
-    starter.wait_for(lambda: view_scale(starter) < zoomed, "the whole photo")
+    starter.wait_for(lambda: play.view_scale(starter) < zoomed, "the whole photo")
 
 
 def marked_at(page: Phone, x: float, y: float) -> bool:

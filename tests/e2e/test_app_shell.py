@@ -21,22 +21,12 @@ from pathlib import Path
 from typing import Any
 
 import httpx2
+import play
 import pytest
 from chromium_phone import ChromiumPhone
 from conftest import unexpected
 from phone import Phone, expect
 from playwright.sync_api import Browser, Playwright
-from test_two_phones import (
-    PAIR,
-    mark_friend,
-    scene,
-    session_state,
-    start_and_join,
-    tap_landmark,
-    tap_landmarks,
-    temple,
-    upload,
-)
 
 from deploy.replica import serve
 
@@ -85,11 +75,11 @@ def worker_fetch(phone: ChromiumPhone, path: str) -> Any:
 def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
     shell_server: ShellServer, installed: ChromiumPhone, iphone: Phone
 ) -> None:
-    starter, _ = start_and_join(shell_server.base_url, installed, iphone)
-    upload(starter, temple(PAIR[0]))
-    truth = scene(3, seed=25)
-    mark_friend(starter, *truth.epipole1)
-    tap_landmarks(starter, truth.landmarks1[:2])
+    starter, _ = play.start_and_join(shell_server.base_url, installed, iphone)
+    play.upload(starter, play.temple(play.PAIR[0]))
+    truth = play.scene(3, seed=25)
+    play.mark_friend(starter, *truth.epipole1)
+    play.tap_landmarks(starter, truth.landmarks1[:2])
     worker_ready(starter)
 
     installed.context.set_offline(True)
@@ -105,7 +95,7 @@ def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
     expect(starter.get_by_test_id("friend-mark")).to_be_visible()
     expect(starter.get_by_test_id("photo-loading")).to_contain_text("back online")
     # A tap with no signal is kept.
-    tap_landmark(starter, 3, truth.landmarks1[2])
+    play.tap_landmark(starter, 3, truth.landmarks1[2])
     expect(starter.get_by_test_id("save-state")).not_to_have_attribute("data-state", "saved")
 
     installed.context.set_offline(False)
@@ -113,7 +103,7 @@ def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
     expect(starter.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
     expect(starter.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
     expect(starter.get_by_test_id("photo-loading")).to_have_count(0)
-    ids = sorted(t["id"] for t in session_state(starter)["taps"]["starter"]["landmarks"])
+    ids = sorted(t["id"] for t in play.session_state(starter)["taps"]["starter"]["landmarks"])
     assert ids == [1, 2, 3]
     # The worker kept the build's files and nothing else: no state, no photo, no crop.
     in_cache = cached(installed)

@@ -19,19 +19,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import play
 import pytest
 from chromium_phone import ChromiumPhone
 from cutproxy import cut_proxy
 from phone import Phone, expect
-from test_two_phones import (
-    cannot_see,
-    find_landmarks,
-    mark_friend,
-    scene,
-    session_state,
-    start_and_join,
-    tap_landmarks,
-)
 
 from deploy.replica import free_port, serve
 
@@ -73,11 +65,11 @@ def midway(starter: Phone, joiner: Phone, s: Any, urls: tuple[str, str], found: 
     """A search of scene ``s`` under way: the starter has marked its friend and landmarks 1-3,
     the joiner, who cannot see its friend, has found the first ``found`` (each phone at its
     address of ``urls``)."""
-    start_and_join(urls[0], starter, joiner, joiner_server=urls[1], photos=True)
-    mark_friend(starter, *s.epipole1)
-    tap_landmarks(starter, s.landmarks1[:3])
-    cannot_see(joiner)
-    find_landmarks(joiner, s.landmarks2[:found])
+    play.start_and_join(urls[0], starter, joiner, joiner_server=urls[1], photos=True)
+    play.mark_friend(starter, *s.epipole1)
+    play.tap_landmarks(starter, s.landmarks1[:3])
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, s.landmarks2[:found])
 
 
 def shown(phone: Phone) -> dict[str, Any]:
@@ -129,7 +121,7 @@ def caught_up(starter: Phone, joiner: Phone, back: float, find: int | None) -> d
     found: list[dict[str, Any]] = []
 
     def agreed() -> bool:
-        state = session_state(starter)
+        state = play.session_state(starter)
         found[:] = [state]
         return (
             agrees(starter, state, "starter")
@@ -155,7 +147,7 @@ def offline(joiner: Phone) -> None:
 @pytest.mark.engines("chromium", "webkit")
 @pytest.mark.expected_console_errors(DROPPED)
 def test_a_phone_offline_for_30_s_catches_up(pixel: Phone, iphone: Phone, tmp_path: Path) -> None:
-    s = scene(5, seed=3)
+    s = play.scene(5, seed=3)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
         midway(starter, joiner, s, (server.base_url, network.base_url), found=1)
@@ -163,8 +155,8 @@ def test_a_phone_offline_for_30_s_catches_up(pixel: Phone, iphone: Phone, tmp_pa
         network.cut()
         cut_at = time.monotonic()
         offline(joiner)
-        tap_landmarks(starter, s.landmarks1[3:5], first_id=4)  # the other keeps tapping
-        find_landmarks(joiner, s.landmarks2[1:3], first_id=2, online=False)  # so does this one
+        play.tap_landmarks(starter, s.landmarks1[3:5], first_id=4)  # the other keeps tapping
+        play.find_landmarks(joiner, s.landmarks2[1:3], first_id=2, online=False)  # so does this one
         time.sleep(max(0.0, OFFLINE_S - (time.monotonic() - cut_at)))
         on_screen = shown(joiner)
         assert not on_screen["saved"]
@@ -195,7 +187,7 @@ SHOW = """() => {
 @pytest.mark.expected_console_errors(DROPPED)
 def test_a_hidden_page_catches_up_when_shown(pixel: Phone, iphone: Phone, tmp_path: Path) -> None:
     assert isinstance(iphone, ChromiumPhone)
-    s = scene(5, seed=4)
+    s = play.scene(5, seed=4)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
         midway(starter, joiner, s, (server.base_url, network.base_url), found=3)
@@ -204,7 +196,7 @@ def test_a_hidden_page_catches_up_when_shown(pixel: Phone, iphone: Phone, tmp_pa
         lifecycle = iphone.context.new_cdp_session(iphone.page)
         lifecycle.send("Page.setWebLifecycleState", {"state": "frozen"})
         network.cut()
-        tap_landmarks(starter, s.landmarks1[3:5], first_id=4)
+        play.tap_landmarks(starter, s.landmarks1[3:5], first_id=4)
         network.restore()
         lifecycle.send("Page.setWebLifecycleState", {"state": "active"})
         joiner.evaluate(SHOW)
@@ -217,7 +209,7 @@ def test_a_hidden_page_catches_up_when_shown(pixel: Phone, iphone: Phone, tmp_pa
 def test_both_phones_catch_up_after_the_server_restarts(
     pixel: Phone, iphone: Phone, tmp_path: Path
 ) -> None:
-    s = scene(5, seed=5)
+    s = play.scene(5, seed=5)
     port = free_port()
     with ExitStack() as running:
         server = running.enter_context(serve(tmp_path, port=port))
@@ -226,8 +218,8 @@ def test_both_phones_catch_up_after_the_server_restarts(
 
         running.close()  # the server stops
         offline(joiner)
-        tap_landmarks(starter, s.landmarks1[3:4], first_id=4, online=False)
-        find_landmarks(joiner, s.landmarks2[2:3], first_id=3, online=False)
+        play.tap_landmarks(starter, s.landmarks1[3:4], first_id=4, online=False)
+        play.find_landmarks(joiner, s.landmarks2[2:3], first_id=3, online=False)
 
         running.enter_context(serve(tmp_path, port=port))  # back, on its database
         state = caught_up(starter, joiner, time.monotonic(), find=4)

@@ -14,18 +14,9 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+import play
 import pytest
 from phone import Phone, expect
-from test_two_phones import (
-    cannot_see,
-    find_landmarks,
-    mark_friend,
-    saved,
-    scene,
-    session_state,
-    start_and_join,
-    tap_landmarks,
-)
 
 from testbed.venue import rendered_pair
 
@@ -38,26 +29,26 @@ def inside(outline: list[list[float]], point: np.ndarray) -> bool:
 
 
 def band_of(page: Phone, role: str, landmark: int) -> dict[str, object]:
-    bands = session_state(page)["answer"]["in_photo"][role]["bands"]
+    bands = play.session_state(page)["answer"]["in_photo"][role]["bands"]
     return next(band for band in bands if band["id"] == landmark)
 
 
 def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
-    truth = scene(7, seed=16)
-    mark_friend(starter, *truth.epipole1)
-    tap_landmarks(starter, truth.landmarks1)
-    cannot_see(joiner)
-    find_landmarks(joiner, truth.landmarks2[:5])
+    starter, joiner = play.start_and_join(server, pixel, iphone, photos=True)
+    truth = play.scene(7, seed=16)
+    play.mark_friend(starter, *truth.epipole1)
+    play.tap_landmarks(starter, truth.landmarks1)
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, truth.landmarks2[:5])
 
     # The answer is in: #6's band is drawn on the joiner's photo, and holds the landmark.
     drawn = joiner.get_by_test_id("landmark-band")
     expect(drawn).to_have_attribute("data-id", "6")
     band = band_of(joiner, "joiner", 6)
     assert inside(band["outline"], truth.landmarks2[5])  # type: ignore[arg-type]
-    assert session_state(starter)["answer"]["in_photo"]["starter"]["bands"] == []
+    assert play.session_state(starter)["answer"]["in_photo"]["starter"]["bands"] == []
     joiner.screenshot(path=screenshots / "10-band-joiner.png")
 
     # #6 tapped 60 px across its band: flagged at once, in words and with a re-check.
@@ -68,7 +59,7 @@ def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
         wrong = truth.landmarks2[5] - 60 * across
     assert not inside(band["outline"], wrong)  # type: ignore[arg-type]
     joiner.tap_photo(*wrong)
-    saved(joiner)
+    play.saved(joiner)
     flagged = joiner.get_by_test_id("warning").filter(has_text="#6")
     expect(flagged).to_have_count(1)  # the flag's sentence, or the fit's if it left #6 out
     expect(joiner.get_by_test_id("recheck").filter(has_text="#6")).to_be_visible()
@@ -79,9 +70,9 @@ def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
     joiner.get_by_test_id("delete-landmark").tap()
     expect(joiner.get_by_test_id("find-prompt")).to_have_attribute("data-id", "6")
     joiner.tap_photo(*truth.landmarks2[5])
-    saved(joiner)
+    play.saved(joiner)
     expect(joiner.get_by_test_id("recheck")).to_have_count(0)
-    assert session_state(joiner)["answer"]["in_photo"]["joiner"]["misfits"] == []
+    assert play.session_state(joiner)["answer"]["in_photo"]["joiner"]["misfits"] == []
 
 
 # The suggestion is the server's; its ring and the one tap are the band test's drawing and
@@ -97,7 +88,7 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
         path = tmp_path / name
         cv2.imwrite(str(path), photo, [cv2.IMWRITE_JPEG_QUALITY, 92])
         photos.append(path)
-    starter, joiner = start_and_join(server, pixel, iphone)
+    starter, joiner = play.start_and_join(server, pixel, iphone)
     sizes = (s.image_size1, s.image_size2)
     for page, path, (width, height) in zip((starter, joiner), photos, sizes, strict=True):
         page.get_by_test_id("photo-input").set_input_files(path)
@@ -105,10 +96,10 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
         expect(page.get_by_test_id("photo-view")).to_have_attribute(
             "data-photo-height", str(height)
         )
-    mark_friend(starter, *s.epipole1)
-    tap_landmarks(starter, s.landmarks1[:12])
-    cannot_see(joiner)
-    find_landmarks(joiner, s.landmarks2[:6])
+    play.mark_friend(starter, *s.epipole1)
+    play.tap_landmarks(starter, s.landmarks1[:12])
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, s.landmarks2[:6])
 
     # The first landmark past the answer for which the search is sure: its ring, then a tap.
     diagonal = float(np.hypot(*s.image_size2))
@@ -118,7 +109,7 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
         expect(prompt).to_have_attribute("data-suggestion", re.compile("^(shown|none)$"))
         if prompt.get_attribute("data-suggestion") == "shown":
             break
-        find_landmarks(joiner, s.landmarks2[landmark - 1 : landmark], first_id=landmark)
+        play.find_landmarks(joiner, s.landmarks2[landmark - 1 : landmark], first_id=landmark)
     else:
         pytest.fail("no suggestion for landmarks 7-12")
     suggested = joiner.get_by_test_id("suggested-spot")
@@ -127,8 +118,8 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
     assert np.hypot(*(spot - s.landmarks2[landmark - 1])) < 0.01 * diagonal
     joiner.screenshot(path=screenshots / "12-suggestion-joiner.png")
     joiner.get_by_test_id("accept-suggestion").tap()
-    saved(joiner)
-    taps = session_state(joiner)["taps"]["joiner"]["landmarks"]
+    play.saved(joiner)
+    taps = play.session_state(joiner)["taps"]["joiner"]["landmarks"]
     taken = next(tap for tap in taps if tap["id"] == landmark)
     assert (taken["x"], taken["y"]) == pytest.approx(
         tuple(spot), abs=0.051

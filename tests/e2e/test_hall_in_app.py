@@ -30,22 +30,11 @@ from typing import Any
 
 import cv2
 import numpy as np
+import play
 import pytest
 from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 from test_in_app_camera import SPY, angle_deg, quaternion, still_reading, take_photo
-from test_two_phones import (
-    cannot_see,
-    find_landmarks,
-    inside,
-    mark_friend,
-    needed,
-    reported_position,
-    session_state,
-    start_and_join,
-    stored_photo,
-    tap_landmarks,
-)
 
 from shared_solver.estimation.camera import MAIN_CAMERA_MM, PHONE_LOG_SIGMA, focal_35mm
 from testbed.curves import distance_to
@@ -161,7 +150,7 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     screenshots: Path,
 ) -> None:
     s = hall.scene
-    starter, joiner = start_and_join(server, filming(films[0]), filming(films[1]))
+    starter, joiner = play.start_and_join(server, filming(films[0]), filming(films[1]))
     downs = (s.camera1.down, s.camera2.down)
     for phone, role, camera, photo in (
         (starter, "starter", s.camera1, hall.photo1),
@@ -173,22 +162,22 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
         assert abs((form["heading"] - camera.heading + 180) % 360 - 180) < 2.0, form
         # The photo the server keeps is the rendered one, whole and at its size: the
         # truth's pixels are its pixels.
-        stored = np.frombuffer(stored_photo(server, phone, role), np.uint8)
+        stored = np.frombuffer(play.stored_photo(server, phone, role), np.uint8)
         kept = cv2.imdecode(stored, cv2.IMREAD_COLOR)
         assert kept is not None
         assert kept.shape == photo.shape
         assert grey_levels_apart(kept, photo) < STORED_GREY_LEVELS
-    state = session_state(starter)
+    state = play.session_state(starter)
     for role, down in zip(("starter", "joiner"), downs, strict=True):
         assert state["photos"][role]["gravity"]["down"] == pytest.approx(down, abs=0.02)
 
     # The starter sees the joiner and marks them; the joiner cannot see the starter. The
     # joiner's phone shows the level the starter is on, with no landmark, through the truth.
-    mark_friend(starter, *s.epipole1)
-    cannot_see(joiner)
+    play.mark_friend(starter, *s.epipole1)
+    play.cannot_see(joiner)
     expect(joiner.get_by_test_id("answer-band")).to_be_visible()
     expect(joiner.get_by_test_id("result-text")).to_contain_text("along the yellow band")
-    needed(joiner, 1)
+    play.needed(joiner, 1)
     joiner.screenshot(path=screenshots / "13-level-joiner.png")
     curve = joiner.get_by_test_id("answer-curve")
     level = json.loads(curve.get_attribute("data-points") or "[]")
@@ -209,12 +198,12 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     expect(joiner.get_by_test_id("result-text")).to_contain_text("compass points")
 
     # One landmark, tapped on both phones: a point, its region holding the truth.
-    tap_landmarks(starter, s.landmarks1[LANDMARK : LANDMARK + 1])
-    find_landmarks(joiner, s.landmarks2[LANDMARK : LANDMARK + 1])
-    centre, ellipse, how = reported_position(joiner)
+    play.tap_landmarks(starter, s.landmarks1[LANDMARK : LANDMARK + 1])
+    play.find_landmarks(joiner, s.landmarks2[LANDMARK : LANDMARK + 1])
+    centre, ellipse, how = play.reported_position(joiner)
     assert how == "solved"
-    assert inside(s.epipole2, centre, ellipse), (centre, ellipse, s.epipole2)
+    assert play.inside(s.epipole2, centre, ellipse), (centre, ellipse, s.epipole2)
     diagonal = math.hypot(*s.image_size2)
     assert np.hypot(*(centre - s.epipole2)) < POINT_DIAGONAL * diagonal, (centre, s.epipole2)
-    needed(joiner, 0)
+    play.needed(joiner, 0)
     joiner.screenshot(path=screenshots / "13b-level-point-joiner.png")

@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import Any
 
 import httpx2
+import play
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expect
-from test_two_phones import TEMPLE
 
 from testbed.client import Phone as ApiPhone
 
@@ -162,7 +162,7 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
     found += each_language(page, "camera")
     page.get_by_test_id("camera-close").tap()
 
-    page.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
+    page.get_by_test_id("photo-input").set_input_files(play.TEMPLE / "templeSR0006.png")
     page.get_by_test_id("photo-view").wait_for()
     found += each_language(page, "tap your friend")
     page.get_by_test_id("mark-line").tap()
@@ -173,7 +173,7 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
     # The friend's photo and two landmarks on it: this phone is asked to find #1.
     session = f"{server}/api/sessions/{joined['session_id']}"
     auth = {"Authorization": f"Bearer {joined['token']}"}
-    with (TEMPLE / "templeSR0003.png").open("rb") as photo:
+    with (play.TEMPLE / "templeSR0003.png").open("rb") as photo:
         files = {"photo": ("joiner.png", photo, "image/png")}
         httpx2.put(f"{session}/photo", headers=auth, files=files).raise_for_status()
     landmarks = [{"id": 1, "x": 200.0, "y": 150.0}, {"id": 2, "x": 420.0, "y": 300.0}]
@@ -210,7 +210,7 @@ def test_the_top_bar_says_friend_online_in_full(
         try:
             page = opened.new_page()
             page.goto(f"{server}/join/{created['join_code']}")
-            page.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
+            page.get_by_test_id("photo-input").set_input_files(play.TEMPLE / "templeSR0006.png")
             expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
             expect(page.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
             cut = []

@@ -7,11 +7,11 @@ from pathlib import Path
 
 import httpx2
 import numpy as np
+import play
 import pytest
 from phone import Phone, expect
 from PIL import Image
 from test_answer_clear import OVERLAID
-from test_two_phones import start_and_join
 
 from deploy.replica import serve
 
@@ -79,7 +79,7 @@ def test_the_photo_takes_the_screen_either_way_up(
     view; else, as a landscape photo on an upright phone, which whole would fill a third of
     the screen, it opens filling the view around its middle (the whole photo a button
     away). Either way the photo takes at least SHARE_TARGET of the screen on both phones."""
-    starter, joiner = start_and_join(server, pixel, iphone)
+    starter, joiner = play.start_and_join(server, pixel, iphone)
     portrait = tmp_path / "portrait.png"
     with Image.open(TEMPLE / "templeSR0006.png") as photo:
         photo.transpose(Image.Transpose.ROTATE_90).save(portrait)

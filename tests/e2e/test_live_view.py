@@ -31,20 +31,12 @@ from typing import Any
 import cv2
 import httpx2
 import numpy as np
+import play
 import pytest
 from chromium_phone import ChromiumPhone
 from phone import Element, Phone, expect
 from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
-from test_two_phones import (
-    PAIR,
-    cannot_see,
-    find_landmarks,
-    reported_position,
-    scene,
-    session_state,
-    temple,
-)
 
 from testbed.scenes import Scene
 from testbed.y4m import write_y4m
@@ -179,7 +171,7 @@ def starter_by_api(server: str) -> tuple[dict[str, str], str]:
     join code."""
     created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
     auth = {"Authorization": f"Bearer {created['token']}"}
-    with temple(PAIR[0]).open("rb") as photo:
+    with play.temple(play.PAIR[0]).open("rb") as photo:
         files = {"photo": ("starter.png", photo, "image/png")}
         url = f"{server}/api/sessions/{created['session_id']}/photo"
         httpx2.put(url, headers=auth, files=files).raise_for_status()
@@ -214,11 +206,11 @@ def answered(
     ]
     friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
     put_taps(server, starter, {"friend": friend1, "landmarks": landmarks})
-    cannot_see(joiner)
-    find_landmarks(joiner, found)
-    _, _, how = reported_position(joiner)
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, found)
+    _, _, how = play.reported_position(joiner)
     assert how == "solved"
-    mine: dict[str, Any] = session_state(joiner)["answer"]["in_photo"]["joiner"]
+    mine: dict[str, Any] = play.session_state(joiner)["answer"]["in_photo"]["joiner"]
     return mine
 
 
@@ -318,14 +310,14 @@ class Reanchoring:
 def test_show_me_points_at_the_friend_as_the_phone_turns(
     server: str, filming: Callable[[Path], Phone], tmp_path: Path, screenshots: Path
 ) -> None:
-    photo = cv2.imread(str(temple(PAIR[1])), cv2.IMREAD_COLOR)
+    photo = cv2.imread(str(play.temple(play.PAIR[1])), cv2.IMREAD_COLOR)
     assert photo is not None
     video = tmp_path / "joiner.y4m"
     write_y4m(video, [photo.astype(np.uint8)])
     joiner = filming(video)
     assert isinstance(joiner, ChromiumPhone)
     starter, code = starter_by_api(server)
-    truth = scene(3, seed=12)
+    truth = play.scene(3, seed=12)
 
     # The joiner photographs the temple in the app, upright and level.
     joiner.goto(f"{server}/join/{code}")

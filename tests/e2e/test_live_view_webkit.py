@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import play
 import pytest
 from phone import Phone, expect
 from test_in_app_camera import ASK_MOTION, SPY, still_reading, take_photo
@@ -60,7 +61,6 @@ from test_live_view import (
     show_me,
     starter_by_api,
 )
-from test_two_phones import scene
 
 pytestmark = pytest.mark.engines("webkit")
 
@@ -113,7 +113,7 @@ def hold_turned(phone: Phone, right_deg: float) -> None:
 
 def test_show_me_in_webkit(server: str, pixel: Phone) -> None:
     starter, code = starter_by_api(server)
-    truth = scene(3, seed=12)
+    truth = play.scene(3, seed=12)
     still = still_reading([0.0, 1.0, 0.0])
 
     # The joiner photographs the mock camera's pattern in the app, upright and level.

@@ -14,19 +14,10 @@ from typing import Any
 
 import cv2
 import numpy as np
+import play
 from phone import Phone, expect
 from PIL import Image
 from test_answer_view import screen_pixels, set_answer_shown
-from test_two_phones import (
-    cannot_see,
-    find_landmarks,
-    mark_friend,
-    scene,
-    session_state,
-    start_and_join,
-    tap_landmarks,
-    to_the_curve,
-)
 
 from testbed.scenes import NO_PHONES_LANDMARKS2
 
@@ -121,7 +112,7 @@ def near_polylines(polylines: list[list[list[float]]], within: float) -> np.ndar
 
 
 def drawing_of(page: Phone) -> dict[str, Any]:
-    drawing: dict[str, Any] = session_state(page)["answer"]["in_photo"]["joiner"]["drawing"]
+    drawing: dict[str, Any] = play.session_state(page)["answer"]["in_photo"]["joiner"]["drawing"]
     return drawing
 
 
@@ -203,10 +194,10 @@ def test_the_phone_and_the_overlay_draw_the_answer_in_the_same_place(
 ) -> None:
     """The curve at four landmarks, then the frame at five: where the phone's
     SVG puts them in the photo is where the overlay's picture puts them."""
-    joiner = to_the_curve(server, pixel, iphone)
+    joiner = play.to_the_curve(server, pixel, iphone)
     same_curve(joiner, tmp_path)
 
-    find_landmarks(joiner, NO_PHONES_LANDMARKS2[4:], first_id=5)
+    play.find_landmarks(joiner, NO_PHONES_LANDMARKS2[4:], first_id=5)
     expect(joiner.get_by_test_id("result-position")).to_be_visible()
     expect(joiner.get_by_test_id("answer-frame")).to_be_visible()
     same_frame(joiner, tmp_path)
@@ -217,11 +208,11 @@ def test_the_phone_and_the_overlay_point_the_same_way_to_a_friend_off_the_photo(
 ) -> None:
     """The temple's landmarks with the friend marked top right in the starter's photo put
     them below the joiner's photo, to the right: both arrows point there from the same tip."""
-    truth = scene(5, seed=16)
-    starter, joiner = start_and_join(server, pixel, iphone, photos=True)
-    mark_friend(starter, *OFF_PHOTO_MARK)
-    tap_landmarks(starter, truth.landmarks1)
-    cannot_see(joiner)
-    find_landmarks(joiner, truth.landmarks2)
+    truth = play.scene(5, seed=16)
+    starter, joiner = play.start_and_join(server, pixel, iphone, photos=True)
+    play.mark_friend(starter, *OFF_PHOTO_MARK)
+    play.tap_landmarks(starter, truth.landmarks1)
+    play.cannot_see(joiner)
+    play.find_landmarks(joiner, truth.landmarks2)
     expect(joiner.get_by_test_id("answer-border-arrow")).to_be_visible()
     same_arrow(joiner, tmp_path)

@@ -9,10 +9,10 @@ import io
 from pathlib import Path
 
 import httpx2
+import play
 import pytest
 from phone import Phone, expect
 from PIL import Image, ImageOps
-from test_two_phones import stored_photo
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -123,7 +123,7 @@ def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     except AssertionError as turned:
         raise AssertionError(f"{turned}: {shown}") from None
     # ...and as the server stores it: it keeps a photo without EXIF as it comes.
-    with Image.open(io.BytesIO(stored_photo(server, iphone, "joiner"))) as kept:
+    with Image.open(io.BytesIO(play.stored_photo(server, iphone, "joiner"))) as kept:
         assert kept.size == (short_side, long_side)
         small = kept.convert("RGB").resize((4, 4))
         colours = {q: list(small.getpixel(xy)) for q, xy in CENTRES.items()}

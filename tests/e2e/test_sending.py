@@ -10,10 +10,10 @@ import json
 import time
 from typing import Any
 
+import play
 from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 from playwright.sync_api import Request
-from test_two_phones import cannot_see, saved, start_and_join
 
 HOLD_S = 1.0  # a finger resting mid-drag: far longer than any wait before sending
 
@@ -21,9 +21,9 @@ HOLD_S = 1.0  # a finger resting mid-drag: far longer than any wait before sendi
 def test_nothing_is_sent_while_a_finger_drags_a_landmark(
     server: str, pixel: Phone, iphone: Phone
 ) -> None:
-    starter, _ = start_and_join(server, pixel, iphone, photos=True)
+    starter, _ = play.start_and_join(server, pixel, iphone, photos=True)
     assert isinstance(starter, ChromiumPhone)
-    cannot_see(starter)
+    play.cannot_see(starter)
     sent: list[dict[str, Any]] = []
 
     def taps_sent(request: Request) -> None:
@@ -38,7 +38,7 @@ def test_nothing_is_sent_while_a_finger_drags_a_landmark(
     starter.tap_photo(200, 200)  # placed: sent
     expect(starter.locator('[data-testid="landmark"][data-id="1"]')).to_be_visible()
     starter.wait_for(lambda: count() == 1, "the placed landmark sent")
-    saved(starter)
+    play.saved(starter)
 
     box = starter.page.get_by_test_id("landmark").bounding_box()
     assert box is not None
@@ -48,6 +48,6 @@ def test_nothing_is_sent_while_a_finger_drags_a_landmark(
     assert count() == 1, "taps were sent while the finger was still dragging"
     starter.touch("up")
     starter.wait_for(lambda: count() == 2, "the moved landmark sent")
-    saved(starter)
+    play.saved(starter)
     moved = sent[1]["landmarks"][0]
     assert moved["x"] > 200 + 10  # moved right by the drag (60 CSS px, in photo px)

@@ -10,16 +10,9 @@ aimed as a finger's, and the loupe shows while it presses.
 
 from __future__ import annotations
 
+import play
 import pytest
 from phone import Phone, expect
-from test_two_phones import (
-    cannot_see,
-    saved,
-    session_state,
-    start_and_join,
-    tap_sigma,
-    view_scale,
-)
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -40,15 +33,15 @@ def transform(phone: Phone) -> tuple[float, float, float]:
 
 
 def landmarks(phone: Phone) -> list[dict[str, float]]:
-    saved(phone)
-    found: list[dict[str, float]] = session_state(phone)["taps"]["starter"]["landmarks"]
+    play.saved(phone)
+    found: list[dict[str, float]] = play.session_state(phone)["taps"]["starter"]["landmarks"]
     return found
 
 
 def test_fingers_tap_drag_pinch_and_pan(server: str, pixel: Phone, iphone: Phone) -> None:
-    starter, _ = start_and_join(server, iphone, pixel, photos=True)
-    cannot_see(starter)
-    fitted = view_scale(starter)
+    starter, _ = play.start_and_join(server, iphone, pixel, photos=True)
+    play.cannot_see(starter)
+    fitted = play.view_scale(starter)
 
     # A tap of the finger: placed, with a finger's precision (a mouse's is the loupe's).
     starter.touch("down", [starter.photo_to_screen(*SPOT)])
@@ -58,7 +51,7 @@ def test_fingers_tap_drag_pinch_and_pan(server: str, pixel: Phone, iphone: Phone
     (placed,) = landmarks(starter)
     # WebKit's pointer events carry whole CSS px: the spot is that close.
     assert (placed["x"], placed["y"]) == pytest.approx(SPOT, abs=1 / fitted)
-    assert placed["sigma"] == pytest.approx(tap_sigma(fitted, "chromium"), abs=0.01)
+    assert placed["sigma"] == pytest.approx(play.tap_sigma(fitted, "chromium"), abs=0.01)
 
     # Its label dragged: the loupe shows while the finger presses, the landmark follows it.
     x, y = label.evaluate(CENTRE)

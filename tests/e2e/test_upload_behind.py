@@ -10,19 +10,10 @@ import re
 import time
 from pathlib import Path
 
+import play
 import pytest
 from phone import Phone, expect
 from test_catch_up import DROPPED, link
-from test_two_phones import (
-    PAIR,
-    mark_friend,
-    saved,
-    scene,
-    session_state,
-    start_and_join,
-    tap_landmark,
-    temple,
-)
 
 from deploy.replica import serve
 
@@ -35,19 +26,19 @@ REQUESTS = """() => performance.getEntriesByType("resource")
 
 @pytest.mark.expected_console_errors(DROPPED)
 def test_taps_wait_on_the_phone_for_its_photo(pixel: Phone, iphone: Phone, tmp_path: Path) -> None:
-    s = scene(3, seed=6)
+    s = play.scene(3, seed=6)
     with serve(tmp_path) as server, link(iphone, server.base_url) as network:
         starter, joiner = pixel, iphone
-        start_and_join(server.base_url, starter, joiner, joiner_server=network.base_url)
+        play.start_and_join(server.base_url, starter, joiner, joiner_server=network.base_url)
         expect(joiner.get_by_test_id("photo-input")).to_be_attached()
 
         network.cut()
-        joiner.get_by_test_id("photo-input").set_input_files(temple(PAIR[1]))
+        joiner.get_by_test_id("photo-input").set_input_files(play.temple(play.PAIR[1]))
         # Shown at once, in the stored photo's pixels, and tappable: no upload awaited.
         expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
-        mark_friend(joiner, *s.epipole2)
+        play.mark_friend(joiner, *s.epipole2)
         for number, point in enumerate(s.landmarks2, 1):
-            tap_landmark(joiner, number, point)
+            play.tap_landmark(joiner, number, point)
         # With no connection the upload gives up (after its retries), says so, keeps the taps.
         error = joiner.get_by_test_id("upload-error")
         expect(error).to_contain_text("no connection")
@@ -59,9 +50,9 @@ def test_taps_wait_on_the_phone_for_its_photo(pixel: Phone, iphone: Phone, tmp_p
         back = time.monotonic()
         # Back online, the photo goes by itself (no Retry tapped), then the taps.
         expect(joiner.get_by_test_id("upload-error")).to_have_count(0)
-        saved(joiner)
+        play.saved(joiner)
         sent_in = time.monotonic() - back
-        state = session_state(starter)
+        state = play.session_state(starter)
         requests = joiner.evaluate(REQUESTS)
 
     assert sent_in < 15, f"the photo and taps took {sent_in:.1f} s once back online"

@@ -20,7 +20,15 @@ from functools import cache
 import numpy as np
 
 from shared_solver.matching import Epipolar, epipolar_band, suggest
-from shared_solver.matching.suggestion import RULES, Rules, check_back, gather, leads, search_band
+from shared_solver.matching.suggestion import (
+    RULES,
+    LandmarkSearch,
+    Rules,
+    check_back,
+    gather,
+    leads,
+    search_band,
+)
 from shared_solver.projective import Array
 from testbed import prints, textures
 from testbed.hall import box_faces
@@ -44,17 +52,18 @@ def good_answer(scene: Scene) -> Epipolar:
     return Epipolar(f, typical**2 * np.eye(9)).oriented(scene.landmarks1, scene.landmarks2)
 
 
-def offered_before(pair: RenderedPair, epipolar: Epipolar, point: Array) -> Array | None:
-    """The spot the search and rule before this change offered, or None."""
+def landmark_search(pair: RenderedPair, epipolar: Epipolar, point: Array) -> LandmarkSearch:
+    """The search in photo 2 for the landmark tapped at ``point`` in photo 1, along its band."""
     band = epipolar_band(epipolar, point, image_size=pair.scene.image_size2, point_covariance=TAP)
     assert band is not None
-    evidence = gather(
-        pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP, rules=BEFORE
-    )
+    return LandmarkSearch(pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP)
+
+
+def offered_before(search: LandmarkSearch) -> Array | None:
+    """The spot the search and rule before this change offered, or None."""
+    evidence = gather(search, rules=BEFORE)
     assert evidence is not None
-    checked = check_back(
-        evidence, pair.photo1, pair.photo2, point, epipolar, point_covariance=TAP, rules=BEFORE
-    )
+    checked = check_back(evidence, search, rules=BEFORE)
     if leads(checked.match, BEFORE) and checked.returned <= BEFORE.tolerance:
         return checked.match.point
     return None
@@ -78,13 +87,12 @@ def test_another_banner_alike_is_not_offered_for_one_seen_mirrored() -> None:
     epipolar = good_answer(scene)
     point, truth = scene.landmarks1[49], scene.landmarks2[49]
     diagonal = math.hypot(*scene.image_size2)
-    before = offered_before(pair, epipolar, point)
+    search = landmark_search(pair, epipolar, point)
+    before = offered_before(search)
     assert before is not None
     assert np.hypot(*(before - truth)) > 0.1 * diagonal
     assert np.hypot(*(before - scene.landmarks2[32])) < 0.002 * diagonal  # the other banner
-    band = epipolar_band(epipolar, point, image_size=scene.image_size2, point_covariance=TAP)
-    assert band is not None
-    assert suggest(pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP) is None
+    assert suggest(search) is None
 
 
 def test_a_banner_seen_from_behind_is_found_read_reversed_and_offered_only_if_asked() -> None:
@@ -98,17 +106,14 @@ def test_a_banner_seen_from_behind_is_found_read_reversed_and_offered_only_if_as
     assert pair.kinds[40] == "banner"
     epipolar = good_answer(scene)
     point, truth = scene.landmarks1[40], scene.landmarks2[40]
-    band = epipolar_band(epipolar, point, image_size=scene.image_size2, point_covariance=TAP)
-    assert band is not None
-    match = search_band(pair.photo1, pair.photo2, point, epipolar, band)
+    search = landmark_search(pair, epipolar, point)
+    match = search_band(pair.photo1, pair.photo2, point, epipolar, search.band)
     assert match is not None
     assert match.view == "reversed along"
     assert match.score - match.as_read >= 0.15
-    assert suggest(pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP) is None
+    assert suggest(search) is None
     reversed_too = replace(RULES, min_view_lead=0.15)
-    found = suggest(
-        pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP, rules=reversed_too
-    )
+    found = suggest(search, rules=reversed_too)
     assert found is not None
     assert np.hypot(*(np.array(found.point) - truth)) < 0.002 * math.hypot(*scene.image_size2)
 
@@ -171,23 +176,15 @@ def turned_mat(*, hidden: bool) -> tuple[RenderedPair, Array, Array, Array]:
 
 def test_the_far_corner_of_a_mat_turned_around_is_not_offered_for_its_hidden_near_corner() -> None:
     pair, point, _, lookalike = turned_mat(hidden=True)
-    scene = pair.scene
-    band = epipolar_band(
-        good_answer(scene), point, image_size=scene.image_size2, point_covariance=TAP
-    )
-    assert band is not None
-    assert band.check(lookalike, TAP).sigmas < 1.0  # on the band
-    epipolar = good_answer(scene)
-    assert suggest(pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP) is None
+    search = landmark_search(pair, good_answer(pair.scene), point)
+    assert search.band.check(lookalike, TAP).sigmas < 1.0  # on the band
+    assert suggest(search) is None
 
 
 def test_a_mat_corner_in_sight_is_offered_where_it_is_not_at_the_turned_look_alike() -> None:
     pair, point, truth, lookalike = turned_mat(hidden=False)
     scene = pair.scene
-    epipolar = good_answer(scene)
-    band = epipolar_band(epipolar, point, image_size=scene.image_size2, point_covariance=TAP)
-    assert band is not None
-    found = suggest(pair.photo1, pair.photo2, point, epipolar, band, point_covariance=TAP)
+    found = suggest(landmark_search(pair, good_answer(scene), point))
     diagonal = math.hypot(*scene.image_size2)
     assert np.hypot(*(truth - lookalike)) > 0.05 * diagonal
     assert found is not None

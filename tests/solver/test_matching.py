@@ -17,6 +17,7 @@ from test_lookalikes import good_answer
 from shared_solver.matching import (
     FLAG_SIGMAS,
     Epipolar,
+    LandmarkSearch,
     epipolar_band,
     guide_landmark,
     suggest,
@@ -126,7 +127,9 @@ def test_plain_landmarks_get_right_suggestions(hall: RenderedPair) -> None:
     for p, q in zip(scene.landmarks1[:12], scene.landmarks2[:12], strict=True):
         band = epipolar_band(epipolar, p, image_size=scene.image_size2, point_covariance=TAP)
         assert band is not None
-        found = suggest(hall.photo1, hall.photo2, p, epipolar, band, point_covariance=TAP)
+        found = suggest(
+            LandmarkSearch(hall.photo1, hall.photo2, p, epipolar, band, point_covariance=TAP)
+        )
         if found is not None:
             shown += 1
             right += math.hypot(found.point[0] - q[0], found.point[1] - q[1]) <= 0.01 * diagonal
@@ -149,7 +152,8 @@ def test_no_suggestion_for_a_patch_the_other_photo_does_not_show(hall: RenderedP
         band = epipolar_band(epipolar, p, image_size=scene.image_size2, point_covariance=TAP)
         assert band is not None
         searched += 1
-        assert suggest(photo, hall.photo2, p, epipolar, band, point_covariance=TAP) is None
+        search = LandmarkSearch(photo, hall.photo2, p, epipolar, band, point_covariance=TAP)
+        assert suggest(search) is None
     assert searched == 8
 
 

@@ -12,6 +12,7 @@ import { useEffect, useRef, useState } from "preact/hooks";
 import { t } from "../i18n";
 import type { SensorFields } from "../types";
 import { markShutter } from "../live/shutter";
+import { CameraVideo } from "./CameraVideo";
 import { takePicture } from "./capture";
 import type { GravityReading } from "./gravity";
 import type { HeadingReading } from "./heading";
@@ -142,16 +143,7 @@ export function InAppCamera({ onPhoto, onClose }: Props) {
 
   return (
     <div class="camera" role="dialog" aria-modal="true" aria-label={t("camera.dialog")} data-testid="in-app-camera" data-phase={phase}>
-      <video
-        ref={video}
-        class="camera-view"
-        data-testid="camera-view"
-        role="img"
-        aria-label={t("camera.sees")}
-        autoplay
-        muted
-        playsInline
-      />
+      <CameraVideo videoRef={video} class="camera-view" data-testid="camera-view" />
       {phase === "ask" ? (
         <div class="camera-ask" data-testid="motion-question">
           <p>{t("camera.motionAsk")}</p>

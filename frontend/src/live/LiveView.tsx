@@ -23,6 +23,7 @@ import { ApiError, reanchor } from "../api";
 import { t } from "../i18n";
 import { drawnLabel, errorText } from "../i18n/server";
 import type { AnswerView } from "../answer";
+import { CameraVideo } from "../camera/CameraVideo";
 import { motionAccess } from "../camera/motion";
 import { ArrowMark, DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, pathOf } from "../components/answerMarks";
 import { loadShutterAnchor, saveShutterAnchor } from "../storage";
@@ -297,15 +298,10 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       data-sent-wait={sent ? sent.waited.toFixed(0) : undefined}
     >
       <div class="live-stage" ref={stage}>
-        <video
-          ref={video}
+        <CameraVideo
+          videoRef={video}
           class="live-video"
           data-testid="live-video"
-          role="img"
-          aria-label={t("camera.sees")}
-          autoplay
-          muted
-          playsInline
           onLoadedData={() => {
             performance.mark(FIRST_FRAME);
             setPlaying(true);
