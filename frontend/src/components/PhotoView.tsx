@@ -23,7 +23,7 @@
 import { t as tr } from "../i18n";
 import { useEffect, useRef, useState } from "preact/hooks";
 import { PHOTO_DESCRIPTION_ID } from "../a11y/PhotoDescription";
-import type { Gesture } from "../gestures";
+import { loupeTarget, type Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
 import type { AnswerView } from "../answer";
 import type { Box } from "../reframe";
@@ -35,7 +35,7 @@ import { GuideLayer, type Guide } from "./GuideLayer";
 import { FitIcon } from "./icons";
 import { Loupe } from "./Loupe";
 import { Marks, drawnLandmarks } from "./Marks";
-import { useGestures, useLoupeTarget } from "./useGestures";
+import { useGestures } from "./useGestures";
 import { usePanZoom } from "./usePanZoom";
 
 export interface Focus {
@@ -185,7 +185,7 @@ function Drawing(props: DrawingProps) {
   const { view, transform: t, gesture, taps, photoSize } = props;
   const layer = `width:${photoSize.width}px;height:${photoSize.height}px;transform:translate(${t.tx}px,${t.ty}px) scale(${t.scale})`;
   const landmarks = drawnLandmarks(taps, gesture, t);
-  const target = useLoupeTarget(gesture);
+  const target = loupeTarget(gesture); // a press reaches here moved, or held LOUPE_SHOW_MS
 
   return (
     <>

@@ -5,11 +5,10 @@
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
-import { IDLE, LOUPE_SHOW_MS, editOf, loupeTarget, type Gesture } from "../gestures";
+import { IDLE, LOUPE_SHOW_MS, editOf, type Gesture } from "../gestures";
 import type { TapSet } from "../landmarks";
 import type { PanZoom } from "../panZoom";
 import { PointerGestures, listen } from "../pointers";
-import type { Point } from "../viewTransform";
 import type { Tap } from "../session";
 import { grabAt } from "./Marks";
 
@@ -30,6 +29,7 @@ export function useGestures(
   marks: MarkHandlers,
 ): { gesture: Gesture; gestures: PointerGestures } {
   const [gesture, setGesture] = useState<Gesture>(IDLE);
+  const held = useRef<{ timer?: ReturnType<typeof setTimeout>; press?: Gesture }>({});
   const live = useRef(marks);
   live.current = marks;
   const made = useRef<PointerGestures | null>(null);
@@ -41,7 +41,23 @@ export function useGestures(
     },
     grabAt: (target, transform) => grabAt(target, live.current.taps, transform),
     transformed: (transform) => panZoom.set(transform),
-    changed: setGesture,
+    changed: (next) => {
+      clearTimeout(held.current.timer);
+      if (next.kind === "press" && !next.moved) {
+        // A finger down that has not moved draws as no gesture at all until its loupe is due
+        // (LOUPE_SHOW_MS; a mouse never has one): no render on a finger's down, part of a
+        // tap's time to the screen on a slow phone (docs/slow-phone.md).
+        setGesture(IDLE);
+        if (next.mouse) return;
+        held.current.press = next;
+        held.current.timer = setTimeout(
+          () => setGesture(held.current.press ?? IDLE),
+          Math.max(0, next.since + LOUPE_SHOW_MS - performance.now()), // since: the event's time stamp
+        );
+        return;
+      }
+      setGesture(next);
+    },
     finished: (outcome, view) => {
       const now = live.current;
       const edit = editOf(outcome, view.transform, view.photo);
@@ -56,22 +72,11 @@ export function useGestures(
 
   useEffect(() => {
     const element = box.current;
-    return element ? listen(element, window, gestures) : undefined;
+    const stop = element ? listen(element, window, gestures) : undefined;
+    return () => {
+      clearTimeout(held.current.timer);
+      stop?.();
+    };
   }, []);
   return { gesture, gestures };
-}
-
-/** The loupe's target while a press asks for it (gestures.ts), once it has lasted
- * LOUPE_SHOW_MS or moved. */
-export function useLoupeTarget(gesture: Gesture): Point | null {
-  const press = gesture.kind === "press" && !gesture.mouse ? gesture.since : null;
-  const [due, setDue] = useState<number | null>(null);
-  useEffect(() => {
-    if (press === null) return undefined;
-    const timer = setTimeout(() => setDue(press), LOUPE_SHOW_MS);
-    return () => clearTimeout(timer);
-  }, [press]);
-  const target = loupeTarget(gesture);
-  if (!target || gesture.kind !== "press") return null;
-  return gesture.moved || due === gesture.since ? target : null;
 }
