@@ -38,7 +38,12 @@ export class SessionController {
         this.taps.keepDraft();
         this.sync.applyState(state);
       },
-      onStatus: (save) => store.set({ save }),
+      // The tap's own edit already shows "saving" (session/taps.ts): a second render of the
+      // whole screen for the same words would come between a tap and the next one.
+      onStatus: (save) => {
+        const shown = store.view.save;
+        if (save.status !== shown.status || save.message !== shown.message) store.set({ save });
+      },
       onEnded: () => this.end("ended"),
       onSettled: () => this.sync.releaseHeld(),
     });
