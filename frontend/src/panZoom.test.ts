@@ -76,6 +76,23 @@ describe("the view's size", () => {
     expect(panZoom.state.transform).toEqual(fitTransform(phone, photo));
   });
 
+  it("a landscape photo opens around what matters, then keeps it on screen when turned back", () => {
+    const { panZoom } = made();
+    const friend = { x: 600, y: 240 }; // near the right edge, out of sight around the middle
+    expect(toScreen(openingTransform(phone, photo), friend).x).toBeGreaterThan(phone.width);
+    panZoom.showPhoto(photo, friend);
+    const opened = panZoom.state.transform!;
+    expect(photo.height * opened.scale).toBeCloseTo(phone.height); // still filled to the height
+    const shown = toScreen(opened, friend);
+    expect(shown.x).toBeGreaterThan(0);
+    expect(shown.x).toBeLessThan(phone.width);
+    panZoom.resize({ width: 560, height: 412 }); // turned: the whole photo
+    panZoom.resize(phone); // and back, not moved by hand: around the friend again
+    expect(panZoom.state.transform).toEqual(opened);
+    panZoom.showPhoto(photo); // another photo, nothing marked: its middle
+    expect(panZoom.state.transform).toEqual(openingTransform(phone, photo));
+  });
+
   it("a fitted view fits again when turned; a zoomed one stays zoomed", () => {
     const { panZoom } = made();
     const turned = { width: 560, height: 412 };

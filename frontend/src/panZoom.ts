@@ -63,6 +63,8 @@ export class PanZoom {
   private reach: Insets = NO_INSETS;
   /** Whether the view is as the photo opened: nothing has moved it since. */
   private opening = true;
+  /** What the photo opens around (photo px; its middle when null): see showPhoto. */
+  private around: Point | null = null;
   /** When the last gesture ended (frames' clock, ms), and the frame waiting for the quiet. */
   private lastLift = Number.NEGATIVE_INFINITY;
   private quietFrame: number | null = null;
@@ -109,7 +111,7 @@ export class PanZoom {
     const next = keepZoom
       ? clampTransform(transform, size, this.photo, this.slack(transform.scale))
       : this.opening
-        ? openingTransform(size, this.photo)
+        ? openingTransform(size, this.photo, this.around)
         : fitTransform(size, this.photo);
     this.update({ view: size, transform: next });
     this.keepInView(false);
@@ -154,12 +156,17 @@ export class PanZoom {
     }
   }
 
-  /** A new photo: as it opens (openingTransform), the whole of it unless that is small. */
-  showPhoto(photo: Size): void {
+  /**
+   * A new photo: as it opens (openingTransform), the whole of it unless that is small; then
+   * filled around `around` (photo px), the part that matters when it opens (the friend this
+   * phone marked, the next landmark's band), or its middle.
+   */
+  showPhoto(photo: Size, around: Point | null = null): void {
     this.photo = photo;
     this.opening = true;
+    this.around = around;
     const { view } = this.current;
-    if (view) this.update({ transform: openingTransform(view, photo) });
+    if (view) this.update({ transform: openingTransform(view, photo, around) });
   }
 
   /** Where a gesture moved the view (already within limits). */

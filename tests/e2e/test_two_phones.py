@@ -248,6 +248,11 @@ def test_a_reload_returns_to_the_same_session(server: str, pixel: Phone, iphone:
     expect(starter.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
     expect(starter.locator('[data-testid="landmark"]')).to_have_count(3)
     expect(starter.get_by_test_id("friend-mark")).to_be_visible()
+    # The landscape photo opens filled to the upright phone's height around the friend it
+    # marked (x 523 of 640: out of sight around the photo's middle), on screen.
+    left, _, _, _, _, width, _ = starter.view_box()
+    x, _ = starter.photo_to_screen(*truth.epipole1)
+    assert left + 10 < x < left + width - 10, (left, x, width)
     expect(starter.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
     # The joiner's phone carries on and sees the starter's landmarks to find.
     play.upload(joiner, play.temple(play.PAIR[1]))

@@ -81,7 +81,7 @@ export function PhotoView(props: Props) {
   // "Loading"; it is asked for again when the phone is back online (session/sync.ts).
   const [failedUrl, setFailedUrl] = useState<string | null>(null);
   const failed = failedUrl === props.photoUrl;
-  const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets, () => busy.current());
+  const { panZoom, state } = usePanZoom(box, props.photoUrl, photoSize, props.insets, () => busy.current(), opensAround(taps, props.guide));
   const { gesture, gestures } = useGestures(box, panZoom, props);
   busy.current = () => gestures.active;
   const { view, transform, gliding } = state;
@@ -178,6 +178,19 @@ interface DrawingProps extends Props {
   onLoaded: () => void;
   failed: boolean;
   onFailed: () => void;
+}
+
+/**
+ * The part of the photo that matters as it opens (a landscape photo on an upright phone is
+ * filled to the view's height, and only part of it shows): the friend this phone marked,
+ * else the next landmark's suggested spot, else the middle of its band; null: the middle.
+ */
+export function opensAround(taps: TapSet, guide: Guide | null): Point | null {
+  if (taps.friend) return { x: taps.friend.x, y: taps.friend.y };
+  if (guide?.spot) return guide.spot;
+  if (!guide) return null;
+  const { start, end } = guide.band;
+  return { x: (start[0] + end[0]) / 2, y: (start[1] + end[1]) / 2 };
 }
 
 /** The picture: photo, guide, marks, the answer on top, loupe. */

@@ -1,13 +1,12 @@
 /**
  * The photo view's transform in Preact (panZoom.ts): measured before the first paint and on
- * every resize, fitted again for a new photo, redrawn on every change.
+ * every resize, opened again for a new photo (around `around`), redrawn on every change.
  */
 
 import { useEffect, useLayoutEffect, useRef, useState } from "preact/hooks";
 import { prefersReducedMotion } from "../a11y/motion";
 import { PanZoom, type Frames, type PanZoomState } from "../panZoom";
-import type { Insets } from "../viewTransform";
-import type { Size } from "../viewTransform";
+import type { Insets, Point, Size } from "../viewTransform";
 
 const BROWSER_FRAMES: Frames = {
   request: (step) => requestAnimationFrame(step),
@@ -22,6 +21,7 @@ export function usePanZoom(
   photoSize: Size,
   insets: Insets,
   busy: () => boolean,
+  around: Point | null,
 ): { panZoom: PanZoom; state: PanZoomState } {
   const [state, setState] = useState<PanZoomState>({ view: null, transform: null, gliding: false });
   const made = useRef<PanZoom | null>(null);
@@ -43,7 +43,11 @@ export function usePanZoom(
     return () => observer.disconnect();
   }, []);
 
-  useEffect(() => panZoom.showPhoto(photoSize), [photoUrl, photoSize.width, photoSize.height]);
+  // What the photo opens around is read when a photo opens, not followed after: the view
+  // moves by itself only to bring the answer into view (panZoom.ts).
+  const opensAround = useRef(around);
+  opensAround.current = around;
+  useEffect(() => panZoom.showPhoto(photoSize, opensAround.current), [photoUrl, photoSize.width, photoSize.height]);
   useEffect(() => () => panZoom.stopGlide(), []);
   return { panZoom, state };
 }
