@@ -421,16 +421,19 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", off)
     errors.append(marker_at(ahead + 3.0, "aligned by the server", anchor=held))
     # One that matches anchors the view: the marker where the friend is. Tapped while the
-    # phone still turns (from 5 degrees right of where it comes to rest, in about 0.5 s), the
-    # frame goes once the phone holds still, with the reading of that moment: the route's
-    # rotation is the resting phone's, so a frame sent at the tap would put the marker 4-5
-    # degrees off. The tap is the page's own click: a tap of the driver may take longer than
-    # the 0.3 s that make a phone still, and the turn would seem to stop under it.
+    # phone still turns (from 10 degrees right of where it comes to rest, a degree a step),
+    # the frame goes once the phone holds still, with the reading of that moment: the route's
+    # rotation is the resting phone's, so a frame sent at the tap would put the marker about
+    # 8 degrees off. A degree a step keeps the turn faster than "still" (3 degrees/s over
+    # 0.3 s, live/still.ts) even when a busy machine stretches a step to 0.3 s; a quarter of
+    # a degree a step reads as still once a step takes 0.08 s, and the frame goes mid-turn. The tap
+    # is the page's own click: a tap of the driver may take longer than that, and the turn
+    # would seem to stop under it.
     rest = ahead + 3.0
-    steps = 21
+    steps = 11
     for i in range(steps):
-        orientation.hold(turned_right(rest + 5.0 * (1 - i / (steps - 1))))
-        if i == 3:
+        orientation.hold(turned_right(rest + 10.0 * (1 - i / (steps - 1))))
+        if i == 2:
             joiner.evaluate(CLICK_ALIGN)
         time.sleep(0.02)
     expect(live).to_have_attribute("data-anchored", "true")
