@@ -38,12 +38,8 @@ export class SessionController {
         this.taps.keepDraft();
         this.sync.applyState(state);
       },
-      // The tap's own edit already shows "saving" (session/taps.ts): a second render of the
-      // whole screen for the same words would come between a tap and the next one.
-      onStatus: (save) => {
-        const shown = store.view.save;
-        if (save.status !== shown.status || save.message !== shown.message) store.set({ save });
-      },
+      // Through the tap editing: a tap shows "saving" itself, before the saver has it.
+      onStatus: (save) => this.taps.showSaved(save),
       onEnded: () => this.end("ended"),
       onSettled: () => this.sync.releaseHeld(),
     });

@@ -79,6 +79,11 @@ export class TapSaver {
     void this.flush();
   }
 
+  /** What the saver says now ("saving", "saved", an error). */
+  get status(): SaveState {
+    return this.state;
+  }
+
   /** Whether some taps are not on the server yet. */
   get pending(): boolean {
     return this.wantedJson !== null && this.wantedJson !== this.sentJson;

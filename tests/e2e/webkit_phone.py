@@ -337,14 +337,15 @@ class WebKitPhone(Phone):
         element.send_keys(text)
 
     def choose_file(self, steps: tuple[Step, ...], path: Path) -> None:
-        # The app may render the file input anew between finding it and sending the file
-        # to it (seen in test_upload_behind under load): found again, a bounded number of
-        # times.
+        # Like Playwright's set_input_files, it waits for the input: the app may render it
+        # anew between finding it and sending the file to it (seen in test_upload_behind
+        # under load, as a stale element, or a moment with none when the network was cut).
         for attempt in range(STALE_TRIES):
+            self.wait_for(lambda: self._found(steps) is not None, f"{steps} to choose a file with")
             try:
                 self._element(steps).send_keys(str(path))
                 return
-            except StaleElementReferenceException:
+            except (StaleElementReferenceException, AssertionError):
                 if attempt == STALE_TRIES - 1:
                     raise
                 time.sleep(0.1)
@@ -352,9 +353,13 @@ class WebKitPhone(Phone):
     def hold_still(self, acceleration: tuple[float, float, float]) -> None:
         self.evaluate(MOTION, list(acceleration))
 
-    def _element(self, steps: tuple[Step, ...]) -> WebElement:
+    def _found(self, steps: tuple[Step, ...]) -> WebElement | None:
         element = self.evaluate(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))
-        assert isinstance(element, WebElement), f"{self}: nothing matches {steps}"
+        return element if isinstance(element, WebElement) else None
+
+    def _element(self, steps: tuple[Step, ...]) -> WebElement:
+        element = self._found(steps)
+        assert element is not None, f"{self}: nothing matches {steps}"
         return element
 
     def reset(self) -> None:

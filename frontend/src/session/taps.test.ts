@@ -91,3 +91,40 @@ describe("this phone's taps", () => {
     expect(loadDraft("s")).toMatchObject({ unseen: true, skipped: [4] });
   });
 });
+
+describe("what this phone says of its taps' saving", () => {
+  it("never says saved while a tap waits for the screen, and says it once they are all saved", async () => {
+    vi.useFakeTimers();
+    stubLocalStorage();
+    const store = new ViewStore({ session_id: "s", token: "t", role: "joiner" });
+    const replies: ((state: SessionState) => void)[] = [];
+    const saver = new TapSaver({
+      send: () => new Promise<SessionState>((resolve) => replies.push(resolve)),
+      onSaved: () => undefined,
+      onStatus: (save) => taps.showSaved(save),
+      onEnded: () => undefined,
+    });
+    const taps = new TapEditing(store, saver);
+    taps.tap({ x: 100, y: 50, sigma: 3 }); // the friend
+    vi.advanceTimersByTime(100); // shown: its PUT goes
+    expect(replies).toHaveLength(1);
+    taps.tap({ x: 20, y: 30, sigma: 2 }); // landmark 1, not on screen yet
+    replies[0]?.({} as SessionState); // the friend's PUT answers before the screen shows it
+    for (let hop = 0; hop < 10; hop++) await Promise.resolve(); // its reply, no frame yet
+    expect(store.view.save.status).toBe("saving"); // not "saved": a reload would lose #1
+    await vi.advanceTimersByTimeAsync(100); // shown: handed to the saver, its PUT goes
+    expect(replies).toHaveLength(2);
+    expect(store.view.save.status).toBe("saving");
+    replies[1]?.({} as SessionState);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(store.view.save.status).toBe("saved");
+    taps.tap({ x: 40, y: 60, sigma: 2 }); // landmark 2, undone before the screen shows it
+    taps.undo();
+    expect(store.view.save.status).toBe("saving");
+    await vi.advanceTimersByTimeAsync(100);
+    expect(store.view.save.status).toBe("saved"); // nothing new to send: saved again
+    expect(replies).toHaveLength(2);
+    vi.useRealTimers();
+    vi.unstubAllGlobals();
+  });
+});

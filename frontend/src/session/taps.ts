@@ -23,7 +23,7 @@ import {
 import { afterPaint } from "../afterPaint";
 import { lineSigma } from "../precision";
 import { loadDraft, saveDraft } from "../storage";
-import type { TapSaver } from "../tapSaver";
+import type { SaveState, TapSaver } from "../tapSaver";
 import { otherRole, type SessionState } from "../types";
 import { startingMode, type Mode, type SessionView, type Tap, type ViewStore } from "./view";
 
@@ -91,8 +91,20 @@ export class TapEditing {
         this.saveQueued = false;
         this.saver.update(toServerTaps(this.view.editor.taps));
         this.keepDraft();
+        this.showSaved(this.saver.status);
       });
     }
+  }
+
+  /**
+   * The saver's words on screen, unless a change waits for the screen before going to it:
+   * its "saved" would then be of the taps before (and a reload then would lose the change),
+   * and its "saving" is already shown. Shown again once the change is handed over.
+   */
+  showSaved(save: SaveState): void {
+    if (this.saveQueued) return;
+    const shown = this.view.save;
+    if (save.status !== shown.status || save.message !== shown.message) this.store.set({ save });
   }
 
   setMode(mode: Mode): void {
