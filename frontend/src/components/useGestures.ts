@@ -29,7 +29,7 @@ export function useGestures(
   marks: MarkHandlers,
 ): { gesture: Gesture; gestures: PointerGestures } {
   const [gesture, setGesture] = useState<Gesture>(IDLE);
-  const held = useRef<{ timer?: ReturnType<typeof setTimeout>; press?: Gesture }>({});
+  const loupeDue = useRef<ReturnType<typeof setTimeout> | undefined>(undefined);
   const live = useRef(marks);
   live.current = marks;
   const made = useRef<PointerGestures | null>(null);
@@ -42,16 +42,16 @@ export function useGestures(
     grabAt: (target, transform) => grabAt(target, live.current.taps, transform),
     transformed: (transform) => panZoom.set(transform),
     changed: (next) => {
-      clearTimeout(held.current.timer);
+      clearTimeout(loupeDue.current);
       if (next.kind === "press" && !next.moved) {
         // A finger down that has not moved draws as no gesture at all until its loupe is due
         // (LOUPE_SHOW_MS; a mouse never has one): no render on a finger's down, part of a
         // tap's time to the screen on a slow phone (docs/slow-phone.md).
         setGesture(IDLE);
         if (next.mouse) return;
-        held.current.press = next;
-        held.current.timer = setTimeout(
-          () => setGesture(held.current.press ?? IDLE),
+        // Each change of the press sets it anew, timed from the press's own start.
+        loupeDue.current = setTimeout(
+          () => setGesture(next),
           Math.max(0, next.since + LOUPE_SHOW_MS - performance.now()), // since: the event's time stamp
         );
         return;
@@ -74,7 +74,7 @@ export function useGestures(
     const element = box.current;
     const stop = element ? listen(element, window, gestures) : undefined;
     return () => {
-      clearTimeout(held.current.timer);
+      clearTimeout(loupeDue.current);
       stop?.();
     };
   }, []);
