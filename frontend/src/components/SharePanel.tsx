@@ -55,9 +55,13 @@ export function SharePanel({ controller, view, state, top, onNewSearch }: Props)
   useEffect(() => {
     if (!link) return;
     let active = true;
-    void import("../qr").then(({ makeQr }) => {
-      if (active) setQr(makeQr(link));
-    });
+    // With no signal the chunk may not come: the code and the link are shown without it.
+    import("../qr").then(
+      ({ makeQr }) => {
+        if (active) setQr(makeQr(link));
+      },
+      () => undefined,
+    );
     return () => {
       active = false;
     };

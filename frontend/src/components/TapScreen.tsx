@@ -67,7 +67,12 @@ export function TapScreen({ controller, view, state, top }: Props) {
     if (motionAccess() === "ask") void answerMotion(true);
     void askOrientation();
     setLive(true);
-    if (!LiveView) void import("../live/LiveView").then((module) => setLiveView(() => module.LiveView));
+    // A chunk that did not come (no signal) closes it again: "Show me" may be tapped anew.
+    if (!LiveView)
+      import("../live/LiveView").then(
+        (module) => setLiveView(() => module.LiveView),
+        () => setLive(false),
+      );
   };
 
   const focusOn = (id: number): void => {

@@ -1,6 +1,6 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { holdsUnsent } from "./busy";
-import { register } from "./update";
+import { register, reloadIfBuildGone } from "./update";
 
 /** A service worker as the page sees it: its state, and what the page told it. */
 class FakeWorker extends EventTarget {
@@ -145,5 +145,70 @@ describe("moving the page to a new build", () => {
     const container = new FakeContainer(null, new FakeRegistration());
     container.register = vi.fn(() => Promise.reject(new Error("refused")));
     await expect(register(container as unknown as ServiceWorkerContainer, vi.fn())).resolves.toBeUndefined();
+  });
+});
+
+describe("after a lazily loaded chunk failed", () => {
+  const ENTRY = "/assets/index-AAAA.js";
+  /** index.html as a server of the build whose entry is `entry` answers it. */
+  const index = (entry: string): Response =>
+    new Response(`<script type="module" crossorigin src="${entry}"></script>`, { status: 200 });
+
+  beforeEach(() => {
+    const stored = new Map<string, string>();
+    vi.stubGlobal("document", {
+      querySelector: () => ({ src: `https://buddy.example${ENTRY}` }),
+    });
+    vi.stubGlobal("location", { href: "https://buddy.example/s" });
+    vi.stubGlobal("sessionStorage", {
+      getItem: (key: string) => stored.get(key) ?? null,
+      setItem: (key: string, value: string) => stored.set(key, value),
+    });
+  });
+
+  afterEach(() => {
+    vi.useRealTimers();
+    vi.unstubAllGlobals();
+  });
+
+  it("stays with no signal: a reload would show the browser's error page", async () => {
+    const reload = vi.fn();
+    const offline = vi.fn(() => Promise.reject(new TypeError("Load failed")));
+    await expect(reloadIfBuildGone(offline, reload)).resolves.toBe(false);
+    expect(offline).toHaveBeenCalledTimes(1);
+    expect(reload).not.toHaveBeenCalled();
+  });
+
+  it("stays when the server is still on this build, or answers with an error", async () => {
+    const reload = vi.fn();
+    await expect(reloadIfBuildGone(() => Promise.resolve(index(ENTRY)), reload)).resolves.toBe(false);
+    const failing = (): Promise<Response> => Promise.resolve(new Response("", { status: 502 }));
+    await expect(reloadIfBuildGone(failing, reload)).resolves.toBe(false);
+    expect(reload).not.toHaveBeenCalled();
+  });
+
+  it("reloads once when the server is on another build, not again within 10 s", async () => {
+    vi.useFakeTimers();
+    const reload = vi.fn();
+    const moved = (): Promise<Response> => Promise.resolve(index("/assets/index-BBBB.js"));
+    await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(true);
+    vi.advanceTimersByTime(5_000);
+    await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(false);
+    vi.advanceTimersByTime(6_000);
+    await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(true);
+    expect(reload).toHaveBeenCalledTimes(2);
+  });
+
+  it("stays while the page holds a photo not sent yet", async () => {
+    const release = holdsUnsent(() => true);
+    try {
+      const reload = vi.fn();
+      const moved = vi.fn(() => Promise.resolve(index("/assets/index-BBBB.js")));
+      await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(false);
+      expect(moved).not.toHaveBeenCalled();
+      expect(reload).not.toHaveBeenCalled();
+    } finally {
+      release();
+    }
   });
 });

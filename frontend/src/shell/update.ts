@@ -10,10 +10,13 @@
  * cached) and the page holds nothing a reload would lose (busy.ts: a photo not sent yet),
  * it tells the worker to take over and reloads when it has, once. The reload runs the new
  * build only (index.html and its chunks from the new precache; the old entries are gone).
- * A net: a lazily loaded chunk that still fails to load (a server already on another
- * build, no worker) reloads the page, as Vite's docs advise, at most once in 10 s. The
- * first worker claims the page that installed it (clientsClaim, vite.config.ts) with no
- * reload: there is nothing older to mix with.
+ * A net: a lazily loaded chunk that still fails to load reloads the page, as Vite's docs
+ * advise, but only when the server says this build is gone (its index.html names another
+ * entry: a server already on another build, no worker), and at most once in 10 s. A chunk
+ * that failed for want of a signal never reloads: with no signal a reload lands on the
+ * browser's error page, and the session is lost from view. The import's own caller copes
+ * (the lens reader goes on without the lens). The first worker claims the page that
+ * installed it (clientsClaim, vite.config.ts) with no reload: nothing older to mix with.
  */
 
 import { pageHoldsUnsent } from "./busy";
@@ -26,9 +29,8 @@ const RELOADED_KEY = "buddy-search.shell-reloaded";
 
 export function startShell(): void {
   document.documentElement.dataset.build = BUILD;
-  window.addEventListener("vite:preloadError", (event) => {
-    if (reloadSoon()) event.preventDefault();
-  });
+  // Never prevented: the import fails now; the page reloads later if the build is gone.
+  window.addEventListener("vite:preloadError", () => void reloadIfBuildGone(fetch, () => location.reload()));
   // The dev server serves no worker; a browser without them (or blocking them) runs as before.
   if (import.meta.env.DEV || !("serviceWorker" in navigator)) return;
   const start = (): void => void register(navigator.serviceWorker, () => location.reload());
@@ -93,21 +95,33 @@ function takeOverWhenIdle(worker: ServiceWorker, asking: () => void): void {
 }
 
 /**
- * Reload unless this page was reloaded for a failed chunk in the last 10 s (no loop), or
- * holds what a reload would lose (a photo being prepared or not sent: a chunk fetched with
- * no signal fails too, and the one who asked, the photo's lens reader, goes on without it).
+ * After a lazily loaded chunk failed: `reload` when the server, asked for index.html, names
+ * an entry other than this page's (a new build; this one's chunks are gone). Not when the
+ * server does not answer (no signal: a reload would show the browser's error page), not
+ * when it names this build (the failure passes; the import is tried again when next
+ * needed), not when the page holds what a reload would lose (a photo being prepared or not
+ * sent), and not twice in 10 s (no loop). Resolves to whether it reloaded.
  */
-function reloadSoon(): boolean {
-  if (pageHoldsUnsent()) return false;
-  const now = Date.now();
-  let last = 0;
+export async function reloadIfBuildGone(get: typeof fetch, reload: () => void): Promise<boolean> {
+  const entry = document.querySelector<HTMLScriptElement>("script[type=module][src]");
+  if (!entry || pageHoldsUnsent()) return false;
+  let index: string;
   try {
-    last = Number(sessionStorage.getItem(RELOADED_KEY) ?? 0);
+    // A query the worker's precache does not know, so the server itself answers.
+    const response = await get(`/?build-check=${Date.now()}`, { cache: "no-store" });
+    if (!response.ok) return false;
+    index = await response.text();
+  } catch {
+    return false;
+  }
+  if (index.includes(new URL(entry.src, location.href).pathname) || pageHoldsUnsent()) return false;
+  const now = Date.now();
+  try {
+    if (now - Number(sessionStorage.getItem(RELOADED_KEY) ?? 0) < 10_000) return false;
     sessionStorage.setItem(RELOADED_KEY, String(now));
   } catch {
-    return false; // without storage a loop could not be told: let the import fail
+    return false; // without storage a loop could not be told: stay
   }
-  if (now - last < 10_000) return false;
-  location.reload();
+  reload();
   return true;
 }
