@@ -28,6 +28,7 @@ LISTEN = """() => {
 }"""
 
 
+@pytest.mark.device_pixels
 def test_the_window_is_the_phones(server: str, iphone: Phone, tmp_path: Path) -> None:
     """Playwright's iPhone 13: a 390 x 844 screen, Safari's bars leave 390 x 664 to the page,
     3 device pixels per CSS pixel; the screenshot is in device pixels."""
