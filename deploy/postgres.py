@@ -124,7 +124,10 @@ class PostgresServer:
     def drop_database(self, name: str) -> None:
         self._admin(sql.SQL("DROP DATABASE {} WITH (FORCE)").format(sql.Identifier(name)))
 
+    def conninfo(self, database: str) -> str:
+        """libpq's connection string for ``database`` (psycopg's, not the app's URL)."""
+        return f"host=127.0.0.1 port={self.port} user={USER} password={PASSWORD} dbname={database}"
+
     def _admin(self, query: sql.Composed) -> None:
-        conninfo = f"host=127.0.0.1 port={self.port} user={USER} password={PASSWORD}"
-        with psycopg.connect(f"{conninfo} dbname=postgres", autocommit=True) as connection:
+        with psycopg.connect(self.conninfo("postgres"), autocommit=True) as connection:
             connection.execute(query)
