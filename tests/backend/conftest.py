@@ -5,6 +5,7 @@ phones already paired."""
 from __future__ import annotations
 
 import functools
+import shutil
 from collections.abc import Callable, Iterator
 from contextlib import AbstractContextManager, contextmanager
 from pathlib import Path
@@ -106,11 +107,23 @@ def _template_layout(postgres: PostgresServer, template: str) -> Layout:
         return _layout(connection)
 
 
+@pytest.fixture(scope="session")
+def migrated_sqlite(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A SQLite file migrated once, which each test's SQLite database is a copy of (migrating
+    a new file was most of the app's start: 0.12 s, against 0.02 s on a copy)."""
+    path = tmp_path_factory.mktemp("sqlite-template") / "buddy.db"
+    make_engine(f"sqlite:///{path}").dispose()
+    return path
+
+
 @pytest.fixture(params=["sqlite", "postgresql"])
 def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
     """A fresh database, SQLite or PostgreSQL: every test using it runs on both."""
     if request.param == "sqlite":
-        return f"sqlite:///{tmp_path / 'database' / 'buddy.db'}"
+        folder = tmp_path / "database"
+        folder.mkdir()
+        shutil.copyfile(request.getfixturevalue("migrated_sqlite"), folder / "buddy.db")
+        return f"sqlite:///{folder / 'buddy.db'}"
     url: str = request.getfixturevalue("fresh_postgres_url")
     return url
 
