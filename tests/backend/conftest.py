@@ -78,10 +78,11 @@ def emptied(postgres: PostgresServer, name: str, template: str) -> bool:
                 " WHERE datname = %s AND pid <> pg_backend_pid()",
                 (name,),
             )
-            if _layout(connection) != _template_layout(postgres, template):
+            layout = _layout(connection)
+            if layout != _template_layout(postgres, template):
                 return False
             connection.execute("SET lock_timeout = '5s'")
-            tables = [t for t in _layout(connection)[0] if t != "alembic_version"]
+            tables = [t for t in layout[0] if t != "alembic_version"]
             names = sql.SQL(", ").join(sql.Identifier(t) for t in tables)
             connection.execute(sql.SQL("TRUNCATE {} RESTART IDENTITY CASCADE").format(names))
     except psycopg.Error:
