@@ -2,8 +2,9 @@
 
 ``frontend/src/generated/openapi.ts`` is what openapi-typescript makes of
 ``python -m backend.openapi``: the build renews it when the backend changes, and this test
-fails when the committed copy is not what the schema gives now (`make test` runs it before
-the build, so a stale commit cannot pass by being renewed on the way).
+fails when the committed copy is not what the schema gives now (`make test` runs it beside
+a build that uses the committed copy as it is, so a stale commit cannot pass by being
+renewed on the way).
 """
 
 from __future__ import annotations

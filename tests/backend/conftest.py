@@ -1,6 +1,6 @@
 """Fixtures for the service: an app on a fresh database (each test runs twice: on a SQLite
-file, and on a database of a throwaway PostgreSQL server), a controllable clock, and two
-phones already paired."""
+file, and on a database of a throwaway PostgreSQL server, unless its ``databases`` marker
+names one), a controllable clock, and two phones already paired."""
 
 from __future__ import annotations
 
@@ -23,6 +23,21 @@ from backend.settings import Settings
 from backend.storage.database import make_engine
 from deploy.postgres import PostgresServer
 from testbed.client import Phone
+
+DATABASES = ("sqlite", "postgresql")
+
+
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """``database_url``: the databases the test's ``databases`` marker names, else both. A
+    module that checks nothing storage does names SQLite alone (the stateless solver
+    endpoints; guidance's image matching, whose taps and photos are stored as those of
+    test_sessions.py are): on PostgreSQL it ran the same code again."""
+    if "database_url" in metafunc.fixturenames:
+        marker = metafunc.definition.get_closest_marker("databases")
+        names = marker.args if marker else DATABASES
+        assert names, "name a database"
+        assert set(names) <= set(DATABASES), names
+        metafunc.parametrize("database_url", names, indirect=True)
 
 
 @pytest.fixture(scope="session")
@@ -117,9 +132,9 @@ def migrated_sqlite(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return path
 
 
-@pytest.fixture(params=["sqlite", "postgresql"])
+@pytest.fixture
 def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
-    """A fresh database, SQLite or PostgreSQL: every test using it runs on both."""
+    """A fresh database, SQLite or PostgreSQL (``pytest_generate_tests``)."""
     if request.param == "sqlite":
         folder = tmp_path / "database"
         folder.mkdir()

@@ -46,9 +46,9 @@ CHECKS = [
 IDENTITIES = ("as generated", "starter", "joiner", "stranger")
 # An event stream lasts as long as its session: it is read this long, then cut.
 EVENT_STREAM_SECONDS = 0.2
-# Per operation. 14 operations: about 40 s in all on 2 cores (measured), the most of it
-# spent drawing overlays and solving.
-FUZZED_REQUESTS = 100
+# Per operation, 14 operations, the most of the time spent drawing overlays and solving:
+# sized for make test's 15 minutes (100 each took 55 s of CPU in a whole-suite run).
+FUZZED_REQUESTS = 50
 
 # The schema as the app documents it (no database is needed for that); each request goes
 # to the app of the ``fuzzed_app`` fixture.

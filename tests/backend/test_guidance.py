@@ -14,6 +14,10 @@ from test_sessions import landmarks, scene
 from testbed.client import Phone
 from testbed.venue import RenderedPair, rendered_pair
 
+# What these check is the image matching and the bands, computed from what storage gives
+# back; storing taps and photos on each database is test_sessions' and test_kept_photos'.
+pytestmark = pytest.mark.databases("sqlite")
+
 
 def inside(band: dict[str, Any], point: Any) -> bool:
     """Whether ``point`` (x, y) lies in a band's outline."""

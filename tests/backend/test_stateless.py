@@ -15,6 +15,9 @@ from shared_solver import Camera, solve
 from testbed.phones import phone_scene
 from testbed.scenes import Scene, facing_scene, solved
 
+# No request here reaches storage: on PostgreSQL these ran the same code again.
+pytestmark = pytest.mark.databases("sqlite")
+
 
 def request_of(s: Scene, **more: object) -> dict[str, object]:
     """``POST /api/solve``'s body for the scene's exact taps: landmarks, friend 1, photo sizes."""
