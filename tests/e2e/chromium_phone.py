@@ -22,10 +22,19 @@ class ChromiumPhone(Phone):
     pointer = "touch"
 
     def __init__(
-        self, playwright: Playwright, browser: Browser, model: str, *, service_workers: bool = False
+        self,
+        playwright: Playwright,
+        browser: Browser,
+        model: str,
+        *,
+        service_workers: bool = False,
+        context: BrowserContext | None = None,
     ) -> None:
+        """A page of its own in ``context`` (a kept one: chromium_pool.py), else in a new
+        context, which :meth:`close` closes."""
         super().__init__(model)
-        self._context: BrowserContext = chromium.phone(
+        self._own_context = context is None
+        self._context: BrowserContext = context or chromium.phone(
             playwright, browser, model, service_workers=service_workers
         )
         self._context.set_default_navigation_timeout(NAVIGATION_TIMEOUT_MS)
@@ -33,15 +42,27 @@ class ChromiumPhone(Phone):
         self._errors: list[str] = []
         self._touch: CDPSession | None = None
         self._sensors: CDPSession | None = None
+        # What a kept context must forget after the test (chromium_pool.py): the sites
+        # opened, and whether the test went past this class to the context or the sensors.
+        self.origins: set[str] = set()
+        self.beyond_the_page = False
+        self._page.on("framenavigated", lambda frame: self._opened(frame.url))
         self._page.on(
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
         self._page.on("pageerror", lambda error: self._errors.append(str(error)))
 
+    def _opened(self, url: str) -> None:
+        scheme, _, rest = url.partition("://")
+        if scheme in ("http", "https"):
+            self.origins.add(f"{scheme}://{rest.split('/', 1)[0]}")
+
     @property
     def context(self) -> BrowserContext:
         """Playwright's context, for what only Chromium has (the DevTools protocol's
-        network emulation, say); a test that uses it runs in Chromium only."""
+        network emulation, say); a test that uses it runs in Chromium only, and its
+        context is not kept for another test."""
+        self.beyond_the_page = True
         return self._context
 
     @property
@@ -86,7 +107,10 @@ class ChromiumPhone(Phone):
         return list(self._errors)
 
     def close(self) -> None:
-        self._context.close()
+        if self._own_context:
+            self._context.close()
+        else:
+            self._page.close()
 
     def fill_in(self, steps: tuple[Step, ...], text: str) -> None:
         self._handle(steps).fill(text)
@@ -98,6 +122,7 @@ class ChromiumPhone(Phone):
         # Chromium's DeviceMotionEvent reads three sensors; each is overridden (the DevTools
         # protocol's sensor emulation), the still phone's linear acceleration and turn zero.
         # Its motion events then come every 16 ms, their readings rounded to 0.1 m/s^2.
+        self.beyond_the_page = True
         self._context.grant_permissions(["accelerometer", "gyroscope"])
         self._sensors = self._sensors or self._context.new_cdp_session(self._page)
         still = (0.0, 0.0, 0.0)
@@ -113,6 +138,7 @@ class ChromiumPhone(Phone):
         sensor, behind ``deviceorientationabsolute``): ``quaternion`` (x, y, z, w) turns the
         device frame (x right of the screen, y its top, z out of it) into the earth's (x
         east, y north, z up). Call it before the page listens (before the camera opens)."""
+        self.beyond_the_page = True
         self._context.grant_permissions(["accelerometer", "gyroscope", "magnetometer"])
         self._sensors = self._sensors or self._context.new_cdp_session(self._page)
         enable = {"enabled": True, "type": "absolute-orientation"}

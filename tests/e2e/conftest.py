@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 from chromium_phone import ChromiumPhone
+from chromium_pool import ChromiumPool
 from phone import Phone
 from playwright.sync_api import Browser, Playwright, sync_playwright
 from webkit_phone import Screen
@@ -70,6 +71,15 @@ def browser(playwright: Playwright) -> Iterator[Browser]:
 
 
 @pytest.fixture(scope="session")
+def chromium_pool(playwright: Playwright, browser: Browser, server: str) -> Iterator[ChromiumPool]:
+    """This worker's Chromium contexts, kept from test to test, their keeper pages on the
+    worker's server (chromium_pool.py)."""
+    pool = ChromiumPool(playwright, browser, f"{server}/icon-192.png")
+    yield pool
+    pool.close()
+
+
+@pytest.fixture(scope="session")
 def webkit_pool(tmp_path_factory: pytest.TempPathFactory) -> Iterator[WebKitPool]:
     """This worker's WebKit phones, kept from test to test (webkit_pool.py)."""
     pool = WebKitPool(tmp_path_factory.mktemp("webkit"))
@@ -114,12 +124,15 @@ def phone(
     request: pytest.FixtureRequest,
     browser: Browser | None = None,
 ) -> Iterator[Phone]:
-    """A phone of ``model`` in ``engine`` (in Chromium, a context of ``browser``, else of the
-    shared one; in WebKit, one of the worker's pool, given back after a passed test); the
-    test fails if its page reported errors."""
+    """A phone of ``model`` in ``engine`` (in Chromium, a new context of ``browser``, else a
+    page in a context of the worker's pool; in WebKit, one of the worker's pool; what a pool
+    lent is given back after the test, and kept if it passed); the test fails if its page
+    reported errors."""
+    if engine == "chromium" and browser is not None:
+        yield from _closed_after(ChromiumPhone(playwright, browser, model), request)
+        return
     if engine == "chromium":
-        launched = browser or request.getfixturevalue("browser")
-        yield from _closed_after(ChromiumPhone(playwright, launched, model), request)
+        yield from _pooled_chromium(model, playwright, request)
         return
     turns = request.node.get_closest_marker("turns") is not None
     shown = screen(playwright, model)
@@ -132,14 +145,36 @@ def phone(
     kind: Kind = (model, shown, turns)
     pool: WebKitPool = request.getfixturevalue("webkit_pool")
     taken = pool.take(kind)
+    yield from _lent(taken, lambda passed: pool.give_back(kind, taken, reuse=passed), request)
+
+
+def _pooled_chromium(
+    model: str, playwright: Playwright, request: pytest.FixtureRequest
+) -> Iterator[Phone]:
+    pool: ChromiumPool = request.getfixturevalue("chromium_pool")
+    kept = pool.take(model)
+    started = ChromiumPhone(playwright, pool.browser, model, context=kept.context)
+
+    def give_back(passed: bool) -> None:
+        reuse = passed and not started.beyond_the_page
+        pool.give_back(model, kept, started.origins, reuse=reuse)
+
+    yield from _lent(started, give_back, request)
+
+
+def _lent(
+    lent: Phone, give_back: Callable[[bool], None], request: pytest.FixtureRequest
+) -> Iterator[Phone]:
+    """``lent``, a pool's phone, for the test; then ``give_back(passed)``: whether the test
+    passed and its pages reported no error it did not expect (the test fails if they did)."""
     found: list[str] | None = None
     try:
-        yield taken
-        found = unexpected(taken.console_errors(), request)
+        yield lent
+        found = unexpected(lent.console_errors(), request)
     finally:
         call = request.node.stash.get(REPORTS, {}).get("call")
-        pool.give_back(kind, taken, reuse=found == [] and call is not None and call.passed)
-    assert found == [], f"the {taken}'s pages reported errors"
+        give_back(found == [] and call is not None and call.passed)
+    assert found == [], f"the {lent}'s pages reported errors"
 
 
 def _closed_after(started: Phone, request: pytest.FixtureRequest) -> Iterator[Phone]:
