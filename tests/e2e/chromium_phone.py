@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Literal
 
-from phone import RESOLVE, Phone, Point, Step
+from phone import RESOLVE, Phone, Point, Step, web_origin
 from playwright.sync_api import Browser, BrowserContext, CDPSession, ElementHandle, Page, Playwright
 from playwright.sync_api import Error as PlaywrightError
 
@@ -46,16 +46,15 @@ class ChromiumPhone(Phone):
         # opened, and whether the test went past this class to the context or the sensors.
         self.origins: set[str] = set()
         self.beyond_the_page = False
-        self._page.on("framenavigated", lambda frame: self._opened(frame.url))
+        self._page.on("framenavigated", lambda frame: self._opened(web_origin(frame.url)))
         self._page.on(
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
         self._page.on("pageerror", lambda error: self._errors.append(str(error)))
 
-    def _opened(self, url: str) -> None:
-        scheme, _, rest = url.partition("://")
-        if scheme in ("http", "https"):
-            self.origins.add(f"{scheme}://{rest.split('/', 1)[0]}")
+    def _opened(self, origin: str | None) -> None:
+        if origin is not None:
+            self.origins.add(origin)
 
     @property
     def context(self) -> BrowserContext:

@@ -65,16 +65,16 @@ class ChromiumPool:
         kept.context.close()
 
     def close(self) -> None:
-        for kept in self.free.values():
-            for one in kept:
-                one.context.close()
+        for contexts in self.free.values():
+            for kept in contexts:
+                kept.context.close()
         self.free.clear()
 
 
 def _reset(kept: Kept, origins: set[str], keep_at: str) -> None:
     """Back to what a new context is to the app; raises if any of it fails."""
     for page in kept.context.pages:
-        if page != kept.keeper:
+        if page is not kept.keeper:
             page.close()
     kept.context.clear_cookies()
     kept.context.clear_permissions()

@@ -22,6 +22,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar, Literal
+from urllib.parse import urlsplit
 
 import audit
 
@@ -106,6 +107,13 @@ TRANSFORM = f"""(steps) => {{
   return [rect.left, rect.top, read("data-scale"), read("data-tx"), read("data-ty"),
           rect.width, rect.height];
 }}"""
+
+
+def web_origin(url: str) -> str | None:
+    """``scheme://host:port`` of an http(s) ``url``, else None (about:blank, data:): the
+    sites whose data a kept phone must clear (webkit_pool.py, chromium_pool.py)."""
+    parts = urlsplit(url)
+    return f"{parts.scheme}://{parts.netloc}" if parts.scheme in ("http", "https") else None
 
 
 def _squash(text: str) -> str:

@@ -28,9 +28,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
-from urllib.parse import urlsplit
 
-from phone import RESOLVE, Phone, Point, Step
+from phone import RESOLVE, Phone, Point, Step, web_origin
 from pyvirtualdisplay.display import Display
 from selenium import webdriver
 from selenium.common.exceptions import StaleElementReferenceException
@@ -411,9 +410,9 @@ class WebKitPhone(Phone):
         assert "clearData('" not in self._driver.page_source, f"{self}: website data left"
 
     def _visit(self, url: str) -> None:
-        parts = urlsplit(url)
-        if parts.scheme in ("http", "https"):
-            self._origins.add(f"{parts.scheme}://{parts.netloc}")
+        origin = web_origin(url)
+        if origin is not None:
+            self._origins.add(origin)
 
     def _harvest(self) -> None:
         """Move what the page's watcher collected into ``_errors`` (before the page goes)."""
