@@ -27,7 +27,7 @@ UV_VERSION := 0.13.9
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: run run-cluster test suite system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-reanchor bench-taps bench-load bench-suggest bench-network bench-slow-phone bench-real bench-all docs-figures demo lock clean
+.PHONY: run run-cluster test suite suite-working suite-waiting system-packages test-solver test-backend test-app lint typecheck api-types-check frontend-test screenshots browser webkit postgres nginx bench bench-api bench-camera bench-reanchor bench-taps bench-load bench-suggest bench-network bench-slow-phone bench-real bench-all docs-figures demo lock clean
 
 run: $(INSTALLED) $(APP)
 	$(BIN)/python -m backend
@@ -55,10 +55,21 @@ test:
 # The pytest suite but tests/test_api_types.py, which api-types-check ran beside the build
 # (make test runs this beside the checks, once the app is built). The project's own
 # modules are compiled first, for the same reason as the packages: the suite starts many
-# Python processes (a server for each browser test, replicas, benchmarks).
+# Python processes (a server for each browser test, replicas, benchmarks). The tests marked
+# `waits` (a phone cut off for 30 s, a server restarted, a throttled link: about 280 s of
+# waiting on little CPU) run in a lane of their own beside the two workers, so their waits
+# leave no core idle (docs/browsers.md).
+SUITE = $(BIN)/python -m pytest -q --ignore=tests/test_api_types.py
+
 suite:
 	$(BIN)/python -m compileall -q -j 2 backend shared_solver deploy testbed benchmarks docsgen
-	$(BIN)/python -m pytest -q -n 2 --dist worksteal --ignore=tests/test_api_types.py
+	$(MAKE) --no-print-directory -j2 suite-working suite-waiting
+
+suite-working:
+	$(SUITE) -n 2 --dist worksteal -m "not waits"
+
+suite-waiting:
+	$(SUITE) -p no:cacheprovider -m waits
 
 system-packages:
 	@$(MAKE) --no-print-directory browser

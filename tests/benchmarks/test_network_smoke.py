@@ -8,7 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from benchmark_scripts import run_benchmark
+
+# Mostly waiting on the throttled link (make test runs it in a lane of its own).
+pytestmark = pytest.mark.waits
 
 HUNG_SECONDS = 300  # one search per profile takes about 30 s: beyond this it hangs
 

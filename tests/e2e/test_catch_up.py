@@ -27,6 +27,9 @@ from phone import Phone, expect
 
 from deploy.replica import free_port, serve
 
+# Mostly waiting on the phones (make test runs them in a lane of their own).
+pytestmark = pytest.mark.waits
+
 OFFLINE_S = 30.0
 CAUGHT_UP_S = 5.0
 # While cut off, a phone's fetches and crops fail, and the browsers say so.

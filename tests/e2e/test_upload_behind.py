@@ -17,7 +17,7 @@ from test_catch_up import DROPPED, link
 
 from deploy.replica import serve
 
-pytestmark = pytest.mark.engines("chromium", "webkit")
+pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.waits]
 
 # The phone's requests as its browser's resource timing has them: [path, start, end] ms.
 REQUESTS = """() => performance.getEntriesByType("resource")
