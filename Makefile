@@ -57,8 +57,8 @@ test:
 # modules are compiled first, for the same reason as the packages: the suite starts many
 # Python processes (a server for each browser test, replicas, benchmarks). The tests marked
 # `waits` (a phone cut off for 30 s, a server restarted, a throttled link: about 280 s of
-# waiting on little CPU) run in a lane of their own beside the two workers, so their waits
-# leave no core idle (docs/browsers.md).
+# worker time on 2 min of CPU) run in a lane of their own beside the two workers, which
+# frees a worker while they wait (docs/browsers.md: little saved, the suite is CPU-bound).
 SUITE = $(BIN)/python -m pytest -q --ignore=tests/test_api_types.py
 
 suite:
