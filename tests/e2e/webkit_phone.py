@@ -50,10 +50,6 @@ MINIBROWSERS = sorted(
 )  # per architecture
 XVFB = "/usr/bin/Xvfb"
 PAGE_LOAD_S = 30
-# Pages drawn without accelerated compositing. Xvfb has no GPU, so WebKit composites and
-# rasterises through Mesa's software OpenGL (llvmpipe): a phone starting a search and
-# uploading its photo cost 7.9 core-s that way, 3.7 without (docs/browsers.md).
-COMPOSITING = {"WEBKIT_DISABLE_COMPOSITING_MODE": "1"}
 STALE_TRIES = 5  # finds of an element the page replaced while it was being used
 # How long a new window size may take to reach the page, s.
 RESIZE_S = 5.0
@@ -213,22 +209,22 @@ class WebKitPhone(Phone):
         # A home of its own: no profile, cache or storage shared with the other phone.
         home = folder / "home"
         home.mkdir(exist_ok=True)
-        environment = (
-            self._display.env()
-            | {
-                "GDK_BACKEND": "x11",
-                "GDK_SCALE": str(self.scale),
-                "HOME": str(home),
-                "XDG_CACHE_HOME": str(home / "cache"),
-                "XDG_CONFIG_HOME": str(home / "config"),
-                "XDG_DATA_HOME": str(home / "data"),
-                # navigator.languages follows the locale: English, whatever the machine's, since
-                # the app speaks the phone's language and the tests read its English words.
-                "LANG": "en_US.UTF-8",
-                "LANGUAGE": "en_US",
-            }
-            | COMPOSITING
-        )
+        environment = self._display.env() | {
+            "GDK_BACKEND": "x11",
+            "GDK_SCALE": str(self.scale),
+            "HOME": str(home),
+            "XDG_CACHE_HOME": str(home / "cache"),
+            "XDG_CONFIG_HOME": str(home / "config"),
+            "XDG_DATA_HOME": str(home / "data"),
+            # navigator.languages follows the locale: English, whatever the machine's, since
+            # the app speaks the phone's language and the tests read its English words.
+            "LANG": "en_US.UTF-8",
+            "LANGUAGE": "en_US",
+            # No accelerated compositing: Xvfb has no GPU, so WebKit would composite and
+            # rasterise through Mesa's software OpenGL (llvmpipe). A phone starting a search
+            # and uploading its photo cost 7.9 core-s that way, 3.7 without (docs/browsers.md).
+            "WEBKIT_DISABLE_COMPOSITING_MODE": "1",
+        }
         options = Options()
         options.binary_location = MINIBROWSERS[0]
         options.add_argument("--automation")
@@ -327,7 +323,7 @@ class WebKitPhone(Phone):
             "const done = arguments[0]; requestAnimationFrame(() => requestAnimationFrame(done));"
         )
         # Read off the phone's X screen: WebDriver's screenshot waits for a composited frame,
-        # which never comes with compositing off (COMPOSITING). The window is at the
+        # which never comes with compositing off (_start). The window is at the
         # screen's corner (_fit), the page fills it, and the screen is in device pixels.
         width, height = self.evaluate("() => [innerWidth, innerHeight]")
         box = (0, 0, width * self.scale, height * self.scale)
