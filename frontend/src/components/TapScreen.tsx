@@ -53,6 +53,10 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const status = useRef<HTMLElement>(null);
   const stage = useRef<HTMLDivElement>(null);
   const [covered, setCovered] = useState(0);
+  // The status opened whole ("More"): over the photo until closed, or until a new answer.
+  const [statusOpen, setStatusOpen] = useState(false);
+  const statusOpened = useRef(false);
+  statusOpened.current = statusOpen;
   const [live, setLive] = useState(false);
   const [LiveView, setLiveView] = useState<LiveViewComponent | null>(null);
   // This phone's part of the answer, for "Show me": once there is a point or a curve.
@@ -87,6 +91,8 @@ export function TapScreen({ controller, view, state, top }: Props) {
     const photoArea = stage.current;
     if (!panel || !photoArea) return;
     const measure = (): void => {
+      // Opened whole, the status covers the photo only while it is read: the answer stays.
+      if (statusOpened.current) return;
       const over = panel.getBoundingClientRect();
       const under = photoArea.getBoundingClientRect();
       const overlaps = over.left < under.right && over.right > under.left && over.top < under.bottom;
@@ -119,7 +125,9 @@ export function TapScreen({ controller, view, state, top }: Props) {
   // Focus follows the next step (a11y/focus.ts): the photo to tap once it is shown, the
   // answer's status once one arrives (later, on its own), which the status then reads out.
   useFocusOnChange(() => stage.current?.querySelector<HTMLElement>('[data-testid="photo-view"]'), photo?.key ?? null);
-  useFocusOnChange(() => status.current, answerFocusKey(answer.kind, answer.position?.how ?? null));
+  const answerKey = answerFocusKey(answer.kind, answer.position?.how ?? null);
+  useFocusOnChange(() => status.current, answerKey);
+  useEffect(() => setStatusOpen(false), [answerKey]);
 
   const step = stepOf(state, view, answer);
   // The landmark to find, its band under the answer, and a suggested spot on it.
@@ -166,6 +174,8 @@ export function TapScreen({ controller, view, state, top }: Props) {
         recheck={recheck}
         onRecheck={focusOn}
         onShowMe={canShow ? showMe : null}
+        open={statusOpen}
+        onOpen={setStatusOpen}
       />
       <Prompt controller={controller} view={view} state={state} step={step} guide={guide} suggestion={suggestion} />
       <UploadBar view={view} />
@@ -222,83 +232,136 @@ interface StatusProps {
   onRecheck: (id: number) => void;
   /** Opens the live view that points at the friend ("Show me"); null: nothing to show yet. */
   onShowMe: (() => void) | null;
+  /** Whether the status is opened whole, over the photo (its "More"). */
+  open: boolean;
+  onOpen: (open: boolean) => void;
 }
 
 /**
  * The answer's status over the photo's top: the sentence saying what is drawn, how sure it
  * is in words, warnings, and a button per landmark to re-check. Only its buttons take taps;
  * elsewhere taps reach the photo (a sibling, so a touch beside a button stays on the photo:
- * PhotoView.tsx).
+ * PhotoView.tsx). It keeps to the photo's top part; words that do not fit there (large
+ * text, a small screen) are behind a "More" that opens it whole, scrolling if need be,
+ * until "Less".
  */
-function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck, onShowMe }: StatusProps) {
+function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck, onShowMe, open, onOpen }: StatusProps) {
   const { position } = answer;
   const ellipse = position?.ellipse ?? null;
+  const body = useRef<HTMLDivElement>(null);
+  const content = useRef<HTMLDivElement>(null);
+  const [cut, setCut] = useState(false);
+  // Whether the words are taller than the room the status has: observed sizes, so a
+  // render costs no layout of its own (a tap's frame on a slow phone: docs/slow-phone.md).
+  useLayoutEffect(() => {
+    const [room, words] = [body.current, content.current];
+    if (!room || !words || open) return;
+    const measure = (): void => setCut(words.offsetHeight > room.clientHeight + 1);
+    measure();
+    const observer = new ResizeObserver(measure);
+    observer.observe(room);
+    observer.observe(words);
+    return () => observer.disconnect();
+  }, [open]);
+  // Nothing to say: no scrim over the photo (a class, not CSS's :has(:empty), which
+  // WebKit does not renew when words come).
+  const says =
+    Boolean(saveError) ||
+    (answer.kind === "none" && Boolean(hint || lens)) ||
+    answer.seen ||
+    Boolean(answer.text) ||
+    position !== null ||
+    onShowMe !== null ||
+    recheck.length > 0 ||
+    answer.warnings.length > 0;
   return (
-    <section class="status" data-testid="status" aria-live="polite" tabIndex={-1} ref={panel}>
-      {saveError && (
-        <p class="save-error" role="alert">
-          {saveError}
-        </p>
-      )}
-      {answer.kind === "none" && hint && <p class="hint">{hint}</p>}
-      {answer.kind === "none" && lens && (
-        <p class="lens-note" data-testid="lens-note">
-          {lens}
-        </p>
-      )}
-      {answer.seen && (
-        <p class="seen-status" data-testid="seen-status">
-          {t("tap.seen")}
-        </p>
-      )}
-      {answer.text && (
-        <p class={`result-text ${answer.kind}`} data-testid="result-text">
-          {answer.text}
-        </p>
-      )}
-      {position && (
-        <p
-          class={`result-position quality-${position.quality}`}
-          data-testid="result-position"
-          data-x={String(position.x)}
-          data-y={String(position.y)}
-          data-quality={position.quality}
-          data-how={position.how}
-          {...(ellipse
-            ? {
-                "data-axis-a": String(ellipse.axes[0]),
-                "data-axis-b": String(ellipse.axes[1]),
-                "data-angle": String(ellipse.angle_deg),
-              }
-            : {})}
+    <section
+      class={["status", open && "open", !says && "silent"].filter(Boolean).join(" ")}
+      data-testid="status"
+      aria-live="polite"
+      tabIndex={-1}
+      ref={panel}
+    >
+      <div class={cut && !open ? "status-body cut" : "status-body"} ref={body} id="status-body">
+        <div class="status-words" ref={content}>
+          {saveError && (
+            <p class="save-error" role="alert">
+              {saveError}
+            </p>
+          )}
+          {answer.kind === "none" && hint && <p class="hint">{hint}</p>}
+          {answer.kind === "none" && lens && (
+            <p class="lens-note" data-testid="lens-note">
+              {lens}
+            </p>
+          )}
+          {answer.seen && (
+            <p class="seen-status" data-testid="seen-status">
+              {t("tap.seen")}
+            </p>
+          )}
+          {answer.text && (
+            <p class={`result-text ${answer.kind}`} data-testid="result-text">
+              {answer.text}
+            </p>
+          )}
+          {position && (
+            <p
+              class={`result-position quality-${position.quality}`}
+              data-testid="result-position"
+              data-x={String(position.x)}
+              data-y={String(position.y)}
+              data-quality={position.quality}
+              data-how={position.how}
+              {...(ellipse
+                ? {
+                    "data-axis-a": String(ellipse.axes[0]),
+                    "data-axis-b": String(ellipse.axes[1]),
+                    "data-angle": String(ellipse.angle_deg),
+                  }
+                : {})}
+            >
+              {answer.sureness ?? (position.how === "solved" ? "" : t("tap.ownMark"))}
+            </p>
+          )}
+          {onShowMe && (
+            <div class="status-row">
+              <button type="button" class="chip show-me" data-testid="show-me" onClick={onShowMe}>
+                {t("tap.showMe")}
+              </button>
+            </div>
+          )}
+          {recheck.length > 0 && (
+            <div class="status-row wrap">
+              {recheck.map((id) => (
+                <button type="button" class="chip suspect" data-testid="recheck" key={id} onClick={() => onRecheck(id)}>
+                  {t("tap.recheck", { id })}
+                </button>
+              ))}
+            </div>
+          )}
+          {answer.warnings.length > 0 && (
+            <ul class="warnings">
+              {answer.warnings.map((warning) => (
+                <li data-testid="warning" key={warning}>
+                  {warning}
+                </li>
+              ))}
+            </ul>
+          )}
+        </div>
+      </div>
+      {(cut || open) && (
+        <button
+          type="button"
+          class="chip status-more"
+          data-testid="status-more"
+          aria-expanded={open}
+          aria-controls="status-body"
+          onClick={() => onOpen(!open)}
         >
-          {answer.sureness ?? (position.how === "solved" ? "" : t("tap.ownMark"))}
-        </p>
-      )}
-      {onShowMe && (
-        <div class="status-row">
-          <button type="button" class="chip show-me" data-testid="show-me" onClick={onShowMe}>
-            {t("tap.showMe")}
-          </button>
-        </div>
-      )}
-      {recheck.length > 0 && (
-        <div class="status-row wrap">
-          {recheck.map((id) => (
-            <button type="button" class="chip suspect" data-testid="recheck" key={id} onClick={() => onRecheck(id)}>
-              {t("tap.recheck", { id })}
-            </button>
-          ))}
-        </div>
-      )}
-      {answer.warnings.length > 0 && (
-        <ul class="warnings">
-          {answer.warnings.map((warning) => (
-            <li data-testid="warning" key={warning}>
-              {warning}
-            </li>
-          ))}
-        </ul>
+          {open ? t("tap.statusLess") : t("tap.statusMore")}
+        </button>
       )}
     </section>
   );
