@@ -258,10 +258,19 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
     if (!room || !words || open) return;
     const measure = (): void => setCut(words.offsetHeight > room.clientHeight + 1);
     measure();
-    const observer = new ResizeObserver(measure);
+    // "More" coming or going resizes the room: answered in the next frame, not within the
+    // observer's own (a resize in its callback is a loop browsers report as an error).
+    let frame = 0;
+    const observer = new ResizeObserver(() => {
+      cancelAnimationFrame(frame);
+      frame = requestAnimationFrame(measure);
+    });
     observer.observe(room);
     observer.observe(words);
-    return () => observer.disconnect();
+    return () => {
+      observer.disconnect();
+      cancelAnimationFrame(frame);
+    };
   }, [open]);
   // Nothing to say: no scrim over the photo (a class, not CSS's :has(:empty), which
   // WebKit does not renew when words come).
