@@ -3,7 +3,8 @@
 Two phones (Pixel 7 and iPhone 13, emulated in Chromium with touch) on a live server play
 ``--trials`` searches: photo 1's phone taps its friend and 5 landmarks, photo 2's phone
 says it cannot see its friend and finds the same 5, every tap a quick finger tap on the
-whole photo (the app's default zoom, no pinch). The scenes are phone scenes
+whole photo (the app's default zoom, no pinch), zoomed in first only where a button over
+the photo ("Show me", "Re-check") lies on the spot. The scenes are phone scenes
 (:func:`testbed.phones.phone_scene`: 12 MP photos, stored at 2560 px, 20-80 m apart), and
 the taps land where the scene puts each spot, plus a finger's miss: per tap a standard
 deviation drawn uniformly from 1 to 2 CSS px, per axis ("a finger is off by one or two CSS
@@ -26,7 +27,7 @@ import json
 import re
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -65,6 +66,7 @@ class Trial:
     held_fixed: bool | None
     sigmas: list[float]
     axis_px: float | None
+    zoomed: int = 0  # taps zoomed in first (a button lay over the spot)
 
 
 def stored(scene: PhoneScene, which: int) -> tuple[float, tuple[int, int]]:
@@ -97,11 +99,40 @@ def spot(point: np.ndarray) -> tuple[float, float]:
     return float(point[0]), float(point[1])
 
 
-def finger(page: Page, x: float, y: float, rng: np.random.Generator) -> None:
-    """A quick tap aimed at photo pixel (x, y), missing as a finger does."""
+def finger(page: Page, x: float, y: float, rng: np.random.Generator) -> bool:
+    """A quick tap aimed at photo pixel (x, y), missing as a finger does: on the whole
+    photo, or zoomed in where a control lies over the spot (then True)."""
     sigma = rng.uniform(*FINGER_CSS)
-    sx, sy = photo_to_screen(page, x, y)
+    chromium.whole_photo(page)
+    sx, sy, zoomed = reachable(page, x, y)
     page.touchscreen.tap(sx + rng.normal(0.0, sigma), sy + rng.normal(0.0, sigma))
+    return zoomed
+
+
+# Whether a tap at a client point reaches the photo: the status over the photo lets taps
+# through but on its buttons ("Show me", "Re-check #n").
+REACHES_PHOTO = (
+    "([x, y]) => Boolean(document.elementFromPoint(x, y)?.closest('[data-testid=photo-view]'))"
+)
+ZOOMS = 8  # wheel steps at most, each 1.8x
+WHEEL_PX = -300.0
+
+
+def reachable(page: Page, x: float, y: float) -> tuple[float, float, bool]:
+    """Client coordinates of photo pixel (x, y) where a tap reaches the photo, and whether
+    the view was zoomed for it. A spot under a button over the photo's top is brought down
+    as a person would bring it out: zoomed in (the wheel, 1.8x a step) about the photo
+    view's top edge above the spot."""
+    view = page.get_by_test_id("photo-view")
+    for step in range(ZOOMS):
+        sx, sy = photo_to_screen(page, x, y)
+        if page.evaluate(REACHES_PHOTO, [sx, sy]):
+            return sx, sy, step > 0
+        box = view.bounding_box()
+        assert box is not None
+        page.mouse.move(sx, box["y"] + 1.0)
+        page.mouse.wheel(0.0, WHEEL_PX)
+    raise AssertionError(f"photo pixel ({x:.0f}, {y:.0f}) stays under a control")
 
 
 def open_session(
@@ -135,22 +166,22 @@ def play(
 
     expect(one.get_by_test_id("friend-prompt")).to_be_visible()
     x, y = scale1 * scene.epipole1
-    finger(one, x, y, rng)
+    zoomed = int(finger(one, x, y, rng))
     expect(one.get_by_test_id("friend-mark")).to_be_visible()
     for number, point in enumerate(scene.landmarks1[:LANDMARKS], 1):
-        finger(one, *spot(scale1 * point), rng)
+        zoomed += finger(one, *spot(scale1 * point), rng)
         expect(one.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     expect(one.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
     two.get_by_test_id("cannot-see").tap()
     for number, point in enumerate(scene.landmarks2[:LANDMARKS], 1):
         expect(two.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
-        finger(two, *spot(scale2 * point), rng)
+        zoomed += finger(two, *spot(scale2 * point), rng)
         expect(two.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     expect(two.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
     state = http.get(path, headers=bearer(joined["token"])).json()
     http.delete(path, headers=bearer(started["token"]))
     http.close()
-    return judge(state, scale2 * scene.epipole2, size1, size2)
+    return replace(judge(state, scale2 * scene.epipole2, size1, size2), zoomed=zoomed)
 
 
 def bearer(token: str) -> dict[str, str]:
@@ -290,7 +321,9 @@ def report(results: list[Trial], seconds: float) -> str:
         f"- {source_state('backend', 'shared_solver', 'frontend')}",
         f"- {len(results)} searches, seed {SEED}; {seconds:.0f} s",
         f"- Two phones (Pixel 7, iPhone 13) emulated in Chromium, touch input, the app's default "
-        f"zoom (the whole photo), no pinch. Phone scenes (`testbed.phones.phone_scene`), photos "
+        f"zoom (the whole photo), no pinch; where a button over the photo lies on a spot, the "
+        f"phone first zooms in about the photo's top edge (the wheel, 1.8x a step) until the "
+        f"spot is clear of it. Phone scenes (`testbed.phones.phone_scene`), photos "
         f"stored at {STORED_SIDE} px. Photo 1's phone taps its friend and {LANDMARKS} landmarks; "
         f"photo 2's phone cannot see its friend and finds the {LANDMARKS} landmarks. Each tap "
         f"aims at the true spot and misses by a finger: sd per axis uniform in "
@@ -300,6 +333,8 @@ def report(results: list[Trial], seconds: float) -> str:
         "",
         table,
         "",
+        f"- Taps zoomed in first, a button over the photo lying on their spot: "
+        f"{sum(r.zoomed for r in results)} of {len(results) * (2 * LANDMARKS + 1)}.",
         f"- Sigmas the app sent (stored-photo px): median {np.median(sigmas):.2f}, "
         f"range {sigmas.min():.2f}-{sigmas.max():.2f}.",
         f"- Error of the answer: median {np.median(errors):.1f} px, "
