@@ -287,11 +287,16 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
     <section
       class={["status", open && "open", !says && "silent"].filter(Boolean).join(" ")}
       data-testid="status"
-      aria-live="polite"
       tabIndex={-1}
       ref={panel}
     >
-      <div class={cut && !open ? "status-body cut" : "status-body"} ref={body} id="status-body">
+      {/* The words are read out as they change; "More" turning to "Less" is not news. */}
+      <div
+        class={cut && !open ? "status-body cut" : "status-body"}
+        ref={body}
+        id="status-body"
+        aria-live="polite"
+      >
         <div class="status-words" ref={content}>
           {saveError && (
             <p class="save-error" role="alert">
