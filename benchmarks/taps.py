@@ -109,11 +109,12 @@ def finger(page: Page, x: float, y: float, rng: np.random.Generator) -> bool:
     return zoomed
 
 
-# Whether a tap at a client point reaches the photo: the status over the photo lets taps
-# through but on its buttons ("Show me", "Re-check #n").
-REACHES_PHOTO = (
-    "([x, y]) => Boolean(document.elementFromPoint(x, y)?.closest('[data-testid=photo-view]'))"
-)
+# Whether a tap near a client point reaches the photo wherever the finger lands: within
+# ``r`` px of it (a finger's miss, three of its sigmas), no button over the photo ("Show me",
+# "Re-check #n" in the status, which lets taps through elsewhere).
+REACHES_PHOTO = """([x, y, r]) => [[0, 0], [-r, 0], [r, 0], [0, -r], [0, r], [-r, -r], [r, -r],
+  [-r, r], [r, r]].every(([dx, dy]) =>
+  Boolean(document.elementFromPoint(x + dx, y + dy)?.closest('[data-testid=photo-view]')))"""
 ZOOMS = 8  # wheel steps at most, each 1.8x
 WHEEL_PX = -300.0
 
@@ -126,7 +127,7 @@ def reachable(page: Page, x: float, y: float) -> tuple[float, float, bool]:
     view = page.get_by_test_id("photo-view")
     for step in range(ZOOMS):
         sx, sy = photo_to_screen(page, x, y)
-        if page.evaluate(REACHES_PHOTO, [sx, sy]):
+        if page.evaluate(REACHES_PHOTO, [sx, sy, 3 * FINGER_CSS[1]]):
             return sx, sy, step > 0
         box = view.bounding_box()
         assert box is not None
