@@ -55,8 +55,6 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const [covered, setCovered] = useState(0);
   // The status opened whole ("More"): over the photo until closed, or until a new answer.
   const [statusOpen, setStatusOpen] = useState(false);
-  const statusOpened = useRef(false);
-  statusOpened.current = statusOpen;
   const [live, setLive] = useState(false);
   const [LiveView, setLiveView] = useState<LiveViewComponent | null>(null);
   // This phone's part of the answer, for "Show me": once there is a point or a curve.
@@ -89,10 +87,9 @@ export function TapScreen({ controller, view, state, top }: Props) {
   useLayoutEffect(() => {
     const panel = status.current;
     const photoArea = stage.current;
-    if (!panel || !photoArea) return;
+    // Opened whole, the status covers the photo only while it is read: the answer stays.
+    if (!panel || !photoArea || statusOpen) return;
     const measure = (): void => {
-      // Opened whole, the status covers the photo only while it is read: the answer stays.
-      if (statusOpened.current) return;
       const over = panel.getBoundingClientRect();
       const under = photoArea.getBoundingClientRect();
       const overlaps = over.left < under.right && over.right > under.left && over.top < under.bottom;
@@ -103,7 +100,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
     observer.observe(panel);
     observer.observe(photoArea);
     return () => observer.disconnect();
-  }, [photo !== null]);
+  }, [photo !== null, statusOpen]);
 
   // A keyboard on a desktop: undo, delete, deselect.
   useEffect(() => {
@@ -272,20 +269,84 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
       cancelAnimationFrame(frame);
     };
   }, [open]);
-  // Nothing to say: no scrim over the photo (a class, not CSS's :has(:empty), which
-  // WebKit does not renew when words come).
-  const says =
-    Boolean(saveError) ||
-    (answer.kind === "none" && Boolean(hint || lens)) ||
-    answer.seen ||
-    Boolean(answer.text) ||
-    position !== null ||
-    onShowMe !== null ||
-    recheck.length > 0 ||
-    answer.warnings.length > 0;
+  // What the status says, in the order shown (keyed: a line that comes or goes leaves the
+  // others be). Nothing to say: no scrim over the photo (a class, not CSS's :has(:empty),
+  // which WebKit does not renew when words come).
+  const words = [
+    saveError && (
+      <p key="save-error" class="save-error" role="alert">
+        {saveError}
+      </p>
+    ),
+    answer.kind === "none" && hint && (
+      <p key="hint" class="hint">
+        {hint}
+      </p>
+    ),
+    answer.kind === "none" && lens && (
+      <p key="lens" class="lens-note" data-testid="lens-note">
+        {lens}
+      </p>
+    ),
+    answer.seen && (
+      <p key="seen" class="seen-status" data-testid="seen-status">
+        {t("tap.seen")}
+      </p>
+    ),
+    answer.text && (
+      <p key="text" class={`result-text ${answer.kind}`} data-testid="result-text">
+        {answer.text}
+      </p>
+    ),
+    position && (
+      <p
+        key="position"
+        class={`result-position quality-${position.quality}`}
+        data-testid="result-position"
+        data-x={String(position.x)}
+        data-y={String(position.y)}
+        data-quality={position.quality}
+        data-how={position.how}
+        {...(ellipse
+          ? {
+              "data-axis-a": String(ellipse.axes[0]),
+              "data-axis-b": String(ellipse.axes[1]),
+              "data-angle": String(ellipse.angle_deg),
+            }
+          : {})}
+      >
+        {answer.sureness ?? (position.how === "solved" ? "" : t("tap.ownMark"))}
+      </p>
+    ),
+    onShowMe && (
+      <div key="show-me" class="status-row">
+        <button type="button" class="chip show-me" data-testid="show-me" onClick={onShowMe}>
+          {t("tap.showMe")}
+        </button>
+      </div>
+    ),
+    recheck.length > 0 && (
+      <div key="recheck" class="status-row wrap">
+        {recheck.map((id) => (
+          <button type="button" class="chip suspect" data-testid="recheck" key={id} onClick={() => onRecheck(id)}>
+            {t("tap.recheck", { id })}
+          </button>
+        ))}
+      </div>
+    ),
+    answer.warnings.length > 0 && (
+      <ul key="warnings" class="warnings">
+        {answer.warnings.map((warning) => (
+          <li data-testid="warning" key={warning}>
+            {warning}
+          </li>
+        ))}
+      </ul>
+    ),
+  ].filter(Boolean);
   return (
     <section
-      class={["status", open && "open", !says && "silent"].filter(Boolean).join(" ")}
+      class={["status", open && "open", words.length === 0 && "silent"].filter(Boolean).join(" ")}
       data-testid="status"
       tabIndex={-1}
       ref={panel}
@@ -298,71 +359,7 @@ function StatusPanel({ panel, hint, saveError, answer, lens, recheck, onRecheck,
         aria-live="polite"
       >
         <div class="status-words" ref={content}>
-          {saveError && (
-            <p class="save-error" role="alert">
-              {saveError}
-            </p>
-          )}
-          {answer.kind === "none" && hint && <p class="hint">{hint}</p>}
-          {answer.kind === "none" && lens && (
-            <p class="lens-note" data-testid="lens-note">
-              {lens}
-            </p>
-          )}
-          {answer.seen && (
-            <p class="seen-status" data-testid="seen-status">
-              {t("tap.seen")}
-            </p>
-          )}
-          {answer.text && (
-            <p class={`result-text ${answer.kind}`} data-testid="result-text">
-              {answer.text}
-            </p>
-          )}
-          {position && (
-            <p
-              class={`result-position quality-${position.quality}`}
-              data-testid="result-position"
-              data-x={String(position.x)}
-              data-y={String(position.y)}
-              data-quality={position.quality}
-              data-how={position.how}
-              {...(ellipse
-                ? {
-                    "data-axis-a": String(ellipse.axes[0]),
-                    "data-axis-b": String(ellipse.axes[1]),
-                    "data-angle": String(ellipse.angle_deg),
-                  }
-                : {})}
-            >
-              {answer.sureness ?? (position.how === "solved" ? "" : t("tap.ownMark"))}
-            </p>
-          )}
-          {onShowMe && (
-            <div class="status-row">
-              <button type="button" class="chip show-me" data-testid="show-me" onClick={onShowMe}>
-                {t("tap.showMe")}
-              </button>
-            </div>
-          )}
-          {recheck.length > 0 && (
-            <div class="status-row wrap">
-              {recheck.map((id) => (
-                <button type="button" class="chip suspect" data-testid="recheck" key={id} onClick={() => onRecheck(id)}>
-                  {t("tap.recheck", { id })}
-                </button>
-              ))}
-            </div>
-          )}
-          {answer.warnings.length > 0 && (
-            <ul class="warnings">
-              {answer.warnings.map((warning) => (
-                <li data-testid="warning" key={warning}>
-                  {warning}
-                </li>
-              ))}
-            </ul>
-          )}
+          {words}
         </div>
       </div>
       {(cut || open) && (
