@@ -138,7 +138,8 @@ nginx:
 screenshots: $(INSTALLED) $(APP) browser
 	rm -rf artifacts/screenshots
 	$(BIN)/python -m pytest -q tests/e2e/test_two_phones.py tests/e2e/test_layout.py tests/e2e/test_guided_tapping.py \
-		tests/e2e/test_hall_in_app.py tests/e2e/test_live_view.py tests/e2e/test_languages.py
+		tests/e2e/test_hall_in_app.py tests/e2e/test_live_view.py tests/e2e/test_live_view_hall.py \
+		tests/e2e/test_languages.py
 	$(BIN)/python -m testbed.screenshots artifacts/screenshots docs/screenshots
 
 bench: $(INSTALLED)

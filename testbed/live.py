@@ -85,8 +85,10 @@ def live_view(
     size: tuple[int, int] = VIDEO_SIZE,
     place: Camera | None = None,
     blur_px: int = 0,
+    axis: Sequence[float] | None = None,
 ) -> LiveView:
-    """A frame from the photo's place, the camera turned ``turn_deg`` about a random axis.
+    """A frame from the photo's place, the camera turned ``turn_deg`` about ``axis`` or a
+    random one.
 
     Args:
         hall: the hall and its photo.
@@ -100,10 +102,13 @@ def live_view(
             another one's makes a frame of somewhere else.
         blur_px: a sideways motion blur this long (the phone turning as the frame is
             exposed), px.
+        axis: (3,) the turn's axis in the photo's camera frame (x right, y down, z ahead),
+            right-handed: (0, -1, 0) turns the phone to the right. Default: drawn from
+            ``rng``.
     """
-    axis = rng.normal(size=3)
+    about = rng.normal(size=3) if axis is None else np.asarray(axis, np.float64)
     turn = np.asarray(
-        cv2.Rodrigues(axis / np.linalg.norm(axis) * math.radians(turn_deg))[0], np.float64
+        cv2.Rodrigues(about / np.linalg.norm(about) * math.radians(turn_deg))[0], np.float64
     )
     photo_size = hall.photo.shape[1], hall.photo.shape[0]
     focal = hall.camera.intrinsics[0, 0] * max(size) / max(photo_size) * zoom

@@ -42,6 +42,7 @@ class ChromiumPhone(Phone):
         self._errors: list[str] = []
         self._touch: CDPSession | None = None
         self._sensors: CDPSession | None = None
+        self._overridden: set[str] = set()  # the sensors whose readings are the test's
         # What a kept context must forget after the test (chromium_pool.py): the sites
         # opened, and whether the test went past this class to the context or the sensors.
         self.origins: set[str] = set()
@@ -123,30 +124,35 @@ class ChromiumPhone(Phone):
         # Its motion events then come every 16 ms, their readings rounded to 0.1 m/s^2.
         self.beyond_the_page = True
         self._context.grant_permissions(["accelerometer", "gyroscope"])
-        self._sensors = self._sensors or self._context.new_cdp_session(self._page)
         still = (0.0, 0.0, 0.0)
         readings = {"accelerometer": acceleration, "linear-acceleration": still, "gyroscope": still}
         for sensor, (x, y, z) in readings.items():
-            enable = {"enabled": True, "type": sensor}
-            self._sensors.send("Emulation.setSensorOverrideEnabled", enable)
-            reading = {"type": sensor, "reading": {"xyz": {"x": x, "y": y, "z": z}}}
-            self._sensors.send("Emulation.setSensorOverrideReadings", reading)
+            self._override(sensor, {"xyz": {"x": x, "y": y, "z": z}})
 
-    def hold_orientation(self, quaternion: tuple[float, float, float, float]) -> None:
+    def hold_orientation(
+        self, quaternion: tuple[float, float, float, float], sensor: str = "absolute-orientation"
+    ) -> None:
         """The phone's absolute orientation from now on (Chromium's ``absolute-orientation``
-        sensor, behind ``deviceorientationabsolute``): ``quaternion`` (x, y, z, w) turns the
-        device frame (x right of the screen, y its top, z out of it) into the earth's (x
-        east, y north, z up). Call it before the page listens (before the camera opens)."""
+        sensor, behind ``deviceorientationabsolute``), or its ``relative-orientation`` (the
+        live view's, and the in-app camera's at the shutter): ``quaternion`` (x, y, z, w)
+        turns the device frame (x right of the screen, y its top, z out of it) into the
+        earth's (x east, y north, z up). Call it first before the page listens (before the
+        camera opens); again, and the reading changes."""
         self.beyond_the_page = True
         self._context.grant_permissions(["accelerometer", "gyroscope", "magnetometer"])
-        self._sensors = self._sensors or self._context.new_cdp_session(self._page)
-        enable = {"enabled": True, "type": "absolute-orientation"}
-        self._sensors.send("Emulation.setSensorOverrideEnabled", enable)
         x, y, z, w = quaternion
-        reading = {"quaternion": {"x": x, "y": y, "z": z, "w": w}}
+        self._override(sensor, {"quaternion": {"x": x, "y": y, "z": z, "w": w}})
+
+    def _override(self, sensor: str, reading: dict[str, Any]) -> None:
+        """``sensor``'s reading from now on: the DevTools protocol's sensor emulation, turned
+        on once per sensor (a second time is an error)."""
+        self._sensors = self._sensors or self._context.new_cdp_session(self._page)
+        if sensor not in self._overridden:
+            enable = {"enabled": True, "type": sensor}
+            self._sensors.send("Emulation.setSensorOverrideEnabled", enable)
+            self._overridden.add(sensor)
         self._sensors.send(
-            "Emulation.setSensorOverrideReadings",
-            {"type": "absolute-orientation", "reading": reading},
+            "Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading}
         )
 
     def reduce_motion(self) -> None:

@@ -95,10 +95,12 @@ def focused(page: Phone, test_id: str) -> None:
         raise AssertionError(f"{failed}; it is on {seen[-1:]}") from None
 
 
-def upload(page: Phone, photo: Path) -> None:
+def upload(page: Phone, photo: Path, size: tuple[int, int] = (640, 480)) -> None:
+    """``photo`` from the gallery, shown at its ``size`` (width, height; a temple photo's)."""
     page.get_by_test_id("photo-input").set_input_files(photo)
-    expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
-    expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-height", "480")
+    view = page.get_by_test_id("photo-view")
+    expect(view).to_have_attribute("data-photo-width", str(size[0]))
+    expect(view).to_have_attribute("data-photo-height", str(size[1]))
 
 
 def mark_friend(page: Phone, x: float, y: float) -> None:

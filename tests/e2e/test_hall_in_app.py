@@ -129,6 +129,7 @@ def photograph(phone: Phone, camera: Camera) -> dict[str, Any]:
     assert isinstance(phone, ChromiumPhone)
     phone.hold_still(still_reading([float(value) for value in camera.down]))
     phone.hold_orientation(quaternion(earth_turn(camera)))
+    phone.hold_orientation(quaternion(earth_turn(camera)), "relative-orientation")
     phone.get_by_test_id("open-camera").tap()
     phone.get_by_test_id("motion-allow").tap()
     expect(phone.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
@@ -140,6 +141,39 @@ def grey_levels_apart(first: np.ndarray, second: np.ndarray) -> float:
     """The mean absolute difference of two BGR photos' grey, 0-255."""
     grey = [cv2.cvtColor(photo, cv2.COLOR_BGR2GRAY).astype(np.float64) for photo in (first, second)]
     return float(np.abs(grey[0] - grey[1]).mean())
+
+
+def tilted_up(camera: Camera, degrees: float) -> tuple[float, float, float, float]:
+    """``camera``'s phone (portrait) tilted up by ``degrees`` about the screen's x: the
+    device's top, then its lens, rises (the back lens looks along the device's -z)."""
+    t = math.radians(degrees)
+    about_x = np.array(
+        [[1.0, 0.0, 0.0], [0.0, math.cos(t), -math.sin(t)], [0.0, math.sin(t), math.cos(t)]]
+    )
+    return quaternion(earth_turn(camera) @ about_x)
+
+
+def shows_the_level_live(phone: ChromiumPhone, camera: Camera, screenshots: Path) -> None:
+    """Show me with the level alone: anchored by the in-app photo's orientation at the
+    shutter, the dotted curve is drawn over the live video; the phone tilted 60 degrees up,
+    the curve is below the screen and the arrow says to turn down, to the curve; level
+    again, the curve is back and the arrow gone."""
+    phone.get_by_test_id("show-me").tap()
+    live = phone.get_by_test_id("live-view")
+    expect(live).to_have_attribute("data-anchored", "true")
+    expect(phone.get_by_test_id("live-curve")).to_be_visible()
+    expect(phone.get_by_test_id("live-arrow")).to_have_count(0)
+    phone.screenshot(path=screenshots / "14e-show-me-level-joiner.png")
+    phone.hold_orientation(tilted_up(camera, 60.0), "relative-orientation")
+    arrow = phone.get_by_test_id("live-arrow")
+    expect(arrow).to_have_attribute("data-turn", "down")
+    expect(arrow).to_have_attribute("data-towards", "curve")
+    expect(phone.get_by_test_id("live-note")).to_contain_text("the dotted curve your friend is on")
+    phone.hold_orientation(tilted_up(camera, 0.0), "relative-orientation")
+    expect(phone.get_by_test_id("live-curve")).to_be_visible()
+    expect(arrow).to_have_count(0)
+    phone.get_by_test_id("live-close").tap()
+    expect(live).to_have_count(0)
 
 
 def test_both_photos_in_the_app_give_the_level_then_a_point(
@@ -196,6 +230,7 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     )
     assert distance_to(stretch, s.epipole2) <= halfwidth, (stretch, s.epipole2)
     expect(joiner.get_by_test_id("result-text")).to_contain_text("compass points")
+    shows_the_level_live(joiner, s.camera2, screenshots)
 
     # One landmark, tapped on both phones: a point, its region holding the truth.
     play.tap_landmarks(starter, s.landmarks1[LANDMARK : LANDMARK + 1])

@@ -166,13 +166,14 @@ def opening_ms(phone: Phone) -> float:
     return took[0]
 
 
-def starter_by_api(server: str) -> tuple[dict[str, str], str]:
-    """A search started over the API, with the starter's temple photo: its session and the
-    join code."""
+def starter_by_api(server: str, photo: Path | None = None) -> tuple[dict[str, str], str]:
+    """A search started over the API, with the starter's ``photo`` (default: the temple's):
+    its session and the join code."""
     created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
     auth = {"Authorization": f"Bearer {created['token']}"}
-    with play.temple(play.PAIR[0]).open("rb") as photo:
-        files = {"photo": ("starter.png", photo, "image/png")}
+    path = photo or play.temple(play.PAIR[0])
+    with path.open("rb") as file:
+        files = {"photo": (path.name, file, "image/png" if path.suffix == ".png" else "image/jpeg")}
         url = f"{server}/api/sessions/{created['session_id']}/photo"
         httpx2.put(url, headers=auth, files=files).raise_for_status()
     return created, created["join_code"]
