@@ -86,9 +86,9 @@ describe("re-anchoring (Show me)", () => {
 
   afterEach(() => vi.unstubAllGlobals());
 
-  it("posts the frame and the focal length it assumes, with the token", async () => {
+  it("posts the frame, with the token, for the server to measure its focal length", async () => {
     const { reanchor } = await import("./api");
-    const answer = await reanchor(PHONE, new Blob(["jpeg"], { type: "image/jpeg" }), 812.5);
+    const answer = await reanchor(PHONE, new Blob(["jpeg"], { type: "image/jpeg" }));
     expect(answer).toMatchObject({ rotation: ROTATION, frame_focal_px: 800 });
     const [call] = sent;
     expect(call?.url).toBe("/api/sessions/s1/reanchor");
@@ -96,20 +96,19 @@ describe("re-anchoring (Show me)", () => {
     expect((call?.init?.headers as Record<string, string>).Authorization).toBe("Bearer t1");
     const form = call?.init?.body as FormData;
     expect(form.get("frame")).toBeInstanceOf(Blob);
-    expect(form.get("frame_focal_px")).toBe("812.5");
+    expect(form.has("frame_focal_px")).toBe(false);
   });
 
   it("says a frame that did not match by its reason", async () => {
     const { reanchor } = await import("./api");
     const error = { code: "no_solution", reason: "frame_not_matched", message: "The frame does not match the photo." };
     reply = () => Promise.resolve(Response.json({ error }, { status: 422 }));
-    await expect(reanchor(PHONE, new Blob(["jpeg"]), null)).rejects.toMatchObject({ status: 422, code: "no_solution", reason: "frame_not_matched" });
-    expect((sent[0]?.init?.body as FormData).has("frame_focal_px")).toBe(false);
+    await expect(reanchor(PHONE, new Blob(["jpeg"]))).rejects.toMatchObject({ status: 422, code: "no_solution", reason: "frame_not_matched" });
   });
 
   it("refuses an answer that is no rotation", async () => {
     const { reanchor } = await import("./api");
     reply = () => Promise.resolve(Response.json({ rotation: [[1, 0], [0, 1]], frame_focal_px: 800 }));
-    await expect(reanchor(PHONE, new Blob(["jpeg"]), null)).rejects.toBeInstanceOf(ApiError);
+    await expect(reanchor(PHONE, new Blob(["jpeg"]))).rejects.toBeInstanceOf(ApiError);
   });
 });

@@ -213,14 +213,14 @@ function isReanchored(body: unknown): body is Reanchored {
 }
 
 /**
- * POST one small frame of the live view (a JPEG) to be matched to this phone's own photo;
- * `frameFocal`: the focal length the phone assumes for it, px of the frame, a hint. Refused
- * with 422 `no_solution` (reason `frame_not_matched`) when the frame does not match.
+ * POST one small frame of the live view (a JPEG) to be matched to this phone's own photo.
+ * The frame's focal length is left to the server to measure (the phone does not know its
+ * video's; `frame_focal_px`, for a caller that does, would be taken as known). Refused with
+ * 422 `no_solution` (reason `frame_not_matched`) when the frame does not match.
  */
-export async function reanchor({ session_id, token }: Credentials, frame: Blob, frameFocal: number | null): Promise<Reanchored> {
+export async function reanchor({ session_id, token }: Credentials, frame: Blob): Promise<Reanchored> {
   const form = new FormData();
   form.append("frame", frame, "frame.jpeg");
-  if (frameFocal !== null && Number.isFinite(frameFocal)) form.append("frame_focal_px", String(frameFocal));
   let response: Response;
   try {
     response = await fetch(`/api/sessions/${session_id}/reanchor`, {

@@ -163,6 +163,20 @@ def shows_the_level_live(phone: ChromiumPhone, camera: Camera, screenshots: Path
     expect(live).to_have_attribute("data-anchored", "true")
     expect(phone.get_by_test_id("live-curve")).to_be_visible()
     expect(phone.get_by_test_id("live-arrow")).to_have_count(0)
+    # The view's quiet check of its video's focal length: Chromium delivers this portrait
+    # film as a landscape stream, its middle 1920 x 1440 (docs/browsers.md), so the video
+    # has the photo's own focal length, not the photo's scaled by their long sides (3/4 of
+    # it), which the view assumes until the check's frame is measured.
+    expect(live).to_have_attribute("data-focal-check", "measured")
+    layer = phone.get_by_test_id("live-layer")
+    assert layer.get_attribute("data-video") == "1920x1440"
+    photo_focal = play.session_state(phone)["answer"]["in_photo"]["joiner"]["focal_px"]
+    video_focal = float(layer.get_attribute("data-video-focal") or "nan")
+    print(
+        f"the live video's focal length, measured: {video_focal:.0f} px (the photo's "
+        f"{photo_focal:.0f}; assumed: {photo_focal * 1920 / 2560:.0f})"
+    )
+    assert video_focal == pytest.approx(photo_focal, rel=0.02), (video_focal, photo_focal)
     phone.screenshot(path=screenshots / "14e-show-me-level-joiner.png")
     phone.hold_orientation(tilted_up(camera, 60.0), "relative-orientation")
     arrow = phone.get_by_test_id("live-arrow")

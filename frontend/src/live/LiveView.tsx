@@ -19,7 +19,7 @@
  */
 
 import { useEffect, useRef, useState } from "preact/hooks";
-import { ApiError, reanchor } from "../api";
+import { ApiError } from "../api";
 import { t } from "../i18n";
 import { drawnLabel, errorText } from "../i18n/server";
 import type { AnswerView } from "../answer";
@@ -28,7 +28,9 @@ import { motionAccess } from "../camera/motion";
 import { ArrowMark, DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, pathOf } from "../components/answerMarks";
 import { loadShutterAnchor, saveShutterAnchor } from "../storage";
 import type { Credentials, FrameShape, FriendInPhoto } from "../types";
-import { anchorFromFrame, sinceShutter, type Matrix3, type Vector3 } from "./orientation";
+import { agrees, checkNow, type FocalCheck } from "./focalCheck";
+import { asMatrix, drawFrame, matchFrame } from "./frames";
+import { anchorFromFrame, rotationAngleDeg, sinceShutter, type Matrix3, type Vector3 } from "./orientation";
 import {
   cover,
   focalFrom35mm,
@@ -55,9 +57,6 @@ const CONSTRAINTS: MediaStreamConstraints = {
   video: { facingMode: "environment", width: { ideal: 1920 }, height: { ideal: 1440 } },
   audio: false,
 };
-/** A frame sent to be matched: JPEG, this long side, this quality (small and few). */
-const FRAME_SIDE = 960;
-const FRAME_QUALITY = 0.8;
 /** A photo's focal length when its answer gave none (a projective answer, cameras unknown):
  * a phone's main camera, 35 mm-equivalent. The server will not re-anchor such a photo. */
 const TYPICAL_FOCAL_35MM = 26;
@@ -118,6 +117,9 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   const [videoSize, setVideoSize] = useState<Size | null>(null);
   const [box, setBox] = useState<Size>({ width: window.innerWidth, height: window.innerHeight });
   const [aligning, setAligning] = useState<Aligning>({ kind: "idle" });
+  // The video's focal length, checked once per opening when anchored at the shutter
+  // (focalCheck.ts); the server cannot match a photo whose answer has no focal length.
+  const [focalCheck, setFocalCheck] = useState<FocalCheck>(() => (anchor && mine.focal_px ? "waiting" : "off"));
   /** The last frame sent: the phone's turn rate then (degrees a second) and the wait, ms. */
   const [sent, setSent] = useState<{ rate: number | null; waited: number } | null>(null);
   const video = useRef<HTMLVideoElement>(null);
@@ -227,11 +229,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
     const at = chosen.at;
     setAligning({ kind: "sending" });
     try {
-      const frame = await encodeFrame(chosen.canvas);
-      const hint = videoFocal ? (videoFocal * frame.size.width) / videoSize.width : null;
-      const found = await reanchor(credentials, frame.blob, hint);
-      const rotation = asMatrix(found.rotation);
-      if (!rotation) throw new ApiError(200, "bad_answer", t("live.notMatched"));
+      const { rotation, focalPerLongSide } = await matchFrame(credentials, chosen.canvas);
       const aligned = anchorFromFrame(at, rotation);
       setAnchor(aligned);
       // Kept as the photo's anchor on this page: the view opened again starts from it.
@@ -244,7 +242,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       steps.current.reset();
       walked.delete(credentials.session_id);
       setMoved(false);
-      setMeasured(found.frame_focal_px / Math.max(frame.size.width, frame.size.height));
+      setMeasured(focalPerLongSide);
       setAligning({ kind: "idle" });
     } catch (error) {
       // The last anchor stays: a refused match moves nothing.
@@ -255,6 +253,26 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       setAligning({ kind: "refused", message });
     }
   };
+
+  // The quiet check: one frame of a still phone facing its photo's view; its focal length
+  // kept when the match agrees with the sensors. Align, tapped meanwhile, measures it too.
+  useEffect(() => {
+    const element = video.current;
+    const sensor = source.current;
+    if (phase !== "live" || !playing || !anchor || !reading || !element || !videoSize || !sensor || aligning.kind !== "idle") return;
+    const sensed = sinceShutter(anchor, reading);
+    if (!checkNow(focalCheck, turnRate(sensor.readings(), performance.now()), rotationAngleDeg(sensed))) return;
+    setFocalCheck("sending");
+    matchFrame(credentials, drawFrame(element, videoSize)).then(
+      ({ rotation, focalPerLongSide }) => {
+        if (!source.current) return; // closed meanwhile
+        const kept = agrees(rotation, sensed);
+        if (kept) setMeasured(focalPerLongSide);
+        setFocalCheck(kept ? "measured" : "disagreed");
+      },
+      () => setFocalCheck("refused"),
+    );
+  });
 
   const ready = phase === "live" && anchor && reading && photo && photoFocal && videoSize && videoFocal;
   const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine, drawing?.curve?.polylines ?? null) : null;
@@ -294,6 +312,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       data-readings={String(source.current?.count ?? 0)}
       data-warning={warning ?? "none"}
       data-aligning={aligning.kind}
+      data-focal-check={focalCheck}
       data-sent-rate={sent ? (sent.rate?.toFixed(2) ?? "unknown") : undefined}
       data-sent-wait={sent ? sent.waited.toFixed(0) : undefined}
     >
@@ -360,12 +379,6 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       </div>
     </div>
   );
-}
-
-function asMatrix(rows: readonly (readonly number[])[] | null): Matrix3 | null {
-  if (!rows || rows.length !== 3 || !rows.every((row) => row.length === 3 && row.every(Number.isFinite))) return null;
-  const [a, b, c] = rows as [number[], number[], number[]];
-  return [a as unknown as Vector3, b as unknown as Vector3, c as unknown as Vector3];
 }
 
 interface Layer {
@@ -460,21 +473,4 @@ interface Grabbed {
   at: Sample;
   rate: number | null;
   waited: number;
-}
-
-/** The live view's frame of the moment, small (long side FRAME_SIDE). */
-function drawFrame(element: HTMLVideoElement, video: Size): HTMLCanvasElement {
-  const k = Math.min(1, FRAME_SIDE / Math.max(video.width, video.height));
-  const canvas = document.createElement("canvas");
-  canvas.width = Math.round(video.width * k);
-  canvas.height = Math.round(video.height * k);
-  canvas.getContext("2d")?.drawImage(element, 0, 0, canvas.width, canvas.height);
-  return canvas;
-}
-
-/** A frame drawn as a JPEG, and its size. */
-async function encodeFrame(canvas: HTMLCanvasElement): Promise<{ blob: Blob; size: Size }> {
-  const blob = await new Promise<Blob | null>((resolve) => canvas.toBlob(resolve, "image/jpeg", FRAME_QUALITY));
-  if (!blob) throw new Error(t("live.unreadable"));
-  return { blob, size: { width: canvas.width, height: canvas.height } };
 }
