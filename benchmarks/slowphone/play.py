@@ -78,7 +78,7 @@ def _phone(playwright: Playwright, browser: Browser, rate: float) -> tuple[Brows
     return context, page
 
 
-def _tap(page: Page, fx: float, fy: float) -> None:
+def tap_at(page: Page, fx: float, fy: float) -> None:
     """A finger tap at a fraction of the photo, from the view's published transform."""
     view = page.get_by_test_id("photo-view")
     box = view.bounding_box()
@@ -157,7 +157,7 @@ def play(
         page.get_by_test_id("cannot-see").tap()  # the joiner cannot see the starter
         chromium.whole_photo(page)
         for fx, fy in SPOTS:
-            _tap(page, fx, fy)
+            tap_at(page, fx, fy)
             page.evaluate(AWAIT, "painted")
         page.wait_for_timeout(SETTLE_MS)
         run.taps = _taps(stamps(page))

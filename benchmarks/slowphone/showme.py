@@ -1,0 +1,149 @@
+"""Show me's opening on a slow phone: from the tap on "Show me" to the first marker drawn over
+the live video (the app's own performance marks, on the page's clock), with the CPU
+throttled as the rest of the benchmark throttles it.
+
+One phone per rate, in a Chromium of its own whose fake camera films the temple photo
+(``--use-file-for-fake-video-capture``) and whose sensors the DevTools protocol holds
+still, upright and level. It takes its photo with the in-app camera, so the view opens
+anchored at the shutter and draws at once; a starter over the API marks it and taps three
+landmarks of the temple scene, which the phone finds (its taps, unthrottled: what is
+measured is the opening). Then the CPU is throttled, and "Show me" is opened and closed
+``count`` times: the first opening fetches and compiles the view's code, the others find it
+loaded. Not modelled: a phone's camera starting (Chromium's fake camera starts at this
+machine's speed).
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from pathlib import Path
+
+import cv2
+import httpx2
+import numpy as np
+from playwright.sync_api import Page, Playwright, expect
+
+from testbed import chromium
+from testbed.scenes import temple_scene
+from testbed.y4m import write_y4m
+
+from .play import MODEL, WAIT_MS, tap_at
+
+TEMPLE = Path(__file__).resolve().parents[2] / "tests" / "data" / "temple"
+PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the phone's (filmed)
+SCENE_SEED = 12
+LANDMARKS = 3
+FILM = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream")
+# Held still, upright and level: the accelerometer's push against gravity up the screen
+# (m/s^2), nothing else moving, and the orientation a quarter turn about x (beta 90 degrees).
+STILL = {"accelerometer": (0.0, 9.80665, 0.0), "linear-acceleration": (0.0, 0.0, 0.0)}
+STILL["gyroscope"] = (0.0, 0.0, 0.0)
+UPRIGHT = (math.sin(math.pi / 4), 0.0, 0.0, math.cos(math.pi / 4))
+# The tap on Show me, marked at the click's own time (the event's time stamp); the view
+# marks its first marker drawn (LiveView.tsx's MARKER_DRAWN).
+MARK_TAP = """() => document.addEventListener("click", (event) => {
+    if (event.target.closest('[data-testid="show-me"]'))
+        performance.mark("show-me:tap", { startTime: event.timeStamp });
+}, true)"""
+# Each step of the opening, ms after the tap: the view mounted, the camera's stream given,
+# its first frame loaded, the first marker drawn (LiveView.tsx's marks).
+STEPS = ("view-opened", "camera-started", "first-frame", "marker-drawn")
+OPENING_MS = """(names) => {
+    const [tap] = performance.getEntriesByName("show-me:tap");
+    return Object.fromEntries(names.map((name) => {
+        const [mark] = performance.getEntriesByName(`show-me:${name}`);
+        return [name, mark.startTime - tap.startTime];
+    }));
+}"""
+# ...as a predicate (a function, not an expression: the app's CSP forbids eval).
+OPENED = """() => performance.getEntriesByName("show-me:marker-drawn").length > 0"""
+# A phone's camera films at 30 frames a second: Chromium's fake camera delivers its first
+# frame one frame's time after the stream starts.
+CAMERA_FPS = 30
+POLL_MS = 100  # how often the benchmark asks the page: polling every frame loads it
+
+
+def _starter(server: str) -> tuple[str, np.ndarray]:
+    """A search started over the API: the starter's photo, its mark of the phone and three
+    landmarks. Its join code, and the landmarks' pixels in the phone's photo."""
+    scene = temple_scene(
+        TEMPLE / "templeSR_par.txt", *PAIR, LANDMARKS, np.random.default_rng(SCENE_SEED)
+    )
+    with httpx2.Client(base_url=server, timeout=30) as http:
+        created = http.post("/api/sessions").raise_for_status().json()
+        auth = {"Authorization": f"Bearer {created['token']}"}
+        base = f"/api/sessions/{created['session_id']}"
+        with (TEMPLE / f"{PAIR[0]}.png").open("rb") as photo:
+            files = {"photo": ("starter.png", photo, "image/png")}
+            http.put(f"{base}/photo", headers=auth, files=files).raise_for_status()
+        landmarks = [
+            {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(scene.landmarks1, 1)
+        ]
+        friend = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
+        taps = {"friend": friend, "landmarks": landmarks}
+        http.put(f"{base}/taps", headers=auth, json=taps).raise_for_status()
+    return str(created["join_code"]), scene.landmarks2
+
+
+def _answered(page: Page, server: str) -> None:
+    """The phone joins, photographs the temple in the app and finds the starter's landmarks:
+    its answer, a point, is on the screen with "Show me"."""
+    code, landmarks = _starter(server)
+    page.goto(f"{server}/join/{code}")
+    page.get_by_test_id("open-camera").tap()
+    page.get_by_test_id("motion-allow").tap()
+    expect(page.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
+    expect(page.get_by_test_id("in-app-camera")).to_have_attribute("data-phase", "live")
+    page.get_by_test_id("shutter").tap()
+    expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+    page.get_by_test_id("cannot-see").tap()
+    chromium.whole_photo(page)
+    for number, (x, y) in enumerate(landmarks, 1):
+        tap_at(page, x / 640, y / 480)
+        expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+    expect(page.get_by_test_id("show-me")).to_be_visible()
+
+
+def openings(
+    playwright: Playwright, server: str, rate: float, count: int
+) -> list[dict[str, float]]:
+    """``count`` openings of Show me at CPU ``rate`` on a fresh phone: each one's STEPS, ms
+    after the tap, the last the first marker drawn over the live video (the first opening
+    fetches the view's code)."""
+    expect.set_options(timeout=WAIT_MS)
+    with tempfile.TemporaryDirectory() as folder:
+        film = Path(folder) / "temple.y4m"
+        photo = cv2.imread(str(TEMPLE / f"{PAIR[1]}.png"), cv2.IMREAD_COLOR)
+        write_y4m(film, [np.asarray(photo, np.uint8)], fps=CAMERA_FPS)
+        browser = chromium.launch(playwright, (*FILM, f"--use-file-for-fake-video-capture={film}"))
+        try:
+            context = chromium.phone(playwright, browser, MODEL)
+            context.grant_permissions(["accelerometer", "gyroscope"])
+            page = context.new_page()
+            cdp = context.new_cdp_session(page)
+            readings = {
+                sensor: {"xyz": dict(zip("xyz", xyz, strict=True))} for sensor, xyz in STILL.items()
+            }
+            readings["relative-orientation"] = {
+                "quaternion": dict(zip("xyzw", UPRIGHT, strict=True))
+            }
+            for sensor, reading in readings.items():
+                cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
+                cdp.send(
+                    "Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading}
+                )
+            _answered(page, server)
+            page.evaluate(MARK_TAP)
+            cdp.send("Emulation.setCPUThrottlingRate", {"rate": rate})
+            took = []
+            for _ in range(count):
+                page.evaluate("() => performance.clearMarks()")
+                page.get_by_test_id("show-me").tap()
+                page.wait_for_function(OPENED, polling=POLL_MS)
+                took.append({k: float(v) for k, v in page.evaluate(OPENING_MS, STEPS).items()})
+                page.get_by_test_id("live-close").tap()
+                expect(page.get_by_test_id("live-view")).to_have_count(0)
+            return took
+        finally:
+            browser.close()
