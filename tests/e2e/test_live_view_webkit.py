@@ -153,6 +153,12 @@ def test_show_me_in_webkit(server: str, pixel: Phone) -> None:
         }"""
     )
     print(f"the mock camera's live video: {video}")
+    # The view's quiet check of its video's focal length: the server does not match the mock
+    # camera's moving pattern to the photo (one frame of it), so the assumption stays, and
+    # nothing is said.
+    expect(live).to_have_attribute("data-focal-check", "refused")
+    note = pixel.get_by_test_id("live-note").inner_text()
+    assert "did not match" not in note, note
 
     def marker_at(turn: float, when: str) -> float:
         """Turned right by ``turn`` degrees: the marker where the friend projects; its
