@@ -42,10 +42,11 @@ from report import (
 from slowphone import size
 from slowphone.photos import NAMES, photo
 from slowphone.play import MODEL, SPOTS, PhoneRun, Tap, play
-from slowphone.showme import STEPS, openings
+from slowphone.showme import openings
 
 from deploy.replica import serve
 from testbed import chromium
+from testbed.opening import STEPS
 
 DEFAULT_OUT = ROOT / "docs" / "slow-phone.md"
 SEED = 20261127

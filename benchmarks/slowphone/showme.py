@@ -25,6 +25,7 @@ import numpy as np
 from playwright.sync_api import Page, Playwright, expect
 
 from testbed import chromium
+from testbed.opening import FORGET, MARK_TAP, OPENED, OPENING_STEPS
 from testbed.scenes import temple_scene
 from testbed.y4m import write_y4m
 
@@ -40,24 +41,6 @@ FILM = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream")
 STILL = {"accelerometer": (0.0, 9.80665, 0.0), "linear-acceleration": (0.0, 0.0, 0.0)}
 STILL["gyroscope"] = (0.0, 0.0, 0.0)
 UPRIGHT = (math.sin(math.pi / 4), 0.0, 0.0, math.cos(math.pi / 4))
-# The tap on Show me, marked at the click's own time (the event's time stamp); the view
-# marks its first marker drawn (LiveView.tsx's MARKER_DRAWN).
-MARK_TAP = """() => document.addEventListener("click", (event) => {
-    if (event.target.closest('[data-testid="show-me"]'))
-        performance.mark("show-me:tap", { startTime: event.timeStamp });
-}, true)"""
-# Each step of the opening, ms after the tap: the view mounted, the camera's stream given,
-# its first frame loaded, the first marker drawn (LiveView.tsx's marks).
-STEPS = ("view-opened", "camera-started", "first-frame", "marker-drawn")
-OPENING_MS = """(names) => {
-    const [tap] = performance.getEntriesByName("show-me:tap");
-    return Object.fromEntries(names.map((name) => {
-        const [mark] = performance.getEntriesByName(`show-me:${name}`);
-        return [name, mark.startTime - tap.startTime];
-    }));
-}"""
-# ...as a predicate (a function, not an expression: the app's CSP forbids eval).
-OPENED = """() => performance.getEntriesByName("show-me:marker-drawn").length > 0"""
 # A phone's camera films at 30 frames a second: Chromium's fake camera delivers its first
 # frame one frame's time after the stream starts.
 CAMERA_FPS = 30
@@ -138,10 +121,10 @@ def openings(
             cdp.send("Emulation.setCPUThrottlingRate", {"rate": rate})
             took = []
             for _ in range(count):
-                page.evaluate("() => performance.clearMarks()")
+                page.evaluate(FORGET)
                 page.get_by_test_id("show-me").tap()
                 page.wait_for_function(OPENED, polling=POLL_MS)
-                took.append({k: float(v) for k, v in page.evaluate(OPENING_MS, STEPS).items()})
+                took.append({k: float(v) for k, v in page.evaluate(OPENING_STEPS).items()})
                 page.get_by_test_id("live-close").tap()
                 expect(page.get_by_test_id("live-view")).to_have_count(0)
             return took

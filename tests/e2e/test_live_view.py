@@ -38,6 +38,7 @@ from phone import Element, Phone, expect
 from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
 
+from testbed.opening import MARK_TAP, OPENING_STEPS
 from testbed.scenes import Scene
 from testbed.y4m import write_y4m
 
@@ -121,17 +122,6 @@ def shift_clock(phone: Phone, ms: float) -> None:
     )
 
 
-# The tap on Show me, marked by the page at the click's own time (the event's timeStamp).
-MARK_TAP = """() => document.addEventListener("click", (event) => {
-    if (event.target.closest('[data-testid="show-me"]'))
-        performance.mark("show-me:tap", { startTime: event.timeStamp });
-}, true)"""
-# From that tap to the first marker drawn over the live video (LiveView.MARKER_DRAWN), ms.
-OPENING_MS = """() => {
-    const [tap] = performance.getEntriesByName("show-me:tap");
-    const [drawn] = performance.getEntriesByName("show-me:marker-drawn");
-    return tap && drawn ? drawn.startTime - tap.startTime : null;
-}"""
 # A click on Align by the page itself: no driver's round trips.
 CLICK_ALIGN = """() => document.querySelector('[data-testid="live-align"]').click()"""
 # Opening the view is printed against the issue's target (1 s, 255-447 ms measured here on
@@ -141,28 +131,19 @@ CLICK_ALIGN = """() => document.querySelector('[data-testid="live-align"]').clic
 OPENING_BOUND_MS = 5000.0
 
 
-# The steps of the opening, ms after the tap (the app's marks, LiveView.tsx).
-OPENING_STEPS = """() => {
-    const [tap] = performance.getEntriesByName("show-me:tap");
-    const names = ["view-opened", "camera-started", "first-frame", "marker-drawn"];
-    return Object.fromEntries(names.map((name) => {
-        const [mark] = performance.getEntriesByName(`show-me:${name}`);
-        return [name, tap && mark ? Math.round(mark.startTime - tap.startTime) : null];
-    }));
-}"""
-
-
 def opening_ms(phone: Phone) -> float:
     """How long the view took to open, from the tap to the first marker, ms (waited for)."""
     took: list[float] = []
 
     def measured() -> bool:
-        value = phone.evaluate(OPENING_MS)
+        value = phone.evaluate(OPENING_STEPS)["marker-drawn"]
         took[:] = [] if value is None else [float(value)]
         return bool(took)
 
     phone.wait_for(measured, "the first marker drawn")
-    print(f"Show me's opening ({phone}), ms after the tap: {phone.evaluate(OPENING_STEPS)}")
+    steps = phone.evaluate(OPENING_STEPS)
+    shown = {step: None if ms is None else round(ms) for step, ms in steps.items()}
+    print(f"Show me's opening ({phone}), ms after the tap: {shown}")
     return took[0]
 
 

@@ -51,7 +51,6 @@ from test_in_app_camera import ASK_MOTION, SPY, still_reading, take_photo
 from test_live_view import (
     FILM_DIAGONAL_MM,
     OPENING_BOUND_MS,
-    OPENING_STEPS,
     TOLERANCE_DEG,
     answered,
     degrees_apart,
@@ -61,6 +60,8 @@ from test_live_view import (
     show_me,
     starter_by_api,
 )
+
+from testbed.opening import OPENING_STEPS
 
 pytestmark = pytest.mark.engines("webkit")
 
