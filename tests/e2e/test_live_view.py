@@ -382,7 +382,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     errors.append(marker_at(ahead + 3.0, "back from 90 degrees away"))
     # Turning was no walk; walking away is said (the marker stays: it may still help).
     expect(live).to_have_attribute("data-warning", "none")
-    motion.walk(3.0)
+    motion.walk(6.0)  # twelve steps: a stall over 0.5 s starts the count again (trust.ts)
     expect(joiner.get_by_test_id("live-warning")).to_contain_text("You have moved")
     expect(live).to_have_attribute("data-warning", "moved")
 
