@@ -196,6 +196,32 @@ def answered(
     return mine
 
 
+def turn_right(degrees: float) -> np.ndarray:
+    """(3, 3) the phone turned right by ``degrees`` about its vertical: a direction in the
+    camera frame before it (x right, y down, z ahead) into the frame after it (turning right
+    moves the scene left)."""
+    t = math.radians(degrees)
+    return np.array(
+        [[math.cos(t), 0.0, -math.sin(t)], [0.0, 1.0, 0.0], [math.sin(t), 0.0, math.cos(t)]]
+    )
+
+
+def video_on_screen(phone: Phone, video_px: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+    """A live video pixel on the screen, as object-fit: cover shows the video; screen px per
+    video px; the video's size (width, height)."""
+    shown = phone.evaluate(
+        """() => {
+            const v = document.querySelector('[data-testid="live-video"]');
+            const r = v.getBoundingClientRect();
+            return [r.left, r.top, r.width, r.height, v.videoWidth, v.videoHeight];
+        }"""
+    )
+    left, top, width, height, vw, vh = (float(value) for value in shown)
+    scale = max(width / vw, height / vh)
+    offset = np.array([left + (width - vw * scale) / 2, top + (height - vh * scale) / 2])
+    return offset + scale * video_px, scale, np.array([vw, vh])
+
+
 def expected_on_screen(
     phone: Phone,
     friend: np.ndarray,
@@ -211,25 +237,13 @@ def expected_on_screen(
     video's focal length is the photo's scaled by their long sides (pointer.ts's liveFocal,
     a stream showing the whole sensor), and the returned scale is per photo-focal px. A
     ``zoom`` is the stream's crop: its focal length that many times the photo's."""
-    shown = phone.evaluate(
-        """() => {
-            const v = document.querySelector('[data-testid="live-video"]');
-            const r = v.getBoundingClientRect();
-            return [r.left, r.top, r.width, r.height, v.videoWidth, v.videoHeight];
-        }"""
-    )
-    left, top, width, height, vw, vh = (float(value) for value in shown)
-    centre = np.array([vw / 2, vh / 2])
+    _, _, (vw, vh) = video_on_screen(phone, np.zeros(2))
     pw, ph = photo or (vw, vh)
     video_focal = zoom * focal * max(vw, vh) / max(pw, ph)
-    dx, dy = friend - np.array([pw / 2, ph / 2])
-    t = math.radians(turn_deg)
-    # Turning right moves the scene left: the direction about the camera's vertical.
-    x, y, z = dx * math.cos(t) - focal * math.sin(t), dy, dx * math.sin(t) + focal * math.cos(t)
-    video = centre + video_focal * np.array([x / z, y / z])
-    scale = max(width / vw, height / vh)
-    offset = np.array([left + (width - vw * scale) / 2, top + (height - vh * scale) / 2])
-    return offset + scale * video, scale * video_focal / focal, np.array([vw, vh])
+    x, y, z = turn_right(turn_deg) @ np.array([*(friend - np.array([pw / 2, ph / 2])), focal])
+    video = np.array([vw / 2, vh / 2]) + video_focal * np.array([x / z, y / z])
+    at, scale, size = video_on_screen(phone, video)
+    return at, scale * video_focal / focal, size
 
 
 def degrees_apart(a: np.ndarray, b: np.ndarray, focal_screen: float) -> float:
@@ -252,13 +266,7 @@ class Reanchoring:
     for the still-frame check) and the frame's focal length. Keeps what the phone sent."""
 
     def __init__(self, turn_deg: float, focal: float) -> None:
-        t = math.radians(turn_deg)
-        # A turn to the right by t about the camera's vertical (x right, y down, z ahead).
-        self.rotation = [
-            [math.cos(t), 0.0, -math.sin(t)],
-            [0.0, 1.0, 0.0],
-            [math.sin(t), 0.0, math.cos(t)],
-        ]
+        self.rotation = turn_right(turn_deg).tolist()
         self.focal = focal
         self.sent: list[bytes] = []
         self.served: dict[str, Any] | None = None

@@ -18,7 +18,6 @@ centre by about 0.3 % of the diagonal).
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -39,7 +38,9 @@ from test_live_view import (
     degrees_apart,
     marker,
     starter_by_api,
+    turn_right,
     turned_right,
+    video_on_screen,
 )
 
 from testbed.live import VIDEO_SIZE, Hall, LiveView, live_view, marker_error_deg, rendered_hall
@@ -68,15 +69,6 @@ SEEN_VIEW = """(size) => {
     return Array.from({ length: size[0] * size[1] }, (_, i) =>
         (rgba[4 * i] + rgba[4 * i + 1] + rgba[4 * i + 2]) / 3);
 }"""
-
-
-def right(degrees: float) -> np.ndarray:
-    """(3, 3) a turn of the phone to the right by ``degrees`` about its vertical: directions
-    in the camera frame before it (x right, y down, z ahead) into the frame after it."""
-    t = math.radians(degrees)
-    return np.array(
-        [[math.cos(t), 0.0, -math.sin(t)], [0.0, 1.0, 0.0], [math.sin(t), 0.0, math.cos(t)]]
-    )
 
 
 def thumbnail(frame: np.ndarray) -> np.ndarray:
@@ -110,22 +102,11 @@ def wait_for_view(phone: Phone, views: list[LiveView], wanted: int) -> None:
 
 
 def on_screen(phone: Phone, video_px: np.ndarray) -> tuple[np.ndarray, float]:
-    """A live video pixel on the screen (object-fit: cover), and screen px per video px."""
-    left, top, width, height, vw, vh = (
-        float(value)
-        for value in phone.evaluate(
-            """() => {
-                const v = document.querySelector('[data-testid="live-video"]');
-                const r = v.getBoundingClientRect();
-                return [r.left, r.top, r.width, r.height, v.videoWidth, v.videoHeight];
-            }"""
-        )
-    )
-    # The film arrives as it is: a stream stretched to another format would move the truth.
-    assert (vw, vh) == VIDEO_SIZE, (vw, vh)
-    scale = max(width / vw, height / vh)
-    offset = np.array([left + (width - vw * scale) / 2, top + (height - vh * scale) / 2])
-    return offset + scale * video_px, scale
+    """A live video pixel on the screen, and screen px per video px."""
+    at, scale, size = video_on_screen(phone, video_px)
+    # The film arrives as it is: a stream cropped to another format would move the truth.
+    assert tuple(size) == VIDEO_SIZE, size
+    return at, scale
 
 
 @pytest.fixture(scope="module")
@@ -222,7 +203,7 @@ def test_show_me_in_a_rendered_hall_follows_the_live_video(
         frame_focal = float(served["frame_focal_px"])
         height, width = hall.photo.shape[:2]
         direction = np.array([*(friend - (width / 2, height / 2)), focal])
-        turned = right(heading - TURNS[0]) @ np.array(served["rotation"]) @ direction
+        turned = turn_right(heading - TURNS[0]) @ np.array(served["rotation"]) @ direction
         video = (
             np.array([VIDEO_SIZE[0] / 2, VIDEO_SIZE[1] / 2]) + frame_focal * turned[:2] / turned[2]
         )

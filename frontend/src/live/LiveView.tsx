@@ -259,6 +259,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   useEffect(() => {
     const element = video.current;
     const sensor = source.current;
+    // Once it is over (or off), nothing more on each reading.
+    if (focalCheck !== "waiting") return;
     if (phase !== "live" || !playing || !anchor || !reading || !element || !videoSize || !sensor || aligning.kind !== "idle") return;
     const sensed = sinceShutter(anchor, reading);
     if (!checkNow(focalCheck, turnRate(sensor.readings(), performance.now()), rotationAngleDeg(sensed))) return;
