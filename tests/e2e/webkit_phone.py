@@ -18,17 +18,19 @@ What the engine allows, found on WebKitGTK 2.50 (docs/browsers.md):
 
 from __future__ import annotations
 
+import contextlib
 import glob
 import math
 import re
 import shutil
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Generator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+import psutil
 from phone import RESOLVE, Phone, Point, Step, web_origin
 from PIL import ImageGrab
 from pyvirtualdisplay.display import Display
@@ -39,9 +41,11 @@ from selenium.webdriver.common.actions.action_builder import ActionBuilder
 from selenium.webdriver.common.actions.pointer_input import PointerInput
 from selenium.webdriver.common.actions.wheel_input import WheelInput
 from selenium.webdriver.remote.command import Command
+from selenium.webdriver.remote.remote_connection import RemoteConnection
 from selenium.webdriver.remote.webelement import WebElement
 from selenium.webdriver.webkitgtk.options import Options
 from selenium.webdriver.webkitgtk.service import Service
+from urllib3.exceptions import ReadTimeoutError
 
 # Debian's packages (webkit2gtk-driver, libwebkit2gtk-4.1-0, xvfb); `make test` installs them.
 WEBKIT_DRIVER = "/usr/bin/WebKitWebDriver"
@@ -50,6 +54,10 @@ MINIBROWSERS = sorted(
 )  # per architecture
 XVFB = "/usr/bin/Xvfb"
 PAGE_LOAD_S = 30
+# How long any one WebDriver command may take, s. Selenium's own default is no limit, and
+# WebKitGTK's web process can deadlock in GStreamer (docs/browsers.md): the command waiting
+# on it then never returned, and a CI run waited out its 90 minutes.
+COMMAND_S = 60
 STALE_TRIES = 5  # finds of an element the page replaced while it was being used
 # How long a new window size may take to reach the page, s.
 RESIZE_S = 5.0
@@ -171,12 +179,45 @@ def missing() -> list[str]:
     return absent + ([] if MINIBROWSERS else ["MiniBrowser (libwebkit2gtk-4.1-0)"])
 
 
+class Driver(webdriver.WebKitGTK):
+    """WebKitGTK's driver whose commands fail, naming the hang, once one got no answer in
+    its time (:data:`COMMAND_S`): the page's process is then stuck, and asking again (the
+    fixture's console errors, the pool's reset, quitting) would wait as long each time."""
+
+    hung: str | None = None
+
+    def execute(
+        self,
+        driver_command: str | Generator[dict[str, Any], Any, Any],
+        params: dict[str, Any] | None = None,
+    ) -> Any:
+        if self.hung is not None:
+            raise AssertionError(self.hung)
+        try:
+            return super().execute(driver_command, params)
+        except ReadTimeoutError as timeout:
+            waited = self.command_executor.client_config.timeout
+            self.hung = (
+                f"WebKit gave no answer to {driver_command!r} in {waited:g} s: "
+                "its web process is stuck (docs/browsers.md)"
+            )
+            raise AssertionError(self.hung) from timeout
+
+
 class WebKitPhone(Phone):
     engine = "webkit"
     pointer = "mouse"
 
-    def __init__(self, model: str, screen: Screen, folder: Path, turns: bool = False) -> None:
+    def __init__(
+        self,
+        model: str,
+        screen: Screen,
+        folder: Path,
+        turns: bool = False,
+        command_s: float = COMMAND_S,
+    ) -> None:
         super().__init__(model)
+        self.command_s = command_s
         self.viewport = screen.viewport
         absent = missing()
         assert not absent, f"not installed: {absent} (`make test` installs them: `make webkit`)"
@@ -205,7 +246,7 @@ class WebKitPhone(Phone):
             self._display.stop()
             raise
 
-    def _start(self, folder: Path) -> webdriver.WebKitGTK:
+    def _start(self, folder: Path) -> Driver:
         # A home of its own: no profile, cache or storage shared with the other phone.
         home = folder / "home"
         home.mkdir(exist_ok=True)
@@ -240,8 +281,10 @@ class WebKitPhone(Phone):
         with warnings.catch_warnings():
             # Selenium's own WebKitGTK class still sets remote_server_addr, which it deprecates.
             warnings.filterwarnings("ignore", "setting remote_server_addr", DeprecationWarning)
-            driver = webdriver.WebKitGTK(options=options, service=service)
+            driver = Driver(options=options, service=service)
         driver.set_page_load_timeout(PAGE_LOAD_S)
+        assert isinstance(driver.command_executor, RemoteConnection)
+        driver.command_executor.client_config.timeout = self.command_s
         return driver
 
     def _fit(self, viewport: tuple[int, int]) -> None:
@@ -335,10 +378,17 @@ class WebKitPhone(Phone):
 
     def close(self) -> None:
         self.closed = True
+        # The browser's processes, listed while the driver is their parent: a stuck web
+        # process outlives MiniBrowser's quitting, so whatever is left is killed.
+        driver = psutil.Process(self._driver.service.process.pid)
+        family = driver.children(recursive=True)
         try:
             self._driver.quit()
         finally:
             self._display.stop()
+            for process in family:
+                with contextlib.suppress(psutil.NoSuchProcess):
+                    process.kill()
 
     def fill_in(self, steps: tuple[Step, ...], text: str) -> None:
         element = self._element(steps)

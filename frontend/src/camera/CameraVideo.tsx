@@ -12,3 +12,18 @@ type Props = Omit<JSX.HTMLAttributes<HTMLVideoElement>, "ref"> & { videoRef: Ref
 export function CameraVideo({ videoRef, ...attributes }: Props) {
   return <video ref={videoRef} role="img" aria-label={t("camera.sees")} autoplay muted playsInline {...attributes} />;
 }
+
+/**
+ * Closes the camera a view showed: the video lets go of the stream first, then its tracks
+ * stop. Stopping a track under a playing video deadlocked WebKitGTK's web process (its
+ * GStreamer pipeline reconfigured on the page's thread while the video's frame thread
+ * waited on that same thread: docs/browsers.md); the video's own teardown first stops
+ * taking frames.
+ */
+export function closeCamera(video: HTMLVideoElement | null, stream: MediaStream | null): void {
+  if (video && video.srcObject) {
+    video.pause();
+    video.srcObject = null;
+  }
+  stream?.getTracks().forEach((track) => track.stop());
+}

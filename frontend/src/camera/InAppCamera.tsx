@@ -12,7 +12,7 @@ import { useEffect, useRef, useState } from "preact/hooks";
 import { t } from "../i18n";
 import type { SensorFields } from "../types";
 import { markShutter } from "../live/shutter";
-import { CameraVideo } from "./CameraVideo";
+import { CameraVideo, closeCamera } from "./CameraVideo";
 import { takePicture } from "./capture";
 import type { GravityReading } from "./gravity";
 import type { HeadingReading } from "./heading";
@@ -106,9 +106,10 @@ export function InAppCamera({ onPhoto, onClose }: Props) {
 
   useEffect(() => {
     const recorder = motion.current;
+    const element = video.current;
     return () => {
       recorder.stop();
-      stream.current?.getTracks().forEach((track) => track.stop());
+      closeCamera(element, stream.current);
       stream.current = null;
     };
   }, []);

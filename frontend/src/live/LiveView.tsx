@@ -23,7 +23,7 @@ import { ApiError } from "../api";
 import { t } from "../i18n";
 import { drawnLabel, errorText } from "../i18n/server";
 import type { AnswerView } from "../answer";
-import { CameraVideo } from "../camera/CameraVideo";
+import { CameraVideo, closeCamera } from "../camera/CameraVideo";
 import { motionAccess } from "../camera/motion";
 import { ArrowMark, DottedCurve, FONT, LEADER, LabelledFrame, MIN_FRAME_CSS, pathOf } from "../components/answerMarks";
 import { loadShutterAnchor, saveShutterAnchor } from "../storage";
@@ -131,6 +131,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
   // The camera, the orientation and the motion while open; all stop on close.
   useEffect(() => {
     performance.mark(VIEW_OPENED);
+    const element = video.current;
     let closed = false;
     let stream: MediaStream | null = null;
     const sensor = new OrientationSource((sample) => {
@@ -160,7 +161,6 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
           stream.getTracks().forEach((track) => track.stop());
           return;
         }
-        const element = video.current;
         if (element) {
           element.srcObject = stream;
           await element.play().catch(() => undefined);
@@ -179,7 +179,7 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
       window.removeEventListener("devicemotion", onMotion);
       window.clearInterval(tick);
       source.current = null;
-      stream?.getTracks().forEach((track) => track.stop());
+      closeCamera(element, stream);
     };
   }, []);
 
