@@ -45,3 +45,59 @@ def whole_photo(page: Any) -> None:
     if button.count() > 0:
         button.tap()
         button.wait_for(state="detached")
+
+
+# The permissions the page needs for each sensor's readings (the orientation ones fuse the
+# motion sensors, and the magnetometer for the compass).
+_MOTION = ["accelerometer", "gyroscope"]
+PERMISSIONS = {
+    "accelerometer": _MOTION,
+    "linear-acceleration": _MOTION,
+    "gyroscope": _MOTION,
+    "relative-orientation": [*_MOTION, "magnetometer"],
+    "absolute-orientation": [*_MOTION, "magnetometer"],
+}
+
+
+class Sensors:
+    """A page's sensors held by the test or benchmark: Chromium's sensor emulation (the
+    DevTools protocol's ``Emulation.setSensorOverrideEnabled``/``setSensorOverrideReadings``)
+    on a DevTools session of its own, each sensor turned on once (a second time is an error).
+    Chromium hands the override to sensors the page starts after it, and sends a reading when
+    it changes: hold a sensor before the page listens, then again to change it.
+
+    ``context`` and ``page``: Playwright's; the context is granted each sensor's permissions
+    as it is first held (:data:`PERMISSIONS`).
+    """
+
+    def __init__(self, context: Any, page: Any) -> None:
+        self._context = context
+        self._cdp = context.new_cdp_session(page)
+        self._on: set[str] = set()
+
+    def hold(self, sensor: str, reading: dict[str, Any]) -> None:
+        """``sensor`` (``accelerometer``, ``relative-orientation``...) reads ``reading`` (the
+        protocol's: ``{"xyz": {...}}`` or ``{"quaternion": {...}}``) from now on."""
+        if sensor not in self._on:
+            self._context.grant_permissions(PERMISSIONS[sensor])
+            self._cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
+            self._on.add(sensor)
+        self._cdp.send("Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading})
+
+    def hold_xyz(self, sensor: str, xyz: tuple[float, float, float]) -> None:
+        """A motion sensor's reading (m/s^2, rad/s): x right of the screen, y its top, z out."""
+        self.hold(sensor, {"xyz": dict(zip("xyz", xyz, strict=True))})
+
+    def hold_still(self, acceleration: tuple[float, float, float]) -> None:
+        """The three sensors DeviceMotionEvent reads, of a phone held still: the accelerometer
+        pushing back against gravity (``acceleration``), no linear acceleration, no turn."""
+        self.hold_xyz("accelerometer", acceleration)
+        self.hold_xyz("linear-acceleration", (0.0, 0.0, 0.0))
+        self.hold_xyz("gyroscope", (0.0, 0.0, 0.0))
+
+    def hold_orientation(
+        self, quaternion: tuple[float, float, float, float], sensor: str = "relative-orientation"
+    ) -> None:
+        """An orientation sensor's reading: ``quaternion`` (x, y, z, w) turns the device frame
+        into the earth's (x east, y north, z up; a relative sensor's own reference)."""
+        self.hold(sensor, {"quaternion": dict(zip("xyzw", quaternion, strict=True))})

@@ -38,8 +38,7 @@ LANDMARKS = 3
 FILM = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream")
 # Held still, upright and level: the accelerometer's push against gravity up the screen
 # (m/s^2), nothing else moving, and the orientation a quarter turn about x (beta 90 degrees).
-STILL = {"accelerometer": (0.0, 9.80665, 0.0), "linear-acceleration": (0.0, 0.0, 0.0)}
-STILL["gyroscope"] = (0.0, 0.0, 0.0)
+UP = (0.0, 9.80665, 0.0)
 UPRIGHT = (math.sin(math.pi / 4), 0.0, 0.0, math.cos(math.pi / 4))
 # A phone's camera films at 30 frames a second: Chromium's fake camera delivers its first
 # frame one frame's time after the stream starts.
@@ -102,21 +101,12 @@ def openings(
         browser = chromium.launch(playwright, (*FILM, f"--use-file-for-fake-video-capture={film}"))
         try:
             context = chromium.phone(playwright, browser, MODEL)
-            context.grant_permissions(["accelerometer", "gyroscope"])
             page = context.new_page()
-            cdp = context.new_cdp_session(page)
-            readings = {
-                sensor: {"xyz": dict(zip("xyz", xyz, strict=True))} for sensor, xyz in STILL.items()
-            }
-            readings["relative-orientation"] = {
-                "quaternion": dict(zip("xyzw", UPRIGHT, strict=True))
-            }
-            for sensor, reading in readings.items():
-                cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
-                cdp.send(
-                    "Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading}
-                )
+            sensors = chromium.Sensors(context, page)
+            sensors.hold_still(UP)
+            sensors.hold_orientation(UPRIGHT)
             _answered(page, server)
+            cdp = context.new_cdp_session(page)
             page.evaluate(MARK_TAP)
             cdp.send("Emulation.setCPUThrottlingRate", {"rate": rate})
             took = []

@@ -41,8 +41,7 @@ class ChromiumPhone(Phone):
         self._page = self._context.new_page()
         self._errors: list[str] = []
         self._touch: CDPSession | None = None
-        self._sensors: CDPSession | None = None
-        self._overridden: set[str] = set()  # the sensors whose readings are the test's
+        self._sensors: chromium.Sensors | None = None  # the sensors whose readings are the test's
         # What a kept context must forget after the test (chromium_pool.py): the sites
         # opened, and whether the test went past this class to the context or the sensors.
         self.origins: set[str] = set()
@@ -122,12 +121,7 @@ class ChromiumPhone(Phone):
         # Chromium's DeviceMotionEvent reads three sensors; each is overridden (the DevTools
         # protocol's sensor emulation), the still phone's linear acceleration and turn zero.
         # Its motion events then come every 16 ms, their readings rounded to 0.1 m/s^2.
-        self.beyond_the_page = True
-        self._context.grant_permissions(["accelerometer", "gyroscope"])
-        still = (0.0, 0.0, 0.0)
-        readings = {"accelerometer": acceleration, "linear-acceleration": still, "gyroscope": still}
-        for sensor, (x, y, z) in readings.items():
-            self._override(sensor, {"xyz": {"x": x, "y": y, "z": z}})
+        self.sensors.hold_still(acceleration)
 
     def hold_orientation(
         self, quaternion: tuple[float, float, float, float], sensor: str = "absolute-orientation"
@@ -138,22 +132,14 @@ class ChromiumPhone(Phone):
         turns the device frame (x right of the screen, y its top, z out of it) into the
         earth's (x east, y north, z up). Call it first before the page listens (before the
         camera opens); again, and the reading changes."""
-        self.beyond_the_page = True
-        self._context.grant_permissions(["accelerometer", "gyroscope", "magnetometer"])
-        x, y, z, w = quaternion
-        self._override(sensor, {"quaternion": {"x": x, "y": y, "z": z, "w": w}})
+        self.sensors.hold_orientation(quaternion, sensor)
 
-    def _override(self, sensor: str, reading: dict[str, Any]) -> None:
-        """``sensor``'s reading from now on: the DevTools protocol's sensor emulation, turned
-        on once per sensor (a second time is an error)."""
-        self._sensors = self._sensors or self._context.new_cdp_session(self._page)
-        if sensor not in self._overridden:
-            enable = {"enabled": True, "type": sensor}
-            self._sensors.send("Emulation.setSensorOverrideEnabled", enable)
-            self._overridden.add(sensor)
-        self._sensors.send(
-            "Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading}
-        )
+    @property
+    def sensors(self) -> chromium.Sensors:
+        """The page's sensors, the test's from now on (the phone is then not kept)."""
+        self.beyond_the_page = True
+        self._sensors = self._sensors or chromium.Sensors(self._context, self._page)
+        return self._sensors
 
     def reduce_motion(self) -> None:
         """The phone's "reduce motion" setting on (``prefers-reduced-motion: reduce``)."""

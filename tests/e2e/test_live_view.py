@@ -38,6 +38,7 @@ from phone import Element, Phone, expect
 from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
 
+from testbed import chromium
 from testbed.opening import MARK_TAP, OPENING_STEPS
 from testbed.scenes import Scene
 from testbed.y4m import write_y4m
@@ -64,16 +65,11 @@ class Orientation:
     it: Chromium takes the override for sensors started after it)."""
 
     def __init__(self, phone: ChromiumPhone) -> None:
-        self._cdp = phone.context.new_cdp_session(phone.page)
-        enable = {"enabled": True, "type": "relative-orientation"}
-        self._cdp.send("Emulation.setSensorOverrideEnabled", enable)
+        self._sensors = chromium.Sensors(phone.context, phone.page)
 
     def hold(self, quaternion: tuple[float, float, float, float]) -> None:
         """Held so from now on (Chromium sends a reading when it changes)."""
-        x, y, z, w = quaternion
-        reading = {"quaternion": {"x": x, "y": y, "z": z, "w": w}}
-        override = {"type": "relative-orientation", "reading": reading}
-        self._cdp.send("Emulation.setSensorOverrideReadings", override)
+        self._sensors.hold_orientation(quaternion)
 
 
 class Motion:
@@ -85,28 +81,20 @@ class Motion:
     events every 16 ms with the readings in force."""
 
     def __init__(self, phone: ChromiumPhone, still: tuple[float, float, float]) -> None:
-        phone.context.grant_permissions(["accelerometer", "gyroscope"])
-        self._cdp = phone.context.new_cdp_session(phone.page)
+        self._sensors = chromium.Sensors(phone.context, phone.page)
         self._still = still
-        for sensor in ("accelerometer", "linear-acceleration", "gyroscope"):
-            self._cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
         self.hold_still()
 
-    def _set(self, sensor: str, xyz: tuple[float, float, float]) -> None:
-        reading = {"xyz": dict(zip("xyz", xyz, strict=True))}
-        self._cdp.send("Emulation.setSensorOverrideReadings", {"type": sensor, "reading": reading})
-
     def hold_still(self) -> None:
-        self._set("accelerometer", self._still)
-        self._set("linear-acceleration", (0.0, 0.0, 0.0))
-        self._set("gyroscope", (0.0, 0.0, 0.0))
+        self._sensors.hold_still(self._still)
 
     def walk(self, seconds: float) -> None:
         start = time.monotonic()
         while (t := time.monotonic() - start) < seconds:
             up = 2.0 * math.sin(2 * math.pi * 2.0 * t)
-            self._set("linear-acceleration", (0.0, up, 0.0))
-            self._set("accelerometer", (self._still[0], self._still[1] + up, self._still[2]))
+            self._sensors.hold_xyz("linear-acceleration", (0.0, up, 0.0))
+            still = self._still
+            self._sensors.hold_xyz("accelerometer", (still[0], still[1] + up, still[2]))
             time.sleep(1 / 30)
         self.hold_still()
 
