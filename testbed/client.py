@@ -168,20 +168,27 @@ def live(base: str) -> httpx2.Client:
     return httpx2.Client(base_url=base, timeout=SECONDS, limits=limits)
 
 
+def start(client: httpx2.Client, photo: bytes | Path | None = None) -> tuple[Phone, str]:
+    """A new search started through ``client``, with the starter's ``photo`` when given:
+    the starter's calls, and the join code another phone joins with (by the API, or by the
+    app's link ``/join/{code}``)."""
+    created = client.post("/api/sessions")
+    assert created.status_code == 201, created.text
+    body = created.json()
+    starter = Phone(client, body["session_id"], body["token"], "starter")
+    if photo is not None:
+        starter.uploaded(photo)
+    return starter, str(body["join_code"])
+
+
 def pair(starter: httpx2.Client, joiner: httpx2.Client | None = None) -> tuple[Phone, Phone]:
     """A new search: the starter starts it through one client, the joiner joins with the
     code through the other (the same one by default)."""
     joiner = joiner or starter
-    created = starter.post("/api/sessions")
-    assert created.status_code == 201, created.text
-    code = created.json()["join_code"]
+    first, code = start(starter)
     joined = joiner.post("/api/sessions/join", json={"code": code})
     assert joined.status_code == 200, joined.text
-    sid = created.json()["session_id"]
-    return (
-        Phone(starter, sid, created.json()["token"], "starter"),
-        Phone(joiner, sid, joined.json()["token"], "joiner"),
-    )
+    return first, Phone(joiner, first.session_id, joined.json()["token"], "joiner")
 
 
 class Listener(threading.Thread):

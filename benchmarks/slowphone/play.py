@@ -17,6 +17,7 @@ import httpx2
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, Request, expect
 
 from testbed import chromium
+from testbed.client import start
 
 from .watch import AWAIT, INIT, stamps
 
@@ -65,8 +66,7 @@ class PhoneRun:
 def _session(server: str) -> str:
     """A new session's join code (started over the API: the phone under test joins it)."""
     with httpx2.Client(base_url=server, timeout=30) as http:
-        code: str = http.post("/api/sessions").raise_for_status().json()["join_code"]
-    return code
+        return start(http)[1]
 
 
 def _phone(playwright: Playwright, browser: Browser, rate: float) -> tuple[BrowserContext, Page]:

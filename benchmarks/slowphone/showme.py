@@ -25,6 +25,7 @@ import numpy as np
 from playwright.sync_api import Page, Playwright, expect
 
 from testbed import chromium
+from testbed.client import start
 from testbed.opening import FORGET, MARK_TAP, OPENED, OPENING_STEPS
 from testbed.scenes import temple_scene
 from testbed.y4m import write_y4m
@@ -46,32 +47,26 @@ CAMERA_FPS = 30
 POLL_MS = 100  # how often the benchmark asks the page: polling every frame loads it
 
 
-def _starter(server: str) -> tuple[str, np.ndarray]:
+def _starter(http: httpx2.Client) -> tuple[str, np.ndarray]:
     """A search started over the API: the starter's photo, its mark of the phone and three
     landmarks. Its join code, and the landmarks' pixels in the phone's photo."""
     scene = temple_scene(
         TEMPLE / "templeSR_par.txt", *PAIR, LANDMARKS, np.random.default_rng(SCENE_SEED)
     )
-    with httpx2.Client(base_url=server, timeout=30) as http:
-        created = http.post("/api/sessions").raise_for_status().json()
-        auth = {"Authorization": f"Bearer {created['token']}"}
-        base = f"/api/sessions/{created['session_id']}"
-        with (TEMPLE / f"{PAIR[0]}.png").open("rb") as photo:
-            files = {"photo": ("starter.png", photo, "image/png")}
-            http.put(f"{base}/photo", headers=auth, files=files).raise_for_status()
-        landmarks = [
-            {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(scene.landmarks1, 1)
-        ]
-        friend = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
-        taps = {"friend": friend, "landmarks": landmarks}
-        http.put(f"{base}/taps", headers=auth, json=taps).raise_for_status()
-    return str(created["join_code"]), scene.landmarks2
+    starter, code = start(http, TEMPLE / f"{PAIR[0]}.png")
+    landmarks = [
+        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(scene.landmarks1, 1)
+    ]
+    friend = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
+    starter.tapped(friend=friend, landmarks=landmarks)
+    return code, scene.landmarks2
 
 
 def _answered(page: Page, server: str) -> None:
     """The phone joins, photographs the temple in the app and finds the starter's landmarks:
     its answer, a point, is on the screen with "Show me"."""
-    code, landmarks = _starter(server)
+    with httpx2.Client(base_url=server, timeout=30) as http:
+        code, landmarks = _starter(http)
     page.goto(f"{server}/join/{code}")
     page.get_by_test_id("open-camera").tap()
     page.get_by_test_id("motion-allow").tap()

@@ -14,6 +14,7 @@ from collections.abc import Callable, Generator, Iterator
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
+import httpx2
 import pytest
 from chromium_phone import ChromiumPhone
 from chromium_pool import ChromiumPool
@@ -95,6 +96,14 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     (``deploy.replica.serve``)."""
     with serve(tmp_path_factory.mktemp("server")) as running:
         yield running.base_url
+
+
+@pytest.fixture
+def api(server: str) -> Iterator[httpx2.Client]:
+    """The worker's server as a script calls it: the client of ``testbed.client`` (a
+    starter's calls from ``testbed.client.start``)."""
+    with httpx2.Client(base_url=server, timeout=30) as client:
+        yield client
 
 
 def unexpected(errors: list[str], request: pytest.FixtureRequest) -> list[str]:

@@ -20,8 +20,8 @@ import play
 import pytest
 from phone import Phone, expect
 from PIL import Image
-from test_live_view import put_taps
 
+from testbed.client import start
 from testbed.scenes import Camera, Scene, in_photo, look_at
 
 pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.turns]
@@ -143,29 +143,24 @@ def clear_of_everything(phone: Phone, where: str) -> None:
 
 
 def test_the_frame_lands_clear_of_every_word_and_control(
-    server: str, iphone: Phone, tmp_path: Path
+    server: str, api: httpx2.Client, iphone: Phone, tmp_path: Path
 ) -> None:
-    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
-    auth = {"Authorization": f"Bearer {created['token']}"}
-    with plain_photo(STARTER_SIZE, tmp_path / "starter.png").open("rb") as photo:
-        url = f"{server}/api/sessions/{created['session_id']}/photo"
-        files = {"photo": ("starter.png", photo, "image/png")}
-        httpx2.put(url, headers=auth, files=files).raise_for_status()
-    iphone.goto(f"{server}/join/{created['join_code']}")
+    starter, code = start(api, plain_photo(STARTER_SIZE, tmp_path / "starter.png"))
+    iphone.goto(f"{server}/join/{code}")
     iphone.get_by_test_id("photo-input").set_input_files(
         plain_photo(JOINER_SIZE, tmp_path / "joiner.png")
     )
     view = iphone.get_by_test_id("photo-view")
     expect(view).to_have_attribute("data-photo-height", str(JOINER_SIZE[1]))
     # The first answer elsewhere: each place below is then a new one, brought into view.
-    put_taps(server, created, starter_taps(starter_at((0.6, 0.45))))
+    starter.tapped(**starter_taps(starter_at((0.6, 0.45))))
     play.cannot_see(iphone)
     play.find_landmarks(iphone, JOINER.project(POINTS))
 
     upright = iphone.evaluate("() => [innerWidth, innerHeight]")
     for where, place in PLACES.items():
         truth = starter_at(place).epipole2
-        put_taps(server, created, starter_taps(starter_at(place)))
+        starter.tapped(**starter_taps(starter_at(place)))
 
         def moved(truth: np.ndarray = truth) -> bool:
             """The joiner's answer is where the starter now is."""

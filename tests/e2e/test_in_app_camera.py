@@ -22,6 +22,9 @@ import pytest
 from chromium_phone import ChromiumPhone
 from phone import Phone, expect
 
+from testbed.client import Phone as ApiPhone
+from testbed.client import start
+
 GRAVITY = 9.80665
 # The phone upright in portrait, aimed 20 degrees above the horizon and turned 6 degrees
 # clockwise in the screen's plane: down in its photo (x right, y down, z into the scene).
@@ -111,24 +114,22 @@ REFUSE_CAMERA_ONCE = """() => {
 }"""
 
 
-def joined(server: str, phone: Phone) -> dict[str, str]:
+def joined(server: str, api: httpx2.Client, phone: Phone) -> ApiPhone:
     """A search started over the API, joined by ``phone`` with its link: the photo step.
-    Returns the starter's session (``session_id``, ``token``)."""
-    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
-    phone.goto(f"{server}/join/{created['join_code']}")
+    Returns the starter's calls."""
+    starter, code = start(api)
+    phone.goto(f"{server}/join/{code}")
     expect(phone.get_by_test_id("open-camera")).to_be_visible()
     phone.evaluate(SPY)
-    return {"session_id": created["session_id"], "token": created["token"]}
+    return starter
 
 
-def kept(server: str, starter: dict[str, str], phone: Phone) -> dict[str, object] | None:
+def kept(starter: ApiPhone, phone: Phone) -> dict[str, object] | None:
     """The joiner's photo as the server keeps it, read by the other phone once it is there."""
-    url = f"{server}/api/sessions/{starter['session_id']}"
-    headers = {"Authorization": f"Bearer {starter['token']}"}
     found: list[dict[str, object] | None] = []
 
     def stored() -> bool:
-        found[:] = [httpx2.get(url, headers=headers).raise_for_status().json()["photos"]["joiner"]]
+        found[:] = [starter.state()["photos"]["joiner"]]
         return found[0] is not None
 
     phone.wait_for(stored, "the photo on the server")
@@ -158,8 +159,10 @@ def angle_deg(a: list[float], b: tuple[float, float, float]) -> float:
 
 
 @pytest.mark.engines("chromium", "webkit")
-def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) -> None:
-    starter = joined(server, pixel)
+def test_the_in_app_camera_sends_down_with_the_photo(
+    server: str, api: httpx2.Client, pixel: Phone
+) -> None:
+    starter = joined(server, api, pixel)
     pixel.hold_still(READING)
     if isinstance(pixel, ChromiumPhone):
         pixel.hold_orientation(quaternion(device_to_earth(HEADING)))
@@ -180,7 +183,7 @@ def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) 
     # A steady reading: the accelerometer's own bias is its sigma.
     assert form["sigma"] == 1.0, form
     # The server keeps it with the photo, for the answer (and tells the other phone).
-    photo = kept(server, starter, pixel)
+    photo = kept(starter, pixel)
     assert photo is not None
     unit = [value / math.hypot(*gravity) for value in gravity]
     assert photo["gravity"] == {"down": pytest.approx(unit, abs=1e-6), "sigma_deg": 1.0}
@@ -198,8 +201,8 @@ def test_the_in_app_camera_sends_down_with_the_photo(server: str, pixel: Phone) 
     expect(pixel.get_by_test_id("in-app-camera")).to_have_count(0)
 
 
-def test_refused_camera_and_motion_access(server: str, iphone: Phone) -> None:
-    joined(server, iphone)
+def test_refused_camera_and_motion_access(server: str, api: httpx2.Client, iphone: Phone) -> None:
+    joined(server, api, iphone)
     iphone.hold_still(READING)
     iphone.evaluate(ASK_MOTION, "denied")
     iphone.evaluate(REFUSE_CAMERA_ONCE)

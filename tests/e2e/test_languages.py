@@ -22,7 +22,7 @@ import play
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expect
 
-from testbed.client import Phone as ApiPhone
+from testbed.client import start
 
 LANGUAGES = ("en", "es", "fr", "de", "ja")
 MODEL = "Pixel 7"
@@ -256,16 +256,15 @@ def test_the_top_bar_says_friend_online_in_full(
     """On an iPhone 13 (390 px), with a photo, the friend online and the taps saved, the
     top bar says so in full in every language: its words give way only when more must fit
     (reconnecting, not saved: test_layout.py)."""
-    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
     with httpx2.Client(base_url=server, timeout=30) as http:
-        starter = ApiPhone(http, created["session_id"], created["token"], "starter")
+        starter, code = start(http)
         events = starter.listen()  # the friend is online
         device: dict[str, Any] = dict(playwright.devices["iPhone 13"])
         device.pop("default_browser_type", None)
         opened = browser.new_context(**device)
         try:
             page = opened.new_page()
-            page.goto(f"{server}/join/{created['join_code']}")
+            page.goto(f"{server}/join/{code}")
             page.get_by_test_id("photo-input").set_input_files(play.TEMPLE / "templeSR0006.png")
             expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
             expect(page.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")

@@ -14,6 +14,7 @@ from PIL import Image
 from test_answer_clear import OVERLAID
 
 from deploy.replica import serve
+from testbed.client import start
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -33,8 +34,9 @@ WIDER = """() => [...document.querySelectorAll("body *")]
 def test_the_top_bar_never_widens_the_screen(iphone: Phone, tmp_path: Path) -> None:
     """The longest top bar: the friend offline, this phone reconnecting, a save pending."""
     with serve(tmp_path) as server:
-        created = httpx2.post(f"{server.base_url}/api/sessions").raise_for_status().json()
-        iphone.goto(f"{server.base_url}/join/{created['join_code']}")
+        with httpx2.Client(base_url=server.base_url, timeout=30) as http:
+            _, code = start(http)
+        iphone.goto(f"{server.base_url}/join/{code}")
         iphone.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
         expect(iphone.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
     # The server is gone: the stream is down, and a tap cannot be saved.

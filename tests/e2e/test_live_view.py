@@ -39,6 +39,8 @@ from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
 
 from testbed import chromium
+from testbed.client import Phone as ApiPhone
+from testbed.client import start
 from testbed.opening import MARK_TAP, OPENING_STEPS
 from testbed.scenes import Scene
 from testbed.y4m import write_y4m
@@ -135,25 +137,6 @@ def opening_ms(phone: Phone) -> float:
     return took[0]
 
 
-def starter_by_api(server: str, photo: Path | None = None) -> tuple[dict[str, str], str]:
-    """A search started over the API, with the starter's ``photo`` (default: the temple's):
-    its session and the join code."""
-    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
-    auth = {"Authorization": f"Bearer {created['token']}"}
-    path = photo or play.temple(play.PAIR[0])
-    with path.open("rb") as file:
-        files = {"photo": (path.name, file, "image/png" if path.suffix == ".png" else "image/jpeg")}
-        url = f"{server}/api/sessions/{created['session_id']}/photo"
-        httpx2.put(url, headers=auth, files=files).raise_for_status()
-    return created, created["join_code"]
-
-
-def put_taps(server: str, starter: dict[str, str], taps: dict[str, Any]) -> None:
-    url = f"{server}/api/sessions/{starter['session_id']}/taps"
-    auth = {"Authorization": f"Bearer {starter['token']}"}
-    httpx2.put(url, headers=auth, json=taps).raise_for_status()
-
-
 def show_me(phone: Phone) -> tuple[Element, float]:
     """Show me tapped, held as at the shutter: the view, live and anchored, and how long
     after the tap its first marker was drawn, ms."""
@@ -165,9 +148,7 @@ def show_me(phone: Phone) -> tuple[Element, float]:
     return live, opening_ms(phone)
 
 
-def answered(
-    server: str, starter: dict[str, str], joiner: Phone, truth: Scene, found: np.ndarray
-) -> dict[str, Any]:
+def answered(starter: ApiPhone, joiner: Phone, truth: Scene, found: np.ndarray) -> dict[str, Any]:
     """The starter (over the API) marks the joiner and taps ``truth``'s landmarks; the
     joiner, who cannot see the starter, finds them at ``found`` (its photo's px): the
     joiner's part of the answer, a point."""
@@ -175,7 +156,7 @@ def answered(
         {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(truth.landmarks1, 1)
     ]
     friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
-    put_taps(server, starter, {"friend": friend1, "landmarks": landmarks})
+    starter.tapped(friend=friend1, landmarks=landmarks)
     play.cannot_see(joiner)
     play.find_landmarks(joiner, found)
     _, _, how = play.reported_position(joiner)
@@ -286,7 +267,7 @@ class Reanchoring:
 
 
 def photographed_and_answered(
-    server: str, filming: Callable[[Path], Phone], tmp_path: Path
+    api: httpx2.Client, filming: Callable[[Path], Phone], tmp_path: Path
 ) -> tuple[ChromiumPhone, Motion, Orientation, np.ndarray, float]:
     """The joiner photographs the temple in the app, upright and level (its camera films
     that photo); the starter (the API) marks the joiner and taps three landmarks, which the
@@ -298,11 +279,11 @@ def photographed_and_answered(
     write_y4m(video, [photo.astype(np.uint8)])
     joiner = filming(video)
     assert isinstance(joiner, ChromiumPhone)
-    starter, code = starter_by_api(server)
+    starter, code = start(api, play.temple(play.PAIR[0]))
     truth = play.scene(3, seed=12)
 
     # The joiner photographs the temple in the app, upright and level.
-    joiner.goto(f"{server}/join/{code}")
+    joiner.goto(str(api.base_url.join(f"/join/{code}")))
     expect(joiner.get_by_test_id("open-camera")).to_be_visible()
     joiner.evaluate(SPY)
     motion = Motion(joiner, still_reading([0.0, 1.0, 0.0]))
@@ -316,7 +297,7 @@ def photographed_and_answered(
     expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
 
     # The starter marks the joiner and taps three landmarks; the joiner finds them.
-    mine = answered(server, starter, joiner, truth, truth.landmarks2)
+    mine = answered(starter, joiner, truth, truth.landmarks2)
     friend = np.array(mine["friend"], dtype=float)
     focal = mine["focal_35mm"] / FILM_DIAGONAL_MM * math.hypot(640, 480)
     return joiner, motion, orientation, friend, focal
@@ -325,11 +306,9 @@ def photographed_and_answered(
 # A refused frame is a 422, which Chromium logs as an error of the page.
 @pytest.mark.expected_console_errors(r"status of 422")
 def test_show_me_points_at_the_friend_as_the_phone_turns(
-    server: str, filming: Callable[[Path], Phone], tmp_path: Path, screenshots: Path
+    api: httpx2.Client, filming: Callable[[Path], Phone], tmp_path: Path, screenshots: Path
 ) -> None:
-    joiner, motion, orientation, friend, focal = photographed_and_answered(
-        server, filming, tmp_path
-    )
+    joiner, motion, orientation, friend, focal = photographed_and_answered(api, filming, tmp_path)
 
     # Show me, held as at the shutter: the marker on the friend, drawn within a second.
     live, opened = show_me(joiner)
@@ -490,14 +469,14 @@ ZOOMED_CAMERA = """(zoom) => {
 
 
 def test_show_me_measures_a_zoomed_streams_focal_length(
-    server: str, filming: Callable[[Path], Phone], tmp_path: Path
+    api: httpx2.Client, filming: Callable[[Path], Phone], tmp_path: Path
 ) -> None:
     """Show me's video zoomed 1.25x against the photo (a stream cropped to its middle, as
     some phones' video is): the photo's focal length scaled to the video, the view's
     assumption, is 25 % short. The view's quiet check sends one frame of the still phone,
     the server measures the zoom, and the marker lands where the zoomed video shows the
     friend."""
-    joiner, _, orientation, friend, focal = photographed_and_answered(server, filming, tmp_path)
+    joiner, _, orientation, friend, focal = photographed_and_answered(api, filming, tmp_path)
     joiner.evaluate(ZOOMED_CAMERA, ZOOM)
     # Held as at the shutter, as the film shows it: the check's frame is the photo zoomed.
     live, _ = show_me(joiner)

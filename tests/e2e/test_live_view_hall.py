@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import cv2
+import httpx2
 import numpy as np
 import play
 import pytest
@@ -37,12 +38,12 @@ from test_live_view import (
     answered,
     degrees_apart,
     marker,
-    starter_by_api,
     turn_right,
     turned_right,
     video_on_screen,
 )
 
+from testbed.client import start
 from testbed.live import VIDEO_SIZE, Hall, LiveView, live_view, marker_error_deg, rendered_hall
 from testbed.scenes import Scene, seen_scene
 from testbed.y4m import write_y4m
@@ -148,6 +149,7 @@ def truth_scene(hall: Hall) -> Scene:
 
 def test_show_me_in_a_rendered_hall_follows_the_live_video(
     server: str,
+    api: httpx2.Client,
     filming: Callable[[Path], Phone],
     hall: Hall,
     views: list[LiveView],
@@ -167,10 +169,10 @@ def test_show_me_in_a_rendered_hall_follows_the_live_video(
     # over the API, the joiner finds them: a point, the friend's, in the joiner's photo.
     joiner = filming(video)
     assert isinstance(joiner, ChromiumPhone)
-    starter, code = starter_by_api(server, starter_photo)
+    starter, code = start(api, starter_photo)
     joiner.goto(f"{server}/join/{code}")
     play.upload(joiner, photo, (1920, 2560))
-    mine = answered(server, starter, joiner, truth, truth.landmarks2)
+    mine = answered(starter, joiner, truth, truth.landmarks2)
     friend = np.array(mine["friend"], dtype=float)
     focal = float(mine["focal_px"])
     print(f"the answer: {np.round(friend, 1)} (truth {np.round(truth.epipole2, 1)}), f {focal:.0f}")

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 
+import httpx2
 import numpy as np
 import play
 import pytest
@@ -58,9 +59,9 @@ from test_live_view import (
     marker,
     shift_clock,
     show_me,
-    starter_by_api,
 )
 
+from testbed.client import start
 from testbed.opening import OPENING_STEPS
 
 pytestmark = pytest.mark.engines("webkit")
@@ -113,8 +114,8 @@ def hold_turned(phone: Phone, right_deg: float) -> None:
     phone.evaluate(HOLD, [-right_deg, 90.0, 0.0])
 
 
-def test_show_me_in_webkit(server: str, pixel: Phone) -> None:
-    starter, code = starter_by_api(server)
+def test_show_me_in_webkit(server: str, api: httpx2.Client, pixel: Phone) -> None:
+    starter, code = start(api, play.temple(play.PAIR[0]))
     truth = play.scene(3, seed=12)
     still = still_reading([0.0, 1.0, 0.0])
 
@@ -139,7 +140,7 @@ def test_show_me_in_webkit(server: str, pixel: Phone) -> None:
 
     # The starter marks the joiner and taps three landmarks; the joiner finds them.
     found = centre + k * (np.asarray(truth.landmarks2, dtype=float) - scene_centre)
-    mine = answered(server, starter, pixel, truth, found)
+    mine = answered(starter, pixel, truth, found)
     friend = np.array(mine["friend"], dtype=float)
     focal = mine["focal_35mm"] / FILM_DIAGONAL_MM * math.hypot(width, height)
     ahead = math.degrees(math.atan((friend[0] - width / 2) / focal))

@@ -14,6 +14,8 @@ import pytest
 from phone import Phone, expect
 from PIL import Image, ImageOps
 
+from testbed.client import start
+
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
 # The upright photo: 6048 x 8064 (48.8 MP, portrait), four coloured quarters, so a photo
@@ -90,11 +92,11 @@ def nearest(colour: list[int]) -> str:
 
 
 def test_a_48_mp_turned_photo_goes_up_small_and_upright(
-    server: str, iphone: Phone, turned_photo: Path
+    server: str, api: httpx2.Client, iphone: Phone, turned_photo: Path
 ) -> None:
     # The search is started over the API; the iPhone joins it with the link.
-    created = httpx2.post(f"{server}/api/sessions").raise_for_status().json()
-    iphone.goto(f"{server}/join/{created['join_code']}")
+    _, code = start(api)
+    iphone.goto(f"{server}/join/{code}")
     expect(iphone.get_by_test_id("photo-input")).to_be_attached()
     iphone.evaluate(SPY)
     iphone.get_by_test_id("photo-input").set_input_files(turned_photo)
