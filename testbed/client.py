@@ -124,7 +124,8 @@ class Phone:
         return dict(self.ok("PUT", "/photo", files=self._form(photo)).json())
 
     def tap(self, **taps: Any) -> httpx2.Response:
-        """PUT these taps; a ``friend`` given as ``(x, y)`` is sent as ``{"x", "y"}``."""
+        """PUT these taps; a ``friend`` given as ``(x, y)`` (a pair, or an array's) is sent
+        as ``{"x", "y"}``; landmarks as the API takes them (:func:`numbered`)."""
         return self.call("PUT", "/taps", json=self._taps(taps))
 
     def tapped(self, **taps: Any) -> dict[str, Any]:
@@ -134,8 +135,9 @@ class Phone:
     @staticmethod
     def _taps(taps: dict[str, Any]) -> dict[str, Any]:
         friend = taps.get("friend")
-        if isinstance(friend, list | tuple):
-            return taps | {"friend": {"x": friend[0], "y": friend[1]}}
+        if friend is not None and not isinstance(friend, dict):
+            x, y = friend
+            return taps | {"friend": {"x": float(x), "y": float(y)}}
         return taps
 
     def listen(self, last_event_id: int | None = None) -> Listener:
@@ -166,6 +168,12 @@ def live(base: str) -> httpx2.Client:
     kept alive to a replica that may be stopped between calls)."""
     limits = httpx2.Limits(max_keepalive_connections=0)
     return httpx2.Client(base_url=base, timeout=SECONDS, limits=limits)
+
+
+def numbered(points: Iterable[Iterable[float]]) -> list[dict[str, Any]]:
+    """Landmark taps as the API takes them: ``points`` ((N, 2) px, e.g. an array's rows)
+    numbered 1 to N in their order."""
+    return [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(points, 1)]
 
 
 def start(client: httpx2.Client, photo: bytes | Path | None = None) -> tuple[Phone, str]:

@@ -25,7 +25,7 @@ import numpy as np
 from playwright.sync_api import Page, Playwright, expect
 
 from testbed import chromium
-from testbed.client import start
+from testbed.client import numbered, start
 from testbed.opening import FORGET, MARK_TAP, OPENED, OPENING_STEPS
 from testbed.scenes import temple_scene
 from testbed.y4m import write_y4m
@@ -54,11 +54,7 @@ def _starter(http: httpx2.Client) -> tuple[str, np.ndarray]:
         TEMPLE / "templeSR_par.txt", *PAIR, LANDMARKS, np.random.default_rng(SCENE_SEED)
     )
     starter, code = start(http, TEMPLE / f"{PAIR[0]}.png")
-    landmarks = [
-        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(scene.landmarks1, 1)
-    ]
-    friend = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
-    starter.tapped(friend=friend, landmarks=landmarks)
+    starter.tapped(friend=scene.epipole1, landmarks=numbered(scene.landmarks1))
     return code, scene.landmarks2
 
 

@@ -36,6 +36,7 @@ from backend.photos.lens import Lens, LensFacts, lens
 from backend.settings import Settings
 from shared_solver import Camera
 from shared_solver import ErrorCode as SolverCode
+from testbed.client import numbered
 
 CODES = {code.value for code in ServiceCode} | {code.value for code in SolverCode}
 # Sized for make test's 15 minutes (300 and 120 took 19 s of CPU in a whole-suite run).
@@ -306,7 +307,7 @@ def _landmarks(
     points = points * scale
     if corner == "collinear":
         points = points[:1] + np.linspace(0.0, 1.0, count)[:, None] * [[100 * scale, 0.1]]
-    landmarks = [{"id": i, "x": x, "y": y} for i, (x, y) in enumerate(points.tolist(), 1)]
+    landmarks = numbered(points.tolist())
     if sigma is not None:
         for tap in landmarks:
             tap["sigma"] = sigma

@@ -43,7 +43,7 @@ from backend.settings import Settings
 from backend.storage.database import connect
 from backend.taps.schemas import Taps
 from deploy.replica import Server, serve
-from testbed.client import Phone, live, pair
+from testbed.client import Phone, live, numbered, pair
 
 SEARCHES = 4
 KILLS = 3
@@ -166,9 +166,7 @@ class Traffic:
             others = [n for n in range(len(PHOTOS)) if n != phone.known.photo]
             return Change(photo=int(rng.choice(others)))
         points = rng.uniform((0, 0), TAP_AREA, (LANDMARKS, 2)).round(2)
-        taps: dict[str, Any] = {
-            "landmarks": [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points.tolist(), 1)]
-        }
+        taps: dict[str, Any] = {"landmarks": numbered(points.tolist())}
         if phone.phone.role == "starter":
             x, y = rng.uniform((0, 0), TAP_AREA).round(2).tolist()
             taps["friend"] = {"x": x, "y": y}

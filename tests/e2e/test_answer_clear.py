@@ -21,7 +21,7 @@ import pytest
 from phone import Phone, expect
 from PIL import Image
 
-from testbed.client import start
+from testbed.client import numbered, start
 from testbed.scenes import Camera, Scene, in_photo, look_at
 
 pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.turns]
@@ -112,11 +112,7 @@ def plain_photo(size: tuple[int, int], path: Path) -> Path:
 
 
 def starter_taps(scene: Scene) -> dict[str, Any]:
-    landmarks = [
-        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(scene.landmarks1, 1)
-    ]
-    friend = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
-    return {"friend": friend, "landmarks": landmarks}
+    return {"friend": scene.epipole1, "landmarks": numbered(scene.landmarks1)}
 
 
 def overlaps(a: list[float], b: list[float]) -> bool:

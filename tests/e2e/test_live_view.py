@@ -40,7 +40,7 @@ from test_in_app_camera import SPY, still_reading, take_photo
 
 from testbed import chromium
 from testbed.client import Phone as ApiPhone
-from testbed.client import start
+from testbed.client import numbered, start
 from testbed.opening import MARK_TAP, OPENING_STEPS
 from testbed.scenes import Scene
 from testbed.y4m import write_y4m
@@ -152,11 +152,7 @@ def answered(starter: ApiPhone, joiner: Phone, truth: Scene, found: np.ndarray) 
     """The starter (over the API) marks the joiner and taps ``truth``'s landmarks; the
     joiner, who cannot see the starter, finds them at ``found`` (its photo's px): the
     joiner's part of the answer, a point."""
-    landmarks = [
-        {"id": i, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(truth.landmarks1, 1)
-    ]
-    friend1 = {"x": float(truth.epipole1[0]), "y": float(truth.epipole1[1])}
-    starter.tapped(friend=friend1, landmarks=landmarks)
+    starter.tapped(friend=truth.epipole1, landmarks=numbered(truth.landmarks1))
     play.cannot_see(joiner)
     play.find_landmarks(joiner, found)
     _, _, how = play.reported_position(joiner)
