@@ -137,15 +137,6 @@ def _phone(
     return context, page, meter
 
 
-def _tap(page: Page, point: Array) -> None:
-    """A tap on photo pixel ``point``, from the view's published transform."""
-    view = page.get_by_test_id("photo-view")
-    box = view.bounding_box()
-    assert box is not None
-    scale, tx, ty = (float(view.get_attribute(f"data-{k}") or "nan") for k in ("scale", "tx", "ty"))
-    page.touchscreen.tap(box["x"] + tx + scale * point[0], box["y"] + ty + scale * point[1])
-
-
 def saved(page: Page) -> None:
     expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
 
@@ -194,11 +185,11 @@ def play(
         # The joiner taps at once, its upload still on its way.
         joiner.get_by_test_id("cannot-see").tap()
         for number, point in enumerate(photos.landmarks2, 1):
-            _tap(joiner, point)
+            chromium.tap_photo(joiner, *point)
             _landmark(joiner, number)
 
         expect(starter.get_by_test_id("friend-prompt")).to_be_visible()
-        _tap(starter, photos.friend2)
+        chromium.tap_photo(starter, *photos.friend2)
         expect(starter.get_by_test_id("friend-mark")).to_be_visible()
         last = len(photos.landmarks1)
         for number, point in enumerate(photos.landmarks1, 1):
@@ -212,7 +203,7 @@ def play(
                 expect(joiner.locator("img.preload")).to_have_count(0)
                 _settled((starter, starter_meter), (joiner, joiner_meter))
                 joiner.evaluate(WATCH_ANSWER)
-            _tap(starter, point)
+            chromium.tap_photo(starter, *point)
             _landmark(starter, number)
         joiner.wait_for_function(
             "() => window.__bench.text !== null && window.__bench.drawn !== null", timeout=WAIT_MS

@@ -78,18 +78,6 @@ def _phone(playwright: Playwright, browser: Browser, rate: float) -> tuple[Brows
     return context, page
 
 
-def tap_at(page: Page, fx: float, fy: float) -> None:
-    """A finger tap at a fraction of the photo, from the view's published transform."""
-    view = page.get_by_test_id("photo-view")
-    box = view.bounding_box()
-    assert box is not None
-    scale, tx, ty, width, height = (
-        float(view.get_attribute(f"data-{k}") or "nan")
-        for k in ("scale", "tx", "ty", "photo-width", "photo-height")
-    )
-    page.touchscreen.tap(box["x"] + tx + scale * fx * width, box["y"] + ty + scale * fy * height)
-
-
 def _script(request: Request) -> str | None:
     """The path of a script the page fetched."""
     path = urlsplit(request.url).path
@@ -156,8 +144,9 @@ def play(
         expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
         page.get_by_test_id("cannot-see").tap()  # the joiner cannot see the starter
         chromium.whole_photo(page)
+        width, height = chromium.photo_size(page)
         for fx, fy in SPOTS:
-            tap_at(page, fx, fy)
+            chromium.tap_photo(page, fx * width, fy * height)
             page.evaluate(AWAIT, "painted")
         page.wait_for_timeout(SETTLE_MS)
         run.taps = _taps(stamps(page))

@@ -30,7 +30,7 @@ from testbed.opening import FORGET, MARK_TAP, OPENED, OPENING_STEPS
 from testbed.scenes import temple_scene
 from testbed.y4m import write_y4m
 
-from .play import MODEL, WAIT_MS, tap_at
+from .play import MODEL, WAIT_MS
 
 TEMPLE = Path(__file__).resolve().parents[2] / "tests" / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the phone's (filmed)
@@ -73,7 +73,7 @@ def _answered(page: Page, server: str) -> None:
     page.get_by_test_id("cannot-see").tap()
     chromium.whole_photo(page)
     for number, (x, y) in enumerate(landmarks, 1):
-        tap_at(page, x / 640, y / 480)
+        chromium.tap_photo(page, x, y)
         expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     expect(page.get_by_test_id("show-me")).to_be_visible()
 
