@@ -38,7 +38,6 @@ from phone import Element, Phone, expect
 from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
 
-from testbed import chromium
 from testbed.client import Phone as ApiPhone
 from testbed.client import numbered, start
 from testbed.opening import MARK_TAP, OPENING_STEPS
@@ -67,7 +66,7 @@ class Orientation:
     it: Chromium takes the override for sensors started after it)."""
 
     def __init__(self, phone: ChromiumPhone) -> None:
-        self._sensors = chromium.Sensors(phone.context, phone.page)
+        self._sensors = phone.sensors
 
     def hold(self, quaternion: tuple[float, float, float, float]) -> None:
         """Held so from now on (Chromium sends a reading when it changes)."""
@@ -75,15 +74,14 @@ class Orientation:
 
 
 class Motion:
-    """The phone's motion sensors, overridden through the DevTools protocol as
-    ``ChromiumPhone.hold_still`` does (the three that DeviceMotionEvent reads), on a session
-    of its own so that a walk can play on them: held still, or walking (``linear-acceleration``
-    and the accelerometer with it stepped about 30 times a second, the body rising and
-    falling 2 m/s^2 twice a second along the upright phone's y). Chromium sends its motion
-    events every 16 ms with the readings in force."""
+    """The phone's motion sensors (``ChromiumPhone.sensors``: the three DeviceMotionEvent
+    reads), held still or walking (``linear-acceleration`` and the accelerometer with it
+    stepped about 30 times a second, the body rising and falling 2 m/s^2 twice a second
+    along the upright phone's y). Chromium sends its motion events every 16 ms with the
+    readings in force."""
 
     def __init__(self, phone: ChromiumPhone, still: tuple[float, float, float]) -> None:
-        self._sensors = chromium.Sensors(phone.context, phone.page)
+        self._sensors = phone.sensors
         self._still = still
         self.hold_still()
 

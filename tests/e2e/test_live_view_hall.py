@@ -178,7 +178,6 @@ def test_show_me_in_a_rendered_hall_follows_the_live_video(
     print(f"the answer: {np.round(friend, 1)} (truth {np.round(truth.epipole2, 1)}), f {focal:.0f}")
 
     # Show me, with no orientation from a shutter: the view asks to align.
-    joiner.context.grant_permissions(["accelerometer", "gyroscope"])
     orientation = Orientation(joiner)
     orientation.hold(turned_right(TURNS[0]))
     responses: list[Response] = []
