@@ -263,7 +263,11 @@ def report(results: Results) -> str:
         "median of the bound's median errors; *RMS ratio*: the root mean square of error / "
         "the bound's RMS over answers with a point (1.0 is the limit; wild answers show here "
         "first); *area ratio*: the median of the 95 % region's area over the bound's 95 % "
-        "ellipse; *told the model does not fit*: honest searches whose answer says the taps "
+        "ellipse (where it is over the target, the targets also say how often the same "
+        "regions, each resized to the target's area knowing its scene's bound, would hold "
+        "the truth: a region smaller than an estimator's errors cannot be honest, and an "
+        "estimator's errors exceed the bound where it is not efficient); *told the model "
+        "does not fit*: honest searches whose answer says the taps "
         "do not (quite) fit two phone photos (`CAMERA_MODEL_DISAGREES` or "
         "`CAMERA_MODEL_UNSURE`), the camera model's false alarms.",
         limit.limit_table(results.limit_table),

@@ -27,7 +27,16 @@ from testbed.bound import Bound, CameraPrior, Marks, SceneBounds
 from testbed.phones import PhoneScene
 from testbed.scenes import Taps
 
-from .common import Cameras, Given, ellipse_covers, fmt, percent, percentile, solve_call
+from .common import (
+    CHI2_2DOF_95,
+    Cameras,
+    Given,
+    ellipse_covers,
+    fmt,
+    percent,
+    percentile,
+    solve_call,
+)
 from .phones import phone_trial
 
 LIMIT_SIGMAS = (1.0, 3.0, 8.0)
@@ -73,6 +82,9 @@ class Cell:
     scaled: list[float] = field(default_factory=list)  # error / bound RMS, answers with a point
     areas: list[float] = field(default_factory=list)  # region / bound's, answers with one
     held: list[bool] = field(default_factory=list)
+    # ... whether the region, its size set to AREA_TARGET x the bound's area (knowing the
+    # truth's bound: an oracle), would hold the truth: what any region of its shape can do
+    held_at_target_area: list[bool] = field(default_factory=list)
     false_alarms: int = 0
     planes: int = 0  # answers of the plane model
     plane_misses: int = 0  # ... whose region missed the truth where the general one's held
@@ -94,6 +106,10 @@ class Cell:
 
     def area_ratio(self) -> float:
         return _median(self.areas) if self.areas else math.nan
+
+    def coverage_at_target_area(self) -> float:
+        held = self.held_at_target_area
+        return sum(held) / len(held) if held else math.nan
 
 
 LimitTable = dict[float, dict[Case, Cell]]
@@ -152,8 +168,15 @@ def _record(
         cell.held.append(covered)
         assert result.uncertainty is not None
         assert result.uncertainty.covariance is not None
-        determinant = float(np.linalg.det(np.array(result.uncertainty.covariance)))
-        cell.areas.append(math.sqrt(max(determinant, 0.0) / np.linalg.det(bound.covariance)))
+        assert result.uncertainty.ellipse is not None
+        covariance = np.array(result.uncertainty.covariance)
+        determinant = float(np.linalg.det(covariance))
+        area = math.sqrt(max(determinant, 0.0) / np.linalg.det(bound.covariance))
+        cell.areas.append(area)
+        if area > 0.0:
+            offset = truth - np.asarray(result.uncertainty.ellipse.center)
+            distance = float(offset @ np.linalg.solve(covariance, offset))
+            cell.held_at_target_area.append(distance <= CHI2_2DOF_95 * AREA_TARGET / area)
     cell.false_alarms += any(warning.code in _DISAGREES for warning in result.warnings)
     if result.method == "planar":
         cell.planes += 1
@@ -254,7 +277,14 @@ def limit_targets(table: LimitTable) -> list[Target]:
             not wide,
             f"{verdict(not wide)}: the region's area <= {AREA_TARGET:g}x the bound's "
             f"(median) in every case at {' and '.join(f'{s:g}' for s in TARGET_SIGMAS)} px "
-            f"({min(areas):.2f}-{max(areas):.2f})",
+            f"({min(areas):.2f}-{max(areas):.2f}"
+            + "".join(
+                f"; {c.label} at {s:g} px: {cell.area_ratio():.2f}, and its regions sized to "
+                f"{AREA_TARGET:g}x the bound's area, knowing it, would hold the truth "
+                f"{percent(cell.coverage_at_target_area())} of the time"
+                for s, c, cell in wide
+            )
+            + ")",
         ),
         (
             alarm_rate <= FALSE_ALARM_TARGET,

@@ -168,6 +168,28 @@ def test_one_landmark_and_gravity_give_a_point_with_an_honest_region():
     assert 0.88 <= np.mean(held) <= 0.995
 
 
+def test_where_both_turns_fit_one_landmark_the_scene_chooses():
+    """Both turns fit one landmark exactly, so the taps cannot choose; the scene can: friend
+    2 photographed friend 1's side, so the turn that puts friend 1 inside photo 2 is marked,
+    both listed. Exact taps: every such answer marks the truth (without the rule, 2 of the
+    4 listed here did not). Elsewhere the answer is the truth, or both turns lie close
+    enough to be one answer, told as uncertain."""
+    rng = np.random.default_rng(40)
+    listed = 0
+    for _ in range(400):
+        scene = phone_scene(rng, 1, centre_sd=0.0)
+        result = solved(scene, 1, np.random.default_rng(0))
+        assert result.epipole2 is not None
+        exact = np.abs(np.array(result.epipole2) - scene.epipole2).max() <= EXACT_PX
+        if result.candidates:
+            listed += 1
+            assert exact
+            assert result.candidates[0].epipole2 == result.epipole2
+        elif not exact:
+            assert [w.code for w in result.warnings] == ["uncertain"]
+    assert listed >= 5
+
+
 def test_gravity_sharpens_three_landmarks():
     rng = np.random.default_rng(44)
     with_gravity, without = [], []
