@@ -39,11 +39,11 @@ from ..estimation.pinhole.starts import (
     wider_marked_starts,
 )
 from ..estimation.taps import Taps
-from ..estimation.uncertainty import chi2_quantile, consistent
+from ..estimation.uncertainty import CHI2_2D, chi2_quantile, consistent
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
-from ..projective import Array
+from ..projective import Array, to_pixel
 from ..result import Method, SolveResult, SolverWarning
 from .building import (
     Answer,
@@ -143,6 +143,7 @@ def friend2_marked(request: Request) -> CameraAnswer:
             fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)
         )
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
+    covariance = _holding(covariance, fit, _alike(fit, fits, others))
     method: Method = "pinhole_two_epipoles" if both else "pinhole_epipole"
     answer = Answer.of_pinhole(request, fit, covariance, orientable=_orientable(model, fit))
     if len(taps) == 4 and not both:
@@ -240,6 +241,7 @@ def _from_starts(
     if others:
         return _ambiguous(request, model, method, fit, others, warnings=warnings)
     covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
+    covariance = _holding(covariance, fit, _alike(fit, fits, others))
     return result(
         method,
         request,
@@ -369,6 +371,40 @@ def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
                 continue
         rivals.append(other)
     return rivals
+
+
+def _alike(fit: PinholeFit, fits: list[PinholeFit], rivals: list[PinholeFit]) -> list[PinholeFit]:
+    """The other fits that explain the taps about as well as ``fit`` and put friend 1 close
+    enough to be the same answer (not ``rivals``)."""
+    return [
+        other
+        for other in fits
+        if other is not fit
+        and other.cost <= fit.cost + _AMBIGUOUS_COST
+        and not any(other is rival for rival in rivals)
+    ]
+
+
+def _holding(covariance: Array | None, fit: PinholeFit, alike: list[PinholeFit]) -> Array | None:
+    """``covariance`` grown until its 95 % region holds friend 1 where each of ``alike`` puts
+    them: the taps cannot tell those fits from ``fit``, so neither may the region. Without
+    it, two turns that fit one landmark exactly, 2.4 to 3 sigmas apart, were one answer
+    whose region held only one (tests/solver/test_gravity.py)."""
+    position = to_pixel(fit.epipole2)
+    if covariance is None or position is None:
+        return covariance
+    factor = 1.0
+    for other in alike:
+        elsewhere = to_pixel(other.epipole2)
+        if elsewhere is None:
+            continue
+        offset = elsewhere - position
+        try:
+            distance = float(offset @ linalg.solve(covariance, offset))
+        except linalg.LinAlgError:
+            continue
+        factor = max(factor, distance / CHI2_2D)
+    return covariance * factor
 
 
 def _ambiguous(

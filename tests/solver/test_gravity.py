@@ -20,6 +20,7 @@ from testbed.curves import distance_to
 from testbed.phones import PhoneScene, gravity_reading, phone_scene
 
 EXACT_PX = 1e-6
+CHI2_95 = -2.0 * math.log(0.05) * (1 + 1e-9)  # a region's edge holds what lies on it
 PHONES = ("phone", "phone")
 
 
@@ -173,7 +174,8 @@ def test_where_both_turns_fit_one_landmark_the_scene_chooses():
     2 photographed friend 1's side, so the turn that puts friend 1 inside photo 2 is marked,
     both listed. Exact taps: every such answer marks the truth (without the rule, 2 of the
     4 listed here did not). Elsewhere the answer is the truth, or both turns lie close
-    enough to be one answer, told as uncertain."""
+    enough to be one answer, told as uncertain, whose region holds both (without that, one
+    of these 3 held only the turn it marked)."""
     rng = np.random.default_rng(40)
     listed = 0
     for _ in range(400):
@@ -187,6 +189,10 @@ def test_where_both_turns_fit_one_landmark_the_scene_chooses():
             assert result.candidates[0].epipole2 == result.epipole2
         elif not exact:
             assert [w.code for w in result.warnings] == ["uncertain"]
+            assert result.uncertainty is not None
+            assert result.uncertainty.covariance is not None
+            offset = np.array(result.epipole2) - scene.epipole2
+            assert offset @ np.linalg.solve(result.uncertainty.covariance, offset) <= CHI2_95
     assert listed >= 5
 
 
