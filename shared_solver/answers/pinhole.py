@@ -341,7 +341,9 @@ def _likeliest(fits: list[PinholeFit], size2: tuple[float, float] | None) -> Pin
     every fit listed."""
     near = [fit for fit in fits if fit.cost <= fits[0].cost + _AMBIGUOUS_COST]
     in_front = [fit for fit in near if fit.epipole2[2] > 0] or near
-    inside = [fit for fit in in_front if size2 is not None and _inside(fit.epipole2, size2)]
+    if len(in_front) == 1 or size2 is None:
+        return in_front[0]
+    inside = [fit for fit in in_front if _inside(fit.epipole2, size2)]
     return (inside or in_front)[0]
 
 
@@ -390,7 +392,7 @@ def _holding(covariance: Array | None, fit: PinholeFit, alike: list[PinholeFit])
     them: the taps cannot tell those fits from ``fit``, so neither may the region. Without
     it, two turns that fit one landmark exactly, 2.4 to 3 sigmas apart, were one answer
     whose region held only one (tests/solver/test_gravity.py)."""
-    position = to_pixel(fit.epipole2)
+    position = None if not alike else to_pixel(fit.epipole2)
     if covariance is None or position is None:
         return covariance
     factor = 1.0
