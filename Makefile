@@ -114,7 +114,7 @@ browser:
 	@command -v chromium >/dev/null || ( $(SUDO) apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium )
 
-# Debian's WebKitGTK for the WebKit end-to-end tests (tests/e2e/webkit_phone.py):
+# Debian's WebKitGTK for the WebKit end-to-end tests (testbed/browser/webkit_phone.py):
 # WebKitWebDriver (webkit2gtk-driver, which brings MiniBrowser) and the virtual X server
 # the browser draws on (xvfb).
 webkit:

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import io
 import json
-import re
 import tempfile
 import time
 from dataclasses import dataclass, replace
@@ -34,13 +33,15 @@ from typing import Any
 import httpx2
 import numpy as np
 from PIL import Image
-from playwright.sync_api import BrowserContext, Page, Playwright, expect, sync_playwright
+from playwright.sync_api import BrowserContext, Playwright, sync_playwright
 from report import ROOT, command_line, markdown_table, publish, source_state
 
 from deploy.replica import serve
 from shared_solver import SolverError, solve
 from shared_solver.estimation.uncertainty import contains
 from testbed import chromium
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import expect
 from testbed.phones import PhoneScene, phone_scene
 
 DEFAULT_OUT = ROOT / "docs" / "tap-precision.md"
@@ -54,7 +55,6 @@ OLD_TAP_SIGMA = 3.0
 # may land on another landmark's number, which selects that landmark instead).
 APART = 0.1
 LEVEL = 0.95
-TIMEOUT_MS = 20_000
 
 
 @dataclass(frozen=True)
@@ -84,28 +84,17 @@ def blank_photo(size: tuple[int, int]) -> bytes:
     return buffer.getvalue()
 
 
-def photo_to_screen(page: Page, x: float, y: float) -> tuple[float, float]:
-    """Client coordinates of photo pixel (x, y), from the view's published transform (once
-    the view is still: it glides to an answer that arrives)."""
-    view = page.get_by_test_id("photo-view")
-    expect(view).not_to_have_attribute("data-gliding", re.compile(".*"))
-    box = view.bounding_box()
-    assert box is not None
-    scale, tx, ty = (float(view.get_attribute(f"data-{k}") or "nan") for k in ("scale", "tx", "ty"))
-    return box["x"] + tx + scale * x, box["y"] + ty + scale * y
-
-
 def spot(point: np.ndarray) -> tuple[float, float]:
     return float(point[0]), float(point[1])
 
 
-def finger(page: Page, x: float, y: float, rng: np.random.Generator) -> bool:
+def finger(phone: ChromiumPhone, x: float, y: float, rng: np.random.Generator) -> bool:
     """A quick tap aimed at photo pixel (x, y), missing as a finger does: on the whole
     photo, or zoomed in where a control lies over the spot (then True)."""
     sigma = rng.uniform(*FINGER_CSS)
-    chromium.whole_photo(page)
-    sx, sy, zoomed = reachable(page, x, y)
-    page.touchscreen.tap(sx + rng.normal(0.0, sigma), sy + rng.normal(0.0, sigma))
+    phone.whole_photo()
+    sx, sy, zoomed = reachable(phone, x, y)
+    phone.tap_at(sx + rng.normal(0.0, sigma), sy + rng.normal(0.0, sigma))
     return zoomed
 
 
@@ -119,37 +108,38 @@ ZOOMS = 8  # wheel steps at most, each 1.8x
 WHEEL_PX = -300.0
 
 
-def reachable(page: Page, x: float, y: float) -> tuple[float, float, bool]:
+def reachable(phone: ChromiumPhone, x: float, y: float) -> tuple[float, float, bool]:
     """Client coordinates of photo pixel (x, y) where a tap reaches the photo, and whether
     the view was zoomed for it. A spot under a button over the photo's top is brought down
     as a person would bring it out: zoomed in (the wheel, 1.8x a step) about the photo
     view's top edge above the spot."""
-    view = page.get_by_test_id("photo-view")
+    page = phone.page
     for step in range(ZOOMS):
-        sx, sy = photo_to_screen(page, x, y)
-        if page.evaluate(REACHES_PHOTO, [sx, sy, 3 * FINGER_CSS[1]]):
+        sx, sy = phone.photo_to_screen(x, y)  # once the view is still
+        if phone.evaluate(REACHES_PHOTO, [sx, sy, 3 * FINGER_CSS[1]]):
             return sx, sy, step > 0
-        box = view.bounding_box()
-        assert box is not None
-        page.mouse.move(sx, box["y"] + 1.0)
+        page.mouse.move(sx, phone.view_box()[1] + 1.0)
         page.mouse.wheel(0.0, WHEEL_PX)
     raise AssertionError(f"photo pixel ({x:.0f}, {y:.0f}) stays under a control")
 
 
 def open_session(
-    page: Page, server: str, credentials: dict[str, str], size: tuple[int, int]
+    phone: ChromiumPhone, server: str, credentials: dict[str, str], size: tuple[int, int]
 ) -> None:
-    page.goto(f"{server}/")
-    page.evaluate(
+    phone.goto(f"{server}/")
+    phone.evaluate(
         "(c) => localStorage.setItem('buddy-search.session', JSON.stringify(c))", credentials
     )
-    page.goto(f"{server}/s")  # the session's screen, as after a reload
-    expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", str(size[0]))
-    chromium.whole_photo(page)
+    phone.goto(f"{server}/s")  # the session's screen, as after a reload
+    expect(phone.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", str(size[0]))
+    phone.whole_photo()
 
 
 def play(
-    server: str, phones: tuple[Page, Page], scene: PhoneScene, rng: np.random.Generator
+    server: str,
+    phones: tuple[ChromiumPhone, ChromiumPhone],
+    scene: PhoneScene,
+    rng: np.random.Generator,
 ) -> Trial:
     """One search through the app; the region photo 2's phone is shown, judged."""
     http = httpx2.Client(base_url=server, timeout=30)
@@ -255,9 +245,11 @@ def run(trials: int) -> list[Trial]:
         serve(Path(folder)) as server,
         sync_playwright() as playwright,
     ):
-        expect.set_options(timeout=TIMEOUT_MS)
         pixel, iphone = phones(playwright)
-        pages = (pixel.new_page(), iphone.new_page())
+        pages = (
+            ChromiumPhone.on(pixel.new_page(), "Pixel 7"),
+            ChromiumPhone.on(iphone.new_page(), "iPhone 13"),
+        )
         for trial in range(trials):
             scene = tappable_scene(np.random.default_rng([SEED, trial]))
             rng = np.random.default_rng([SEED, trial, 1])

@@ -37,33 +37,6 @@ def phone(playwright: Any, browser: Any, model: str, *, service_workers: bool = 
     return browser.new_context(**{"locale": "en-US", **device}, service_workers=workers)
 
 
-def photo_size(page: Any) -> tuple[float, float]:
-    """The width and height (px) of the photo a Playwright ``page``'s photo view shows."""
-    view = page.get_by_test_id("photo-view")
-    width, height = (view.get_attribute(f"data-photo-{k}") for k in ("width", "height"))
-    return float(width or "nan"), float(height or "nan")
-
-
-def tap_photo(page: Any, x: float, y: float) -> None:
-    """A finger's tap on photo pixel (x, y) of a Playwright ``page``: where the photo view's
-    published transform (its ``data-scale``, ``data-tx``, ``data-ty``) puts it on screen."""
-    view = page.get_by_test_id("photo-view")
-    box = view.bounding_box()
-    assert box is not None
-    scale, tx, ty = (float(view.get_attribute(f"data-{k}") or "nan") for k in ("scale", "tx", "ty"))
-    page.touchscreen.tap(box["x"] + tx + scale * x, box["y"] + ty + scale * y)
-
-
-def whole_photo(page: Any) -> None:
-    """The whole photo in view, as a person who taps across it would ask for it: a photo of
-    another shape than the screen opens filling it, part of it a drag away (the app's
-    openingTransform); a Playwright ``page`` whose photo is shown."""
-    button = page.get_by_test_id("fit")
-    if button.count() > 0:
-        button.tap()
-        button.wait_for(state="detached")
-
-
 # The permissions the page needs for each sensor's readings (the orientation ones fuse the
 # motion sensors, and the magnetometer for the compass).
 _MOTION = ["accelerometer", "gyroscope"]

@@ -20,6 +20,7 @@ from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expec
 
 from shared_solver.projective import Array
 from testbed import chromium
+from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.venue import rendered_pair
 
 from .meter import Meter, Profile
@@ -180,16 +181,21 @@ def play(
         joiner.get_by_test_id("photo-input").set_input_files(photos.original2)
         for page in (starter, joiner):
             page.wait_for_function("() => window.__bench.tappable !== null", timeout=WAIT_MS)
-            chromium.whole_photo(page)
+        starting, joining = (
+            ChromiumPhone.on(starter, "Pixel 7"),
+            ChromiumPhone.on(joiner, "iPhone 13"),
+        )
+        for phone in (starting, joining):
+            phone.whole_photo()
 
         # The joiner taps at once, its upload still on its way.
         joiner.get_by_test_id("cannot-see").tap()
         for number, point in enumerate(photos.landmarks2, 1):
-            chromium.tap_photo(joiner, *point)
+            joining.tap_photo(*point)
             _landmark(joiner, number)
 
         expect(starter.get_by_test_id("friend-prompt")).to_be_visible()
-        chromium.tap_photo(starter, *photos.friend2)
+        starting.tap_photo(*photos.friend2)
         expect(starter.get_by_test_id("friend-mark")).to_be_visible()
         last = len(photos.landmarks1)
         for number, point in enumerate(photos.landmarks1, 1):
@@ -203,7 +209,7 @@ def play(
                 expect(joiner.locator("img.preload")).to_have_count(0)
                 _settled((starter, starter_meter), (joiner, joiner_meter))
                 joiner.evaluate(WATCH_ANSWER)
-            chromium.tap_photo(starter, *point)
+            starting.tap_photo(*point)
             _landmark(starter, number)
         joiner.wait_for_function(
             "() => window.__bench.text !== null && window.__bench.drawn !== null", timeout=WAIT_MS

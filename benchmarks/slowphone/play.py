@@ -17,6 +17,7 @@ import httpx2
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, Request, expect
 
 from testbed import chromium
+from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.client import start
 
 from .watch import AWAIT, INIT, stamps
@@ -143,10 +144,11 @@ def play(
         # A person looks at the photo before tapping: its upload has ended by then.
         expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
         page.get_by_test_id("cannot-see").tap()  # the joiner cannot see the starter
-        chromium.whole_photo(page)
-        width, height = chromium.photo_size(page)
+        phone = ChromiumPhone.on(page, MODEL)
+        phone.whole_photo()
+        width, height = phone.photo_size()
         for fx, fy in SPOTS:
-            chromium.tap_photo(page, fx * width, fy * height)
+            phone.tap_photo(fx * width, fy * height)
             page.evaluate(AWAIT, "painted")
         page.wait_for_timeout(SETTLE_MS)
         run.taps = _taps(stamps(page))

@@ -25,6 +25,7 @@ import numpy as np
 from playwright.sync_api import Page, Playwright, expect
 
 from testbed import chromium
+from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.client import numbered, start
 from testbed.opening import FORGET, MARK_TAP, OPENED, OPENING_STEPS
 from testbed.scenes import temple_scene
@@ -71,9 +72,10 @@ def _answered(page: Page, server: str) -> None:
     page.get_by_test_id("shutter").tap()
     expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
     page.get_by_test_id("cannot-see").tap()
-    chromium.whole_photo(page)
+    phone = ChromiumPhone.on(page, MODEL)
+    phone.whole_photo()
     for number, (x, y) in enumerate(landmarks, 1):
-        chromium.tap_photo(page, x, y)
+        phone.tap_photo(x, y)
         expect(page.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     expect(page.get_by_test_id("show-me")).to_be_visible()
 

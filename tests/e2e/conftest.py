@@ -16,15 +16,15 @@ from pathlib import Path
 
 import httpx2
 import pytest
-from chromium_phone import ChromiumPhone
 from chromium_pool import ChromiumPool
-from phone import Phone
 from playwright.sync_api import Browser, Playwright, sync_playwright
-from webkit_phone import Screen
 from webkit_pool import Kind, WebKitPool
 
 from deploy.replica import serve
 from testbed import chromium
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone
+from testbed.browser.webkit_phone import Screen
 
 ROOT = Path(__file__).parents[2]
 # A venue-like name for loopback (browsers treat "localhost" and 127.0.0.1 as secure even

@@ -16,11 +16,11 @@ from typing import Any
 
 import httpx2
 import numpy as np
-import play
 import pytest
-from phone import Phone, expect
 from PIL import Image
 
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 from testbed.client import numbered, start
 from testbed.scenes import Camera, Scene, in_photo, look_at
 

@@ -14,11 +14,12 @@ import io
 from pathlib import Path
 
 import numpy as np
-import play
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 from PIL import Image
+
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 

@@ -21,14 +21,14 @@ from pathlib import Path
 from typing import Any
 
 import httpx2
-import play
 import pytest
-from chromium_phone import ChromiumPhone
 from conftest import unexpected
-from phone import Phone, expect
 from playwright.sync_api import Browser, Playwright
 
 from deploy.replica import serve
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 
 ROOT = Path(__file__).parents[2]
 FRONTEND = ROOT / "frontend"

@@ -19,13 +19,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import play
 import pytest
-from chromium_phone import ChromiumPhone
 from cutproxy import cut_proxy
-from phone import Phone, expect
 
 from deploy.replica import free_port, serve
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 
 # Mostly waiting on the phones (make test runs them in a lane of their own).
 pytestmark = pytest.mark.waits

@@ -11,9 +11,10 @@ from __future__ import annotations
 import re
 
 import pytest
-from phone import Phone
-from phone import expect as expect_on_phone
 from playwright.sync_api import Browser, Page, expect
+
+from testbed.browser.phone import Phone
+from testbed.browser.phone import expect as expect_on_phone
 
 
 def violations(page: Page) -> list[str]:

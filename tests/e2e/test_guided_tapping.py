@@ -14,10 +14,10 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-import play
 import pytest
-from phone import Phone, expect
 
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 from testbed.venue import rendered_pair
 
 pytestmark = pytest.mark.engines("chromium", "webkit")

@@ -30,13 +30,13 @@ from typing import Any
 
 import cv2
 import numpy as np
-import play
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 from test_in_app_camera import SPY, angle_deg, quaternion, still_reading, take_photo
 
 from shared_solver.estimation.camera import MAIN_CAMERA_MM, PHONE_LOG_SIGMA, focal_35mm
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 from testbed.curves import distance_to
 from testbed.scenes import Camera, in_photo
 from testbed.venue import STORED_SIDE, RenderedPair, rendered_pair

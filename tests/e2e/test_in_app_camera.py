@@ -19,9 +19,9 @@ import cv2
 import httpx2
 import numpy as np
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 from testbed.client import Phone as ApiPhone
 from testbed.client import start
 

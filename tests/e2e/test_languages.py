@@ -18,10 +18,10 @@ from pathlib import Path
 from typing import Any
 
 import httpx2
-import play
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expect
 
+from testbed.browser import play
 from testbed.client import start
 
 LANGUAGES = ("en", "es", "fr", "de", "ja")

@@ -7,13 +7,13 @@ from pathlib import Path
 
 import httpx2
 import numpy as np
-import play
 import pytest
-from phone import Phone, expect
 from PIL import Image
 from test_answer_clear import OVERLAID
 
 from deploy.replica import serve
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 from testbed.client import start
 
 pytestmark = pytest.mark.engines("chromium", "webkit")

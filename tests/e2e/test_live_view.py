@@ -31,13 +31,13 @@ from typing import Any
 import cv2
 import httpx2
 import numpy as np
-import play
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Element, Phone, expect
 from playwright.sync_api import Route
 from test_in_app_camera import SPY, still_reading, take_photo
 
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Element, Phone, expect
 from testbed.client import Phone as ApiPhone
 from testbed.client import numbered, start
 from testbed.opening import MARK_TAP, OPENING_STEPS

@@ -26,10 +26,7 @@ from typing import Any
 import cv2
 import httpx2
 import numpy as np
-import play
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 from playwright.sync_api import Response
 from test_live_view import (
     CLICK_ALIGN,
@@ -43,6 +40,9 @@ from test_live_view import (
     video_on_screen,
 )
 
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 from testbed.client import start
 from testbed.live import VIDEO_SIZE, Hall, LiveView, live_view, marker_error_deg, rendered_hall
 from testbed.scenes import Scene, seen_scene

@@ -45,9 +45,7 @@ import math
 
 import httpx2
 import numpy as np
-import play
 import pytest
-from phone import Phone, expect
 from test_in_app_camera import ASK_MOTION, SPY, still_reading, take_photo
 from test_live_view import (
     FILM_DIAGONAL_MM,
@@ -61,6 +59,8 @@ from test_live_view import (
     show_me,
 )
 
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 from testbed.client import start
 from testbed.opening import OPENING_STEPS
 

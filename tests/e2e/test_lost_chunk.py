@@ -13,9 +13,10 @@ import re
 from collections.abc import Callable
 
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 from playwright.sync_api import Route
+
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 
 QR_CHUNK = "**/assets/qr-*.js"
 BUILD_CHECK = re.compile(r"/\?build-check=\d+$")

@@ -14,11 +14,11 @@ from typing import Any
 
 import cv2
 import numpy as np
-import play
-from phone import Phone, expect
 from PIL import Image
 from test_answer_view import screen_pixels, set_answer_shown
 
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 from testbed.scenes import NO_PHONES_LANDMARKS2
 
 PHOTO = (640, 480)

@@ -12,8 +12,9 @@ from pathlib import Path
 from urllib.parse import quote
 
 import pytest
-from phone import Phone
 from PIL import Image
+
+from testbed.browser.phone import Phone
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 

@@ -9,11 +9,11 @@ import io
 from pathlib import Path
 
 import httpx2
-import play
 import pytest
-from phone import Phone, expect
 from PIL import Image, ImageOps
 
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 from testbed.client import start
 
 pytestmark = pytest.mark.engines("chromium", "webkit")

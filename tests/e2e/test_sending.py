@@ -10,10 +10,11 @@ import json
 import time
 from typing import Any
 
-import play
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 from playwright.sync_api import Request
+
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 
 HOLD_S = 1.0  # a finger resting mid-drag: far longer than any wait before sending
 

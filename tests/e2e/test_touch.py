@@ -10,9 +10,10 @@ aimed as a finger's, and the loupe shows while it presses.
 
 from __future__ import annotations
 
-import play
 import pytest
-from phone import Phone, expect
+
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 

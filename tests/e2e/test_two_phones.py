@@ -15,13 +15,13 @@ import re
 from pathlib import Path
 
 import numpy as np
-import play
 import pytest
-from chromium_phone import ChromiumPhone
-from phone import Phone, expect
 from PIL import Image
 
 from shared_solver.estimation.camera import focal_35mm
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
 from testbed.scenes import NO_PHONES_LANDMARKS2, temple_cameras
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
@@ -58,7 +58,7 @@ def test_the_starter_marks_the_joiner(
 ) -> None:
     """Friend A (who started) sees friend B and marks them; B's phone finds A."""
     starter, joiner = play.start_and_join(
-        server, pixel, iphone, screenshots, photos=True, audit=True
+        server, pixel, iphone, screenshots=screenshots, photos=True, audit=True
     )
     joiner.screenshot(path=screenshots / "3-tap-your-friend-joiner.png")
     play.focused(joiner, "photo-view")  # the photo shown: the thing to tap next

@@ -10,12 +10,12 @@ import re
 import time
 from pathlib import Path
 
-import play
 import pytest
-from phone import Phone, expect
 from test_catch_up import DROPPED, link
 
 from deploy.replica import serve
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
 
 pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.waits]
 

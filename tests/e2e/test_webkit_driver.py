@@ -10,7 +10,8 @@ from pathlib import Path
 
 import psutil
 import pytest
-from webkit_phone import Screen, WebKitPhone
+
+from testbed.browser.webkit_phone import Screen, WebKitPhone
 
 # A page that stops answering a moment after it was asked to: its script never ends.
 STUCK = "() => { setTimeout(() => { for (;;) {} }, 300); }"

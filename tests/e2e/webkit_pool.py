@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from webkit_phone import Screen, WebKitPhone
+from testbed.browser.webkit_phone import Screen, WebKitPhone
 
 # What makes two phones differ: the model, its screen, and whether the virtual screen is
 # square (the ``turns`` marker). The folder is not: it holds only the phone's home (its

@@ -1,6 +1,6 @@
 /**
  * The contrast of the words drawn over the photo, where axe can only say "needs review"
- * (tests/e2e/audit.py): checked here against the palette (shared_solver/drawing/palette.json,
+ * (testbed/browser/audit.py): checked here against the palette (shared_solver/drawing/palette.json,
  * the one source of the marks' colours) and the stylesheet's scrim behind the status.
  */
 

@@ -8,11 +8,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Literal
 
-from phone import RESOLVE, Phone, Point, Step, web_origin
 from playwright.sync_api import Browser, BrowserContext, CDPSession, ElementHandle, Page, Playwright
 from playwright.sync_api import Error as PlaywrightError
 
 from testbed import chromium
+
+from .phone import RESOLVE, Phone, Point, Step, web_origin
 
 NAVIGATION_TIMEOUT_MS = 30_000
 
@@ -23,22 +24,26 @@ class ChromiumPhone(Phone):
 
     def __init__(
         self,
-        playwright: Playwright,
-        browser: Browser,
+        playwright: Playwright | None,
+        browser: Browser | None,
         model: str,
         *,
         service_workers: bool = False,
         context: BrowserContext | None = None,
+        page: Page | None = None,
     ) -> None:
         """A page of its own in ``context`` (a kept one: chromium_pool.py), else in a new
-        context, which :meth:`close` closes."""
+        context, which :meth:`close` closes; or ``page``, a page of ``context`` made by its
+        owner (a benchmark's, its meters on it), which the owner closes."""
         super().__init__(model)
         self._own_context = context is None
-        self._context: BrowserContext = context or chromium.phone(
-            playwright, browser, model, service_workers=service_workers
-        )
+        if context is None:
+            assert playwright is not None
+            assert browser is not None
+            context = chromium.phone(playwright, browser, model, service_workers=service_workers)
+        self._context: BrowserContext = context
         self._context.set_default_navigation_timeout(NAVIGATION_TIMEOUT_MS)
-        self._page = self._context.new_page()
+        self._page = page or self._context.new_page()
         self._errors: list[str] = []
         self._touch: CDPSession | None = None
         self._sensors: chromium.Sensors | None = None  # the sensors whose readings are the test's
@@ -51,6 +56,12 @@ class ChromiumPhone(Phone):
             "console", lambda m: self._errors.append(m.text) if m.type == "error" else None
         )
         self._page.on("pageerror", lambda error: self._errors.append(str(error)))
+
+    @classmethod
+    def on(cls, page: Page, model: str) -> ChromiumPhone:
+        """The driver on a page its owner made and closes: a benchmark's, its own meters
+        and throttling on it (the phone's ``model``, as its context emulates)."""
+        return cls(None, None, model, context=page.context, page=page)
 
     def _opened(self, origin: str | None) -> None:
         if origin is not None:

@@ -16,7 +16,6 @@ from typing import Any
 
 import httpx2
 import numpy as np
-from phone import Phone, expect
 
 from testbed.scenes import (
     NO_PHONES_FRIEND,
@@ -25,6 +24,8 @@ from testbed.scenes import (
     Scene,
     temple_scene,
 )
+
+from .phone import Phone, expect
 
 ROOT = Path(__file__).parents[2]
 TEMPLE = ROOT / "tests" / "data" / "temple"
@@ -44,6 +45,7 @@ def start_and_join(
     server: str,
     starter: Phone,
     joiner: Phone,
+    *,
     screenshots: Path | None = None,
     joiner_server: str | None = None,
     photos: bool = False,

@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any, ClassVar, Literal
 from urllib.parse import urlsplit
 
-import audit
+from . import audit
 
 TIMEOUT_S = 20.0
 POLL_S = 0.05
@@ -262,11 +262,26 @@ class Phone(ABC):
         left, top, scale, tx, ty, width, height = self.view_box()
         at = (left + tx + scale * x, top + ty + scale * y)
         seen = left < at[0] < left + width and top < at[1] < top + height
-        if not seen and self.get_by_test_id("fit").count() > 0:
-            self.get_by_test_id("fit").tap()
-            self.wait_for(lambda: self.get_by_test_id("fit").count() == 0, "the whole photo")
+        if not seen and self.whole_photo():
             at = self.photo_to_screen(x, y)
         self.tap_at(*at)
+
+    def whole_photo(self) -> bool:
+        """The whole photo in view, as a person who taps across it asks for it ("Whole
+        photo": a photo of another shape than the screen opens filling it, part of it a
+        drag away); whether it had to be asked for."""
+        fit = self.get_by_test_id("fit")
+        if fit.count() == 0:
+            return False
+        fit.tap()
+        self.wait_for(lambda: fit.count() == 0, "the whole photo")
+        return True
+
+    def photo_size(self) -> tuple[float, float]:
+        """The width and height (px) of the photo the photo view shows."""
+        view = self.get_by_test_id("photo-view")
+        width, height = (view.get_attribute(f"data-photo-{k}") for k in ("width", "height"))
+        return float(width or "nan"), float(height or "nan")
 
     def drag(self, start: Point, end: Point, steps: int = 10) -> None:
         """One finger down at ``start`` and moved to ``end`` in ``steps`` even steps (client

@@ -31,7 +31,6 @@ from pathlib import Path
 from typing import Any, Literal
 
 import psutil
-from phone import RESOLVE, Phone, Point, Step, web_origin
 from PIL import ImageGrab
 from pyvirtualdisplay.display import Display
 from selenium import webdriver
@@ -46,6 +45,8 @@ from selenium.webdriver.remote.webelement import WebElement
 from selenium.webdriver.webkitgtk.options import Options
 from selenium.webdriver.webkitgtk.service import Service
 from urllib3.exceptions import ReadTimeoutError
+
+from .phone import RESOLVE, Phone, Point, Step, web_origin
 
 # Debian's packages (webkit2gtk-driver, libwebkit2gtk-4.1-0, xvfb); `make test` installs them.
 WEBKIT_DRIVER = "/usr/bin/WebKitWebDriver"
@@ -196,7 +197,9 @@ class Driver(webdriver.WebKitGTK):
         try:
             return super().execute(driver_command, params)
         except ReadTimeoutError as timeout:
-            waited = self.command_executor.client_config.timeout
+            executor = self.command_executor
+            assert isinstance(executor, RemoteConnection)
+            waited = executor.client_config.timeout
             self.hung = (
                 f"WebKit gave no answer to {driver_command!r} in {waited:g} s: "
                 "its web process is stuck (docs/browsers.md)"
