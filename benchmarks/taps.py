@@ -115,10 +115,11 @@ def reachable(phone: ChromiumPhone, x: float, y: float) -> tuple[float, float, b
     view's top edge above the spot."""
     page = phone.page
     for step in range(ZOOMS):
-        sx, sy = phone.photo_to_screen(x, y)  # once the view is still
+        # As the view is now: waiting for an answer's glide would undo the zoom.
+        sx, sy = phone.photo_to_screen(x, y, settled=False)
         if phone.evaluate(REACHES_PHOTO, [sx, sy, 3 * FINGER_CSS[1]]):
             return sx, sy, step > 0
-        page.mouse.move(sx, phone.view_box()[1] + 1.0)
+        page.mouse.move(sx, phone.view_box(settled=False)[1] + 1.0)
         page.mouse.wheel(0.0, WHEEL_PX)
     raise AssertionError(f"photo pixel ({x:.0f}, {y:.0f}) stays under a control")
 

@@ -97,11 +97,12 @@ TAP_POINT = f"""(steps) => {{
 # The photo view's published transform (PhotoView.tsx): pixel (x, y) of the photo is at
 # (left + tx + scale * x, top + ty + scale * y) in client coordinates; none while the view
 # glides to an answer (a tap then would land elsewhere).
-TRANSFORM = f"""(steps) => {{
+TRANSFORM = f"""([steps, settled]) => {{
   const element = ({RESOLVE})(steps)[0];
   if (!element || !element.hasAttribute("data-scale")) return null;
   // Moving, or about to (an answer waiting for the fingers' quiet): not yet where it stays.
-  if (element.hasAttribute("data-gliding") || element.hasAttribute("data-settling")) return null;
+  if (element.hasAttribute("data-gliding")) return null;
+  if (settled && element.hasAttribute("data-settling")) return null;
   const rect = element.getBoundingClientRect();
   const read = (name) => Number(element.getAttribute(name));
   return [rect.left, rect.top, read("data-scale"), read("data-tx"), read("data-ty"),
@@ -236,19 +237,22 @@ class Phone(ABC):
                 raise AssertionError(f"{self}: timed out after {timeout:g} s waiting for {what}")
             time.sleep(POLL_S)
 
-    def photo_to_screen(self, x: float, y: float) -> tuple[float, float]:
-        """Client coordinates of photo pixel (x, y), from the view's published transform."""
-        left, top, scale, tx, ty, _, _ = self.view_box()
+    def photo_to_screen(self, x: float, y: float, *, settled: bool = True) -> tuple[float, float]:
+        """Client coordinates of photo pixel (x, y), from the view's published transform
+        (:meth:`view_box`)."""
+        left, top, scale, tx, ty, _, _ = self.view_box(settled=settled)
         return left + tx + scale * x, top + ty + scale * y
 
-    def view_box(self) -> list[float]:
-        """The photo view's rect and transform once published and settled: left, top,
-        scale, tx, ty, width, height."""
+    def view_box(self, *, settled: bool = True) -> list[float]:
+        """The photo view's rect and transform once published and not gliding: left, top,
+        scale, tx, ty, width, height. ``settled``: nor about to glide (an answer that came
+        waits for the fingers' quiet, then glides the view to it); False reads the view as
+        a finger about to tap finds it, which the glide would move after a wait."""
         view = self.get_by_test_id("photo-view")
         found: list[list[float]] = []
 
         def published() -> bool:
-            transform = self.evaluate(TRANSFORM, list(view.steps))
+            transform = self.evaluate(TRANSFORM, [list(view.steps), settled])
             if transform is not None:
                 found.append(transform)
             return transform is not None
