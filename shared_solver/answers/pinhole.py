@@ -132,7 +132,7 @@ def friend2_marked(request: Request) -> CameraAnswer:
     # the landmarks may answer alone).
     tested = len(taps) >= (3 if both else 4) or taps.gravity is not None
     agrees = consistent(fit, LEVEL) or not tested
-    others = _rivals(fit, [other for other in fits if other is not fit])
+    others, alike = _near(fit, fits)
     covariance = fit.covariance2
     # Not with gravity: the bootstrap re-taps the landmarks only, so it cannot see the
     # readings' share, and with and without it the regions of 1 and 2 landmarks held the
@@ -143,7 +143,7 @@ def friend2_marked(request: Request) -> CameraAnswer:
             fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)
         )
     covariance, inconsistent = widen_if_inconsistent(fit, covariance, warnings)
-    covariance = _holding(covariance, fit, _alike(fit, fits, others))
+    covariance = _holding(covariance, fit, alike)
     method: Method = "pinhole_two_epipoles" if both else "pinhole_epipole"
     answer = Answer.of_pinhole(request, fit, covariance, orientable=_orientable(model, fit))
     if len(taps) == 4 and not both:
@@ -236,12 +236,12 @@ def _from_starts(
     if not fits or not consistent(fits[0], LEVEL):
         return None
     fit = _likeliest(fits, request.size2)
-    others = _rivals(fit, [other for other in fits if other is not fit])
+    others, alike = _near(fit, fits)
     warnings: list[SolverWarning] = []
     if others:
         return _ambiguous(request, model, method, fit, others, warnings=warnings)
     covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
-    covariance = _holding(covariance, fit, _alike(fit, fits, others))
+    covariance = _holding(covariance, fit, alike)
     return result(
         method,
         request,
@@ -354,13 +354,16 @@ def _inside(friend1: Array, size: tuple[float, float]) -> bool:
     return bool(0.0 <= x <= size[0] and 0.0 <= y <= size[1])
 
 
-def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
-    """Refined fits that explain the taps about as well but put friend 1 elsewhere."""
+def _near(fit: PinholeFit, fits: list[PinholeFit]) -> tuple[list[PinholeFit], list[PinholeFit]]:
+    """The other refined fits that explain the taps about as well as ``fit``, as
+    ``(rivals, alike)``: rivals put friend 1 elsewhere (beyond ``_SAME_ANSWER_SIGMAS`` of
+    ``fit``'s first-order region, or where it cannot tell); alike ones close enough to be
+    the same answer."""
     covariance = fit.covariance2
     position = fit.epipole2
-    rivals = []
-    for other in others:
-        if other.cost > fit.cost + _AMBIGUOUS_COST:
+    rivals, alike = [], []
+    for other in fits:
+        if other is fit or other.cost > fit.cost + _AMBIGUOUS_COST:
             continue
         if covariance is not None and position[2] > 0 and other.epipole2[2] > 0:
             offset = other.epipole2[:2] / other.epipole2[2] - position[:2] / position[2]
@@ -369,21 +372,10 @@ def _rivals(fit: PinholeFit, others: list[PinholeFit]) -> list[PinholeFit]:
             except linalg.LinAlgError:
                 distance = np.inf
             if distance <= _SAME_ANSWER_SIGMAS**2:
+                alike.append(other)
                 continue
         rivals.append(other)
-    return rivals
-
-
-def _alike(fit: PinholeFit, fits: list[PinholeFit], rivals: list[PinholeFit]) -> list[PinholeFit]:
-    """The other fits that explain the taps about as well as ``fit`` and put friend 1 close
-    enough to be the same answer (not ``rivals``)."""
-    return [
-        other
-        for other in fits
-        if other is not fit
-        and other.cost <= fit.cost + _AMBIGUOUS_COST
-        and not any(other is rival for rival in rivals)
-    ]
+    return rivals, alike
 
 
 def _holding(covariance: Array | None, fit: PinholeFit, alike: list[PinholeFit]) -> Array | None:
