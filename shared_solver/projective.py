@@ -23,6 +23,7 @@ __all__ = [
     "canonical_matrix",
     "hartley_normaliser",
     "homogeneous",
+    "inside",
     "left_epipole",
     "orthogonal_complement",
     "right_epipole",
@@ -58,6 +59,19 @@ def to_pixel(point: Array) -> Array | None:
     if abs(w) * FAR_AWAY_PX <= max(abs(point[0]), abs(point[1])):
         return None
     return point[:2] / w
+
+
+def inside(points: Array, size: tuple[float, float]) -> Mask:
+    """Which of the (N, 2) pixel points lie in a photo of ``size`` (width, height), edges
+    included; NaN points do not."""
+    width, height = size
+    with np.errstate(invalid="ignore"):
+        return (
+            (points[:, 0] >= 0.0)
+            & (points[:, 0] <= width)
+            & (points[:, 1] >= 0.0)
+            & (points[:, 1] <= height)
+        )
 
 
 def hartley_normaliser(points: Array) -> Array:

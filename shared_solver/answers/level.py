@@ -30,7 +30,7 @@ from ..errors import Reason, WarningCode
 from ..estimation.camera import FocalPrior, focal_35mm
 from ..estimation.taps import Gravity
 from ..minimal.gravity_and_one import level_frame, turn_from_headings
-from ..projective import Array, Mask
+from ..projective import Array, Mask, inside
 from ..refusal import SolverError
 from ..result import CameraEstimate, SolveResult, SolverWarning
 from .building import pixel, unit
@@ -176,10 +176,10 @@ def _visible(
     # As finely as the whole circle is first sampled, over whatever part of it is asked.
     coarse_count = max(math.ceil(_COARSE * (between[1] - between[0]) / (2.0 * math.pi)), 8)
     turns = np.linspace(*between, coarse_count + 1)
-    inside = _inside(_project(_at(circle, turns), prior), size)
+    seen = inside(_project(_at(circle, turns), prior), size)
     pieces = []
     step = turns[1] - turns[0]
-    for start, stop in _runs(inside):
+    for start, stop in _runs(seen):
         # From the turn before the run to the one after, resampled finely enough.
         low, high = turns[max(start - 1, 0)], turns[min(stop, coarse_count)]
         coarse = _project(_at(circle, np.linspace(low, high, stop - start + 2)), prior)
@@ -187,21 +187,10 @@ def _visible(
         longest = float(np.max(np.hypot(*np.diff(finite, axis=0).T), initial=0.0))
         count = max(math.ceil(longest / _STEP_PX * (high - low) / step), 2) + 1
         fine = _project(_at(circle, np.linspace(low, high, count)), prior)
-        for a, b in _runs(_inside(fine, size)):
+        for a, b in _runs(inside(fine, size)):
             if b - a >= 2:
                 pieces.append(fine[a:b])
     return pieces
-
-
-def _inside(points: Array, size: tuple[float, float]) -> Mask:
-    width, height = size
-    with np.errstate(invalid="ignore"):
-        return (
-            (points[:, 0] >= 0.0)
-            & (points[:, 0] <= width)
-            & (points[:, 1] >= 0.0)
-            & (points[:, 1] <= height)
-        )
 
 
 def _runs(flags: Mask) -> list[tuple[int, int]]:

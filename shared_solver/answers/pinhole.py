@@ -43,7 +43,7 @@ from ..estimation.uncertainty import CHI2_2D, chi2_quantile, consistent
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
-from ..projective import Array, to_pixel
+from ..projective import Array, inside, to_pixel
 from ..result import Method, SolveResult, SolverWarning
 from .building import (
     Answer,
@@ -347,11 +347,9 @@ def _likeliest(fits: list[PinholeFit], size2: tuple[float, float] | None) -> Pin
 
 
 def _inside(friend1: Array, size: tuple[float, float]) -> bool:
-    """Whether the homogeneous pixel ``friend1`` (3,) lies in a photo of ``size``."""
-    if not friend1[2] > 0:
-        return False
-    x, y = friend1[:2] / friend1[2]
-    return bool(0.0 <= x <= size[0] and 0.0 <= y <= size[1])
+    """Whether the homogeneous pixel ``friend1`` (3,) lies in front, in a photo of ``size``."""
+    pixel = to_pixel(friend1)
+    return bool(friend1[2] > 0 and pixel is not None and inside(pixel[None], size)[0])
 
 
 def _near(fit: PinholeFit, fits: list[PinholeFit]) -> tuple[list[PinholeFit], list[PinholeFit]]:
