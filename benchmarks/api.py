@@ -69,7 +69,7 @@ from report import (
 from backend.settings import Settings
 from deploy.replica import Server, serve
 from shared_solver import solve
-from testbed.client import Phone
+from testbed.client import Phone, numbered, start
 from testbed.scenes import facing_scene, tap
 
 DEFAULT_OUT = ROOT / "docs" / "api-benchmark.md"
@@ -375,8 +375,7 @@ class Renders:
 
 def landmark_taps(points: np.ndarray, size: tuple[int, int]) -> list[dict[str, float]]:
     """Landmarks #1..#n at ``points``, kept on the photo."""
-    inside = np.clip(points, 0, size)
-    return [{"id": i + 1, "x": float(x), "y": float(y)} for i, (x, y) in enumerate(inside)]
+    return numbered(np.clip(points, 0, size))
 
 
 def decoded_overlay(data: bytes, size: tuple[int, int]) -> None:
@@ -441,11 +440,9 @@ def session(server: Server) -> SessionFigures:
     starter_photo = photo_like_jpeg("templeSR0006", rng)
     joiner_photo = photo_like_jpeg("templeSR0003", rng)
     with httpx2.Client(base_url=server.base_url, timeout=60) as http:
-        created = http.post("/api/sessions")
-        created.raise_for_status()
-        starter = Phone(http, created.json()["session_id"], created.json()["token"], "starter")
+        starter, code = start(http)
         uploaded = uploads(starter, starter_photo)
-        joined = http.post("/api/sessions/join", json={"code": starter.state()["join_code"]})
+        joined = http.post("/api/sessions/join", json={"code": code})
         joined.raise_for_status()
         joiner = Phone(http, starter.session_id, joined.json()["token"], "joiner")
         stored = joiner.uploaded(joiner_photo)

@@ -46,7 +46,7 @@ from typing import Any
 
 from crowd import LANDMARKS, Crowd
 from fastapi.testclient import TestClient
-from report import ROOT
+from report import ROOT, markdown_table
 
 import backend
 from backend.main import create_app
@@ -173,20 +173,16 @@ def main() -> None:
         f"CPU per search, ms ({args.searches} searches x {args.rounds} rounds;"
         " median [min-max] over rounds)"
     )
-    print("| route | calls per search | ms per search | ms per call |")
-    print("|---|---|---|---|")
-    totals = [1000 * sum(m.seconds.values()) / args.searches for m in rounds]
+    rows = []
     for name in sorted(names, key=lambda n: -statistics.median(m.seconds[n] for m in rounds)):
         per = [1000 * m.seconds[name] / args.searches for m in rounds]
         calls = rounds[0].calls[name] / args.searches
-        print(
-            f"| `{name}` | {calls:g} | {statistics.median(per):.1f} [{min(per):.1f}-{max(per):.1f}]"
-            f" | {statistics.median(per) / calls:.2f} |"
-        )
-    print(
-        f"| **all** | | **{statistics.median(totals):.1f}**"
-        f" [{min(totals):.1f}-{max(totals):.1f}] | |"
-    )
+        spread = f"{statistics.median(per):.1f} [{min(per):.1f}-{max(per):.1f}]"
+        rows.append([f"`{name}`", f"{calls:g}", spread, f"{statistics.median(per) / calls:.2f}"])
+    totals = [1000 * sum(m.seconds.values()) / args.searches for m in rounds]
+    spread = f"**{statistics.median(totals):.1f}** [{min(totals):.1f}-{max(totals):.1f}]"
+    rows.append(["**all**", "", spread, ""])
+    print(markdown_table(["route", "calls per search", "ms per search", "ms per call"], rows))
 
 
 if __name__ == "__main__":

@@ -39,11 +39,10 @@ from __future__ import annotations
 import argparse
 import platform
 from collections.abc import Sequence
-from pathlib import Path
 
 import cv2
 import numpy as np
-from report import ROOT, heading, machine, publish, source_state, timed
+from report import ROOT, command_line, heading, machine, publish, source_state, timed
 from suggestbench import arena_tables, tables
 from suggestbench.arenas import ARENA_STREAMS, PICKED, ArenaRun, run_arena
 from suggestbench.trials import ABSENT, PER_KIND, SEED, SIGMA, STREAMS, USED, SceneRun, run_scene
@@ -232,13 +231,12 @@ def report(
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser = command_line(__doc__, DEFAULT_OUT)
     parser.add_argument("--calibration", type=int, default=DEFAULT_CALIBRATION)
     parser.add_argument("--evaluation", type=int, default=DEFAULT_EVALUATION)
     parser.add_argument("--compare", type=int, default=DEFAULT_COMPARE)
     parser.add_argument("--arena-calibration", type=int, default=DEFAULT_ARENA_CALIBRATION)
     parser.add_argument("--arena-evaluation", type=int, default=DEFAULT_ARENA_EVALUATION)
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
     arguments = parser.parse_args()
     seconds: dict[str, float] = {}
 
