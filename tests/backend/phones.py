@@ -93,9 +93,11 @@ def stored_photo(width: int, height: int) -> dict[str, Any]:
     }
 
 
-def error_of(response: Any) -> str:
+def error_of(response: Any, status: int | None = None) -> str:
     """The code of a refusal in the one shape: a code and a sentence, and for the solver's
-    refusals the reason and its parameters (nothing else)."""
+    refusals the reason and its parameters (nothing else); its status, if given, checked."""
+    if status is not None:
+        assert response.status_code == status, response.text
     body = response.json()
     assert set(body) == {"error"}, body
     fields = set(body["error"])

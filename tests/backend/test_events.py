@@ -101,7 +101,7 @@ async def test_changes_reach_the_other_phone_in_order(
     assert [f.id for f in replay] == ids[1:]
     await resumed.aclose()
 
-    assert client.delete(joiner.url(), headers=joiner.auth).status_code == 204
+    assert joiner.call("DELETE").status_code == 204
     last = await next_frames(stream, "expired")
     assert last[-1].type == "expired"
     with pytest.raises(StopAsyncIteration):
@@ -166,7 +166,7 @@ def test_the_watcher_sees_every_change_after_the_newest_events_were_deleted(
     assert joined.status_code == 200  # the newer session's 'joined' is the newest event
     other = Phone(client, newer["session_id"], newer["token"], "starter")
     after, _ = log.changes_since(None, [])
-    assert client.delete(other.url(), headers=other.auth).status_code == 204
+    assert other.call("DELETE").status_code == 204
     assert starter.upload(temple_photos[0], "a.png").status_code == 200  # an event
     newest, sessions = log.changes_since(after, [other.session_id])
     assert newest > after
@@ -199,7 +199,7 @@ async def test_while_the_database_is_away_requests_get_503_and_streams_keep_ping
 
     with database_outage():
         for response in (
-            client.get(starter.url(), headers=starter.auth),
+            starter.call("GET"),
             client.post("/api/sessions"),
             joiner.upload(temple_photos[1], "b.png"),
             client.get("/healthz"),

@@ -74,8 +74,7 @@ def test_an_address_that_keeps_guessing_is_stopped_even_with_the_right_code(
         clock.advance(10)
     code = new_code(client)
     refused = join(client, code)  # right, but from an address that has guessed enough
-    assert refused.status_code == 429
-    assert error_of(refused) == "too_many_attempts"
+    assert error_of(refused, 429) == "too_many_attempts"
     assert "try again in 9 minutes" in refused.json()["error"]["message"]
     # Until the first failure, 50 s ago, leaves the 10-minute window.
     assert refused.headers["Retry-After"] == str(600 - 50)
@@ -304,7 +303,7 @@ def test_tokens_are_256_random_bits(client: TestClient) -> None:
 def test_only_the_exact_token_opens_a_session(client: TestClient, starter: Phone) -> None:
     """A token one character off, a prefix of it, or the hash the database keeps opens
     nothing: the token itself is the only key (compared as a whole, by its hash)."""
-    assert client.get(starter.url(), headers=starter.auth).status_code == 200
+    assert starter.call("GET").status_code == 200
     token = starter.token
     flip = dict(zip("Aa0_-", "Bb1-_", strict=True))
     near_misses = [
@@ -366,7 +365,7 @@ def test_an_unexpected_error_carries_them_too(
         raise RuntimeError("a bug")
 
     monkeypatch.setattr(client.app.state.services.state, "state", bug)  # type: ignore[attr-defined]
-    answer = client.get(starter.url(), headers=starter.auth)
+    answer = starter.call("GET")
     assert answer.status_code == 500
     assert answer.json()["error"]["code"] == "internal_error"
     for name, value in EVERYWHERE.items():
@@ -390,7 +389,7 @@ def test_state_and_pictures_are_not_kept_by_caches(
 ) -> None:
     """The state holds the join code: no cache keeps it. Pictures may stay in the phone's
     own cache, never in a shared one."""
-    assert client.get(starter.url(), headers=starter.auth).headers["cache-control"] == "no-store"
+    assert starter.call("GET").headers["cache-control"] == "no-store"
     assert joiner.upload(temple_photos[1], "photo.png").status_code == 200
     picture = client.get(starter.url("/photo/joiner"), params={"token": starter.token})
     assert picture.headers["cache-control"] == "private"
