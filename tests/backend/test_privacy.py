@@ -30,7 +30,7 @@ from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
 from backend.wiring import Services
 from deploy.postgres import PostgresServer
-from testbed.client import Phone
+from testbed.client import Phone, start
 
 # The temple landmarks of the README's example, and where the joiner is in photo 1.
 IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]
@@ -132,9 +132,7 @@ def sweep(services: Services) -> list[str]:
 
 def other_session(client: TestClient, photo: bytes) -> tuple[Phone, bytes]:
     """A second search, still going, with a photo: what erasing must leave alone."""
-    created = client.post("/api/sessions").json()
-    phone = Phone(client, created["session_id"], created["token"], "starter")
-    assert phone.upload(photo, "photo.png").status_code == 200
+    phone, _ = start(client, photo)
     stored = phone.call("GET", "/photo/starter").content
     return phone, stored
 

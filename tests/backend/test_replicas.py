@@ -9,7 +9,7 @@ import os
 import signal
 import time
 from collections.abc import Iterator
-from contextlib import ExitStack
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -31,16 +31,24 @@ REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"
 CROSSING_SECONDS = 2.0
 
 
-@pytest.fixture
-def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, Server]]:
-    """Two uvicorn processes on two loopback ports, on the same PostgreSQL database."""
-    environment = {"BUDDY_DATABASE_URL": fresh_postgres_url, **REPLICA_ENV}
+@contextmanager
+def two_servers(folder: Path, url: str, name: str) -> Iterator[tuple[Server, Server]]:
+    """Two uvicorn processes on two loopback ports (``name`` 1 and 2, each in its own
+    folder), on the same database."""
+    environment = {"BUDDY_DATABASE_URL": url, **REPLICA_ENV}
     with ExitStack() as stack:
         servers = []
-        for name in ("replica1", "replica2"):
-            (tmp_path / name).mkdir()
-            servers.append(stack.enter_context(serve(tmp_path / name, environment)))
+        for n in (1, 2):
+            (folder / f"{name}{n}").mkdir()
+            servers.append(stack.enter_context(serve(folder / f"{name}{n}", environment)))
         yield servers[0], servers[1]
+
+
+@pytest.fixture
+def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, Server]]:
+    """Two replicas on the same PostgreSQL database."""
+    with two_servers(tmp_path, fresh_postgres_url, "replica") as servers:
+        yield servers
 
 
 def photos_and_taps_cross(
@@ -94,10 +102,7 @@ def test_phones_on_two_replicas_find_each_other(
         starter_events.wait_for("joined", role="control", seconds=CROSSING_SECONDS)
 
     # Delete now, on replica 1: the joiner's stream on replica 2 ends at once.
-    assert starter.call("DELETE").status_code == 204
-    assert joiner_events.ended.wait(CROSSING_SECONDS)
-    assert joiner_events.types[-1] == "expired"
-    assert starter_events.ended.wait(CROSSING_SECONDS)
+    end(starter, joiner_events, starter_events)
     assert starter_events.ids == sorted(starter_events.ids)
     assert not starter_events.dropped
     assert not joiner_events.dropped
@@ -107,19 +112,12 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
     """No LISTEN/NOTIFY on SQLite: each process's watcher (4 times a second) wakes its
     streams for the other's changes, and ends them when the other deletes the session.
     Streams poll every 30 s here, so delivery within CROSSING_SECONDS is the watcher's."""
-    environment = {"BUDDY_DATABASE_URL": f"sqlite:///{tmp_path / 'buddy.db'}", **REPLICA_ENV}
-    with ExitStack() as stack:
-        servers = []
-        for name in ("worker1", "worker2"):
-            (tmp_path / name).mkdir()
-            servers.append(stack.enter_context(serve(tmp_path / name, environment)))
+    with two_servers(tmp_path, f"sqlite:///{tmp_path / 'buddy.db'}", "worker") as servers:
         starter, joiner = pair(live(servers[0].base_url), live(servers[1].base_url))
         starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
         _, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
         assert starter.state()["answer"] == state["answer"]
-        assert starter.call("DELETE").status_code == 204
-        assert joiner_events.ended.wait(CROSSING_SECONDS)
-        assert joiner_events.types[-1] == "expired"
+        end(starter, joiner_events)
         assert not starter_events.dropped
         assert not joiner_events.dropped
 
