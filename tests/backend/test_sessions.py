@@ -628,8 +628,7 @@ def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(uploaded: P
     assert found["degrees"] == pytest.approx(np.degrees(0.05), abs=0.2)
     blank = cv2.imencode(".jpg", np.full_like(seen, 100))[1].tobytes()
     refused = joiner.call("POST", "/reanchor", files={"frame": ("frame.jpg", blank, "image/jpeg")})
-    assert refused.status_code == 422
-    assert refused.json()["error"]["code"] == "no_solution"
+    assert error_of(refused, 422) == "no_solution"
     assert "photo" in refused.json()["error"]["message"]
     garbage = {"frame": ("frame.jpg", b"not a picture", "image/jpeg")}
     assert error_of(joiner.call("POST", "/reanchor", files=garbage)) == ("invalid_photo")
