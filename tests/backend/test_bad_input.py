@@ -24,7 +24,7 @@ from PIL import ExifTags, Image
 from test_photos import encoded, png_claiming
 
 from backend.settings import Settings
-from testbed.client import Phone
+from testbed.client import Phone, start
 
 pillow_heif.register_heif_opener()
 
@@ -55,11 +55,6 @@ class Search:
         image = Image.open(io.BytesIO(answer.content))
         image.load()
         return image
-
-    def other_session(self) -> dict[str, Any]:
-        created = self.client.post("/api/sessions")
-        assert created.status_code == 201, created.text
-        return dict(created.json())
 
     def raw_taps(self, phone: Phone, body: bytes) -> httpx2.Response:
         """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
@@ -220,11 +215,9 @@ def join(code: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
 
 
 def deleted_sessions_code(search: Search) -> str:
-    created = search.other_session()
-    auth = {"Authorization": f"Bearer {created['token']}"}
-    gone = search.client.delete(f"/api/sessions/{created['session_id']}", headers=auth)
-    assert gone.status_code == 204
-    return str(created["join_code"])
+    other, code = start(search.client)
+    assert other.call("DELETE").status_code == 204
+    return code
 
 
 def events_after(last_event_id: str) -> Callable[[Search], httpx2.Response]:
@@ -269,11 +262,11 @@ def too_large(search: Search) -> httpx2.Response:
 
 
 def another_token(search: Search) -> str:
-    return str(search.other_session()["token"])
+    return start(search.client)[0].token
 
 
 def another_session_id(search: Search) -> httpx2.Response:
-    return as_starter_at(search.other_session()["session_id"])(search)
+    return as_starter_at(start(search.client)[0].session_id)(search)
 
 
 TABLE = [

@@ -20,7 +20,7 @@ from backend.eventstream.stream import EventStreams
 from backend.participants import Participant, Role
 from testbed.changes import take_in
 from testbed.client import Event as Heard
-from testbed.client import Phone, frame
+from testbed.client import Phone, frame, start
 from testbed.scenes import NO_PHONES_FRIEND as FRIEND
 from testbed.scenes import NO_PHONES_LANDMARKS1 as STARTERS
 from testbed.scenes import NO_PHONES_LANDMARKS2 as JOINERS
@@ -161,10 +161,9 @@ def test_the_watcher_sees_every_change_after_the_newest_events_were_deleted(
     events must not let later events take ids at or below it (SQLite reuses the ids after
     the largest left unless told not to)."""
     log = streams_of(client).log
-    newer = client.post("/api/sessions").json()
-    joined = client.post("/api/sessions/join", json={"code": newer["join_code"]})
+    other, code = start(client)
+    joined = client.post("/api/sessions/join", json={"code": code})
     assert joined.status_code == 200  # the newer session's 'joined' is the newest event
-    other = Phone(client, newer["session_id"], newer["token"], "starter")
     after, _ = log.changes_since(None, [])
     assert other.call("DELETE").status_code == 204
     assert starter.upload(temple_photos[0], "a.png").status_code == 200  # an event
