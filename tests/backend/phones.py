@@ -41,11 +41,6 @@ def in_region(region: dict[str, Any], point: Any) -> bool:
     return (u / a) ** 2 + (v / b) ** 2 <= 1.0
 
 
-def mark(point: Any) -> dict[str, float]:
-    """A friend mark at ``point`` (x, y), as the API takes it."""
-    return {"x": float(point[0]), "y": float(point[1])}
-
-
 def landmarks(
     points: Any, ids: list[int] | None = None, sigma: float | None = 2.0
 ) -> list[dict[str, float]]:

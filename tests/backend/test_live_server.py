@@ -9,7 +9,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, mark, stored_photo, temple_pair
+from phones import PAIR, TEMPLE, in_region, landmarks, stored_photo, temple_pair
 
 from deploy.replica import serve
 from testbed.client import Phone, live, start
@@ -46,7 +46,7 @@ def test_two_phones_find_each_other(server: str) -> None:
     scene = temple_pair(6, rng)
     taps = tap(scene, 1.0, rng)
 
-    starter.tap(landmarks=landmarks(taps.landmarks1, sigma=None), friend=mark(taps.epipole1))
+    starter.tap(landmarks=landmarks(taps.landmarks1, sigma=None), friend=taps.epipole1)
     state = joiner.tap(landmarks=landmarks(taps.landmarks2, sigma=None)).json()
     starter_events.wait_for("answer")
     joiner_events.wait_for("answer")

@@ -16,7 +16,7 @@ from typing import Any
 import httpx2
 import psycopg
 import pytest
-from phones import PAIR, TEMPLE, error_of, in_region, landmarks, mark, scene_taps
+from phones import PAIR, TEMPLE, error_of, in_region, landmarks, scene_taps
 
 from backend.storage.database import database_url
 from deploy.postgres import PostgresServer
@@ -62,7 +62,7 @@ def photos_and_taps_cross(
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
     joiner_events.wait_for("taps", role="starter", seconds=CROSSING_SECONDS)
     state = joiner.tapped(landmarks=landmarks(taps.landmarks2))
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
@@ -135,7 +135,7 @@ def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Serve
     one, two = replicas
     starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)}
+    starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": taps.epipole1}
     starter.tapped(**starter_taps)
     joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
@@ -176,7 +176,7 @@ def test_postgresql_restarted_mid_search(
     one, two = replicas
     starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
     joiner_events.wait_for("taps", role="starter")
 
     postgres.stop()
