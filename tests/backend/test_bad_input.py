@@ -19,9 +19,9 @@ import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
 from phones import TEMPLE, FakeClock, error_of, stored_photo, temple_pair
-from phones import landmarks as sigma_landmarks
 from PIL import ExifTags, Image
 from test_photos import encoded, png_claiming
+from test_sessions import landmarks
 
 from backend.settings import Settings
 from testbed.client import Phone, start
@@ -58,8 +58,7 @@ class Search:
 
     def raw_taps(self, phone: Phone, body: bytes) -> httpx2.Response:
         """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
-        headers = {**phone.auth, "Content-Type": "application/json"}
-        return self.client.put(phone.url("/taps"), headers=headers, content=body)
+        return phone.call("PUT", "/taps", {"Content-Type": "application/json"}, content=body)
 
 
 @dataclass(frozen=True)
@@ -152,10 +151,6 @@ def raw_taps(body: bytes) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.raw_taps(search.with_photos().starter, body)
 
 
-def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]:
-    return sigma_landmarks(points, ids, sigma=None)
-
-
 def nothing_stored(search: Search, _: httpx2.Response) -> None:
     assert search.starter.state()["photos"]["starter"] is None  # nothing half-stored
 
@@ -221,11 +216,7 @@ def deleted_sessions_code(search: Search) -> str:
 
 
 def events_after(last_event_id: str) -> Callable[[Search], httpx2.Response]:
-    def send(search: Search) -> httpx2.Response:
-        headers = {**search.starter.auth, "Last-Event-ID": last_event_id}
-        return search.client.get(search.starter.url("/events"), headers=headers)
-
-    return send
+    return lambda search: search.starter.call("GET", "/events", {"Last-Event-ID": last_event_id})
 
 
 # --- the table ------------------------------------------------------------------------
