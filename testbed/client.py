@@ -104,12 +104,16 @@ class Phone:
         return dict(self.ok("GET").json())
 
     def upload(
-        self, photo: bytes | Path, name: str = "photo.jpg", kind: str | None = None
+        self,
+        photo: bytes | Path,
+        name: str = "photo.jpg",
+        kind: str | None = None,
+        data: dict[str, Any] | None = None,
     ) -> httpx2.Response:
         """PUT a photo: bytes, sent as ``name`` of type ``kind`` (JPEG unless told: what a
         phone's camera sends, whatever the bytes), or a file, sent under its own name and
-        its name's type."""
-        return self.call("PUT", "/photo", files=self._form(photo, name, kind))
+        its name's type; ``data``: the form's other fields (the lens, sensor readings)."""
+        return self.call("PUT", "/photo", files=self._form(photo, name, kind), data=data)
 
     @staticmethod
     def _form(

@@ -22,7 +22,7 @@ from backend.main import create_app
 from backend.settings import Settings
 from backend.storage.database import make_engine
 from deploy.postgres import PostgresServer
-from testbed.client import Phone
+from testbed.client import Phone, start
 
 DATABASES = ("sqlite", "postgresql")
 
@@ -196,10 +196,7 @@ def client(app: FastAPI) -> Iterator[TestClient]:
 
 @pytest.fixture
 def starter(client: TestClient) -> Phone:
-    created = client.post("/api/sessions")
-    assert created.status_code == 201, created.text
-    body = created.json()
-    return Phone(client, body["session_id"], body["token"], "starter")
+    return start(client)[0]
 
 
 @pytest.fixture

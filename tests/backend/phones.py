@@ -41,11 +41,6 @@ def in_region(region: dict[str, Any], point: Any) -> bool:
     return (u / a) ** 2 + (v / b) ** 2 <= 1.0
 
 
-def mark(point: Any) -> dict[str, float]:
-    """A friend mark at ``point`` (x, y), as the API takes it."""
-    return {"x": float(point[0]), "y": float(point[1])}
-
-
 def landmarks(
     points: Any, ids: list[int] | None = None, sigma: float | None = 2.0
 ) -> list[dict[str, float]]:
@@ -93,9 +88,11 @@ def stored_photo(width: int, height: int) -> dict[str, Any]:
     }
 
 
-def error_of(response: Any) -> str:
+def error_of(response: Any, status: int | None = None) -> str:
     """The code of a refusal in the one shape: a code and a sentence, and for the solver's
-    refusals the reason and its parameters (nothing else)."""
+    refusals the reason and its parameters (nothing else); its status, if given, checked."""
+    if status is not None:
+        assert response.status_code == status, response.text
     body = response.json()
     assert set(body) == {"error"}, body
     fields = set(body["error"])

@@ -36,7 +36,7 @@ from backend.photos.lens import Lens, LensFacts, lens
 from backend.settings import Settings
 from shared_solver import Camera
 from shared_solver import ErrorCode as SolverCode
-from testbed.client import numbered
+from testbed.client import numbered, pair
 
 CODES = {code.value for code in ServiceCode} | {code.value for code in SolverCode}
 # Sized for make test's 15 minutes (300 and 120 took 19 s of CPU in a whole-suite run).
@@ -189,23 +189,16 @@ class Search:
 
     def __init__(self, api: TestClient, photos: tuple[bytes, bytes], lens: dict[str, Any]) -> None:
         self.api = api
-        created = api.post("/api/sessions").json()
-        joined = api.post("/api/sessions/join", json={"code": created["join_code"]}).json()
-        self.url = f"/api/sessions/{created['session_id']}"
-        self.tokens = {"starter": created["token"], "joiner": joined["token"]}
+        self.phones = dict(zip(("starter", "joiner"), pair(api), strict=True))
         self.sizes: dict[str, tuple[int, int]] = {}
-        for role, photo in zip(self.tokens, photos, strict=True):
-            stored = api.put(
-                f"{self.url}/photo",
-                headers={"Authorization": f"Bearer {self.tokens[role]}"},
-                files={"photo": ("photo.png", photo, "image/png")},
-                data=lens,
-            )
+        for (role, phone), photo in zip(self.phones.items(), photos, strict=True):
+            stored = phone.upload(photo, "photo.png", "image/png", lens)
             assert stored.status_code == 200, stored.text
             self.sizes[role] = (stored.json()["width"], stored.json()["height"])
 
     def put(self, role: str, taps: Any) -> Any:
-        return send(self.api, "PUT", f"{self.url}/taps", taps, self.tokens[role])[1]
+        phone = self.phones[role]
+        return send(self.api, "PUT", phone.url("/taps"), taps, phone.token)[1]
 
 
 def _png(width: int, height: int) -> bytes:
@@ -350,11 +343,8 @@ def test_absurd_taps_are_refused_with_a_code_or_answered(
                 outcome = "answer"
                 for view in state["answer"]["in_photo"].values():
                     _region_is_finite_or_absent(view["region"])
-                drawn = search.api.get(
-                    f"{search.url}/overlay/{role}",
-                    params={"layer": "true"},
-                    headers={"Authorization": f"Bearer {search.tokens[role]}"},
-                )
+                layer = {"layer": "true"}
+                drawn = search.phones[role].call("GET", f"/overlay/{role}", params=layer)
                 assert drawn.status_code < 500, drawn.text
             else:
                 outcome = (state["answer_error"] or {}).get("code", "no answer")

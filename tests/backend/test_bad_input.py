@@ -19,12 +19,12 @@ import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
 from phones import TEMPLE, FakeClock, error_of, stored_photo, temple_pair
-from phones import landmarks as sigma_landmarks
 from PIL import ExifTags, Image
 from test_photos import encoded, png_claiming
+from test_sessions import landmarks
 
 from backend.settings import Settings
-from testbed.client import Phone
+from testbed.client import Phone, start
 
 pillow_heif.register_heif_opener()
 
@@ -56,15 +56,9 @@ class Search:
         image.load()
         return image
 
-    def other_session(self) -> dict[str, Any]:
-        created = self.client.post("/api/sessions")
-        assert created.status_code == 201, created.text
-        return dict(created.json())
-
     def raw_taps(self, phone: Phone, body: bytes) -> httpx2.Response:
         """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
-        headers = {**phone.auth, "Content-Type": "application/json"}
-        return self.client.put(phone.url("/taps"), headers=headers, content=body)
+        return phone.call("PUT", "/taps", {"Content-Type": "application/json"}, content=body)
 
 
 @dataclass(frozen=True)
@@ -157,10 +151,6 @@ def raw_taps(body: bytes) -> Callable[[Search], httpx2.Response]:
     return lambda search: search.raw_taps(search.with_photos().starter, body)
 
 
-def landmarks(points: Any, ids: list[int] | None = None) -> list[dict[str, Any]]:
-    return sigma_landmarks(points, ids, sigma=None)
-
-
 def nothing_stored(search: Search, _: httpx2.Response) -> None:
     assert search.starter.state()["photos"]["starter"] is None  # nothing half-stored
 
@@ -220,19 +210,13 @@ def join(code: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
 
 
 def deleted_sessions_code(search: Search) -> str:
-    created = search.other_session()
-    auth = {"Authorization": f"Bearer {created['token']}"}
-    gone = search.client.delete(f"/api/sessions/{created['session_id']}", headers=auth)
-    assert gone.status_code == 204
-    return str(created["join_code"])
+    other, code = start(search.client)
+    assert other.call("DELETE").status_code == 204
+    return code
 
 
 def events_after(last_event_id: str) -> Callable[[Search], httpx2.Response]:
-    def send(search: Search) -> httpx2.Response:
-        headers = {**search.starter.auth, "Last-Event-ID": last_event_id}
-        return search.client.get(search.starter.url("/events"), headers=headers)
-
-    return send
+    return lambda search: search.starter.call("GET", "/events", {"Last-Event-ID": last_event_id})
 
 
 # --- the table ------------------------------------------------------------------------
@@ -269,11 +253,11 @@ def too_large(search: Search) -> httpx2.Response:
 
 
 def another_token(search: Search) -> str:
-    return str(search.other_session()["token"])
+    return start(search.client)[0].token
 
 
 def another_session_id(search: Search) -> httpx2.Response:
-    return as_starter_at(search.other_session()["session_id"])(search)
+    return as_starter_at(start(search.client)[0].session_id)(search)
 
 
 TABLE = [

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import httpx2
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
+from phones import PAIR, TEMPLE, in_region, landmarks, scene_taps
 from test_replicas import CROSSING_SECONDS, REPLICA_ENV, end
 
 from deploy.cluster import Cluster, cluster
@@ -83,7 +83,7 @@ def test_streams_through_nginx_hear_changes_made_on_either_replica(running: Clus
     on_two.uploaded(TEMPLE / f"{PAIR[1]}.png")
     for events in (starter_events, joiner_events):
         events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
-    on_one.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    on_one.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
     state = on_two.tapped(landmarks=landmarks(taps.landmarks2))
     for events in (starter_events, joiner_events):
         events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
@@ -116,7 +116,7 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
     joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     before = starter.state()

@@ -20,7 +20,7 @@ from backend.eventstream.stream import EventStreams
 from backend.participants import Participant, Role
 from testbed.changes import take_in
 from testbed.client import Event as Heard
-from testbed.client import Phone, frame
+from testbed.client import Phone, frame, start
 from testbed.scenes import NO_PHONES_FRIEND as FRIEND
 from testbed.scenes import NO_PHONES_LANDMARKS1 as STARTERS
 from testbed.scenes import NO_PHONES_LANDMARKS2 as JOINERS
@@ -101,7 +101,7 @@ async def test_changes_reach_the_other_phone_in_order(
     assert [f.id for f in replay] == ids[1:]
     await resumed.aclose()
 
-    assert client.delete(joiner.url(), headers=joiner.auth).status_code == 204
+    assert joiner.call("DELETE").status_code == 204
     last = await next_frames(stream, "expired")
     assert last[-1].type == "expired"
     with pytest.raises(StopAsyncIteration):
@@ -161,12 +161,11 @@ def test_the_watcher_sees_every_change_after_the_newest_events_were_deleted(
     events must not let later events take ids at or below it (SQLite reuses the ids after
     the largest left unless told not to)."""
     log = streams_of(client).log
-    newer = client.post("/api/sessions").json()
-    joined = client.post("/api/sessions/join", json={"code": newer["join_code"]})
+    other, code = start(client)
+    joined = client.post("/api/sessions/join", json={"code": code})
     assert joined.status_code == 200  # the newer session's 'joined' is the newest event
-    other = Phone(client, newer["session_id"], newer["token"], "starter")
     after, _ = log.changes_since(None, [])
-    assert client.delete(other.url(), headers=other.auth).status_code == 204
+    assert other.call("DELETE").status_code == 204
     assert starter.upload(temple_photos[0], "a.png").status_code == 200  # an event
     newest, sessions = log.changes_since(after, [other.session_id])
     assert newest > after
@@ -199,7 +198,7 @@ async def test_while_the_database_is_away_requests_get_503_and_streams_keep_ping
 
     with database_outage():
         for response in (
-            client.get(starter.url(), headers=starter.auth),
+            starter.call("GET"),
             client.post("/api/sessions"),
             joiner.upload(temple_photos[1], "b.png"),
             client.get("/healthz"),

@@ -24,7 +24,7 @@ import requests
 import schemathesis
 from fastapi import FastAPI
 from hypothesis import strategies as st
-from phones import TEMPLE, landmarks, temple_pair
+from phones import PAIR, TEMPLE, landmarks, temple_pair
 from schemathesis.checks import not_a_server_error
 from schemathesis.python import asgi
 from schemathesis.specs.openapi.checks import (
@@ -35,6 +35,7 @@ from schemathesis.specs.openapi.checks import (
 
 from backend.main import create_app
 from backend.settings import Settings
+from testbed.client import pair, start
 
 CHECKS = [
     not_a_server_error,
@@ -69,36 +70,22 @@ class LiveSearch:
     def ready(self) -> LiveSearch:
         """Set up anew if a request changed it."""
         if self.changed:
-            self.stranger = self._answer("POST", "/api/sessions", 201)["token"]
-            created = self._answer("POST", "/api/sessions", 201)
-            code = {"code": created["join_code"]}
-            joined = self._answer("POST", "/api/sessions/join", 200, json=code)
-            self.session_id = created["session_id"]
-            self.tokens = {"starter": created["token"], "joiner": joined["token"]}
+            self.stranger = start(self.client)[0].token
+            phones = pair(self.client)
+            self.session_id = phones[0].session_id
+            self.tokens = {phone.role: phone.token for phone in phones}
             scene = temple_pair(6, np.random.default_rng(0))
-            for role, photo, points in (
-                ("starter", "templeSR0003.png", scene.landmarks1),
-                ("joiner", "templeSR0006.png", scene.landmarks2),
+            for phone, photo, points in zip(
+                phones, PAIR, (scene.landmarks1, scene.landmarks2), strict=True
             ):
-                upload = {"photo": (photo, (TEMPLE / photo).read_bytes(), "image/png")}
-                self._answer("PUT", "/photo", 200, role=role, files=upload)
+                phone.uploaded(TEMPLE / f"{photo}.png")
                 taps: dict[str, Any] = {"landmarks": landmarks(points, sigma=None)}
-                if role == "starter":
-                    taps["friend"] = {"x": float(scene.epipole1[0]), "y": float(scene.epipole1[1])}
-                self._answer("PUT", "/taps", 200, role=role, json=taps)
-            assert self._answer("GET", "", 200, role="joiner")["answer"] is not None
+                if phone.role == "starter":
+                    taps["friend"] = scene.epipole1
+                phone.tapped(**taps)
+            assert phones[1].state()["answer"] is not None
             self.changed = False
         return self
-
-    def _answer(
-        self, method: str, path: str, status: int, role: str | None = None, **options: Any
-    ) -> dict[str, Any]:
-        if role is not None:
-            path = f"/api/sessions/{self.session_id}{path}"
-            options["headers"] = {"Authorization": f"Bearer {self.tokens[role]}"}
-        answer = self.client.request(method, path, **options)
-        assert answer.status_code == status, answer.text
-        return dict(answer.json())
 
 
 @pytest.fixture(scope="module")

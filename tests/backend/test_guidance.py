@@ -185,9 +185,9 @@ def test_a_suggestion_needs_an_answer_and_a_landmark_to_find(uploaded: Phones) -
     starter, joiner = uploaded
     s = scene(7, seed=4)
     starter.tap(landmarks=landmarks(s.landmarks1[:2]), friend=list(s.epipole1))
-    early = joiner.client.get(joiner.url("/landmarks/joiner/1/suggestion"), headers=joiner.auth)
+    early = joiner.call("GET", "/landmarks/joiner/1/suggestion")
     assert (early.status_code, error_of(early)) == (409, "no_result")
     starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
     joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
-    missing = joiner.client.get(joiner.url("/landmarks/starter/6/suggestion"), headers=joiner.auth)
+    missing = joiner.call("GET", "/landmarks/starter/6/suggestion")
     assert (missing.status_code, error_of(missing)) == (404, "landmark_not_found")

@@ -80,12 +80,12 @@ def tap_landmarks(starter: Phone) -> None:
     starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
 
 
-def test_a_crop_shows_the_photo_as_it_now_is(client: TestClient, uploaded: Phones) -> None:
+def test_a_crop_shows_the_photo_as_it_now_is(uploaded: Phones) -> None:
     starter, joiner = uploaded
     tap_landmarks(starter)
 
     def crop() -> np.ndarray:
-        answer = client.get(joiner.url("/landmarks/starter/2/crop"), headers=joiner.auth)
+        answer = joiner.call("GET", "/landmarks/starter/2/crop")
         assert answer.status_code == 200, answer.text
         return decode_photo(answer.content).astype(int)
 
@@ -121,7 +121,7 @@ def test_after_delete_now_no_crop_is_served(client: TestClient, uploaded: Phones
     tap_landmarks(starter)
     url = joiner.url("/landmarks/starter/2/crop")
     assert client.get(url, headers=joiner.auth).status_code == 200  # now kept
-    assert client.delete(joiner.url(), headers=joiner.auth).status_code == 204
+    assert joiner.call("DELETE").status_code == 204
     gone = client.get(url, headers=joiner.auth)
     assert gone.status_code in (401, 404), gone.text
     assert gone.headers["content-type"].startswith("application/json")

@@ -11,7 +11,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from backend.taps import problem
-from testbed.client import Phone
+from testbed.client import pair
 from tests.backend.test_sessions import landmarks, photos_uploaded, scene
 
 SHOWN = ("answer", "answer_error", "landmarks_needed", "taps")
@@ -20,10 +20,7 @@ SHOWN = ("answer", "answer_error", "landmarks_needed", "taps")
 def played(client: TestClient, photos: tuple[bytes, bytes]) -> list[dict[str, Any]]:
     """A search tapped one landmark at a time (the starter first, then the joiner finding
     it), a landmark mistapped and moved back: what each PUT answered."""
-    created = client.post("/api/sessions").json()
-    starter = Phone(client, created["session_id"], created["token"], "starter")
-    joined = client.post("/api/sessions/join", json={"code": created["join_code"]}).json()
-    joiner = Phone(client, created["session_id"], joined["token"], "joiner")
+    starter, joiner = pair(client)
     photos_uploaded(starter, joiner, photos)
     s = scene(6, seed=3)
     mistapped = s.landmarks2.copy()

@@ -9,10 +9,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, mark, stored_photo, temple_pair
+from phones import PAIR, TEMPLE, in_region, landmarks, stored_photo, temple_pair
 
 from deploy.replica import serve
-from testbed.client import Phone, live
+from testbed.client import Phone, live, start
 from testbed.scenes import tap
 
 
@@ -46,7 +46,7 @@ def test_two_phones_find_each_other(server: str) -> None:
     scene = temple_pair(6, rng)
     taps = tap(scene, 1.0, rng)
 
-    starter.tap(landmarks=landmarks(taps.landmarks1, sigma=None), friend=mark(taps.epipole1))
+    starter.tap(landmarks=landmarks(taps.landmarks1, sigma=None), friend=taps.epipole1)
     state = joiner.tap(landmarks=landmarks(taps.landmarks2, sigma=None)).json()
     starter_events.wait_for("answer")
     joiner_events.wait_for("answer")
@@ -77,8 +77,7 @@ def test_the_server_stops_promptly_with_a_phone_listening(
     (nor for the thread listening to PostgreSQL)."""
     with serve(tmp_path, {"BUDDY_DATABASE_URL": database_url}) as running:
         http = live(running.base_url)
-        created = http.post("/api/sessions").json()
-        listener = Phone(http, created["session_id"], created["token"]).listen()
+        listener = start(http)[0].listen()
         listener.wait_for("joined")
         stopping = time.monotonic()
     assert time.monotonic() - stopping < 10  # the 3 s grace, not the 20 s kill

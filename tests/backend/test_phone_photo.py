@@ -37,7 +37,7 @@ def test_the_phones_photo_is_stored_at_the_size_it_was_sent(
     assert stored.status_code == 200, stored.text
     assert (stored.json()["width"], stored.json()["height"]) == size
     assert stored.json()["scale"] == 1.0
-    photo = starter.client.get(starter.url("/photo/starter"), headers=starter.auth)
+    photo = starter.call("GET", "/photo/starter")
     assert Image.open(io.BytesIO(photo.content)).size == size
 
 
@@ -68,8 +68,6 @@ def test_the_answers_layer_is_the_drawing_alone(uploaded: Phones) -> None:
 
 def test_a_layer_of_a_non_answer_is_refused(uploaded: Phones) -> None:
     starter, _ = uploaded
-    response = starter.client.get(
-        starter.url("/overlay/joiner"), params={"layer": "maybe"}, headers=starter.auth
-    )
+    response = starter.call("GET", "/overlay/joiner", params={"layer": "maybe"})
     assert response.status_code == 422
     assert set(response.json()["error"]) == {"code", "message"}

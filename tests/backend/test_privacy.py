@@ -30,7 +30,7 @@ from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
 from backend.wiring import Services
 from deploy.postgres import PostgresServer
-from testbed.client import Phone
+from testbed.client import Phone, start
 
 # The temple landmarks of the README's example, and where the joiner is in photo 1.
 IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]
@@ -60,7 +60,7 @@ def pictures(client: TestClient, phone: Phone, *, drawn: bool = False) -> list[b
         ("/overlay/starter", "/overlay/joiner") if drawn else ("/photo/starter", "/photo/joiner")
     )
     for path in paths:
-        response = client.get(phone.url(path), headers=phone.auth)
+        response = phone.call("GET", path)
         assert response.status_code == 200, (path, response.text)
         found.append(response.content)
     return found
@@ -132,10 +132,8 @@ def sweep(services: Services) -> list[str]:
 
 def other_session(client: TestClient, photo: bytes) -> tuple[Phone, bytes]:
     """A second search, still going, with a photo: what erasing must leave alone."""
-    created = client.post("/api/sessions").json()
-    phone = Phone(client, created["session_id"], created["token"], "starter")
-    assert phone.upload(photo, "photo.png").status_code == 200
-    stored = client.get(phone.url("/photo/starter"), headers=phone.auth).content
+    phone, _ = start(client, photo)
+    stored = phone.call("GET", "/photo/starter").content
     return phone, stored
 
 
@@ -150,13 +148,13 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
 ) -> None:
     # A photo replaced by another: the first one's bytes must go too.
     assert starter.upload(variant(temple_photos[0], 1), "first.png").status_code == 200
-    replaced = client.get(starter.url("/photo/starter"), headers=starter.auth).content
+    replaced = starter.call("GET", "/photo/starter").content
     answered(starter, joiner, temple_photos)
     kept = pictures(client, starter)
     # Another search uploaded after this one's, so that this one's rows are not simply the
     # end of each table (which any VACUUM cuts off).
     _, other = other_session(client, variant(temple_photos[0], 2))
-    crop = client.get(starter.url("/landmarks/joiner/3/crop"), headers=starter.auth).content
+    crop = starter.call("GET", "/landmarks/joiner/3/crop").content
 
     for picture in [replaced, *kept, other]:
         assert disk.holds(picture) >= 12  # the search finds what is there
@@ -164,7 +162,7 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
     for picture in [crop, *pictures(client, starter, drawn=True)]:
         assert disk.holds(picture) == 0
 
-    assert client.delete(starter.url(), headers=starter.auth).status_code == 204
+    assert starter.call("DELETE").status_code == 204
     if "sqlite" in database_url:  # within seconds, by the eraser (off the request)
         deadline = time.monotonic() + 10 * ERASE_SECONDS
         while any(disk.holds(p) for p in [replaced, *kept]) and time.monotonic() < deadline:
@@ -218,14 +216,12 @@ def photo_with_gps() -> tuple[bytes, bytes]:
 GPS_PHOTO, GPS_EXIF = photo_with_gps()
 
 
-def test_no_exif_or_gps_reaches_the_stored_photo(
-    client: TestClient, starter: Phone, joiner: Phone, disk: Disk
-) -> None:
+def test_no_exif_or_gps_reaches_the_stored_photo(starter: Phone, joiner: Phone, disk: Disk) -> None:
     upload, exif = GPS_PHOTO, GPS_EXIF
     assert Image.open(io.BytesIO(upload)).getexif().get_ifd(ExifTags.IFD.GPSInfo)  # it has GPS
     assert exif in upload
     assert starter.upload(upload).status_code == 200
-    stored = client.get(joiner.url("/photo/starter"), headers=joiner.auth).content  # as shown
+    stored = joiner.call("GET", "/photo/starter").content  # as shown
     image = Image.open(io.BytesIO(stored))
     assert image.format == "JPEG"
     assert dict(image.getexif()) == {}

@@ -9,14 +9,14 @@ import os
 import signal
 import time
 from collections.abc import Iterator
-from contextlib import ExitStack
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import Any
 
 import httpx2
 import psycopg
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, mark, scene_taps
+from phones import PAIR, TEMPLE, error_of, in_region, landmarks, scene_taps
 
 from backend.storage.database import database_url
 from deploy.postgres import PostgresServer
@@ -31,16 +31,24 @@ REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"
 CROSSING_SECONDS = 2.0
 
 
-@pytest.fixture
-def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, Server]]:
-    """Two uvicorn processes on two loopback ports, on the same PostgreSQL database."""
-    environment = {"BUDDY_DATABASE_URL": fresh_postgres_url, **REPLICA_ENV}
+@contextmanager
+def two_servers(folder: Path, url: str, name: str) -> Iterator[tuple[Server, Server]]:
+    """Two uvicorn processes on two loopback ports (``name`` 1 and 2, each in its own
+    folder), on the same database."""
+    environment = {"BUDDY_DATABASE_URL": url, **REPLICA_ENV}
     with ExitStack() as stack:
         servers = []
-        for name in ("replica1", "replica2"):
-            (tmp_path / name).mkdir()
-            servers.append(stack.enter_context(serve(tmp_path / name, environment)))
+        for n in (1, 2):
+            (folder / f"{name}{n}").mkdir()
+            servers.append(stack.enter_context(serve(folder / f"{name}{n}", environment)))
         yield servers[0], servers[1]
+
+
+@pytest.fixture
+def replicas(tmp_path: Path, fresh_postgres_url: str) -> Iterator[tuple[Server, Server]]:
+    """Two replicas on the same PostgreSQL database."""
+    with two_servers(tmp_path, fresh_postgres_url, "replica") as servers:
+        yield servers
 
 
 def photos_and_taps_cross(
@@ -54,7 +62,7 @@ def photos_and_taps_cross(
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
     joiner_events.wait_for("taps", role="starter", seconds=CROSSING_SECONDS)
     state = joiner.tapped(landmarks=landmarks(taps.landmarks2))
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
@@ -94,10 +102,7 @@ def test_phones_on_two_replicas_find_each_other(
         starter_events.wait_for("joined", role="control", seconds=CROSSING_SECONDS)
 
     # Delete now, on replica 1: the joiner's stream on replica 2 ends at once.
-    assert starter.call("DELETE").status_code == 204
-    assert joiner_events.ended.wait(CROSSING_SECONDS)
-    assert joiner_events.types[-1] == "expired"
-    assert starter_events.ended.wait(CROSSING_SECONDS)
+    end(starter, joiner_events, starter_events)
     assert starter_events.ids == sorted(starter_events.ids)
     assert not starter_events.dropped
     assert not joiner_events.dropped
@@ -107,19 +112,12 @@ def test_two_processes_on_one_sqlite_file_see_each_others_changes(tmp_path: Path
     """No LISTEN/NOTIFY on SQLite: each process's watcher (4 times a second) wakes its
     streams for the other's changes, and ends them when the other deletes the session.
     Streams poll every 30 s here, so delivery within CROSSING_SECONDS is the watcher's."""
-    environment = {"BUDDY_DATABASE_URL": f"sqlite:///{tmp_path / 'buddy.db'}", **REPLICA_ENV}
-    with ExitStack() as stack:
-        servers = []
-        for name in ("worker1", "worker2"):
-            (tmp_path / name).mkdir()
-            servers.append(stack.enter_context(serve(tmp_path / name, environment)))
+    with two_servers(tmp_path, f"sqlite:///{tmp_path / 'buddy.db'}", "worker") as servers:
         starter, joiner = pair(live(servers[0].base_url), live(servers[1].base_url))
         starter_events, joiner_events = follow(starter, joiner, CROSSING_SECONDS)
         _, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events)
         assert starter.state()["answer"] == state["answer"]
-        assert starter.call("DELETE").status_code == 204
-        assert joiner_events.ended.wait(CROSSING_SECONDS)
-        assert joiner_events.types[-1] == "expired"
+        end(starter, joiner_events)
         assert not starter_events.dropped
         assert not joiner_events.dropped
 
@@ -137,7 +135,7 @@ def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Serve
     one, two = replicas
     starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": mark(taps.epipole1)}
+    starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": taps.epipole1}
     starter.tapped(**starter_taps)
     joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
@@ -178,7 +176,7 @@ def test_postgresql_restarted_mid_search(
     one, two = replicas
     starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=mark(taps.epipole1))
+    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
     joiner_events.wait_for("taps", role="starter")
 
     postgres.stop()
@@ -187,8 +185,7 @@ def test_postgresql_restarted_mid_search(
             health = httpx2.get(f"{replica.base_url}/healthz", timeout=10)
             refused = phone.call("PUT", "/taps", json={"landmarks": []})
             for answer in (health, phone.call("GET"), refused):
-                assert answer.status_code == 503, answer.text
-                assert answer.json()["error"]["code"] == "database_unavailable"
+                assert error_of(answer, 503) == "database_unavailable"
     finally:
         postgres.start()
 

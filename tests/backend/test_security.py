@@ -10,7 +10,6 @@ import base64
 import hashlib
 import re
 from pathlib import Path
-from typing import Any
 
 import httpx2
 import pytest
@@ -24,7 +23,7 @@ from backend.pairing.guessing import client_key
 from backend.security import APP_POLICY
 from backend.settings import Settings
 from deploy.replica import serve
-from testbed.client import Phone
+from testbed.client import Phone, start
 
 PER_CLIENT = 5
 OVERALL = 12
@@ -44,12 +43,6 @@ def settings(database_url: str) -> Settings:
 def from_address(app: FastAPI, address: str) -> TestClient:
     """Another phone on the same running app, from ``address``."""
     return TestClient(app, raise_server_exceptions=False, client=(address, 40000))
-
-
-def new_code(client: TestClient) -> str:
-    created = client.post("/api/sessions")
-    assert created.status_code == 201
-    return str(created.json()["join_code"])
 
 
 def wrong_code(*right: str) -> str:
@@ -72,10 +65,9 @@ def test_an_address_that_keeps_guessing_is_stopped_even_with_the_right_code(
     for _ in range(PER_CLIENT):
         assert error_of(join(client, wrong)) == "invalid_join_code"
         clock.advance(10)
-    code = new_code(client)
+    code = start(client)[1]
     refused = join(client, code)  # right, but from an address that has guessed enough
-    assert refused.status_code == 429
-    assert error_of(refused) == "too_many_attempts"
+    assert error_of(refused, 429) == "too_many_attempts"
     assert "try again in 9 minutes" in refused.json()["error"]["message"]
     # Until the first failure, 50 s ago, leaves the 10-minute window.
     assert refused.headers["Retry-After"] == str(600 - 50)
@@ -93,7 +85,7 @@ def test_right_codes_never_count_so_a_crowd_behind_one_address_joins(
     client: TestClient,
 ) -> None:
     """A stadium behind one carrier address: many joiners joining, a few typos."""
-    codes = [new_code(client) for _ in range(3 * PER_CLIENT)]
+    codes = [start(client)[1] for _ in range(3 * PER_CLIENT)]
     for n, code in enumerate(codes):
         if n % 4 == 0:  # a typo now and then, under the limit
             assert error_of(join(client, wrong_code(*codes))) == "invalid_join_code"
@@ -101,9 +93,9 @@ def test_right_codes_never_count_so_a_crowd_behind_one_address_joins(
 
 
 def test_a_used_or_expired_code_counts_as_a_failure(client: TestClient, clock: FakeClock) -> None:
-    used = new_code(client)
+    used = start(client)[1]
     assert join(client, used).status_code == 200
-    expired = new_code(client)
+    expired = start(client)[1]
     clock.advance(601)
     replayed = [join(client, code).status_code for code in [used, expired] * PER_CLIENT]
     assert replayed[: PER_CLIENT + 1] == [404] * PER_CLIENT + [429]
@@ -114,22 +106,17 @@ def same_search(code: str, n: int) -> str:
     return code[:4] + f"{(int(code[4:]) + 1 + n) % 10_000:04d}"
 
 
-def starter_state(client: TestClient, created: dict[str, Any]) -> dict[str, Any]:
-    return Phone(client, created["session_id"], created["token"], "starter").state()
-
-
 def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
     client: TestClient, app: FastAPI
 ) -> None:
     """A guesser who knows (or hit) a search's number gets five tries at its secret, from
     however many addresses: then the code is a new one, shown on the starter's phone."""
-    created = client.post("/api/sessions").json()
-    code = created["join_code"]
+    starter, code = start(client)
     for n in range(5):  # each from its own address: no address reaches its own limit
         guesser = from_address(app, f"198.51.100.{n}")
         assert error_of(join(guesser, same_search(code, n))) == "invalid_join_code"
     assert error_of(join(from_address(app, "192.0.2.1"), code)) == "invalid_join_code"
-    state = starter_state(client, created)
+    state = starter.state()
     renewed = state["join_code"]
     assert re.fullmatch(r"[0-9]{8}", renewed)
     assert renewed != code
@@ -137,7 +124,7 @@ def test_a_code_is_renewed_after_five_wrong_codes_name_its_search(
     assert state["join_url"].endswith(f"/join/{renewed}")
     assert state["version"] == 2  # a change the phone is told of, with its own event
     log = client.app.state.services.streams.log  # type: ignore[attr-defined]
-    assert [e.type for e in log.events_after(created["session_id"], 0)] == ["code"]
+    assert [e.type for e in log.events_after(starter.session_id, 0)] == ["code"]
     joined = join(from_address(app, "192.0.2.2"), renewed)
     assert joined.status_code == 200, joined.text
 
@@ -147,23 +134,22 @@ def test_a_renewal_that_draws_only_taken_codes_ends_the_code(
 ) -> None:
     """Never two sessions with one code: if every code drawn is taken (impossible but for
     a broken generator), the code ends, and the starter's phone offers a new search."""
-    taken = new_code(client)
-    created = client.post("/api/sessions").json()
+    taken = start(client)[1]
+    starter, code = start(client)
     monkeypatch.setattr(guessing, "new_join_code", lambda: taken)
     for n in range(5):
-        join(from_address(app, f"198.51.100.{n}"), same_search(created["join_code"], n))
-    state = starter_state(client, created)
+        join(from_address(app, f"198.51.100.{n}"), same_search(code, n))
+    state = starter.state()
     assert (state["join_code"], state["join_code_renewals"]) == (None, 1)
     assert join(client, taken).status_code == 200  # still the other session's
 
 
 def test_fewer_wrong_codes_leave_the_code_as_it_is(client: TestClient, app: FastAPI) -> None:
     """A joiner's typos (four, in the secret) do not cost them the code."""
-    created = client.post("/api/sessions").json()
-    code = created["join_code"]
+    starter, code = start(client)
     for n in range(4):
         assert join(from_address(app, f"198.51.100.{n}"), same_search(code, n)).status_code == 404
-    state = starter_state(client, created)
+    state = starter.state()
     assert (state["join_code"], state["join_code_renewals"]) == (code, 0)
     assert join(client, code).status_code == 200
 
@@ -171,20 +157,19 @@ def test_fewer_wrong_codes_leave_the_code_as_it_is(client: TestClient, app: Fast
 def test_wrong_codes_of_other_searches_do_not_count_against_a_code(
     client: TestClient, app: FastAPI
 ) -> None:
-    created = client.post("/api/sessions").json()
-    code = created["join_code"]
+    starter, code = start(client)
     wrong = wrong_code(code)
     for n in range(6):
         assert join(from_address(app, f"198.51.100.{n}"), wrong).status_code == 404
-    state = starter_state(client, created)
+    state = starter.state()
     assert (state["join_code"], state["join_code_renewals"]) == (code, 0)
 
 
 def test_the_joiner_never_sees_the_code_or_its_renewals(client: TestClient, app: FastAPI) -> None:
-    created = client.post("/api/sessions").json()
+    starter, code = start(client)
     for n in range(5):
-        join(from_address(app, f"198.51.100.{n}"), same_search(created["join_code"], n))
-    renewed = starter_state(client, created)["join_code"]
+        join(from_address(app, f"198.51.100.{n}"), same_search(code, n))
+    renewed = starter.state()["join_code"]
     joined = join(client, renewed).json()
     joiner = Phone(client, joined["session_id"], joined["token"], "joiner")
     state = joiner.state()
@@ -194,7 +179,7 @@ def test_the_joiner_never_sees_the_code_or_its_renewals(client: TestClient, app:
 def test_each_address_has_its_own_limit_and_ipv6_counts_by_64(
     client: TestClient, app: FastAPI
 ) -> None:
-    code = new_code(client)
+    code = start(client)[1]
     wrong = wrong_code(code)
     guesser = from_address(app, "2001:db8:1:2::17")
     for _ in range(PER_CLIENT):
@@ -219,7 +204,7 @@ def test_guessing_from_many_addresses_leaves_one_guess_each(
 ) -> None:
     """Above the overall limit an address that has failed waits; a fresh one (a joiner
     typing a code for the first time) may still try."""
-    code = new_code(client)
+    code = start(client)[1]
     wrong = wrong_code(code)
     guessers = [from_address(app, f"198.51.100.{n}") for n in range(OVERALL // PER_CLIENT + 1)]
     failures = 0
@@ -241,7 +226,7 @@ def test_guessing_from_many_addresses_leaves_one_guess_each(
 
 
 def test_replicas_share_the_count(client: TestClient, settings: Settings, clock: FakeClock) -> None:
-    code = new_code(client)
+    code = start(client)[1]
     wrong = wrong_code(code)
     for _ in range(PER_CLIENT):
         assert join(client, wrong).status_code == 404
@@ -304,7 +289,7 @@ def test_tokens_are_256_random_bits(client: TestClient) -> None:
 def test_only_the_exact_token_opens_a_session(client: TestClient, starter: Phone) -> None:
     """A token one character off, a prefix of it, or the hash the database keeps opens
     nothing: the token itself is the only key (compared as a whole, by its hash)."""
-    assert client.get(starter.url(), headers=starter.auth).status_code == 200
+    assert starter.call("GET").status_code == 200
     token = starter.token
     flip = dict(zip("Aa0_-", "Bb1-_", strict=True))
     near_misses = [
@@ -366,9 +351,8 @@ def test_an_unexpected_error_carries_them_too(
         raise RuntimeError("a bug")
 
     monkeypatch.setattr(client.app.state.services.state, "state", bug)  # type: ignore[attr-defined]
-    answer = client.get(starter.url(), headers=starter.auth)
-    assert answer.status_code == 500
-    assert answer.json()["error"]["code"] == "internal_error"
+    answer = starter.call("GET")
+    assert error_of(answer, 500) == "internal_error"
     for name, value in EVERYWHERE.items():
         assert answer.headers.get(name) == value, name
     assert answer.headers["cache-control"] == "no-store"
@@ -390,7 +374,7 @@ def test_state_and_pictures_are_not_kept_by_caches(
 ) -> None:
     """The state holds the join code: no cache keeps it. Pictures may stay in the phone's
     own cache, never in a shared one."""
-    assert client.get(starter.url(), headers=starter.auth).headers["cache-control"] == "no-store"
+    assert starter.call("GET").headers["cache-control"] == "no-store"
     assert joiner.upload(temple_photos[1], "photo.png").status_code == 200
     picture = client.get(starter.url("/photo/joiner"), params={"token": starter.token})
     assert picture.headers["cache-control"] == "private"

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from fastapi.testclient import TestClient
+from phones import error_of
 
 from backend.main import create_app
 from backend.settings import Settings
@@ -14,8 +15,7 @@ from testbed.client import server_timing
 
 def test_unknown_routes_and_methods_answer_in_the_one_shape(client: TestClient) -> None:
     missing = client.get("/api/nowhere")
-    assert missing.status_code == 404
-    assert missing.json()["error"]["code"] == "not_found"
+    assert error_of(missing, 404) == "not_found"
     wrong = client.delete("/api/solve")
     assert wrong.status_code == 405
     assert wrong.json()["error"]["code"] == "method_not_allowed"
@@ -27,8 +27,7 @@ def test_bodies_over_the_limit_are_refused(settings: Settings) -> None:
         declared = client.post(
             "/api/solve", content=b"x" * 2000, headers={"Content-Type": "application/json"}
         )
-        assert declared.status_code == 413
-        assert declared.json()["error"]["code"] == "body_too_large"
+        assert error_of(declared, 413) == "body_too_large"
 
         def chunks():  # no Content-Length: counted while reading
             for _ in range(5):
@@ -37,8 +36,7 @@ def test_bodies_over_the_limit_are_refused(settings: Settings) -> None:
         streamed = client.post(
             "/api/solve", content=chunks(), headers={"Content-Type": "application/json"}
         )
-        assert streamed.status_code == 413
-        assert streamed.json()["error"]["code"] == "body_too_large"
+        assert error_of(streamed, 413) == "body_too_large"
         assert client.get("/healthz").status_code == 200  # still serving
 
 
@@ -150,8 +148,7 @@ def test_the_app_and_its_routes_are_served(tmp_path: Path, database_url: str) ->
         assert "pyproject" not in client.get("/%2e%2e/pyproject.toml").text
         # The API keeps its own answers.
         unknown = client.get("/api/nowhere")
-        assert unknown.status_code == 404
-        assert unknown.json()["error"]["code"] == "not_found"
+        assert error_of(unknown, 404) == "not_found"
         assert client.get("/healthz").json() == {"status": "ok"}
 
 

@@ -78,8 +78,7 @@ def test_the_friend_joins_once_and_a_third_phone_is_refused(
     assert first.json()["role"] == "joiner"
     assert first.json()["session_id"] == starter.session_id
     third = client.post("/api/sessions/join", json={"code": code})
-    assert third.status_code == 404
-    assert error_of(third) == "invalid_join_code"
+    assert error_of(third, 404) == "invalid_join_code"
     state = starter.state()
     assert state["participants"]["joiner"]["joined"] is True
     assert state["join_code"] is None
@@ -92,8 +91,7 @@ def test_join_codes_expire(client: TestClient, starter: Phone, clock: FakeClock)
     clock.advance(601)
     assert starter.state()["join_code"] is None
     late = client.post("/api/sessions/join", json={"code": code})
-    assert late.status_code == 404
-    assert error_of(late) == "invalid_join_code"
+    assert error_of(late, 404) == "invalid_join_code"
 
 
 FULL_WIDTH_DIGITS = "".join(chr(0xFF10 + int(d)) for d in "12345678")  # \d matches them
@@ -104,8 +102,7 @@ FULL_WIDTH_DIGITS = "".join(chr(0xFF10 + int(d)) for d in "12345678")  # \d matc
 )
 def test_malformed_join_codes_are_refused(client: TestClient, code: str) -> None:
     response = client.post("/api/sessions/join", json={"code": code})
-    assert response.status_code == 422
-    assert error_of(response) == "invalid_request"
+    assert error_of(response, 422) == "invalid_request"
 
 
 # --- who may do what ------------------------------------------------------------------
@@ -261,12 +258,8 @@ def test_the_lens_a_photo_tells_reaches_the_answer(
         "focal_35mm": 31.0,
         "told_by": "photo",
     }
-    told = joiner.client.put(
-        joiner.url("/photo"),
-        headers=joiner.auth,
-        files={"photo": ("photo.png", temple_photos[1], "image/png")},
-        data={"focal_35mm": "44", "make": "Google", "model": "Pixel 7"},
-    )
+    told_by_phone = {"focal_35mm": "44", "make": "Google", "model": "Pixel 7"}
+    told = joiner.upload(temple_photos[1], "photo.png", "image/png", told_by_phone)
     assert told.json()["lens"] == {"focal_35mm": 44.0, "told_by": "phone"}
     s = scene(5, seed=24)
     starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
@@ -281,12 +274,8 @@ def test_the_lens_a_photo_tells_reaches_the_answer(
 def with_gravity(phone: Phone, photo: bytes, down: np.ndarray, **more: str) -> Any:
     """Upload ``photo`` with the phone's gravity reading ``down`` (the form field three
     times)."""
-    return phone.client.put(
-        phone.url("/photo"),
-        headers=phone.auth,
-        files={"photo": ("photo.png", photo, "image/png")},
-        data={"gravity": [f"{value:.9f}" for value in down], **more},
-    )
+    gravity = {"gravity": [f"{value:.9f}" for value in down], **more}
+    return phone.upload(photo, "photo.png", "image/png", gravity)
 
 
 def test_both_phones_gravity_gives_the_level_then_a_point(
@@ -366,12 +355,7 @@ def test_a_heading_is_kept_with_the_photo_wrapped_to_a_turn(
     """The compass heading at the shutter is kept with the photo, in [0, 360), and shown to
     both phones; without gravity it is kept all the same (and unused)."""
     fields = {"heading": "-30", "heading_sigma_deg": "20"}
-    stored = starter.client.put(
-        starter.url("/photo"),
-        headers=starter.auth,
-        files={"photo": ("photo.png", temple_photos[0], "image/png")},
-        data=fields,
-    )
+    stored = starter.upload(temple_photos[0], "photo.png", "image/png", fields)
     assert stored.status_code == 200, stored.text
     assert (stored.json()["heading"], stored.json()["heading_sigma_deg"]) == (330.0, 20.0)
     joined = with_gravity(joiner, temple_photos[1], np.array([0.0, 1.0, 0.0]), heading="725.5")
@@ -401,14 +385,8 @@ def test_a_heading_is_kept_with_the_photo_wrapped_to_a_turn(
 def test_a_reading_that_is_no_direction_is_refused(
     starter: Phone, temple_photos: tuple[bytes, bytes], fields: dict[str, Any]
 ) -> None:
-    refused = starter.client.put(
-        starter.url("/photo"),
-        headers=starter.auth,
-        files={"photo": ("photo.png", temple_photos[0], "image/png")},
-        data=fields,
-    )
-    assert refused.status_code == 422
-    assert error_of(refused) == "invalid_request"
+    refused = starter.upload(temple_photos[0], "photo.png", "image/png", fields)
+    assert error_of(refused, 422) == "invalid_request"
     assert starter.state()["photos"]["starter"] is None
 
 
@@ -561,24 +539,21 @@ def test_a_new_photo_clears_its_taps_and_the_answer(
 
 def test_overlays_show_the_answer_on_each_photo(client: TestClient, uploaded: Phones) -> None:
     starter, joiner = uploaded
-    before = client.get(starter.url("/overlay/joiner"), headers=starter.auth)
-    assert before.status_code == 409
-    assert error_of(before) == "no_result"
+    before = starter.call("GET", "/overlay/joiner")
+    assert error_of(before, 409) == "no_result"
     s = scene(6)
     starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
     joiner.tap(landmarks=landmarks(s.landmarks2))
     for role, fmt, magic in (("joiner", "png", b"\x89PNG"), ("starter", "jpeg", b"\xff\xd8\xff")):
-        response = client.get(
-            joiner.url(f"/overlay/{role}"), params={"format": fmt}, headers=joiner.auth
-        )
+        response = joiner.call("GET", f"/overlay/{role}", params={"format": fmt})
         assert response.status_code == 200
         assert response.content.startswith(magic)
         assert response.headers["content-type"] == f"image/{fmt}"
         image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
         assert image.shape == (480, 640, 3)
-    again = client.get(joiner.url("/overlay/joiner"), headers=joiner.auth)
+    again = joiner.call("GET", "/overlay/joiner")
     assert again.headers["content-type"] == "image/jpeg"  # the default for a phone
-    assert again.content == client.get(joiner.url("/overlay/joiner"), headers=joiner.auth).content
+    assert again.content == joiner.call("GET", "/overlay/joiner").content
     # <img> cannot send headers: the token may come in the query.
     by_query = client.get(joiner.url("/overlay/joiner"), params={"token": joiner.token})
     assert by_query.status_code == 200
@@ -602,11 +577,9 @@ def test_an_overlay_renders_the_drawing_the_phone_gets(
     assert stored.order is not None
     result = SolveResult.model_validate(stored.solution)
     for role, tapped in (("starter", s.landmarks1), ("joiner", s.landmarks2)):
-        got = client.get(
-            joiner.url(f"/overlay/{role}"), params={"format": "png"}, headers=joiner.auth
-        )
+        got = joiner.call("GET", f"/overlay/{role}", params={"format": "png"})
         overlay = cv2.imdecode(np.frombuffer(got.content, np.uint8), cv2.IMREAD_COLOR)
-        photo = client.get(joiner.url(f"/photo/{role}"), headers=joiner.auth).content
+        photo = joiner.call("GET", f"/photo/{role}").content
         pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
         number = stored.order.number(role)
         drawing = AnswerDrawing.model_validate(state["answer"]["in_photo"][role]["drawing"])
@@ -622,21 +595,19 @@ def test_an_overlay_renders_the_drawing_the_phone_gets(
         assert drawing.model_dump_json() == shapes.model_dump_json()
 
 
-def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(
-    client: TestClient, uploaded: Phones
-) -> None:
+def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(uploaded: Phones) -> None:
     """ "Show me" re-anchors: a frame of the live view (here the stored photo as a phone
     turned 3 degrees would see it, 480 px wide) gives the turn; a frame of nothing is refused
     with the solver's code; before an answer there is no focal length to match with."""
     starter, joiner = uploaded
     frame = {"frame": ("frame.jpg", b"", "image/jpeg")}
-    before = client.post(joiner.url("/reanchor"), files=frame, headers=joiner.auth)
+    before = joiner.call("POST", "/reanchor", files=frame)
     assert error_of(before) == "no_result"
     s = scene(6)
     starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
     state = joiner.tapped(landmarks=landmarks(s.landmarks2))
     focal = state["answer"]["in_photo"]["joiner"]["focal_px"]
-    photo = client.get(joiner.url("/photo/joiner"), headers=joiner.auth).content
+    photo = joiner.call("GET", "/photo/joiner").content
     pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
     height, width = pixels.shape[:2]
     k_photo = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
@@ -648,7 +619,7 @@ def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(
     ok, jpeg = cv2.imencode(".jpg", seen, [cv2.IMWRITE_JPEG_QUALITY, 90])
     assert ok
     frame = {"frame": ("frame.jpg", jpeg.tobytes(), "image/jpeg")}
-    got = client.post(joiner.url("/reanchor"), files=frame, headers=joiner.auth)
+    got = joiner.call("POST", "/reanchor", files=frame)
     assert got.status_code == 200, got.text
     found = got.json()
     off = cv2.Rodrigues(np.array(found["rotation"]) @ turn.T)[0]
@@ -656,22 +627,15 @@ def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(
     assert found["frame_focal_px"] == pytest.approx(0.75 * focal, rel=0.01)
     assert found["degrees"] == pytest.approx(np.degrees(0.05), abs=0.2)
     blank = cv2.imencode(".jpg", np.full_like(seen, 100))[1].tobytes()
-    refused = client.post(
-        joiner.url("/reanchor"),
-        files={"frame": ("frame.jpg", blank, "image/jpeg")},
-        headers=joiner.auth,
-    )
-    assert refused.status_code == 422
-    assert refused.json()["error"]["code"] == "no_solution"
+    refused = joiner.call("POST", "/reanchor", files={"frame": ("frame.jpg", blank, "image/jpeg")})
+    assert error_of(refused, 422) == "no_solution"
     assert "photo" in refused.json()["error"]["message"]
     garbage = {"frame": ("frame.jpg", b"not a picture", "image/jpeg")}
-    assert error_of(client.post(joiner.url("/reanchor"), files=garbage, headers=joiner.auth)) == (
-        "invalid_photo"
-    )
+    assert error_of(joiner.call("POST", "/reanchor", files=garbage)) == ("invalid_photo")
 
 
 def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
-    app: Any, client: TestClient, uploaded: Phones
+    app: Any, uploaded: Phones
 ) -> None:
     """The joiner's taps are overtaken by the starter's: they are written without their
     (stale) answer, and the answer for the session as it now is comes a moment later. An
@@ -680,12 +644,7 @@ def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     s = scene(6, seed=4)
     starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
     joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
-    got = overtake_the_joiner(
-        app,
-        starter,
-        s,
-        then=lambda: client.get(starter.url("/overlay/joiner"), headers=starter.auth),
-    )
+    got = overtake_the_joiner(app, starter, s, then=lambda: starter.call("GET", "/overlay/joiner"))
     reply = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
     overlay = got[1]
     assert overlay.status_code == 200, overlay.text
@@ -695,18 +654,17 @@ def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     assert reply == joiner.state()
 
 
-def test_the_other_phone_gets_a_crop_of_each_landmark(client: TestClient, uploaded: Phones) -> None:
+def test_the_other_phone_gets_a_crop_of_each_landmark(uploaded: Phones) -> None:
     starter, joiner = uploaded
     s = scene(3)
     starter.tap(landmarks=landmarks(s.landmarks1))
-    crop = client.get(joiner.url("/landmarks/starter/2/crop"), headers=joiner.auth)
+    crop = joiner.call("GET", "/landmarks/starter/2/crop")
     assert crop.status_code == 200
     assert crop.headers["content-type"] == "image/jpeg"
     image = cv2.imdecode(np.frombuffer(crop.content, np.uint8), cv2.IMREAD_COLOR)
     assert image.shape[0] == image.shape[1] > 50
-    missing = client.get(joiner.url("/landmarks/starter/9/crop"), headers=joiner.auth)
-    assert missing.status_code == 404
-    assert error_of(missing) == "landmark_not_found"
+    missing = joiner.call("GET", "/landmarks/starter/9/crop")
+    assert error_of(missing, 404) == "landmark_not_found"
 
 
 # --- the end --------------------------------------------------------------------------
@@ -716,10 +674,10 @@ def test_delete_now_removes_everything_for_both_phones(
     client: TestClient, uploaded: Phones
 ) -> None:
     starter, joiner = uploaded
-    deleted = client.delete(joiner.url(), headers=joiner.auth)
+    deleted = joiner.call("DELETE")
     assert deleted.status_code == 204
     for phone in (starter, joiner):
-        gone = client.get(phone.url(), headers=phone.auth)
+        gone = phone.call("GET")
         assert gone.status_code == 401
     engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
     with engine.connect() as connection:
@@ -734,7 +692,7 @@ def test_expired_sessions_are_swept_away(
     services = client.app.state.services  # type: ignore[attr-defined]
     assert services.pairing.sweep() == []
     clock.advance(7201)
-    assert client.get(starter.url(), headers=starter.auth).status_code == 401
+    assert starter.call("GET").status_code == 401
     assert services.pairing.sweep() == [starter.session_id]
     engine = services.database.engine
     with engine.connect() as connection:
@@ -755,9 +713,8 @@ def test_each_phone_can_fetch_the_stored_photos(
     client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
 ) -> None:
     """The app shows the stored photo to tap on: exactly the pixels taps refer to."""
-    missing = client.get(starter.url("/photo/joiner"), headers=starter.auth)
-    assert missing.status_code == 404
-    assert error_of(missing) == "photo_not_found"
+    missing = starter.call("GET", "/photo/joiner")
+    assert error_of(missing, 404) == "photo_not_found"
     photos_uploaded(starter, joiner, temple_photos)
     for role in ("starter", "joiner"):
         stored = client.get(starter.url(f"/photo/{role}"), params={"token": starter.token})

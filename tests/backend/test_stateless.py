@@ -9,7 +9,7 @@ import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, temple_pair
+from phones import TEMPLE, error_of, temple_pair
 
 from shared_solver import Camera, solve
 from testbed.phones import phone_scene
@@ -37,8 +37,7 @@ def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:
 
 def refused_for_too_few_landmarks(client: TestClient, body: dict[str, object]) -> None:
     refused = client.post("/api/solve", json=body)
-    assert refused.status_code == 422
-    assert refused.json()["error"]["code"] == "too_few_landmarks"
+    assert error_of(refused, 422) == "too_few_landmarks"
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -122,8 +121,7 @@ def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) ->
     assert point["used_gravity"] is True
     assert point["epipole2"] is not None
     bad = client.post("/api/solve", json=level | {"gravity1": [0, 0, 0]})
-    assert bad.status_code == 422
-    assert bad.json()["error"]["code"] == "invalid_shape"
+    assert error_of(bad, 422) == "invalid_shape"
     assert "gravity1" in bad.json()["error"]["message"]
     # Both compass headings point to a stretch of the level.
     headings = {"heading1": s.camera1.heading, "heading2": s.camera2.heading}
@@ -132,8 +130,7 @@ def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) ->
     assert hinted.json()["used_heading"] is True
     assert hinted.json()["curve2_stretch"]
     bent = client.post("/api/solve", json=level | headings | {"heading1": "north"})
-    assert bent.status_code == 422
-    assert bent.json()["error"]["code"] == "invalid_shape"
+    assert error_of(bent, 422) == "invalid_shape"
     assert "heading1" in bent.json()["error"]["message"]
 
 
@@ -263,15 +260,13 @@ def test_solve_refuses_with_the_solvers_code(
 ) -> None:
     text = json.dumps(request_for(0) | change)  # NaN is sent as JSON's NaN
     response = client.post("/api/solve", content=text, headers={"Content-Type": "application/json"})
-    assert response.status_code == 422
-    assert response.json()["error"]["code"] == code
+    assert error_of(response, 422) == code
 
 
 @pytest.mark.parametrize("body", [b"{not json", b"[]", b'{"points1": [[1, 2]]}'])
 def test_solve_refuses_malformed_requests(client: TestClient, body: bytes) -> None:
     response = client.post("/api/solve", content=body, headers={"Content-Type": "application/json"})
-    assert response.status_code == 422
-    assert response.json()["error"]["code"] == "invalid_request"
+    assert error_of(response, 422) == "invalid_request"
 
 
 PHOTO2 = TEMPLE / "templeSR0006.png"
@@ -312,11 +307,9 @@ def test_overlay_draws_on_photo_2(client: TestClient, fmt: str, magic: bytes) ->
 
 def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> None:
     not_a_photo = overlay(client, temple_request(), ("x.jpg", b"%PDF-1.4 hello", "image/jpeg"))
-    assert not_a_photo.status_code == 415
-    assert not_a_photo.json()["error"]["code"] == "unsupported_media_type"
+    assert error_of(not_a_photo, 415) == "unsupported_media_type"
     bad = overlay(client, "{", ("b.png", PHOTO2.read_bytes(), "image/png"))
-    assert bad.status_code == 422
-    assert bad.json()["error"]["code"] == "invalid_request"
+    assert error_of(bad, 422) == "invalid_request"
     missing = client.post("/api/overlay", data={"request": json.dumps(temple_request())})
     assert missing.status_code == 422
 
@@ -337,5 +330,4 @@ def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -
     assert drawn.status_code == 200, drawn.text
     drawn_on_photo2(drawn)
     bad = overlay(client, phones | {"camera2": {"kind": "known_focal"}})
-    assert bad.status_code == 422
-    assert bad.json()["error"]["code"] == "invalid_parameter"
+    assert error_of(bad, 422) == "invalid_parameter"
