@@ -75,6 +75,9 @@ def install(app: FastAPI, max_body_bytes: int) -> None:
         message = error.detail if isinstance(error.detail, str) else "Request refused."
         if error.status_code == 404 and message == "Not Found":
             message = "There is nothing at this address."
+        elif error.status_code == 405 and message == "Method Not Allowed":
+            # Its Allow header says which methods it takes.
+            message = "This address does not take that method: see the Allow header."
         elif error.status_code == 400 and message == "There was an error parsing the body":
             # FastAPI's words for a body that is not UTF-8 JSON or not a multipart form.
             message = "The body cannot be read: send JSON (UTF-8) or a form, as documented."

@@ -17,8 +17,8 @@ def test_unknown_routes_and_methods_answer_in_the_one_shape(client: TestClient) 
     missing = client.get("/api/nowhere")
     assert error_of(missing, 404) == "not_found"
     wrong = client.delete("/api/solve")
-    assert wrong.status_code == 405
-    assert wrong.json()["error"]["code"] == "method_not_allowed"
+    assert error_of(wrong, 405) == "method_not_allowed"
+    assert wrong.headers["Allow"] == "POST"
 
 
 def test_bodies_over_the_limit_are_refused(settings: Settings) -> None:
