@@ -32,6 +32,17 @@ def line_through(point: np.ndarray, angle: float) -> np.ndarray:
     return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
 
 
+def marks(s: Scene, given: str, line_angle: float = 0.3) -> dict[str, object]:
+    """solve()'s marks of the friends: friend 2 tapped in photo 1 ("e1"), both friends, a
+    line through friend 2 at ``line_angle`` (radians), or nothing."""
+    return {
+        "e1": {"epipole1": s.epipole1},
+        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
+        "line": {"epipolar_line1": line_through(s.epipole1, line_angle)},
+        "none": {},
+    }[given]
+
+
 def sizes(s: Scene) -> dict[str, tuple[int, int]]:
     return {"image_size1": s.image_size1, "image_size2": s.image_size2}
 
@@ -150,14 +161,7 @@ def test_both_epipoles_give_the_fundamental_matrix(seed: int, n: int) -> None:
 )
 def test_solve_is_exact_on_exact_taps(seed: int, landmarks: int, given: str, method: str) -> None:
     s = scene(seed, landmarks)
-    kwargs: dict[str, object] = {}
-    if given in ("e1", "both"):
-        kwargs["epipole1"] = s.epipole1
-    if given == "both":
-        kwargs["epipole2"] = s.epipole2
-    if given == "line":
-        kwargs["epipolar_line1"] = line_through(s.epipole1, 0.3)
-    result = solve(s.landmarks1, s.landmarks2, **kwargs, **sizes(s))  # type: ignore[arg-type]
+    result = solve(s.landmarks1, s.landmarks2, **marks(s, given), **sizes(s))  # type: ignore[arg-type]
     assert result.method == method
     if method == "conic":
         assert result.epipole2 is None

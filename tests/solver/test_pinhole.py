@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from test_exact import marks
 
 from shared_solver import Camera, ErrorCode, SolverError, solve, words
 from testbed.phones import PhoneScene, phone_scene, phone_taps
@@ -40,11 +41,6 @@ def phones(scene: PhoneScene) -> dict[str, object]:
     }
 
 
-def line_through(point: np.ndarray, angle: float) -> np.ndarray:
-    ahead = point + np.array([np.cos(angle), np.sin(angle)])
-    return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
-
-
 @pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize(
     ("landmarks", "given", "method"),
@@ -59,14 +55,8 @@ def test_exact_taps_and_known_focal_give_friend1_exactly(
     seed: int, landmarks: int, given: str, method: str
 ) -> None:
     s = exact_scene(seed, landmarks)
-    line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
-    marks = {
-        "e1": {"epipole1": s.epipole1},
-        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
-        "line": {"epipolar_line1": line},
-        "none": {},
-    }[given]
-    result = solve(s.landmarks1, s.landmarks2, **marks, tap_sigma=1.0, **known(s))  # type: ignore[arg-type]
+    friends = marks(s, given, np.random.default_rng(seed).uniform(0, np.pi))
+    result = solve(s.landmarks1, s.landmarks2, **friends, tap_sigma=1.0, **known(s))  # type: ignore[arg-type]
     assert result.camera_model == "pinhole"
     assert result.method == method
     if given == "e1" and result.candidates:  # three landmarks can fit two poses exactly
