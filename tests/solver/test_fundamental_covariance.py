@@ -141,11 +141,7 @@ def test_exact_taps_give_a_band_through_the_truth() -> None:
 def test_no_covariance_where_no_single_geometry_is_claimed() -> None:
     rng = np.random.default_rng(9)
     scene = facing_scene(rng, 7)
-    sizes = {
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
-        "fundamental_covariance": True,
-    }
+    sizes = scene.sizes | {"fundamental_covariance": True}
     seven = solve(scene.landmarks1, scene.landmarks2, tap_sigma=1.0, **sizes)
     assert seven.candidates
     assert seven.fundamental_covariance is None
@@ -197,8 +193,7 @@ def test_only_when_asked() -> None:
         options = {
             "epipole1": scene.epipole1,
             "tap_sigma": SIGMA,
-            "image_size1": scene.image_size1,
-            "image_size2": scene.image_size2,
+            **scene.sizes,
             **cameras,
         }
         plain = solve(*taps, **options)

@@ -57,8 +57,7 @@ def solved(scene: PhoneScene, landmarks: int, rng: np.random.Generator, **option
         q,
         epipole1=scene.epipole1 + rng.normal(0.0, sigma, 2),
         tap_sigma=max(sigma, 1.0),
-        image_size1=scene.image_size1,
-        image_size2=scene.image_size2,
+        **scene.sizes,
         camera1=cameras[0],  # type: ignore[index]
         camera2=cameras[1],  # type: ignore[index]
         gravity1=down(scene, 1, rng, gravity_deg) if measured else None,
@@ -72,8 +71,7 @@ def phones_of(scene: PhoneScene) -> dict[str, object]:
     """``solve``'s arguments besides the landmarks: friend 2's true mark, two phones."""
     return {
         "epipole1": scene.epipole1,
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
+        **scene.sizes,
         "camera1": "phone",
         "camera2": "phone",
     }

@@ -39,8 +39,7 @@ def answer(s: Scene, count: int, *, photo2_shift=(0.0, 0.0), taps2=None, **kwarg
     return solve(
         s.landmarks1[:count],
         (s.landmarks2 if taps2 is None else taps2)[:count] + np.asarray(photo2_shift),
-        **{"epipole1": s.epipole1, "image_size1": s.image_size1, "image_size2": s.image_size2}
-        | kwargs,
+        **{"epipole1": s.epipole1, **s.sizes} | kwargs,
     )
 
 

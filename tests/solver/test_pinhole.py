@@ -27,18 +27,12 @@ def known(scene: PhoneScene) -> dict[str, object]:
     return {
         "camera1": Camera.with_focal(scene.focal_35mm1),
         "camera2": Camera.with_focal(scene.focal_35mm2),
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
+        **scene.sizes,
     }
 
 
 def phones(scene: PhoneScene) -> dict[str, object]:
-    return {
-        "camera1": "phone",
-        "camera2": "phone",
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
-    }
+    return {"camera1": "phone", "camera2": "phone", **scene.sizes}
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -158,16 +152,12 @@ def test_camera_input_is_checked() -> None:
     assert "image_size1" in no_size.value.message
     for bad in ("tripod", {"kind": "known_focal"}, {"kind": "phone", "focal_35mm": -3}):
         with pytest.raises(SolverError) as refused:
-            solve(*args, epipole1=s.epipole1, camera1=bad, camera2="phone", **_sizes(s))
+            solve(*args, epipole1=s.epipole1, camera1=bad, camera2="phone", **s.sizes)
         assert refused.value.code is ErrorCode.INVALID_PARAMETER
     # One camera unknown: the projective geometry, and the cameras as given.
-    result = solve(*args, epipole1=s.epipole1, camera1="phone", **_sizes(s))
+    result = solve(*args, epipole1=s.epipole1, camera1="phone", **s.sizes)
     assert result.camera_model == "projective"
     assert [c.known for c in result.cameras] == ["phone", "unknown"]
-
-
-def _sizes(s: PhoneScene) -> dict[str, object]:
-    return {"image_size1": s.image_size1, "image_size2": s.image_size2}
 
 
 def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:
