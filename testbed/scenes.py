@@ -98,6 +98,11 @@ class Scene:
         return self.camera2.project(self.camera1.centre[None])[0]
 
     @property
+    def sizes(self) -> dict[str, Any]:
+        """``solve``'s photo sizes: ``image_size1`` and ``image_size2``."""
+        return {"image_size1": self.image_size1, "image_size2": self.image_size2}
+
+    @property
     def fundamental(self) -> Array:
         """(3, 3) true F (unit norm) with ``x2^T F x1 = 0``."""
         c1, c2 = self.camera1, self.camera2
@@ -313,5 +318,4 @@ def solved(scene: Scene, taps: Taps | None = None, **options: Any) -> SolveResul
     """``shared_solver.solve`` on the scene: its exact landmarks and friend 1's mark (e1),
     or ``taps`` of them, with the photos' sizes; ``options`` as ``solve`` takes them."""
     seen: Scene | Taps = scene if taps is None else taps
-    sizes: dict[str, Any] = {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
-    return solve(seen.landmarks1, seen.landmarks2, epipole1=seen.epipole1, **sizes, **options)
+    return solve(seen.landmarks1, seen.landmarks2, epipole1=seen.epipole1, **scene.sizes, **options)

@@ -56,8 +56,7 @@ def _errors(
             q,
             epipole1=e1,
             tap_sigma=SIGMA,
-            image_size1=scene.image_size1,
-            image_size2=scene.image_size2,
+            **scene.sizes,
             **cameras,
         )
         assert result.epipole2 is not None
@@ -131,8 +130,7 @@ def test_one_landmark_with_gravity_sits_at_the_bound_that_counts_the_readings() 
             scene.landmarks2 + rng.normal(0.0, sigma, (1, 2)),
             epipole1=scene.epipole1 + rng.normal(0.0, sigma, 2),
             tap_sigma=sigma,
-            image_size1=scene.image_size1,
-            image_size2=scene.image_size2,
+            **scene.sizes,
             camera1=Camera.with_focal(true35[0] * math.exp(offsets[0]), EXIF),
             camera2=Camera.with_focal(true35[1] * math.exp(offsets[1]), EXIF),
             gravity1=readings[0],

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from test_gravity import down, exact_scenes, exif_of, phones_of, solved
+from test_gravity import LEVEL, assert_refused, down, exact_scenes, exif_of, phones_of, solved
 
 from shared_solver import SolverError, draw_overlay, solve, words
 from shared_solver.drawing.layout import answer_drawing
@@ -173,18 +173,7 @@ def test_headings_that_fit_are_kept_and_the_region_stays_honest():
     ],
 )
 def test_bad_headings_are_refused_with_a_code(options, code, reason):
-    scene = exact_scenes(1)[0]
-    arguments = {
-        "gravity1": [0.0, 1.0, 0.0],
-        "gravity2": [0.0, 1.0, 0.0],
-        "heading1": 0.0,
-        "heading2": 180.0,
-    } | options
-    with pytest.raises(SolverError) as refused:
-        solve(np.zeros((0, 2)), np.zeros((0, 2)), **phones_of(scene), **arguments)
-    assert refused.value.code == code
-    assert refused.value.refusal.reason == reason
-    assert refused.value.message
+    assert_refused(code, reason, **(LEVEL | {"heading1": 0.0, "heading2": 180.0} | options))
 
 
 def test_the_stretch_is_drawn_bolder_on_the_band():

@@ -32,8 +32,15 @@ def line_through(point: np.ndarray, angle: float) -> np.ndarray:
     return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
 
 
-def sizes(s: Scene) -> dict[str, tuple[int, int]]:
-    return {"image_size1": s.image_size1, "image_size2": s.image_size2}
+def marks(s: Scene, given: str, line_angle: float = 0.3) -> dict[str, object]:
+    """solve()'s marks of the friends: friend 2 tapped in photo 1 ("e1"), both friends, a
+    line through friend 2 at ``line_angle`` (radians), or nothing."""
+    return {
+        "e1": {"epipole1": s.epipole1},
+        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
+        "line": {"epipolar_line1": line_through(s.epipole1, line_angle)},
+        "none": {},
+    }[given]
 
 
 def epipolar_distances(fundamental: np.ndarray, p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -80,7 +87,7 @@ def test_line_and_six_landmarks_contain_the_truth(seed: int) -> None:
     s = scene(seed, 6)
     direction = np.random.default_rng(seed).uniform(0, np.pi)
     line = line_through(s.epipole1, direction)
-    candidates = epipoles_from_six(line, s.landmarks1, s.landmarks2, **sizes(s))
+    candidates = epipoles_from_six(line, s.landmarks1, s.landmarks2, **s.sizes)
     assert [c.rank for c in candidates] == list(range(1, len(candidates) + 1))
     assert len(candidates) in (1, 2, 3)
     errors = [np.linalg.norm(pixel(c.epipole2) - s.epipole2) for c in candidates]
@@ -92,27 +99,22 @@ def test_line_and_six_landmarks_contain_the_truth(seed: int) -> None:
     assert best["epipole2"] is best.epipole2  # readable by name like the JSON
 
 
-def test_seven_landmarks_rank_the_truth_first_in_most_scenes() -> None:
+@pytest.mark.parametrize("given", ["seven landmarks", "a line and six landmarks"])
+def test_the_truth_is_ranked_first_in_most_scenes(given: str) -> None:
     trials = 200
     first = 0
     for seed in range(trials):
-        s = scene(3000 + seed, 7)
-        result = solve(s.landmarks1, s.landmarks2, **sizes(s))
-        assert 1 <= len(result.candidates) <= 3
-        assert result.epipole2 is not None
-        first += bool(np.linalg.norm(np.array(result.epipole2) - s.epipole2) < EXACT_PX)
-    assert first >= 0.95 * trials, f"truth ranked first in {first}/{trials}"
-
-
-def test_line_ranking_puts_the_truth_first_in_most_scenes() -> None:
-    first = 0
-    trials = 200
-    for seed in range(trials):
-        s = scene(1000 + seed, 6)
-        direction = np.random.default_rng(seed).uniform(0, np.pi)
-        line = line_through(s.epipole1, direction)
-        top = epipoles_from_six(line, s.landmarks1, s.landmarks2, **sizes(s))[0]
-        first += bool(np.linalg.norm(pixel(top.epipole2) - s.epipole2) < EXACT_PX)
+        if given == "seven landmarks":
+            s = scene(3000 + seed, 7)
+            result = solve(s.landmarks1, s.landmarks2, **s.sizes)
+            assert 1 <= len(result.candidates) <= 3
+            assert result.epipole2 is not None
+            top = np.array(result.epipole2)
+        else:
+            s = scene(1000 + seed, 6)
+            line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
+            top = pixel(epipoles_from_six(line, s.landmarks1, s.landmarks2, **s.sizes)[0].epipole2)
+        first += bool(np.linalg.norm(top - s.epipole2) < EXACT_PX)
     assert first >= 0.95 * trials, f"truth ranked first in {first}/{trials}"
 
 
@@ -150,14 +152,7 @@ def test_both_epipoles_give_the_fundamental_matrix(seed: int, n: int) -> None:
 )
 def test_solve_is_exact_on_exact_taps(seed: int, landmarks: int, given: str, method: str) -> None:
     s = scene(seed, landmarks)
-    kwargs: dict[str, object] = {}
-    if given in ("e1", "both"):
-        kwargs["epipole1"] = s.epipole1
-    if given == "both":
-        kwargs["epipole2"] = s.epipole2
-    if given == "line":
-        kwargs["epipolar_line1"] = line_through(s.epipole1, 0.3)
-    result = solve(s.landmarks1, s.landmarks2, **kwargs, **sizes(s))  # type: ignore[arg-type]
+    result = solve(s.landmarks1, s.landmarks2, **marks(s, given), **s.sizes)  # type: ignore[arg-type]
     assert result.method == method
     if method == "conic":
         assert result.epipole2 is None
@@ -194,7 +189,7 @@ def test_solve_is_exact_on_exact_taps(seed: int, landmarks: int, given: str, met
 @pytest.mark.parametrize("n", [5, 6, 9])
 def test_landmarks_on_the_floor_use_the_plane_and_stay_exact(seed: int, n: int) -> None:
     s = scene(seed, n, planar=True)
-    result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, **sizes(s))
+    result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, **s.sizes)
     assert result.method == "planar"
     assert result.homography is not None
     assert result.epipole2 is not None
@@ -205,7 +200,7 @@ def test_landmarks_on_the_floor_use_the_plane_and_stay_exact(seed: int, n: int) 
 def test_exact_answers_are_certain(seed: int) -> None:
     """Exact taps with a tiny tap_sigma give a tiny ellipse and a good grade."""
     s = scene(seed, 6)
-    result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, tap_sigma=1e-3, **sizes(s))
+    result = solve(s.landmarks1, s.landmarks2, epipole1=s.epipole1, tap_sigma=1e-3, **s.sizes)
     assert result.uncertainty is not None
     assert result.uncertainty.ellipse is not None
     assert result.uncertainty.ellipse.axes[0] < 1.0

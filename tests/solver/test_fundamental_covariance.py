@@ -69,8 +69,7 @@ def _coverage(route: str) -> tuple[float, int]:
                 p[:used],
                 q[:used],
                 tap_sigma=SIGMA,
-                image_size1=scene.image_size1,
-                image_size2=scene.image_size2,
+                **scene.sizes,
                 **marks,
                 **cameras,
                 fundamental_covariance=True,
@@ -120,8 +119,7 @@ def test_exact_taps_give_a_band_through_the_truth() -> None:
         scene.landmarks2[:5],
         epipole1=scene.epipole1,
         tap_sigma=1.0,
-        image_size1=scene.image_size1,
-        image_size2=scene.image_size2,
+        **scene.sizes,
         camera1={"kind": "known_focal", "focal_35mm": scene.focal_35mm1},
         camera2={"kind": "known_focal", "focal_35mm": scene.focal_35mm2},
         fundamental_covariance=True,
@@ -143,11 +141,7 @@ def test_exact_taps_give_a_band_through_the_truth() -> None:
 def test_no_covariance_where_no_single_geometry_is_claimed() -> None:
     rng = np.random.default_rng(9)
     scene = facing_scene(rng, 7)
-    sizes = {
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
-        "fundamental_covariance": True,
-    }
+    sizes = scene.sizes | {"fundamental_covariance": True}
     seven = solve(scene.landmarks1, scene.landmarks2, tap_sigma=1.0, **sizes)
     assert seven.candidates
     assert seven.fundamental_covariance is None
@@ -173,8 +167,7 @@ def test_the_covariance_is_symmetric_positive_and_flat_along_f() -> None:
             scene.landmarks2 + rng.normal(0.0, SIGMA, (6, 2)),
             epipole1=scene.epipole1,
             tap_sigma=SIGMA,
-            image_size1=scene.image_size1,
-            image_size2=scene.image_size2,
+            **scene.sizes,
             **cameras,
             fundamental_covariance=True,
         )
@@ -200,8 +193,7 @@ def test_only_when_asked() -> None:
         options = {
             "epipole1": scene.epipole1,
             "tap_sigma": SIGMA,
-            "image_size1": scene.image_size1,
-            "image_size2": scene.image_size2,
+            **scene.sizes,
             **cameras,
         }
         plain = solve(*taps, **options)

@@ -22,6 +22,7 @@ from testbed.phones import PhoneScene, gravity_reading, phone_scene
 EXACT_PX = 1e-6
 CHI2_95 = -2.0 * math.log(0.05) * (1 + 1e-9)  # a region's edge holds what lies on it
 PHONES = ("phone", "phone")
+LEVEL = {"gravity1": [0.0, 1.0, 0.0], "gravity2": [0.0, 1.0, 0.0]}  # both phones upright
 
 
 def down(scene: PhoneScene, photo: int, rng: np.random.Generator, sigma_deg: float) -> np.ndarray:
@@ -56,8 +57,7 @@ def solved(scene: PhoneScene, landmarks: int, rng: np.random.Generator, **option
         q,
         epipole1=scene.epipole1 + rng.normal(0.0, sigma, 2),
         tap_sigma=max(sigma, 1.0),
-        image_size1=scene.image_size1,
-        image_size2=scene.image_size2,
+        **scene.sizes,
         camera1=cameras[0],  # type: ignore[index]
         camera2=cameras[1],  # type: ignore[index]
         gravity1=down(scene, 1, rng, gravity_deg) if measured else None,
@@ -71,8 +71,7 @@ def phones_of(scene: PhoneScene) -> dict[str, object]:
     """``solve``'s arguments besides the landmarks: friend 2's true mark, two phones."""
     return {
         "epipole1": scene.epipole1,
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
+        **scene.sizes,
         "camera1": "phone",
         "camera2": "phone",
     }
@@ -276,37 +275,23 @@ def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks():
     ],
 )
 def test_bad_readings_are_refused_with_a_code(options, code, reason):
+    assert_refused(code, reason, **(LEVEL | options))
+
+
+def assert_refused(code: str, reason: str | None = None, **options: object) -> None:
+    """No landmark on the first exact scene's two phones, with ``options``: refused with
+    ``code`` (and ``reason``) and a sentence."""
     scene = exact_scenes(1)[0]
-    arguments = {"gravity1": [0.0, 1.0, 0.0], "gravity2": [0.0, 1.0, 0.0]} | options
     with pytest.raises(SolverError) as refused:
-        solve(
-            np.zeros((0, 2)),
-            np.zeros((0, 2)),
-            epipole1=scene.epipole1,
-            image_size1=scene.image_size1,
-            image_size2=scene.image_size2,
-            camera1="phone",
-            camera2="phone",
-            **arguments,
-        )
+        solve(np.zeros((0, 2)), np.zeros((0, 2)), **phones_of(scene), **options)  # type: ignore[arg-type]
     assert refused.value.code == code
-    assert refused.value.refusal.reason == reason
+    if reason is not None:
+        assert refused.value.refusal.reason == reason
     assert refused.value.message
 
 
 def test_no_landmark_without_gravity_is_too_few():
-    scene = exact_scenes(1)[0]
-    with pytest.raises(SolverError) as refused:
-        solve(
-            [],
-            [],
-            epipole1=scene.epipole1,
-            image_size1=scene.image_size1,
-            image_size2=scene.image_size2,
-            camera1="phone",
-            camera2="phone",
-        )
-    assert refused.value.code == "too_few_landmarks"
+    assert_refused("too_few_landmarks")
 
 
 def test_the_level_is_drawn_as_a_labelled_band():

@@ -20,13 +20,7 @@ def test_seven_landmarks_without_friend2_claim_no_region() -> None:
     for _ in range(20):
         s = facing_scene(rng, 7)
         taps = tap(s, 1.0, rng)
-        result = solve(
-            taps.landmarks1,
-            taps.landmarks2,
-            tap_sigma=1.0,
-            image_size1=s.image_size1,
-            image_size2=s.image_size2,
-        )
+        result = solve(taps.landmarks1, taps.landmarks2, tap_sigma=1.0, **s.sizes)
         assert result.method == "seven_point"
         assert result.uncertainty is not None
         assert result.uncertainty.ellipse is None

@@ -35,14 +35,7 @@ def test_a_mistapped_landmark_is_named_and_left_out(record_property: pytest.Reco
         taps = tap(s, SIGMA, rng)
         bad = trial % 8
         q = moved_across_epipolar_line(s, taps, bad, MISTAP_PX)
-        result = solve(
-            taps.landmarks1,
-            q,
-            epipole1=taps.epipole1,
-            tap_sigma=SIGMA,
-            image_size1=s.image_size1,
-            image_size2=s.image_size2,
-        )
+        result = solve(taps.landmarks1, q, epipole1=taps.epipole1, tap_sigma=SIGMA, **s.sizes)
         named += result.suspect_landmarks == [bad]
         if result.suspect_landmarks == [bad]:
             assert any(f"#{bad + 1}" in w.message for w in result.warnings)

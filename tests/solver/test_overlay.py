@@ -33,15 +33,13 @@ def scene(seed: int, landmarks: int = 8, **kwargs) -> Scene:
     return facing_scene(np.random.default_rng(seed), landmarks, **kwargs)
 
 
-def answer(s: Scene, count: int, *, photo2_shift=(0.0, 0.0), **kwargs) -> SolveResult:
-    """solve() with the friend tapped in photo 1 and the first ``count`` landmarks."""
+def answer(s: Scene, count: int, *, photo2_shift=(0.0, 0.0), taps2=None, **kwargs) -> SolveResult:
+    """solve() with the friend tapped in photo 1 (unless ``epipole1`` says otherwise) and the
+    first ``count`` landmarks (photo 2's at ``taps2`` if given)."""
     return solve(
         s.landmarks1[:count],
-        s.landmarks2[:count] + np.asarray(photo2_shift),
-        epipole1=s.epipole1,
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
-        **kwargs,
+        (s.landmarks2 if taps2 is None else taps2)[:count] + np.asarray(photo2_shift),
+        **{"epipole1": s.epipole1, **s.sizes} | kwargs,
     )
 
 
@@ -390,13 +388,7 @@ def test_a_mis_tapped_landmark_is_ringed_in_red() -> None:
     s = scene(1, 9)
     taps2 = s.landmarks2.copy()
     taps2[2] += (60.0, -45.0)  # landmark #3 tapped at the wrong spot in photo 2
-    result = solve(
-        s.landmarks1,
-        taps2,
-        epipole1=s.epipole1,
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
-    )
+    result = answer(s, 9, taps2=taps2)
     assert result.suspect_landmarks == [2]
     photo = grey(s.image_size2)
     size = diagonal(photo)
@@ -470,12 +462,7 @@ def test_photo_1_marks_the_tapped_friend_with_a_sight_that_keeps_them_visible() 
 
 def test_other_positions_that_fit_are_shown_as_hollow_question_marks() -> None:
     s = scene(3)
-    result = solve(
-        s.landmarks1[:7],
-        s.landmarks2[:7],
-        image_size1=s.image_size1,
-        image_size2=s.image_size2,
-    )
+    result = answer(s, 7, epipole1=None)
     assert result.method == "seven_point"
     others = [np.array(c.epipole2) for c in result.candidates if c.rank > 1]
     assert len(others) == 2

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from test_exact import marks
 
 from shared_solver import Camera, ErrorCode, SolverError, solve, words
 from testbed.phones import PhoneScene, phone_scene, phone_taps
@@ -26,23 +27,12 @@ def known(scene: PhoneScene) -> dict[str, object]:
     return {
         "camera1": Camera.with_focal(scene.focal_35mm1),
         "camera2": Camera.with_focal(scene.focal_35mm2),
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
+        **scene.sizes,
     }
 
 
 def phones(scene: PhoneScene) -> dict[str, object]:
-    return {
-        "camera1": "phone",
-        "camera2": "phone",
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
-    }
-
-
-def line_through(point: np.ndarray, angle: float) -> np.ndarray:
-    ahead = point + np.array([np.cos(angle), np.sin(angle)])
-    return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
+    return {"camera1": "phone", "camera2": "phone", **scene.sizes}
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -59,14 +49,8 @@ def test_exact_taps_and_known_focal_give_friend1_exactly(
     seed: int, landmarks: int, given: str, method: str
 ) -> None:
     s = exact_scene(seed, landmarks)
-    line = line_through(s.epipole1, np.random.default_rng(seed).uniform(0, np.pi))
-    marks = {
-        "e1": {"epipole1": s.epipole1},
-        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
-        "line": {"epipolar_line1": line},
-        "none": {},
-    }[given]
-    result = solve(s.landmarks1, s.landmarks2, **marks, tap_sigma=1.0, **known(s))  # type: ignore[arg-type]
+    friends = marks(s, given, np.random.default_rng(seed).uniform(0, np.pi))
+    result = solve(s.landmarks1, s.landmarks2, **friends, tap_sigma=1.0, **known(s))  # type: ignore[arg-type]
     assert result.camera_model == "pinhole"
     assert result.method == method
     if given == "e1" and result.candidates:  # three landmarks can fit two poses exactly
@@ -168,16 +152,12 @@ def test_camera_input_is_checked() -> None:
     assert "image_size1" in no_size.value.message
     for bad in ("tripod", {"kind": "known_focal"}, {"kind": "phone", "focal_35mm": -3}):
         with pytest.raises(SolverError) as refused:
-            solve(*args, epipole1=s.epipole1, camera1=bad, camera2="phone", **_sizes(s))
+            solve(*args, epipole1=s.epipole1, camera1=bad, camera2="phone", **s.sizes)
         assert refused.value.code is ErrorCode.INVALID_PARAMETER
     # One camera unknown: the projective geometry, and the cameras as given.
-    result = solve(*args, epipole1=s.epipole1, camera1="phone", **_sizes(s))
+    result = solve(*args, epipole1=s.epipole1, camera1="phone", **s.sizes)
     assert result.camera_model == "projective"
     assert [c.known for c in result.cameras] == ["phone", "unknown"]
-
-
-def _sizes(s: PhoneScene) -> dict[str, object]:
-    return {"image_size1": s.image_size1, "image_size2": s.image_size2}
 
 
 def test_three_landmarks_that_fit_two_poses_claim_no_region() -> None:

@@ -106,12 +106,7 @@ def _cameras(s: PhoneScene, case: Case) -> dict[str, object]:
         )
     else:
         cameras = (Camera.phone(), Camera.phone())
-    return {
-        "camera1": cameras[0],
-        "camera2": cameras[1],
-        "image_size1": s.image_size1,
-        "image_size2": s.image_size2,
-    }
+    return {"camera1": cameras[0], "camera2": cameras[1], **s.sizes}
 
 
 HONEST = [

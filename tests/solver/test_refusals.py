@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 import pytest
+from test_exact import line_through, marks
 
 from shared_solver import (
     ErrorCode,
@@ -31,10 +33,6 @@ def refused(code: ErrorCode, call: Callable[[], object]) -> SolverError:
     assert caught.value.message
     assert caught.value.message[0].isupper() or caught.value.message[0].isdigit()
     return caught.value
-
-
-def line_through(point: np.ndarray, direction: tuple[float, float]) -> np.ndarray:
-    return np.cross(np.append(point, 1.0), np.append(point + np.array(direction), 1.0))
 
 
 def test_nan_and_infinity_are_refused(scene: Scene) -> None:
@@ -73,12 +71,7 @@ def test_mismatched_lengths_are_refused(scene: Scene) -> None:
 
 @pytest.mark.parametrize(("given", "landmarks"), [("e1", 3), ("line", 5), ("none", 6), ("both", 2)])
 def test_too_few_landmarks_are_refused(scene: Scene, given: str, landmarks: int) -> None:
-    kwargs: dict[str, object] = {
-        "e1": {"epipole1": scene.epipole1},
-        "both": {"epipole1": scene.epipole1, "epipole2": scene.epipole2},
-        "line": {"epipolar_line1": line_through(scene.epipole1, (1.0, 0.5))},
-        "none": {},
-    }[given]
+    kwargs = marks(scene, given, math.atan2(0.5, 1.0))
     error = refused(
         ErrorCode.TOO_FEW_LANDMARKS,
         lambda: solve(scene.landmarks1[:landmarks], scene.landmarks2[:landmarks], **kwargs),  # type: ignore[arg-type]
@@ -173,7 +166,7 @@ def test_conflicting_and_missing_taps_are_refused(scene: Scene) -> None:
     refused(
         ErrorCode.CONFLICTING_INPUTS,
         lambda: solve(
-            p, q, epipole1=scene.epipole1, epipolar_line1=line_through(scene.epipole1, (1, 0))
+            p, q, epipole1=scene.epipole1, epipolar_line1=line_through(scene.epipole1, 0.0)
         ),
     )
     refused(ErrorCode.MISSING_EPIPOLE1, lambda: solve(p, q, epipole2=scene.epipole2))
@@ -223,6 +216,6 @@ def test_six_point_refuses_bad_lines(scene: Scene) -> None:
     refused(
         ErrorCode.TOO_FEW_LANDMARKS,
         lambda: epipoles_from_six(
-            line_through(scene.epipole1, (1, 0)), scene.landmarks1[:5], scene.landmarks2[:5]
+            line_through(scene.epipole1, 0.0), scene.landmarks1[:5], scene.landmarks2[:5]
         ),
     )

@@ -78,8 +78,7 @@ def test_quality_follows_the_uncertainty() -> None:
                 taps.landmarks2[:n],
                 epipole1=taps.epipole1,
                 tap_sigma=sigma,
-                image_size1=s.image_size1,
-                image_size2=s.image_size2,
+                **s.sizes,
             )
             grades[name].append(result.quality)
     assert grades["sloppy"].count("good") < 30

@@ -41,8 +41,7 @@ def _answers(zoom: float) -> dict[int, list[tuple[float, float | None, str]]]:
                     tap_sigma=SIGMA,
                     camera1="phone",
                     camera2="phone",
-                    image_size1=scene.image_size1,
-                    image_size2=scene.image_size2,
+                    **scene.sizes,
                 )
             except SolverError:
                 found[count].append((np.inf, None, "refused"))
