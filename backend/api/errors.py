@@ -33,6 +33,17 @@ _HTTP_CODES = {
     415: ErrorCode.UNSUPPORTED_MEDIA_TYPE,
 }
 
+# Starlette's and FastAPI's own words for those statuses, as sentences a person can act on.
+_HTTP_WORDS = {
+    (404, "Not Found"): "There is nothing at this address.",
+    # Its Allow header says which methods it takes.
+    (405, "Method Not Allowed"): "This address does not take that method: see the Allow header.",
+    # FastAPI's words for a body that is not UTF-8 JSON or not a multipart form.
+    (400, "There was an error parsing the body"): (
+        "The body cannot be read: send JSON (UTF-8) or a form, as documented."
+    ),
+}
+
 
 def error_body(code: str, message: str) -> dict[str, dict[str, str]]:
     return {"error": {"code": code, "message": message}}
@@ -73,15 +84,8 @@ def install(app: FastAPI, max_body_bytes: int) -> None:
     async def http_error(_: Request, error: StarletteHTTPException) -> JSONResponse:
         code = _HTTP_CODES.get(error.status_code)
         message = error.detail if isinstance(error.detail, str) else "Request refused."
-        if error.status_code == 404 and message == "Not Found":
-            message = "There is nothing at this address."
-        elif error.status_code == 405 and message == "Method Not Allowed":
-            # Its Allow header says which methods it takes.
-            message = "This address does not take that method: see the Allow header."
-        elif error.status_code == 400 and message == "There was an error parsing the body":
-            # FastAPI's words for a body that is not UTF-8 JSON or not a multipart form.
-            message = "The body cannot be read: send JSON (UTF-8) or a form, as documented."
-        elif error.status_code == 413:
+        message = _HTTP_WORDS.get((error.status_code, message), message)
+        if error.status_code == 413:
             message = f"The request is larger than {max_body_bytes // 1_000_000} MB."
         body = error_body(code or f"http_{error.status_code}", message)
         return JSONResponse(body, status_code=error.status_code, headers=error.headers)
