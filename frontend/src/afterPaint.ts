@@ -1,9 +1,8 @@
 /**
  * Work that can wait for the screen: run once the next frame is painted, behind whatever
  * else the page has to do then (the next tap's events, a frame), or after `latestMs` when
- * no frame comes (a hidden page paints none). A tap's mark is drawn first and its PUT and
- * draft follow: on a phone slowed 4x the request alone took a tenth of a tap's time to the
- * screen (docs/slow-phone.md), and the answer comes one frame later at most.
+ * no frame comes (a hidden page paints none). A tap's mark is drawn first and its draft
+ * (localStorage) follows; its PUT goes at once, since the answer waits for it.
  *
  * After the frame's animation frame callbacks, the work is posted as a background task
  * where the browser has the Prioritized Task Scheduling API (Chromium), so that a task

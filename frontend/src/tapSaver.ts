@@ -3,8 +3,8 @@
  * network: one request at a time, the newest tap set wins, failures are retried with
  * backoff while the taps stay on the phone.
  *
- * A change goes at once, as soon as the screen shows it (session/taps.ts): the answer
- * reaches the other phone one round trip after the tap.
+ * A change goes at once, before the screen shows it (session/taps.ts): the answer reaches
+ * the other phone one round trip after the tap.
  * Nothing waits for more changes to come, since every change is a placed one: a finger
  * that drags a landmark or aims with the loupe changes nothing until it lets go
  * (gestures.ts). Changes made while a PUT is on its way go together after it, the newest.

@@ -32,14 +32,15 @@ describe("this phone's taps", () => {
     };
   });
 
-  it("marks the friend first, then places landmarks, sending each once it is shown", () => {
+  it("marks the friend first, then places landmarks, sending each at once", () => {
     vi.useFakeTimers();
     taps.tap({ x: 100, y: 50, sigma: 3 });
     expect(store.view.mode).toBe("landmark");
-    expect(sent).toEqual([]); // the mark is drawn first (afterPaint), not yet "Saved"
+    expect(sent).toHaveLength(1); // on its way before the mark is painted
+    expect(loadDraft("s")).toBeNull(); // kept on the phone once painted (afterPaint)
     expect(store.view.save.status).toBe("saving");
     vi.advanceTimersByTime(100);
-    expect(sent).toHaveLength(1);
+    expect(loadDraft("s")?.taps?.friend).toMatchObject({ x: 100, y: 50 });
     taps.tap({ x: 20, y: 30, sigma: 2 });
     vi.advanceTimersByTime(100);
     expect(store.view.editor.taps.friend).toMatchObject({ x: 100, y: 50 });
@@ -49,14 +50,14 @@ describe("this phone's taps", () => {
     expect(store.view.save.status).toBe("saving");
   });
 
-  it("sends and keeps changes made before the screen could show them together, the newest", () => {
+  it("keeps changes made before the screen could show them together, the newest", () => {
     vi.useFakeTimers();
     taps.tap({ x: 100, y: 50, sigma: 3 });
     taps.tap({ x: 20, y: 30, sigma: 2 });
     expect(loadDraft("s")).toBeNull();
     vi.advanceTimersByTime(100);
-    expect(sent).toHaveLength(1);
-    expect(sent[0]?.landmarks).toHaveLength(1);
+    expect(sent).toHaveLength(1); // the landmark waits for the friend's PUT on its way
+    expect(sent[0]?.landmarks).toHaveLength(0);
     expect(loadDraft("s")?.taps?.landmarks).toHaveLength(1);
   });
 
@@ -105,25 +106,25 @@ describe("what this phone says of its taps' saving", () => {
       onEnded: () => undefined,
     });
     const taps = new TapEditing(store, saver);
-    taps.tap({ x: 100, y: 50, sigma: 3 }); // the friend
-    vi.advanceTimersByTime(100); // shown: its PUT goes
+    taps.tap({ x: 100, y: 50, sigma: 3 }); // the friend: its PUT goes at once
     expect(replies).toHaveLength(1);
-    taps.tap({ x: 20, y: 30, sigma: 2 }); // landmark 1, not on screen yet
-    replies[0]?.({} as SessionState); // the friend's PUT answers before the screen shows it
+    replies[0]?.({} as SessionState); // and answers before the screen shows the mark
     for (let hop = 0; hop < 10; hop++) await Promise.resolve(); // its reply, no frame yet
-    expect(store.view.save.status).toBe("saving"); // not "saved": a reload would lose #1
-    await vi.advanceTimersByTimeAsync(100); // shown: handed to the saver, its PUT goes
-    expect(replies).toHaveLength(2);
+    expect(store.view.save.status).toBe("saving"); // not "saved": not kept on the phone yet
+    await vi.advanceTimersByTimeAsync(100); // shown and kept
+    expect(store.view.save.status).toBe("saved");
+    taps.tap({ x: 40, y: 60, sigma: 2 }); // landmark 1, undone before the screen shows it
+    taps.undo();
+    expect(replies).toHaveLength(2); // landmark 1's PUT went; the undone taps wait for it
     expect(store.view.save.status).toBe("saving");
     replies[1]?.({} as SessionState);
+    await vi.advanceTimersByTimeAsync(100);
+    expect(replies).toHaveLength(3); // the newest taps, without landmark 1
+    expect(store.view.save.status).toBe("saving");
+    replies[2]?.({} as SessionState);
     await vi.advanceTimersByTimeAsync(0);
     expect(store.view.save.status).toBe("saved");
-    taps.tap({ x: 40, y: 60, sigma: 2 }); // landmark 2, undone before the screen shows it
-    taps.undo();
-    expect(store.view.save.status).toBe("saving");
-    await vi.advanceTimersByTimeAsync(100);
-    expect(store.view.save.status).toBe("saved"); // nothing new to send: saved again
-    expect(replies).toHaveLength(2);
+    expect(loadDraft("s")?.taps?.landmarks).toHaveLength(0);
     vi.useRealTimers();
     vi.unstubAllGlobals();
   });

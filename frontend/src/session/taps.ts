@@ -28,7 +28,8 @@ import { otherRole, type SessionState } from "../types";
 import { startingMode, type Mode, type SessionView, type Tap, type ViewStore } from "./view";
 
 export class TapEditing {
-  /** A change waits to be sent and kept until the screen shows it (afterPaint). */
+  /** A change waits to be kept on the phone and its "saved" shown until the screen shows
+   * it (afterPaint); it is sent at once. */
   private saveQueued = false;
 
   constructor(
@@ -81,25 +82,29 @@ export class TapEditing {
 
   private edit(editor: TapEditor, patch: Partial<SessionView> = {}): void {
     const changed = editor.taps !== this.view.editor.taps;
+    const queued = this.saveQueued;
+    if (changed) {
+      // Sent first, at once: the answer reaches the other phone one round trip after the
+      // tap. The draft and the saver's words wait for the paint (showSaved), the newest taps
+      // of that moment.
+      this.saveQueued = true;
+      this.saver.update(toServerTaps(editor.taps));
+    }
     // Not "Saved" while a change waits for the screen: the saver takes it from there.
     const saving = changed ? { save: { status: "saving" as const, message: null } } : {};
     this.store.set({ editor, ...patch, ...saving });
-    if (changed && !this.saveQueued) {
-      // Sent and kept once the change is on screen, the newest taps of that moment.
-      this.saveQueued = true;
-      afterPaint(() => {
-        this.saveQueued = false;
-        this.saver.update(toServerTaps(this.view.editor.taps));
-        this.keepDraft();
-        this.showSaved(this.saver.status);
-      });
-    }
+    if (!changed || queued) return;
+    afterPaint(() => {
+      this.saveQueued = false;
+      this.keepDraft();
+      this.showSaved(this.saver.status);
+    });
   }
 
   /**
-   * The saver's words on screen, unless a change waits for the screen before going to it:
-   * its "saved" would then be of the taps before (and a reload then would lose the change),
-   * and its "saving" is already shown. Shown again once the change is handed over.
+   * The saver's words on screen, unless a change waits for the screen before it is kept on
+   * the phone: its "saved" would then come before the draft (and a reload then could lose
+   * the change), and its "saving" is already shown. Shown again once the change is kept.
    */
   showSaved(save: SaveState): void {
     if (this.saveQueued) return;
