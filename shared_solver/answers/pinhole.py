@@ -365,11 +365,7 @@ def _near(fit: PinholeFit, fits: list[PinholeFit]) -> tuple[list[PinholeFit], li
             continue
         if covariance is not None and position[2] > 0 and other.epipole2[2] > 0:
             offset = other.epipole2[:2] / other.epipole2[2] - position[:2] / position[2]
-            try:
-                distance = float(offset @ linalg.solve(covariance, offset))
-            except linalg.LinAlgError:
-                distance = np.inf
-            if distance <= _SAME_ANSWER_SIGMAS**2:
+            if _squared_sigmas(offset, covariance) <= _SAME_ANSWER_SIGMAS**2:
                 alike.append(other)
                 continue
         rivals.append(other)
@@ -389,13 +385,19 @@ def _holding(covariance: Array | None, fit: PinholeFit, alike: list[PinholeFit])
         elsewhere = to_pixel(other.epipole2)
         if elsewhere is None:
             continue
-        offset = elsewhere - position
-        try:
-            distance = float(offset @ linalg.solve(covariance, offset))
-        except linalg.LinAlgError:
-            continue
-        factor = max(factor, distance / CHI2_2D)
+        distance = _squared_sigmas(elsewhere - position, covariance)
+        if np.isfinite(distance):  # a singular region cannot say how far: left as it is
+            factor = max(factor, distance / CHI2_2D)
     return covariance * factor
+
+
+def _squared_sigmas(offset: Array, covariance: Array) -> float:
+    """``offset`` (2,) px in squared sigmas of ``covariance`` (2, 2) (Mahalanobis); infinite
+    when the covariance is singular."""
+    try:
+        return float(offset @ linalg.solve(covariance, offset))
+    except linalg.LinAlgError:
+        return np.inf
 
 
 def _ambiguous(
