@@ -77,6 +77,19 @@ describe("the answer on each phone", () => {
     expect(describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level })), "starter").seen).toBe(true);
   });
 
+  it("does not say twice what the curve's headline says, and keeps the other warnings", () => {
+    const said = (code: SolverWarning["code"]): SolverWarning => ({ code, message: `server: ${code}` });
+    const warnings = [said("on_the_curve"), said("on_the_level"), said("camera_model_disagrees")];
+    const curve = describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, curve: [[1, 0, 0], [0, 1, 0], [0, 0, -1]], warnings })), "joiner");
+    const level = describeAnswer(state(inPhoto({}, { friend: null, friend_h: null, region: null, level: [[[0, 400], [640, 380]]], warnings })), "joiner");
+    const point = describeAnswer(state(inPhoto({}, { warnings })), "joiner");
+    for (const view of [curve, level]) {
+      expect(view.warnings).toHaveLength(1);
+      expect(view.warnings[0]).toMatch(/phone photos/);
+    }
+    expect(point.warnings).toHaveLength(3); // a point: nothing in its headline says them
+  });
+
   it("is the level with the stretch the compasses point to, worded as a hint", () => {
     const level: [number, number][][] = [[[0, 400], [640, 380]]];
     const curve = { polylines: level, label_at: [320, 360] as [number, number], text: "", halfwidth: 30 };

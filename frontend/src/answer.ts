@@ -6,7 +6,7 @@
 
 import { t } from "./i18n";
 import { refusalText, warningText } from "./i18n/server";
-import type { AnswerDrawing, Ellipse, FriendInPhoto, Quality, Role, SessionState } from "./types";
+import type { AnswerDrawing, Ellipse, FriendInPhoto, Quality, Role, SessionState, SolverWarning } from "./types";
 import { otherRole } from "./types";
 
 export interface Position {
@@ -64,6 +64,13 @@ export const NOTHING: AnswerView = {
   drawing: null,
 };
 
+/** Warnings the curve's headline says in its own words. */
+const SAID_BY_THE_CURVE: ReadonlySet<SolverWarning["code"]> = new Set(["on_the_curve", "on_the_level"]);
+
+function warningsBut(warnings: readonly SolverWarning[] | undefined, said: ReadonlySet<SolverWarning["code"]>): string[] {
+  return (warnings ?? []).filter((warning) => !said.has(warning.code)).map(warningText);
+}
+
 function isInside(x: number, y: number, size: { width: number; height: number } | null | undefined): boolean {
   return !size || (x >= 0 && y >= 0 && x <= size.width && y <= size.height);
 }
@@ -107,11 +114,14 @@ export function describeAnswer(state: SessionState, role: Role): AnswerView {
     return { ...base, kind: position ? "position" : "elsewhere", position, news, text, sureness };
   }
   if (!position) {
+    // The headline says what the curve is and how to pin it down: the warning that says the
+    // same for API clients is not said twice.
+    const curved = { ...base, warnings: warningsBut(mine.warnings, SAID_BY_THE_CURVE), kind: "curve" as const };
     if (mine.level) {
       const text = mine.drawing?.curve?.stretch?.length ? t("answer.compass") : t("answer.level");
-      return { ...base, kind: "curve", position: null, news, text, sureness: null };
+      return { ...curved, position: null, news, text, sureness: null };
     }
-    if (mine.curve) return { ...base, kind: "curve", position: null, news, text: t("answer.curve"), sureness: null };
+    if (mine.curve) return { ...curved, position: null, news, text: t("answer.curve"), sureness: null };
     const behind = (mine.friend_h?.[2] ?? 0) < 0;
     const text = behind
       ? t("answer.behind")
