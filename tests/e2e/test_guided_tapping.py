@@ -28,6 +28,18 @@ def inside(outline: list[list[float]], point: np.ndarray) -> bool:
     return cv2.pointPolygonTest(polygon, (float(point[0]), float(point[1])), False) >= 0
 
 
+# Where the prompt, its buttons and the photo's stage are on the screen, CSS px.
+PROMPT_BOXES = """() => {
+  const box = (element) => {
+    const r = element.getBoundingClientRect();
+    return [r.left, r.top, r.right, r.bottom];
+  };
+  const prompt = document.querySelector('[data-testid="find-prompt"]').closest("section");
+  const buttons = [...prompt.querySelectorAll("button")].map(box);
+  return { prompt: box(prompt), buttons, stage: box(document.querySelector(".stage")) };
+}"""
+
+
 def band_of(page: Phone, role: str, landmark: int) -> dict[str, object]:
     bands = play.session_state(page)["answer"]["in_photo"][role]["bands"]
     return next(band for band in bands if band["id"] == landmark)
@@ -106,6 +118,7 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
     for landmark in range(7, 13):
         prompt = joiner.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(landmark))
+        stage = joiner.evaluate(PROMPT_BOXES)["stage"]
         expect(prompt).to_have_attribute("data-suggestion", re.compile("^(shown|none)$"))
         if prompt.get_attribute("data-suggestion") == "shown":
             break
@@ -117,6 +130,14 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
     spot = np.array([float(suggested.get_attribute(f"data-{axis}") or "nan") for axis in "xy"])
     assert np.hypot(*(spot - s.landmarks2[landmark - 1])) < 0.01 * diagonal
     joiner.screenshot(path=screenshots / "12-suggestion-joiner.png")
+    # Both buttons whole in the prompt, and the photo where it was when the step began: a
+    # suggestion coming moves nothing a finger may be about to tap.
+    boxes = joiner.evaluate(PROMPT_BOXES)
+    left, top, right, bottom = boxes["prompt"]
+    assert len(boxes["buttons"]) == 2, boxes
+    for x0, y0, x1, y1 in boxes["buttons"]:
+        assert left - 0.5 <= x0 and x1 <= right + 0.5 and top - 0.5 <= y0 and y1 <= bottom + 0.5
+    assert boxes["stage"] == pytest.approx(stage, abs=0.5)
     joiner.get_by_test_id("accept-suggestion").tap()
     play.saved(joiner)
     taps = play.session_state(joiner)["taps"]["joiner"]["landmarks"]

@@ -140,7 +140,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const insets: Insets = { top: covered + MARGIN, right: MARGIN, bottom: CONTROLS + MARGIN, left: MARGIN };
 
   return (
-    <main class="screen session tap-screen">
+    <main class={`screen session tap-screen${findId !== null ? " finding" : ""}`}>
       <h1 class="visually-hidden">{t("a11y.tapScreenTitle")}</h1>
       {top}
       <div class="stage" ref={stage}>
