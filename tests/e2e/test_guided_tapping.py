@@ -136,7 +136,8 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
     left, top, right, bottom = boxes["prompt"]
     assert len(boxes["buttons"]) == 2, boxes
     for x0, y0, x1, y1 in boxes["buttons"]:
-        assert left - 0.5 <= x0 and x1 <= right + 0.5 and top - 0.5 <= y0 and y1 <= bottom + 0.5
+        assert left - 0.5 <= x0 < x1 <= right + 0.5, (boxes["prompt"], (x0, x1))
+        assert top - 0.5 <= y0 < y1 <= bottom + 0.5, (boxes["prompt"], (y0, y1))
     assert boxes["stage"] == pytest.approx(stage, abs=0.5)
     joiner.get_by_test_id("accept-suggestion").tap()
     play.saved(joiner)

@@ -155,14 +155,16 @@ def tilted_up(camera: Camera, degrees: float) -> tuple[float, float, float, floa
 
 def shows_the_level_live(phone: ChromiumPhone, camera: Camera, screenshots: Path) -> None:
     """Show me with the level alone: anchored by the in-app photo's orientation at the
-    shutter, the dotted curve is drawn over the live video; the phone tilted 60 degrees up,
-    the curve is below the screen and the arrow says to turn down, to the curve; level
-    again, the curve is back and the arrow gone."""
+    shutter, the dotted curve is drawn over the live video, said to be the level; the phone
+    tilted 60 degrees up, the curve is below the screen and the arrow says to turn down, to
+    the curve; level again, the curve is back and the arrow gone."""
     phone.get_by_test_id("show-me").tap()
     live = phone.get_by_test_id("live-view")
     expect(live).to_have_attribute("data-anchored", "true")
     expect(phone.get_by_test_id("live-curve")).to_be_visible()
     expect(phone.get_by_test_id("live-arrow")).to_have_count(0)
+    # Worded as the tap screen words the level: a band, on this level.
+    expect(phone.get_by_test_id("live-note")).to_contain_text("yellow band: on this level")
     # The view's quiet check of its video's focal length: Chromium delivers this portrait
     # film as a landscape stream, its middle 1920 x 1440 (docs/browsers.md), so the video
     # has the photo's own focal length, not the photo's scaled by their long sides (3/4 of

@@ -50,7 +50,7 @@ import { OrientationSource, type Sample } from "./sensor";
 import { lastShutterTime } from "./shutter";
 import { StillWait, turnRate } from "./still";
 import { mayHaveDrifted, motionReading, StepWatch } from "./trust";
-import { arrowLabel, pointingText } from "./words";
+import { arrowLabel, pointingText, type CurveKind } from "./words";
 
 /** The back camera, 4:3 (the whole sensor, as photos are: pointer.ts's focal assumes it). */
 const CONSTRAINTS: MediaStreamConstraints = {
@@ -278,8 +278,8 @@ export function LiveView({ credentials, answer, mine, onClose }: Props) {
 
   const ready = phase === "live" && anchor && reading && photo && photoFocal && videoSize && videoFocal;
   const layer = ready ? place(sinceShutter(anchor, reading), photo, photoFocal, videoSize, videoFocal, box, mine, drawing?.curve?.polylines ?? null) : null;
-  // The curve alone (no point): its arrow and words are the curve's.
-  const curve = Boolean(drawing?.curve) && !friendOf(mine);
+  // The curve alone (no point): its arrow and words are the curve's (or the level's).
+  const curve: CurveKind | null = drawing?.curve && !friendOf(mine) ? (mine.level ? "level" : "curve") : null;
 
   let words: string;
   if (phase === "failed") words = problem;

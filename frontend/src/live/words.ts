@@ -7,10 +7,14 @@
 import { t } from "../i18n";
 import type { Pointing } from "./pointer";
 
+/** The answer is a curve alone, no point: the 4-landmark curve, or the level both phones'
+ * gravity gives (a band, worded as the tap screen words it: answer.ts). */
+export type CurveKind = "curve" | "level";
+
 /** The main sentence for where the friend is (empty: the marker says nothing by itself, or
- * the curve is on the screen); `curve`: the answer is a curve alone, no point. */
-export function pointingText(pointing: Pointing | null, curve: boolean): string {
-  if (!pointing) return curve ? t("live.curve") : "";
+ * the curve is on the screen); `curve`: which curve the answer is when it has no point. */
+export function pointingText(pointing: Pointing | null, curve: CurveKind | null): string {
+  if (!pointing) return curve ? t(`live.${curve}`) : "";
   if (pointing.kind === "in-view") return t("live.frame");
   return curve ? t(`live.turnCurve_${pointing.turn}`) : t(`live.turnFriend_${pointing.turn}`);
 }
