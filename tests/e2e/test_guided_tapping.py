@@ -118,7 +118,7 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
     for landmark in range(7, 13):
         prompt = joiner.get_by_test_id("find-prompt")
         expect(prompt).to_have_attribute("data-id", str(landmark))
-        stage = joiner.evaluate(PROMPT_BOXES)["stage"]
+        before = joiner.evaluate(PROMPT_BOXES)
         expect(prompt).to_have_attribute("data-suggestion", re.compile("^(shown|none)$"))
         if prompt.get_attribute("data-suggestion") == "shown":
             break
@@ -130,15 +130,16 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
     spot = np.array([float(suggested.get_attribute(f"data-{axis}") or "nan") for axis in "xy"])
     assert np.hypot(*(spot - s.landmarks2[landmark - 1])) < 0.01 * diagonal
     joiner.screenshot(path=screenshots / "12-suggestion-joiner.png")
-    # Both buttons whole in the prompt, and the photo where it was when the step began: a
-    # suggestion coming moves nothing a finger may be about to tap.
+    # Both buttons whole in the prompt, and the photo and "Can't see it" where they were when
+    # the step began: a suggestion coming moves nothing a finger may be about to tap.
     boxes = joiner.evaluate(PROMPT_BOXES)
     left, top, right, bottom = boxes["prompt"]
     assert len(boxes["buttons"]) == 2, boxes
     for x0, y0, x1, y1 in boxes["buttons"]:
         assert left - 0.5 <= x0 < x1 <= right + 0.5, (boxes["prompt"], (x0, x1))
         assert top - 0.5 <= y0 < y1 <= bottom + 0.5, (boxes["prompt"], (y0, y1))
-    assert boxes["stage"] == pytest.approx(stage, abs=0.5)
+    assert boxes["stage"] == pytest.approx(before["stage"], abs=0.5)
+    assert boxes["buttons"][-1] == pytest.approx(before["buttons"][-1], abs=0.5)
     joiner.get_by_test_id("accept-suggestion").tap()
     play.saved(joiner)
     taps = play.session_state(joiner)["taps"]["joiner"]["landmarks"]

@@ -140,7 +140,7 @@ export function TapScreen({ controller, view, state, top }: Props) {
   const insets: Insets = { top: covered + MARGIN, right: MARGIN, bottom: CONTROLS + MARGIN, left: MARGIN };
 
   return (
-    <main class={`screen session tap-screen${findId !== null ? " finding" : ""}`}>
+    <main class="screen session tap-screen">
       <h1 class="visually-hidden">{t("a11y.tapScreenTitle")}</h1>
       {top}
       <div class="stage" ref={stage}>
@@ -456,17 +456,21 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
   if (next.find) {
     const theirs = theirTaps.landmarks.find((l) => l.id === next.id);
     const key = theirs ? `${theirs.x},${theirs.y}` : "";
+    const offered = Boolean(guide?.spot && guide.id === next.id);
+    // A suggested spot: "Use #n?" comes beside "Can't see it", which stays where it was, and
+    // the words give way to it (said still: the step is read out), not the photo: the row
+    // keeps its height, so nothing a finger may be about to tap moves.
     return (
-      <section class="prompt find" {...data}>
+      <section class={`prompt find${offered ? " offered" : ""}`} {...data}>
         <div class="prompt-main" data-testid="find-prompt" data-id={String(next.id)} data-suggestion={suggestion}>
           <img class="crop" src={cropUrl(credentials, other, next.id, key)} width={64} height={64} alt={t("tap.cropAlt", { id: next.id })} />
-          <div class="prompt-text">
+          <div class={`prompt-text${offered ? " visually-hidden" : ""}`}>
             <strong data-testid="step-title">{step.title}</strong>
             <span data-testid="step-detail">{step.detail}</span>
           </div>
         </div>
         <div class="prompt-actions">
-          {guide?.spot && guide.id === next.id ? (
+          {offered && guide?.spot ? (
             <button
               type="button"
               class="button primary small"
