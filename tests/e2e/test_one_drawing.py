@@ -76,10 +76,10 @@ def svg_strokes(page: Phone, folder: Path) -> tuple[np.ndarray, float]:
 
 def clear_from(page: Phone) -> float:
     """The photo's first row (px) below the status, which lies translucent over its top and
-    dims what is drawn under it."""
+    dims what is drawn under it (its padding included: the words' own box ends above it)."""
     bottom = float(
         page.get_by_test_id("result-text").evaluate(
-            "(text) => text.parentElement.getBoundingClientRect().bottom"
+            "(text) => text.closest('.status').getBoundingClientRect().bottom"
         )
     )
     top = page.photo_to_screen(0.0, 0.0)[1]
