@@ -46,22 +46,18 @@ import math
 import httpx2
 import numpy as np
 import pytest
-from test_in_app_camera import ASK_MOTION, SPY, still_reading, take_photo
 from test_live_view import (
     FILM_DIAGONAL_MM,
     OPENING_BOUND_MS,
-    TOLERANCE_DEG,
     answered,
-    degrees_apart,
-    expected_on_screen,
-    marker,
+    placed_marker,
     shift_clock,
     show_me,
 )
 
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
-from testbed.client import start
+from testbed.browser.play import ASK_MOTION, still_reading
 from testbed.opening import OPENING_STEPS
 
 pytestmark = pytest.mark.engines("webkit")
@@ -114,26 +110,19 @@ def hold_turned(phone: Phone, right_deg: float) -> None:
     phone.evaluate(HOLD, [-right_deg, 90.0, 0.0])
 
 
-def test_show_me_in_webkit(server: str, api: httpx2.Client, pixel: Phone) -> None:
-    starter, code = start(api, play.temple(play.PAIR[0]))
+def test_show_me_in_webkit(api: httpx2.Client, pixel: Phone) -> None:
+    starter = play.joined_by_link(api, pixel, play.temple(play.PAIR[0]))
     truth = play.scene(3, seed=12)
     still = still_reading([0.0, 1.0, 0.0])
 
     # The joiner photographs the mock camera's pattern in the app, upright and level.
-    pixel.goto(f"{server}/join/{code}")
-    expect(pixel.get_by_test_id("open-camera")).to_be_visible()
-    pixel.evaluate(SPY)
+    play.camera_step(pixel)
     pixel.hold_still(still)
     pixel.evaluate(ASK_MOTION, "granted")
     hold_turned(pixel, 0.0)
-    pixel.get_by_test_id("open-camera").tap()
-    pixel.get_by_test_id("motion-allow").tap()
-    expect(pixel.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
-    take_photo(pixel)
-    view = pixel.get_by_test_id("photo-view")
-    expect(view).to_be_visible()
-    width = float(view.get_attribute("data-photo-width") or "nan")
-    height = float(view.get_attribute("data-photo-height") or "nan")
+    play.photograph(pixel)
+    expect(pixel.get_by_test_id("photo-view")).to_be_visible()
+    width, height = pixel.photo_size()
     print(f"the mock camera's photo: {width:.0f} x {height:.0f}")
     k = min(width / SCENE_SIZE[0], height / SCENE_SIZE[1])
     centre, scene_centre = np.array([width, height]) / 2, np.array(SCENE_SIZE) / 2
@@ -167,16 +156,7 @@ def test_show_me_in_webkit(server: str, api: httpx2.Client, pixel: Phone) -> Non
         """Turned right by ``turn`` degrees: the marker where the friend projects; its
         error, degrees."""
         hold_turned(pixel, turn)
-        expected, scale, _ = expected_on_screen(pixel, friend, focal, turn, (width, height))
-        focal_screen = scale * focal
-
-        def placed() -> bool:
-            if pixel.get_by_test_id("live-frame").count() == 0:
-                return False
-            return degrees_apart(marker(pixel), expected, focal_screen) < TOLERANCE_DEG
-
-        pixel.wait_for(placed, f"the marker where the friend is, turned {turn:.1f} degrees, {when}")
-        return degrees_apart(marker(pixel), expected, focal_screen)
+        return placed_marker(pixel, friend, focal, turn, when, (width, height))
 
     errors = [marker_at(ahead + 3.0, "at first"), marker_at(ahead - 3.0, "at first")]
     expect(pixel.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")
