@@ -401,21 +401,18 @@ class Element:
     def tap(self) -> None:
         """A tap at the element's centre once it can be tapped (see ``TAP_POINT``); the
         element must hold still over two looks, so a moving one is not missed."""
-        looks: list[dict[str, Any]] = []
+        before: list[Any] = [None]  # the box of the look before
 
-        def ready() -> bool:
-            look = self.phone.evaluate(TAP_POINT, list(self.steps))
-            if look["count"] > 1:
-                raise AssertionError(f"{self}: {look['count']} elements match")
-            still = bool(looks) and "box" in look and looks[-1].get("box") == look["box"]
-            looks.append(look)
-            return still
+        def look() -> dict[str, Any]:
+            found: dict[str, Any] = self.phone.evaluate(TAP_POINT, list(self.steps))
+            if found["count"] > 1:
+                raise AssertionError(f"{self}: {found['count']} elements match")
+            found["still"] = "box" in found and before[0] == found["box"]
+            before[0] = found.get("box")
+            return found
 
-        try:
-            self.phone.wait_for(ready, f"{self} to be tappable")
-        except AssertionError as failed:
-            raise AssertionError(f"{failed}; last look: {looks[-1:]}") from None
-        self.phone.tap_at(looks[-1]["x"], looks[-1]["y"])
+        at = self.phone.wait_until(look, lambda found: found["still"], f"{self} to be tappable")
+        self.phone.tap_at(at["x"], at["y"])
 
     def fill(self, text: str) -> None:
         self._one("exist")

@@ -59,6 +59,23 @@ def start_and_join(
 ) -> tuple[Phone, Phone]:
     """One friend starts a search; the other opens its join link (at ``joiner_server`` when
     its network goes another way); with ``photos``, each then uploads its temple photo."""
+    digits = started(server, starter, screenshots=screenshots, audit=audit)
+    joiner.goto(f"{joiner_server or server}/join/{digits}")  # the join link, on the friend's phone
+    expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    if audit:
+        focused(joiner, "photo-step-title")  # a new screen: its title is read first
+        joiner.audit("the photo step")
+    if photos:
+        upload(starter, temple(PAIR[0]))
+        upload(joiner, temple(PAIR[1]))
+    return starter, joiner
+
+
+def started(
+    server: str, starter: Phone, *, screenshots: Path | None = None, audit: bool = False
+) -> str:
+    """The starter's phone starts a search and shares it (its code, a QR code, waiting for
+    the friend): the code's digits."""
     starter.goto(f"{server}/")
     if screenshots:
         starter.screenshot(path=screenshots / "1-start.png")
@@ -74,18 +91,7 @@ def start_and_join(
         starter.screenshot(path=screenshots / "2-share.png")
     if audit:
         starter.audit("sharing the code")
-    digits = re.sub(r"\D", "", code.inner_text())
-    joiner.goto(
-        f"{joiner_server or server}/join/{digits}"
-    )  # the join link, opened on the friend's phone
-    expect(starter.get_by_test_id("waiting")).to_be_hidden()
-    if audit:
-        focused(joiner, "photo-step-title")  # a new screen: its title is read first
-        joiner.audit("the photo step")
-    if photos:
-        upload(starter, temple(PAIR[0]))
-        upload(joiner, temple(PAIR[1]))
-    return starter, joiner
+    return re.sub(r"\D", "", code.inner_text())
 
 
 def joined_by_link(api: httpx2.Client, phone: Phone, photo: Path | None = None) -> ApiPhone:
@@ -207,6 +213,17 @@ def reported_position(page: Phone) -> tuple[np.ndarray, tuple[float, float, floa
     expect(position).to_be_visible()
     x, y, a, b, angle = position.numbers("x", "y", "axis-a", "axis-b", "angle")
     return np.array([x, y]), (a, b, angle), position.get_attribute("data-how") or ""
+
+
+def found_at(
+    page: Phone, truth: np.ndarray, how: str = "solved"
+) -> tuple[np.ndarray, tuple[float, float, float]]:
+    """The phone's answer, known as ``how`` says, its 95 % ellipse holding ``truth`` (an
+    honest region, the claim every answer makes): its centre and ellipse."""
+    centre, ellipse, said = reported_position(page)
+    assert said == how, said
+    assert inside(truth, centre, ellipse), (centre, ellipse, truth)
+    return centre, ellipse
 
 
 def inside(truth: np.ndarray, centre: np.ndarray, ellipse: tuple[float, float, float]) -> bool:
