@@ -119,19 +119,15 @@ def clear_of_everything(phone: Phone, where: str) -> None:
     """Once the view has settled (the status may grow after the answer: the view then
     moves again), no overlaid element's box meets the frame's."""
     expect(phone.get_by_test_id("answer-frame")).to_be_visible()
-    seen: list[Any] = []
 
-    def clear() -> bool:
+    def covering() -> tuple[Sequence[float], list[Any]]:
+        """The frame's box (its brackets and label) and the overlaid elements it meets."""
         phone.view_box()  # settled: not gliding, nor about to
-        frame = phone.get_by_test_id("answer-frame").box()  # its brackets and label
-        seen[:] = [frame, [item for item in phone.evaluate(OVERLAID) if overlaps(frame, item[1:])]]
-        return not seen[1]
+        frame = phone.get_by_test_id("answer-frame").box()
+        return frame, [item for item in phone.evaluate(OVERLAID) if overlaps(frame, item[1:])]
 
-    try:
-        phone.wait_for(clear, f"the frame clear, the friend at the {where}", timeout=SETTLE_S)
-    except AssertionError:
-        frame, covering = seen
-        raise AssertionError(f"{phone}, the friend at {where}: {frame} under {covering}") from None
+    what = f"the frame clear, the friend at the {where}"
+    phone.wait_until(covering, lambda seen: not seen[1], what, timeout=SETTLE_S)
 
 
 def test_the_frame_lands_clear_of_every_word_and_control(

@@ -80,14 +80,12 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
 ) -> None:
     hall = rendered_pair(24)
     s = hall.scene
-    photos = []
-    for name, photo in (("starter.jpg", hall.photo1), ("joiner.jpg", hall.photo2)):
-        path = tmp_path / name
-        cv2.imwrite(str(path), photo, [cv2.IMWRITE_JPEG_QUALITY, 92])
-        photos.append(path)
     starter, joiner = play.start_and_join(server, pixel, iphone)
-    play.upload(starter, photos[0], s.image_size1)
-    play.upload(joiner, photos[1], s.image_size2)
+    shots = ((starter, hall.photo1, s.image_size1), (joiner, hall.photo2, s.image_size2))
+    for role, (page, photo, size) in zip(("starter", "joiner"), shots, strict=True):
+        path = tmp_path / f"{role}.jpg"
+        cv2.imwrite(str(path), photo, [cv2.IMWRITE_JPEG_QUALITY, 92])
+        play.upload(page, path, size)
     play.marked_and_found(starter, joiner, s.epipole1, s.landmarks1[:12], s.landmarks2[:6])
 
     # The first landmark past the answer for which the search is sure: its ring, then a tap.

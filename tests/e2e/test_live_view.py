@@ -116,18 +116,15 @@ OPENING_BOUND_MS = 5000.0
 
 def opening_ms(phone: Phone) -> float:
     """How long the view took to open, from the tap to the first marker, ms (waited for)."""
-    took: list[float] = []
-
-    def measured() -> bool:
-        value = phone.evaluate(OPENING_STEPS)["marker-drawn"]
-        took[:] = [] if value is None else [float(value)]
-        return bool(took)
-
-    phone.wait_for(measured, "the first marker drawn")
+    drawn = phone.wait_until(
+        lambda: phone.evaluate(OPENING_STEPS)["marker-drawn"],
+        lambda ms: ms is not None,
+        "the first marker drawn",
+    )
     steps = phone.evaluate(OPENING_STEPS)
     shown = {step: None if ms is None else round(ms) for step, ms in steps.items()}
     print(f"Show me's opening ({phone}), ms after the tap: {shown}")
-    return took[0]
+    return float(drawn)
 
 
 def show_me(phone: Phone) -> tuple[Element, float]:

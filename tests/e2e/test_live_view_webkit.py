@@ -58,27 +58,13 @@ from test_live_view import (
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
 from testbed.browser.play import ASK_MOTION, still_reading
+from testbed.browser.webkit_phone import EVERY_16_MS
 from testbed.opening import OPENING_STEPS
 
 pytestmark = pytest.mark.engines("webkit")
 
 # The temple scene's photos are 640 x 480: the landmarks' pixels are in that frame.
 SCENE_SIZE = (640.0, 480.0)
-
-# The phone held at DeviceOrientation's angles, an event every 16 ms, until held otherwise.
-HOLD = r"""([alpha, beta, gamma]) => {
-  clearInterval(window.__orientation);
-  const native = () => typeof DeviceOrientationEvent === "function"
-    && DeviceOrientationEvent.prototype instanceof Event;
-  const send = () => {
-    const init = { alpha, beta, gamma, absolute: false };
-    window.dispatchEvent(native()
-      ? new DeviceOrientationEvent("deviceorientation", init)
-      : Object.assign(new Event("deviceorientation"), init));
-  };
-  send();
-  window.__orientation = setInterval(send, 16);
-}"""
 
 WALK_SECONDS = 6.0
 # A walk for `seconds`: the body rising and falling 2 m/s^2 twice a second along the upright
@@ -106,8 +92,11 @@ WALK = r"""([seconds, still]) => {
 
 def hold_turned(phone: Phone, right_deg: float) -> None:
     """The phone upright and level, turned right by ``right_deg`` from where it was at the
-    start (DeviceOrientation's alpha is anticlockwise seen from above)."""
-    phone.evaluate(HOLD, [-right_deg, 90.0, 0.0])
+    start (DeviceOrientation's alpha is anticlockwise seen from above): its angles in an
+    event every 16 ms, the first at once, until held otherwise."""
+    held = {"alpha": -right_deg, "beta": 90.0, "gamma": 0.0, "absolute": False}
+    where = ["__orientation", "DeviceOrientationEvent", "deviceorientation", held, True]
+    phone.evaluate(EVERY_16_MS, where)
 
 
 def test_show_me_in_webkit(api: httpx2.Client, pixel: Phone) -> None:
