@@ -21,7 +21,6 @@ object-fit: cover shows the video.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections.abc import Callable
@@ -94,8 +93,9 @@ class Motion:
         self.hold_still()
 
 
-def shift_clock(phone: Phone, ms: float) -> None:
-    """The page's clock (performance.now) moved on by ``ms``: the view's anchor that old."""
+def drifted(phone: Phone, ms: float = 121_000) -> None:
+    """The page's clock (performance.now) moved on by ``ms``, the view's anchor that old:
+    the view says it may have drifted."""
     phone.evaluate(
         """(ms) => {
             const now = performance.now.bind(performance);
@@ -103,6 +103,8 @@ def shift_clock(phone: Phone, ms: float) -> None:
         }""",
         ms,
     )
+    expect(phone.get_by_test_id("live-warning")).to_contain_text("may have drifted")
+    expect(phone.get_by_test_id("live-view")).to_have_attribute("data-warning", "drift")
 
 
 # A click on Align by the page itself: no driver's round trips.
@@ -261,9 +263,7 @@ class Reanchoring:
                 "reason": "frame_not_matched",
                 "message": "The frame does not match the photo.",
             }
-            route.fulfill(
-                status=422, content_type="application/json", body=json.dumps({"error": refusal})
-            )
+            route.fulfill(status=422, json={"error": refusal})
             return
         answer = {
             "rotation": self.rotation,
@@ -271,7 +271,7 @@ class Reanchoring:
             "inliers": 200,
             "degrees": 0.0,
         }
-        route.fulfill(status=200, content_type="application/json", body=json.dumps(answer))
+        route.fulfill(status=200, json=answer)
 
 
 def photographed_and_answered(
@@ -416,9 +416,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     assert b'name="frame_focal_px"' not in form
     print(f"marker error, degrees: {[round(error, 3) for error in errors]}")
     # Two minutes after the Align the view may have drifted: it says so; Re-align resets it.
-    shift_clock(joiner, 121_000)
-    expect(joiner.get_by_test_id("live-warning")).to_contain_text("may have drifted")
-    expect(live).to_have_attribute("data-warning", "drift")
+    drifted(joiner)
     joiner.get_by_test_id("live-align").tap()
     # (Reading the page lets Playwright answer the route meanwhile.)
     joiner.wait_for(

@@ -112,7 +112,7 @@ def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     # ...upright, as the phone shows it (its own copy: WebKit may draw a picture it has not
     # decoded yet as transparent, so the colours are read until they are drawn)...
     iphone.wait_until(
-        lambda: dict(view.locator("img").evaluate(COLOURS)),
+        lambda: view.locator("img").evaluate(COLOURS),
         lambda shown: all(nearest(colour) == quarter for quarter, colour in shown.items()),
         "the shown photo, upright",
     )
