@@ -165,7 +165,7 @@ def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1, online: b
 def marked_and_found(
     starter: Phone,
     joiner: Phone,
-    friend: Sequence[float],
+    friend: Sequence[float] | np.ndarray,
     landmarks1: np.ndarray,
     landmarks2: np.ndarray,
 ) -> None:
