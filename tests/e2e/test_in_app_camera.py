@@ -22,7 +22,6 @@ from testbed.browser import play
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import Phone, expect
 from testbed.browser.play import ASK_MOTION, angle_deg, quaternion, still_reading, take_photo
-from testbed.client import Phone as ApiPhone
 
 # The phone upright in portrait, aimed 20 degrees above the horizon and turned 6 degrees
 # clockwise in the screen's plane: down in its photo (x right, y down, z into the scene).
@@ -68,27 +67,10 @@ REFUSE_CAMERA_ONCE = """() => {
 }"""
 
 
-def joined(api: httpx2.Client, phone: Phone) -> ApiPhone:
-    """A search started over the API, joined by ``phone`` with its link: the photo step.
-    Returns the starter's calls."""
-    starter = play.joined_by_link(api, phone)
-    play.camera_step(phone)
-    return starter
-
-
-def kept(starter: ApiPhone, phone: Phone) -> dict[str, object] | None:
-    """The joiner's photo as the server keeps it, read by the other phone once it is there."""
-    found: dict[str, object] | None = phone.wait_until(
-        lambda: starter.state()["photos"]["joiner"],
-        lambda photo: photo is not None,
-        "the photo on the server",
-    )
-    return found
-
-
 @pytest.mark.engines("chromium", "webkit")
 def test_the_in_app_camera_sends_down_with_the_photo(api: httpx2.Client, pixel: Phone) -> None:
-    starter = joined(api, pixel)
+    starter = play.joined_by_link(api, pixel)  # the search started over the API
+    play.camera_step(pixel)
     pixel.hold_still(READING)
     if isinstance(pixel, ChromiumPhone):
         pixel.hold_orientation(quaternion(device_to_earth(HEADING)))
@@ -104,9 +86,13 @@ def test_the_in_app_camera_sends_down_with_the_photo(api: httpx2.Client, pixel: 
     assert angle_deg(gravity, DOWN) < 1.0, (gravity, DOWN)
     # A steady reading: the accelerometer's own bias is its sigma.
     assert form["sigma"] == 1.0, form
-    # The server keeps it with the photo, for the answer (and tells the other phone).
-    photo = kept(starter, pixel)
-    assert photo is not None
+    # The server keeps it with the photo, for the answer (and tells the other phone), read
+    # by the other phone once it is there.
+    photo = pixel.wait_until(
+        lambda: starter.state()["photos"]["joiner"],
+        lambda found: found is not None,
+        "the photo on the server",
+    )
     unit = [value / math.hypot(*gravity) for value in gravity]
     assert photo["gravity"] == {"down": pytest.approx(unit, abs=1e-6), "sigma_deg": 1.0}
     if pixel.engine == "chromium":
@@ -124,7 +110,8 @@ def test_the_in_app_camera_sends_down_with_the_photo(api: httpx2.Client, pixel: 
 
 
 def test_refused_camera_and_motion_access(api: httpx2.Client, iphone: Phone) -> None:
-    joined(api, iphone)
+    play.joined_by_link(api, iphone)
+    play.camera_step(iphone)
     iphone.hold_still(READING)
     iphone.evaluate(ASK_MOTION, "denied")
     iphone.evaluate(REFUSE_CAMERA_ONCE)
