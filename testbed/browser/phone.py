@@ -21,13 +21,14 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar, Literal
+from typing import Any, ClassVar, Literal, TypeVar
 from urllib.parse import urlsplit
 
 from . import audit
 
 TIMEOUT_S = 20.0
 POLL_S = 0.05
+T = TypeVar("T")
 
 # One step of a query: ("css", selector) finds descendants of what was found so far,
 # ("text", words) keeps those whose text contains the words (case and spaces ignored, as
@@ -237,6 +238,27 @@ class Phone(ABC):
                 raise AssertionError(f"{self}: timed out after {timeout:g} s waiting for {what}")
             time.sleep(POLL_S)
 
+    def wait_until(
+        self,
+        read: Callable[[], T],
+        holds: Callable[[T], bool],
+        what: str,
+        timeout: float = TIMEOUT_S,
+    ) -> T:
+        """Poll ``read`` until its value ``holds``; that value. A failure names ``what`` and
+        the last value read, which is what a reader of the failure needs first."""
+        last: list[T] = []
+
+        def check() -> bool:
+            last[:] = [read()]
+            return holds(last[0])
+
+        try:
+            self.wait_for(check, what, timeout)
+        except AssertionError as failed:
+            raise AssertionError(f"{failed}; last: {last[-1:]}") from None
+        return last[0]
+
     def photo_to_screen(self, x: float, y: float, *, settled: bool = True) -> tuple[float, float]:
         """Client coordinates of photo pixel (x, y), from the view's published transform
         (:meth:`view_box`)."""
@@ -248,17 +270,13 @@ class Phone(ABC):
         scale, tx, ty, width, height. ``settled``: nor about to glide (an answer that came
         waits for the fingers' quiet, then glides the view to it); False reads the view as
         a finger about to tap finds it, which the glide would move after a wait."""
-        view = self.get_by_test_id("photo-view")
-        found: list[list[float]] = []
-
-        def published() -> bool:
-            transform = self.evaluate(TRANSFORM, [list(view.steps), settled])
-            if transform is not None:
-                found.append(transform)
-            return transform is not None
-
-        self.wait_for(published, "the photo view's transform")
-        return found[-1]
+        steps = list(self.get_by_test_id("photo-view").steps)
+        transform: list[float] = self.wait_until(
+            lambda: self.evaluate(TRANSFORM, [steps, settled]),
+            lambda found: found is not None,
+            "the photo view's transform",
+        )
+        return transform
 
     def tap_photo(self, x: float, y: float) -> None:
         """A one-finger tap on the photo at pixel (x, y); first, as a person would, the whole
@@ -283,9 +301,8 @@ class Phone(ABC):
 
     def photo_size(self) -> tuple[float, float]:
         """The width and height (px) of the photo the photo view shows."""
-        view = self.get_by_test_id("photo-view")
-        width, height = (view.get_attribute(f"data-photo-{k}") for k in ("width", "height"))
-        return float(width or "nan"), float(height or "nan")
+        width, height = self.get_by_test_id("photo-view").numbers("photo-width", "photo-height")
+        return width, height
 
     def drag(self, start: Point, end: Point, steps: int = 10) -> None:
         """One finger down at ``start`` and moved to ``end`` in ``steps`` even steps (client
@@ -356,6 +373,25 @@ class Element:
         value = self._one("exist")["attributes"].get(name)
         return None if value is None else str(value)
 
+    def numbers(self, *names: str) -> list[float]:
+        """The ``data-{name}`` attributes as numbers, read in one look (so they agree with
+        each other), NaN where one is missing: how the page publishes what it draws."""
+        attributes = self._one("exist")["attributes"]
+        return [float(attributes.get(f"data-{name}") or "nan") for name in names]
+
+    def box(self) -> tuple[float, float, float, float]:
+        """The only match's box on the screen, client px: left, top, right, bottom."""
+        left, top, right, bottom = self.evaluate(
+            "(e) => { const r = e.getBoundingClientRect();"
+            " return [r.left, r.top, r.right, r.bottom]; }"
+        )
+        return float(left), float(top), float(right), float(bottom)
+
+    def centre(self) -> tuple[float, float]:
+        """The middle of :meth:`box`, client px: where a finger aims at the element."""
+        left, top, right, bottom = self.box()
+        return (left + right) / 2, (top + bottom) / 2
+
     def evaluate(self, script: str) -> Any:
         """Run the JavaScript function expression ``script`` on the only match."""
         self._one("exist")
@@ -365,21 +401,18 @@ class Element:
     def tap(self) -> None:
         """A tap at the element's centre once it can be tapped (see ``TAP_POINT``); the
         element must hold still over two looks, so a moving one is not missed."""
-        looks: list[dict[str, Any]] = []
+        before: list[Any] = [None]  # the box of the look before
 
-        def ready() -> bool:
-            look = self.phone.evaluate(TAP_POINT, list(self.steps))
-            if look["count"] > 1:
-                raise AssertionError(f"{self}: {look['count']} elements match")
-            still = bool(looks) and "box" in look and looks[-1].get("box") == look["box"]
-            looks.append(look)
-            return still
+        def look() -> dict[str, Any]:
+            found: dict[str, Any] = self.phone.evaluate(TAP_POINT, list(self.steps))
+            if found["count"] > 1:
+                raise AssertionError(f"{self}: {found['count']} elements match")
+            found["still"] = "box" in found and before[0] == found["box"]
+            before[0] = found.get("box")
+            return found
 
-        try:
-            self.phone.wait_for(ready, f"{self} to be tappable")
-        except AssertionError as failed:
-            raise AssertionError(f"{failed}; last look: {looks[-1:]}") from None
-        self.phone.tap_at(looks[-1]["x"], looks[-1]["y"])
+        at = self.phone.wait_until(look, lambda found: found["still"], f"{self} to be tappable")
+        self.phone.tap_at(at["x"], at["y"])
 
     def fill(self, text: str) -> None:
         self._one("exist")
@@ -410,20 +443,14 @@ class Expectation:
     ) -> dict[str, Any]:
         """Until the first match's state ``holds`` (several matches are an error at once when
         ``strict``); that state."""
-        last: list[dict[str, Any]] = []
 
-        def check() -> bool:
+        def look() -> dict[str, Any]:
             state = self.element.state()
             if strict and state["count"] > 1:
                 raise AssertionError(f"{self.element}: {state['count']} elements match")
-            last[:] = [state]
-            return holds(state)
+            return state
 
-        try:
-            self.element.phone.wait_for(check, f"{self.element} to {what}")
-        except AssertionError as failed:
-            raise AssertionError(f"{failed}; last state: {last[:1]}") from None
-        return last[0]
+        return self.element.phone.wait_until(look, holds, f"{self.element} to {what}")
 
     def to_be_attached(self) -> None:
         self._until(lambda s: s["count"] == 1, "be attached")

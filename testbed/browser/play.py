@@ -3,7 +3,9 @@ the temple photos, mark the friend or say they cannot be seen, tap and find land
 reads what a phone shows and what the server keeps (the state, the answer, the photo).
 
 The temple photos stand in for the venue (``scene``: landmarks projected from 3-D points with
-the calibrated cameras). Tests use it as a module: ``play.start_and_join(...)``.
+the calibrated cameras). Tests use it as a module: ``play.start_and_join(...)``. The in-app
+camera's steps are here too (``photograph``: a phone held still, its photo taken in the app),
+with what they send (``SPY``) and the readings of a still phone (``still_reading``).
 """
 
 from __future__ import annotations
@@ -11,12 +13,16 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import cv2
 import httpx2
 import numpy as np
 
+from testbed.client import Phone as ApiPhone
+from testbed.client import start
 from testbed.scenes import (
     NO_PHONES_FRIEND,
     NO_PHONES_LANDMARKS1,
@@ -53,6 +59,23 @@ def start_and_join(
 ) -> tuple[Phone, Phone]:
     """One friend starts a search; the other opens its join link (at ``joiner_server`` when
     its network goes another way); with ``photos``, each then uploads its temple photo."""
+    digits = started(server, starter, screenshots=screenshots, audit=audit)
+    joiner.goto(f"{joiner_server or server}/join/{digits}")  # the join link, on the friend's phone
+    expect(starter.get_by_test_id("waiting")).to_be_hidden()
+    if audit:
+        focused(joiner, "photo-step-title")  # a new screen: its title is read first
+        joiner.audit("the photo step")
+    if photos:
+        upload(starter, temple(PAIR[0]))
+        upload(joiner, temple(PAIR[1]))
+    return starter, joiner
+
+
+def started(
+    server: str, starter: Phone, *, screenshots: Path | None = None, audit: bool = False
+) -> str:
+    """The starter's phone starts a search and shares it (its code, a QR code, waiting for
+    the friend): the code's digits."""
     starter.goto(f"{server}/")
     if screenshots:
         starter.screenshot(path=screenshots / "1-start.png")
@@ -68,33 +91,25 @@ def start_and_join(
         starter.screenshot(path=screenshots / "2-share.png")
     if audit:
         starter.audit("sharing the code")
-    digits = re.sub(r"\D", "", code.inner_text())
-    joiner.goto(
-        f"{joiner_server or server}/join/{digits}"
-    )  # the join link, opened on the friend's phone
-    expect(starter.get_by_test_id("waiting")).to_be_hidden()
-    if audit:
-        focused(joiner, "photo-step-title")  # a new screen: its title is read first
-        joiner.audit("the photo step")
-    if photos:
-        upload(starter, temple(PAIR[0]))
-        upload(joiner, temple(PAIR[1]))
-    return starter, joiner
+    return re.sub(r"\D", "", code.inner_text())
+
+
+def joined_by_link(api: httpx2.Client, phone: Phone, photo: Path | None = None) -> ApiPhone:
+    """A search started over the API (with the starter's ``photo`` when given), joined by
+    ``phone`` with the app's link: the starter's calls."""
+    starter, code = start(api, photo)
+    phone.goto(str(api.base_url.join(f"/join/{code}")))
+    return starter
 
 
 def focused(page: Phone, test_id: str) -> None:
     """Focus is on the element of ``test_id`` (the app moves it to the next step)."""
     active = "() => document.activeElement && document.activeElement.outerHTML.slice(0, 80)"
-    seen: list[str] = []
-
-    def there() -> bool:
-        seen[:] = [page.evaluate(active)]
-        return f'data-testid="{test_id}"' in seen[0]
-
-    try:
-        page.wait_for(there, f"focus on {test_id}")
-    except AssertionError as failed:
-        raise AssertionError(f"{failed}; it is on {seen[-1:]}") from None
+    page.wait_until(
+        lambda: str(page.evaluate(active)),
+        lambda seen: f'data-testid="{test_id}"' in seen,
+        f"focus on {test_id}",
+    )
 
 
 def upload(page: Phone, photo: Path, size: tuple[int, int] = (640, 480)) -> None:
@@ -147,14 +162,28 @@ def find_landmarks(page: Phone, points: np.ndarray, first_id: int = 1, online: b
         saved(page)
 
 
+def marked_and_found(
+    starter: Phone,
+    joiner: Phone,
+    friend: Sequence[float] | np.ndarray,
+    landmarks1: np.ndarray,
+    landmarks2: np.ndarray,
+) -> None:
+    """The search most tests play: the starter marks its ``friend`` and taps ``landmarks1``;
+    the joiner, who cannot see its friend, finds them at ``landmarks2`` (as many as given)."""
+    mark_friend(starter, *friend)
+    tap_landmarks(starter, landmarks1)
+    cannot_see(joiner)
+    find_landmarks(joiner, landmarks2)
+
+
 def to_the_curve(server: str, starter: Phone, joiner: Phone) -> Phone:
     """A search whose taps fit no two phone photos, played to its curve: the starter marks
     the friend and 5 landmarks, the joiner finds 4 of them and sees the curve; the joiner."""
     start_and_join(server, starter, joiner, photos=True)
-    mark_friend(starter, *NO_PHONES_FRIEND)
-    tap_landmarks(starter, NO_PHONES_LANDMARKS1)
-    cannot_see(joiner)
-    find_landmarks(joiner, NO_PHONES_LANDMARKS2[:4])
+    marked_and_found(
+        starter, joiner, NO_PHONES_FRIEND, NO_PHONES_LANDMARKS1, NO_PHONES_LANDMARKS2[:4]
+    )
     expect(joiner.get_by_test_id("answer-curve")).to_be_visible()
     return joiner
 
@@ -174,9 +203,7 @@ def framed(page: Phone) -> tuple[float, float, float, float]:
     frame = page.get_by_test_id("answer-frame")
     expect(frame).to_be_visible()
     page.view_box()
-    x0, y0, x1, y1 = (
-        float(frame.get_attribute(f"data-{n}") or "nan") for n in ("x0", "y0", "x1", "y1")
-    )
+    x0, y0, x1, y1 = frame.numbers("x0", "y0", "x1", "y1")
     return x0, y0, x1, y1
 
 
@@ -184,11 +211,19 @@ def reported_position(page: Phone) -> tuple[np.ndarray, tuple[float, float, floa
     """Where the phone says its friend is, the 95 % ellipse and how it knows."""
     position = page.get_by_test_id("result-position")
     expect(position).to_be_visible()
-    x, y, a, b, angle = (
-        float(position.get_attribute(f"data-{name}") or "nan")
-        for name in ("x", "y", "axis-a", "axis-b", "angle")
-    )
+    x, y, a, b, angle = position.numbers("x", "y", "axis-a", "axis-b", "angle")
     return np.array([x, y]), (a, b, angle), position.get_attribute("data-how") or ""
+
+
+def found_at(
+    page: Phone, truth: np.ndarray, how: str = "solved"
+) -> tuple[np.ndarray, tuple[float, float, float]]:
+    """The phone's answer, known as ``how`` says, its 95 % ellipse holding ``truth`` (an
+    honest region, the claim every answer makes): its centre and ellipse."""
+    centre, ellipse, said = reported_position(page)
+    assert said == how, said
+    assert inside(truth, centre, ellipse), (centre, ellipse, truth)
+    return centre, ellipse
 
 
 def inside(truth: np.ndarray, centre: np.ndarray, ellipse: tuple[float, float, float]) -> bool:
@@ -211,24 +246,29 @@ def session_state(page: Phone) -> dict[str, Any]:
     return state
 
 
+def answer_in(page: Phone, role: str) -> dict[str, Any]:
+    """The answer's part for ``role``'s photo, as the server tells this phone."""
+    mine: dict[str, Any] = session_state(page)["answer"]["in_photo"][role]
+    return mine
+
+
 def stored_photo(server: str, page: Phone, role: str) -> bytes:
     """The photo of ``role`` as the server keeps it (the JPEG), read with this phone's
     session once it is there."""
     joined = page.evaluate("() => JSON.parse(localStorage.getItem('buddy-search.session'))")
     url = f"{server}/api/sessions/{joined['session_id']}/photo/{role}"
     auth = {"Authorization": f"Bearer {joined['token']}"}
-    stored: list[httpx2.Response] = []
-
-    def landed() -> bool:
-        stored[:] = [httpx2.get(url, headers=auth)]
-        return stored[0].is_success
-
-    page.wait_for(landed, f"the {role}'s photo on the server")
-    return stored[0].content
+    stored = page.wait_until(
+        lambda: httpx2.get(url, headers=auth),
+        lambda response: response.is_success,
+        f"the {role}'s photo on the server",
+    )
+    return stored.content
 
 
 def view_scale(page: Phone) -> float:
-    return float(page.get_by_test_id("photo-view").get_attribute("data-scale") or "nan")
+    (scale,) = page.get_by_test_id("photo-view").numbers("scale")
+    return scale
 
 
 def tap_sigma(scale: float, engine: str) -> float:
@@ -236,3 +276,92 @@ def tap_sigma(scale: float, engine: str) -> float:
     Chromium (touch), a pointer's in WebKit (its driver has no touch: the mouse, aimed)."""
     spread = TAP_PRECISION["finger_css" if engine == "chromium" else "loupe_css"]
     return max(TAP_PRECISION["min_sigma_px"], spread / scale)
+
+
+# --- the in-app camera -------------------------------------------------------------------
+
+GRAVITY = 9.80665
+
+# Before the camera opens: keep the form fields of every photo the page sends.
+SPY = """() => {
+  window.sent = [];
+  const send = XMLHttpRequest.prototype.send;
+  XMLHttpRequest.prototype.send = function (body) {
+    if (body instanceof FormData && body.has("photo")) {
+      window.sent.push({
+        gravity: body.getAll("gravity").map(Number),
+        sigma: body.has("gravity_sigma_deg") ? Number(body.get("gravity_sigma_deg")) : null,
+        heading: body.has("heading") ? Number(body.get("heading")) : null,
+        heading_sigma: body.has("heading_sigma_deg") ? Number(body.get("heading_sigma_deg")) : null,
+        type: body.get("photo").type,
+      });
+    }
+    return send.call(this, body);
+  };
+}"""
+
+# iOS asks for motion access (the system's prompt); the person's answer is the argument.
+# Chromium asks through the same DeviceMotionEvent.requestPermission (granted in the tests);
+# WebKitGTK has none, nor a DeviceMotionEvent: the test gives it iOS's.
+ASK_MOTION = """(answer) => {
+  window.DeviceMotionEvent = window.DeviceMotionEvent || function () {};
+  DeviceMotionEvent.requestPermission = () => Promise.resolve(answer);
+}"""
+
+
+def still_reading(down: Sequence[float]) -> tuple[float, float, float]:
+    """What the accelerometer of a phone held still in portrait reads (m/s^2, device frame:
+    x right, y up the screen, z out of the screen; the push against gravity) when ``down``
+    (a unit 3-vector) is down in its upright photo's camera frame (x right, y down, z into
+    the scene): camera/gravity.ts's map from reading to photo at screen angle 0, inverted."""
+    return (-GRAVITY * down[0], GRAVITY * down[1], GRAVITY * down[2])
+
+
+def quaternion(turn: np.ndarray) -> tuple[float, float, float, float]:
+    """The unit quaternion (x, y, z, w) of a 3 x 3 turn: its axis times sin(angle / 2), and
+    cos(angle / 2) (OpenCV's Rodrigues vector is the axis times the angle)."""
+    vector = cv2.Rodrigues(turn)[0].ravel()
+    angle = float(np.linalg.norm(vector))
+    x, y, z = vector / angle * math.sin(angle / 2) if angle > 0 else (0.0, 0.0, 0.0)
+    return float(x), float(y), float(z), math.cos(angle / 2)
+
+
+def angle_deg(a: list[float], b: tuple[float, float, float]) -> float:
+    cos = sum(x * y for x, y in zip(a, b, strict=True)) / math.hypot(*a) / math.hypot(*b)
+    return math.degrees(math.acos(min(1.0, cos)))
+
+
+def camera_step(phone: Phone) -> None:
+    """The photo step, its in-app camera offered; what the page sends from now on is kept
+    (``SPY``, read by :func:`take_photo`)."""
+    expect(phone.get_by_test_id("open-camera")).to_be_visible()
+    phone.evaluate(SPY)
+
+
+def take_photo(phone: Phone) -> dict[str, object]:
+    """Open the in-app camera, wait for the live view, take the photo: the form sent."""
+    camera = phone.get_by_test_id("in-app-camera")
+    expect(camera).to_have_attribute("data-phase", "live")
+    phone.get_by_test_id("shutter").tap()
+    expect(phone.get_by_test_id("photo-view")).to_be_visible()
+    sent: list[dict[str, object]] = phone.wait_until(
+        lambda: phone.evaluate("() => window.sent"),
+        lambda sent: len(sent) > 0,
+        "the photo's upload",
+    )
+    assert len(sent) == 1, sent
+    return sent[0]
+
+
+def photograph(phone: Phone, audit: bool = False) -> dict[str, object]:
+    """The in-app camera opened on a phone held still (its sensors set first), motion
+    access asked once, in the app's words, and allowed; once the words under the view say
+    down is known, the photo taken (with ``audit``, the camera's screen audited first). The
+    form sent."""
+    phone.get_by_test_id("open-camera").tap()
+    expect(phone.get_by_test_id("motion-question")).to_contain_text("which way is down")
+    phone.get_by_test_id("motion-allow").tap()
+    expect(phone.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
+    if audit:
+        phone.audit("the in-app camera")
+    return take_photo(phone)

@@ -146,21 +146,20 @@ FINGERS = r"""([kind, points]) => {
 }"""
 
 
-# A still phone's accelerometer, as a phone's browser reports it: a motion event every 16 ms
-# on the window, until the page goes. WebKitGTK 2.50 has neither a motion sensor nor
-# DeviceMotionEvent (iOS's WebKit has both): the event is then a plain one with the same field.
-MOTION = r"""([x, y, z]) => {
-  const reading = { x, y, z };
-  const native = () =>
-    typeof DeviceMotionEvent === "function" && DeviceMotionEvent.prototype instanceof Event;
-  clearInterval(window.__motion);
-  window.__motion = setInterval(() => {
-    const init = { accelerationIncludingGravity: reading, interval: 16 };
-    const event = native()
-      ? new DeviceMotionEvent("devicemotion", init)
-      : Object.assign(new Event("devicemotion"), init);
-    window.dispatchEvent(event);
-  }, 16);
+# A sensor held at one reading, as a phone's browser reports it: an event of `type` (of the
+# class `name`) with the fields `init` on the window every 16 ms (with `now`, the first at
+# once), until held otherwise under the same `key` or the page goes. WebKitGTK 2.50 has
+# neither a motion nor an orientation sensor, nor DeviceMotionEvent or DeviceOrientationEvent
+# (iOS's WebKit has them): the event is then a plain one with the same fields.
+EVERY_16_MS = r"""([key, name, type, init, now]) => {
+  clearInterval(window[key]);
+  const send = () => {
+    const Native = window[name];
+    const native = typeof Native === "function" && Native.prototype instanceof Event;
+    window.dispatchEvent(native ? new Native(type, init) : Object.assign(new Event(type), init));
+  };
+  if (now) send();
+  window[key] = setInterval(send, 16);
 }"""
 
 
@@ -413,7 +412,9 @@ class WebKitPhone(Phone):
                 time.sleep(0.1)
 
     def hold_still(self, acceleration: tuple[float, float, float]) -> None:
-        self.evaluate(MOTION, list(acceleration))
+        reading = dict(zip("xyz", acceleration, strict=True))
+        init = {"accelerationIncludingGravity": reading, "interval": 16}
+        self.evaluate(EVERY_16_MS, ["__motion", "DeviceMotionEvent", "devicemotion", init, False])
 
     def _found(self, steps: tuple[Step, ...]) -> WebElement | None:
         element = self.evaluate(f"(steps) => ({RESOLVE})(steps)[0]", list(steps))

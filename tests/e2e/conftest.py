@@ -13,6 +13,7 @@ import re
 from collections.abc import Callable, Generator, Iterator
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
+from typing import TypeVar
 
 import httpx2
 import pytest
@@ -34,6 +35,7 @@ VENUE_NAME = "--host-resolver-rules=MAP buddy.test 127.0.0.1"
 FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream")
 SCREENSHOTS = ROOT / "artifacts" / "screenshots"
 ENGINES = ("chromium", "webkit")
+P = TypeVar("P", bound=Phone)
 # Each test's reports (setup, call, teardown), for its phones' teardown.
 REPORTS = pytest.StashKey[dict[str, pytest.TestReport]]()
 
@@ -138,7 +140,7 @@ def phone(
     lent is given back after the test, and kept if it passed); the test fails if its page
     reported errors."""
     if engine == "chromium" and browser is not None:
-        yield from _closed_after(ChromiumPhone(playwright, browser, model), request)
+        yield from closed_after(ChromiumPhone(playwright, browser, model), request)
         return
     if engine == "chromium":
         yield from _pooled_chromium(model, playwright, request)
@@ -186,7 +188,9 @@ def _lent(
     assert found == [], f"the {lent}'s pages reported errors"
 
 
-def _closed_after(started: Phone, request: pytest.FixtureRequest) -> Iterator[Phone]:
+def closed_after(started: P, request: pytest.FixtureRequest) -> Iterator[P]:
+    """``started`` for the test, then closed; the test fails if its pages reported errors
+    it did not expect."""
     try:
         yield started
         errors = started.console_errors()

@@ -11,6 +11,7 @@ starter moves the joiner's answer without a tap of the joiner's.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,7 @@ from PIL import Image
 
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
-from testbed.client import numbered, start
+from testbed.client import numbered
 from testbed.scenes import Camera, Scene, in_photo, look_at
 
 pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.turns]
@@ -72,11 +73,6 @@ OVERLAID = """() => {
                        && r.top < stage.bottom && r.bottom > stage.top)
     .map(([name, r]) => [name, r.left, r.top, r.right, r.bottom]);
 }"""
-# The frame's brackets and label on the screen (client px).
-FRAME_BOX = """() => {
-  const r = document.querySelector('[data-testid="answer-frame"]').getBoundingClientRect();
-  return [r.left, r.top, r.right, r.bottom];
-}"""
 
 
 def intrinsics(focal: float, size: tuple[int, int]) -> np.ndarray:
@@ -115,7 +111,7 @@ def starter_taps(scene: Scene) -> dict[str, Any]:
     return {"friend": scene.epipole1, "landmarks": numbered(scene.landmarks1)}
 
 
-def overlaps(a: list[float], b: list[float]) -> bool:
+def overlaps(a: Sequence[float], b: Sequence[float]) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
@@ -123,31 +119,22 @@ def clear_of_everything(phone: Phone, where: str) -> None:
     """Once the view has settled (the status may grow after the answer: the view then
     moves again), no overlaid element's box meets the frame's."""
     expect(phone.get_by_test_id("answer-frame")).to_be_visible()
-    seen: list[Any] = []
 
-    def clear() -> bool:
+    def covering() -> tuple[Sequence[float], list[Any]]:
+        """The frame's box (its brackets and label) and the overlaid elements it meets."""
         phone.view_box()  # settled: not gliding, nor about to
-        frame = phone.evaluate(FRAME_BOX)
-        seen[:] = [frame, [item for item in phone.evaluate(OVERLAID) if overlaps(frame, item[1:])]]
-        return not seen[1]
+        frame = phone.get_by_test_id("answer-frame").box()
+        return frame, [item for item in phone.evaluate(OVERLAID) if overlaps(frame, item[1:])]
 
-    try:
-        phone.wait_for(clear, f"the frame clear, the friend at the {where}", timeout=SETTLE_S)
-    except AssertionError:
-        frame, covering = seen
-        raise AssertionError(f"{phone}, the friend at {where}: {frame} under {covering}") from None
+    what = f"the frame clear, the friend at the {where}"
+    phone.wait_until(covering, lambda seen: not seen[1], what, timeout=SETTLE_S)
 
 
 def test_the_frame_lands_clear_of_every_word_and_control(
-    server: str, api: httpx2.Client, iphone: Phone, tmp_path: Path
+    api: httpx2.Client, iphone: Phone, tmp_path: Path
 ) -> None:
-    starter, code = start(api, plain_photo(STARTER_SIZE, tmp_path / "starter.png"))
-    iphone.goto(f"{server}/join/{code}")
-    iphone.get_by_test_id("photo-input").set_input_files(
-        plain_photo(JOINER_SIZE, tmp_path / "joiner.png")
-    )
-    view = iphone.get_by_test_id("photo-view")
-    expect(view).to_have_attribute("data-photo-height", str(JOINER_SIZE[1]))
+    starter = play.joined_by_link(api, iphone, plain_photo(STARTER_SIZE, tmp_path / "starter.png"))
+    play.upload(iphone, plain_photo(JOINER_SIZE, tmp_path / "joiner.png"), JOINER_SIZE)
     # The first answer elsewhere: each place below is then a new one, brought into view.
     starter.tapped(**starter_taps(starter_at((0.6, 0.45))))
     play.cannot_see(iphone)

@@ -85,16 +85,8 @@ def set_answer_shown(page: Phone, shown: bool) -> None:
     )
 
 
-def view_rect(page: Phone) -> list[float]:
-    rect: list[float] = page.get_by_test_id("photo-view").evaluate(
-        "(view) => { const r = view.getBoundingClientRect();"
-        " return [r.left, r.top, r.right, r.bottom]; }"
-    )
-    return rect
-
-
 def in_view(page: Phone, point: tuple[float, float]) -> bool:
-    left, top, right, bottom = view_rect(page)
+    left, top, right, bottom = page.get_by_test_id("photo-view").box()
     x, y = page.photo_to_screen(*point)
     return left <= x <= right and top <= y <= bottom
 
@@ -115,10 +107,7 @@ def test_the_friend_stays_visible_inside_the_frame(
     starter, joiner = play.start_and_join(server, pixel, iphone)
     play.upload(starter, play.temple(play.PAIR[0]))
     play.upload(joiner, photo)
-    play.mark_friend(starter, *truth.epipole1)
-    play.tap_landmarks(starter, truth.landmarks1)
-    play.cannot_see(joiner)
-    play.find_landmarks(joiner, truth.landmarks2)
+    play.marked_and_found(starter, joiner, truth.epipole1, truth.landmarks1, truth.landmarks2)
 
     x0, y0, x1, y1 = play.framed(joiner)
     assert x0 <= figure[0], (x0, figure)
@@ -168,10 +157,7 @@ def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
     order = np.concatenate([order[1:3], order[:1], order[3:]])
     points1, points2 = truth.landmarks1[order], truth.landmarks2[order]
     starter, joiner = play.start_and_join(server, pixel, iphone, photos=True)
-    play.mark_friend(starter, *truth.epipole1)
-    play.tap_landmarks(starter, points1)
-    play.cannot_see(joiner)
-    play.find_landmarks(joiner, points2[:2])
+    play.marked_and_found(starter, joiner, truth.epipole1, points1, points2[:2])
     expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
 
     far = joiner.photo_to_screen(*points2[2])
@@ -202,13 +188,6 @@ def test_an_answer_arriving_while_zoomed_in_elsewhere_comes_into_view(
         assert joiner.evaluate("() => window.__glided") is False, "the view glided"
 
 
-def box_of(page: Phone, test_id: str) -> list[float]:
-    box: list[float] = page.get_by_test_id(test_id).evaluate(
-        "(b) => { const r = b.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; }"
-    )
-    return box
-
-
 def test_a_tap_beside_a_control_places_a_mark_or_nothing(
     server: str, pixel: Phone, iphone: Phone
 ) -> None:
@@ -217,11 +196,11 @@ def test_a_tap_beside_a_control_places_a_mark_or_nothing(
     a mark where it was made (the friend's first, then landmarks)."""
     starter, _ = play.start_and_join(server, pixel, iphone)
     play.upload(starter, play.temple(play.PAIR[0]))
-    left, top, right, bottom = view_rect(starter)
+    left, top, right, bottom = starter.get_by_test_id("photo-view").box()
     starter.zoom(((left + right) / 2, (top + bottom) / 2), 3.0)
     zoomed = play.view_scale(starter)
     expect(starter.get_by_test_id("fit")).to_be_visible()
-    fit = box_of(starter, "fit")
+    fit = starter.get_by_test_id("fit").box()
     mark = starter.get_by_test_id("friend-mark")
     for x, y in ((fit[0] - 8, (fit[1] + fit[3]) / 2), ((fit[0] + fit[2]) / 2, fit[1] - 8)):
         starter.tap_at(x, y)
@@ -230,7 +209,7 @@ def test_a_tap_beside_a_control_places_a_mark_or_nothing(
 
     # The friend's prompt with its button, just below the photo.
     starter.get_by_test_id("mark-friend").tap()
-    button = box_of(starter, "remove-friend")
+    button = starter.get_by_test_id("remove-friend").box()
     assert button[1] - bottom < 20, "the button is far from the photo: the test would prove nothing"
     x, y = (button[0] + button[2]) / 2, bottom - 8
     starter.tap_at(x, y)

@@ -22,7 +22,7 @@ from typing import Any
 
 import httpx2
 import pytest
-from conftest import unexpected
+from conftest import closed_after
 from playwright.sync_api import Browser, Playwright
 
 from deploy.replica import serve
@@ -43,12 +43,7 @@ def installed(
     """A Pixel 7 whose browser runs the app's service worker; the test fails if its pages
     reported errors."""
     phone = ChromiumPhone(playwright, browser, "Pixel 7", service_workers=True)
-    try:
-        yield phone
-        errors = phone.console_errors()
-    finally:
-        phone.close()
-    assert unexpected(errors, request) == [], "the installed phone's pages reported errors"
+    yield from closed_after(phone, request)
 
 
 def worker_ready(phone: ChromiumPhone) -> None:

@@ -69,10 +69,7 @@ def midway(starter: Phone, joiner: Phone, s: Any, urls: tuple[str, str], found: 
     the joiner, who cannot see its friend, has found the first ``found`` (each phone at its
     address of ``urls``)."""
     play.start_and_join(urls[0], starter, joiner, joiner_server=urls[1], photos=True)
-    play.mark_friend(starter, *s.epipole1)
-    play.tap_landmarks(starter, s.landmarks1[:3])
-    play.cannot_see(joiner)
-    play.find_landmarks(joiner, s.landmarks2[:found])
+    play.marked_and_found(starter, joiner, s.epipole1, s.landmarks1[:3], s.landmarks2[:found])
 
 
 def shown(phone: Phone) -> dict[str, Any]:

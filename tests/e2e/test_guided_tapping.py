@@ -41,7 +41,7 @@ PROMPT_BOXES = """() => {
 
 
 def band_of(page: Phone, role: str, landmark: int) -> dict[str, object]:
-    bands = play.session_state(page)["answer"]["in_photo"][role]["bands"]
+    bands = play.answer_in(page, role)["bands"]
     return next(band for band in bands if band["id"] == landmark)
 
 
@@ -50,17 +50,14 @@ def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
 ) -> None:
     starter, joiner = play.start_and_join(server, pixel, iphone, photos=True)
     truth = play.scene(7, seed=16)
-    play.mark_friend(starter, *truth.epipole1)
-    play.tap_landmarks(starter, truth.landmarks1)
-    play.cannot_see(joiner)
-    play.find_landmarks(joiner, truth.landmarks2[:5])
+    play.marked_and_found(starter, joiner, truth.epipole1, truth.landmarks1, truth.landmarks2[:5])
 
     # The answer is in: #6's band is drawn on the joiner's photo, and holds the landmark.
     drawn = joiner.get_by_test_id("landmark-band")
     expect(drawn).to_have_attribute("data-id", "6")
     band = band_of(joiner, "joiner", 6)
     assert inside(band["outline"], truth.landmarks2[5])  # type: ignore[arg-type]
-    assert play.session_state(starter)["answer"]["in_photo"]["starter"]["bands"] == []
+    assert play.answer_in(starter, "starter")["bands"] == []
     joiner.screenshot(path=screenshots / "10-band-joiner.png")
 
     # #6 tapped 60 px across its band: flagged at once, in words and with a re-check.
@@ -84,7 +81,7 @@ def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
     joiner.tap_photo(*truth.landmarks2[5])
     play.saved(joiner)
     expect(joiner.get_by_test_id("recheck")).to_have_count(0)
-    assert play.session_state(joiner)["answer"]["in_photo"]["joiner"]["misfits"] == []
+    assert play.answer_in(joiner, "joiner")["misfits"] == []
 
 
 # The suggestion is the server's; its ring and the one tap are the band test's drawing and
@@ -95,23 +92,13 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
 ) -> None:
     hall = rendered_pair(24)
     s = hall.scene
-    photos = []
-    for name, photo in (("starter.jpg", hall.photo1), ("joiner.jpg", hall.photo2)):
-        path = tmp_path / name
-        cv2.imwrite(str(path), photo, [cv2.IMWRITE_JPEG_QUALITY, 92])
-        photos.append(path)
     starter, joiner = play.start_and_join(server, pixel, iphone)
-    sizes = (s.image_size1, s.image_size2)
-    for page, path, (width, height) in zip((starter, joiner), photos, sizes, strict=True):
-        page.get_by_test_id("photo-input").set_input_files(path)
-        expect(page.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", str(width))
-        expect(page.get_by_test_id("photo-view")).to_have_attribute(
-            "data-photo-height", str(height)
-        )
-    play.mark_friend(starter, *s.epipole1)
-    play.tap_landmarks(starter, s.landmarks1[:12])
-    play.cannot_see(joiner)
-    play.find_landmarks(joiner, s.landmarks2[:6])
+    shots = ((starter, hall.photo1, s.image_size1), (joiner, hall.photo2, s.image_size2))
+    for role, (page, photo, size) in zip(("starter", "joiner"), shots, strict=True):
+        path = tmp_path / f"{role}.jpg"
+        cv2.imwrite(str(path), photo, [cv2.IMWRITE_JPEG_QUALITY, 92])
+        play.upload(page, path, size)
+    play.marked_and_found(starter, joiner, s.epipole1, s.landmarks1[:12], s.landmarks2[:6])
 
     # The first landmark past the answer for which the search is sure: its ring, then a tap.
     diagonal = float(np.hypot(*s.image_size2))
@@ -127,7 +114,7 @@ def test_a_sure_match_is_suggested_and_one_tap_takes_it(
         pytest.fail("no suggestion for landmarks 7-12")
     suggested = joiner.get_by_test_id("suggested-spot")
     expect(suggested).to_have_attribute("data-id", str(landmark))
-    spot = np.array([float(suggested.get_attribute(f"data-{axis}") or "nan") for axis in "xy"])
+    spot = np.array(suggested.numbers("x", "y"))
     assert np.hypot(*(spot - s.landmarks2[landmark - 1])) < 0.01 * diagonal
     joiner.screenshot(path=screenshots / "12-suggestion-joiner.png")
     # Both buttons whole in the prompt, and the photo and "Can't see it" where they were when

@@ -13,19 +13,16 @@ docs/browsers.md.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
-import cv2
 import httpx2
 import numpy as np
 import pytest
 
+from testbed.browser import play
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import Phone, expect
-from testbed.client import Phone as ApiPhone
-from testbed.client import start
+from testbed.browser.play import ASK_MOTION, angle_deg, quaternion, still_reading, take_photo
 
-GRAVITY = 9.80665
 # The phone upright in portrait, aimed 20 degrees above the horizon and turned 6 degrees
 # clockwise in the screen's plane: down in its photo (x right, y down, z into the scene).
 AIM_UP, TURN = math.radians(20), math.radians(6)
@@ -34,14 +31,6 @@ DOWN = (
     math.cos(TURN) * math.cos(AIM_UP),
     -math.sin(AIM_UP),
 )
-
-
-def still_reading(down: Sequence[float]) -> tuple[float, float, float]:
-    """What the accelerometer of a phone held still in portrait reads (m/s^2, device frame:
-    x right, y up the screen, z out of the screen; the push against gravity) when ``down``
-    (a unit 3-vector) is down in its upright photo's camera frame (x right, y down, z into
-    the scene): camera/gravity.ts's map from reading to photo at screen angle 0, inverted."""
-    return (-GRAVITY * down[0], GRAVITY * down[1], GRAVITY * down[2])
 
 
 READING = still_reading(DOWN)
@@ -68,42 +57,6 @@ def device_to_earth(heading_deg: float) -> np.ndarray:
     return turn
 
 
-def quaternion(turn: np.ndarray) -> tuple[float, float, float, float]:
-    """The unit quaternion (x, y, z, w) of a 3 x 3 turn: its axis times sin(angle / 2), and
-    cos(angle / 2) (OpenCV's Rodrigues vector is the axis times the angle)."""
-    vector = cv2.Rodrigues(turn)[0].ravel()
-    angle = float(np.linalg.norm(vector))
-    x, y, z = vector / angle * math.sin(angle / 2) if angle > 0 else (0.0, 0.0, 0.0)
-    return float(x), float(y), float(z), math.cos(angle / 2)
-
-
-# Before the camera opens: keep the form fields of every photo the page sends.
-SPY = """() => {
-  window.sent = [];
-  const send = XMLHttpRequest.prototype.send;
-  XMLHttpRequest.prototype.send = function (body) {
-    if (body instanceof FormData && body.has("photo")) {
-      window.sent.push({
-        gravity: body.getAll("gravity").map(Number),
-        sigma: body.has("gravity_sigma_deg") ? Number(body.get("gravity_sigma_deg")) : null,
-        heading: body.has("heading") ? Number(body.get("heading")) : null,
-        heading_sigma: body.has("heading_sigma_deg") ? Number(body.get("heading_sigma_deg")) : null,
-        type: body.get("photo").type,
-      });
-    }
-    return send.call(this, body);
-  };
-}"""
-
-# iOS asks for motion access (the system's prompt); the person's answer is the argument.
-# Chromium asks through the same DeviceMotionEvent.requestPermission (granted in the tests);
-# WebKitGTK has none, nor a DeviceMotionEvent: the test gives it iOS's.
-ASK_MOTION = """(answer) => {
-  window.DeviceMotionEvent = window.DeviceMotionEvent || function () {};
-  DeviceMotionEvent.requestPermission = () => Promise.resolve(answer);
-}"""
-
-
 # The person refuses the camera, once.
 REFUSE_CAMERA_ONCE = """() => {
   const open = navigator.mediaDevices.getUserMedia.bind(navigator.mediaDevices);
@@ -114,67 +67,18 @@ REFUSE_CAMERA_ONCE = """() => {
 }"""
 
 
-def joined(server: str, api: httpx2.Client, phone: Phone) -> ApiPhone:
-    """A search started over the API, joined by ``phone`` with its link: the photo step.
-    Returns the starter's calls."""
-    starter, code = start(api)
-    phone.goto(f"{server}/join/{code}")
-    expect(phone.get_by_test_id("open-camera")).to_be_visible()
-    phone.evaluate(SPY)
-    return starter
-
-
-def kept(starter: ApiPhone, phone: Phone) -> dict[str, object] | None:
-    """The joiner's photo as the server keeps it, read by the other phone once it is there."""
-    found: list[dict[str, object] | None] = []
-
-    def stored() -> bool:
-        found[:] = [starter.state()["photos"]["joiner"]]
-        return found[0] is not None
-
-    phone.wait_for(stored, "the photo on the server")
-    return found[0]
-
-
-def take_photo(phone: Phone) -> dict[str, object]:
-    """Open the in-app camera, wait for the live view, take the photo: the form sent."""
-    camera = phone.get_by_test_id("in-app-camera")
-    expect(camera).to_have_attribute("data-phase", "live")
-    phone.get_by_test_id("shutter").tap()
-    expect(phone.get_by_test_id("photo-view")).to_be_visible()
-    sent: list[dict[str, object]] = []
-
-    def photo_sent() -> bool:
-        sent[:] = phone.evaluate("() => window.sent")
-        return len(sent) > 0
-
-    phone.wait_for(photo_sent, "the photo's upload")
-    assert len(sent) == 1, sent
-    return sent[0]
-
-
-def angle_deg(a: list[float], b: tuple[float, float, float]) -> float:
-    cos = sum(x * y for x, y in zip(a, b, strict=True)) / math.hypot(*a) / math.hypot(*b)
-    return math.degrees(math.acos(min(1.0, cos)))
-
-
 @pytest.mark.engines("chromium", "webkit")
-def test_the_in_app_camera_sends_down_with_the_photo(
-    server: str, api: httpx2.Client, pixel: Phone
-) -> None:
-    starter = joined(server, api, pixel)
+def test_the_in_app_camera_sends_down_with_the_photo(api: httpx2.Client, pixel: Phone) -> None:
+    starter = play.joined_by_link(api, pixel)  # the search started over the API
+    play.camera_step(pixel)
     pixel.hold_still(READING)
     if isinstance(pixel, ChromiumPhone):
         pixel.hold_orientation(quaternion(device_to_earth(HEADING)))
     if pixel.engine == "webkit":
         pixel.evaluate(ASK_MOTION, "granted")
-    pixel.get_by_test_id("open-camera").tap()
-    # Asked once, in the app's words, then the browser's.
-    expect(pixel.get_by_test_id("motion-question")).to_contain_text("which way is down")
-    pixel.get_by_test_id("motion-allow").tap()
-    # The words under the view follow the phone: still, it knows down.
-    expect(pixel.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
-    form = take_photo(pixel)
+    # Asked once, in the app's words, then the browser's; the words under the view follow
+    # the phone: still, it knows down.
+    form = play.photograph(pixel)
     gravity = form["gravity"]
     assert isinstance(gravity, list), form
     assert len(gravity) == 3, form
@@ -182,9 +86,13 @@ def test_the_in_app_camera_sends_down_with_the_photo(
     assert angle_deg(gravity, DOWN) < 1.0, (gravity, DOWN)
     # A steady reading: the accelerometer's own bias is its sigma.
     assert form["sigma"] == 1.0, form
-    # The server keeps it with the photo, for the answer (and tells the other phone).
-    photo = kept(starter, pixel)
-    assert photo is not None
+    # The server keeps it with the photo, for the answer (and tells the other phone), read
+    # by the other phone once it is there.
+    photo = pixel.wait_until(
+        lambda: starter.state()["photos"]["joiner"],
+        lambda found: found is not None,
+        "the photo on the server",
+    )
     unit = [value / math.hypot(*gravity) for value in gravity]
     assert photo["gravity"] == {"down": pytest.approx(unit, abs=1e-6), "sigma_deg": 1.0}
     if pixel.engine == "chromium":
@@ -201,8 +109,9 @@ def test_the_in_app_camera_sends_down_with_the_photo(
     expect(pixel.get_by_test_id("in-app-camera")).to_have_count(0)
 
 
-def test_refused_camera_and_motion_access(server: str, api: httpx2.Client, iphone: Phone) -> None:
-    joined(server, api, iphone)
+def test_refused_camera_and_motion_access(api: httpx2.Client, iphone: Phone) -> None:
+    play.joined_by_link(api, iphone)
+    play.camera_step(iphone)
     iphone.hold_still(READING)
     iphone.evaluate(ASK_MOTION, "denied")
     iphone.evaluate(REFUSE_CAMERA_ONCE)

@@ -72,9 +72,16 @@ OVERFLOWING = """() => {
 }"""
 
 
-def context(playwright: Playwright, browser: Browser, locale: str, zoom: int = 1) -> BrowserContext:
-    """A Pixel 7 whose language is ``locale``, its text zoomed ``zoom`` times."""
-    device: dict[str, Any] = dict(playwright.devices[MODEL])
+def context(
+    playwright: Playwright,
+    browser: Browser,
+    locale: str | None,
+    zoom: int = 1,
+    model: str = MODEL,
+) -> BrowserContext:
+    """A phone of ``model`` whose language is ``locale`` (else the browser's), its text
+    zoomed ``zoom`` times."""
+    device: dict[str, Any] = dict(playwright.devices[model])
     device.pop("default_browser_type", None)
     viewport = device["viewport"]
     device["viewport"] = {"width": viewport["width"] // zoom, "height": viewport["height"] // zoom}
@@ -98,15 +105,22 @@ def speaks(page: Page, language: str) -> None:
     page.wait_for_function("(lang) => document.documentElement.lang === lang", arg=language)
 
 
-def each_language(page: Page, screen: str) -> list[list[str]]:
-    """Switch through every language on this screen; what overflows, by language."""
-    found: list[list[str]] = []
+def in_each_language(page: Page) -> Iterator[str]:
+    """Switch through every language with the switch, each once its words are laid out."""
     for language in LANGUAGES:
         page.locator("[data-testid=language] select").first.select_option(language)
         speaks(page, language)
         page.wait_for_timeout(50)  # one frame: the words laid out
-        found += [[language, screen, *problem] for problem in page.evaluate(OVERFLOWING)]
-    return found
+        yield language
+
+
+def each_language(page: Page, screen: str) -> list[list[str]]:
+    """Switch through every language on this screen; what overflows, by language."""
+    return [
+        [language, screen, *problem]
+        for language in in_each_language(page)
+        for problem in page.evaluate(OVERFLOWING)
+    ]
 
 
 def test_the_phones_language_is_chosen_and_kept(
@@ -170,10 +184,7 @@ def each_status(page: Page, screen: str, shots: Path) -> tuple[list[list[str]], 
     found: list[list[str]] = []
     opened: list[str] = []
     more = page.get_by_test_id("status-more")
-    for language in LANGUAGES:
-        page.locator("[data-testid=language] select").first.select_option(language)
-        speaks(page, language)
-        page.wait_for_timeout(50)  # one frame: the words laid out
+    for language in in_each_language(page):
         found += [[language, screen, "status", why] for why in page.evaluate(STATUS_CUT)]
         if more.count():
             opened.append(language)
@@ -259,21 +270,18 @@ def test_the_top_bar_says_friend_online_in_full(
     with httpx2.Client(base_url=server, timeout=30) as http:
         starter, code = start(http)
         events = starter.listen()  # the friend is online
-        device: dict[str, Any] = dict(playwright.devices["iPhone 13"])
-        device.pop("default_browser_type", None)
-        opened = browser.new_context(**device)
+        opened = context(playwright, browser, None, model="iPhone 13")
         try:
             page = opened.new_page()
             page.goto(f"{server}/join/{code}")
             page.get_by_test_id("photo-input").set_input_files(play.TEMPLE / "templeSR0006.png")
             expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
             expect(page.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
-            cut = []
-            for language in LANGUAGES:
-                page.locator("[data-testid=language] select").first.select_option(language)
-                speaks(page, language)
-                page.wait_for_timeout(50)  # one frame: the words laid out
-                cut += [[language, words] for words in page.evaluate(CUT)]
+            cut = [
+                [language, words]
+                for language in in_each_language(page)
+                for words in page.evaluate(CUT)
+            ]
             assert cut == []
         finally:
             opened.close()

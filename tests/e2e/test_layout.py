@@ -14,11 +14,8 @@ from test_answer_clear import OVERLAID
 from deploy.replica import serve
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
-from testbed.client import start
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
-
-TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 
 # What sticks out to the right of the window: [tag, class, right edge] of each element, but
 # the photo's own layers inside its view, which clips them (a photo opens larger than the
@@ -35,10 +32,8 @@ def test_the_top_bar_never_widens_the_screen(iphone: Phone, tmp_path: Path) -> N
     """The longest top bar: the friend offline, this phone reconnecting, a save pending."""
     with serve(tmp_path) as server:
         with httpx2.Client(base_url=server.base_url, timeout=30) as http:
-            _, code = start(http)
-        iphone.goto(f"{server.base_url}/join/{code}")
-        iphone.get_by_test_id("photo-input").set_input_files(TEMPLE / "templeSR0006.png")
-        expect(iphone.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
+            play.joined_by_link(http, iphone)
+        play.upload(iphone, play.temple("templeSR0006"))
     # The server is gone: the stream is down, and a tap cannot be saved.
     expect(iphone.get_by_test_id("reconnecting")).to_be_visible()
     iphone.tap_photo(320, 240)
@@ -82,18 +77,13 @@ def test_the_photo_takes_the_screen_either_way_up(
     the screen, it opens filling the view around its middle (the whole photo a button
     away). Either way the photo takes at least SHARE_TARGET of the screen on both phones."""
     starter, joiner = play.start_and_join(server, pixel, iphone)
-    portrait = tmp_path / "portrait.png"
-    with Image.open(TEMPLE / "templeSR0006.png") as photo:
+    landscape, portrait = play.temple("templeSR0006"), tmp_path / "portrait.png"
+    with Image.open(landscape) as photo:
         photo.transpose(Image.Transpose.ROTATE_90).save(portrait)
     for phone in (starter, joiner):
-        for path, (width, height) in (
-            (portrait, (480, 640)),
-            (TEMPLE / "templeSR0006.png", (640, 480)),
-        ):
-            phone.get_by_test_id("photo-input").set_input_files(path)
+        for path, (width, height) in ((portrait, (480, 640)), (landscape, (640, 480))):
+            play.upload(phone, path, (width, height))
             view = phone.get_by_test_id("photo-view")
-            expect(view).to_have_attribute("data-photo-height", str(height))
-            expect(view).to_have_attribute("data-photo-width", str(width))
             expect(phone.get_by_test_id("photo-loading")).to_have_count(0)  # drawn, not loading
             assert view.evaluate("(view) => view.getBoundingClientRect().width") == phone.evaluate(
                 "() => innerWidth"

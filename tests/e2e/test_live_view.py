@@ -21,7 +21,6 @@ object-fit: cover shows the video.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections.abc import Callable
@@ -33,13 +32,13 @@ import httpx2
 import numpy as np
 import pytest
 from playwright.sync_api import Route
-from test_in_app_camera import SPY, still_reading, take_photo
 
 from testbed.browser import play
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import Element, Phone, expect
+from testbed.browser.play import still_reading
 from testbed.client import Phone as ApiPhone
-from testbed.client import numbered, start
+from testbed.client import numbered
 from testbed.opening import MARK_TAP, OPENING_STEPS
 from testbed.scenes import Scene
 from testbed.y4m import write_y4m
@@ -61,16 +60,11 @@ def turned_right(degrees: float) -> tuple[float, float, float, float]:
     return (w * x0, z * x0, z * w0, w * w0)
 
 
-class Orientation:
-    """The phone's relative orientation, overridden from the start (before the page reads
-    it: Chromium takes the override for sensors started after it)."""
-
-    def __init__(self, phone: ChromiumPhone) -> None:
-        self._sensors = phone.sensors
-
-    def hold(self, quaternion: tuple[float, float, float, float]) -> None:
-        """Held so from now on (Chromium sends a reading when it changes)."""
-        self._sensors.hold_orientation(quaternion)
+def hold_turned(phone: ChromiumPhone, right_deg: float) -> None:
+    """The phone's relative orientation from now on (Chromium sends a reading when it
+    changes): upright and level, turned right by ``right_deg``. Set first before the page
+    reads it: Chromium takes the override for sensors started after it."""
+    phone.sensors.hold_orientation(turned_right(right_deg))
 
 
 class Motion:
@@ -99,8 +93,9 @@ class Motion:
         self.hold_still()
 
 
-def shift_clock(phone: Phone, ms: float) -> None:
-    """The page's clock (performance.now) moved on by ``ms``: the view's anchor that old."""
+def drifted(phone: Phone, ms: float = 121_000) -> None:
+    """The page's clock (performance.now) moved on by ``ms``, the view's anchor that old:
+    the view says it may have drifted."""
     phone.evaluate(
         """(ms) => {
             const now = performance.now.bind(performance);
@@ -108,6 +103,8 @@ def shift_clock(phone: Phone, ms: float) -> None:
         }""",
         ms,
     )
+    expect(phone.get_by_test_id("live-warning")).to_contain_text("may have drifted")
+    expect(phone.get_by_test_id("live-view")).to_have_attribute("data-warning", "drift")
 
 
 # A click on Align by the page itself: no driver's round trips.
@@ -121,18 +118,15 @@ OPENING_BOUND_MS = 5000.0
 
 def opening_ms(phone: Phone) -> float:
     """How long the view took to open, from the tap to the first marker, ms (waited for)."""
-    took: list[float] = []
-
-    def measured() -> bool:
-        value = phone.evaluate(OPENING_STEPS)["marker-drawn"]
-        took[:] = [] if value is None else [float(value)]
-        return bool(took)
-
-    phone.wait_for(measured, "the first marker drawn")
+    drawn = phone.wait_until(
+        lambda: phone.evaluate(OPENING_STEPS)["marker-drawn"],
+        lambda ms: ms is not None,
+        "the first marker drawn",
+    )
     steps = phone.evaluate(OPENING_STEPS)
     shown = {step: None if ms is None else round(ms) for step, ms in steps.items()}
     print(f"Show me's opening ({phone}), ms after the tap: {shown}")
-    return took[0]
+    return float(drawn)
 
 
 def show_me(phone: Phone) -> tuple[Element, float]:
@@ -155,8 +149,7 @@ def answered(starter: ApiPhone, joiner: Phone, truth: Scene, found: np.ndarray) 
     play.find_landmarks(joiner, found)
     _, _, how = play.reported_position(joiner)
     assert how == "solved"
-    mine: dict[str, Any] = play.session_state(joiner)["answer"]["in_photo"]["joiner"]
-    return mine
+    return play.answer_in(joiner, "joiner")
 
 
 def turn_right(degrees: float) -> np.ndarray:
@@ -218,7 +211,30 @@ def degrees_apart(a: np.ndarray, b: np.ndarray, focal_screen: float) -> float:
 def marker(phone: Phone) -> np.ndarray:
     frame = phone.get_by_test_id("live-frame")
     expect(frame).to_be_visible()
-    return np.array([float(frame.get_attribute(n) or "nan") for n in ("data-x", "data-y")])
+    return np.array(frame.numbers("x", "y"))
+
+
+def placed_marker(
+    phone: Phone,
+    friend: np.ndarray,
+    focal: float,
+    turn: float,
+    when: str,
+    photo: tuple[float, float] | None = None,
+) -> float:
+    """Once the phone is turned right by ``turn`` degrees: the marker where the friend
+    projects (``expected_on_screen``, of ``photo`` when given), within TOLERANCE_DEG, waited
+    for; its error, degrees."""
+    expected, scale, _ = expected_on_screen(phone, friend, focal, turn, photo)
+    focal_screen = scale * focal
+
+    def placed() -> bool:
+        if phone.get_by_test_id("live-frame").count() == 0:
+            return False
+        return degrees_apart(marker(phone), expected, focal_screen) < TOLERANCE_DEG
+
+    phone.wait_for(placed, f"the marker where the friend is, turned {turn:.1f} degrees, {when}")
+    return degrees_apart(marker(phone), expected, focal_screen)
 
 
 class Reanchoring:
@@ -247,9 +263,7 @@ class Reanchoring:
                 "reason": "frame_not_matched",
                 "message": "The frame does not match the photo.",
             }
-            route.fulfill(
-                status=422, content_type="application/json", body=json.dumps({"error": refusal})
-            )
+            route.fulfill(status=422, json={"error": refusal})
             return
         answer = {
             "rotation": self.rotation,
@@ -257,44 +271,37 @@ class Reanchoring:
             "inliers": 200,
             "degrees": 0.0,
         }
-        route.fulfill(status=200, content_type="application/json", body=json.dumps(answer))
+        route.fulfill(status=200, json=answer)
 
 
 def photographed_and_answered(
     api: httpx2.Client, filming: Callable[[Path], Phone], tmp_path: Path
-) -> tuple[ChromiumPhone, Motion, Orientation, np.ndarray, float]:
+) -> tuple[ChromiumPhone, Motion, np.ndarray, float]:
     """The joiner photographs the temple in the app, upright and level (its camera films
     that photo); the starter (the API) marks the joiner and taps three landmarks, which the
-    joiner finds: the joiner's phone, its motion and orientation, and the joiner's answer
-    (the friend in its photo, px, and the focal length, px)."""
+    joiner finds: the joiner's phone, its motion, and the joiner's answer (the friend in its
+    photo, px, and the focal length, px)."""
     photo = cv2.imread(str(play.temple(play.PAIR[1])), cv2.IMREAD_COLOR)
     assert photo is not None
     video = tmp_path / "joiner.y4m"
     write_y4m(video, [photo.astype(np.uint8)])
     joiner = filming(video)
     assert isinstance(joiner, ChromiumPhone)
-    starter, code = start(api, play.temple(play.PAIR[0]))
     truth = play.scene(3, seed=12)
 
     # The joiner photographs the temple in the app, upright and level.
-    joiner.goto(str(api.base_url.join(f"/join/{code}")))
-    expect(joiner.get_by_test_id("open-camera")).to_be_visible()
-    joiner.evaluate(SPY)
+    starter = play.joined_by_link(api, joiner, play.temple(play.PAIR[0]))
+    play.camera_step(joiner)
     motion = Motion(joiner, still_reading([0.0, 1.0, 0.0]))
-    orientation = Orientation(joiner)
-    orientation.hold(UPRIGHT)
-    joiner.get_by_test_id("open-camera").tap()
-    joiner.get_by_test_id("motion-allow").tap()
-    expect(joiner.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
-    joiner.audit("the in-app camera")
-    take_photo(joiner)
+    joiner.sensors.hold_orientation(UPRIGHT)
+    play.photograph(joiner, audit=True)
     expect(joiner.get_by_test_id("photo-view")).to_have_attribute("data-photo-width", "640")
 
     # The starter marks the joiner and taps three landmarks; the joiner finds them.
     mine = answered(starter, joiner, truth, truth.landmarks2)
     friend = np.array(mine["friend"], dtype=float)
     focal = mine["focal_35mm"] / FILM_DIAGONAL_MM * math.hypot(640, 480)
-    return joiner, motion, orientation, friend, focal
+    return joiner, motion, friend, focal
 
 
 # A refused frame is a 422, which Chromium logs as an error of the page.
@@ -302,7 +309,7 @@ def photographed_and_answered(
 def test_show_me_points_at_the_friend_as_the_phone_turns(
     api: httpx2.Client, filming: Callable[[Path], Phone], tmp_path: Path, screenshots: Path
 ) -> None:
-    joiner, motion, orientation, friend, focal = photographed_and_answered(api, filming, tmp_path)
+    joiner, motion, friend, focal = photographed_and_answered(api, filming, tmp_path)
 
     # Show me, held as at the shutter: the marker on the friend, drawn within a second.
     live, opened = show_me(joiner)
@@ -323,19 +330,8 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
         """Turned right by ``turn`` degrees from the photo's heading, which the phone's
         reading had at ``anchor`` degrees: the marker where the friend projects; its error,
         degrees."""
-        orientation.hold(turned_right(anchor + turn))
-        expected, scale, _ = expected_on_screen(joiner, friend, focal, turn)
-        focal_screen = scale * focal
-
-        def placed() -> bool:
-            if joiner.get_by_test_id("live-frame").count() == 0:
-                return False
-            return degrees_apart(marker(joiner), expected, focal_screen) < TOLERANCE_DEG
-
-        joiner.wait_for(
-            placed, f"the marker where the friend is, turned {turn:.1f} degrees, {when}"
-        )
-        return degrees_apart(marker(joiner), expected, focal_screen)
+        hold_turned(joiner, anchor + turn)
+        return placed_marker(joiner, friend, focal, turn, when)
 
     # Turned so that the friend is 3 degrees left of the view's centre, then 3 right of it.
     errors = [marker_at(ahead + 3.0, "at first"), marker_at(ahead - 3.0, "at first")]
@@ -343,7 +339,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     joiner.screenshot(path=screenshots / "14-show-me-joiner.png")
     # Turned 90 degrees away either way: off the screen, an arrow says which way to turn.
     for away, turn in ((-90.0, "right"), (90.0, "left")):
-        orientation.hold(turned_right(ahead + away))
+        hold_turned(joiner, ahead + away)
         expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", turn)
         expect(joiner.get_by_test_id("live-frame")).to_have_count(0)
     joiner.screenshot(path=screenshots / "14b-show-me-turn-joiner.png")
@@ -367,7 +363,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     # Chromium gives a sensor started after a reload the override's first reading until
     # the next is set: the phone held as it is, and its reading in the page, before aligning.
     readings = int(live.get_attribute("data-readings") or "0")
-    orientation.hold(turned_right(ahead + 3.0))
+    hold_turned(joiner, ahead + 3.0)
     joiner.wait_for(
         lambda: int(live.get_attribute("data-readings") or "0") > readings, "the reading"
     )
@@ -400,7 +396,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     rest = ahead + 3.0
     steps = 11
     for i in range(steps):
-        orientation.hold(turned_right(rest + 10.0 * (1 - i / (steps - 1))))
+        hold_turned(joiner, rest + 10.0 * (1 - i / (steps - 1)))
         if i == 2:
             joiner.evaluate(CLICK_ALIGN)
         time.sleep(0.02)
@@ -420,9 +416,7 @@ def test_show_me_points_at_the_friend_as_the_phone_turns(
     assert b'name="frame_focal_px"' not in form
     print(f"marker error, degrees: {[round(error, 3) for error in errors]}")
     # Two minutes after the Align the view may have drifted: it says so; Re-align resets it.
-    shift_clock(joiner, 121_000)
-    expect(joiner.get_by_test_id("live-warning")).to_contain_text("may have drifted")
-    expect(live).to_have_attribute("data-warning", "drift")
+    drifted(joiner)
     joiner.get_by_test_id("live-align").tap()
     # (Reading the page lets Playwright answer the route meanwhile.)
     joiner.wait_for(
@@ -470,7 +464,7 @@ def test_show_me_measures_a_zoomed_streams_focal_length(
     assumption, is 25 % short. The view's quiet check sends one frame of the still phone,
     the server measures the zoom, and the marker lands where the zoomed video shows the
     friend."""
-    joiner, _, orientation, friend, focal = photographed_and_answered(api, filming, tmp_path)
+    joiner, _, friend, focal = photographed_and_answered(api, filming, tmp_path)
     joiner.evaluate(ZOOMED_CAMERA, ZOOM)
     # Held as at the shutter, as the film shows it: the check's frame is the photo zoomed.
     live, _ = show_me(joiner)
@@ -482,7 +476,7 @@ def test_show_me_measures_a_zoomed_streams_focal_length(
     # video's narrower view (about +-3 degrees across the screen's width).
     ahead = math.degrees(math.atan((friend[0] - 320) / focal))
     turn = ahead - 2.0
-    orientation.hold(turned_right(turn))
+    hold_turned(joiner, turn)
     zoomed, scale, _ = expected_on_screen(joiner, friend, focal, turn, zoom=ZOOM)
     assumed, _, _ = expected_on_screen(joiner, friend, focal, turn)
     focal_screen = scale * focal

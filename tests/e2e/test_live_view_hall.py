@@ -31,12 +31,11 @@ from playwright.sync_api import Response
 from test_live_view import (
     CLICK_ALIGN,
     TOLERANCE_DEG,
-    Orientation,
     answered,
     degrees_apart,
+    hold_turned,
     marker,
     turn_right,
-    turned_right,
     video_on_screen,
 )
 
@@ -178,8 +177,7 @@ def test_show_me_in_a_rendered_hall_follows_the_live_video(
     print(f"the answer: {np.round(friend, 1)} (truth {np.round(truth.epipole2, 1)}), f {focal:.0f}")
 
     # Show me, with no orientation from a shutter: the view asks to align.
-    orientation = Orientation(joiner)
-    orientation.hold(turned_right(TURNS[0]))
+    hold_turned(joiner, TURNS[0])
     responses: list[Response] = []
     joiner.page.on(
         "response",
@@ -244,20 +242,20 @@ def test_show_me_in_a_rendered_hall_follows_the_live_video(
     # the friend in the live frame.
     for _ in range(3):
         wait_for_view(joiner, views, 1)
-        orientation.hold(turned_right(TURNS[1]))
+        hold_turned(joiner, TURNS[1])
         turned = marker_errors(1, TURNS[1], served)
         joiner.screenshot(path=screenshots / "14d-show-me-hall-turned-joiner.png")
         if seen_view(joiner, views) == 1:
             break  # the screenshot shows the view the reading was set for
     errors.append(turned)
     # Turned 90 degrees away and back to the view on the screen.
-    orientation.hold(turned_right(TURNS[1] + 90.0))
+    hold_turned(joiner, TURNS[1] + 90.0)
     expect(joiner.get_by_test_id("live-arrow")).to_have_attribute("data-turn", "left")
     expect(joiner.get_by_test_id("live-frame")).to_have_count(0)
     time.sleep(0.2)
     shown = seen_view(joiner, views)
     assert shown is not None
-    orientation.hold(turned_right(TURNS[shown]))
+    hold_turned(joiner, TURNS[shown])
     errors.append(marker_errors(shown, TURNS[shown], served))
     print(f"marker off the truth / the answer, degrees: {np.round(errors, 3).tolist()}")
     for off_truth, off_answer in errors:

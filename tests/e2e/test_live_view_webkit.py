@@ -46,43 +46,25 @@ import math
 import httpx2
 import numpy as np
 import pytest
-from test_in_app_camera import ASK_MOTION, SPY, still_reading, take_photo
 from test_live_view import (
     FILM_DIAGONAL_MM,
     OPENING_BOUND_MS,
-    TOLERANCE_DEG,
     answered,
-    degrees_apart,
-    expected_on_screen,
-    marker,
-    shift_clock,
+    drifted,
+    placed_marker,
     show_me,
 )
 
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
-from testbed.client import start
+from testbed.browser.play import ASK_MOTION, still_reading
+from testbed.browser.webkit_phone import EVERY_16_MS
 from testbed.opening import OPENING_STEPS
 
 pytestmark = pytest.mark.engines("webkit")
 
 # The temple scene's photos are 640 x 480: the landmarks' pixels are in that frame.
 SCENE_SIZE = (640.0, 480.0)
-
-# The phone held at DeviceOrientation's angles, an event every 16 ms, until held otherwise.
-HOLD = r"""([alpha, beta, gamma]) => {
-  clearInterval(window.__orientation);
-  const native = () => typeof DeviceOrientationEvent === "function"
-    && DeviceOrientationEvent.prototype instanceof Event;
-  const send = () => {
-    const init = { alpha, beta, gamma, absolute: false };
-    window.dispatchEvent(native()
-      ? new DeviceOrientationEvent("deviceorientation", init)
-      : Object.assign(new Event("deviceorientation"), init));
-  };
-  send();
-  window.__orientation = setInterval(send, 16);
-}"""
 
 WALK_SECONDS = 6.0
 # A walk for `seconds`: the body rising and falling 2 m/s^2 twice a second along the upright
@@ -110,30 +92,26 @@ WALK = r"""([seconds, still]) => {
 
 def hold_turned(phone: Phone, right_deg: float) -> None:
     """The phone upright and level, turned right by ``right_deg`` from where it was at the
-    start (DeviceOrientation's alpha is anticlockwise seen from above)."""
-    phone.evaluate(HOLD, [-right_deg, 90.0, 0.0])
+    start (DeviceOrientation's alpha is anticlockwise seen from above): its angles in an
+    event every 16 ms, the first at once, until held otherwise."""
+    held = {"alpha": -right_deg, "beta": 90.0, "gamma": 0.0, "absolute": False}
+    where = ["__orientation", "DeviceOrientationEvent", "deviceorientation", held, True]
+    phone.evaluate(EVERY_16_MS, where)
 
 
-def test_show_me_in_webkit(server: str, api: httpx2.Client, pixel: Phone) -> None:
-    starter, code = start(api, play.temple(play.PAIR[0]))
+def test_show_me_in_webkit(api: httpx2.Client, pixel: Phone) -> None:
+    starter = play.joined_by_link(api, pixel, play.temple(play.PAIR[0]))
     truth = play.scene(3, seed=12)
     still = still_reading([0.0, 1.0, 0.0])
 
     # The joiner photographs the mock camera's pattern in the app, upright and level.
-    pixel.goto(f"{server}/join/{code}")
-    expect(pixel.get_by_test_id("open-camera")).to_be_visible()
-    pixel.evaluate(SPY)
+    play.camera_step(pixel)
     pixel.hold_still(still)
     pixel.evaluate(ASK_MOTION, "granted")
     hold_turned(pixel, 0.0)
-    pixel.get_by_test_id("open-camera").tap()
-    pixel.get_by_test_id("motion-allow").tap()
-    expect(pixel.get_by_test_id("camera-note")).to_contain_text("Which way is down is known")
-    take_photo(pixel)
-    view = pixel.get_by_test_id("photo-view")
-    expect(view).to_be_visible()
-    width = float(view.get_attribute("data-photo-width") or "nan")
-    height = float(view.get_attribute("data-photo-height") or "nan")
+    play.photograph(pixel)
+    expect(pixel.get_by_test_id("photo-view")).to_be_visible()
+    width, height = pixel.photo_size()
     print(f"the mock camera's photo: {width:.0f} x {height:.0f}")
     k = min(width / SCENE_SIZE[0], height / SCENE_SIZE[1])
     centre, scene_centre = np.array([width, height]) / 2, np.array(SCENE_SIZE) / 2
@@ -167,16 +145,7 @@ def test_show_me_in_webkit(server: str, api: httpx2.Client, pixel: Phone) -> Non
         """Turned right by ``turn`` degrees: the marker where the friend projects; its
         error, degrees."""
         hold_turned(pixel, turn)
-        expected, scale, _ = expected_on_screen(pixel, friend, focal, turn, (width, height))
-        focal_screen = scale * focal
-
-        def placed() -> bool:
-            if pixel.get_by_test_id("live-frame").count() == 0:
-                return False
-            return degrees_apart(marker(pixel), expected, focal_screen) < TOLERANCE_DEG
-
-        pixel.wait_for(placed, f"the marker where the friend is, turned {turn:.1f} degrees, {when}")
-        return degrees_apart(marker(pixel), expected, focal_screen)
+        return placed_marker(pixel, friend, focal, turn, when, (width, height))
 
     errors = [marker_at(ahead + 3.0, "at first"), marker_at(ahead - 3.0, "at first")]
     expect(pixel.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")
@@ -196,9 +165,7 @@ def test_show_me_in_webkit(server: str, api: httpx2.Client, pixel: Phone) -> Non
 
     # Two minutes after the shutter by the page's clock: the view may have drifted.
     expect(live).to_have_attribute("data-warning", "none")
-    shift_clock(pixel, 121_000)
-    expect(pixel.get_by_test_id("live-warning")).to_contain_text("may have drifted")
-    expect(live).to_have_attribute("data-warning", "drift")
+    drifted(pixel)
     # A walk is said (before the drift: it matters more). Twelve steps: a page the machine
     # stalls for more than 0.5 s starts the count again (trust.ts), as a paused page does,
     # and a busy suite has stalled WebKit's page that long in the six steps of 3 s.

@@ -112,7 +112,7 @@ def near_polylines(polylines: list[list[list[float]]], within: float) -> np.ndar
 
 
 def drawing_of(page: Phone) -> dict[str, Any]:
-    drawing: dict[str, Any] = play.session_state(page)["answer"]["in_photo"]["joiner"]["drawing"]
+    drawing: dict[str, Any] = play.answer_in(page, "joiner")["drawing"]
     return drawing
 
 
@@ -138,10 +138,7 @@ def same_curve(page: Phone, folder: Path) -> None:
 def same_frame(page: Phone, folder: Path) -> None:
     """The frame's strokes (its brackets, and the region's outline when drawn) are in the same
     place in both; the label and its leader, outside the frame's box, are each renderer's."""
-    frame = page.get_by_test_id("answer-frame")
-    box = np.array(
-        [float(frame.get_attribute(f"data-{n}") or "nan") for n in ("x0", "y0", "x1", "y1")]
-    )
+    box = np.array(page.get_by_test_id("answer-frame").numbers("x0", "y0", "x1", "y1"))
     drawn, scale = svg_strokes(page, folder)
     stroke = 1.5 / scale + 2.0
     pad = 3 / scale + 2.0
@@ -210,9 +207,6 @@ def test_the_phone_and_the_overlay_point_the_same_way_to_a_friend_off_the_photo(
     them below the joiner's photo, to the right: both arrows point there from the same tip."""
     truth = play.scene(5, seed=16)
     starter, joiner = play.start_and_join(server, pixel, iphone, photos=True)
-    play.mark_friend(starter, *OFF_PHOTO_MARK)
-    play.tap_landmarks(starter, truth.landmarks1)
-    play.cannot_see(joiner)
-    play.find_landmarks(joiner, truth.landmarks2)
+    play.marked_and_found(starter, joiner, OFF_PHOTO_MARK, truth.landmarks1, truth.landmarks2)
     expect(joiner.get_by_test_id("answer-border-arrow")).to_be_visible()
     same_arrow(joiner, tmp_path)

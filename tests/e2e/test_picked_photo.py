@@ -14,7 +14,6 @@ from PIL import Image, ImageOps
 
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
-from testbed.client import start
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -95,8 +94,7 @@ def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     server: str, api: httpx2.Client, iphone: Phone, turned_photo: Path
 ) -> None:
     # The search is started over the API; the iPhone joins it with the link.
-    _, code = start(api)
-    iphone.goto(f"{server}/join/{code}")
+    play.joined_by_link(api, iphone)
     expect(iphone.get_by_test_id("photo-input")).to_be_attached()
     iphone.evaluate(SPY)
     iphone.get_by_test_id("photo-input").set_input_files(turned_photo)
@@ -113,17 +111,11 @@ def test_a_48_mp_turned_photo_goes_up_small_and_upright(
     assert max(areas) == short_side * long_side <= CANVAS_CAP, areas
     # ...upright, as the phone shows it (its own copy: WebKit may draw a picture it has not
     # decoded yet as transparent, so the colours are read until they are drawn)...
-    photo = view.locator("img")
-    shown: list[dict[str, list[int]]] = []
-
-    def drawn_upright() -> bool:
-        shown[:] = [photo.evaluate(COLOURS)]
-        return all(nearest(colour) == quarter for quarter, colour in shown[0].items())
-
-    try:
-        iphone.wait_for(drawn_upright, "the shown photo, upright")
-    except AssertionError as turned:
-        raise AssertionError(f"{turned}: {shown}") from None
+    iphone.wait_until(
+        lambda: view.locator("img").evaluate(COLOURS),
+        lambda shown: all(nearest(colour) == quarter for quarter, colour in shown.items()),
+        "the shown photo, upright",
+    )
     # ...and as the server stores it: it keeps a photo without EXIF as it comes.
     with Image.open(io.BytesIO(play.stored_photo(server, iphone, "joiner"))) as kept:
         assert kept.size == (short_side, long_side)

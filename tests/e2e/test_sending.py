@@ -41,9 +41,7 @@ def test_nothing_is_sent_while_a_finger_drags_a_landmark(
     starter.wait_for(lambda: count() == 1, "the placed landmark sent")
     play.saved(starter)
 
-    box = starter.page.get_by_test_id("landmark").bounding_box()
-    assert box is not None
-    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    x, y = starter.get_by_test_id("landmark").centre()
     starter.drag((x, y), (x + 60.0, y))  # 60 CSS px to the right, in steps
     time.sleep(HOLD_S)
     assert count() == 1, "taps were sent while the finger was still dragging"

@@ -19,17 +19,10 @@ pytestmark = pytest.mark.engines("chromium", "webkit")
 
 SPOT = (200.0, 200.0)  # photo px, where the landmark is placed
 DRAG_CSS = 60.0
-CENTRE = """(element) => {
-  const r = element.getBoundingClientRect();
-  return [r.x + r.width / 2, r.y + r.height / 2];
-}"""
 
 
 def transform(phone: Phone) -> tuple[float, float, float]:
-    view = phone.get_by_test_id("photo-view")
-    scale, tx, ty = (
-        float(view.get_attribute(f"data-{name}") or "nan") for name in ("scale", "tx", "ty")
-    )
+    scale, tx, ty = phone.get_by_test_id("photo-view").numbers("scale", "tx", "ty")
     return scale, tx, ty
 
 
@@ -55,7 +48,7 @@ def test_fingers_tap_drag_pinch_and_pan(server: str, pixel: Phone, iphone: Phone
     assert placed["sigma"] == pytest.approx(play.tap_sigma(fitted, "chromium"), abs=0.01)
 
     # Its label dragged: the loupe shows while the finger presses, the landmark follows it.
-    x, y = label.evaluate(CENTRE)
+    x, y = label.centre()
     starter.drag((x, y), (x + DRAG_CSS, y))
     expect(starter.locator("canvas.loupe")).to_be_visible()
     starter.touch("up")
@@ -69,9 +62,7 @@ def test_fingers_tap_drag_pinch_and_pan(server: str, pixel: Phone, iphone: Phone
     starter.pinch(middle, 2.5)
     scale, tx, ty = transform(starter)
     assert scale == pytest.approx(2.5 * fitted, rel=0.05)
-    left, top = starter.get_by_test_id("photo-view").evaluate(
-        "(e) => { const r = e.getBoundingClientRect(); return [r.left, r.top]; }"
-    )
+    left, top, _, _ = starter.get_by_test_id("photo-view").box()
     # The photo point that was under the fingers' midpoint is still there.
     assert left + tx + scale * 320 == pytest.approx(middle[0], abs=2)
     assert top + ty + scale * 240 == pytest.approx(middle[1], abs=2)

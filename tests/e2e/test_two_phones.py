@@ -95,14 +95,8 @@ def test_the_starter_marks_the_joiner(
     step(starter, "Waiting for your friend to find #3", 0)
     play.find_landmarks(joiner, truth.landmarks2[2:], first_id=3)
     assert in_frame(truth.epipole2, play.framed(joiner))
-    centre, ellipse, how = play.reported_position(joiner)
-    assert how == "solved"
-    assert ellipse[0] < 100  # a claim worth checking: a small region...
-    assert play.inside(truth.epipole2, centre, ellipse), (
-        centre,
-        ellipse,
-        truth.epipole2,
-    )  # ...and true
+    _, ellipse = play.found_at(joiner, truth.epipole2)  # a region that holds the truth...
+    assert ellipse[0] < 100  # ...and a claim worth checking: a small one
     play.needed(joiner, 0)
     step(joiner, "Done", 0)
     expect(joiner.get_by_test_id("result-text")).to_have_text(
@@ -178,9 +172,7 @@ def test_the_joiner_marks_the_starter_and_the_phones_tell_their_lenses(
     expect(starter.get_by_test_id("answer-frame")).to_have_count(0)
     play.find_landmarks(starter, truth.landmarks2[2:], first_id=3)
     assert in_frame(truth.epipole2, play.framed(starter))
-    centre, ellipse, how = play.reported_position(starter)
-    assert how == "solved"
-    assert play.inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
+    play.found_at(starter, truth.epipole2)
     play.needed(starter, 0)
     play.needed(joiner, 0)
     step(starter, "Done", 0)
@@ -223,14 +215,12 @@ def test_both_mark_each_other_and_one_landmark_is_enough(
     play.needed(starter, 1)
     play.tap_landmarks(starter, truth.landmarks1)
     play.find_landmarks(joiner, truth.landmarks2)
-    centre, ellipse, how = play.reported_position(joiner)
-    assert how == "marked"
+    play.found_at(joiner, truth.epipole2, "marked")
     # Its own mark is the answer, drawn as it was: no frame over the person, no sureness.
     expect(joiner.get_by_test_id("answer-frame")).to_have_count(0)
     expect(joiner.get_by_test_id("result-position")).to_have_text(
         "Your mark, refined by the landmarks."
     )
-    assert play.inside(truth.epipole2, centre, ellipse), (centre, ellipse, truth.epipole2)
     play.needed(joiner, 0)
     play.needed(starter, 0)
     expect(starter.get_by_test_id("result-text")).to_contain_text("You marked each other")
@@ -265,13 +255,9 @@ def test_a_reload_returns_to_the_same_session(server: str, pixel: Phone, iphone:
 def test_a_code_typed_wrong_five_times_is_renewed_on_the_starters_phone(
     server: str, pixel: Phone, iphone: Phone, screenshots: Path
 ) -> None:
-    starter = pixel
-    starter.goto(f"{server}/")
-    starter.get_by_test_id("start").tap()
+    starter, joiner = pixel, iphone
+    given = play.started(server, starter)
     code = starter.get_by_test_id("code")
-    expect(code).to_have_text(re.compile(r"\d{4}\s?\d{4}"))
-    given = re.sub(r"\D", "", code.inner_text())
-    joiner = iphone
     joiner.goto(f"{server}/")
     for n in range(5):  # the right search number, a wrong secret
         secret = (int(given[4:]) + 1 + n) % 10_000
