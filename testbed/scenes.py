@@ -319,3 +319,25 @@ def solved(scene: Scene, taps: Taps | None = None, **options: Any) -> SolveResul
     or ``taps`` of them, with the photos' sizes; ``options`` as ``solve`` takes them."""
     seen: Scene | Taps = scene if taps is None else taps
     return solve(seen.landmarks1, seen.landmarks2, epipole1=seen.epipole1, **scene.sizes, **options)
+
+
+def pixel(h: np.ndarray) -> np.ndarray:
+    """The pixel (x, y) of a homogeneous point."""
+    return h[:2] / h[2]
+
+
+def line_through(point: np.ndarray, angle: float) -> np.ndarray:
+    """(3,) line through a pixel point in the direction ``angle`` (radians)."""
+    ahead = point + np.array([np.cos(angle), np.sin(angle)])
+    return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
+
+
+def marks(s: Scene, given: str, line_angle: float = 0.3) -> dict[str, Any]:
+    """solve()'s marks of the friends: friend 2 tapped in photo 1 ("e1"), both friends, a
+    line through friend 2 at ``line_angle`` (radians), or nothing."""
+    return {
+        "e1": {"epipole1": s.epipole1},
+        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
+        "line": {"epipolar_line1": line_through(s.epipole1, line_angle)},
+        "none": {},
+    }[given]

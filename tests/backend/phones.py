@@ -11,11 +11,17 @@ from typing import Any
 
 import numpy as np
 
-from testbed.client import Phone
+from testbed.client import Listener, Phone
 from testbed.scenes import Scene, Taps, tap, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the joiner's
+
+# Streams read the event table only when woken or every 30 s, and ping every 20 s: an
+# event that reaches the other replica's stream within CROSSING_SECONDS was carried by
+# LISTEN/NOTIFY, nothing else.
+REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"}
+CROSSING_SECONDS = 2.0
 
 
 class FakeClock:
@@ -42,10 +48,10 @@ def in_region(region: dict[str, Any], point: Any) -> bool:
 
 
 def landmarks(
-    points: Any, ids: list[int] | None = None, sigma: float | None = 2.0
+    points: Any, ids: list[int] | None = None, sigma: float | None = None
 ) -> list[dict[str, float]]:
     """Landmarks as a phone sends them, numbered from 1 (or ``ids``), each tap with its
-    precision (px) unless ``sigma`` is None."""
+    precision (px) if ``sigma`` is given."""
     ids = ids or list(range(1, len(points) + 1))
     taps = [{"id": i, "x": float(x), "y": float(y)} for i, (x, y) in zip(ids, points, strict=True)]
     return taps if sigma is None else [tap | {"sigma": sigma} for tap in taps]
@@ -54,6 +60,11 @@ def landmarks(
 def temple_pair(count: int, rng: np.random.Generator) -> Scene:
     """``count`` landmarks of the temple PAIR, the starter and the joiner in each other's photo."""
     return temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, count, rng)
+
+
+def scene(landmarks: int, seed: int = 0) -> Scene:
+    """``landmarks`` of the temple PAIR drawn from ``seed``."""
+    return temple_pair(landmarks, np.random.default_rng(seed))
 
 
 def scene_taps() -> tuple[Scene, Taps]:
@@ -100,3 +111,11 @@ def error_of(response: Any, status: int | None = None) -> str:
     assert fields == {"code", "message"} or "reason" in fields, body
     assert body["error"]["message"].endswith("."), body
     return str(body["error"]["code"])
+
+
+def end(phone: Phone, *streams: Listener) -> None:
+    """Delete now: every stream of the session ends (and the replicas stop promptly)."""
+    assert phone.call("DELETE").status_code == 204
+    for stream in streams:
+        assert stream.ended.wait(CROSSING_SECONDS)
+        assert stream.types[-1] == "expired"

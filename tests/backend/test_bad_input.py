@@ -18,10 +18,9 @@ import numpy as np
 import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, error_of, stored_photo, temple_pair
+from images import encoded, png_claiming
+from phones import TEMPLE, FakeClock, error_of, landmarks, stored_photo, temple_pair
 from PIL import ExifTags, Image
-from test_photos import encoded, png_claiming
-from test_sessions import landmarks
 
 from backend.settings import Settings
 from testbed.client import Phone, start

@@ -18,8 +18,16 @@ from pathlib import Path
 
 import httpx2
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, scene_taps
-from test_replicas import CROSSING_SECONDS, REPLICA_ENV, end
+from phones import (
+    CROSSING_SECONDS,
+    PAIR,
+    REPLICA_ENV,
+    TEMPLE,
+    end,
+    in_region,
+    landmarks,
+    scene_taps,
+)
 
 from deploy.cluster import Cluster, cluster
 from deploy.postgres import PostgresServer
@@ -83,8 +91,8 @@ def test_streams_through_nginx_hear_changes_made_on_either_replica(running: Clus
     on_two.uploaded(TEMPLE / f"{PAIR[1]}.png")
     for events in (starter_events, joiner_events):
         events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
-    on_one.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
-    state = on_two.tapped(landmarks=landmarks(taps.landmarks2))
+    on_one.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
+    state = on_two.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))
     for events in (starter_events, joiner_events):
         events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
 
@@ -102,7 +110,7 @@ def test_nginx_passes_each_event_on_as_it_comes(running: Cluster) -> None:
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     for n in range(1, 6):
-        joiner.tapped(landmarks=landmarks(taps.landmarks2[:n]))
+        joiner.tapped(landmarks=landmarks(taps.landmarks2[:n], sigma=2.0))
         starter_events.wait_for("taps", count=n, role="joiner", seconds=CROSSING_SECONDS)
     assert starter_events.pings == 0  # nothing but the events themselves pushed them through
     end(starter, starter_events)
@@ -116,8 +124,9 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
-    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
+    starter.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
+    # The joiner is still tapping.
+    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3], sigma=2.0))
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     before = starter.state()
     photos = [starter.call("GET", f"/photo/{role}").content for role in ROLES]
@@ -139,7 +148,7 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     assert [
         starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")
     ] == photos
-    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))  # the joiner finishes
     (kept,) = [events for role, events in streams.items() if role != dropped]
     assert not kept.dropped  # still the same connection
     for events in (resumed, kept):

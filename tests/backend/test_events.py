@@ -12,8 +12,7 @@ import anyio
 import pytest
 from fastapi.sse import format_sse_event
 from fastapi.testclient import TestClient
-from phones import FakeClock
-from test_sessions import landmarks, scene
+from phones import FakeClock, landmarks, scene
 
 from backend.eventstream.log import Event
 from backend.eventstream.stream import EventStreams

@@ -79,7 +79,7 @@ class LiveSearch:
                 phones, PAIR, (scene.landmarks1, scene.landmarks2), strict=True
             ):
                 phone.uploaded(TEMPLE / f"{photo}.png")
-                taps: dict[str, Any] = {"landmarks": landmarks(points, sigma=None)}
+                taps: dict[str, Any] = {"landmarks": landmarks(points)}
                 if phone.role == "starter":
                     taps["friend"] = scene.epipole1
                 phone.tapped(**taps)

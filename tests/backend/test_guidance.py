@@ -8,8 +8,7 @@ from typing import Any
 import cv2
 import numpy as np
 import pytest
-from phones import Phones, error_of, photos_uploaded
-from test_sessions import landmarks, scene
+from phones import Phones, error_of, landmarks, photos_uploaded, scene
 
 from testbed.client import Phone
 from testbed.venue import RenderedPair, rendered_pair

@@ -5,8 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 from fastapi.testclient import TestClient
-from phones import Phones, photos_uploaded
-from test_sessions import landmarks, scene
+from phones import Phones, landmarks, photos_uploaded, scene
 
 from backend.photos.intake import StoredPhoto
 from backend.photos.kept import KeptPhotos

@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
+from phones import landmarks, photos_uploaded, scene
 
 from backend.taps import problem
 from testbed.client import pair
-from tests.backend.test_sessions import landmarks, photos_uploaded, scene
 
 SHOWN = ("answer", "answer_error", "landmarks_needed", "taps")
 

@@ -46,8 +46,8 @@ def test_two_phones_find_each_other(server: str) -> None:
     scene = temple_pair(6, rng)
     taps = tap(scene, 1.0, rng)
 
-    starter.tap(landmarks=landmarks(taps.landmarks1, sigma=None), friend=taps.epipole1)
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2, sigma=None)).json()
+    starter.tap(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
+    state = joiner.tap(landmarks=landmarks(taps.landmarks2)).json()
     starter_events.wait_for("answer")
     joiner_events.wait_for("answer")
 

@@ -17,8 +17,7 @@ from alembic.config import Config
 from alembic.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from fastapi.testclient import TestClient
-from phones import TEMPLE, temple_pair
-from phones import landmarks as sigma_landmarks
+from phones import TEMPLE, landmarks, temple_pair
 from sqlalchemy import Column, Connection, Engine, String, inspect, text
 from sqlalchemy.types import TypeEngine
 
@@ -187,10 +186,10 @@ def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
     s = temple_pair(6, np.random.default_rng(3))
     old = {
         "seeker": {
-            "landmarks": sigma_landmarks(s.landmarks1, sigma=None),
+            "landmarks": landmarks(s.landmarks1),
             "epipole1": list(s.epipole1),
         },
-        "buddy": {"landmarks": sigma_landmarks(s.landmarks2, sigma=None), "epipole2": None},
+        "buddy": {"landmarks": landmarks(s.landmarks2), "epipole2": None},
     }
     stored = {
         role: store_photo(

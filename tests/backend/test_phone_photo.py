@@ -10,9 +10,8 @@ import io
 import cv2
 import numpy as np
 import pytest
-from phones import Phones
+from phones import Phones, landmarks, scene
 from PIL import Image
-from test_sessions import landmarks, scene
 
 from backend.limits import STORED_PHOTO_SIDE
 from testbed.client import Phone

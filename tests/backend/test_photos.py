@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import io
 import warnings
-import zlib
 from collections.abc import Callable
 from functools import cache
 
@@ -20,28 +19,23 @@ import pillow_heif
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from images import (
+    assert_shows,
+    encoded,
+    pattern,
+    png_claiming,
+    refused,
+    rgb,
+    small_photos,
+    store,
+)
 from PIL import ExifTags, Image, ImageCms, PngImagePlugin
 
 from backend.errors import RefusedError
-from backend.photos.intake import StoredPhoto, store_photo
+from backend.photos.intake import StoredPhoto
 
 pillow_heif.register_heif_opener()
 
-MAX_PIXELS = 50_000_000
-MAX_SIDE = 2560
-BLOCK = 16
-# Twelve colours far apart in at least one channel, one per block of the test pattern.
-COLOURS = np.array(
-    [
-        [255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0],
-        [255, 0, 255], [0, 255, 255], [0, 0, 0], [255, 255, 255],
-        [128, 0, 0], [0, 128, 0], [0, 0, 128], [128, 128, 128],
-    ],
-    dtype=np.uint8,
-)  # fmt: skip
-# JPEG rounding and chroma subsampling move a block centre's colour by a few levels, far
-# less than the distance between two colours of the pattern.
-COLOUR_TOLERANCE = 40
 # A JPEG's segments before its image data that carry pixels only (JFIF header, tables,
 # frame, restart interval, scan): anything else (APP1 EXIF/XMP, APP2 ICC, COM, ...) is
 # metadata.
@@ -58,56 +52,6 @@ REFUSALS = {
 # --- making and reading images ------------------------------------------------------------
 
 
-def pattern(rows: int = 3, columns: int = 4, block: int = BLOCK) -> np.ndarray:
-    """(rows * block, columns * block, 3) RGB: a grid of distinct colours, no symmetry."""
-    indices = np.arange(rows * columns).reshape(rows, columns) % len(COLOURS)
-    return np.kron(COLOURS[indices], np.ones((block, block, 1), dtype=np.uint8))
-
-
-def encoded(image: Image.Image | np.ndarray, image_format: str = "JPEG", **params) -> bytes:
-    if isinstance(image, np.ndarray):
-        image = Image.fromarray(image)
-    if image_format == "JPEG":
-        params.setdefault("quality", 95)
-    buffer = io.BytesIO()
-    image.save(buffer, format=image_format, **params)
-    return buffer.getvalue()
-
-
-def store(data: bytes, **limits: int) -> StoredPhoto:
-    return store_photo(
-        data,
-        max_pixels=limits.get("max_pixels", MAX_PIXELS),
-        max_side=limits.get("max_side", MAX_SIDE),
-    )
-
-
-def refused(status: int, code: str, call: Callable[[], object]) -> RefusedError:
-    with pytest.raises(RefusedError) as caught:
-        call()
-    assert (caught.value.status, caught.value.code) == (status, code), caught.value.message
-    assert caught.value.message[0].isupper()
-    assert caught.value.message.endswith(".")
-    return caught.value
-
-
-def rgb(photo: StoredPhoto | bytes) -> np.ndarray:
-    data = photo.data if isinstance(photo, StoredPhoto) else photo
-    with Image.open(io.BytesIO(data)) as image:
-        assert image.mode == "RGB"
-        return np.asarray(image)
-
-
-def assert_shows(actual: np.ndarray, expected: np.ndarray, block: int = BLOCK) -> None:
-    """``actual`` has ``expected``'s shape and the colour of each of its blocks."""
-    assert actual.shape == expected.shape
-    for top in range(0, expected.shape[0], block):
-        for left in range(0, expected.shape[1], block):
-            at = (top + block // 2, left + block // 2)
-            difference = np.abs(actual[at].astype(int) - expected[at].astype(int))
-            assert difference.max() < COLOUR_TOLERANCE, (at, actual[at], expected[at])
-
-
 def jpeg_segments(data: bytes) -> list[int]:
     """The markers of a JPEG's segments up to its first scan."""
     assert data[:2] == b"\xff\xd8"
@@ -119,16 +63,6 @@ def jpeg_segments(data: bytes) -> list[int]:
         if marker == 0xDA:  # start of scan: image data follows
             return markers
         at += 2 + int.from_bytes(data[at + 2 : at + 4], "big")
-
-
-def png_claiming(width: int, height: int) -> bytes:
-    """A PNG whose header says ``width x height`` but whose data is that of 8 x 8 px."""
-    data = bytearray(encoded(Image.new("RGB", (8, 8), "red"), "PNG"))
-    ihdr = data.index(b"IHDR")
-    data[ihdr + 4 : ihdr + 12] = width.to_bytes(4, "big") + height.to_bytes(4, "big")
-    crc = zlib.crc32(bytes(data[ihdr : ihdr + 17]))
-    data[ihdr + 17 : ihdr + 21] = crc.to_bytes(4, "big")
-    return bytes(data)
 
 
 def jpeg_claiming(width: int, height: int) -> bytes:
@@ -149,18 +83,6 @@ def phone_photo(width: int = 4032, height: int = 3024) -> bytes:
     pixels = gradient[:, :, None].astype(np.uint8) + noise
     pixels[700 - 32 : 700 + 32, 3000 - 32 : 3000 + 32] = 255
     return encoded(pixels, quality=92)
-
-
-@cache
-def small_photos() -> dict[str, bytes]:
-    """One small photo of each accepted format (the HEIC with real HEVC data)."""
-    image = Image.fromarray(pattern())
-    return {
-        "JPEG": encoded(image),
-        "PNG": encoded(image, "PNG"),
-        "WEBP": encoded(image, "WEBP", quality=90),
-        "HEIF": encoded(image, "HEIF", quality=90),
-    }
 
 
 # --- what is accepted ---------------------------------------------------------------------

@@ -9,9 +9,9 @@ from functools import cache
 import cv2
 import numpy as np
 import pytest
+from images import assert_shows, pattern, refused, small_photos, store
 
 from backend.photos.pictures import crop_around, decode_photo, encode_image
-from tests.backend.test_photos import assert_shows, pattern, refused, small_photos, store
 
 
 def test_decode_photo_gives_bgr_pixels_as_stored() -> None:

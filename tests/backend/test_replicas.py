@@ -16,19 +16,23 @@ from typing import Any
 import httpx2
 import psycopg
 import pytest
-from phones import PAIR, TEMPLE, error_of, in_region, landmarks, scene_taps
+from phones import (
+    CROSSING_SECONDS,
+    PAIR,
+    REPLICA_ENV,
+    TEMPLE,
+    end,
+    error_of,
+    in_region,
+    landmarks,
+    scene_taps,
+)
 
 from backend.storage.database import database_url
 from deploy.postgres import PostgresServer
 from deploy.replica import Server, serve
 from testbed.client import Listener, Phone, follow, live, pair
 from testbed.scenes import Scene
-
-# Streams read the event table only when woken or every 30 s, and ping every 20 s: an
-# event that reaches the other replica's stream within CROSSING_SECONDS was carried by
-# LISTEN/NOTIFY, nothing else.
-REPLICA_ENV = {"BUDDY_EVENT_POLL_SECONDS": "30", "BUDDY_KEEPALIVE_SECONDS": "20"}
-CROSSING_SECONDS = 2.0
 
 
 @contextmanager
@@ -62,9 +66,9 @@ def photos_and_taps_cross(
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
+    starter.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
     joiner_events.wait_for("taps", role="starter", seconds=CROSSING_SECONDS)
-    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     starter_events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     return scene, state
@@ -135,9 +139,10 @@ def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Serve
     one, two = replicas
     starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter_taps = {"landmarks": landmarks(taps.landmarks1), "friend": taps.epipole1}
+    starter_taps = {"landmarks": landmarks(taps.landmarks1, sigma=2.0), "friend": taps.epipole1}
     starter.tapped(**starter_taps)
-    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3]))  # the joiner is still tapping
+    # The joiner is still tapping.
+    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3], sigma=2.0))
     starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
     before = starter.state()
     photos = [starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")]
@@ -159,7 +164,7 @@ def test_a_replica_killed_mid_search_loses_nothing(replicas: tuple[Server, Serve
     resumed = starter.listen(last_event_id=starter_events.ids[-1])
     resumed.wait_for("joined", role="starter", online=True)
 
-    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))  # the joiner finishes
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))  # the joiner finishes
     resumed.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     answer = starter.state()["answer"]
     assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
@@ -176,7 +181,7 @@ def test_postgresql_restarted_mid_search(
     one, two = replicas
     starter, joiner, starter_events, joiner_events = photos_taken(one, two)
     scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
+    starter.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
     joiner_events.wait_for("taps", role="starter")
 
     postgres.stop()
@@ -192,7 +197,7 @@ def test_postgresql_restarted_mid_search(
     for replica in (one, two):  # back by themselves, neither restarted
         wait_until_healthy(replica)
         os.kill(replica.pid, 0)  # still the same process
-    state = joiner.tapped(landmarks=landmarks(taps.landmarks2))
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))
     starter_events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     assert starter.state()["answer"] == state["answer"]
     assert in_region(state["answer"]["in_photo"]["joiner"]["region"], scene.epipole2)
@@ -201,14 +206,6 @@ def test_postgresql_restarted_mid_search(
         assert not events.dropped
         assert not events.ended.is_set()
     end(joiner, starter_events, joiner_events)
-
-
-def end(phone: Phone, *streams: Listener) -> None:
-    """Delete now: every stream of the session ends (and the replicas stop promptly)."""
-    assert phone.call("DELETE").status_code == 204
-    for stream in streams:
-        assert stream.ended.wait(CROSSING_SECONDS)
-        assert stream.types[-1] == "expired"
 
 
 def wait_until_healthy(replica: Server, seconds: float = 20) -> None:

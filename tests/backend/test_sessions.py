@@ -18,11 +18,11 @@ from phones import (
     Phones,
     error_of,
     in_region,
+    landmarks,
     photos_uploaded,
+    scene,
     stored_photo,
-    temple_pair,
 )
-from phones import landmarks as sigma_landmarks
 from PIL import ExifTags, Image
 from sqlalchemy import text
 
@@ -44,15 +44,6 @@ from testbed.scenes import (
     NO_PHONES_LANDMARKS2,
     Scene,
 )
-
-
-def scene(landmarks: int, seed: int = 0) -> Scene:
-    return temple_pair(landmarks, np.random.default_rng(seed))
-
-
-def landmarks(points: np.ndarray, ids: list[int] | None = None) -> list[dict[str, float]]:
-    return sigma_landmarks(points, ids, sigma=None)
-
 
 # --- pairing --------------------------------------------------------------------------
 

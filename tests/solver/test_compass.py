@@ -12,13 +12,13 @@ import math
 
 import numpy as np
 import pytest
-from test_gravity import LEVEL, assert_refused, down, exact_scenes, exif_of, phones_of, solved
 
 from shared_solver import SolverError, draw_overlay, solve, words
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.minimal.gravity_and_one import north, rotation_about_vertical, turn_from_headings
 from testbed.curves import distance_to
 from testbed.phones import PhoneScene, heading_reading, phone_scene
+from testbed.readings import LEVEL, assert_refused, down, exact_scenes, exif_of, phones_of, solved
 
 EXACT_PX = 1e-6
 
@@ -32,7 +32,7 @@ def headed(
     off_deg: float = 0.0,
     **options: object,
 ):
-    """``test_gravity.solved`` (noisy taps and gravity) with both phones' headings too,
+    """``testbed.readings.solved`` (noisy taps and gravity) with both phones' headings too,
     ``compass_deg`` of noise each; photo 1's heading ``off_deg`` more (a bent compass)."""
     return solved(
         scene,

@@ -12,35 +12,14 @@ from shared_solver import (
     fundamental_from_epipoles,
     solve,
 )
-from testbed.scenes import Scene, facing_scene
+from testbed.scenes import Scene, facing_scene, line_through, marks, pixel
 
 EXACT_PX = 1e-6
 SEEDS = range(40)
 
 
-def pixel(h: np.ndarray) -> np.ndarray:
-    return h[:2] / h[2]
-
-
 def scene(seed: int, n: int, *, planar: bool = False) -> Scene:
     return facing_scene(np.random.default_rng(seed), n, planar=planar)
-
-
-def line_through(point: np.ndarray, angle: float) -> np.ndarray:
-    """(3,) line through a pixel point in the direction ``angle`` (radians)."""
-    ahead = point + np.array([np.cos(angle), np.sin(angle)])
-    return np.cross(np.append(point, 1.0), np.append(ahead, 1.0))
-
-
-def marks(s: Scene, given: str, line_angle: float = 0.3) -> dict[str, object]:
-    """solve()'s marks of the friends: friend 2 tapped in photo 1 ("e1"), both friends, a
-    line through friend 2 at ``line_angle`` (radians), or nothing."""
-    return {
-        "e1": {"epipole1": s.epipole1},
-        "both": {"epipole1": s.epipole1, "epipole2": s.epipole2},
-        "line": {"epipolar_line1": line_through(s.epipole1, line_angle)},
-        "none": {},
-    }[given]
 
 
 def epipolar_distances(fundamental: np.ndarray, p: np.ndarray, q: np.ndarray) -> np.ndarray:

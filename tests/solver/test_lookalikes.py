@@ -34,22 +34,12 @@ from testbed import prints, textures
 from testbed.hall import box_faces
 from testbed.render import Surface, render
 from testbed.scenes import Camera, Scene, look_at
-from testbed.venue import RenderedPair, photograph, rendered_arena
+from testbed.venue import RenderedPair, good_answer, photograph, rendered_arena
 
 TAP = 3.0**2 * np.eye(2)
 # The search before it searched the mirrored view, with the rule it had: a score of 0.7,
 # a lead of 0.05 over the runner-up, the search back landing within 1 % of the tap.
 BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",))
-
-
-def good_answer(scene: Scene) -> Epipolar:
-    """The true F, with a round uncertainty that moves a line by about 2 px, oriented by the
-    scene's landmarks."""
-    f = scene.fundamental
-    lines = np.column_stack([scene.landmarks1, np.ones(len(scene.points))]) @ f.T
-    spread = float(np.median(np.hypot(lines[:, 0], lines[:, 1])))
-    typical = 2.0 * spread / max(scene.image_size1) ** 2
-    return Epipolar(f, typical**2 * np.eye(9)).oriented(scene.landmarks1, scene.landmarks2)
 
 
 def landmark_search(pair: RenderedPair, epipolar: Epipolar, point: Array) -> LandmarkSearch:

@@ -12,7 +12,6 @@ import math
 
 import numpy as np
 import pytest
-from test_lookalikes import good_answer
 
 from shared_solver.matching import (
     FLAG_SIGMAS,
@@ -25,7 +24,7 @@ from shared_solver.matching import (
 from shared_solver.result import SolveResult
 from testbed.phones import phone_scene
 from testbed.textures import poster
-from testbed.venue import RenderedPair, rendered_pair
+from testbed.venue import RenderedPair, good_answer, rendered_pair
 
 TAP = 3.0**2 * np.eye(2)
 

@@ -10,7 +10,7 @@ from shared_solver import solve
 from shared_solver.estimation.epipolar_fit import fit_epipolar
 from shared_solver.estimation.taps import Taps
 from shared_solver.minimal.five_point_linear import fundamental_with_epipole
-from testbed.scenes import facing_scene, tap
+from testbed.scenes import facing_scene, line_through, pixel, tap
 
 
 def test_seven_landmarks_without_friend2_claim_no_region() -> None:
@@ -35,9 +35,7 @@ def test_a_line_through_friend2_claims_no_region() -> None:
     for n in (6, 8):
         s = facing_scene(rng, n)
         taps = tap(s, 1.0, rng)
-        x, y = taps.epipole1
-        angle = rng.uniform(0, math.pi)
-        line = np.cross([x, y, 1.0], [x + math.cos(angle), y + math.sin(angle), 1.0])
+        line = line_through(taps.epipole1, rng.uniform(0, math.pi))
         result = solve(taps.landmarks1, taps.landmarks2, epipolar_line1=line, tap_sigma=1.0)
         assert result.method == "six_point_line"
         assert result.uncertainty is not None
@@ -83,4 +81,4 @@ def general_fit(points1: np.ndarray, points2: np.ndarray, friend2: np.ndarray) -
     taps = Taps.isotropic(points1, points2, 1.0, epipole1=friend2)
     start = fundamental_with_epipole(np.append(friend2, 1.0), points1, points2)
     e2 = fit_epipolar(taps, start).epipole2
-    return np.asarray(e2[:2] / e2[2])
+    return np.asarray(pixel(e2))

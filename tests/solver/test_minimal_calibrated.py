@@ -20,6 +20,7 @@ from shared_solver.minimal.gravity_and_one import (
     rotations_from_gravity,
     turns_from_gravity,
 )
+from testbed.scenes import pixel
 
 SCENES = 200
 ROOT = 1e-9  # Frobenius distance of the true rotation from the nearest root
@@ -77,11 +78,6 @@ def looking_at(rng: np.random.Generator, centre: np.ndarray, target: np.ndarray,
     return axis_angle(np.array([0.0, 0.0, 1.0]), roll) @ camera
 
 
-def pixel(k: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    h = k @ direction
-    return h[:2] / h[2]
-
-
 def ray(k: np.ndarray, px: np.ndarray) -> np.ndarray:
     return np.linalg.solve(k, np.append(px, 1.0))
 
@@ -104,12 +100,12 @@ def make_scene(rng: np.random.Generator, n: int = 3) -> Scene:
         in1, in2 = r1 @ (point - c1), r2 @ (point - c2)
         if min(in1[2], in2[2]) < 1.0:
             continue  # behind a camera
-        x1, x2 = pixel(k1, in1), pixel(k2, in2)
+        x1, x2 = pixel(k1 @ in1), pixel(k2 @ in2)
         if not (np.all((x1 >= 0) & (x1 <= size1)) and np.all((x2 >= 0) & (x2 <= size2))):
             continue
         rays1.append(ray(k1, x1))
         rays2.append(ray(k2, x2))
-    e1, e2 = pixel(k1, r1 @ (c2 - c1)), pixel(k2, r2 @ (c1 - c2))
+    e1, e2 = pixel(k1 @ (r1 @ (c2 - c1))), pixel(k2 @ (r2 @ (c1 - c2)))
     b1, b2 = ray(k1, e1), ray(k2, e2)
     return Scene(
         k1=k1,
@@ -162,7 +158,7 @@ def assert_one_landmark_roots(
         assert residuals(r, s.b1, s.rays1[:1], s.rays2[:1]).max() <= CONSTRAINT
     error, best = nearest(roots, s.rotation)
     assert error <= ROOT
-    assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+    assert np.abs(pixel(s.k2 @ (-best @ s.b1)) - s.e2).max() <= EXACT_PX
 
 
 def assert_same_roots(found: list[np.ndarray], expected: list[np.ndarray]) -> None:
@@ -194,7 +190,7 @@ def test_three_true_rotation_is_a_root_and_every_root_fits():
             assert residuals(r, s.b1, s.rays1, s.rays2).max() <= CONSTRAINT
         error, best = nearest(roots, s.rotation)
         assert error <= ROOT
-        assert np.abs(pixel(s.k2, -best @ s.b1) - s.e2).max() <= EXACT_PX
+        assert np.abs(pixel(s.k2 @ (-best @ s.b1)) - s.e2).max() <= EXACT_PX
     # Both real line pairs of the conic pencil occur: two and four intersection points.
     assert {4, 8} <= set(counts)
 

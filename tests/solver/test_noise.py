@@ -10,11 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from shared_solver import epipole_from_five, solve
-from testbed.scenes import facing_scene, tap
-
-
-def pixel(h: np.ndarray) -> np.ndarray:
-    return h[:2] / h[2]
+from testbed.scenes import facing_scene, pixel, tap
 
 
 def similarity(angle: float, scale: float, shift: tuple[float, float]) -> np.ndarray:

@@ -7,11 +7,10 @@ import math
 
 import numpy as np
 import pytest
-from test_exact import marks
 
 from shared_solver import Camera, ErrorCode, SolverError, solve, words
 from testbed.phones import PhoneScene, phone_scene, phone_taps
-from testbed.scenes import tap
+from testbed.scenes import marks, tap
 
 EXACT_PX = 1e-6
 SEEDS = range(25)

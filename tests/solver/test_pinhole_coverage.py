@@ -19,6 +19,7 @@ import pytest
 from shared_solver import Camera, SolverError, solve
 from shared_solver.estimation.uncertainty import contains
 from testbed.phones import PhoneScene, phone_scene, zoom_from_prior
+from testbed.scenes import line_through
 
 TRIALS = 500
 SIGMA = 3.0
@@ -92,9 +93,7 @@ def _taps(s: PhoneScene, case: Case, rng: np.random.Generator) -> dict[str, obje
     if case.marks == "both":
         taps["epipole2"] = e2
     if case.marks == "line":
-        angle = rng.uniform(0.0, math.pi)
-        ahead = e1 + np.array([math.cos(angle), math.sin(angle)])
-        taps["epipolar_line1"] = np.cross(np.append(e1, 1.0), np.append(ahead, 1.0))
+        taps["epipolar_line1"] = line_through(e1, rng.uniform(0.0, math.pi))
     return taps
 
 

@@ -21,6 +21,7 @@ from shared_solver.estimation.pinhole.pose import PARAMETERS, Poses
 from shared_solver.estimation.pinhole.predictions import friend1_positions
 from shared_solver.estimation.taps import Gravity, Heading, Taps
 from testbed.phones import phone_scene
+from testbed.scenes import line_through
 
 STEP = 1e-6
 # Central differences of order-one residuals at this step are good to about 1e-9; a wrong
@@ -51,8 +52,7 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
         cov = np.broadcast_to(9.0 * np.eye(2), (6, 2, 2)).copy()
     e1 = scene.epipole1 + rng.normal(0.0, 3.0, 2)
     e2 = scene.epipole2 + rng.normal(0.0, 3.0, 2)
-    ahead = e1 + np.array([np.cos(0.7), np.sin(0.7)])
-    line = np.cross(np.append(e1, 1.0), np.append(ahead, 1.0))
+    line = line_through(e1, 0.7)
     taps = Taps(
         p,
         q,

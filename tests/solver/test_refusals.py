@@ -7,7 +7,6 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
-from test_exact import line_through, marks
 
 from shared_solver import (
     ErrorCode,
@@ -18,7 +17,7 @@ from shared_solver import (
     fundamental_from_epipoles,
     solve,
 )
-from testbed.scenes import Scene, facing_scene
+from testbed.scenes import Scene, facing_scene, line_through, marks
 
 
 @pytest.fixture
