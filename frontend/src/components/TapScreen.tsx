@@ -456,7 +456,8 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
   if (next.find) {
     const theirs = theirTaps.landmarks.find((l) => l.id === next.id);
     const key = theirs ? `${theirs.x},${theirs.y}` : "";
-    const offered = Boolean(guide?.spot && guide.id === next.id);
+    const spot = guide?.id === next.id ? guide.spot : null;
+    const offered = spot !== null;
     // A suggested spot: "Use #n?" comes beside "Can't see it", which stays where it was, and
     // the words give way to it (said still: the step is read out), not the photo: the row
     // keeps its height, so nothing a finger may be about to tap moves.
@@ -470,17 +471,17 @@ function Prompt({ controller, view, state, step, guide, suggestion }: PromptProp
           </div>
         </div>
         <div class="prompt-actions">
-          {offered && guide?.spot ? (
+          {spot ? (
             <button
               type="button"
               class="button primary small"
               data-testid="accept-suggestion"
-              onClick={() => guide.spot && controller.taps.tap({ ...guide.spot, sigma: SUGGESTED_SIGMA_PX })}
+              onClick={() => controller.taps.tap({ ...spot, sigma: SUGGESTED_SIGMA_PX })}
             >
               {t("tap.useSuggestion", { id: next.id })}
             </button>
           ) : null}
-          <button type="button" class="button secondary small" onClick={() => controller.taps.skip(next.id)}>
+          <button type="button" class="button secondary small" data-testid="skip-landmark" onClick={() => controller.taps.skip(next.id)}>
             {t("tap.cantSeeIt")}
           </button>
         </div>
