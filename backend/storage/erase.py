@@ -7,6 +7,8 @@ answers at once and deletions close together are erased together.
 
 from __future__ import annotations
 
+import threading
+
 from sqlalchemy.exc import DBAPIError
 
 from .database import SQLITE_BUSY_TIMEOUT_MS, Database, translated
@@ -24,6 +26,9 @@ class Eraser:
     def __init__(self, database: Database, interval_seconds: float = 0.0) -> None:
         self.database = database
         self._pending = False
+        # The sweeper and the eraser call from threads of their own: one erase at a time,
+        # so that a call made while another erases returns once those bytes are gone.
+        self._erasing = threading.Lock()
         # PostgreSQL: one VACUUM FULL per erase interval for all replicas (erasing.py).
         self._erase_turn = EraseTurn(database.engine, interval_seconds)
 
@@ -50,6 +55,10 @@ class Eraser:
         PostgreSQL's own write-ahead log (``pg_wal``, and any archive or backup of it)
         keeps the bytes until it is recycled: outside the app's reach.
         """
+        with self._erasing:
+            return self._erase()
+
+    def _erase(self) -> bool:
         postgresql = self.database.postgresql
         if postgresql:
             with translated():

@@ -1,11 +1,14 @@
 """PostgreSQL: one erase (VACUUM FULL, which locks each table while it copies it) per erase
-interval for all replicas together, not one per replica (backend/storage/erasing.py)."""
+interval for all replicas together, not one per replica (backend/storage/erasing.py); and
+within a replica, one erase at a time (backend/storage/erase.py)."""
 
 from __future__ import annotations
 
+import threading
 import time
 from datetime import timedelta
 
+import pytest
 from sqlalchemy import text
 
 from backend.clock import utc_now
@@ -78,3 +81,36 @@ def test_replicas_take_turns_to_erase_once_per_interval(fresh_postgres_url: str)
     finally:
         for replica in (first, second):
             replica.database.engine.dispose()
+
+
+def test_a_call_while_another_erases_returns_once_the_bytes_are_gone(
+    database_url: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The sweeper and the eraser run in threads of their own: the one that finds the
+    other erasing does not say "nothing left" while the bytes are still there."""
+    replica = Replica(database_url)
+    erase = Eraser._vacuum_full if replica.database.postgresql else Eraser._checkpoint
+    started, finish = threading.Event(), threading.Event()
+    finished: list[str] = []
+
+    def held(eraser: Eraser) -> bool:
+        started.set()
+        assert finish.wait(10)
+        done = erase(eraser)
+        finished.append("first")
+        return done
+
+    monkeypatch.setattr(Eraser, erase.__name__, held)
+    try:
+        a_deletion(replica, 4)
+        first = threading.Thread(target=replica.erase_deleted)
+        first.start()
+        assert started.wait(10)
+        threading.Timer(0.3, finish.set).start()
+        assert replica.erase_deleted()  # nothing left: the first call erased it meanwhile
+        finished.append("second")
+        first.join(10)
+        assert finished == ["first", "second"]
+    finally:
+        finish.set()
+        replica.database.engine.dispose()
