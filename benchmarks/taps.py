@@ -162,18 +162,24 @@ def play(
     expect(one.get_by_test_id("friend-mark")).to_be_visible()
     for number, point in enumerate(scene.landmarks1[:LANDMARKS], 1):
         zoomed += finger(one, *spot(scale1 * point), rng)
-        expect(one.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    expect(one.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+        placed(one, number)
     two.get_by_test_id("cannot-see").tap()
     for number, point in enumerate(scene.landmarks2[:LANDMARKS], 1):
         expect(two.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
         zoomed += finger(two, *spot(scale2 * point), rng)
-        expect(two.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
-    expect(two.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+        placed(two, number)
     state = http.get(path, headers=bearer(joined["token"])).json()
     http.delete(path, headers=bearer(started["token"]))
     http.close()
     return replace(judge(state, scale2 * scene.epipole2, size1, size2), zoomed=zoomed)
+
+
+def placed(phone: ChromiumPhone, number: int) -> None:
+    """Landmark ``number`` marked and saved: the answer it gives is on the screen before
+    the next tap is aimed (a person looks before tapping again; a status that came up as
+    the finger fell would catch the tap, and no mark would come of it)."""
+    expect(phone.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
+    expect(phone.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
 
 
 def bearer(token: str) -> dict[str, str]:
