@@ -22,6 +22,7 @@ from PIL import Image
 
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
+from testbed.browser.screen import OVERLAID
 from testbed.client import numbered
 from testbed.scenes import Camera, Scene, in_photo, look_at
 
@@ -49,30 +50,6 @@ PLACES = {
 
 # How long the view may take to settle: the answer's glide, and one more if the status grows.
 SETTLE_S = 5.0
-
-# Every element drawn over the photo but the photo's own drawing, and its box (client px):
-# the words and controls overlaid on the stage (the status, the whole-photo button, the
-# arrow, hints, the upload bar), whatever they are; invisible ones (faded, empty) left out.
-OVERLAID = """() => {
-  const view = document.querySelector('[data-testid="photo-view"]');
-  const stage = view.parentElement.getBoundingClientRect();
-  const shown = (element) => {
-    for (let e = element; e; e = e.parentElement) {
-      const style = getComputedStyle(e);
-      const gone = style.display === "none" || style.visibility === "hidden";
-      if (gone || Number(style.opacity) < 0.05) return false;
-    }
-    return true;
-  };
-  return [...document.querySelectorAll(".tap-screen *")]
-    .filter((e) => !view.contains(e) && !e.contains(view) && !e.closest(".visually-hidden"))
-    .filter((e) => !e.classList.contains("photo-controls"))
-    .filter((e) => e.getClientRects().length > 0 && shown(e))
-    .map((e) => [e.tagName.toLowerCase() + "." + String(e.className), e.getBoundingClientRect()])
-    .filter(([, r]) => r.width > 0 && r.height > 0 && r.left < stage.right && r.right > stage.left
-                       && r.top < stage.bottom && r.bottom > stage.top)
-    .map(([name, r]) => [name, r.left, r.top, r.right, r.bottom]);
-}"""
 
 
 def intrinsics(focal: float, size: tuple[int, int]) -> np.ndarray:

@@ -10,7 +10,6 @@ with and without the answer drawn.
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +19,7 @@ from PIL import Image
 from testbed.browser import play
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import Phone, expect
+from testbed.browser.screen import screen_pixels, set_answer_shown
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 
@@ -51,16 +51,6 @@ def with_figure(
 SHOTS = 4  # screenshot pairs taken at most until one shows the answer drawn
 
 
-def screen_pixels(page: Phone, folder: Path, name: str) -> tuple[np.ndarray, float]:
-    """The visible page as an (H, W, 3) array, and its device px per CSS px."""
-    path = folder / f"{name}.png"
-    page.screenshot(path=path)
-    with Image.open(io.BytesIO(path.read_bytes())) as shot:
-        pixels = np.array(shot.convert("RGB")).astype(int)
-    ratio = pixels.shape[1] / float(page.evaluate("() => innerWidth"))
-    return pixels, ratio
-
-
 def crop(pixels: np.ndarray, ratio: float, box: tuple[float, float, float, float]) -> np.ndarray:
     x0, y0, x1, y1 = (round(v * ratio) for v in box)
     return pixels[y0:y1, x0:x1]
@@ -73,16 +63,6 @@ def on_screen(
     x0, y0 = page.photo_to_screen(box[0], box[1])
     x1, y1 = page.photo_to_screen(box[2], box[3])
     return x0 - pad, y0 - pad, x1 + pad, y1 + pad
-
-
-def set_answer_shown(page: Phone, shown: bool) -> None:
-    # Through the CSSOM, which the page's Content-Security-Policy allows.
-    page.evaluate(
-        """(shown) => {
-            for (const layer of document.querySelectorAll('[data-testid="answer-layer"]'))
-                layer.style.visibility = shown ? "" : "hidden"; }""",
-        shown,
-    )
 
 
 def in_view(page: Phone, point: tuple[float, float]) -> bool:

@@ -6,25 +6,23 @@ same landmarks and the same answer as the server within 5 s, with no reload and 
 How the network is cut (docs/browsers.md): in Chromium, the DevTools protocol's offline
 emulation (``Network.emulateNetworkConditions``); in WebKit, whose WebDriver has no network
 emulation, the phone reaches the server through a loopback proxy the test cuts
-(``cutproxy.py``).
+(``testbed/browser/cutproxy.py``, through ``testbed.browser.link``).
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Iterator
-from contextlib import ExitStack, contextmanager
-from dataclasses import dataclass
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
 import pytest
-from cutproxy import cut_proxy
 
 from deploy.replica import free_port, serve
 from testbed.browser import play
 from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.link import DROPPED, link
 from testbed.browser.phone import Phone, expect
 
 # Mostly waiting on the phones (make test runs them in a lane of their own).
@@ -32,36 +30,6 @@ pytestmark = pytest.mark.waits
 
 OFFLINE_S = 30.0
 CAUGHT_UP_S = 5.0
-# While cut off, a phone's fetches and crops fail, and the browsers say so.
-DROPPED = r"Failed to load resource|ERR_|failed to load|network|Network|Load failed|connection"
-
-
-@dataclass(frozen=True)
-class Link:
-    """A phone's network, which the test can cut and restore; ``base_url``: where this phone
-    opens the app."""
-
-    base_url: str
-    cut: Callable[[], None]
-    restore: Callable[[], None]
-
-
-@contextmanager
-def link(phone: Phone, server: str) -> Iterator[Link]:
-    """The phone's network to ``server``: in Chromium, the DevTools protocol's offline
-    emulation of the phone's page; in WebKit, a proxy."""
-    if isinstance(phone, ChromiumPhone):
-        session = phone.context.new_cdp_session(phone.page)
-        session.send("Network.enable")
-
-        def emulate(cut: bool) -> None:
-            unthrottled = {"latency": 0, "downloadThroughput": -1, "uploadThroughput": -1}
-            session.send("Network.emulateNetworkConditions", {**unthrottled, "offline": cut})
-
-        yield Link(server, lambda: emulate(True), lambda: emulate(False))
-        return
-    with cut_proxy(int(server.rsplit(":", 1)[1])) as proxy:
-        yield Link(proxy.base_url, proxy.cut, proxy.restore)
 
 
 def midway(starter: Phone, joiner: Phone, s: Any, urls: tuple[str, str], found: int) -> None:

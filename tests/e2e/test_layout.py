@@ -9,11 +9,11 @@ import httpx2
 import numpy as np
 import pytest
 from PIL import Image
-from test_answer_clear import OVERLAID
 
 from deploy.replica import serve
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
+from testbed.browser.screen import OVERLAID
 
 pytestmark = pytest.mark.engines("chromium", "webkit")
 

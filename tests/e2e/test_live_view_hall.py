@@ -28,7 +28,11 @@ import httpx2
 import numpy as np
 import pytest
 from playwright.sync_api import Response
-from test_live_view import (
+
+from testbed.browser import play
+from testbed.browser.chromium_phone import ChromiumPhone
+from testbed.browser.phone import Phone, expect
+from testbed.browser.show_me import (
     CLICK_ALIGN,
     TOLERANCE_DEG,
     answered,
@@ -38,10 +42,6 @@ from test_live_view import (
     turn_right,
     video_on_screen,
 )
-
-from testbed.browser import play
-from testbed.browser.chromium_phone import ChromiumPhone
-from testbed.browser.phone import Phone, expect
 from testbed.client import start
 from testbed.live import VIDEO_SIZE, Hall, LiveView, live_view, marker_error_deg, rendered_hall
 from testbed.scenes import Scene, seen_scene

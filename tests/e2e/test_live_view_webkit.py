@@ -46,7 +46,11 @@ import math
 import httpx2
 import numpy as np
 import pytest
-from test_live_view import (
+
+from testbed.browser import play
+from testbed.browser.phone import Phone, expect
+from testbed.browser.play import ASK_MOTION, still_reading
+from testbed.browser.show_me import (
     FILM_DIAGONAL_MM,
     OPENING_BOUND_MS,
     answered,
@@ -54,10 +58,6 @@ from test_live_view import (
     placed_marker,
     show_me,
 )
-
-from testbed.browser import play
-from testbed.browser.phone import Phone, expect
-from testbed.browser.play import ASK_MOTION, still_reading
 from testbed.browser.webkit_phone import EVERY_16_MS
 from testbed.opening import OPENING_STEPS
 
@@ -145,7 +145,7 @@ def test_show_me_in_webkit(api: httpx2.Client, pixel: Phone) -> None:
         """Turned right by ``turn`` degrees: the marker where the friend projects; its
         error, degrees."""
         hold_turned(pixel, turn)
-        return placed_marker(pixel, friend, focal, turn, when, (width, height))
+        return placed_marker(pixel, friend, focal, turn, when, photo=(width, height))
 
     errors = [marker_at(ahead + 3.0, "at first"), marker_at(ahead - 3.0, "at first")]
     expect(pixel.get_by_test_id("live-note")).to_contain_text("inside the yellow frame")

@@ -15,10 +15,10 @@ from typing import Any
 import cv2
 import numpy as np
 from PIL import Image
-from test_answer_view import screen_pixels, set_answer_shown
 
 from testbed.browser import play
 from testbed.browser.phone import Phone, expect
+from testbed.browser.screen import screen_pixels, set_answer_shown
 from testbed.scenes import NO_PHONES_LANDMARKS2
 
 PHOTO = (640, 480)

@@ -11,10 +11,10 @@ import time
 from pathlib import Path
 
 import pytest
-from test_catch_up import DROPPED, link
 
 from deploy.replica import serve
 from testbed.browser import play
+from testbed.browser.link import DROPPED, link
 from testbed.browser.phone import Phone, expect
 
 pytestmark = [pytest.mark.engines("chromium", "webkit"), pytest.mark.waits]
