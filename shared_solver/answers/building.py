@@ -376,6 +376,8 @@ def _uncertainty(
     if not (covariance[0, 0] > 0.0 and np.linalg.det(covariance) > 0.0):
         return Uncertainty(ellipse=None), None
     centre, axes, angle = ellipse(np.array(e2), covariance)
+    if not (0.0 < axes[1] <= axes[0] < math.inf):  # too thin or too long for a float
+        return Uncertainty(ellipse=None), None
     cov = (
         (float(covariance[0, 0]), float(covariance[0, 1])),
         (float(covariance[1, 0]), float(covariance[1, 1])),

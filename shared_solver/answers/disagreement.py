@@ -56,6 +56,8 @@ def reconcile(request: Request, camera: SolveResult | None, projective: SolveRes
         return fallback
     centre, covariance = own[0], covering(own, other)
     centre_xy, axes, angle = ellipse(centre, covariance)
+    if not (0.0 < axes[1] <= axes[0] < math.inf):  # beyond a float's reach: no region
+        return fallback
     grade = quality(axes[0], request.diagonal2)
     warnings = [SolverWarning.of(WarningCode.CAMERA_MODEL_UNSURE), *camera.warnings]
     if grade == "poor" and WarningCode.UNCERTAIN not in {w.code for w in warnings}:

@@ -9,7 +9,7 @@ import pytest
 from shared_solver import solve
 from shared_solver.answers.building import calibrated
 from shared_solver.estimation import bootstrap
-from shared_solver.estimation.uncertainty import CHI2_2D, contains
+from shared_solver.estimation.uncertainty import CHI2_2D, contains, ellipse
 from testbed.scenes import facing_scene, solved, tap
 
 TRIALS = 500
@@ -63,6 +63,22 @@ def test_ellipse_matches_the_reported_axes() -> None:
     angle = np.radians(ellipse.angle_deg)
     major = np.array([np.cos(angle), np.sin(angle)])
     assert np.isclose(major @ covariance @ major, a * a / CHI2_2D)
+
+
+def test_a_needle_thin_region_keeps_its_width() -> None:
+    """A region 1e5 px long and a few thousandths of a px wide (found by drawing absurd
+    requests: a photo of 0.0016 x 0.0012 px): the short axis is the covariance's, not 0.
+    The textbook eigenvalue, the mean less the half gap, cancels to 0 there, and a region
+    of no width is a false certainty."""
+    long, short = 469581.0 / np.sqrt(CHI2_2D), 0.00373 / np.sqrt(CHI2_2D)
+    turn = np.radians(90.0000002)
+    axis = np.array([np.cos(turn), np.sin(turn)])
+    across = np.array([-axis[1], axis[0]])
+    covariance = long**2 * np.outer(axis, axis) + short**2 * np.outer(across, across)
+    _, (a, b), angle = ellipse(np.zeros(2), covariance)
+    assert a == pytest.approx(469581.0, rel=1e-9)
+    assert b == pytest.approx(0.00373, rel=1e-3)
+    assert angle == pytest.approx(90.0, abs=1e-5)
 
 
 def test_quality_follows_the_uncertainty() -> None:
