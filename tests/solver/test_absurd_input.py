@@ -289,3 +289,11 @@ def test_the_ends_of_the_honoured_range_are_answered(scale: float, changes: dict
 )
 def test_just_beyond_the_range_is_refused(changes: dict[str, Any]) -> None:
     assert outcome(_scene_request(1.0, **changes)) == "invalid_parameter"
+
+
+def test_a_focal_length_told_in_the_smallest_float_is_answered() -> None:
+    """A lens told at 1.2e-38 mm (the smallest normal double) on a 1600 x 1200 photo: the
+    fit keeps a focal length of 5e-37 px, where an LU solve called K singular and the
+    error escaped ``solve`` (found by drawing absurd requests)."""
+    request = _scene_request(1.0, camera2=_known(1.175494351e-38, 1e-6))
+    assert outcome(request) == "answer"
