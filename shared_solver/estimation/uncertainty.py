@@ -74,8 +74,9 @@ def ellipse(
     larger = max(mean + half_gap, 0.0)
     # The smaller eigenvalue as the determinant over the larger: mean - half_gap cancels to
     # 0 when the two differ by 16 orders of magnitude (a region 1e5 px long and 1e-3 px
-    # wide), which would be drawn as a region of no width, a false certainty.
-    smaller = max((xx * yy - xy * xy) / larger, 0.0) if larger > 0.0 else 0.0
+    # wide), which would be drawn as a region of no width, a false certainty. (At most the
+    # larger: a circle's two, rounded apart, would swap.)
+    smaller = min(max((xx * yy - xy * xy) / larger, 0.0), larger) if larger > 0.0 else 0.0
     angle = math.degrees(0.5 * math.atan2(2.0 * xy, xx - yy)) % 180.0  # the major axis
     a, b = math.sqrt(CHI2_2D * larger), math.sqrt(CHI2_2D * smaller)
     return (float(centre[0]), float(centre[1])), (a, b), angle

@@ -81,6 +81,16 @@ def test_a_needle_thin_region_keeps_its_width() -> None:
     assert angle == pytest.approx(90.0, abs=1e-5)
 
 
+def test_a_round_region_keeps_its_axes_in_order() -> None:
+    """A circle of any size: its two axes are equal, the first never the shorter (rounded
+    apart, they once swapped, and the region of a scaled request was dropped)."""
+    for exponent in np.linspace(-12.0, 12.0, 97):
+        sigma = 1.7 * 10.0**exponent
+        _, (a, b), _ = ellipse(np.zeros(2), sigma**2 * np.eye(2))
+        assert 0.0 < b <= a
+        assert b == pytest.approx(a, rel=1e-12)
+
+
 def test_quality_follows_the_uncertainty() -> None:
     """Sloppy taps (sigma 8 px) on 5 landmarks are rarely 'good'; precise taps on 12 usually are."""
     rng = np.random.default_rng(2)
