@@ -118,7 +118,10 @@ def _remade(points: Array, covariance: Array | None, noise: Array) -> Array:
     """(count, *points.shape) the points with fresh noise of their covariances ((2, 2) for
     one point, (N, 2, 2) for N), from standard normal ``noise`` (count, *points.shape)."""
     assert covariance is not None
-    return points + np.einsum("...ij,k...j->k...i", cholesky2(covariance), noise)
+    factor = cholesky2(covariance)
+    # L n for every draw n as two columns of L scaled: numpy's einsum with an ellipsis
+    # costs several times as much on these few numbers.
+    return points + (noise[..., :1] * factor[..., 0] + noise[..., 1:] * factor[..., 1])
 
 
 @functools.lru_cache(maxsize=32)

@@ -89,13 +89,16 @@ class Poses:
         friend2 = self.friend2[0] + steps[:, FRIEND2] @ tangent.T
         friend2 /= np.sqrt(np.einsum("ki,ki->k", friend2, friend2))[:, None]
         w = steps[:, ROTATION]
-        angle = np.sqrt(np.einsum("ki,ki->k", w, w))
+        squared = np.einsum("ki,ki->k", w, w)
+        angle = np.sqrt(squared)
         small = angle < 1e-8
         safe = np.where(small, 1.0, angle)
-        first = np.where(small, 1.0, np.sin(safe) / safe)[:, None, None]
-        second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))[:, None, None]
-        cross = skews(w)
-        turn = np.eye(3) + first * cross + second * (cross @ cross)
+        first = np.where(small, 1.0, np.sin(safe) / safe)
+        second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))
+        # I + a [w]x + b [w]x^2, with [w]x^2 = w w^T - |w|^2 I: no product of the (K, 3, 3).
+        turn = second[:, None, None] * (w[:, :, None] * w[:, None, :])
+        turn += skews(first[:, None] * w)
+        turn.reshape(-1, 9)[:, ::4] += (1.0 - second * squared)[:, None]
         return Poses(
             turn @ self.rotation[0],
             friend2,
