@@ -148,11 +148,15 @@ class Taps:
         """A single px figure for the landmarks' precision: the root-mean-square sigma (the
         friend mark's with no landmark)."""
         variances = np.concatenate(
-            [np.trace(self.cov_p, axis1=1, axis2=2), np.trace(self.cov_q, axis1=1, axis2=2)]
+            [self.cov_p.trace(axis1=1, axis2=2), self.cov_q.trace(axis1=1, axis2=2)]
         )
         if not len(variances) and self.cov_e1 is not None:
             variances = np.array([np.trace(self.cov_e1)])
-        return float(np.sqrt(variances.mean() / 2.0))
+        if not len(variances):
+            return math.nan
+        # The mean as numpy's mean takes it (the same sum over the same count), without its
+        # Python-level wrapper: this runs in every solve.
+        return math.sqrt(float(np.add.reduce(variances)) / len(variances) / 2.0)
 
 
 def _jittered(points: Array, covariances: Array, rng: np.random.Generator) -> Array:

@@ -163,6 +163,12 @@ class PinholeModel:
         return out
 
     @functools.cached_property
+    def centred_taps(self) -> tuple[Array, Array]:
+        """(N, 2) the landmark taps of photo 1 and photo 2 from their principal points, px
+        (the taps', not a batch's)."""
+        return self.taps.p - self.centres[0], self.taps.q - self.centres[1]
+
+    @functools.cached_property
     def p_t(self) -> Array:
         """(K, 3, N) photo 1's landmarks, homogeneous, as columns."""
         return _columns(self.p)

