@@ -87,7 +87,7 @@ def conic_through(request: Request) -> Array:
     p, q = taps.p[:4], taps.q[:4]
     t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
     curve = conic_from_cross_ratio(
-        t1 @ np.append(taps.epipole1, 1.0),
+        t1 @ homogeneous(taps.epipole1[None])[0],
         transform(t1, homogeneous(p)),
         transform(t2, homogeneous(q)),
     )

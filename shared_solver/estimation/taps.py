@@ -8,6 +8,7 @@ whole photo.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -141,6 +142,15 @@ class Taps:
         tap's own covariance (the friends' marks are left as they are)."""
         return replace(
             self, p=_jittered(self.p, self.cov_p, rng), q=_jittered(self.q, self.cov_q, rng)
+        )
+
+    @functools.cached_property
+    def mark_whiteners(self) -> tuple[Array | None, Array | None]:
+        """(2, 2) whiteners of friend 2's and friend 1's marks (:func:`whitener`; None where
+        not marked), once for every model of these taps (the fit's and the bootstrap's)."""
+        return (
+            None if self.cov_e1 is None else whitener(self.cov_e1),
+            None if self.cov_e2 is None else whitener(self.cov_e2),
         )
 
     @property

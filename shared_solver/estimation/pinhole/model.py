@@ -25,7 +25,7 @@ import numpy as np
 from ...minimal.gravity_and_one import north
 from ...projective import Array
 from ..camera import FocalPrior
-from ..taps import Gravity, Heading, Taps, whitener
+from ..taps import Gravity, Heading, Taps
 from .pose import (
     FOCAL1,
     FOCAL2,
@@ -74,8 +74,9 @@ class PinholeModel:
         self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
         self.prior_jacobian = np.zeros((2, PARAMETERS))
         self.prior_jacobian[0, FOCAL1], self.prior_jacobian[1, FOCAL2] = 1.0 / self.prior_sigma
-        self.friend2 = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
-        self.friend1 = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
+        whiten2, whiten1 = taps.mark_whiteners
+        self.friend2 = _Mark.of(taps.epipole1, whiten2, epipole1)
+        self.friend1 = _Mark.of(taps.epipole2, whiten1, epipole2)
         self.line = None
         if taps.line1 is not None:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
@@ -233,10 +234,10 @@ class _Mark:
     whiten: Array  # (2, 2)
 
     @classmethod
-    def of(cls, tap: Array | None, covariance: Array | None, batch: Array | None) -> _Mark | None:
-        if tap is None or covariance is None:
+    def of(cls, tap: Array | None, whiten: Array | None, batch: Array | None) -> _Mark | None:
+        if tap is None or whiten is None:
             return None
-        return cls(tap[None] if batch is None else batch, whitener(covariance))
+        return cls(tap[None] if batch is None else batch, whiten)
 
     def residuals(self, model: Array, jacobian: Array) -> tuple[Array, Array]:
         """Whitened offset (2,) of the model's pixel (2,) from the mark, and its Jacobian."""

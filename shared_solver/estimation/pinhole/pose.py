@@ -93,8 +93,10 @@ class Poses:
         angle = np.sqrt(squared)
         small = angle < 1e-8
         safe = np.where(small, 1.0, angle)
-        first = np.where(small, 1.0, np.sin(safe) / safe)
-        second = np.where(small, 0.5, (1.0 - np.cos(safe)) / (safe * safe))
+        first = np.sin(safe) / safe
+        second = (1.0 - np.cos(safe)) / (safe * safe)
+        if small.any():  # no turn at all: the formula's limits (rare: skip two np.where)
+            first[small], second[small] = 1.0, 0.5
         # I + a [w]x + b [w]x^2, with [w]x^2 = w w^T - |w|^2 I: no product of the (K, 3, 3).
         turn = second[:, None, None] * (w[:, :, None] * w[:, None, :])
         turn += skews(first[:, None] * w)
