@@ -367,7 +367,7 @@ def where_warnings(request: Request, e2: Array, *, behind: str, loose: bool) -> 
 def _uncertainty(
     e2: tuple[float, float] | None, covariance: Array | None
 ) -> tuple[Uncertainty, float | None]:
-    if e2 is None or covariance is None or not np.all(np.isfinite(covariance)):
+    if e2 is None or covariance is None or not np.isfinite(covariance).all():
         return Uncertainty(ellipse=None), None
     # A covariance inverted from nearly singular normal equations (taps far outside a photo
     # seen through a camera model, ~90 degrees off its axis) can come out lopsided or

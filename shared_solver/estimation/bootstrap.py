@@ -103,8 +103,8 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
     gain = fit.jacobian @ fit.covariance
     steps = -model.offsets(fit.pose) @ gain
-    for _ in range(_CHORD_STEPS):
-        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        for _ in range(_CHORD_STEPS):
             steps = steps - model.offsets(fit.pose.after_steps(steps)) @ gain
     return friend1_positions(fit.pose.after_steps(steps), fit.centres[1])
 
