@@ -36,6 +36,7 @@ from .answers.request import Request
 from .errors import Marks, Reason, WarningCode
 from .estimation.camera import Camera
 from .estimation.taps import Gravity, Heading, Taps
+from .projective import homogeneous
 from .refusal import SolverError
 from .result import SolveResult, SolverWarning
 
@@ -270,8 +271,8 @@ def _parse(
         marked=marked,
         tolerance=_SAME_PLACE_SIGMAS * sigma,
         labels=labels,
-        epipole1=None if e1 is None else np.append(e1, 1.0),
-        epipole2=None if e2 is None else np.append(e2, 1.0),
+        epipole1=None if e1 is None else homogeneous(e1[None])[0],
+        epipole2=None if e2 is None else homogeneous(e2[None])[0],
         directions=not (modelled and e2 is not None) and not levelled,
     )
     if labels is not None and len(labels) != len(p):

@@ -138,7 +138,7 @@ def friend2_marked(request: Request) -> CameraAnswer:
     # readings' share, and with and without it the regions of 1 and 2 landmarks held the
     # truth as often (92.0 % and 92.3 % of 300, EXIF and phone prior); first order has it.
     if fit.dof <= BOOTSTRAP_DOF and taps.gravity is None:
-        used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
+        used = taps.without(suspects)
         covariance = calibrated(
             fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)
         )

@@ -87,7 +87,7 @@ def conic_through(request: Request) -> Array:
     p, q = taps.p[:4], taps.q[:4]
     t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
     curve = conic_from_cross_ratio(
-        t1 @ np.append(taps.epipole1, 1.0),
+        t1 @ homogeneous(taps.epipole1[None])[0],
         transform(t1, homogeneous(p)),
         transform(t2, homogeneous(q)),
     )
@@ -108,7 +108,7 @@ def friend2_marked(request: Request) -> SolveResult:
         if found is not None:
             suspects, fit = found
             warnings += suspect_warnings(request, suspects, fit.fundamental)
-    used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
+    used = taps.without(suspects)
     covariance = fit.covariance2
     if len(used) == 5:  # minimal: first order is too optimistic near degenerate layouts
         covariance = calibrated(
@@ -199,7 +199,7 @@ def landmarks_only(request: Request) -> SolveResult:
             warnings += suspect_warnings(request, suspects, fit.fundamental)
     covariance = fit.covariance2
     if len(taps) - len(suspects) == 8:  # one more than minimal: first order measured optimistic
-        used = taps.subset(np.setdiff1d(np.arange(len(taps)), suspects))
+        used = taps.without(suspects)
         covariance = calibrated(
             fit.epipole2,
             covariance,

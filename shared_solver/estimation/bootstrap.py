@@ -83,27 +83,28 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
     friend 1 stays put, and the samples flew off (measured at 1 px: regions twice the
     bound's area); the further steps bring them back to it.
     """
-    count = PINHOLE_SAMPLES
-    marks = [mark for mark in (taps.epipole1, taps.epipole2) if mark is not None]
-    shapes = [(count, *taps.p.shape), (count, *taps.q.shape)] + [(count, 2)] * len(marks)
-    noise = iter(_noise(tuple(shapes)))
+    pairs = ((taps.epipole1, taps.cov_e1), (taps.epipole2, taps.cov_e2))
+    marks = [(mark, cov) for mark, cov in pairs if mark is not None and cov is not None]
+    # Every tap re-made in one go (one Cholesky factorisation of all their covariances):
+    # the landmarks of photo 1, of photo 2, then the marks, as rows.
+    remade = _remade(
+        np.concatenate([taps.p, taps.q, *(mark[None] for mark, _ in marks)]),
+        np.concatenate([taps.cov_p, taps.cov_q, *(cov[None] for _, cov in marks)]),
+        _stacked_noise(len(taps), len(marks)),
+    )
+    n = len(taps)
+    remade_marks = iter(remade[:, 2 * n :].transpose(1, 0, 2))
+    epipole1, epipole2 = (
+        None if mark is None or cov is None else next(remade_marks) for mark, cov in pairs
+    )
     model = PinholeModel(
-        taps,
-        priors,
-        p=_remade(taps.p, taps.cov_p, next(noise)),
-        q=_remade(taps.q, taps.cov_q, next(noise)),
-        epipole1=None
-        if taps.epipole1 is None
-        else _remade(taps.epipole1, taps.cov_e1, next(noise)),
-        epipole2=None
-        if taps.epipole2 is None
-        else _remade(taps.epipole2, taps.cov_e2, next(noise)),
+        taps, priors, p=remade[:, :n], q=remade[:, n : 2 * n], epipole1=epipole1, epipole2=epipole2
     )
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
     gain = fit.jacobian @ fit.covariance
     steps = -model.offsets(fit.pose) @ gain
-    for _ in range(_CHORD_STEPS):
-        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        for _ in range(_CHORD_STEPS):
             steps = steps - model.offsets(fit.pose.after_steps(steps)) @ gain
     return friend1_positions(fit.pose.after_steps(steps), fit.centres[1])
 
@@ -118,7 +119,23 @@ def _remade(points: Array, covariance: Array | None, noise: Array) -> Array:
     """(count, *points.shape) the points with fresh noise of their covariances ((2, 2) for
     one point, (N, 2, 2) for N), from standard normal ``noise`` (count, *points.shape)."""
     assert covariance is not None
-    return points + np.einsum("...ij,k...j->k...i", cholesky2(covariance), noise)
+    factor = cholesky2(covariance)
+    # L n for every draw n as two columns of L scaled: numpy's einsum with an ellipsis
+    # costs several times as much on these few numbers.
+    return points + (noise[..., :1] * factor[..., 0] + noise[..., 1:] * factor[..., 1])
+
+
+@functools.lru_cache(maxsize=32)
+def _stacked_noise(landmarks: int, marks: int) -> Array:
+    """(PINHOLE_SAMPLES, 2 landmarks + marks, 2) the draws of :func:`_noise` for the
+    landmarks of photo 1, of photo 2 and the friends' marks, side by side: the same numbers
+    as re-making each kind of tap on its own."""
+    count = PINHOLE_SAMPLES
+    shapes = ((count, landmarks, 2), (count, landmarks, 2)) + ((count, 2),) * marks
+    p, q, *friends = _noise(shapes)
+    stacked = np.concatenate([p, q, *(friend[:, None] for friend in friends)], axis=1)
+    stacked.setflags(write=False)
+    return stacked
 
 
 @functools.lru_cache(maxsize=32)

@@ -58,7 +58,8 @@ def levenberg_marquardt(
     normal, gradient, scaling = _normal_equations(r, jacobian)
     for _ in range(max_iterations):
         # A rejected step leaves the point, and so the normal equations, as they were.
-        damped = normal + np.diag(damping * scaling)
+        damped = normal.copy()  # + diag(damping * scaling), without np.diag's new matrix
+        damped.flat[:: len(scaling) + 1] += damping * scaling
         try:
             step = linalg.solve(damped, -gradient)
         except linalg.LinAlgError:

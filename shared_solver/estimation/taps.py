@@ -8,7 +8,9 @@ whole photo.
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -127,6 +129,14 @@ class Taps:
             self, p=self.p[keep], q=self.q[keep], cov_p=self.cov_p[keep], cov_q=self.cov_q[keep]
         )
 
+    def without(self, dropped: Sequence[int]) -> Taps:
+        """The same marks without the landmarks ``dropped`` (indices); these very taps when
+        none is, as in most searches (numpy's set difference alone costs tens of
+        microseconds)."""
+        if not len(dropped):
+            return self
+        return self.subset(np.setdiff1d(np.arange(len(self)), dropped))
+
     def retapped(self, rng: np.random.Generator) -> Taps:
         """The landmarks as the same fingers might tap them again: fresh noise of each
         tap's own covariance (the friends' marks are left as they are)."""
@@ -134,16 +144,29 @@ class Taps:
             self, p=_jittered(self.p, self.cov_p, rng), q=_jittered(self.q, self.cov_q, rng)
         )
 
+    @functools.cached_property
+    def mark_whiteners(self) -> tuple[Array | None, Array | None]:
+        """(2, 2) whiteners of friend 2's and friend 1's marks (:func:`whitener`; None where
+        not marked), once for every model of these taps (the fit's and the bootstrap's)."""
+        return (
+            None if self.cov_e1 is None else whitener(self.cov_e1),
+            None if self.cov_e2 is None else whitener(self.cov_e2),
+        )
+
     @property
     def typical_sigma(self) -> float:
         """A single px figure for the landmarks' precision: the root-mean-square sigma (the
         friend mark's with no landmark)."""
         variances = np.concatenate(
-            [np.trace(self.cov_p, axis1=1, axis2=2), np.trace(self.cov_q, axis1=1, axis2=2)]
+            [self.cov_p.trace(axis1=1, axis2=2), self.cov_q.trace(axis1=1, axis2=2)]
         )
         if not len(variances) and self.cov_e1 is not None:
             variances = np.array([np.trace(self.cov_e1)])
-        return float(np.sqrt(variances.mean() / 2.0))
+        if not len(variances):
+            return math.nan
+        # The mean as numpy's mean takes it (the same sum over the same count), without its
+        # Python-level wrapper: this runs in every solve.
+        return math.sqrt(float(np.add.reduce(variances)) / len(variances) / 2.0)
 
 
 def _jittered(points: Array, covariances: Array, rng: np.random.Generator) -> Array:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -19,16 +21,31 @@ def conic_from_cross_ratio(e1: Array, p: Array, q: Array) -> Array:
     Returns:
         (3, 3) symmetric C, unit Frobenius norm, with ``e2^T C e2 = 0`` and ``q_s^T C q_s = 0``.
     """
-    # The pairs (ij, kl, ik, jl) of the paper's indices i, j, k, l = 0, 1, 2, 3, crossed in
-    # one call each for photo 1 and photo 2.
-    first, second = [0, 2, 0, 1], [1, 3, 2, 3]
-    ij, kl, ik, jl = linalg.cross_rows(p[first], p[second]) @ e1  # brackets |e1 p_a p_b|
+    # The pairs (ij, kl, ik, jl) of the paper's indices i, j, k, l = 0, 1, 2, 3. In plain
+    # floats: a few dozen products, where numpy's per-call cost would be most of the time.
+    e = e1.tolist()
+    rows1, rows2 = p.tolist(), q.tolist()
+    pairs = ((0, 1), (2, 3), (0, 2), (1, 3))
+    # Brackets |e1 p_a p_b| = e1 . (p_a x p_b).
+    ij, kl, ik, jl = (_dot(e, _cross(rows1[i], rows1[j])) for i, j in pairs)
     a, b = ij * kl, ik * jl
     # |e2 q_a q_b| = e2 . (q_a x q_b): each bracket is a linear form in e2.
-    l_ij, l_kl, l_ik, l_jl = linalg.cross_rows(q[first], q[second])
-    c = a * np.outer(l_ik, l_jl) - b * np.outer(l_ij, l_kl)
-    c = c + c.T
-    return c / linalg.norm(c)
+    l_ij, l_kl, l_ik, l_jl = (_cross(rows2[i], rows2[j]) for i, j in pairs)
+    half = [
+        [a * (u * v) - b * (w * z) for v, z in zip(l_jl, l_kl, strict=True)]
+        for u, w in zip(l_ik, l_ij, strict=True)
+    ]
+    c = [[half[r][k] + half[k][r] for k in range(3)] for r in range(3)]
+    size = math.sqrt(sum(value * value for row in c for value in row))
+    return np.array(c) / size
+
+
+def _cross(u: list[float], v: list[float]) -> tuple[float, float, float]:
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+def _dot(u: list[float], v: tuple[float, float, float]) -> float:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
 def epipole_conic(e1: ArrayLike, pts1: ArrayLike, pts2: ArrayLike) -> Array:

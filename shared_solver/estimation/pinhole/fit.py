@@ -52,17 +52,17 @@ class PinholeFit:
     jacobian: Array
     prior_offsets: Array
 
-    @property
+    @functools.cached_property
     def usable(self) -> bool:
         """Whether the fit is a number throughout, with focal lengths within ten prior
         sigmas: a start far from any geometry can run off to absurd ones."""
         return bool(
-            np.isfinite(self.cost)
-            and np.all(np.isfinite(self.covariance))
-            and np.all(np.isfinite(self.jacobian))
-            and np.all(np.isfinite(self.pose.rotation))
-            and np.all(np.abs(self.distances) < np.inf)
-            and np.all(np.abs(self.prior_offsets) <= _FOCAL_RANGE_SIGMAS)
+            math.isfinite(self.cost)
+            and np.isfinite(self.covariance).all()
+            and np.isfinite(self.jacobian).all()
+            and np.isfinite(self.pose.rotation).all()
+            and (np.abs(self.distances) < np.inf).all()
+            and (np.abs(self.prior_offsets) <= _FOCAL_RANGE_SIGMAS).all()
         )
 
     @functools.cached_property
@@ -124,7 +124,7 @@ def fit_pinhole(model: PinholeModel, start: Poses, *, max_iterations: int = 50) 
         gain_tolerance=_GAIN_TOLERANCE,
     )
     information = jacobian.T @ jacobian
-    if not np.all(np.isfinite(information)):
+    if not np.isfinite(information).all():
         # Run off to where the model has no derivative (a focal length of e^-177 px, from a
         # start far from any geometry): no covariance either, so the fit is not ``usable``.
         covariance = np.full(information.shape, np.nan)

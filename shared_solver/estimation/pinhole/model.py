@@ -16,6 +16,7 @@ for the bootstrap (:mod:`..bootstrap`), so all use the same code.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -24,7 +25,7 @@ import numpy as np
 from ...minimal.gravity_and_one import north
 from ...projective import Array
 from ..camera import FocalPrior
-from ..taps import Gravity, Heading, Taps, whitener
+from ..taps import Gravity, Heading, Taps
 from .pose import (
     FOCAL1,
     FOCAL2,
@@ -65,23 +66,17 @@ class PinholeModel:
         epipole2: Array | None = None,
     ) -> None:
         self.taps, self.priors = taps, priors
-        p = taps.p[None] if p is None else p
-        q = taps.q[None] if q is None else q
-        count = len(p)
-        self.p_t = np.concatenate([p.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
-        self.q_t = np.concatenate([q.transpose(0, 2, 1), np.ones((count, 1, len(taps)))], axis=1)
-        self.cov_p_t = taps.cov_p.transpose(1, 2, 0)  # (2, 2, N)
-        self.cov_q_t = taps.cov_q.transpose(1, 2, 0)
-        self.cov_t = np.zeros((4, 4, len(taps)))  # both taps' covariances, block diagonal
-        self.cov_t[:2, :2], self.cov_t[2:, 2:] = self.cov_p_t, self.cov_q_t
+        self.p = taps.p[None] if p is None else p  # (K, N, 2)
+        self.q = taps.q[None] if q is None else q
         self.centres = np.array([priors[0].centre, priors[1].centre])
         self.centre_pixels = (priors[0].centre, priors[1].centre)
         self.prior_mean = np.array([priors[0].log_focal, priors[1].log_focal])
         self.prior_sigma = np.array([priors[0].log_sigma, priors[1].log_sigma])
         self.prior_jacobian = np.zeros((2, PARAMETERS))
         self.prior_jacobian[0, FOCAL1], self.prior_jacobian[1, FOCAL2] = 1.0 / self.prior_sigma
-        self.friend2 = _Mark.of(taps.epipole1, taps.cov_e1, epipole1)
-        self.friend1 = _Mark.of(taps.epipole2, taps.cov_e2, epipole2)
+        whiten2, whiten1 = taps.mark_whiteners
+        self.friend2 = _Mark.of(taps.epipole1, whiten2, epipole1)
+        self.friend1 = _Mark.of(taps.epipole2, whiten1, epipole2)
         self.line = None
         if taps.line1 is not None:
             self.line = taps.line1 / (math.hypot(taps.line1[0], taps.line1[1]) * taps.line_sigma)
@@ -141,20 +136,9 @@ class PinholeModel:
     def offsets(self, poses: Poses) -> Array:
         """(K, M) whitened residuals, without the Jacobian: K poses against one set of taps
         (scoring candidate poses), or one pose against K sets of taps (the bootstrap)."""
-        count = max(len(poses), len(self.p_t))
-        f = np.exp(poses.log_focals)  # (K, 2)
-        inverse1 = _inverse_k(f[:, 0], self.centres[0])
-        inverse2_t = _inverse_k(f[:, 1], self.centres[1]).transpose(0, 2, 1)
-        fundamental = inverse2_t @ poses.rotation @ skews(poses.baseline) @ inverse1
-        lines2 = fundamental @ self.p_t  # (K, 3, N)
-        lines1 = fundamental.transpose(0, 2, 1) @ self.q_t
-        eps = np.einsum("kin,kin->kn", lines2, self.q_t)
-        gradients = np.concatenate(
-            [np.broadcast_to(lines1[:, :2], (count, 2, self.landmarks)), lines2[:, :2]], axis=1
-        )  # (K, 4, N), as in _landmarks
-        weighted = np.einsum("ijn,kjn->kin", self.cov_t, gradients)
+        count = max(len(poses), len(self.p))
         out = np.empty((count, self.residual_count))
-        out[:, : self.landmarks] = eps / np.sqrt(np.einsum("kin,kin->kn", gradients, weighted))
+        out[:, : self.landmarks] = self._sampson(poses)
         column = self.landmarks
         if self.friend2 is not None or self.line is not None:
             position = friend2_positions(poses, self.centres[0])
@@ -179,6 +163,68 @@ class PinholeModel:
         out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
         return out
 
+    @functools.cached_property
+    def centred_taps(self) -> tuple[Array, Array]:
+        """(N, 2) the landmark taps of photo 1 and photo 2 from their principal points, px
+        (the taps', not a batch's)."""
+        return self.taps.p - self.centres[0], self.taps.q - self.centres[1]
+
+    @functools.cached_property
+    def p_t(self) -> Array:
+        """(K, 3, N) photo 1's landmarks, homogeneous, as columns."""
+        return _columns(self.p)
+
+    @functools.cached_property
+    def q_t(self) -> Array:
+        """(K, 3, N) photo 2's landmarks, homogeneous, as columns."""
+        return _columns(self.q)
+
+    @functools.cached_property
+    def cov_t(self) -> Array:
+        """(4, 4, N) both taps' covariances of each landmark, block diagonal."""
+        cov_t = np.zeros((4, 4, self.landmarks))
+        cov_t[:2, :2] = self.taps.cov_p.transpose(1, 2, 0)
+        cov_t[2:, 2:] = self.taps.cov_q.transpose(1, 2, 0)
+        return cov_t
+
+    @functools.cached_property
+    def _covariances(self) -> Array:
+        """(N, 4, 4) both taps' covariances of each landmark, block diagonal."""
+        covariances = np.zeros((self.landmarks, 4, 4))
+        covariances[:, :2, :2], covariances[:, 2:, 2:] = self.taps.cov_p, self.taps.cov_q
+        return covariances
+
+    @functools.cached_property
+    def _centred(self) -> tuple[Array, Array]:
+        """(K, 3, N) the landmarks of photo 1 and photo 2 from their principal points,
+        homogeneous, as columns (:meth:`_sampson`)."""
+        return _columns(self.p - self.centres[0]), _columns(self.q - self.centres[1])
+
+    def _sampson(self, poses: Poses) -> Array:
+        """(K, N) the landmarks' whitened Sampson distances (as :func:`_landmarks`, without
+        the Jacobian), for K poses, or one pose and K sets of taps.
+
+        ``F = K2^-T E K1^-1`` with ``K^-1 = diag(1/f, 1/f, 1) T``, ``T`` the shift to the
+        principal point; with the taps already shifted (:attr:`_centred`), ``F`` is ``E``
+        with its rows and columns scaled, and ``F p``, ``F^T q`` keep their x, y parts
+        (the Sampson gradient) and ``q^T F p``. This runs on the bootstrap's samples and on
+        every start: fewer products than ``_landmarks``.
+        """
+        inverse = np.ones((len(poses), 2, 3))  # diag(1/f, 1/f, 1) of photo 1, then photo 2
+        inverse[:, :, :2] = np.exp(-poses.log_focals)[:, :, None]
+        essential = poses.rotation @ skews(poses.baseline)
+        fundamental = essential * inverse[:, 1, :, None] * inverse[:, 0, None, :]
+        centred1, centred2 = self._centred
+        lines2 = fundamental @ centred1  # (K, 3, N): F p
+        lines1 = fundamental.transpose(0, 2, 1) @ centred2  # F^T q
+        eps = np.einsum("kin,kin->kn", lines2, centred2)
+        # g^T C g as N products of (K, 4) by (4, 4): numpy's einsum over a (4, 4, N) C
+        # takes twice as long.
+        gradients = np.concatenate([lines1[:, :2], lines2[:, :2]], axis=1).transpose(2, 0, 1)
+        variance = np.einsum("nki,nki->kn", gradients @ self._covariances, gradients)
+        result: Array = eps / np.sqrt(variance)
+        return result
+
 
 @dataclass(frozen=True)
 class _Mark:
@@ -188,10 +234,10 @@ class _Mark:
     whiten: Array  # (2, 2)
 
     @classmethod
-    def of(cls, tap: Array | None, covariance: Array | None, batch: Array | None) -> _Mark | None:
-        if tap is None or covariance is None:
+    def of(cls, tap: Array | None, whiten: Array | None, batch: Array | None) -> _Mark | None:
+        if tap is None or whiten is None:
             return None
-        return cls(tap[None] if batch is None else batch, whitener(covariance))
+        return cls(tap[None] if batch is None else batch, whiten)
 
     def residuals(self, model: Array, jacobian: Array) -> tuple[Array, Array]:
         """Whitened offset (2,) of the model's pixel (2,) from the mark, and its Jacobian."""
@@ -288,10 +334,9 @@ def _landmarks(pose: Poses, model: PinholeModel, tangent: Array) -> tuple[Array,
     return r, (eps[1:] * scale - (r * scale * scale) * products[1:]).T
 
 
-def _inverse_k(focal: Array, centre: Array) -> Array:
-    """(K, 3, 3) K^-1 for focal lengths (K,) and one principal point (2,)."""
-    inverse = np.zeros((len(focal), 3, 3))
-    inverse[:, 0, 0] = inverse[:, 1, 1] = 1.0 / focal
-    inverse[:, :2, 2] = -centre / focal[:, None]
-    inverse[:, 2, 2] = 1.0
-    return inverse
+def _columns(points: Array) -> Array:
+    """(K, 3, N) pixels (K, N, 2) as homogeneous columns."""
+    count, landmarks, _ = points.shape
+    columns = np.ones((count, 3, landmarks))
+    columns[:, :2] = points.transpose(0, 2, 1)
+    return columns

@@ -120,15 +120,16 @@ def exact_poses(
         friend2_places = taps.epipole1[None]
     focal1 = np.array([priors[0].focal_px * zoom[0]])
     focal2 = np.array([priors[1].focal_px * zoom[1]])
-    rays1 = _rays_at(taps.p, priors[0].centre, focal1)[0]
-    rays2 = _rays_at(taps.q, priors[1].centre, focal2)[0]
+    centred1, centred2 = model.centred_taps
+    rays1 = _rays_at(centred1, focal1)[0]
+    rays2 = _rays_at(centred2, focal2)[0]
     rotations: list[Array] = []
     directions: list[Array] = []
-    for ray in _rays_at(friend2_places, priors[0].centre, focal1)[0]:
+    for ray in _rays_at(friend2_places - model.centres[0], focal1)[0]:
         friend2 = _unit(ray)
         found: list[Array] = []
         if taps.epipole2 is not None:
-            friend1 = _unit(_rays_at(taps.epipole2[None], priors[1].centre, focal2)[0, 0])
+            friend1 = _unit(_rays_at(taps.epipole2[None] - model.centres[1], focal2)[0, 0])
             for (i,) in singles:
                 found += rotations_from_both(friend2, friend1, rays1[i], rays2[i])
         for triple in triples:
@@ -152,9 +153,10 @@ def gravity_poses(
         return None
     focal1 = np.array([priors[0].focal_px * zoom[0]])
     focal2 = np.array([priors[1].focal_px * zoom[1]])
-    rays1 = _rays_at(taps.p, priors[0].centre, focal1)[0]
-    rays2 = _rays_at(taps.q, priors[1].centre, focal2)[0]
-    friend2 = _unit(_rays_at(taps.epipole1[None], priors[0].centre, focal1)[0, 0])
+    centred1, centred2 = model.centred_taps
+    rays1 = _rays_at(centred1, focal1)[0]
+    rays2 = _rays_at(centred2, focal2)[0]
+    friend2 = _unit(_rays_at(taps.epipole1[None] - model.centres[0], focal1)[0, 0])
     # Far from friend 2's mark, a landmark's epipolar plane is well fixed by its two rays.
     order = np.argsort(-np.linalg.norm(taps.p - taps.epipole1, axis=1), kind="stable")
     rotations: list[Array] = []
@@ -164,7 +166,7 @@ def gravity_poses(
         )
     if not rotations:
         return None
-    return _poses(model, np.array(rotations), np.tile(friend2, (len(rotations), 1)), zoom)
+    return _poses(model, np.array(rotations), _repeated(friend2, len(rotations)), zoom)
 
 
 def unmarked_starts(
@@ -223,7 +225,7 @@ def _poses(
     return Poses(
         rotations,
         np.ascontiguousarray(directions),
-        np.tile(log_focals, (len(rotations), 1)),
+        _repeated(log_focals, len(rotations)),
         float(priors[0].log_focal),
     )
 
@@ -266,10 +268,10 @@ def behind(poses: Poses, model: PinholeModel) -> Array:
     The landmark is where the two rays pass closest (midpoint triangulation, with the
     cameras a unit apart); a landmark beyond friend 2 along the baseline has no sign.
     """
-    taps, priors = model.taps, model.priors
     focals = np.exp(poses.log_focals)
-    rays1 = _rays_at(taps.p, priors[0].centre, focals[:, 0])  # (K, N, 3) frame 1
-    rays2 = _rays_at(taps.q, priors[1].centre, focals[:, 1])  # frame 2
+    centred1, centred2 = model.centred_taps
+    rays1 = _rays_at(centred1, focals[:, 0])  # (K, N, 3) frame 1
+    rays2 = _rays_at(centred2, focals[:, 1])  # frame 2
     back2 = np.einsum("kji,knj->kni", poses.rotation, rays2)  # in frame 1
     baseline = poses.baseline[:, None, :]  # camera 2 at b1 in frame 1
     # Solve a r1 - b r2' = b1 in least squares: the depths along each ray.
@@ -321,11 +323,19 @@ def _areas(triangles: Array) -> Array:
     )
 
 
-def _rays_at(points: Array, centre: tuple[float, float], focals: Array) -> Array:
-    """(K, N, 3) rays of pixels (N, 2) for K focal lengths."""
-    rays = np.ones((len(focals), len(points), 3))
-    rays[:, :, :2] = (points - np.asarray(centre))[None] / focals[:, None, None]
+def _rays_at(centred: Array, focals: Array) -> Array:
+    """(K, N, 3) rays of pixels (N, 2), given from the principal point, for K focal
+    lengths."""
+    rays = np.ones((len(focals), len(centred), 3))
+    rays[:, :, :2] = centred[None] / focals[:, None, None]
     return rays
+
+
+def _repeated(row: Array, count: int) -> Array:
+    """(count, n) copies of a row (n,) (``np.tile`` costs several times as much)."""
+    rows = np.empty((count, len(row)))
+    rows[:] = row
+    return rows
 
 
 def _intrinsics(prior: FocalPrior) -> Array:
