@@ -101,8 +101,12 @@ lint: $(INSTALLED)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 
+# pyproject's files, then the two conftest.py it leaves out: pytest imports each as the
+# module conftest, and mypy checks one module of a name per run.
 typecheck: $(INSTALLED)
 	$(BIN)/mypy
+	$(BIN)/mypy tests/conftest.py
+	$(BIN)/mypy tests/backend/conftest.py
 
 # The app's unit tests. Its types are checked by its build (`npm run build` runs tsc first),
 # which every source change makes again: checking them here too cost make test 15 s of CPU.

@@ -10,7 +10,7 @@ import pytest
 
 from backend.errors import MEANING, STATUS, ErrorCode
 from docsgen import error_codes, figures, sizing
-from docsgen.reports import shortened
+from docsgen.reports import read_report, shortened
 from shared_solver import errors as solver_errors
 
 
@@ -143,7 +143,7 @@ def test_a_missing_row_or_report_is_said_not_crashed_on(reports: Path) -> None:
 def test_a_benchmark_that_stops_shows_as_failed(reports: Path) -> None:
     bench = next(b for b in figures.BENCHMARKS if b.target == "bench-load")
     (reports / bench.report).write_text(figures.stopped_report(bench, "abc1234", 2))
-    report = figures.read_report(reports / bench.report)
+    report = read_report(reports / bench.report)
     assert (report.commit, report.passed) == ("abc1234", 0)
     assert report.failed == ("the benchmark runs to its end (exit status 2)",)
     sized = sizing.sizing(reports)  # the load report: no figure per search, no demand

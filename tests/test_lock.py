@@ -19,7 +19,7 @@ def locked(name: str) -> dict[str, str]:
     """Package -> version of one lock file, each entry with at least one hash."""
     text = (ROOT / "requirements" / name).read_text()
     entries = re.split(r"\n(?=\S)", text)
-    pins = {}
+    pins: dict[str, str] = {}
     for entry in entries:
         match = PIN.match(entry)
         if match:
@@ -29,7 +29,7 @@ def locked(name: str) -> dict[str, str]:
 
 
 def pinned(specs: list[str]) -> dict[str, str]:
-    out = {}
+    out: dict[str, str] = {}
     for spec in specs:
         requirement = Requirement(spec)
         (version,) = [s.version for s in requirement.specifier if s.operator == "=="]

@@ -26,6 +26,7 @@ def test_each_screenshot_is_halved_into_a_jpeg_and_old_ones_go(tmp_path: Path) -
     assert sorted(path.name for path in docs.iterdir()) == ["1-start.jpg", "2-share.jpg"]
     assert written == [docs / "1-start.jpg", docs / "2-share.jpg"]
     half = cv2.imread(str(docs / "1-start.jpg"))
+    assert half is not None
     assert half.shape == (1200, 540, 3)
     assert np.abs(half[600, 400].astype(int) - (0, 212, 255)).max() < 12
 

@@ -8,6 +8,7 @@ import io
 import zlib
 from collections.abc import Callable
 from functools import cache
+from typing import Any
 
 import numpy as np
 import pillow_heif
@@ -42,7 +43,7 @@ def pattern(rows: int = 3, columns: int = 4, block: int = BLOCK) -> np.ndarray:
     return np.kron(COLOURS[indices], np.ones((block, block, 1), dtype=np.uint8))
 
 
-def encoded(image: Image.Image | np.ndarray, image_format: str = "JPEG", **params) -> bytes:
+def encoded(image: Image.Image | np.ndarray, image_format: str = "JPEG", **params: Any) -> bytes:
     if isinstance(image, np.ndarray):
         image = Image.fromarray(image)
     if image_format == "JPEG":

@@ -225,7 +225,7 @@ def test_a_zoom_no_phone_lens_can_take_is_read_as_included() -> None:
     """400 mm and a 1000x digital zoom: the zoom cannot come on top of the lens (no phone's
     reaches 400 000 mm), so the photo is read as framed at 400 mm; a plausible zoom is still
     weighed (26 mm zoomed 4x: between 26 and 104 mm)."""
-    samsung = {"make": "Samsung", "focal_35mm": 400.0}
+    samsung: dict[str, Any] = {"make": "Samsung", "focal_35mm": 400.0}
     assert lens(LensFacts(**samsung, digital_zoom=1000.0), "phone") == Lens(400.0, 0.02, "phone")
     zoomed = lens(LensFacts(**samsung | {"focal_35mm": 26.0}, digital_zoom=4.0), "phone")
     assert zoomed is not None
@@ -262,7 +262,7 @@ def tap_sets(draw: st.DrawFn, search: Search) -> dict[str, Any]:
     sigma = None if scale >= 1.0 else 2.0 * scale
     if corner == "sigmas":
         sigma = draw(st.sampled_from(EXTREME_SIGMAS) | json_numbers)
-    taps = {
+    taps: dict[str, dict[str, Any]] = {
         "starter": {"landmarks": draw(_landmarks(scene.landmarks1, scale, corner, sigma))},
         "joiner": {"landmarks": draw(_landmarks(scene.landmarks2, scale, corner, sigma))},
     }

@@ -211,6 +211,7 @@ def check_acknowledged_writes(server: Server, phones: list[Writer]) -> None:
         if phone.in_flight is not None:
             allowed.append(phone.in_flight.applied_to(phone.known))
         assert found in allowed, (role, session_id, found, allowed)
+        assert found.photo is not None
         width, height = PHOTO_SIZES[found.photo]
         assert body["photos"][role] == stored_photo(width, height)
         if found != phone.known:

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncGenerator, AsyncIterator, Callable, Sequence
 from contextlib import AbstractContextManager, aclosing
+from datetime import datetime
 from typing import Any
 
 import anyio
@@ -37,10 +38,11 @@ def streams_of(client: TestClient) -> EventStreams:
 
 async def open_stream(
     client: TestClient, session_id: str, role: Role, last_event_id: int | None = None
-) -> AsyncIterator[str]:
+) -> AsyncGenerator[str, None]:
     """One phone's stream, as the text that goes on the wire, frame by frame."""
     events = streams_of(client).events(Participant(session_id, role), last_event_id)
-    async with aclosing(events):  # closing this stream closes the server's
+    # EventStreams.events is an async generator (aclose) that says AsyncIterator.
+    async with aclosing(events):  # type: ignore[type-var]  # closing this closes the server's
         async for event in events:
             # As FastAPI writes it: data as written (raw_data), or serialised here.
             data = event.raw_data
@@ -67,7 +69,9 @@ async def next_frames(stream: AsyncIterator[str], *types: str) -> list[Heard]:
     return frames
 
 
-async def joined_stream(client: TestClient, session_id: str, role: Role) -> AsyncIterator[str]:
+async def joined_stream(
+    client: TestClient, session_id: str, role: Role
+) -> AsyncGenerator[str, None]:
     """One phone's stream, open: its retry line read, and its own presence heard."""
     stream = open_stream(client, session_id, role)
     await anext(stream)
@@ -89,7 +93,8 @@ async def test_changes_reach_the_other_phone_in_order(
     assert frames[-1].data["role"] == "joiner"
     assert joiner.upload(temple_photos[1], "b.png").status_code == 200
     frames += await next_frames(stream, "photo")
-    ids = [f.id for f in joined + frames]
+    ids = [f.id for f in joined + frames if f.id is not None]
+    assert len(ids) == len(joined + frames)  # every one stored, so resumable
     assert ids == sorted(ids)
     assert len(set(ids)) == len(ids)
 
@@ -133,12 +138,14 @@ async def test_listening_phones_stay_online_with_one_write_for_all(
     online_for = client.app.state.settings.online_seconds  # type: ignore[attr-defined]
     first = await joined_stream(client, joiner.session_id, "joiner")
     second = await joined_stream(client, joiner.session_id, "joiner")
-    writes = []
+    writes: list[list[Participant]] = []
     seen_all = streams.presence.seen_all
-    streams.presence.seen_all = lambda who, when: (  # type: ignore[method-assign]
-        writes.append(list(who)),
-        seen_all(who, when),
-    )
+
+    def seen_and_written(participants: Sequence[Participant], when: datetime) -> None:
+        writes.append(list(participants))
+        seen_all(participants, when)
+
+    streams.presence.seen_all = seen_and_written  # type: ignore[method-assign]
     for _ in range(3):  # longer than online_seconds, kept online all along
         clock.advance(online_for / 3)
         streams.keep_online()

@@ -12,6 +12,7 @@ from fastapi.testclient import TestClient
 from phones import landmarks, photos_uploaded, scene
 
 from backend.taps import problem
+from shared_solver.drawing.layout import answer_drawing
 from testbed.client import pair
 
 SHOWN = ("answer", "answer_error", "landmarks_needed", "taps")
@@ -47,7 +48,7 @@ def test_answers_from_a_known_fit_are_those_of_solving_again(
         return remembered(known)
 
     drawn = []
-    draw = problem.answer_drawing
+    draw = answer_drawing  # what problem calls, by this name
 
     def drawing(*args: Any, **kwargs: Any) -> Any:
         drawn.append(kwargs["photo"])

@@ -60,6 +60,7 @@ def test_two_phones_find_each_other(server: str) -> None:
         picture = joiner.call("GET", f"/overlay/{role}")
         assert picture.status_code == 200
         image = cv2.imdecode(np.frombuffer(picture.content, np.uint8), cv2.IMREAD_COLOR)
+        assert image is not None
         assert image.shape == (480, 640, 3)
 
     assert starter_events.ids == sorted(starter_events.ids)

@@ -51,6 +51,7 @@ def test_the_answers_layer_is_the_drawing_alone(uploaded: Phones) -> None:
     assert layer.status_code == 200, layer.text
     assert layer.headers["content-type"] == "image/png"
     rgba = cv2.imdecode(np.frombuffer(layer.content, np.uint8), cv2.IMREAD_UNCHANGED)
+    assert rgba is not None
     assert rgba.shape == (480, 640, 4)
     drawn = rgba[..., 3] == 255
     assert set(np.unique(rgba[..., 3])) == {0, 255}
@@ -58,9 +59,11 @@ def test_the_answers_layer_is_the_drawing_alone(uploaded: Phones) -> None:
     # Where it is opaque, it is the full overlay's drawing; elsewhere the photo shows.
     full = get(url, params={"format": "png"}, headers=joiner.auth)
     overlay = cv2.imdecode(np.frombuffer(full.content, np.uint8), cv2.IMREAD_COLOR)
+    assert overlay is not None
     assert np.array_equal(rgba[..., :3][drawn], overlay[drawn])
     photo = get(joiner.url("/photo/joiner"), headers=joiner.auth)
     pixels = cv2.imdecode(np.frombuffer(photo.content, np.uint8), cv2.IMREAD_COLOR)
+    assert pixels is not None
     assert np.array_equal(overlay[~drawn], pixels[~drawn])
     assert len(layer.content) < len(full.content) / 3
 

@@ -31,7 +31,9 @@ def test_encode_image_writes_lossless_png_and_jpeg() -> None:
     bgr = np.ascontiguousarray(pattern()[:, :, ::-1])
     png = encode_image(bgr, format="png")
     assert png.startswith(b"\x89PNG\r\n\x1a\n")
-    assert np.array_equal(cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR), bgr)
+    decoded = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR)
+    assert decoded is not None
+    assert np.array_equal(decoded, bgr)
     jpeg = encode_image(bgr, format="jpeg")
     assert jpeg.startswith(b"\xff\xd8\xff")
     assert_shows(decode_photo(jpeg)[:, :, ::-1], pattern())

@@ -3,6 +3,7 @@ served at /, its own routes loading it after a reload."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 from fastapi.testclient import TestClient
@@ -29,7 +30,7 @@ def test_bodies_over_the_limit_are_refused(settings: Settings) -> None:
         )
         assert error_of(declared, 413) == "body_too_large"
 
-        def chunks():  # no Content-Length: counted while reading
+        def chunks() -> Iterator[bytes]:  # no Content-Length: counted while reading
             for _ in range(5):
                 yield b"x" * 500
 

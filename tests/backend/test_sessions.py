@@ -27,7 +27,7 @@ from PIL import ExifTags, Image
 from sqlalchemy import text
 
 from backend.pairing.tokens import token_hash
-from backend.participants import ROLES
+from backend.participants import ROLES, Role
 from backend.storage.snapshot import read_snapshot
 from backend.storage.tables import Base
 from backend.taps.schemas import StoredAnswer
@@ -541,6 +541,7 @@ def test_overlays_show_the_answer_on_each_photo(client: TestClient, uploaded: Ph
         assert response.content.startswith(magic)
         assert response.headers["content-type"] == f"image/{fmt}"
         image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
+        assert image is not None
         assert image.shape == (480, 640, 3)
     again = joiner.call("GET", "/overlay/joiner")
     assert again.headers["content-type"] == "image/jpeg"  # the default for a phone
@@ -567,14 +568,21 @@ def test_an_overlay_renders_the_drawing_the_phone_gets(
     assert stored.solution is not None
     assert stored.order is not None
     result = SolveResult.model_validate(stored.solution)
-    for role, tapped in (("starter", s.landmarks1), ("joiner", s.landmarks2)):
+    photos: tuple[tuple[Role, np.ndarray], ...] = (
+        ("starter", s.landmarks1),
+        ("joiner", s.landmarks2),
+    )
+    for role, tapped in photos:
         got = joiner.call("GET", f"/overlay/{role}", params={"format": "png"})
         overlay = cv2.imdecode(np.frombuffer(got.content, np.uint8), cv2.IMREAD_COLOR)
+        assert overlay is not None
         photo = joiner.call("GET", f"/photo/{role}").content
         pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
+        assert pixels is not None
         number = stored.order.number(role)
         drawing = AnswerDrawing.model_validate(state["answer"]["in_photo"][role]["drawing"])
-        assert np.array_equal(overlay, render(pixels.copy(), drawing, photo=number))
+        # render draws on a copy of the photo's pixels (astype copies)
+        assert np.array_equal(overlay, render(pixels.astype(np.uint8), drawing, photo=number))
         shapes = answer_drawing(
             result,
             photo=number,
@@ -600,6 +608,7 @@ def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(uploaded: P
     focal = state["answer"]["in_photo"]["joiner"]["focal_px"]
     photo = joiner.call("GET", "/photo/joiner").content
     pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
+    assert pixels is not None
     height, width = pixels.shape[:2]
     k_photo = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
     k_frame = np.diag([0.75, 0.75, 1.0]) @ k_photo
@@ -640,6 +649,7 @@ def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     overlay = got[1]
     assert overlay.status_code == 200, overlay.text
     image = cv2.imdecode(np.frombuffer(overlay.content, np.uint8), cv2.IMREAD_COLOR)
+    assert image is not None
     assert image.shape == (480, 640, 3)
     assert reply["answer"]["landmark_ids"] == [1, 2, 3, 4, 5, 6]
     assert reply == joiner.state()
@@ -653,6 +663,7 @@ def test_the_other_phone_gets_a_crop_of_each_landmark(uploaded: Phones) -> None:
     assert crop.status_code == 200
     assert crop.headers["content-type"] == "image/jpeg"
     image = cv2.imdecode(np.frombuffer(crop.content, np.uint8), cv2.IMREAD_COLOR)
+    assert image is not None
     assert image.shape[0] == image.shape[1] > 50
     missing = joiner.call("GET", "/landmarks/starter/9/crop")
     assert error_of(missing, 404) == "landmark_not_found"
@@ -712,6 +723,7 @@ def test_each_phone_can_fetch_the_stored_photos(
         assert stored.status_code == 200
         assert stored.headers["content-type"] == "image/jpeg"
         image = cv2.imdecode(np.frombuffer(stored.content, np.uint8), cv2.IMREAD_COLOR)
+        assert image is not None
         assert image.shape == (480, 640, 3)
 
 

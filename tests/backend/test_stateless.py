@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from typing import Any
 
 import cv2
 import httpx2
@@ -19,7 +20,7 @@ from testbed.scenes import Scene, facing_scene, solved
 pytestmark = pytest.mark.databases("sqlite")
 
 
-def request_of(s: Scene, **more: object) -> dict[str, object]:
+def request_of(s: Scene, **more: object) -> dict[str, Any]:
     """``POST /api/solve``'s body for the scene's exact taps: landmarks, friend 1, photo sizes."""
     return {
         "points1": s.landmarks1.tolist(),
@@ -31,7 +32,7 @@ def request_of(s: Scene, **more: object) -> dict[str, object]:
     }
 
 
-def request_for(seed: int, landmarks: int = 6) -> dict[str, object]:
+def request_for(seed: int, landmarks: int = 6) -> dict[str, Any]:
     return request_of(facing_scene(np.random.default_rng(seed), landmarks), tap_sigma=1.5)
 
 
@@ -292,7 +293,9 @@ def overlay(
 def drawn_on_photo2(response: httpx2.Response) -> None:
     """An image of photo 2's size, with something drawn on it."""
     drawn = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
+    assert drawn is not None
     plain = cv2.imread(str(PHOTO2))
+    assert plain is not None
     assert drawn.shape == plain.shape
     assert np.mean(np.any(drawn != plain, axis=2)) > 0.005
 

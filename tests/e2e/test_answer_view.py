@@ -10,6 +10,7 @@ with and without the answer drawn.
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -58,7 +59,7 @@ def crop(pixels: np.ndarray, ratio: float, box: tuple[float, float, float, float
 
 def on_screen(
     page: Phone, box: tuple[float, float, float, float], pad: float = 0
-) -> tuple[float, ...]:
+) -> tuple[float, float, float, float]:
     """A photo box in CSS px (client coordinates), widened by ``pad`` CSS px."""
     x0, y0 = page.photo_to_screen(box[0], box[1])
     x1, y1 = page.photo_to_screen(box[2], box[3])
@@ -184,7 +185,7 @@ def test_a_tap_beside_a_control_places_a_mark_or_nothing(
     mark = starter.get_by_test_id("friend-mark")
     for x, y in ((fit[0] - 8, (fit[1] + fit[3]) / 2), ((fit[0] + fit[2]) / 2, fit[1] - 8)):
         starter.tap_at(x, y)
-        starter.wait_for(lambda x=x, y=y: marked_at(starter, x, y), f"a mark at {x, y}")
+        starter.wait_for(functools.partial(marked_at, starter, x, y), f"a mark at {x, y}")
         assert play.view_scale(starter) == pytest.approx(zoomed)
 
     # The friend's prompt with its button, just below the photo.

@@ -75,7 +75,7 @@ def test_a_reload_with_no_signal_shows_the_session_and_its_taps(
     truth = play.scene(3, seed=25)
     play.mark_friend(starter, *truth.epipole1)
     play.tap_landmarks(starter, truth.landmarks1[:2])
-    worker_ready(starter)
+    worker_ready(installed)  # the starter
 
     installed.context.set_offline(True)
     assert worker_fetch(installed, "/healthz") == "failed"

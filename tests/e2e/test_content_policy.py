@@ -8,6 +8,7 @@ block what an injected script would do (in Chromium and WebKit), and the API ref
 
 from __future__ import annotations
 
+import functools
 import re
 
 import pytest
@@ -52,7 +53,7 @@ def test_the_app_runs_no_injected_script_and_talks_to_no_other_site(
         return any(f"{kind}-src" in error for error in policy)
 
     for kind in ("script", "img", "connect"):
-        iphone.wait_for(lambda kind=kind: blocked(kind), f"the policy to block {kind}-src")
+        iphone.wait_for(functools.partial(blocked, kind), f"the policy to block {kind}-src")
 
 
 def test_the_api_reference_works_under_its_own_policy(browser: Browser, server: str) -> None:

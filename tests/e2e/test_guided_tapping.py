@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import cv2
 import numpy as np
@@ -37,7 +38,7 @@ def find_boxes(page: Phone) -> dict[str, tuple[float, float, float, float]]:
     }
 
 
-def band_of(page: Phone, role: str, landmark: int) -> dict[str, object]:
+def band_of(page: Phone, role: str, landmark: int) -> dict[str, Any]:
     bands = play.answer_in(page, role)["bands"]
     return next(band for band in bands if band["id"] == landmark)
 
@@ -53,17 +54,17 @@ def test_the_band_shows_where_to_look_and_a_tap_far_from_it_is_flagged(
     drawn = joiner.get_by_test_id("landmark-band")
     expect(drawn).to_have_attribute("data-id", "6")
     band = band_of(joiner, "joiner", 6)
-    assert inside(band["outline"], truth.landmarks2[5])  # type: ignore[arg-type]
+    assert inside(band["outline"], truth.landmarks2[5])
     assert play.answer_in(starter, "starter")["bands"] == []
     joiner.screenshot(path=screenshots / "10-band-joiner.png")
 
     # #6 tapped 60 px across its band: flagged at once, in words and with a re-check.
-    (x0, y0), (x1, y1) = band["start"], band["end"]  # type: ignore[misc]
+    (x0, y0), (x1, y1) = band["start"], band["end"]
     across = np.array([y0 - y1, x1 - x0]) / np.hypot(x1 - x0, y1 - y0)
     wrong = truth.landmarks2[5] + 60 * across
     if not (0 < wrong[0] < 640 and 0 < wrong[1] < 480):
         wrong = truth.landmarks2[5] - 60 * across
-    assert not inside(band["outline"], wrong)  # type: ignore[arg-type]
+    assert not inside(band["outline"], wrong)
     joiner.tap_photo(*wrong)
     play.saved(joiner)
     flagged = joiner.get_by_test_id("warning").filter(has_text="#6")

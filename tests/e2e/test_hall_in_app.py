@@ -242,6 +242,7 @@ def test_both_photos_in_the_app_give_the_level_then_a_point(
     )
     assert distance_to(stretch, s.epipole2) <= halfwidth, (stretch, s.epipole2)
     expect(joiner.get_by_test_id("result-text")).to_contain_text("compass points")
+    assert isinstance(joiner, ChromiumPhone)  # filming's phones are Chromium's
     shows_the_level_live(joiner, s.camera2, screenshots)
 
     # One landmark, tapped on both phones: a point, its region holding the truth.

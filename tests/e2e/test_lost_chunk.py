@@ -43,11 +43,13 @@ def loads_when_started(phone: ChromiumPhone, server: str, checks: list[str], ask
     phone.goto(f"{server}/")
     phone.get_by_test_id("start").tap()
     expect(phone.get_by_test_id("code")).to_have_text(re.compile(r"\d{4}"))
+
     # (Playwright runs the route handlers only while this thread is in one of its calls.)
-    phone.wait_for(
-        lambda: phone.page.wait_for_timeout(50) or len(checks) >= asked,
-        "the page to ask the server about its build",
-    )
+    def asked_enough() -> bool:
+        phone.page.wait_for_timeout(50)
+        return len(checks) >= asked
+
+    phone.wait_for(asked_enough, "the page to ask the server about its build")
     # A reload starts at once (location.reload() as soon as the answer is read): a second
     # lets one show.
     phone.page.wait_for_timeout(1000)

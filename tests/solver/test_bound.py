@@ -5,6 +5,7 @@ solver's own fit sits at it."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -44,7 +45,7 @@ def _errors(
             )
             - scene.epipole2
         )
-        cameras = {}
+        cameras: dict[str, Any] = {}
         if priors[0] is not None:
             true35 = (scene.focal_35mm1, scene.focal_35mm2)
             cameras = {

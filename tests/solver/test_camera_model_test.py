@@ -5,6 +5,8 @@ sure, otherwise the region holds both (answers/disagreement.py)."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -53,7 +55,7 @@ def test_a_stretched_photo_with_five_landmarks_is_told_so_and_never_answered_wil
         scene, taps = phone_taps(seed, 5, 1.0)
         width, height = scene.image_size2
         stretch = np.array([1.15, 1.0])
-        common = {
+        common: dict[str, Any] = {
             "epipole1": taps.epipole1,
             "tap_sigma": 1.0,
             "image_size1": scene.image_size1,

@@ -9,11 +9,12 @@ undisturbed heading is its lens axis's bearing (``testbed.scenes.Camera.heading`
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
 
-from shared_solver import SolverError, draw_overlay, solve, words
+from shared_solver import SolverError, SolveResult, draw_overlay, solve, words
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.minimal.gravity_and_one import north, rotation_about_vertical, turn_from_headings
 from testbed.curves import distance_to
@@ -31,7 +32,7 @@ def headed(
     compass_deg: float = 0.0,
     off_deg: float = 0.0,
     **options: object,
-):
+) -> SolveResult:
     """``testbed.readings.solved`` (noisy taps and gravity) with both phones' headings too,
     ``compass_deg`` of noise each; photo 1's heading ``off_deg`` more (a bent compass)."""
     return solved(
@@ -45,7 +46,7 @@ def headed(
     )
 
 
-def test_north_and_the_turn_are_the_worlds():
+def test_north_and_the_turn_are_the_worlds() -> None:
     """North in each camera's frame is the world's z there, and the turn the two headings
     give is the one about the vertical that carries camera 1's frame onto camera 2's."""
     for scene in exact_scenes(30):
@@ -60,11 +61,11 @@ def test_north_and_the_turn_are_the_worlds():
         assert np.abs(rotation_about_vertical(g1, g2, turn) - relative).max() < 1e-12
 
 
-def test_straight_up_has_no_north():
+def test_straight_up_has_no_north() -> None:
     assert np.isnan(north(np.array([0.0, 0.0, 1.0]), 0.3)).all()
 
 
-def test_exact_headings_keep_one_landmark_exact_and_are_used():
+def test_exact_headings_keep_one_landmark_exact_and_are_used() -> None:
     for scene in exact_scenes(10):
         result = headed(scene, 1, np.random.default_rng(0))
         assert result.used_heading
@@ -73,7 +74,7 @@ def test_exact_headings_keep_one_landmark_exact_and_are_used():
         assert np.abs(np.array(result.epipole2) - scene.epipole2).max() <= EXACT_PX
 
 
-def test_no_landmark_gives_a_stretch_of_the_level_around_the_truth():
+def test_no_landmark_gives_a_stretch_of_the_level_around_the_truth() -> None:
     """Exact taps and headings: the stretch is part of the level, the truth in its middle;
     a compass 10 degrees off moves it along the level, the level itself unchanged."""
     for scene in exact_scenes(10):
@@ -84,7 +85,7 @@ def test_no_landmark_gives_a_stretch_of_the_level_around_the_truth():
         assert result.curve2_stretch is not None
         assert distance_to(result.curve2_stretch, scene.epipole2) <= 0.3
         for piece in result.curve2_stretch:
-            assert max(distance_to(result.curve2, point) for point in piece) <= 0.3
+            assert max(distance_to(result.curve2, np.asarray(point)) for point in piece) <= 0.3
         ends = [np.array(piece)[[0, -1]] for piece in result.curve2_stretch]
         first, last = ends[0][0], ends[-1][1]
         # The truth halfway (within a few percent: the curve is not a circle in the photo).
@@ -98,23 +99,30 @@ def test_no_landmark_gives_a_stretch_of_the_level_around_the_truth():
         assert distance_to(turned.curve2_stretch, scene.epipole2) > 5.0
 
 
-def test_without_both_headings_or_gravity_nothing_changes():
+def test_without_both_headings_or_gravity_nothing_changes() -> None:
     scene = exact_scenes(1)[0]
     rng = np.random.default_rng(1)
     p = scene.landmarks1[:1]
     q = scene.landmarks2[:1]
-    common = phones_of(scene) | {"camera1": exif_of(scene)[0], "camera2": exif_of(scene)[1]}
-    gravity = {"gravity1": down(scene, 1, rng, 0.0), "gravity2": down(scene, 2, rng, 0.0)}
+    common: dict[str, Any] = phones_of(scene) | {
+        "camera1": exif_of(scene)[0],
+        "camera2": exif_of(scene)[1],
+    }
+    gravity: dict[str, Any] = {
+        "gravity1": down(scene, 1, rng, 0.0),
+        "gravity2": down(scene, 2, rng, 0.0),
+    }
     before = solve(p, q, **common, **gravity).model_dump()
     assert solve(p, q, **common, **gravity, heading1=12.0).model_dump() == before
     # Headings without gravity: nothing says which way is level, so they are not used.
     five = phone_scene(np.random.default_rng(2), 5)
     p5, q5 = five.landmarks1 + 0.5, five.landmarks2 - 0.5
-    plain = solve(p5, q5, **phones_of(five)).model_dump()
-    assert solve(p5, q5, **phones_of(five), heading1=1.0, heading2=181.0).model_dump() == plain
+    phones: dict[str, Any] = phones_of(five)
+    plain = solve(p5, q5, **phones).model_dump()
+    assert solve(p5, q5, **phones, heading1=1.0, heading2=181.0).model_dump() == plain
 
 
-def test_a_bent_compass_is_left_out_and_said():
+def test_a_bent_compass_is_left_out_and_said() -> None:
     """Photo 1's heading 60 degrees off (steel beside the phone): three landmarks contradict
     it, and the answer is the one without headings, saying so."""
     rng = np.random.default_rng(47)
@@ -122,7 +130,12 @@ def test_a_bent_compass_is_left_out_and_said():
     for _ in range(10):
         scene = phone_scene(rng, 3)
         seed = int(rng.integers(1 << 30))
-        options = {"sigma": 2.0, "gravity_deg": 1.0, "compass_deg": 5.0, "cameras": exif_of(scene)}
+        options: dict[str, Any] = {
+            "sigma": 2.0,
+            "gravity_deg": 1.0,
+            "compass_deg": 5.0,
+            "cameras": exif_of(scene),
+        }
         try:
             bent = headed(scene, 3, np.random.default_rng(seed), off_deg=60.0, **options)
         except SolverError:  # three noisy taps on one line: refused either way
@@ -134,7 +147,7 @@ def test_a_bent_compass_is_left_out_and_said():
     assert dropped >= 8
 
 
-def test_headings_that_fit_are_kept_and_the_region_stays_honest():
+def test_headings_that_fit_are_kept_and_the_region_stays_honest() -> None:
     """One landmark, EXIF focal, taps 3 px, gravity 1 degree, compasses at 10 degrees."""
     rng = np.random.default_rng(48)
     held, kept, refused = [], 0, 0
@@ -172,11 +185,13 @@ def test_headings_that_fit_are_kept_and_the_region_stays_honest():
         ({"heading1_sigma_deg": 0.001}, "invalid_parameter", "not_an_angle"),
     ],
 )
-def test_bad_headings_are_refused_with_a_code(options, code, reason):
+def test_bad_headings_are_refused_with_a_code(
+    options: dict[str, Any], code: str, reason: str
+) -> None:
     assert_refused(code, reason, **(LEVEL | {"heading1": 0.0, "heading2": 180.0} | options))
 
 
-def test_the_stretch_is_drawn_bolder_on_the_band():
+def test_the_stretch_is_drawn_bolder_on_the_band() -> None:
     scene = exact_scenes(1)[0]
     result = headed(scene, 0, np.random.default_rng(0), sigma=2.0, gravity_deg=1.0, compass_deg=5.0)
     assert result.curve2_stretch

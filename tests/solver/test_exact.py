@@ -131,7 +131,7 @@ def test_both_epipoles_give_the_fundamental_matrix(seed: int, n: int) -> None:
 )
 def test_solve_is_exact_on_exact_taps(seed: int, landmarks: int, given: str, method: str) -> None:
     s = scene(seed, landmarks)
-    result = solve(s.landmarks1, s.landmarks2, **marks(s, given), **s.sizes)  # type: ignore[arg-type]
+    result = solve(s.landmarks1, s.landmarks2, **marks(s, given), **s.sizes)
     assert result.method == method
     if method == "conic":
         assert result.epipole2 is None

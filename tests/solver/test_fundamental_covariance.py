@@ -9,6 +9,8 @@ at 95 % the true landmark must be inside its band about 95 % of the time.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -60,10 +62,12 @@ def _coverage(route: str) -> tuple[float, int]:
         n = used + TESTED
         p = scene.landmarks1 + rng.normal(0.0, SIGMA, (n, 2))
         q = scene.landmarks2 + rng.normal(0.0, SIGMA, (n, 2))
-        marks = {"epipole1": scene.epipole1 + rng.normal(0.0, SIGMA, 2)}
+        marks: dict[str, Any] = {"epipole1": scene.epipole1 + rng.normal(0.0, SIGMA, 2)}
         if route == "projective both 3":
             marks["epipole2"] = scene.epipole2 + rng.normal(0.0, SIGMA, 2)
-        cameras = {"camera1": "phone", "camera2": "phone"} if route.startswith("phone") else {}
+        cameras: dict[str, Any] = (
+            {"camera1": "phone", "camera2": "phone"} if route.startswith("phone") else {}
+        )
         try:
             result = solve(
                 p[:used],
@@ -161,7 +165,8 @@ def test_no_covariance_where_no_single_geometry_is_claimed() -> None:
 def test_the_covariance_is_symmetric_positive_and_flat_along_f() -> None:
     rng = np.random.default_rng(10)
     scene = phone_scene(rng, 6)
-    for cameras in ({"camera1": "phone", "camera2": "phone"}, {}):
+    both: tuple[dict[str, Any], ...] = ({"camera1": "phone", "camera2": "phone"}, {})
+    for cameras in both:
         result = solve(
             scene.landmarks1 + rng.normal(0.0, SIGMA, (6, 2)),
             scene.landmarks2 + rng.normal(0.0, SIGMA, (6, 2)),

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -24,13 +25,13 @@ CHI2_95 = -2.0 * math.log(0.05) * (1 + 1e-9)  # a region's edge holds what lies 
 PHONES = ("phone", "phone")
 
 
-def test_without_both_readings_everything_is_as_before():
+def test_without_both_readings_everything_is_as_before() -> None:
     rng = np.random.default_rng(41)
     for _ in range(5):
         scene = phone_scene(rng, 5)
         p = scene.landmarks1 + rng.normal(0.0, 2.0, (5, 2))
         q = scene.landmarks2 + rng.normal(0.0, 2.0, (5, 2))
-        common = phones_of(scene)
+        common: dict[str, Any] = phones_of(scene)
         before = solve(p, q, **common).model_dump()
         assert solve(p, q, gravity1=None, gravity2=None, **common).model_dump() == before
         # One reading alone says nothing of how the two phones are turned.
@@ -39,7 +40,7 @@ def test_without_both_readings_everything_is_as_before():
         assert not one.used_gravity
 
 
-def test_exact_taps_and_readings_put_the_truth_on_the_level():
+def test_exact_taps_and_readings_put_the_truth_on_the_level() -> None:
     for scene in exact_scenes(20):
         result = solved(scene, 0, np.random.default_rng(0))
         assert result.method == "pinhole_level"
@@ -56,7 +57,7 @@ def test_exact_taps_and_readings_put_the_truth_on_the_level():
             assert np.hypot(*np.diff(xy, axis=0).T).min() > 0
 
 
-def test_exact_taps_and_readings_give_the_exact_point_from_one_landmark():
+def test_exact_taps_and_readings_give_the_exact_point_from_one_landmark() -> None:
     for scene in exact_scenes(20):
         result = solved(scene, 1, np.random.default_rng(0))
         assert result.method == "pinhole_epipole"
@@ -77,10 +78,11 @@ def noisy_answers(
         yield scene, answer
 
 
-def test_the_band_holds_the_truth_about_95_percent_of_the_time():
+def test_the_band_holds_the_truth_about_95_percent_of_the_time() -> None:
     held, widths = [], []
     for scene, result in noisy_answers(42, 150, landmarks=0):
         assert result.curve2_halfwidth is not None
+        assert result.curve2 is not None
         held.append(distance_to(result.curve2, scene.epipole2) <= result.curve2_halfwidth)
         widths.append(result.curve2_halfwidth)
     # 150 draws: 95 % is measured within about +-3.6 % (two standard errors).
@@ -89,7 +91,7 @@ def test_the_band_holds_the_truth_about_95_percent_of_the_time():
     assert np.median(widths) < 250
 
 
-def test_one_landmark_and_gravity_give_a_point_with_an_honest_region():
+def test_one_landmark_and_gravity_give_a_point_with_an_honest_region() -> None:
     errors, held = [], []
     for scene, result in noisy_answers(43, 100, landmarks=1):
         if result.epipole2 is None:  # "not pinned down": a visibly weaker answer
@@ -110,7 +112,7 @@ def test_one_landmark_and_gravity_give_a_point_with_an_honest_region():
     assert 0.88 <= np.mean(held) <= 0.995
 
 
-def test_where_both_turns_fit_one_landmark_the_scene_chooses():
+def test_where_both_turns_fit_one_landmark_the_scene_chooses() -> None:
     """Both turns fit one landmark exactly, so the taps cannot choose; the scene can: friend
     2 photographed friend 1's side, so the turn that puts friend 1 inside photo 2 is marked,
     both listed. Exact taps: every such answer marks the truth (without the rule, 2 of the
@@ -137,9 +139,10 @@ def test_where_both_turns_fit_one_landmark_the_scene_chooses():
     assert listed >= 5
 
 
-def test_gravity_sharpens_three_landmarks():
+def test_gravity_sharpens_three_landmarks() -> None:
     rng = np.random.default_rng(44)
-    with_gravity, without = [], []
+    with_gravity: list[float] = []
+    without: list[float] = []
     while len(without) < 60:
         scene = phone_scene(rng, 3)
         seed = int(rng.integers(1 << 30))
@@ -157,7 +160,7 @@ def test_gravity_sharpens_three_landmarks():
     assert np.percentile(with_gravity, 90) < np.percentile(without, 90)
 
 
-def test_readings_with_the_wrong_axes_are_dropped_and_said():
+def test_readings_with_the_wrong_axes_are_dropped_and_said() -> None:
     """A phone that reports its axes swapped (x for y): the landmarks answer alone."""
     rng = np.random.default_rng(45)
     swap = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
@@ -166,7 +169,7 @@ def test_readings_with_the_wrong_axes_are_dropped_and_said():
         scene = phone_scene(rng, 6)
         p = scene.landmarks1 + rng.normal(0.0, 2.0, (6, 2))
         q = scene.landmarks2 + rng.normal(0.0, 2.0, (6, 2))
-        common = phones_of(scene)
+        common: dict[str, Any] = phones_of(scene)
         wrong = solve(
             p,
             q,
@@ -182,7 +185,7 @@ def test_readings_with_the_wrong_axes_are_dropped_and_said():
     assert dropped >= 9
 
 
-def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks():
+def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks() -> None:
     """Photo 1's reading 20 degrees off (the phone moved between reading and shutter): with
     landmarks enough to check it, the readings are dropped and the landmarks answer alone.
     With one or two landmarks nothing checks a reading: the phone must read still."""
@@ -194,10 +197,11 @@ def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks():
         axis /= np.linalg.norm(axis)
         turned = scene.camera1.down
         turned = turned * math.cos(0.35) + np.cross(axis, turned) * math.sin(0.35)
+        phones: dict[str, Any] = phones_of(scene)
         result = solve(
             scene.landmarks1 + rng.normal(0.0, 2.0, (5, 2)),
             scene.landmarks2 + rng.normal(0.0, 2.0, (5, 2)),
-            **phones_of(scene),
+            **phones,
             gravity1=turned,
             gravity2=scene.camera2.down,
         )
@@ -216,15 +220,17 @@ def test_a_phone_tilted_after_its_reading_is_caught_by_five_landmarks():
         ({"gravity1_sigma_deg": 0.001}, "invalid_parameter", "not_an_angle"),
     ],
 )
-def test_bad_readings_are_refused_with_a_code(options, code, reason):
+def test_bad_readings_are_refused_with_a_code(
+    options: dict[str, Any], code: str, reason: str
+) -> None:
     assert_refused(code, reason, **(LEVEL | options))
 
 
-def test_no_landmark_without_gravity_is_too_few():
+def test_no_landmark_without_gravity_is_too_few() -> None:
     assert_refused("too_few_landmarks")
 
 
-def test_the_level_is_drawn_as_a_labelled_band():
+def test_the_level_is_drawn_as_a_labelled_band() -> None:
     """Photo 2's drawing has the curve in its band; the overlay tints the band, not beyond."""
     scene = exact_scenes(1)[0]
     result = solved(scene, 0, np.random.default_rng(0), sigma=2.0, gravity_deg=1.0)
@@ -238,6 +244,7 @@ def test_the_level_is_drawn_as_a_labelled_band():
     grey = np.full((height, width, 3), 128, np.uint8)
     drawn = draw_overlay(grey.copy(), result)
     changed = np.any(drawn != grey, axis=2)
+    assert result.curve2 is not None
     pieces = [np.array(piece) for piece in result.curve2]
     on_curve = pieces[0][len(pieces[0]) // 2]
     normal = np.array([0.0, 1.0])  # the band spans the rows across a level curve

@@ -9,6 +9,7 @@ plain to see, none where the spot is not in the other photo.
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
 import pytest
@@ -22,14 +23,14 @@ from shared_solver.matching import (
     suggest,
 )
 from shared_solver.result import SolveResult
-from testbed.phones import phone_scene
+from testbed.phones import PhoneScene, phone_scene
 from testbed.textures import poster
 from testbed.venue import RenderedPair, good_answer, rendered_pair
 
 TAP = 3.0**2 * np.eye(2)
 
 
-def exact_geometry(seed: int, landmarks: int = 8) -> tuple[Epipolar, object]:
+def exact_geometry(seed: int, landmarks: int = 8) -> tuple[Epipolar, PhoneScene]:
     """The true F of a phone scene with a small, round uncertainty, oriented by its
     landmarks."""
     scene = phone_scene(np.random.default_rng(seed), landmarks)
@@ -176,7 +177,11 @@ def test_guide_landmark_reads_the_answer(hall: RenderedPair) -> None:
             "quality": "good",
         }
     )
-    for tapped_in, point, other in ((1, scene.landmarks1[0], 2), (2, scene.landmarks2[0], 1)):
+    taps: tuple[tuple[Literal[1, 2], np.ndarray, int], ...] = (
+        (1, scene.landmarks1[0], 2),
+        (2, scene.landmarks2[0], 1),
+    )
+    for tapped_in, point, other in taps:
         guide = guide_landmark(
             result,
             hall.photo1,

@@ -67,7 +67,9 @@ def intrinsics(rng: np.random.Generator, portrait: bool) -> tuple[np.ndarray, tu
     return k, (width, height)
 
 
-def looking_at(rng: np.random.Generator, centre: np.ndarray, target: np.ndarray, portrait: bool):
+def looking_at(
+    rng: np.random.Generator, centre: np.ndarray, target: np.ndarray, portrait: bool
+) -> np.ndarray:
     """World-to-camera rotation: optical axis towards ``target``, y down, a little roll."""
     forward = (target - centre) / np.linalg.norm(target - centre)
     right = np.cross(forward, [0.0, 0.0, 1.0])  # world z is up
@@ -94,7 +96,8 @@ def make_scene(rng: np.random.Generator, n: int = 3) -> Scene:
     aim = 0.2 * distance
     r1 = looking_at(rng, c1, c2 + rng.uniform(-aim, aim, size=3), portrait1)
     r2 = looking_at(rng, c2, c1 + rng.uniform(-aim, aim, size=3), portrait2)
-    rays1, rays2 = [], []
+    rays1: list[np.ndarray] = []
+    rays2: list[np.ndarray] = []
     while len(rays1) < n:
         point = c1 + rng.uniform(0.15, 0.85) * (c2 - c1) + rng.uniform(-0.3, 0.3, 3) * distance
         in1, in2 = r1 @ (point - c1), r2 @ (point - c2)
@@ -130,7 +133,9 @@ def unit_rows(rays: np.ndarray) -> np.ndarray:
     return rays / np.linalg.norm(rays, axis=-1, keepdims=True)
 
 
-def residuals(rotation: np.ndarray, b1: np.ndarray, rays1: np.ndarray, rays2: np.ndarray):
+def residuals(
+    rotation: np.ndarray, b1: np.ndarray, rays1: np.ndarray, rays2: np.ndarray
+) -> np.ndarray:
     """|q . R (b1 x p)| per landmark, for unit rays."""
     normals = np.cross(b1, unit_rows(rays1)) @ rotation.T
     return np.abs(np.einsum("ni,ni->n", unit_rows(rays2), normals))
@@ -169,7 +174,7 @@ def assert_same_roots(found: list[np.ndarray], expected: list[np.ndarray]) -> No
         assert nearest(expected, r)[0] <= ROOT
 
 
-def test_scenes_follow_the_convention():
+def test_scenes_follow_the_convention() -> None:
     for s in scenes(1, count=20):
         assert np.allclose(s.b2, -s.rotation @ s.b1, atol=1e-12)
         assert residuals(s.rotation, s.b1, s.rays1, s.rays2).max() <= 1e-12
@@ -178,7 +183,7 @@ def test_scenes_follow_the_convention():
 # --- friend 2's direction and three landmarks -------------------------------------------
 
 
-def test_three_true_rotation_is_a_root_and_every_root_fits():
+def test_three_true_rotation_is_a_root_and_every_root_fits() -> None:
     counts = []
     for s in scenes(0):
         roots = rotations_from_three(s.b1, s.rays1, s.rays2)
@@ -197,7 +202,7 @@ def test_three_true_rotation_is_a_root_and_every_root_fits():
 
 @pytest.mark.parametrize("axis", range(3))
 @pytest.mark.parametrize("kind", ["identity", "about b1", "half turn", "random"])
-def test_three_special_coordinates(axis, kind):
+def test_three_special_coordinates(axis: int, kind: str) -> None:
     """Axis-aligned baselines and special rotations: no division by a vanishing coordinate."""
     rng = np.random.default_rng(20 + axis)
     b1 = np.eye(3)[axis] * (-1.0) ** axis
@@ -217,7 +222,7 @@ def test_three_special_coordinates(axis, kind):
             assert residuals(r, b1, points, points @ rotation.T + t).max() <= CONSTRAINT
 
 
-def test_three_roots_come_in_half_turn_pairs_about_b1():
+def test_three_roots_come_in_half_turn_pairs_about_b1() -> None:
     for s in scenes(2, count=50):
         roots = rotations_from_three(s.b1, s.rays1, s.rays2)
         flip = half_turn(s.b1)
@@ -227,7 +232,7 @@ def test_three_roots_come_in_half_turn_pairs_about_b1():
             assert np.abs(first @ s.b1 - second @ s.b1).max() <= 1e-12
 
 
-def test_three_ignores_the_scale_of_rays():
+def test_three_ignores_the_scale_of_rays() -> None:
     rng = np.random.default_rng(3)
     for s in scenes(3, count=20):
         scaled1 = s.rays1 * rng.uniform(0.01, 100.0, size=(3, 1))
@@ -238,7 +243,7 @@ def test_three_ignores_the_scale_of_rays():
         )
 
 
-def test_three_invariant_under_rotating_either_frame():
+def test_three_invariant_under_rotating_either_frame() -> None:
     rng = np.random.default_rng(4)
     for s in scenes(4, count=30):
         roots = rotations_from_three(s.b1, s.rays1, s.rays2)
@@ -249,14 +254,14 @@ def test_three_invariant_under_rotating_either_frame():
         assert_same_roots(turned2, [q @ r for r in roots])
 
 
-def test_three_landmark_on_the_baseline_gives_no_roots():
+def test_three_landmark_on_the_baseline_gives_no_roots() -> None:
     for s in scenes(5, count=10):
         rays1 = s.rays1.copy()
         rays1[1] = 2.5 * s.b1  # the landmark is in line with friend 2
         assert rotations_from_three(s.b1, rays1, s.rays2) == []
 
 
-def test_three_landmarks_on_one_epipolar_plane_give_no_roots():
+def test_three_landmarks_on_one_epipolar_plane_give_no_roots() -> None:
     rng = np.random.default_rng(6)
     for _ in range(10):
         r, t_dir = random_rotation(rng), rng.normal(size=3)
@@ -267,7 +272,7 @@ def test_three_landmarks_on_one_epipolar_plane_give_no_roots():
         assert rotations_from_three(b1, points, points @ r.T + t) == []
 
 
-def test_three_degenerate_inputs_do_not_raise():
+def test_three_degenerate_inputs_do_not_raise() -> None:
     s = scenes(7, count=1)[0]
     zero = s.rays1.copy()
     zero[0] = 0.0
@@ -280,7 +285,7 @@ def test_three_degenerate_inputs_do_not_raise():
 # --- both directions and one landmark ----------------------------------------------------
 
 
-def test_both_true_rotation_is_one_of_exactly_two():
+def test_both_true_rotation_is_one_of_exactly_two() -> None:
     for s in scenes(10):
         roots = rotations_from_both(s.b1, s.b2, s.rays1[0], s.rays2[0])
         assert len(roots) == 2
@@ -289,7 +294,7 @@ def test_both_true_rotation_is_one_of_exactly_two():
         assert np.abs(half_turn(s.b2) @ roots[0] - roots[1]).max() <= 1e-12
 
 
-def test_both_invariant_under_rotating_frame_one():
+def test_both_invariant_under_rotating_frame_one() -> None:
     rng = np.random.default_rng(11)
     for s in scenes(11, count=30):
         roots = rotations_from_both(s.b1, s.b2, s.rays1[0], s.rays2[0])
@@ -299,7 +304,7 @@ def test_both_invariant_under_rotating_frame_one():
 
 
 @pytest.mark.parametrize("which", [1, 2])
-def test_both_ray_along_its_baseline_gives_no_roots(which):
+def test_both_ray_along_its_baseline_gives_no_roots(which: int) -> None:
     s = scenes(12, count=1)[0]
     ray1 = 3.0 * s.b1 if which == 1 else s.rays1[0]
     ray2 = 0.5 * s.b2 if which == 2 else s.rays2[0]
@@ -310,14 +315,14 @@ def test_both_ray_along_its_baseline_gives_no_roots(which):
 # --- friend 2's direction, both gravities and one landmark ---------------------------------
 
 
-def test_gravity_true_rotation_is_a_root_and_every_root_fits():
+def test_gravity_true_rotation_is_a_root_and_every_root_fits() -> None:
     for s in scenes(20):
         roots = rotations_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
         assert 1 <= len(roots) <= 2
         assert_one_landmark_roots(s, roots, carried=(s.gravity1, s.gravity2))
 
 
-def test_gravity_invariant_under_rotating_frame_one_and_scaling_rays():
+def test_gravity_invariant_under_rotating_frame_one_and_scaling_rays() -> None:
     rng = np.random.default_rng(21)
     for s in scenes(21, count=30):
         roots = rotations_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
@@ -328,7 +333,7 @@ def test_gravity_invariant_under_rotating_frame_one_and_scaling_rays():
         assert_same_roots(turned, [r @ q.T for r in roots])
 
 
-def test_gravity_without_a_landmark_leaves_friend_1_on_one_level():
+def test_gravity_without_a_landmark_leaves_friend_1_on_one_level() -> None:
     """Every turn about the vertical keeps friend 1 at the same angle from down in photo 2:
     the curve of zero landmarks is one level of the venue."""
     for s in scenes(22, count=20):
@@ -349,7 +354,7 @@ def test_gravity_without_a_landmark_leaves_friend_1_on_one_level():
         )
 
 
-def test_gravity_gives_two_turns_or_none():
+def test_gravity_gives_two_turns_or_none() -> None:
     s = scenes(23, count=1)[0]
     psi = turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], s.rays2[0])
     assert len(psi) == 2
@@ -363,7 +368,7 @@ def test_gravity_gives_two_turns_or_none():
     assert turns_from_gravity(s.b1, s.gravity1, s.gravity2, s.rays1[0], steep) == []
 
 
-def test_gravity_degenerate_inputs_give_no_roots():
+def test_gravity_degenerate_inputs_give_no_roots() -> None:
     s = scenes(24, count=1)[0]
     # A landmark whose epipolar plane is level (its normal is vertical) fixes no turn.
     level_ray = np.cross(s.gravity1, s.b1)

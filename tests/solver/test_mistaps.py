@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
-import pytest
 
 from shared_solver import solve
 from testbed.scenes import Scene, Taps, facing_scene, tap
@@ -26,7 +27,9 @@ def error(result_e2: tuple[float, float] | None, truth: np.ndarray) -> float:
     return float("inf") if result_e2 is None else float(np.linalg.norm(np.array(result_e2) - truth))
 
 
-def test_a_mistapped_landmark_is_named_and_left_out(record_property: pytest.RecordProperty) -> None:
+def test_a_mistapped_landmark_is_named_and_left_out(
+    record_property: Callable[[str, object], None],
+) -> None:
     rng = np.random.default_rng(80)
     named = 0
     with_mistap, clean_seven = [], []

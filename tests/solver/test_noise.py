@@ -30,7 +30,7 @@ def same_point(a: np.ndarray, b: np.ndarray, tolerance_px: float) -> bool:
     if abs(a[2]) > 1e-4 and abs(b[2]) > 1e-4:
         return bool(
             np.linalg.norm(pixel(a) - pixel(b))
-            <= tolerance_px * max(1.0, np.linalg.norm(pixel(a)) / 1e4)
+            <= tolerance_px * max(1.0, float(np.linalg.norm(pixel(a))) / 1e4)
         )
     return bool(np.linalg.norm(a - b) < 1e-9)
 

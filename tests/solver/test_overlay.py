@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any, Literal
 
 import cv2
 import numpy as np
 import pytest
+from numpy.typing import ArrayLike
 
 from shared_solver import ErrorCode, SolverError, SolveResult, solve
 from shared_solver.drawing.overlay import draw_overlay
@@ -29,11 +32,18 @@ GREY = 128
 # --- helpers ----------------------------------------------------------------------------
 
 
-def scene(seed: int, landmarks: int = 8, **kwargs) -> Scene:
+def scene(seed: int, landmarks: int = 8, **kwargs: Any) -> Scene:
     return facing_scene(np.random.default_rng(seed), landmarks, **kwargs)
 
 
-def answer(s: Scene, count: int, *, photo2_shift=(0.0, 0.0), taps2=None, **kwargs) -> SolveResult:
+def answer(
+    s: Scene,
+    count: int,
+    *,
+    photo2_shift: ArrayLike = (0.0, 0.0),
+    taps2: np.ndarray | None = None,
+    **kwargs: Any,
+) -> SolveResult:
     """solve() with the friend tapped in photo 1 (unless ``epipole1`` says otherwise) and the
     first ``count`` landmarks (photo 2's at ``taps2`` if given)."""
     return solve(
@@ -64,12 +74,12 @@ def pixels(mask: np.ndarray) -> np.ndarray:
     return np.column_stack([cols, rows]).astype(float)
 
 
-def near(mask: np.ndarray, point, radius: float) -> bool:
+def near(mask: np.ndarray, point: ArrayLike, radius: float) -> bool:
     found = pixels(mask)
     return bool(len(found)) and float(np.min(np.hypot(*(found - point).T))) <= radius
 
 
-def at(image: np.ndarray, point) -> tuple[int, int, int]:
+def at(image: np.ndarray, point: Iterable[float]) -> tuple[int, int, int]:
     x, y = (round(float(v)) for v in point)
     b, g, r = image[y, x]
     return int(b), int(g), int(r)
@@ -106,7 +116,9 @@ def gap_to(paint: np.ndarray, wanted: np.ndarray) -> float:
     return float(to_paint[wanted].max())
 
 
-def distance_to_line(points: np.ndarray, through, direction) -> np.ndarray:
+def distance_to_line(
+    points: np.ndarray, through: ArrayLike, direction: Sequence[float] | np.ndarray
+) -> np.ndarray:
     direction = np.asarray(direction, float) / np.hypot(*direction)
     offset = points - np.asarray(through)
     return np.abs(offset[:, 0] * direction[1] - offset[:, 1] * direction[0])
@@ -116,7 +128,9 @@ def distance_to_line(points: np.ndarray, through, direction) -> np.ndarray:
 
 
 @pytest.mark.parametrize("number", [2, 1])
-def test_a_new_photo_of_the_same_size_is_returned_and_the_input_is_untouched(number) -> None:
+def test_a_new_photo_of_the_same_size_is_returned_and_the_input_is_untouched(
+    number: Literal[1, 2],
+) -> None:
     s = scene(2)
     result = answer(s, 5)
     photo = grey(s.image_size2)
@@ -180,7 +194,7 @@ def test_without_a_region_the_friend_is_framed_as_likely() -> None:
 
 
 @pytest.mark.parametrize("count", [5, 4], ids=["frame", "curve"])
-def test_marks_have_a_dark_outline_that_reads_on_a_white_photo(count) -> None:
+def test_marks_have_a_dark_outline_that_reads_on_a_white_photo(count: int) -> None:
     s = scene(2)
     photo = grey(s.image_size2, level=255)
     drawn = draw_overlay(photo, answer(s, count), points=s.landmarks2[:count])
@@ -280,7 +294,9 @@ def at_infinity(s: Scene, direction: tuple[float, float]) -> SolveResult:
     ("direction", "side"),
     [((1.0, 0.2), "right"), ((-1.0, 0.3), "left"), ((0.1, -1.0), "top")],
 )
-def test_friend1_at_infinity_gets_an_arrow_at_the_border_that_way(direction, side) -> None:
+def test_friend1_at_infinity_gets_an_arrow_at_the_border_that_way(
+    direction: tuple[float, float], side: str
+) -> None:
     s = scene(2)
     norm = math.hypot(*direction)
     result = at_infinity(s, direction)
@@ -346,7 +362,7 @@ def test_the_curve_of_four_landmarks_runs_through_them_and_the_true_friend() -> 
     ],
     ids=["hyperbola", "line-pair", "huge-circle"],
 )
-def test_any_conic_is_drawn_on_itself(conic) -> None:
+def test_any_conic_is_drawn_on_itself(conic: list[list[float]]) -> None:
     s = scene(0)
     matrix = np.array(conic) / np.linalg.norm(conic)
     result = answer(s, 4).model_copy(update={"conic2": tuple(map(tuple, matrix))})
@@ -502,7 +518,9 @@ def test_strokes_markers_and_text_grow_with_the_photo() -> None:
     assert 3.0 < big_paint.sum() / small_paint.sum() < 4.8
 
 
-def region(center: tuple[float, float], axes: tuple[float, float], angle_deg: float) -> dict:
+def region(
+    center: tuple[float, float], axes: tuple[float, float], angle_deg: float
+) -> dict[str, Uncertainty]:
     """An answer's update to a 95 % region of this ``center``, ``axes`` and ``angle_deg``."""
     ellipse = Ellipse(center=center, axes=axes, angle_deg=angle_deg)
     return {"uncertainty": Uncertainty(ellipse=ellipse)}
@@ -518,7 +536,7 @@ def region(center: tuple[float, float], axes: tuple[float, float], angle_deg: fl
     ],
     ids=["far-friend1", "needle-ellipse", "huge-far-ellipse", "point-ellipse"],
 )
-def test_extreme_answers_are_drawn_without_overflow(update) -> None:
+def test_extreme_answers_are_drawn_without_overflow(update: dict[str, Any]) -> None:
     s = scene(2)
     result = answer(s, 5).model_copy(update=update)
     photo = grey(s.image_size2)
@@ -552,7 +570,7 @@ def test_a_needle_thin_ellipse_is_drawn_as_its_long_axis() -> None:
     ],
     ids=["float", "four-channels", "one-dimensional", "empty", "list"],
 )
-def test_a_photo_that_is_not_an_8_bit_image_is_refused(image, code) -> None:
+def test_a_photo_that_is_not_an_8_bit_image_is_refused(image: Any, code: ErrorCode) -> None:
     with pytest.raises(SolverError) as refused:
         draw_overlay(image, answer(scene(2), 5))
     assert refused.value.code == code
@@ -569,7 +587,7 @@ def test_a_photo_that_is_not_an_8_bit_image_is_refused(image, code) -> None:
     ],
     ids=["three-columns", "nan", "too-few-labels", "labels-without-points", "unknown-photo"],
 )
-def test_bad_landmarks_or_options_are_refused(keywords, code) -> None:
+def test_bad_landmarks_or_options_are_refused(keywords: dict[str, Any], code: ErrorCode) -> None:
     with pytest.raises(SolverError) as refused:
         draw_overlay(grey((160, 120)), answer(scene(2), 5), **keywords)
     assert refused.value.code == code
@@ -586,6 +604,8 @@ def test_the_temple_photos_get_the_answer_and_numbered_landmarks() -> None:
     assert result.epipole2 is not None
     photo2 = cv2.imread(str(TEMPLE / "templeSR0006.png"))
     photo1 = cv2.imread(str(TEMPLE / "templeSR0003.png"))
+    assert photo2 is not None
+    assert photo1 is not None
     two = draw_overlay(photo2, result, points=s.landmarks2)
     one = draw_overlay(photo1, result, photo=1, points=s.landmarks1)
     assert two.shape == photo2.shape == (480, 640, 3)

@@ -4,6 +4,7 @@ when it steps aside for the projective geometry."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -21,7 +22,7 @@ def exact_scene(seed: int, landmarks: int) -> PhoneScene:
     return phone_scene(np.random.default_rng(seed), landmarks, centre_sd=0.0)
 
 
-def known(scene: PhoneScene) -> dict[str, object]:
+def known(scene: PhoneScene) -> dict[str, Any]:
     """Both cameras' true focal lengths, as EXIF would give them without rounding."""
     return {
         "camera1": Camera.with_focal(scene.focal_35mm1),
@@ -30,7 +31,7 @@ def known(scene: PhoneScene) -> dict[str, object]:
     }
 
 
-def phones(scene: PhoneScene) -> dict[str, object]:
+def phones(scene: PhoneScene) -> dict[str, Any]:
     return {"camera1": "phone", "camera2": "phone", **scene.sizes}
 
 
@@ -49,7 +50,7 @@ def test_exact_taps_and_known_focal_give_friend1_exactly(
 ) -> None:
     s = exact_scene(seed, landmarks)
     friends = marks(s, given, np.random.default_rng(seed).uniform(0, np.pi))
-    result = solve(s.landmarks1, s.landmarks2, **friends, tap_sigma=1.0, **known(s))  # type: ignore[arg-type]
+    result = solve(s.landmarks1, s.landmarks2, **friends, tap_sigma=1.0, **known(s))
     assert result.camera_model == "pinhole"
     assert result.method == method
     if given == "e1" and result.candidates:  # three landmarks can fit two poses exactly

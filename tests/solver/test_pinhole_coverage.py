@@ -11,7 +11,9 @@ out of twenty by chance. ``make bench`` measures the same cases on more trials.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pytest
@@ -71,7 +73,7 @@ def coverage(case: Case, seed: int) -> tuple[float, int]:
     return hits / max(claims, 1), claims
 
 
-def _taps(s: PhoneScene, case: Case, rng: np.random.Generator) -> dict[str, object]:
+def _taps(s: PhoneScene, case: Case, rng: np.random.Generator) -> dict[str, Any]:
     n = case.landmarks
     sigmas = [np.where(rng.random(n) < 0.5, 10.0, 2.0) for _ in range(2)] if case.mixed else None
     marks_sigma = rng.choice([2.0, 10.0], 2) if case.mixed else np.full(2, SIGMA)
@@ -97,7 +99,7 @@ def _taps(s: PhoneScene, case: Case, rng: np.random.Generator) -> dict[str, obje
     return taps
 
 
-def _cameras(s: PhoneScene, case: Case) -> dict[str, object]:
+def _cameras(s: PhoneScene, case: Case) -> dict[str, Any]:
     if case.exif:
         cameras = (
             Camera.with_focal(s.exif_focal_35mm1),
@@ -121,7 +123,7 @@ HONEST = [
 
 @pytest.mark.parametrize("case", HONEST, ids=str)
 def test_the_region_holds_the_truth_93_to_97_percent_of_the_time(
-    case: Case, record_property: pytest.RecordProperty
+    case: Case, record_property: Callable[[str, object], None]
 ) -> None:
     found, claims = coverage(case, seed=case.landmarks)
     record_property("coverage", found)
@@ -132,7 +134,7 @@ def test_the_region_holds_the_truth_93_to_97_percent_of_the_time(
 
 @pytest.mark.parametrize("case", [Case(4, zoom=2.0), Case(5, zoom=3.0), Case(8, zoom=3.0)], ids=str)
 def test_zoomed_photos_without_exif_keep_their_regions_honest(
-    case: Case, record_property: pytest.RecordProperty
+    case: Case, record_property: Callable[[str, object], None]
 ) -> None:
     found, claims = coverage(case, seed=100 + case.landmarks)
     record_property("coverage", found)

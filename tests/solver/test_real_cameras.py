@@ -12,6 +12,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pytest
@@ -65,7 +66,7 @@ def _answers(camera: str, zoom: float, draws: int) -> dict[tuple[str, int], list
     found: dict[tuple[str, int], list[Answer]] = {}
     for pair in _pairs(zoom):
         if camera == "exif":
-            cameras = {
+            cameras: dict[str, Any] = {
                 "camera1": Camera.with_focal(pair.focal_35mm1),
                 "camera2": Camera.with_focal(pair.focal_35mm2),
             }

@@ -5,6 +5,7 @@ derives from it (zoomed photos, taps) must move that truth consistently."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -152,7 +153,7 @@ def test_taps_are_seeded_nested_and_as_noisy_as_asked() -> None:
     assert np.abs(spread.mean(axis=0)).max() < 0.1
 
 
-def _stored(pair: RealPair) -> dict[str, object]:
+def _stored(pair: RealPair) -> dict[str, Any]:
     for stored in read_set(pair.set_name)["pairs"]:
         if tuple(stored["cameras"]) == pair.camera_ids:
             return dict(stored)

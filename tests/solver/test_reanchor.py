@@ -23,7 +23,7 @@ def hall() -> Hall:
     return rendered_hall(3)
 
 
-def test_the_frame_focal_length_of_a_rotating_camera_is_exact():
+def test_the_frame_focal_length_of_a_rotating_camera_is_exact() -> None:
     rng = np.random.default_rng(1)
     for _ in range(20):
         f_photo, f_frame = rng.uniform(1500, 3000), rng.uniform(500, 1200)
@@ -42,7 +42,7 @@ def test_the_frame_focal_length_of_a_rotating_camera_is_exact():
 )
 def test_a_turned_frame_puts_the_marker_within_a_third_of_a_degree(
     hall: Hall, turn_deg: float, gain: float, crowd: int, zoom: float
-):
+) -> None:
     view = live_view(
         hall,
         np.random.default_rng(int(turn_deg)),
@@ -58,13 +58,13 @@ def test_a_turned_frame_puts_the_marker_within_a_third_of_a_degree(
     assert found.residual_px < 1.0
 
 
-def test_a_frame_blurred_by_a_fast_turn_is_matched_at_half_its_size(hall: Hall):
+def test_a_frame_blurred_by_a_fast_turn_is_matched_at_half_its_size(hall: Hall) -> None:
     """A 15 px motion blur (a phone turning as the frame is exposed): refused at the
     frame's size, matched once both images are halved, the focal length in the frame's own
     pixels."""
     view = live_view(hall, np.random.default_rng(0), turn_deg=30.0, crowd=40, blur_px=15)
     focal = hall.camera.intrinsics[0, 0]
-    grey = cv2.cvtColor(view.frame, cv2.COLOR_BGR2GRAY)
+    grey = np.asarray(cv2.cvtColor(view.frame, cv2.COLOR_BGR2GRAY), np.uint8)
     with pytest.raises(SolverError):
         matching._reanchored(hall.photo, grey, focal, None, 960)  # the first try alone
     found = reanchor(hall.photo, view.frame, focal)
@@ -72,7 +72,7 @@ def test_a_frame_blurred_by_a_fast_turn_is_matched_at_half_its_size(hall: Hall):
     assert found.frame_focal_px == pytest.approx(view.camera.intrinsics[0, 0], rel=0.01)
 
 
-def test_a_frame_of_another_place_is_refused(hall: Hall):
+def test_a_frame_of_another_place_is_refused(hall: Hall) -> None:
     """The other end of the hall (where the friend stands): the same hall, no turn of the
     photo's place."""
     view = live_view(hall, np.random.default_rng(0), turn_deg=0.0, place=hall.other)
@@ -83,15 +83,15 @@ def test_a_frame_of_another_place_is_refused(hall: Hall):
     assert refused.value.message
 
 
-def test_a_frame_with_nothing_to_match_is_refused(hall: Hall):
+def test_a_frame_with_nothing_to_match_is_refused(hall: Hall) -> None:
     blank = np.full((960, 720, 3), 90, np.uint8)
     with pytest.raises(SolverError):
         reanchor(hall.photo, blank, hall.camera.intrinsics[0, 0])
 
 
-def test_a_frame_that_is_no_rotation_is_refused(hall: Hall):
+def test_a_frame_that_is_no_rotation_is_refused(hall: Hall) -> None:
     """The photo itself, stretched sideways: a homography fits it, no turn does."""
     stretch = np.array([[0.45, 0.08, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 1.0]])
-    frame = cv2.warpPerspective(hall.photo, stretch, (720, 960))
+    frame = np.asarray(cv2.warpPerspective(hall.photo, stretch, (720, 960)), np.uint8)
     with pytest.raises(SolverError):
         reanchor(hall.photo, frame, hall.camera.intrinsics[0, 0])

@@ -73,7 +73,7 @@ def test_too_few_landmarks_are_refused(scene: Scene, given: str, landmarks: int)
     kwargs = marks(scene, given, math.atan2(0.5, 1.0))
     error = refused(
         ErrorCode.TOO_FEW_LANDMARKS,
-        lambda: solve(scene.landmarks1[:landmarks], scene.landmarks2[:landmarks], **kwargs),  # type: ignore[arg-type]
+        lambda: solve(scene.landmarks1[:landmarks], scene.landmarks2[:landmarks], **kwargs),
     )
     assert str(landmarks) in error.message
 
@@ -183,8 +183,11 @@ def test_unknown_five_point_method_is_refused(scene: Scene) -> None:
     refused(
         ErrorCode.INVALID_PARAMETER,
         lambda: epipole_from_five(
-            scene.epipole1, scene.landmarks1[:5], scene.landmarks2[:5], method="magic"
-        ),  # type: ignore[arg-type]
+            scene.epipole1,
+            scene.landmarks1[:5],
+            scene.landmarks2[:5],
+            method="magic",  # type: ignore[arg-type]
+        ),
     )
 
 

@@ -3,6 +3,8 @@ the time, neither much less (overconfident) nor nearly always (useless)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 
@@ -28,7 +30,7 @@ def covered(
 
 @pytest.mark.parametrize(("landmarks", "sigma"), [(5, 1.0), (5, 2.0), (6, 1.0), (8, 1.0), (8, 2.0)])
 def test_ellipse_holds_the_truth_about_95_percent_of_the_time(
-    landmarks: int, sigma: float, record_property: pytest.RecordProperty
+    landmarks: int, sigma: float, record_property: Callable[[str, object], None]
 ) -> None:
     rng = np.random.default_rng(landmarks * 100 + int(sigma * 10))
     hits = 0
