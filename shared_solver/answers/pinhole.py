@@ -62,6 +62,8 @@ _REFINE_MARGIN = 9.0
 # Refined fits within this cost of the best, with friend 1 elsewhere, make the answer
 # ambiguous (a difference of 4 is two sigmas of evidence).
 _AMBIGUOUS_COST = 4.0
+# Fits within this cost of each other tie: nothing the taps say tells them apart.
+_TIE_COST = 1e-6
 # Where along a drawn line (its part inside photo 1) friend 2 is tried, as fractions.
 _ALONG = (0.1, 0.3, 0.5, 0.7, 0.9)
 # Mis-taps are looked for from this many landmarks: six give the projective check that the
@@ -343,7 +345,21 @@ def _likeliest(fits: list[PinholeFit], size2: tuple[float, float] | None) -> Pin
     if len(in_front) == 1 or size2 is None:
         return in_front[0]
     inside = [fit for fit in in_front if _inside(fit.epipole2, size2)]
-    return (inside or in_front)[0]
+    eligible = inside or in_front
+    # Fits that tie exactly (minimal taps: every root fits them, at the same prior cost) are
+    # ordered by rounding alone, which a scaled photo changes: the one nearer photo 2's
+    # centre goes first, where friend 2 aimed.
+    tied = [fit for fit in eligible if fit.cost <= eligible[0].cost + _TIE_COST]
+    if len(tied) == 1:
+        return tied[0]
+    centre = np.array(size2) / 2.0
+    return min(tied, key=lambda fit: _off_centre(fit.epipole2, centre))
+
+
+def _off_centre(friend1: Array, centre: Array) -> float:
+    """How far the homogeneous pixel ``friend1`` (3,) lies from ``centre`` (2,), px."""
+    pixel = to_pixel(friend1)
+    return float("inf") if pixel is None else float(np.hypot(*(pixel - centre)))
 
 
 def _inside(friend1: Array, size: tuple[float, float]) -> bool:
