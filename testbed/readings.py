@@ -4,6 +4,8 @@ solver's gravity and compass tests."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -18,7 +20,7 @@ def down(scene: PhoneScene, photo: int, rng: np.random.Generator, sigma_deg: flo
     return gravity_reading(scene.camera1 if photo == 1 else scene.camera2, sigma_deg, rng)
 
 
-def true_cameras(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object]]:
+def true_cameras(scene: PhoneScene) -> tuple[dict[str, Any], dict[str, Any]]:
     """Each photo's true focal length as a known one (the scenes' centres are exact)."""
     return tuple(  # type: ignore[return-value]
         {"kind": "known_focal", "focal_35mm": focal_35mm(camera.intrinsics[0, 0], size)}
@@ -26,7 +28,7 @@ def true_cameras(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object
     )
 
 
-def exif_of(scene: PhoneScene) -> tuple[dict[str, object], dict[str, object]]:
+def exif_of(scene: PhoneScene) -> tuple[dict[str, Any], dict[str, Any]]:
     """Each photo's focal length as its EXIF says it (the true one, to a whole mm)."""
     return tuple(  # type: ignore[return-value]
         {"kind": "known_focal", "focal_35mm": focal}
@@ -58,7 +60,7 @@ def solved(
     )
 
 
-def phones_of(scene: PhoneScene) -> dict[str, object]:
+def phones_of(scene: PhoneScene) -> dict[str, Any]:
     """``solve``'s arguments besides the landmarks: friend 2's true mark, two phones."""
     return {
         "epipole1": scene.epipole1,

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from collections import Counter
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncGenerator, Callable
 from contextlib import suppress
 from dataclasses import dataclass, field
 from typing import TypeVar
@@ -57,7 +57,7 @@ class EventStreams:
 
     async def events(
         self, participant: Participant, last_event_id: int | None
-    ) -> AsyncIterator[ServerSentEvent]:
+    ) -> AsyncGenerator[ServerSentEvent, None]:
         """The stream of one phone, until it disconnects (the server then cancels it) or
         the session ends. Reads when woken by a change (here or, on PostgreSQL, on any
         replica) and every ``poll_seconds`` in case a wake-up was lost; pings between."""

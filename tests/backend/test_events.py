@@ -42,7 +42,7 @@ async def open_stream(
     """One phone's stream, as the text that goes on the wire, frame by frame."""
     events = streams_of(client).events(Participant(session_id, role), last_event_id)
     # EventStreams.events is an async generator (aclose) that says AsyncIterator.
-    async with aclosing(events):  # type: ignore[type-var]  # closing this closes the server's
+    async with aclosing(events):  # closing this closes the server's
         async for event in events:
             # As FastAPI writes it: data as written (raw_data), or serialised here.
             data = event.raw_data
