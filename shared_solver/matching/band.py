@@ -164,9 +164,14 @@ def epipolar_band(
 
     Returns:
         The band, or None when its line does not cross photo B (the landmark cannot be in
-        it).
+        it) or ``point`` has no line: it is the epipole in A exactly (a landmark tapped on
+        the other friend's mark). Near it the line's covariance, to first order, widens the
+        band to what the taps allow.
     """
-    line, covariance = epipolar.line(np.asarray(point, float), point_covariance)
+    lined = epipolar.line(np.asarray(point, float), point_covariance)
+    if lined is None:  # tapped exactly on the other friend: on the line through both phones
+        return None
+    line, covariance = lined
     segment = _clip_line(line, image_size)
     if segment is None:
         return None

@@ -14,6 +14,7 @@ is searched.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -94,19 +95,23 @@ class Epipolar:
         """(3,) homogeneous epipole in B, ``F^T e_B = 0``, w >= 0."""
         return _w_positive(left_epipole(self.fundamental))
 
-    def line(self, point: Array, point_covariance: Array) -> tuple[Array, Array]:
+    def line(self, point: Array, point_covariance: Array) -> tuple[Array, Array] | None:
         """The line in B of a point (2,) in A with covariance (2, 2) px^2.
 
         Returns:
             (l (3,) scaled so that ``l[0]^2 + l[1]^2 = 1``, so ``l . (x, y, 1)`` is a
-            signed distance in px; its (3, 3) covariance, first order).
+            signed distance in px; its (3, 3) covariance, first order); None for the
+            epipole in A (a landmark tapped on the other friend), whose line is every line.
         """
         p = np.array([point[0], point[1], 1.0])
         line = self.fundamental @ p
+        normal = float(np.hypot(line[0], line[1]))
+        if not (normal > 0.0 and math.isfinite(normal)):
+            return None
         jacobian = np.kron(np.eye(3), p[None, :])  # d(F p) / d vec(F), row by row
         covariance = jacobian @ self.covariance @ jacobian.T
         covariance += self.fundamental[:, :2] @ point_covariance @ self.fundamental[:, :2].T
-        scale = 1.0 / float(np.hypot(line[0], line[1]))
+        scale = 1.0 / normal
         return line * scale, covariance * scale**2
 
     def direction(self, points_a: Array) -> Array:

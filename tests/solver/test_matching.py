@@ -63,6 +63,19 @@ def test_on_exact_input_the_band_runs_through_the_truth_inside_the_photo(seed: i
         assert min(shape.half_width) > 0
 
 
+def test_a_landmark_tapped_on_the_other_friend_has_no_band() -> None:
+    """On the epipole in A (the friend mark) F p is exactly 0: every line through the other
+    friend is its line, and there is no band (found by drawing absurd taps: a division by
+    zero answered the tap's PUT with a 500). Beside it, the band is there, and wide."""
+    # F = [e]x with the epipole in both photos at (0, 0): F (0, 0, 1) is 0 to the last bit.
+    fundamental = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    epipolar = Epipolar(fundamental, 1e-14 * np.eye(9))
+    size = (100, 100)
+    assert epipolar_band(epipolar, np.zeros(2), image_size=size, point_covariance=TAP) is None
+    beside = epipolar_band(epipolar, np.array([5.0, 5.0]), image_size=size, point_covariance=TAP)
+    assert beside is not None
+
+
 def test_the_band_widens_with_the_uncertainty_of_f_and_of_the_tap() -> None:
     epipolar, scene = exact_geometry(3)
     p, q = scene.landmarks1[0], scene.landmarks2[0]
