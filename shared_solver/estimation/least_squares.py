@@ -120,9 +120,12 @@ def gauge_free_covariance(jacobian: Array, gauge: Array, sigma: float) -> Array:
     reflection = np.eye(len(g)) - 2.0 * np.outer(v, v) / (v @ v)
     complement = reflection[:, 1:]
     reduced = jacobian @ complement
-    information = reduced.T @ reduced
-    try:
-        inverse = linalg.inv(information)
-    except linalg.LinAlgError:
-        inverse = np.linalg.pinv(information, hermitian=True)
+    # From the SVD of the reduced Jacobian, not by inverting J^T J: near a degenerate layout
+    # (a plane fit with few landmarks to spare) J^T J's condition number reached 1e16, and
+    # its LU inverse came out neither symmetric nor positive, a different "covariance" at
+    # each scale of the same photos. V diag(1 / s^2) V^T is symmetric and positive by
+    # construction, and as precise as the Jacobian itself.
+    _, singular, vt = np.linalg.svd(reduced, full_matrices=False)
+    with np.errstate(divide="ignore"):
+        inverse = (vt.T / singular**2) @ vt
     return sigma**2 * complement @ inverse @ complement.T

@@ -11,6 +11,7 @@ import pytest
 from shared_solver import solve
 from shared_solver.answers.building import calibrated
 from shared_solver.estimation import bootstrap
+from shared_solver.estimation.least_squares import gauge_free_covariance
 from shared_solver.estimation.uncertainty import CHI2_2D, contains, ellipse
 from testbed.scenes import facing_scene, solved, tap
 
@@ -91,6 +92,24 @@ def test_a_round_region_keeps_its_axes_in_order() -> None:
         _, (a, b), _ = ellipse(np.zeros(2), sigma**2 * np.eye(2))
         assert 0.0 < b <= a
         assert b == pytest.approx(a, rel=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e6, 1e-6])
+def test_a_nearly_flat_fit_gets_its_true_covariance_at_every_scale(scale: float) -> None:
+    """A Jacobian flat along its gauge, its other singular values from 1 down to 1e-8 (J^T J
+    conditioned at 1e16, as a plane fit near a degenerate layout was): the covariance is
+    symmetric and its largest variance 1 / s_min^2, at any scale of the residuals. Inverting
+    J^T J gave 5e13 at one scale and 1.3e16 at another (found by drawing scaled photos)."""
+    rng = np.random.default_rng(3)
+    gauge = rng.normal(size=9)
+    gauge /= np.linalg.norm(gauge)
+    basis = np.linalg.qr(np.column_stack([gauge, rng.normal(size=(9, 8))]))[0]
+    columns = np.linalg.qr(rng.normal(size=(12, 8)))[0]
+    jacobian = columns @ np.diag(np.logspace(0, -8, 8)) @ basis[:, 1:].T
+    covariance = gauge_free_covariance(jacobian * scale, gauge, 1.0) * scale**2
+    np.testing.assert_allclose(covariance, covariance.T, rtol=0, atol=1e-12 * 1e16)
+    assert np.linalg.eigvalsh(covariance)[-1] == pytest.approx(1e16, rel=1e-6)
+    assert abs(gauge @ covariance @ gauge) < 1e-6 * 1e16
 
 
 def test_quality_follows_the_uncertainty() -> None:
