@@ -81,13 +81,14 @@ system-packages:
 # The solver: its lint, types and tests on both cores (pytest-xdist).
 test-solver: $(INSTALLED)
 	$(BIN)/ruff check shared_solver tests/solver
-	$(BIN)/mypy shared_solver
+	$(BIN)/mypy shared_solver tests/solver
 	$(BIN)/python -m pytest -q -n 2 --dist worksteal tests/solver
 
 # The service: its tests on SQLite and PostgreSQL, the cluster behind nginx included.
 test-backend: $(INSTALLED) postgres nginx
 	$(BIN)/ruff check backend deploy tests/backend
-	$(BIN)/mypy backend deploy
+	$(BIN)/mypy backend deploy tests/backend
+	$(BIN)/mypy tests/backend/conftest.py
 	$(BIN)/python -m pytest -q -n 2 --dist worksteal tests/backend tests/test_docs_generated.py
 
 # The phone app: its types and unit tests, the build, and the two phones in both browsers.
