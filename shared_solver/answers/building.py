@@ -21,7 +21,7 @@ from ..estimation.epipolar_fit import EpipolarFit, sampson_distances
 from ..estimation.pinhole.fit import PinholeFit
 from ..estimation.planar import PlanarFit
 from ..estimation.plausibility import Plausibility, assess, orient_epipole2
-from ..estimation.uncertainty import Fitted, consistent, ellipse, quality
+from ..estimation.uncertainty import Fitted, consistent, ellipse, holdable, quality
 from ..projective import Array, canonical, canonical_matrix, homogeneous, skew, to_pixel
 from ..result import (
     CameraEstimate,
@@ -377,7 +377,7 @@ def _uncertainty(
     if not (a > 0.0 and a * d - b * c > 0.0):  # positive definite (numpy's det: 10x the time)
         return Uncertainty(ellipse=None), None
     centre, axes, angle = ellipse(np.array(e2), covariance)
-    if not (0.0 < axes[1] <= axes[0] < math.inf):  # too thin or too long for a float
+    if not holdable(axes):
         return Uncertainty(ellipse=None), None
     return Uncertainty(
         ellipse=Ellipse(center=centre, axes=axes, angle_deg=angle), covariance=((a, b), (c, d))

@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import linalg
 from ..errors import WarningCode
-from ..estimation.uncertainty import covering, ellipse, quality
+from ..estimation.uncertainty import covering, ellipse, holdable, quality
 from ..projective import Array
 from ..result import Ellipse, Quality, SolveResult, SolverWarning, Uncertainty
 from .building import covariance9
@@ -56,7 +56,7 @@ def reconcile(request: Request, camera: SolveResult | None, projective: SolveRes
         return fallback
     centre, covariance = own[0], covering(own, other)
     centre_xy, axes, angle = ellipse(centre, covariance)
-    if not (0.0 < axes[1] <= axes[0] < math.inf):  # beyond a float's reach: no region
+    if not holdable(axes):
         return fallback
     grade = quality(axes[0], request.diagonal2)
     warnings = [SolverWarning.of(WarningCode.CAMERA_MODEL_UNSURE), *camera.warnings]

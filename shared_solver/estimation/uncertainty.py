@@ -82,6 +82,12 @@ def ellipse(
     return (float(centre[0]), float(centre[1])), (a, b), angle
 
 
+def holdable(axes: tuple[float, float]) -> bool:
+    """Whether semi-axes (a, b) from :func:`ellipse` make a region a float can hold: some
+    width, a finite length (else there is no region: a false certainty, or none at all)."""
+    return 0.0 < axes[1] <= axes[0] < math.inf
+
+
 def contains(centre: Array, covariance: Array, point: Array) -> bool:
     """Whether ``point`` lies inside the LEVEL ellipse of (centre, covariance)."""
     offset = point - centre

@@ -179,13 +179,11 @@ class PinholeModel:
         """(K, 3, N) photo 2's landmarks, homogeneous, as columns."""
         return _columns(self.q)
 
-    @functools.cached_property
+    @property
     def cov_t(self) -> Array:
-        """(4, 4, N) both taps' covariances of each landmark, block diagonal."""
-        cov_t = np.zeros((4, 4, self.landmarks))
-        cov_t[:2, :2] = self.taps.cov_p.transpose(1, 2, 0)
-        cov_t[2:, 2:] = self.taps.cov_q.transpose(1, 2, 0)
-        return cov_t
+        """(4, 4, N) both taps' covariances of each landmark, block diagonal: a view of
+        :attr:`_covariances`, landmark last."""
+        return self._covariances.transpose(1, 2, 0)
 
     @functools.cached_property
     def _covariances(self) -> Array:
