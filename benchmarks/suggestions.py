@@ -79,8 +79,8 @@ def header(arguments: argparse.Namespace) -> str:
             f"- Arenas: `testbed.venue.rendered_arena((SEED={SEED}, stream, index))`, streams "
             f"{ARENA_STREAMS}: {arguments.arena_calibration} calibration arenas (section 5), "
             f"{arguments.arena_evaluation} evaluation arenas (sections 1, 4, 8), held out "
-            "from every choice of the rule. Taps: numpy `default_rng((SEED, stream, index, "
-            "1))`.",
+            "from every choice of the rule (streams 4 and 5 were looked at for choices). "
+            "Taps: numpy `default_rng((SEED, stream, index, 1))`.",
             f"- The rule: `{RULES}`; band at {100 * LEVEL:.0f} %; a tap is flagged beyond "
             f"{FLAG_SIGMAS:g} standard deviations.",
         ]
@@ -170,7 +170,9 @@ def report(
         arena_tables.kinds_table(asked),
         "The same landmarks and taps, searched as before this change (the patch as read "
         "alone) and decided by the rule before (score 0.7, lead 0.05 over the runner-up, "
-        "the search back landing within 1 % of the tap, however unsurely):",
+        "the search back landing within 1 % of the tap, however unsurely), and by the rule "
+        "in the code but where the band is wider than the rows searched too (the rule "
+        "before `whole_band`):",
         arena_tables.before_table(asked),
         "What a stricter rule would give on the same held-out arenas (shown, not chosen "
         "from: the rule was fixed before this run):",

@@ -176,6 +176,10 @@ def before_table(asked: Sequence[Asked]) -> str:
             "the search now, the rule before",
             *count(compared, now, by_rule_before).cells(),
         ],
+        [
+            "now, and where the band is wider than the rows searched (`whole_band` off)",
+            *count(compared, now, by_rule(replace(RULES, whole_band=False))).cells(),
+        ],
         ["now (the rule in the code)", *count(compared, now, IN_CODE).cells()],
     ]
     return markdown_table(["search and rule", *HEADER], rows)

@@ -26,7 +26,9 @@ from testbed.venue import RenderedPair, rendered_arena
 
 from .trials import BEFORE, SEED, Timed, answer, timed_search
 
-ARENA_STREAMS = {"calibration": 3, "evaluation": 4}
+# Held out: stream 6. Streams 4 (held out until its wrong spots, all in bands wider than
+# the rows searched, led to the rule's whole_band) and 5 were looked at for choices.
+ARENA_STREAMS = {"calibration": 3, "evaluation": 6}
 PICKED = 10  # landmarks a person picks in each arena
 APART = 0.03  # least distance between two of them, fraction of each photo's diagonal
 FOUND = (3, 5)  # landmarks tapped in both photos before the others are looked for

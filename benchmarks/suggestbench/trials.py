@@ -7,7 +7,7 @@ in both directions:
 
 - the band, and how far the true landmark is from its centre line;
 - the search along it and back (``search_band``, ``search_back``), timed as ``suggest``
-  spends it (the search back only for a match that leads);
+  spends it (the search back only for a match that may be offered);
 - the tap check of a right tap (the truth, tapped) and of two wrong ones: another
   landmark's spot, and the truth moved 2-10 % of the diagonal in a random direction;
 - with ``compare``, the same search on grey photos, and SIFT keypoints matched in the
@@ -39,6 +39,7 @@ from shared_solver.matching.suggestion import (
     check_back,
     gather,
     leads,
+    offerable,
 )
 from shared_solver.projective import Array, Indices
 from testbed.venue import RenderedPair, rendered_pair
@@ -56,7 +57,7 @@ ALSO_USED = (3, 8)  # other numbers of landmarks whose bands are checked (no ima
 TAP = SIGMA**2 * np.eye(2)
 # The search before it had two views: the patch as read alone; its rule then: a score of 0.7
 # and a lead of 0.05 (no other view), the search back landing within 1 % of the tap.
-BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",))
+BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",), whole_band=False)
 
 
 @dataclass(frozen=True)
@@ -316,17 +317,18 @@ def timed_search(
     rules: Rules = RULES,
 ) -> Timed:
     """The evidence, and the wall and CPU time ``suggest`` spends on it: the search along
-    the band, and the search back only when the match leads (as ``suggest`` does). The
-    search back is made for every match with ``always_back`` (to weigh other rules), but
-    timed only as ``suggest`` would make it."""
+    the band, and the search back only when the match may be offered (as ``suggest`` does).
+    The search back is made for every match that leads, offered or not (to count the rule
+    without ``whole_band`` too), and with ``always_back`` for every match (to weigh other
+    rules), but timed only as ``suggest`` would make it."""
     search = LandmarkSearch(photo_a, photo_b, point, epipolar, band, point_covariance=covariance)
     wall, cpu = time.perf_counter(), time.process_time()
     evidence = gather(search, rules=rules)
     forward = (time.perf_counter() - wall, time.process_time() - cpu)
     if evidence is None:
         return Timed(None, *forward)
-    counted = leads(evidence.match, rules)
-    if not (counted or always_back):
+    counted = offerable(evidence.match, rules)
+    if not (leads(evidence.match, rules) or always_back):
         return Timed(evidence, *forward)
     wall, cpu = time.perf_counter(), time.process_time()
     checked = check_back(evidence, search, rules=rules)

@@ -64,12 +64,16 @@ class PolarFrame:
 
     def reach(self, t: Array) -> Array:
         """(N,) rows on each side of the middle row the band covers at distances ``t``
-        from ``e_B`` (between 1 and ``margin``): its half-width over the rows' spacing."""
+        from ``e_B``, as far as the strip reaches (between 1 and ``margin``)."""
+        return np.clip(self.across(t), 1, self.margin).astype(int)
+
+    def across(self, t: Array) -> Array:
+        """(N,) the band's half-width at distances ``t`` from ``e_B`` in rows, whole ones
+        (its half-width over the rows' spacing there), however many the strip has."""
         middle = self.directions[len(self.directions) // 2]
         points = self.origin + t[:, None] * middle
         spacing = np.maximum(np.abs(t) * self.step, 1e-9)
-        rows = np.ceil(self.band.half_width(points) / spacing)
-        return np.clip(rows, 1, self.margin).astype(int)
+        return np.ceil(self.band.half_width(points) / spacing)
 
     @property
     def rows(self) -> int:

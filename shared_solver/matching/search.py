@@ -68,6 +68,9 @@ class Match:
             anywhere along the band, near the match included (its own score otherwise).
         as_read_apart: how far along the band that place is from the match, px (a
             fraction of photo B's diagonal once :func:`.suggestion.search_band` has it).
+        across: the band's half-width at the match, in strip rows
+            (:meth:`.polar.PolarFrame.across`): more than the strip's margin, and places
+            of the band beside the strip were not searched.
     """
 
     point: Array
@@ -78,6 +81,7 @@ class Match:
     view: str = "as read"
     as_read: float = -1.0
     as_read_apart: float = 0.0
+    across: float = 0.0
 
 
 @dataclass
@@ -181,6 +185,7 @@ def best_match(
         best.view,
         read.score if read.view == "as read" else -1.0,
         float(abs(read.column - best.column)),
+        float(frame.across(t[best.column : best.column + 1])[0]),
     )
 
 

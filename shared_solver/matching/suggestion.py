@@ -6,6 +6,9 @@ match is suggested only when everything agrees (the rule and its thresholds were
 on rendered halls and arenas, and are measured on others, in docs/suggestions.md):
 
 - its correlation is high (``min_score``);
+- the band is no wider there than the rows searched (``whole_band``): a band many times
+  the patch's width (few landmarks, quick taps) holds places beside the rows searched,
+  and on the rendered arenas every spot offered beyond 3 % of the diagonal was in one;
 - nothing else along the band comes close (``min_margin`` over the runner-up, beyond 1 %
   of the diagonal), the patch read as it is or reversed along the lines (:mod:`.search`):
   a row of seats, a repeated sign, a banner's mirrored print, the other corner of a mat
@@ -59,6 +62,11 @@ class Rules:
         max_score_gap: most difference between the scores of the match and of the search
             back (the same pair of patches seen both ways should score alike; a search
             back far surer than the match went from a look-alike to its own twin).
+        whole_band: offer only a match where the band is at most ``max_margin`` rows
+            wide on each side of its centre line (:attr:`.search.Match.across`). Where
+            it is wider (few landmarks, quick taps: a band many times the patch's width),
+            places beside the rows searched were not compared, and a look-alike there
+            leads the ones that were.
     """
 
     min_score: float = 0.7
@@ -70,6 +78,7 @@ class Rules:
     min_view_lead: float = math.inf
     view_apart: float = 0.015
     max_score_gap: float = 0.2
+    whole_band: bool = True
 
 
 RULES = Rules()
@@ -137,8 +146,8 @@ def suggest(search: LandmarkSearch, *, rules: Rules = RULES) -> Suggestion | Non
         The suggestion, or None when no place along the band is a sure match.
     """
     evidence = gather(search, rules=rules)
-    if evidence is None or not leads(evidence.match, rules):
-        return None  # the search back is only worth its time for a match that leads
+    if evidence is None or not offerable(evidence.match, rules):
+        return None  # the search back is only worth its time for a match that may be offered
     return decide(check_back(evidence, search, rules=rules), rules)
 
 
@@ -167,7 +176,7 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
     """The suggestion the evidence allows under ``rules``, or None."""
     match, back = evidence.match, evidence.back
     if (
-        not leads(match, rules)
+        not offerable(match, rules)
         or evidence.sigmas > FLAG_SIGMAS
         or back is None
         or evidence.returned > rules.tolerance
@@ -197,6 +206,12 @@ def leads(match: Match, rules: Rules = RULES) -> bool:
             )
         )
     )
+
+
+def offerable(match: Match, rules: Rules = RULES) -> bool:
+    """Whether the match along the band may be offered, before its search back: it leads
+    (:func:`leads`), and the search covered the band's width there (``whole_band``)."""
+    return leads(match, rules) and (match.across <= rules.max_margin or not rules.whole_band)
 
 
 def search_back(search: LandmarkSearch, match: Match, *, rules: Rules = RULES) -> Match | None:

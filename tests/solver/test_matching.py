@@ -9,6 +9,7 @@ plain to see, none where the spot is not in the other photo.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Literal
 
 import numpy as np
@@ -22,6 +23,7 @@ from shared_solver.matching import (
     guide_landmark,
     suggest,
 )
+from shared_solver.matching.suggestion import RULES, gather, offerable
 from shared_solver.result import SolveResult
 from testbed.phones import PhoneScene, phone_scene
 from testbed.textures import poster
@@ -148,6 +150,38 @@ def test_plain_landmarks_get_right_suggestions(hall: RenderedPair) -> None:
             right += math.hypot(found.point[0] - q[0], found.point[1] - q[1]) <= 0.01 * diagonal
     assert shown >= 3
     assert right == shown
+
+
+def test_no_suggestion_where_the_band_is_wider_than_the_rows_searched(hall: RenderedPair) -> None:
+    """The plain landmarks offered a right spot above, with an answer 20 times less sure
+    (few landmarks, quick taps): their bands are then far wider than the rows searched, and
+    none is offered, though the search still finds a place that would lead. On the
+    rendered arenas every spot offered beyond 3 % of the diagonal was in such a band
+    (docs/geometry.md)."""
+    scene = hall.scene
+    sure = good_answer(hall.scene)
+    unsure = replace(sure, covariance=400.0 * sure.covariance)
+    offered = 0
+    for p in scene.landmarks1[:12]:
+        searches = [
+            LandmarkSearch(hall.photo1, hall.photo2, p, epipolar, band, point_covariance=TAP)
+            for epipolar in (sure, unsure)
+            if (
+                band := epipolar_band(
+                    epipolar, p, image_size=scene.image_size2, point_covariance=TAP
+                )
+            )
+        ]
+        assert len(searches) == 2
+        if suggest(searches[0]) is None:
+            continue
+        offered += 1
+        assert suggest(searches[1]) is None
+        evidence = gather(searches[1])
+        assert evidence is not None
+        assert evidence.match.across > RULES.max_margin
+        assert offerable(evidence.match, replace(RULES, whole_band=False))
+    assert offered >= 3
 
 
 def test_no_suggestion_for_a_patch_the_other_photo_does_not_show(hall: RenderedPair) -> None:
