@@ -171,8 +171,8 @@ def report(
         "The same landmarks and taps, searched as before this change (the patch as read "
         "alone) and decided by the rule before (score 0.7, lead 0.05 over the runner-up, "
         "the search back landing within 1 % of the tap, however unsurely), and by the rule "
-        "in the code but where the band is wider than the rows searched too (the rule "
-        "before `whole_band`):",
+        "in the code but where the band is wider than `max_across` too (the rule before "
+        "that limit):",
         arena_tables.before_table(asked),
         "What a stricter rule would give on the same held-out arenas (shown, not chosen "
         "from: the rule was fixed before this run):",

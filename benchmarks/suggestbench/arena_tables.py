@@ -177,8 +177,8 @@ def before_table(asked: Sequence[Asked]) -> str:
             *count(compared, now, by_rule_before).cells(),
         ],
         [
-            "now, and where the band is wider than the rows searched (`whole_band` off)",
-            *count(compared, now, by_rule(replace(RULES, whole_band=False))).cells(),
+            "now, and where the band is wider than `max_across` too",
+            *count(compared, now, by_rule(replace(RULES, max_across=math.inf))).cells(),
         ],
         ["now (the rule in the code)", *count(compared, now, IN_CODE).cells()],
     ]

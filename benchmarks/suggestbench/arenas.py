@@ -26,8 +26,8 @@ from testbed.venue import RenderedPair, rendered_arena
 
 from .trials import BEFORE, SEED, Timed, answer, timed_search
 
-# Held out: stream 6. Streams 4 (held out until its wrong spots, all in bands wider than
-# the rows searched, led to the rule's whole_band) and 5 were looked at for choices.
+# Held out: stream 6. Streams 4 (held out until its wrong spots, all in bands far wider
+# than the rows searched, led to the rule's max_across) and 5 were looked at for choices.
 ARENA_STREAMS = {"calibration": 3, "evaluation": 6}
 PICKED = 10  # landmarks a person picks in each arena
 APART = 0.03  # least distance between two of them, fraction of each photo's diagonal

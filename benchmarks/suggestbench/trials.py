@@ -57,7 +57,7 @@ ALSO_USED = (3, 8)  # other numbers of landmarks whose bands are checked (no ima
 TAP = SIGMA**2 * np.eye(2)
 # The search before it had two views: the patch as read alone; its rule then: a score of 0.7
 # and a lead of 0.05 (no other view), the search back landing within 1 % of the tap.
-BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",), whole_band=False)
+BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",), max_across=math.inf)
 
 
 @dataclass(frozen=True)
@@ -319,7 +319,7 @@ def timed_search(
     """The evidence, and the wall and CPU time ``suggest`` spends on it: the search along
     the band, and the search back only when the match may be offered (as ``suggest`` does).
     The search back is made for every match that leads, offered or not (to count the rule
-    without ``whole_band`` too), and with ``always_back`` for every match (to weigh other
+    without ``max_across`` too), and with ``always_back`` for every match (to weigh other
     rules), but timed only as ``suggest`` would make it."""
     search = LandmarkSearch(photo_a, photo_b, point, epipolar, band, point_covariance=covariance)
     wall, cpu = time.perf_counter(), time.process_time()

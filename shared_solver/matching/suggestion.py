@@ -6,9 +6,9 @@ match is suggested only when everything agrees (the rule and its thresholds were
 on rendered halls and arenas, and are measured on others, in docs/suggestions.md):
 
 - its correlation is high (``min_score``);
-- the band is no wider there than the rows searched (``whole_band``): a band many times
-  the patch's width (few landmarks, quick taps) holds places beside the rows searched,
-  and on the rendered arenas every spot offered beyond 3 % of the diagonal was in one;
+- the band is not too wide there (``max_across``): a band many times the patch's width
+  (few landmarks, quick taps) holds places beside the rows searched, never compared, and
+  on rendered arenas every spot once offered beyond 3 % of the diagonal was in one;
 - nothing else along the band comes close (``min_margin`` over the runner-up, beyond 1 %
   of the diagonal), the patch read as it is or reversed along the lines (:mod:`.search`):
   a row of seats, a repeated sign, a banner's mirrored print, the other corner of a mat
@@ -62,11 +62,11 @@ class Rules:
         max_score_gap: most difference between the scores of the match and of the search
             back (the same pair of patches seen both ways should score alike; a search
             back far surer than the match went from a look-alike to its own twin).
-        whole_band: offer only a match where the band is at most ``max_margin`` rows
-            wide on each side of its centre line (:attr:`.search.Match.across`). Where
-            it is wider (few landmarks, quick taps: a band many times the patch's width),
-            places beside the rows searched were not compared, and a look-alike there
-            leads the ones that were.
+        max_across: most half-width of the band at the match, in strip rows
+            (:attr:`.search.Match.across`), for it to be offered: twice the rows searched
+            on each side (``max_margin``). Wider (few landmarks, quick taps), the band
+            holds many places beside the rows searched, never compared, and a look-alike
+            among the rows searched leads (docs/geometry.md; infinite: no limit).
     """
 
     min_score: float = 0.7
@@ -78,7 +78,7 @@ class Rules:
     min_view_lead: float = math.inf
     view_apart: float = 0.015
     max_score_gap: float = 0.2
-    whole_band: bool = True
+    max_across: float = 32.0
 
 
 RULES = Rules()
@@ -210,8 +210,8 @@ def leads(match: Match, rules: Rules = RULES) -> bool:
 
 def offerable(match: Match, rules: Rules = RULES) -> bool:
     """Whether the match along the band may be offered, before its search back: it leads
-    (:func:`leads`), and the search covered the band's width there (``whole_band``)."""
-    return leads(match, rules) and (match.across <= rules.max_margin or not rules.whole_band)
+    (:func:`leads`), and the band is not too wide there (``max_across``)."""
+    return leads(match, rules) and match.across <= rules.max_across
 
 
 def search_back(search: LandmarkSearch, match: Match, *, rules: Rules = RULES) -> Match | None:

@@ -39,7 +39,7 @@ from testbed.venue import RenderedPair, good_answer, photograph, rendered_arena
 TAP = 3.0**2 * np.eye(2)
 # The search before it searched the mirrored view, with the rule it had: a score of 0.7,
 # a lead of 0.05 over the runner-up, the search back landing within 1 % of the tap.
-BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",), whole_band=False)
+BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",), max_across=math.inf)
 
 
 def landmark_search(pair: RenderedPair, epipolar: Epipolar, point: Array) -> LandmarkSearch:

@@ -152,12 +152,14 @@ def test_plain_landmarks_get_right_suggestions(hall: RenderedPair) -> None:
     assert right == shown
 
 
-def test_no_suggestion_where_the_band_is_wider_than_the_rows_searched(hall: RenderedPair) -> None:
+def test_no_suggestion_where_the_band_is_far_wider_than_the_rows_searched(
+    hall: RenderedPair,
+) -> None:
     """The plain landmarks offered a right spot above, with an answer 20 times less sure
-    (few landmarks, quick taps): their bands are then far wider than the rows searched, and
-    none is offered, though the search still finds a place that would lead. On the
-    rendered arenas every spot offered beyond 3 % of the diagonal was in such a band
-    (docs/geometry.md)."""
+    (few landmarks, quick taps): their bands are then far wider than the rows searched
+    (more than ``max_across``), and none is offered, though the search still finds a place
+    that would lead. On rendered arenas every spot once offered beyond 3 % of the diagonal
+    was in such a band (docs/geometry.md)."""
     scene = hall.scene
     sure = good_answer(hall.scene)
     unsure = replace(sure, covariance=400.0 * sure.covariance)
@@ -179,8 +181,8 @@ def test_no_suggestion_where_the_band_is_wider_than_the_rows_searched(hall: Rend
         assert suggest(searches[1]) is None
         evidence = gather(searches[1])
         assert evidence is not None
-        assert evidence.match.across > RULES.max_margin
-        assert offerable(evidence.match, replace(RULES, whole_band=False))
+        assert evidence.match.across > RULES.max_across
+        assert offerable(evidence.match, replace(RULES, max_across=math.inf))
     assert offered >= 3
 
 
