@@ -21,6 +21,7 @@ __all__ = [
     "Mask",
     "canonical",
     "canonical_matrix",
+    "far_pixel",
     "hartley_normaliser",
     "homogeneous",
     "inside",
@@ -59,6 +60,16 @@ def to_pixel(point: Array) -> Array | None:
     if abs(w) * FAR_AWAY_PX <= max(abs(point[0]), abs(point[1])):
         return None
     return point[:2] / w
+
+
+def far_pixel(point: Array) -> Array | None:
+    """(3,) homogeneous -> (2,) pixel point however far it is; None only where it has none
+    (w = 0, or not finite). For choices that must not depend on the photo's scale: past
+    ``FAR_AWAY_PX`` a point is drawn as an arrow (:func:`to_pixel`), but a photo scaled up
+    500 times moves points past it that the unscaled photo keeps."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        pixel = point[:2] / point[2]
+    return pixel if bool(np.all(np.isfinite(pixel))) else None
 
 
 def inside(points: Array, size: tuple[float, float]) -> Mask:

@@ -22,7 +22,15 @@ from ..estimation.pinhole.fit import PinholeFit
 from ..estimation.planar import PlanarFit
 from ..estimation.plausibility import Plausibility, assess, orient_epipole2
 from ..estimation.uncertainty import Fitted, consistent, ellipse, holdable, quality
-from ..projective import Array, canonical, canonical_matrix, homogeneous, skew, to_pixel
+from ..projective import (
+    Array,
+    canonical,
+    canonical_matrix,
+    far_pixel,
+    homogeneous,
+    skew,
+    to_pixel,
+)
 from ..result import (
     CameraEstimate,
     CameraModel,
@@ -310,7 +318,7 @@ def calibrated(
     Args:
         answer: (3,) the homogeneous position of friend 1 that the covariance belongs to.
     """
-    position = to_pixel(answer)
+    position = far_pixel(answer)  # however far: the bootstrap's answers are, too
     if covariance is None or position is None:
         return covariance
     factor = bootstrap.scale(position, covariance, samples())

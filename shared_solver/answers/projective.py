@@ -32,6 +32,7 @@ from ..minimal.two_epipoles import fundamental_between
 from ..projective import (
     Array,
     canonical_matrix,
+    far_pixel,
     hartley_normaliser,
     homogeneous,
     to_pixel,
@@ -139,7 +140,7 @@ def _on_the_plane(
     answer would have held the truth outside of.
     """
     answer = Answer.of_plane(request, plane)
-    position, centre = to_pixel(answer.epipole2), to_pixel(general)
+    position, centre = to_pixel(answer.epipole2), far_pixel(general)
     own = answer.covariance
     if position is None or centre is None or own is None or covariance is None:
         return None
