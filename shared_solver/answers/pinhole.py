@@ -43,7 +43,7 @@ from ..estimation.uncertainty import CHI2_2D, chi2_quantile, consistent
 from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
-from ..projective import Array, inside, to_pixel
+from ..projective import Array, far_pixel, inside, to_pixel
 from ..result import Method, SolveResult, SolverWarning
 from .building import (
     Answer,
@@ -358,7 +358,7 @@ def _likeliest(fits: list[PinholeFit], size2: tuple[float, float] | None) -> Pin
 
 def _off_centre(friend1: Array, centre: Array) -> float:
     """How far the homogeneous pixel ``friend1`` (3,) lies from ``centre`` (2,), px."""
-    pixel = to_pixel(friend1)
+    pixel = far_pixel(friend1)  # however far: a scaled photo must order ties alike
     return float("inf") if pixel is None else float(np.hypot(*(pixel - centre)))
 
 
@@ -393,12 +393,12 @@ def _holding(covariance: Array | None, fit: PinholeFit, alike: list[PinholeFit])
     them: the taps cannot tell those fits from ``fit``, so neither may the region. Without
     it, two turns that fit one landmark exactly, 2.4 to 3 sigmas apart, were one answer
     whose region held only one (tests/solver/test_gravity.py)."""
-    position = None if not alike else to_pixel(fit.epipole2)
+    position = None if not alike else far_pixel(fit.epipole2)  # however far (far_pixel)
     if covariance is None or position is None:
         return covariance
     factor = 1.0
     for other in alike:
-        elsewhere = to_pixel(other.epipole2)
+        elsewhere = far_pixel(other.epipole2)
         if elsewhere is None:
             continue
         distance = _squared_sigmas(elsewhere - position, covariance)
