@@ -16,14 +16,14 @@ from __future__ import annotations
 import asyncio
 import threading
 import time
-from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import suppress
 
 CHUNK = 64 * 1024
 
 
 class Link:
-    """127.0.0.1:``port`` forwarding to 127.0.0.1:``upstream``, ``round_trip_ms`` away."""
+    """127.0.0.1:``port`` forwarding to 127.0.0.1:``upstream``, ``round_trip_ms`` away,
+    running for a ``with`` block."""
 
     def __init__(self, upstream: int, round_trip_ms: float) -> None:
         self.upstream = upstream
@@ -37,11 +37,12 @@ class Link:
     def base_url(self) -> str:
         return f"http://127.0.0.1:{self.port}"
 
-    def start(self) -> None:
+    def __enter__(self) -> Link:
         self._thread.start()
         self._ready.wait(10)
+        return self
 
-    def stop(self) -> None:
+    def __exit__(self, *_: object) -> None:
         self._loop.call_soon_threadsafe(self._loop.stop)
         self._thread.join(10)
 
@@ -107,14 +108,3 @@ class Link:
         except (OSError, asyncio.CancelledError):
             delivering.cancel()
             raise
-
-
-@contextmanager
-def link(upstream: int, round_trip_ms: float) -> Iterator[Link]:
-    """A :class:`Link` to ``upstream``, running until the block ends."""
-    running = Link(upstream, round_trip_ms)
-    running.start()
-    try:
-        yield running
-    finally:
-        running.stop()
