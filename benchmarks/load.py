@@ -326,40 +326,31 @@ def per_search_table(run: Run, calls: list[locust.stats.StatsEntry]) -> str:
     uploaded = sum(len(photo) for photo in Search.crowd.photos)
     downloaded = sum(entry.total_content_length for entry in calls) / searches
     kinds = " / ".join(KINDS)
-    rows = [
-        ["searches started / completed", f"{Search.counts['started']} / {completed}"],
-        ["completed per second", f"{completed / run.seconds:.2f} (over {run.seconds:.0f} s)"],
-        [
-            "search duration p50 / max (s)",
-            f"{durations[len(durations) // 2]:.1f} / {durations[-1]:.1f}",
-        ],
-        [
-            f"**CPU per completed search (ms): {kinds}**",
-            " / ".join(f"**{1000 * run.cpu[kind] / searches:.0f}**" for kind in KINDS),
-        ],
-        [
-            f"CPU over the run (cores): {kinds} / anything else",
-            " / ".join(f"{cores[kind]:.2f}" for kind in KINDS)
-            + f" / {others:.2f} (machine {100 * run.machine_busy:.0f} % busy)",
-        ],
-        [
-            f"peak memory (PSS, MB): {kinds}",
-            " / ".join(f"{run.memory_mb.get(kind, 0):.0f}" for kind in KINDS),
-        ],
-        [
-            "bytes per search: from the phones / to the phones (bodies)",
-            f"{uploaded / 1e6:.2f} MB / {downloaded / 1e6:.2f} MB",
-        ],
-        [
-            "PostgreSQL: peak database size / WAL written per search",
-            f"{run.database['size']:.0f} MB / {run.database['wal'] / searches:.1f} MB",
-        ],
-        [
-            "PostgreSQL connections opened during the run",
-            f"{run.database['connections']:.0f}",
-        ],
-    ]
-    return markdown_table(["measured", "value"], rows)
+    rows = {
+        "searches started / completed": f"{Search.counts['started']} / {completed}",
+        "completed per second": f"{completed / run.seconds:.2f} (over {run.seconds:.0f} s)",
+        "search duration p50 / max (s)": (
+            f"{durations[len(durations) // 2]:.1f} / {durations[-1]:.1f}"
+        ),
+        f"**CPU per completed search (ms): {kinds}**": " / ".join(
+            f"**{1000 * run.cpu[kind] / searches:.0f}**" for kind in KINDS
+        ),
+        f"CPU over the run (cores): {kinds} / anything else": " / ".join(
+            f"{cores[kind]:.2f}" for kind in KINDS
+        )
+        + f" / {others:.2f} (machine {100 * run.machine_busy:.0f} % busy)",
+        f"peak memory (PSS, MB): {kinds}": " / ".join(
+            f"{run.memory_mb.get(kind, 0):.0f}" for kind in KINDS
+        ),
+        "bytes per search: from the phones / to the phones (bodies)": (
+            f"{uploaded / 1e6:.2f} MB / {downloaded / 1e6:.2f} MB"
+        ),
+        "PostgreSQL: peak database size / WAL written per search": (
+            f"{run.database['size']:.0f} MB / {run.database['wal'] / searches:.1f} MB"
+        ),
+        "PostgreSQL connections opened during the run": f"{run.database['connections']:.0f}",
+    }
+    return markdown_table(["measured", "value"], list(rows.items()))
 
 
 def spent(run: Run, per_search_ms: float) -> list[str]:
