@@ -131,8 +131,8 @@ def drift(anchor_errors: Sequence[float]) -> list[list[str]]:
         for minutes in DRIFT.minutes:
             hours = minutes / 60.0
             without = _drifted(rng, bias, hours)
-            if minutes * 60.0 <= DRIFT.reanchor_every_s:  # not re-anchored yet: the shutter's
-                with_anchor = without
+            if minutes * 60.0 <= DRIFT.reanchor_every_s:
+                with_anchor = without  # not re-anchored yet: the shutter's anchor
             else:  # just before the next match: a match's error and a whole interval's drift
                 residual = rng.choice(np.asarray(anchor_errors), DRIFT.runs)
                 with_anchor = residual + _drifted(rng, bias, DRIFT.reanchor_every_s / 3600.0)
