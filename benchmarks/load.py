@@ -23,23 +23,31 @@ import argparse
 import os
 import platform
 import subprocess
-import sys
 import tempfile
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 import gevent
 import locust.env  # first of the third-party imports: Locust patches the standard library
-import numpy as np
 import psutil
 import psycopg
 from crowd import Crowd
-from report import ROOT, command_line, markdown_table, ms, publish, source_state, verdict
+from report import (
+    ROOT,
+    command_line,
+    heading,
+    machine_cpu_seconds,
+    markdown_table,
+    ms,
+    publish,
+    quantiles,
+    source_state,
+    verdict,
+)
 from searches import APP_MS, DATABASE_MS, Search
 from spy import RATE, Sampler
 
@@ -177,13 +185,6 @@ class Database:
         return int(self._one(query))
 
 
-def machine_busy_seconds() -> tuple[float, float]:
-    """(busy, total) CPU seconds of all cores since boot (guest time is in user time)."""
-    times = psutil.cpu_times()
-    total = sum(times) - times.guest - times.guest_nice
-    return total - times.idle - times.iowait, total
-
-
 def load(
     setup: argparse.Namespace, running: Cluster, processes: Processes, sampler: Sampler
 ) -> Run:
@@ -207,7 +208,7 @@ def load(
 
     wal, connections = database.wal_mb(), database.connections()
     database.statements_reset()
-    before, (busy, total) = processes.cpu_seconds(), machine_busy_seconds()
+    before, (busy, total) = processes.cpu_seconds(), machine_cpu_seconds()
     started = time.monotonic()
     Search.stop_at = started + setup.duration
     memory = gevent.spawn(sample)
@@ -218,7 +219,7 @@ def load(
         gevent.sleep(0.5)
     cut_off = runner.user_count
     seconds = time.monotonic() - started
-    after, (busy_after, total_after) = processes.cpu_seconds(), machine_busy_seconds()
+    after, (busy_after, total_after) = processes.cpu_seconds(), machine_cpu_seconds()
     sampler.stop()
     runner.quit()
     sampling = False  # not killed: its database connection must not be left mid-query
@@ -261,21 +262,14 @@ def server_percentiles(times_by_call: dict[str, list[float]], name: str) -> str:
     database statements' (``DATABASE_MS``). The rest of the phone's latency is queueing (in
     the replica before the app sees the request, nginx, the network, the load generator)."""
     times = times_by_call.get(name)
-    if not times:
-        return ""
-    return " / ".join(ms(float(np.percentile(times, q))) for q in (50, 99))
+    return quantiles(times, (50, 99)) if times else ""
 
 
 def header(run: Run) -> list[str]:
     setup, version = run.setup, run.versions
     photos = ", ".join(f"{len(photo) // 1000} KB" for photo in Search.crowd.photos)
     return [
-        "# Load benchmark",
-        "",
-        f"Command: `{' '.join(['python benchmarks/load.py', *setup.argv])}` (from the"
-        " repository root, in its virtualenv; `make bench-load` runs it with no options)",
-        "",
-        f"- Date: {datetime.now(UTC).isoformat(timespec='seconds')}",
+        *heading("Load benchmark", "benchmarks/load.py", "bench-load"),
         f"- Machine: {platform.platform()}, {psutil.cpu_count()} cores,"
         f" {psutil.virtual_memory().total / 2**30:.0f} GB. Everything runs on it: nginx,"
         " the replicas, PostgreSQL and the load generator share these cores (and so does"
@@ -332,40 +326,31 @@ def per_search_table(run: Run, calls: list[locust.stats.StatsEntry]) -> str:
     uploaded = sum(len(photo) for photo in Search.crowd.photos)
     downloaded = sum(entry.total_content_length for entry in calls) / searches
     kinds = " / ".join(KINDS)
-    rows = [
-        ["searches started / completed", f"{Search.counts['started']} / {completed}"],
-        ["completed per second", f"{completed / run.seconds:.2f} (over {run.seconds:.0f} s)"],
-        [
-            "search duration p50 / max (s)",
-            f"{durations[len(durations) // 2]:.1f} / {durations[-1]:.1f}",
-        ],
-        [
-            f"**CPU per completed search (ms): {kinds}**",
-            " / ".join(f"**{1000 * run.cpu[kind] / searches:.0f}**" for kind in KINDS),
-        ],
-        [
-            f"CPU over the run (cores): {kinds} / anything else",
-            " / ".join(f"{cores[kind]:.2f}" for kind in KINDS)
-            + f" / {others:.2f} (machine {100 * run.machine_busy:.0f} % busy)",
-        ],
-        [
-            f"peak memory (PSS, MB): {kinds}",
-            " / ".join(f"{run.memory_mb.get(kind, 0):.0f}" for kind in KINDS),
-        ],
-        [
-            "bytes per search: from the phones / to the phones (bodies)",
-            f"{uploaded / 1e6:.2f} MB / {downloaded / 1e6:.2f} MB",
-        ],
-        [
-            "PostgreSQL: peak database size / WAL written per search",
-            f"{run.database['size']:.0f} MB / {run.database['wal'] / searches:.1f} MB",
-        ],
-        [
-            "PostgreSQL connections opened during the run",
-            f"{run.database['connections']:.0f}",
-        ],
-    ]
-    return markdown_table(["measured", "value"], rows)
+    rows = {
+        "searches started / completed": f"{Search.counts['started']} / {completed}",
+        "completed per second": f"{completed / run.seconds:.2f} (over {run.seconds:.0f} s)",
+        "search duration p50 / max (s)": (
+            f"{durations[len(durations) // 2]:.1f} / {durations[-1]:.1f}"
+        ),
+        f"**CPU per completed search (ms): {kinds}**": " / ".join(
+            f"**{1000 * run.cpu[kind] / searches:.0f}**" for kind in KINDS
+        ),
+        f"CPU over the run (cores): {kinds} / anything else": " / ".join(
+            f"{cores[kind]:.2f}" for kind in KINDS
+        )
+        + f" / {others:.2f} (machine {100 * run.machine_busy:.0f} % busy)",
+        f"peak memory (PSS, MB): {kinds}": " / ".join(
+            f"{run.memory_mb.get(kind, 0):.0f}" for kind in KINDS
+        ),
+        "bytes per search: from the phones / to the phones (bodies)": (
+            f"{uploaded / 1e6:.2f} MB / {downloaded / 1e6:.2f} MB"
+        ),
+        "PostgreSQL: peak database size / WAL written per search": (
+            f"{run.database['size']:.0f} MB / {run.database['wal'] / searches:.1f} MB"
+        ),
+        "PostgreSQL connections opened during the run": f"{run.database['connections']:.0f}",
+    }
+    return markdown_table(["measured", "value"], list(rows.items()))
 
 
 def spent(run: Run, per_search_ms: float) -> list[str]:
@@ -498,7 +483,6 @@ def main(argv: Sequence[str] | None = None) -> None:
         help="also write the replicas' sampled stacks there, collapsed (for a flame graph)",
     )
     setup = parser.parse_args(argv)
-    setup.argv = list(argv) if argv is not None else list(sys.argv[1:])
     if not (1 <= setup.concurrency <= 2000 and 0 < setup.duration <= 3600):
         parser.error("--concurrency must be in [1, 2000], --duration in (0, 3600]")
     if not (0 <= setup.ramp <= setup.duration and 0.1 <= setup.speed <= 1000):
@@ -512,15 +496,15 @@ def main(argv: Sequence[str] | None = None) -> None:
             postgres.start()
             url = postgres.url(postgres.create_database(name="buddy"))
             with cluster(Path(folder), url, replicas=setup.replicas) as running:
+                replicas = [replica.pid for replica in running.replicas]
                 processes = Processes(
                     {
                         "nginx": [running.nginx.pid],
-                        "replicas": [replica.pid for replica in running.replicas],
+                        "replicas": replicas,
                         "PostgreSQL": [postmaster(postgres)],
                         "load generator": [os.getpid()],
                     }
                 )
-                replicas = [replica.pid for replica in running.replicas]
                 sampler = Sampler(replicas, Path(folder), setup.sample_rate)
                 run = load(setup, running, processes, sampler)
         finally:

@@ -29,11 +29,22 @@ from contextlib import ExitStack
 from pathlib import Path
 from urllib.parse import urlsplit
 
-from netbench.link import link
+from netbench.link import Link
 from netbench.meter import PROFILES
 from netbench.search import PhoneRun, SearchRun, hall_photos, play
 from playwright.sync_api import sync_playwright
-from report import ROOT, command_line, log, markdown_table, publish, source_state, targets_section
+from report import (
+    ROOT,
+    command_line,
+    heading,
+    in_ms,
+    in_s,
+    log,
+    markdown_table,
+    publish,
+    source_state,
+    targets_section,
+)
 
 from deploy.replica import serve
 from testbed import chromium
@@ -61,31 +72,24 @@ def run(runs: int, profiles: list[str]) -> list[SearchRun]:
         tempfile.TemporaryDirectory() as folder,
         serve(Path(folder)) as server,
         sync_playwright() as playwright,
+        chromium.launch(playwright) as browser,
         ExitStack() as links,
     ):
         port = urlsplit(server.base_url).port
         assert port is not None
         # Each profile's way to the server: the round trip in a link, or loopback itself.
         urls = {
-            name: links.enter_context(link(port, PROFILES[name].round_trip_ms)).base_url
+            name: links.enter_context(Link(port, PROFILES[name].round_trip_ms)).base_url
             if PROFILES[name].round_trip_ms
             else server.base_url
             for name in profiles
         }
         photos = hall_photos(Path(folder), SEED, LANDMARKS)
-        browser = chromium.launch(playwright)
-        try:
-            for index in range(runs):
-                for name in profiles:
-                    log(f"[{name}] search {index + 1} of {runs}")
-                    results.append(play(browser, playwright, urls[name], PROFILES[name], photos))
-        finally:
-            browser.close()
+        for index in range(runs):
+            for name in profiles:
+                log(f"[{name}] search {index + 1} of {runs}")
+                results.append(play(browser, playwright, urls[name], PROFILES[name], photos))
     return results
-
-
-def _median(values: list[float]) -> float:
-    return statistics.median(values)
 
 
 def _phones(results: list[SearchRun]) -> list[tuple[str, list[PhoneRun]]]:
@@ -99,19 +103,27 @@ def _range(values: list[float], unit: Callable[[float], str]) -> str:
     """The median, and the range when there are several."""
     if len(values) == 1:
         return unit(values[0])
-    return f"{unit(_median(values))} ({unit(min(values))}-{unit(max(values))})"
-
-
-def _s(ms: float) -> str:
-    return f"{ms / 1000:.2f} s"
-
-
-def _ms(ms: float) -> str:
-    return f"{ms:.0f} ms"
+    return f"{unit(statistics.median(values))} ({unit(min(values))}-{unit(max(values))})"
 
 
 def _mb(count: float) -> str:
     return f"{count / 1e6:.2f} MB"
+
+
+# Each phone's columns: the header, its measure of one run, and how it is written.
+PHONE_COLUMNS: tuple[tuple[str, Callable[[PhoneRun], float], Callable[[float], str]], ...] = (
+    ("photo chosen -> tappable", lambda r: r.tappable_ms, in_s),
+    ("photo chosen -> uploaded", lambda r: r.uploaded_ms, in_s),
+    ("sent", lambda r: float(r.sent), _mb),
+    ("received", lambda r: float(r.received), _mb),
+)
+# Where the answer's time goes: each column's header and its field of a search.
+ANSWER_PARTS = {
+    "tap -> its PUT sent": "tap_to_sent_ms",
+    "the PUT in the app": "server_ms",
+    "PUT sent -> answer's event at the other phone": "sent_to_event_ms",
+    "event -> answer drawn": "event_to_drawn_ms",
+}
 
 
 def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str:
@@ -120,62 +132,35 @@ def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str
     for name in profiles:
         mine = [r for r in results if r.profile == name]
         for phone, runs in _phones(mine):
-            tappable = [r.tappable_ms for r in runs]
-            rows.append(
-                [
-                    name,
-                    phone,
-                    _range(tappable, _s),
-                    _range([r.uploaded_ms for r in runs], _s),
-                    _range([float(r.sent) for r in runs], _mb),
-                    _range([float(r.received) for r in runs], _mb),
-                ]
-            )
+            columns = [
+                _range([measure(r) for r in runs], show) for _, measure, show in PHONE_COLUMNS
+            ]
+            rows.append([name, phone, *columns])
+            tappable = max(r.tappable_ms for r in runs)
             checks.append(
                 (
-                    f"{name}, {phone}: photo chosen -> tappable <= {_s(TAPPABLE_MS)}",
-                    max(tappable) <= TAPPABLE_MS,
+                    f"{name}, {phone}: photo chosen -> tappable <= {in_s(TAPPABLE_MS)}",
+                    tappable <= TAPPABLE_MS,
                 )
             )
-            whole = [float(r.sent + r.received) for r in runs]
+            whole = max(r.sent + r.received for r in runs)
             checks.append(
-                (
-                    f"{name}, {phone}: a whole search <= {_mb(SEARCH_BYTES)}",
-                    max(whole) <= SEARCH_BYTES,
-                )
+                (f"{name}, {phone}: a whole search <= {_mb(SEARCH_BYTES)}", whole <= SEARCH_BYTES)
             )
         text = [r.answer_text_ms for r in mine]
         drawn = [r.answer_drawn_ms for r in mine]
-        rows.append(
-            [
-                name,
-                "joiner: last tap -> answer",
-                f"text {_range(text, _ms)}",
-                f"drawn {_range(drawn, _ms)}",
-                "",
-                "",
-            ]
-        )
+        answer = [f"text {_range(text, in_ms)}", f"drawn {_range(drawn, in_ms)}", "", ""]
+        rows.append([name, "joiner: last tap -> answer", *answer])
         target = answer_target_ms(name)
         within = f"{ROUND_TRIPS:g} round trips, " if PROFILES[name].round_trip_ms else ""
         checks.append(
             (
                 f"{name}: last tap -> answer drawn on the other phone <= {within}"
-                f"{_ms(target)} (slowest of {len(drawn)}: {_ms(max(drawn))})",
+                f"{in_ms(target)} (slowest of {len(drawn)}: {in_ms(max(drawn))})",
                 max(drawn) <= target,
             )
         )
-    table = markdown_table(
-        [
-            "profile",
-            "phone",
-            "photo chosen -> tappable",
-            "photo chosen -> uploaded",
-            "sent",
-            "received",
-        ],
-        rows,
-    )
+    table = markdown_table(["profile", "phone", *(header for header, _, _ in PHONE_COLUMNS)], rows)
     kinds = sorted({k for r in results for p in (r.starter, r.joiner) for k in p.by_kind})
     by_kind = markdown_table(
         ["profile", "phone", *kinds],
@@ -183,42 +168,30 @@ def report(results: list[SearchRun], profiles: list[str], seconds: float) -> str
             [
                 name,
                 phone,
-                *(_mb(_median([float(r.by_kind.get(k, 0)) for r in runs])) for k in kinds),
+                *(
+                    _mb(statistics.median([float(r.by_kind.get(k, 0)) for r in runs]))
+                    for k in kinds
+                ),
             ]
             for name in profiles
             for phone, runs in _phones([r for r in results if r.profile == name])
         ],
     )
     spent = markdown_table(
-        [
-            "profile",
-            "tap -> its PUT sent",
-            "the PUT in the app",
-            "PUT sent -> answer's event at the other phone",
-            "event -> answer drawn",
-        ],
+        ["profile", *ANSWER_PARTS],
         [
             [
                 name,
                 *(
-                    _range([getattr(r, part) for r in results if r.profile == name], _ms)
-                    for part in (
-                        "tap_to_sent_ms",
-                        "server_ms",
-                        "sent_to_event_ms",
-                        "event_to_drawn_ms",
-                    )
+                    _range([getattr(r, part) for r in results if r.profile == name], in_ms)
+                    for part in ANSWER_PARTS.values()
                 ),
             ]
             for name in profiles
         ],
     )
     lines = [
-        "# The phone app on a venue's network",
-        "",
-        "Command: `python benchmarks/network.py` (from the repository root, in its "
-        "virtualenv; `make bench-network`)",
-        "",
+        *heading("The phone app on a venue's network", "benchmarks/network.py", "bench-network"),
         f"- {source_state('backend', 'shared_solver', 'frontend')}",
         f"- {len(results)} searches ({len(results) // len(profiles)} per profile), "
         f"{seconds:.0f} s; figures are medians, with the range in brackets",

@@ -33,14 +33,15 @@ from report import (
     markdown_table,
     percent,
     publish,
+    quantiles,
     source_state,
+    targets_section,
     timed,
-    verdict,
 )
 
 from shared_solver import SolverError
 from shared_solver.matching.reanchor import reanchor
-from testbed.live import live_view, marker_error_deg, rendered_hall
+from testbed.live import Hall, LiveView, live_view, marker_error_deg, rendered_hall
 
 DEFAULT_OUT = ROOT / "docs" / "reanchor-benchmark.md"
 DEFAULT_HALLS = 12
@@ -88,16 +89,22 @@ def matched_frames(halls: int) -> tuple[list[float | None], list[float]]:
             view = live_view(
                 hall, rng, turn_deg=turn, gain=gain, crowd=crowd, zoom=zoom, blur_px=blur
             )
-            start = time.perf_counter()
-            try:
-                found = reanchor(hall.photo, view.frame, hall.camera.intrinsics[0, 0])
-            except SolverError:
-                errors.append(None)
-                continue
-            finally:
-                seconds.append(time.perf_counter() - start)
-            errors.append(marker_error_deg(hall, view, found.rotation))
+            errors.append(anchored_error(hall, view, seconds))
     return errors, seconds
+
+
+def anchored_error(hall: Hall, view: LiveView, seconds: list[float] | None = None) -> float | None:
+    """The marker error, degrees, once ``view``'s frame re-anchors the hall's photo; None
+    when it is refused. The re-anchoring's time, s, appended to ``seconds`` when given."""
+    start = time.perf_counter()
+    try:
+        found = reanchor(hall.photo, view.frame, hall.camera.intrinsics[0, 0])
+    except SolverError:
+        return None
+    finally:
+        if seconds is not None:
+            seconds.append(time.perf_counter() - start)
+    return marker_error_deg(hall, view, found.rotation)
 
 
 def wrong_frames(halls: int) -> list[float | None]:
@@ -111,12 +118,7 @@ def wrong_frames(halls: int) -> list[float | None]:
             live_view(hall, rng, turn_deg=5.0, place=hall.other),
             live_view(elsewhere, rng, turn_deg=5.0),
         ):
-            try:
-                found = reanchor(hall.photo, view.frame, hall.camera.intrinsics[0, 0])
-            except SolverError:
-                errors.append(None)
-                continue
-            errors.append(marker_error_deg(hall, view, found.rotation))
+            errors.append(anchored_error(hall, view))
     return errors
 
 
@@ -129,10 +131,8 @@ def drift(anchor_errors: Sequence[float]) -> list[list[str]]:
         for minutes in DRIFT.minutes:
             hours = minutes / 60.0
             without = _drifted(rng, bias, hours)
-            if (
-                minutes * 60.0 <= DRIFT.reanchor_every_s
-            ):  # not re-anchored yet: the shutter's anchor
-                with_anchor = without
+            if minutes * 60.0 <= DRIFT.reanchor_every_s:
+                with_anchor = without  # not re-anchored yet: the shutter's anchor
             else:  # just before the next match: a match's error and a whole interval's drift
                 residual = rng.choice(np.asarray(anchor_errors), DRIFT.runs)
                 with_anchor = residual + _drifted(rng, bias, DRIFT.reanchor_every_s / 3600.0)
@@ -160,7 +160,7 @@ def _drifted(rng: np.random.Generator, bias: float, hours: float) -> np.ndarray:
 
 
 def _angles(errors: np.ndarray) -> str:
-    return f"{np.median(errors):.2f} / {np.percentile(errors, 95):.2f}"
+    return quantiles(list(errors), (50, 95), "{:.2f}".format)
 
 
 def _on_the_ground(degrees: float) -> str:
@@ -192,15 +192,15 @@ def report(halls: int) -> str:
     drift_rows = drift(matched or [0.0])
     targets = [
         (
-            within >= TARGET_SHARE,
-            f"{verdict(within >= TARGET_SHARE)}: the marker within {TARGET_DEG:g} deg on >= "
+            f"the marker within {TARGET_DEG:g} deg on >= "
             f"{percent(TARGET_SHARE)} of frames ({percent(within)} of {len(errors)})",
+            within >= TARGET_SHARE,
         ),
         (
-            moved == 0,
-            f"{verdict(moved == 0)}: no match moves the marker by more than {WRONG_DEG:g} deg "
+            f"no match moves the marker by more than {WRONG_DEG:g} deg "
             f"({moved}; frames of elsewhere accepted: {len(accepted)} of {len(wrong)}; the "
             f"worst matched frame {worst:.2f} deg)",
+            moved == 0,
         ),
     ]
     parts = [
@@ -253,9 +253,7 @@ def report(halls: int) -> str:
             drift_rows,
         ),
         "",
-        "## Targets",
-        "",
-        *[f"- {line}" for _, line in targets],
+        *targets_section(targets),
         "",
         f"Wall time: {sum(seconds.values()):.0f} s ("
         + ", ".join(f"{name}: {s:.0f} s" for name, s in seconds.items())
@@ -272,9 +270,7 @@ def _rows(halls: int, condition: int) -> list[int]:
 
 def _spread(errors: Sequence[float | None]) -> str:
     found = [e for e in errors if e is not None]
-    if not found:
-        return "-"
-    return f"{np.median(found):.3f} / {np.percentile(found, 90):.3f} / {max(found):.3f}"
+    return quantiles(found, (50, 90, 100), "{:.3f}".format) if found else "-"
 
 
 def main(argv: Sequence[str] | None = None) -> None:

@@ -12,8 +12,7 @@ import shlex
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
@@ -21,11 +20,11 @@ from typing import TypeVar
 
 import httpx2
 import numpy as np
+import psutil
 
 from testbed.client import server_timing
 
 ROOT = Path(__file__).resolve().parent.parent
-CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 T = TypeVar("T")
 
@@ -59,6 +58,14 @@ def percentile(values: Sequence[float], q: float) -> float:
     return float(np.percentile(np.asarray(values, dtype=np.float64), q))
 
 
+def quantiles(
+    values: Sequence[float], qs: Sequence[float], show: Callable[[float], str] | None = None
+) -> str:
+    """The :func:`percentile` of ``values`` at each of ``qs`` (100: the largest), written by
+    ``show`` (default :func:`ms`), " / " between them."""
+    return " / ".join((show or ms)(percentile(values, q)) for q in qs)
+
+
 def nearest_rank(values: Sequence[float], q: float) -> float:
     """The nearest-rank percentile (a value that occurred): safe with inf (no answer)."""
     ordered = sorted(values)
@@ -72,25 +79,34 @@ def ms(value: float) -> str:
     return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
 
 
-# --- the machine and the server (/proc, so no psutil) ------------------------------------------
+def in_ms(value: float) -> str:
+    """A time in ms, to the ms, with its unit."""
+    return f"{value:.0f} ms"
+
+
+def in_s(value: float) -> str:
+    """A time in ms, in s to the hundredth, with its unit."""
+    return f"{value / 1000:.2f} s"
+
+
+# --- the machine and the server ----------------------------------------------------------------
 
 
 def machine_cpu_seconds() -> tuple[float, float]:
-    """(busy, total) CPU seconds of all cores since boot; idle and iowait are not busy."""
-    values = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
-    # user nice system idle iowait irq softirq steal guest guest_nice; guests are in user.
-    total = sum(values[:8])
-    return (total - values[3] - values[4]) / CLOCK_TICKS, total / CLOCK_TICKS
+    """(busy, total) CPU seconds of all cores since boot; idle and iowait are not busy
+    (guest time is counted in user time)."""
+    times = psutil.cpu_times()
+    total = sum(times) - times.guest - times.guest_nice
+    return total - times.idle - times.iowait, total
 
 
 def process_cpu_seconds(pid: int) -> float:
-    """utime + stime of every thread of ``pid`` (fields 14 and 15 of /proc/<pid>/stat); 0
-    once it is gone."""
+    """user + system CPU seconds of every thread of ``pid``; 0 once it is gone."""
     try:
-        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    except OSError:
+        times = psutil.Process(pid).cpu_times()
+    except psutil.Error:
         return 0.0
-    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
+    return times.user + times.system
 
 
 @dataclass(frozen=True)
@@ -182,18 +198,13 @@ def log(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-@contextmanager
-def stopwatch(seconds: dict[str, float], name: str) -> Iterator[None]:
-    """The wall time of the block, kept as ``seconds[name]``."""
-    start = time.perf_counter()
-    yield
-    seconds[name] = time.perf_counter() - start
-
-
 def timed(seconds: dict[str, float], name: str, work: Callable[[], T]) -> T:
+    """``work()``, its wall time kept as ``seconds[name]``."""
     log(f"[{name}] ...")
-    with stopwatch(seconds, name):
-        return work()
+    start = time.perf_counter()
+    result = work()
+    seconds[name] = time.perf_counter() - start
+    return result
 
 
 def publish(text: str, out: Path) -> None:

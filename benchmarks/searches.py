@@ -174,14 +174,16 @@ def call(
     http: HttpSession,
     method: str,
     path: str,
-    name: str,
+    name: str | None = None,
     *,
     expect: int = 200,
     token: str = "",
     **options: Any,
 ) -> Any:
-    """``method path``, timed and counted by Locust as ``name``: its JSON (or True) when it
-    answered ``expect``; else None, counted as a failure with its status and error code."""
+    """``method path``, timed and counted by Locust as ``name`` (default ``method path``): its
+    JSON (or True) when it answered ``expect``; else None, counted as a failure with its
+    status and error code."""
+    name = name or f"{method} {path}"
     headers = {"Authorization": f"Bearer {token}"} if token else {}
     with http.request(
         method,
@@ -277,20 +279,14 @@ class Search(User):
         started = time.monotonic()
         starter_taps, joiner_taps, mark = self.crowd.taps(rng)
         lobby = self.session()
-        created = call(lobby, "POST", "/api/sessions", "POST /api/sessions", expect=201)
+        created = call(lobby, "POST", "/api/sessions", expect=201)
         if created is None:
             return
         starter = Phone(self, "starter", created)
         phones = [starter]
         try:
             self.pause(rng, "join")
-            joined = call(
-                lobby,
-                "POST",
-                "/api/sessions/join",
-                "POST /api/sessions/join",
-                json={"code": created["join_code"]},
-            )
+            joined = call(lobby, "POST", "/api/sessions/join", json={"code": created["join_code"]})
             if joined is None:
                 return
             joiner = Phone(self, "joiner", joined)
@@ -349,28 +345,15 @@ class Search(User):
                 return False
             assert phone.state is not None
             seen = next(t for t in phone.state["taps"]["starter"]["landmarks"] if t["id"] == n)
+            crop = f"/landmarks/starter/{n}/crop"
             query = {"token": phone.token, "v": f"{seen['x']},{seen['y']}"}
-            if (
-                phone.call(
-                    "GET",
-                    "GET /landmarks/starter/{n}/crop",
-                    f"/landmarks/starter/{n}/crop",
-                    params=query,
-                )
-                is None
-            ):
+            if phone.call("GET", "GET /landmarks/starter/{n}/crop", crop, params=query) is None:
                 return False
+            suggestion = f"/landmarks/joiner/{n}/suggestion"
+            asked = self.suggestions and banded(phone.state, n)
             if (
-                self.suggestions
-                and banded(phone.state, n)
-                and (
-                    phone.call(
-                        "GET",
-                        "GET /landmarks/joiner/{n}/suggestion",
-                        f"/landmarks/joiner/{n}/suggestion",
-                    )
-                    is None
-                )
+                asked
+                and phone.call("GET", "GET /landmarks/joiner/{n}/suggestion", suggestion) is None
             ):
                 return False
             self.pause(rng, "find")

@@ -30,6 +30,8 @@ from report import (
     ROOT,
     command_line,
     heading,
+    in_ms,
+    in_s,
     log,
     machine,
     machine_cpu_seconds,
@@ -41,7 +43,7 @@ from report import (
 )
 from slowphone import size
 from slowphone.photos import NAMES, photo
-from slowphone.play import MODEL, SPOTS, PhoneRun, Tap, play
+from slowphone.play import MODEL, SPOTS, PhoneRun, SlowestEvent, Tap, play
 from slowphone.showme import openings
 
 from deploy.replica import serve
@@ -73,31 +75,20 @@ def run(runs: int, chosen: dict[str, Path], count: int) -> tuple[list[PhoneRun],
         serve(Path(folder)) as server,
         sync_playwright() as playwright,
     ):
-        browser = chromium.launch(playwright)
-        try:
+        with chromium.launch(playwright) as browser:
             for index in range(runs):
                 for name, path in chosen.items():
                     for rate in RATES:
                         log(f"[{name}, CPU {rate:g}x] run {index + 1} of {runs}")
                         url = server.base_url
                         results.append(play(playwright, browser, url, rate, (name, path)))
-        finally:
-            browser.close()
         for rate in RATES:
             log(f"[Show me, CPU {rate:g}x] {count} openings")
             opened[rate] = openings(playwright, server.base_url, rate, count)
     return results, opened
 
 
-def _ms(value: float) -> str:
-    return f"{value:.0f} ms"
-
-
-def _s(value: float) -> str:
-    return f"{value / 1000:.2f} s"
-
-
-def _spread(values: Sequence[float], show: Callable[[float], str] = _ms) -> str:
+def _spread(values: Sequence[float], show: Callable[[float], str] = in_ms) -> str:
     """Median (worst); "-" when there are none."""
     if not values:
         return "-"
@@ -116,32 +107,31 @@ def _taps(results: list[PhoneRun]) -> list[Tap]:
     return [tap for r in results for tap in r.taps]
 
 
+# The times table's columns after the photo and the rate: each one's header, its figures in
+# some runs, and how they are written.
+TIMES: tuple[tuple[str, Callable[[list[PhoneRun]], list[float]], Callable[[float], str]], ...] = (
+    ("photo chosen -> tappable", lambda runs: [r.tappable_ms for r in runs], in_s),
+    ("a tap -> its mark painted", lambda runs: [t.down_ms for t in _taps(runs)], in_ms),
+    ("finger lifted -> painted", lambda runs: [t.lifted_ms for t in _taps(runs)], in_ms),
+    ("start screen painted", lambda runs: [r.start_screen_ms for r in runs], in_ms),
+)
+# The parts of a tap's slowest event, ms.
+SLOWEST: dict[str, Callable[[SlowestEvent], float]] = {
+    "its wait for the main thread": lambda e: e.waited,
+    "its handlers": lambda e: e.handlers,
+    "then to the next paint": lambda e: e.duration - e.waited - e.handlers,
+    "its duration": lambda e: e.duration,
+}
+
+
 def times_table(results: list[PhoneRun], names: list[str]) -> str:
     rows = []
     for name in names:
         for rate in RATES:
             mine = [r for r in results if r.photo == name and r.rate == rate]
-            rows.append(
-                [
-                    name,
-                    _rate(rate),
-                    _spread([r.tappable_ms for r in mine], _s),
-                    _spread([t.down_ms for t in _taps(mine)]),
-                    _spread([t.lifted_ms for t in _taps(mine)]),
-                    _spread([r.start_screen_ms for r in mine]),
-                ]
-            )
-    return markdown_table(
-        [
-            "photo",
-            "CPU",
-            "photo chosen -> tappable",
-            "a tap -> its mark painted",
-            "finger lifted -> painted",
-            "start screen painted",
-        ],
-        rows,
-    )
+            spreads = [_spread(measure(mine), show) for _, measure, show in TIMES]
+            rows.append([name, _rate(rate), *spreads])
+    return markdown_table(["photo", "CPU", *(header for header, _, _ in TIMES)], rows)
 
 
 def cost_table(results: list[PhoneRun], names: list[str]) -> str:
@@ -152,7 +142,7 @@ def cost_table(results: list[PhoneRun], names: list[str]) -> str:
             statistics.median(measure([r for r in results if r.rate == rate]))
             for rate in (1.0, SLOW)
         )
-        return [what, _ms(fast), _ms(slow), f"{slow / fast:.1f}x"]
+        return [what, in_ms(fast), in_ms(slow), f"{slow / fast:.1f}x"]
 
     def tappable(name: str) -> Callable[[list[PhoneRun]], list[float]]:
         return lambda runs: [r.tappable_ms for r in runs if r.photo == name]
@@ -174,24 +164,11 @@ def events_table(results: list[PhoneRun]) -> str:
                 _rate(rate),
                 f"{len(slowest)} of {len(taps)}",
                 ", ".join(f"{n} {sum(e.name == n for e in slowest)}" for n in names) or "-",
-                _spread([e.waited for e in slowest]),
-                _spread([e.handlers for e in slowest]),
-                _spread([e.duration - e.waited - e.handlers for e in slowest]),
-                _spread([e.duration for e in slowest]),
+                *(_spread([part(e) for e in slowest]) for part in SLOWEST.values()),
             ]
         )
-    return markdown_table(
-        [
-            "CPU",
-            "taps with an event >= 16 ms",
-            "slowest event",
-            "its wait for the main thread",
-            "its handlers",
-            "then to the next paint",
-            "its duration",
-        ],
-        rows,
-    )
+    header = ["CPU", "taps with an event >= 16 ms", "slowest event", *SLOWEST]
+    return markdown_table(header, rows)
 
 
 def show_me_table(opened: Openings) -> str:
@@ -203,7 +180,7 @@ def show_me_table(opened: Openings) -> str:
         rows.append(
             [
                 _rate(rate),
-                _ms(first["marker-drawn"]),
+                in_ms(first["marker-drawn"]),
                 *(_spread([s[step] for s in rest]) for step in STEPS),
             ]
         )
@@ -245,35 +222,47 @@ def report(
     )
     slow = [r for r in results if r.rate == SLOW]
     fast = [r for r in results if r.rate == 1]
-    checks = []
-    for name in names:
-        tappable = [r.tappable_ms for r in slow if r.photo == name]
-        peer = statistics.median(r.tappable_ms for r in fast if r.photo == name)
-        checks.append(
-            (
-                f"CPU {SLOW:g}x, {name}: photo chosen -> tappable <= {_s(TAPPABLE_MS)} (worst "
-                f"of {len(tappable)}: {_s(max(tappable))}; median {_s(statistics.median(tappable))}"
-                f", not throttled {_s(peer)})",
-                max(tappable) <= TAPPABLE_MS,
-            )
+
+    def check(
+        what: str,
+        limit: float,
+        slow: list[float],
+        fast: list[float],
+        *,
+        show: Callable[[float], str] = in_ms,
+        after: str = "",
+    ) -> tuple[str, bool]:
+        """The slow rate's worst within ``limit``; its median and its peer's beside it."""
+        return (
+            f"CPU {SLOW:g}x{what} <= {show(limit)}{after} (worst of {len(slow)}: "
+            f"{show(max(slow))}; median {show(statistics.median(slow))}, not throttled "
+            f"{show(statistics.median(fast))})",
+            max(slow) <= limit,
         )
-    slow_openings = [s["marker-drawn"] for s in opened[SLOW]]
-    fast_openings = [s["marker-drawn"] for s in opened[1.0]]
-    slow_taps = [t.down_ms for t in _taps(slow)]
-    fast_taps = [t.down_ms for t in _taps(fast)]
+
+    checks = [
+        check(
+            f", {name}: photo chosen -> tappable",
+            TAPPABLE_MS,
+            [r.tappable_ms for r in slow if r.photo == name],
+            [r.tappable_ms for r in fast if r.photo == name],
+            show=in_s,
+        )
+        for name in names
+    ]
     checks += [
-        (
-            f"CPU {SLOW:g}x: a tap -> its mark painted <= {_ms(TAP_MS)} (worst of "
-            f"{len(slow_taps)}: {_ms(max(slow_taps))}; median {_ms(statistics.median(slow_taps))}"
-            f", not throttled {_ms(statistics.median(fast_taps))})",
-            max(slow_taps) <= TAP_MS,
+        check(
+            ": a tap -> its mark painted",
+            TAP_MS,
+            [t.down_ms for t in _taps(slow)],
+            [t.down_ms for t in _taps(fast)],
         ),
-        (
-            f"CPU {SLOW:g}x: Show me's first marker drawn <= {_ms(SHOW_ME_MS)} after the tap "
-            f"(worst of {len(slow_openings)}: {_ms(max(slow_openings))}; median "
-            f"{_ms(statistics.median(slow_openings))}, not throttled "
-            f"{_ms(statistics.median(fast_openings))})",
-            max(slow_openings) <= SHOW_ME_MS,
+        check(
+            ": Show me's first marker drawn",
+            SHOW_ME_MS,
+            [s["marker-drawn"] for s in opened[SLOW]],
+            [s["marker-drawn"] for s in opened[1.0]],
+            after=" after the tap",
         ),
         (
             f"JavaScript fetched for the start and tap screens <= {JS_KB:g} kB gzipped "

@@ -16,20 +16,21 @@ from __future__ import annotations
 import asyncio
 import threading
 import time
-from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import suppress
 
 CHUNK = 64 * 1024
 
 
 class Link:
-    """127.0.0.1:``port`` forwarding to 127.0.0.1:``upstream``, ``round_trip_ms`` away."""
+    """127.0.0.1:``port`` forwarding to 127.0.0.1:``upstream``, ``round_trip_ms`` away,
+    running for a ``with`` block."""
 
     def __init__(self, upstream: int, round_trip_ms: float) -> None:
         self.upstream = upstream
         self.one_way = round_trip_ms / 2000.0
         self.port = 0
         self._loop = asyncio.new_event_loop()
+        self._stop = asyncio.Event()
         self._ready = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
 
@@ -37,30 +38,26 @@ class Link:
     def base_url(self) -> str:
         return f"http://127.0.0.1:{self.port}"
 
-    def start(self) -> None:
+    def __enter__(self) -> Link:
         self._thread.start()
         self._ready.wait(10)
+        return self
 
-    def stop(self) -> None:
-        self._loop.call_soon_threadsafe(self._loop.stop)
+    def __exit__(self, *_: object) -> None:
+        self._loop.call_soon_threadsafe(self._stop.set)
         self._thread.join(10)
 
     def _run(self) -> None:
-        asyncio.set_event_loop(self._loop)
-        server = self._loop.run_until_complete(
-            asyncio.start_server(self._connected, "127.0.0.1", 0)
-        )
+        # The runner, once serving ends, cancels the connections still open and closes the loop.
+        with asyncio.Runner(loop_factory=lambda: self._loop) as runner:
+            runner.run(self._serve())
+
+    async def _serve(self) -> None:
+        server = await asyncio.start_server(self._connected, "127.0.0.1", 0)
         self.port = server.sockets[0].getsockname()[1]
         self._ready.set()
-        try:
-            self._loop.run_forever()
-        finally:
-            server.close()
-            pending = asyncio.all_tasks(self._loop)
-            for task in pending:
-                task.cancel()
-            self._loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
-            self._loop.close()
+        await self._stop.wait()
+        server.close()
 
     async def _connected(self, phone: asyncio.StreamReader, to_phone: asyncio.StreamWriter) -> None:
         # The handshake: the phone's first bytes leave a round trip after it connected.
@@ -107,14 +104,3 @@ class Link:
         except (OSError, asyncio.CancelledError):
             delivering.cancel()
             raise
-
-
-@contextmanager
-def link(upstream: int, round_trip_ms: float) -> Iterator[Link]:
-    """A :class:`Link` to ``upstream``, running until the block ends."""
-    running = Link(upstream, round_trip_ms)
-    running.start()
-    try:
-        yield running
-    finally:
-        running.stop()

@@ -10,6 +10,7 @@ Chromium sent (``requestWillBeSentExtraInfo``) and the body (its ``Content-Lengt
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import urlsplit
@@ -166,31 +167,28 @@ class Meter:
     def _failed(self, event: dict[str, Any]) -> None:
         self._request(event).failed = True
 
+    def _fetched(self) -> list[_Request]:
+        """The requests over HTTP (not the page's own ``data:`` and ``blob:`` URLs)."""
+        return [r for r in self.requests.values() if r.url.startswith("http")]
+
     def waiting(self) -> list[str]:
         """The requests on their way (event streams aside: they stay open), by path."""
-        return [
-            urlsplit(r.url).path
-            for r in self.requests.values()
-            if r.url.startswith("http")
-            and r.finished is None
-            and not r.failed
-            and _kind(urlsplit(r.url).path) != "events"
+        paths = [
+            urlsplit(r.url).path for r in self._fetched() if r.finished is None and not r.failed
         ]
+        return [path for path in paths if _kind(path) != "events"]
 
     def totals(self) -> tuple[int, int]:
         """(sent, received) bytes so far."""
-        sent = sum(r.sent for r in self.requests.values() if r.url.startswith("http"))
-        received = sum(r.received for r in self.requests.values() if r.url.startswith("http"))
-        return sent, received
+        fetched = self._fetched()
+        return sum(r.sent for r in fetched), sum(r.received for r in fetched)
 
     def by_kind(self) -> dict[str, int]:
         """Received bytes by what was fetched (the app, photos, overlays, crops, state...)."""
-        kinds: dict[str, int] = {}
-        for request in self.requests.values():
-            if request.url.startswith("http"):
-                kind = _kind(urlsplit(request.url).path)
-                kinds[kind] = kinds.get(kind, 0) + request.received
-        return kinds
+        kinds: Counter[str] = Counter()
+        for request in self._fetched():
+            kinds[_kind(urlsplit(request.url).path)] += request.received
+        return dict(kinds)
 
 
 def _kind(path: str) -> str:

@@ -167,7 +167,7 @@ def play(
     expect.set_options(timeout=WAIT_MS)
     starter_context, starter, starter_meter = _phone(browser, playwright, "Pixel 7", profile)
     joiner_context, joiner, joiner_meter = _phone(browser, playwright, "iPhone 13", profile)
-    try:
+    with starter_context, joiner_context:
         starter.goto(f"{server}/")
         starter.get_by_test_id("start").tap()
         code = starter.get_by_test_id("code")
@@ -238,9 +238,6 @@ def play(
             sent_to_event_ms=told - put.sent_at,
             event_to_drawn_ms=answer["drawn"] - told,
         )
-    finally:
-        starter_context.close()
-        joiner_context.close()
 
 
 def _phone_run(page: Page, meter: Meter) -> PhoneRun:

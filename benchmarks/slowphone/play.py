@@ -124,7 +124,7 @@ def play(
     join link, then ``photo`` (its name and file) picked and tapped on."""
     expect.set_options(timeout=WAIT_MS)
     context, page = _phone(playwright, browser, rate)
-    try:
+    with context:
         scripts: set[str] = set()
         page.on("request", lambda r: scripts.add(path) if (path := _script(r)) else None)
         page.goto(f"{server}/")
@@ -154,5 +154,3 @@ def play(
         run.taps = _taps(stamps(page))
         run.scripts = _assets(scripts)
         return run
-    finally:
-        context.close()

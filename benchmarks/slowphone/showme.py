@@ -91,8 +91,8 @@ def openings(
         film = Path(folder) / "temple.y4m"
         photo = cv2.imread(str(TEMPLE / f"{PAIR[1]}.png"), cv2.IMREAD_COLOR)
         write_y4m(film, [np.asarray(photo, np.uint8)], fps=CAMERA_FPS)
-        browser = chromium.launch(playwright, (*FILM, f"--use-file-for-fake-video-capture={film}"))
-        try:
+        flags = (*FILM, f"--use-file-for-fake-video-capture={film}")
+        with chromium.launch(playwright, flags) as browser:
             context = chromium.phone(playwright, browser, MODEL)
             page = context.new_page()
             sensors = chromium.Sensors(context, page)
@@ -111,5 +111,3 @@ def openings(
                 page.get_by_test_id("live-close").tap()
                 expect(page.get_by_test_id("live-view")).to_have_count(0)
             return took
-        finally:
-            browser.close()
