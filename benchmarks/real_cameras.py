@@ -580,74 +580,50 @@ def targets(run: Run, pairs: Sequence[RealPair]) -> list[str]:
 def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, seconds: float) -> str:
     command = " ".join(shlex.quote(a) for a in [".venv/bin/python", *sys.argv])
     crashed = sum(cell.crashed for cell in run.cells.values())
-    lines = [
-        "# The solver on real cameras",
-        "",
-        f"`{command}`: {args.trials} trials per pair and case, seed {args.seed}, "
-        f"{datetime.now():%Y-%m-%d %H:%M}, {seconds:.0f} s; code under test: "
-        f"{source_state('shared_solver')}. Crashes (exceptions other than SolverError): "
-        f"{crashed}.",
-        "",
-        "## Targets",
-        "",
-        *(f"- {line}" for line in targets(run, pairs)),
-        "",
-        "## 1. The pairs",
-        "",
-        pairs_table(pairs),
-        "",
-        "## 2. Friend 1 in or near photo 2: error, region, fallback",
-        "",
-        case_table(run, "near", "error, % of diagonal (median / p90)"),
-        "",
-        "## 3. Friend 1 outside photo 2: the arrow; friend 1 behind camera 2",
-        "",
-        case_table(run, "arrow", "arrow off, deg (median / p90)"),
-        "",
-        f"Per pair, {SIGMA:g} px, phone prior:",
-        "",
-        per_pair_table(run, pairs, "phone"),
-        "",
-        f"Per pair, {SIGMA:g} px, focal length known (EXIF):",
-        "",
-        per_pair_table(run, pairs, "exif"),
-        "",
-        f"## 4. Photo 2 zoomed, phone prior, no EXIF, {SIGMA:g} px",
-        "",
-        zoom_table(run),
-        "",
-        f"## 5. More landmarks never worse? Median per pair, same draws, {SIGMA:g} px",
-        "",
-        "Phone prior:",
-        "",
-        nested_table(run, pairs, _key("solve", "phone", f"{SIGMA:g}")),
-        "",
-        "Focal length known (EXIF):",
-        "",
-        nested_table(run, pairs, _key("solve", "exif", f"{SIGMA:g}")),
-        "",
-    ]
-    for zoom in ZOOMS:
-        lines += [
+    zooms = [
+        block
+        for zoom in ZOOMS
+        for block in (
             f"Photo 2 zoomed {zoom:g}x, phone prior:",
-            "",
             nested_table(
                 run,
                 [zoomed(p, zoom) for p in pairs if len(zoomed(p, zoom).landmarks1) >= 3],
                 _key("zoom", f"{zoom:g}"),
             ),
-            "",
-        ]
-    lines += [
+        )
+    ]
+    blocks = [
+        "# The solver on real cameras",
+        f"`{command}`: {args.trials} trials per pair and case, seed {args.seed}, "
+        f"{datetime.now():%Y-%m-%d %H:%M}, {seconds:.0f} s; code under test: "
+        f"{source_state('shared_solver')}. Crashes (exceptions other than SolverError): "
+        f"{crashed}.",
+        "## Targets",
+        "\n".join(f"- {line}" for line in targets(run, pairs)),
+        "## 1. The pairs",
+        pairs_table(pairs),
+        "## 2. Friend 1 in or near photo 2: error, region, fallback",
+        case_table(run, "near", "error, % of diagonal (median / p90)"),
+        "## 3. Friend 1 outside photo 2: the arrow; friend 1 behind camera 2",
+        case_table(run, "arrow", "arrow off, deg (median / p90)"),
+        f"Per pair, {SIGMA:g} px, phone prior:",
+        per_pair_table(run, pairs, "phone"),
+        f"Per pair, {SIGMA:g} px, focal length known (EXIF):",
+        per_pair_table(run, pairs, "exif"),
+        f"## 4. Photo 2 zoomed, phone prior, no EXIF, {SIGMA:g} px",
+        zoom_table(run),
+        f"## 5. More landmarks never worse? Median per pair, same draws, {SIGMA:g} px",
+        "Phone prior:",
+        nested_table(run, pairs, _key("solve", "phone", f"{SIGMA:g}")),
+        "Focal length known (EXIF):",
+        nested_table(run, pairs, _key("solve", "exif", f"{SIGMA:g}")),
+        *zooms,
         "## 6. Reference: every landmark of the pair, OpenCV's 8-point and solve",
-        "",
         "The GoPro rig's landmarks are nearly all on the floor, a plane: there the 8-point "
         "method is degenerate (F is not determined by points on a plane).",
-        "",
         reference_table(run, sorted({pair.set_name for pair in pairs})),
-        "",
     ]
-    return "\n".join(lines)
+    return "\n\n".join(blocks) + "\n"
 
 
 def main() -> None:
