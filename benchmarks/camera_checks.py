@@ -23,6 +23,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
+from unittest import mock
 
 import numpy as np
 from report import (
@@ -36,14 +37,12 @@ from report import (
     timed,
 )
 from solverbench.common import line_through
-from solverbench.ranking import nearest_root
+from solverbench.ranking import GIVENS, exact_roots, nearest_root
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.answers import pinhole as pinhole_answers
 from shared_solver.estimation import plausibility
 from shared_solver.estimation.uncertainty import contains
-from shared_solver.minimal.seven_point import seven_point_roots
-from shared_solver.minimal.six_point_line import six_point_line_roots
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
 from testbed.phones import PhoneScene, phone_scene
@@ -277,12 +276,8 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
 def _with_bootstrap_threshold(threshold: int, drawn: list[Trial]) -> Cell:
     """The phone prior on ``drawn`` with the bootstrap applied up to ``threshold`` degrees of
     freedom (-1: never)."""
-    saved = pinhole_answers.BOOTSTRAP_DOF
-    pinhole_answers.BOOTSTRAP_DOF = threshold
-    try:
+    with mock.patch.object(pinhole_answers, "BOOTSTRAP_DOF", threshold):
         return run(drawn, with_cameras("phone"))
-    finally:
-        pinhole_answers.BOOTSTRAP_DOF = saved
 
 
 # --- 5. ranking with the camera unknown ------------------------------------------------------
@@ -298,16 +293,26 @@ def first_version_key(cue: plausibility.Plausibility) -> tuple[int, int, int, fl
     )
 
 
+# How roots are ranked: before (:func:`first_version_key`) and now.
+RANKINGS: dict[str, Callable[[plausibility.Plausibility], tuple[int, int, int, float]]] = {
+    "first version": first_version_key,
+    "current": plausibility.Plausibility.sort_key,
+}
+
+
 def ranking(trials: int) -> str:
     rows = []
     for kind, make in SCENE_KINDS.items():
-        for given in ("line + 6", "7, nothing marked"):
-            hits = {"first version": 0, "current": 0}
+        for given in GIVENS:
+            hits = dict.fromkeys(RANKINGS, 0)
             counted = 0
             for trial in range(trials):
                 rng = np.random.default_rng((SEED, 6, trial))
                 scene = make(rng, 6 if given == "line + 6" else 7)
-                roots = _roots(scene, given, rng)
+                line = None
+                if given == "line + 6":
+                    line = line_through(scene.epipole1, rng.uniform(0.0, math.pi))
+                roots = exact_roots(scene, given, line)
                 if not roots:
                     continue
                 counted += 1
@@ -325,14 +330,9 @@ def ranking(trials: int) -> str:
                     )
                     for e1, e2, f in roots
                 ]
-                keys: dict[
-                    str, Callable[[plausibility.Plausibility], tuple[int, int, int, float]]
-                ] = {
-                    "first version": first_version_key,
-                    "current": plausibility.Plausibility.sort_key,
-                }
-                for name, key in keys.items():
-                    hits[name] += _first(cues, key) == truth
+                for name, key in RANKINGS.items():
+                    # The root this ranking puts first.
+                    hits[name] += min(range(len(cues)), key=lambda i: key(cues[i])) == truth
             rows.append(
                 [
                     kind,
@@ -344,25 +344,6 @@ def ranking(trials: int) -> str:
     return markdown_table(
         ["scenes", "taps (exact)", "first version", "current", "scenes with roots"], rows
     )
-
-
-def _first(
-    cues: list[plausibility.Plausibility],
-    key: Callable[[plausibility.Plausibility], tuple[int, int, int, float]],
-) -> int:
-    """Index of the root a ranking puts first."""
-    return min(range(len(cues)), key=lambda i: key(cues[i]))
-
-
-def _roots(scene: object, given: str, rng: np.random.Generator) -> list[tuple[Array, Array, Array]]:
-    p, q = scene.landmarks1, scene.landmarks2  # type: ignore[attr-defined]
-    if given == "line + 6":
-        line = line_through(scene.epipole1, rng.uniform(0.0, math.pi))  # type: ignore[attr-defined]
-        try:
-            return six_point_line_roots(line, p, q)
-        except SolverError:
-            return []
-    return seven_point_roots(p, q)
 
 
 # --- the report -----------------------------------------------------------------------------------

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal, Required, TypedDict, Unpack
+from typing import Any, Literal, Required, TypedDict, TypeVar, Unpack
 
 import numpy as np
 from report import markdown_table
@@ -119,6 +119,22 @@ class Summary:
     def points(self) -> int:
         """Answers that put friend 1 at a point of photo 2."""
         return self.trials - sum(self.failures.values())
+
+
+K = TypeVar("K")
+S = TypeVar("S", bound=Scene)
+
+
+def summaries(
+    methods: Mapping[K, Callable[[S, Taps, float], Outcome]],
+    draws: Iterable[tuple[S, Taps, float]],
+) -> dict[K, Summary]:
+    """Every method on every drawn (scene, taps, tap sigma), summarised per method."""
+    outcomes: dict[K, list[Outcome]] = {name: [] for name in methods}
+    for scene, taps, sigma in draws:
+        for name, method in methods.items():
+            outcomes[name].append(method(scene, taps, sigma))
+    return {name: Summary.of(found) for name, found in outcomes.items()}
 
 
 def percentile(values: Sequence[float], q: float) -> float:

@@ -29,6 +29,7 @@ from .common import (
     ours,
     pixel_error,
     scene_rng,
+    summaries,
     tap_rng,
 )
 
@@ -76,15 +77,13 @@ AccuracyTable = dict[float, dict[str, Summary]]
 def accuracy(trials: int) -> AccuracyTable:
     """Per sigma and method, the e2 error over the same scenes and the same noisy taps."""
     drawn = scenes("accuracy", trials, 8)
-    table = {}
-    for sigma in ACCURACY_SIGMAS:
-        outcomes: dict[str, list[Outcome]] = {name: [] for name in ACCURACY_METHODS}
-        for trial, scene in enumerate(drawn):
-            taps = tap(scene, sigma, tap_rng("accuracy", sigma, trial))
-            for name, method in ACCURACY_METHODS.items():
-                outcomes[name].append(method(scene, taps, sigma))
-        table[sigma] = {name: Summary.of(found) for name, found in outcomes.items()}
-    return table
+    return {
+        sigma: summaries(
+            ACCURACY_METHODS,
+            ((s, tap(s, sigma, tap_rng("accuracy", sigma, i)), sigma) for i, s in enumerate(drawn)),
+        )
+        for sigma in ACCURACY_SIGMAS
+    }
 
 
 def accuracy_target(table: AccuracyTable) -> tuple[bool, str]:

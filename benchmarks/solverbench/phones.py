@@ -5,7 +5,7 @@ route case by case."""
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
@@ -35,6 +35,7 @@ from .common import (
     ours,
     pixel_error,
     scene_rng,
+    summaries,
     tap_rng,
 )
 from .facing import opencv
@@ -66,6 +67,13 @@ def phone_trial(stream: str, sigma: float, trial: int) -> tuple[PhoneScene, Taps
     rng = tap_rng(stream, sigma, trial)
     taps = tap(scene, sigma, rng)
     return scene, taps, float(rng.uniform(0.0, math.pi))
+
+
+def draws(stream: str, sigma: float, trials: int) -> Iterator[tuple[PhoneScene, Taps, float]]:
+    """The scenes and taps of :func:`phone_trial`'s first ``trials`` trials, and ``sigma``."""
+    for trial in range(trials):
+        scene, taps, _ = phone_trial(stream, sigma, trial)
+        yield scene, taps, sigma
 
 
 def normalised(intrinsics: Array, pixels: Array) -> Array:
@@ -148,17 +156,8 @@ PhoneTable = dict[float, dict[str, Summary]]
 
 def accuracy(trials: int) -> PhoneTable:
     """Per sigma and method, the e2 error over the same phone scenes and the same taps."""
-    outcomes: dict[float, dict[str, list[Outcome]]] = {
-        sigma: {name: [] for name in PHONE_METHODS} for sigma in PHONE_SIGMAS
-    }
-    for trial in range(trials):
-        for sigma in PHONE_SIGMAS:
-            scene, taps, _ = phone_trial("phone", sigma, trial)
-            for name, method in PHONE_METHODS.items():
-                outcomes[sigma][name].append(method(scene, taps, sigma))
     return {
-        sigma: {name: Summary.of(found) for name, found in row.items()}
-        for sigma, row in outcomes.items()
+        sigma: summaries(PHONE_METHODS, draws("phone", sigma, trials)) for sigma in PHONE_SIGMAS
     }
 
 
@@ -213,15 +212,10 @@ ZoomTable = dict[float, dict[str, Summary]]
 
 def zoomed(trials: int) -> ZoomTable:
     """Per zoom of photo 2 and method, at TARGET_SIGMA: the same scenes and taps."""
-    table = {}
-    for zoom in ZOOMS:
-        outcomes: dict[str, list[Outcome]] = {name: [] for name in ZOOM_METHODS}
-        for trial in range(trials):
-            scene, taps, _ = phone_trial(f"zoom{zoom:g}", TARGET_SIGMA, trial)
-            for name, method in ZOOM_METHODS.items():
-                outcomes[name].append(method(scene, taps, TARGET_SIGMA))
-        table[zoom] = {name: Summary.of(found) for name, found in outcomes.items()}
-    return table
+    return {
+        zoom: summaries(ZOOM_METHODS, draws(f"zoom{zoom:g}", TARGET_SIGMA, trials))
+        for zoom in ZOOMS
+    }
 
 
 def zoom_table(table: ZoomTable) -> str:

@@ -40,7 +40,7 @@ from .common import (
     solve_arguments,
     tap_rng,
 )
-from .gravity import reading
+from .gravity import gravity_options
 from .phones import MIXED_SIGMAS, TARGET_SIGMA
 
 FACING_SIGMA = 1.0
@@ -133,11 +133,7 @@ def phone_call(case: SolveCase, given: PhoneInput) -> Callable[[], object]:
     )
     if case.gravity_deg is not None:
         rng = np.random.default_rng(int(1000 * case.gravity_deg))  # the same on every run
-        options |= {
-            "gravity1": reading(scene, 1, case.gravity_deg, rng),
-            "gravity2": reading(scene, 2, case.gravity_deg, rng),
-            "gravity_sigma_deg": case.gravity_deg,
-        }
+        options |= gravity_options(scene, case.gravity_deg, rng)
     return lambda: solve(*points, **options)
 
 
