@@ -36,7 +36,6 @@ from report import (
     source_state,
     timed,
 )
-from solverbench.common import line_through
 from solverbench.ranking import GIVENS, exact_roots, nearest_root
 
 from shared_solver import Camera, SolverError, SolveResult, solve
@@ -46,7 +45,7 @@ from shared_solver.estimation.uncertainty import contains
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
 from testbed.phones import PhoneScene, phone_scene
-from testbed.scenes import Scene, facing_scene, tap
+from testbed.scenes import Scene, facing_scene, line_through, tap
 
 DEFAULT_OUT = ROOT / "docs" / "camera-checks.md"
 DEFAULT_TRIALS = 400
@@ -123,7 +122,7 @@ def drawn_taps(
         taps = tap(scene, sigma, rng)
         arguments: dict[str, Any] = {"points1": taps.landmarks1, "points2": taps.landmarks2}
         arguments |= {"epipole1": taps.epipole1, "tap_sigma": sigma}
-        arguments |= {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
+        arguments |= scene.sizes
         drawn.append((scene, arguments, scene.epipole2))
     return drawn
 
@@ -264,8 +263,7 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
                     "points1_sigma": sigmas[0],
                     "points2_sigma": sigmas[1],
                     "epipole1_sigma": friend2_sigma,
-                    "image_size1": scene.image_size1,
-                    "image_size2": scene.image_size2,
+                    **scene.sizes,
                 },
                 scene.epipole2,
             )
@@ -325,8 +323,7 @@ def ranking(trials: int) -> str:
                         e2,
                         scene.landmarks1,
                         scene.landmarks2,
-                        image_size1=scene.image_size1,
-                        image_size2=scene.image_size2,
+                        **scene.sizes,
                     )
                     for e1, e2, f in roots
                 ]

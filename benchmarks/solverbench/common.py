@@ -15,7 +15,7 @@ from report import markdown_table
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.projective import Array, to_pixel
 from testbed.phones import PhoneScene
-from testbed.scenes import Scene, Taps
+from testbed.scenes import Scene, Taps, line_through
 
 # Chi-square quantile, 2 degrees of freedom, 95 %: -2 ln(0.05) = 5.991.
 CHI2_2DOF_95 = -2.0 * math.log(0.05)
@@ -52,6 +52,10 @@ TAP_STREAM = {
 Given = Literal["e1", "line", "both", "none"]
 # What solve is told about both cameras: nothing (projective), the phone prior, EXIF focal.
 Cameras = Literal["unknown", "phone", "exif"]
+
+
+# A report's target: whether it passed, and its line ("PASS: ...").
+Target = tuple[bool, str]
 
 
 @dataclass(frozen=True)
@@ -170,12 +174,6 @@ def ellipse_covers(result: SolveResult, truth: Array) -> bool | None:
     return bool(distance <= CHI2_2DOF_95)
 
 
-def line_through(point: Array, angle: float) -> Array:
-    """(3,) line through a pixel point in direction ``angle`` (radians from x, y down)."""
-    x, y = point
-    return np.cross([x, y, 1.0], [x + math.cos(angle), y + math.sin(angle), 1.0])
-
-
 # --- one call of solve ------------------------------------------------------------------
 
 
@@ -241,8 +239,7 @@ def solve_arguments(
         "epipole2": taps.epipole2 if both else None,
         "epipolar_line1": line if given == "line" else None,
         "tap_sigma": sigma,
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
+        **scene.sizes,
         "camera1": camera1,
         "camera2": camera2,
         "points1_sigma": None if precisions is None else precisions.points1[:landmarks],

@@ -14,7 +14,7 @@ import numpy as np
 from report import markdown_table, verdict
 
 from shared_solver import SolverError, epipoles_from_six
-from testbed.scenes import Scene, Taps, facing_scene, tap
+from testbed.scenes import Scene, Taps, facing_scene, line_through, tap
 
 from .common import (
     Given,
@@ -25,7 +25,6 @@ from .common import (
     errors_cell,
     failures,
     fmt,
-    line_through,
     ours,
     pixel_error,
     scene_rng,
@@ -216,8 +215,7 @@ def six_point_rank(count: int) -> RankCount:
                 line,
                 scene.landmarks1,
                 scene.landmarks2,
-                image_size1=scene.image_size1,
-                image_size2=scene.image_size2,
+                **scene.sizes,
             )
         except SolverError as error:
             refused[error.code.value] += 1

@@ -25,6 +25,7 @@ from .common import (
     Precisions,
     Row,
     Summary,
+    Target,
     cases_table,
     coverage_cell,
     errors_cell,
@@ -125,12 +126,9 @@ def exact_roots_true_k(scene: PhoneScene, taps: Taps, _sigma: float) -> Outcome:
     )
 
 
-def camera_aware(landmarks: int, cameras: Cameras) -> PhoneMethod:
+def with_e1(landmarks: int, cameras: Cameras = "unknown") -> PhoneMethod:
+    """``solve`` on the first ``landmarks`` taps and the e1 tap, told ``cameras``."""
     return lambda s, t, sigma: ours(s, t, sigma, landmarks, given="e1", cameras=cameras)
-
-
-def projective(landmarks: int) -> PhoneMethod:
-    return lambda s, t, sigma: ours(s, t, sigma, landmarks, given="e1")
 
 
 # --- 1. accuracy against OpenCV -----------------------------------------------------------------
@@ -140,9 +138,9 @@ OPENCV_5 = "OpenCV 5-point essential, 5, true K (best root by oracle)"
 OPENCV_E8 = "OpenCV essential (RANSAC), 8, true K"
 OPENCV_F8 = "OpenCV 8-point, 8"
 PHONE_METHODS: dict[str, PhoneMethod] = {
-    **{f"projective {n}+e1": projective(n) for n in (5, 8)},
-    **{f"phone prior {n}+e1": camera_aware(n, "phone") for n in (3, 4, 5, 8)},
-    **{f"EXIF focal {n}+e1": camera_aware(n, "exif") for n in (3, 4, 5)},
+    **{f"projective {n}+e1": with_e1(n) for n in (5, 8)},
+    **{f"phone prior {n}+e1": with_e1(n, "phone") for n in (3, 4, 5, 8)},
+    **{f"EXIF focal {n}+e1": with_e1(n, "exif") for n in (3, 4, 5)},
     EXACT_3: exact_roots_true_k,
     OPENCV_5: lambda s, t, sigma: opencv_essential(s, t, sigma, 5),
     OPENCV_E8: lambda s, t, sigma: opencv_essential(s, t, sigma, 8),
@@ -200,11 +198,11 @@ def accuracy_tables(table: PhoneTable) -> str:
 # --- 2. zoomed photos without EXIF ----------------------------------------------------------------
 
 ZOOM_METHODS: dict[str, PhoneMethod] = {
-    "phone prior 4+e1": camera_aware(4, "phone"),
-    "phone prior 5+e1": camera_aware(5, "phone"),
-    "projective 5+e1": projective(5),
-    "phone prior 8+e1": camera_aware(8, "phone"),
-    "projective 8+e1": projective(8),
+    "phone prior 4+e1": with_e1(4, "phone"),
+    "phone prior 5+e1": with_e1(5, "phone"),
+    "projective 5+e1": with_e1(5),
+    "phone prior 8+e1": with_e1(8, "phone"),
+    "projective 8+e1": with_e1(8),
 }
 
 ZoomTable = dict[float, dict[str, Summary]]
@@ -315,8 +313,6 @@ def coverage_table(table: CoverageTable) -> str:
 
 
 # --- targets ------------------------------------------------------------------------------------
-
-Target = tuple[bool, str]
 
 
 def error_target(summary: Summary, label: str, median: float, p90: float) -> Target:

@@ -24,9 +24,9 @@ from shared_solver.minimal.seven_point import seven_point_roots
 from shared_solver.minimal.six_point_line import six_point_line_roots
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
-from testbed.scenes import Scene
+from testbed.scenes import Scene, line_through
 
-from .common import line_through, scene_rng
+from .common import scene_rng
 
 TAP_SIGMA = 1.0
 # The true root's F is within this of the scene's (normalised, unit norm): it was found.
@@ -120,8 +120,7 @@ def rank(scenes_per_kind: int) -> RankTable:
                             q,
                             epipolar_line1=line if given == "line + 6" else None,
                             tap_sigma=TAP_SIGMA,
-                            image_size1=scene.image_size1,
-                            image_size2=scene.image_size2,
+                            **scene.sizes,
                             camera1=camera,
                             camera2=camera,
                         )
