@@ -205,13 +205,16 @@ def mixed_taps(
     return taps, Precisions(s1, s2, e1_sigma, e2_sigma)
 
 
-def camera_pair(scene: Scene, cameras: Cameras) -> tuple[Camera | str | None, Camera | str | None]:
-    """What ``solve`` is told about the two cameras (EXIF needs a phone scene)."""
+def camera_pair(
+    cameras: Cameras, exif: tuple[float, float] | None
+) -> tuple[Camera | str | None, Camera | str | None]:
+    """What ``solve`` is told about the two cameras; ``exif``: their focal lengths (35 mm
+    equivalent) as EXIF gives them, needed for ``exif``."""
     if cameras == "phone":
         return "phone", "phone"
     if cameras == "exif":
-        assert isinstance(scene, PhoneScene)
-        return Camera.with_focal(scene.exif_focal_35mm1), Camera.with_focal(scene.exif_focal_35mm2)
+        assert exif is not None
+        return Camera.with_focal(exif[0]), Camera.with_focal(exif[1])
     return None, None
 
 
@@ -232,7 +235,10 @@ def solve_arguments(
     is given: built once, so that timing a call times ``solve`` alone."""
     given, precisions = asked["given"], asked.get("precisions")
     line = line_through(taps.epipole1, asked.get("line_angle", 0.0))
-    camera1, camera2 = camera_pair(scene, asked.get("cameras", "unknown"))
+    exif = None
+    if isinstance(scene, PhoneScene):
+        exif = (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
+    camera1, camera2 = camera_pair(asked.get("cameras", "unknown"), exif)
     both = given == "both"
     options: dict[str, Any] = {
         "epipole1": taps.epipole1 if given in ("e1", "both") else None,
