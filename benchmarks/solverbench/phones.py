@@ -281,30 +281,27 @@ def coverage(trials: int) -> CoverageTable:
     outcomes: dict[Case, list[Outcome]] = {case: [] for case in COVERAGE_CASES}
     for trial in range(trials):
         scene, taps, angle = phone_trial("phone", TARGET_SIGMA, trial)
-        mixed, precisions = mixed_taps(scene, tap_rng("mixed", TARGET_SIGMA, trial), MIXED_SIGMAS)
-        other_trials = {
-            stream: phone_trial(stream, TARGET_SIGMA, trial)
-            for stream in (*(f"zoom{z:g}" for z in ZOOMS), "prior")
+        mixed, told = mixed_taps(scene, tap_rng("mixed", TARGET_SIGMA, trial), MIXED_SIGMAS)
+        # Per source: the scene, its taps, the line's angle, the taps' sigma, their own.
+        sources: dict[str, tuple[PhoneScene, Taps, float, float, Precisions | None]] = {
+            "phone": (scene, taps, angle, TARGET_SIGMA, None),
+            "mixed": (scene, mixed, angle, min(MIXED_SIGMAS), told),
         }
+        for stream in (*(f"zoom{z:g}" for z in ZOOMS), "prior"):
+            sources[stream] = (*phone_trial(stream, TARGET_SIGMA, trial), TARGET_SIGMA, None)
         for case in COVERAGE_CASES:
-            case_scene, case_taps, case_angle, sigma = scene, taps, angle, TARGET_SIGMA
-            told: Precisions | None = None
-            if case.source == "mixed":
-                case_taps, told, sigma = mixed, precisions, min(MIXED_SIGMAS)
-            elif case.source != "phone":
-                case_scene, case_taps, case_angle = other_trials[case.source]
-            outcomes[case].append(
-                ours(
-                    case_scene,
-                    case_taps,
-                    sigma,
-                    case.landmarks,
-                    given=case.given,
-                    line_angle=case_angle,
-                    cameras=case.cameras,
-                    precisions=told,
-                )
+            case_scene, case_taps, case_angle, sigma, precisions = sources[case.source]
+            outcome = ours(
+                case_scene,
+                case_taps,
+                sigma,
+                case.landmarks,
+                given=case.given,
+                line_angle=case_angle,
+                cameras=case.cameras,
+                precisions=precisions,
             )
+            outcomes[case].append(outcome)
     return {case: Summary.of(found) for case, found in outcomes.items()}
 
 
