@@ -44,7 +44,7 @@ from shared_solver.estimation import plausibility
 from shared_solver.estimation.uncertainty import contains
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
-from testbed.phones import PhoneScene, phone_scene
+from testbed.phones import phone_scene
 from testbed.scenes import Scene, facing_scene, line_through, tap
 
 DEFAULT_OUT = ROOT / "docs" / "camera-checks.md"
@@ -71,7 +71,7 @@ class Cell:
         ]
 
 
-Trial = tuple[object, dict[str, Any], Array]  # (scene, solve's arguments, true friend 1)
+Trial = tuple[Scene, dict[str, Any], Array]  # (scene, solve's arguments, true friend 1)
 
 
 def run(
@@ -196,7 +196,6 @@ def edited_photos(trials: int) -> str:
 def _edited(trials: int, landmarks: int, crop: float, stretch: float) -> list[Trial]:
     drawn: list[Trial] = []
     for scene, taps, _ in phone_taps(trials, 3 * landmarks, 2):
-        assert isinstance(scene, PhoneScene)
         width, height = scene.image_size2
         cut = crop * width
         q = (np.asarray(taps["points2"]) - [cut, 0.0]) * [stretch, 1.0]

@@ -141,7 +141,6 @@ def gravity(trials: int) -> GravityTable:
                 continue  # nothing to answer without gravity
             for trial in range(trials):
                 scene, taps, _ = phone_trial(case.stream, TARGET_SIGMA, trial)
-                assert isinstance(scene, PhoneScene)
                 points, options = solve_arguments(
                     scene, taps, TARGET_SIGMA, case.landmarks, given="e1", cameras=case.cameras
                 )
