@@ -23,6 +23,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
+from unittest import mock
 
 import numpy as np
 from report import (
@@ -35,19 +36,16 @@ from report import (
     source_state,
     timed,
 )
-from solverbench.common import line_through
-from solverbench.ranking import nearest_root
+from solverbench.ranking import GIVENS, exact_roots, nearest_root
 
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.answers import pinhole as pinhole_answers
 from shared_solver.estimation import plausibility
 from shared_solver.estimation.uncertainty import contains
-from shared_solver.minimal.seven_point import seven_point_roots
-from shared_solver.minimal.six_point_line import six_point_line_roots
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
-from testbed.phones import PhoneScene, phone_scene
-from testbed.scenes import Scene, facing_scene, tap
+from testbed.phones import phone_scene
+from testbed.scenes import Scene, facing_scene, line_through, tap
 
 DEFAULT_OUT = ROOT / "docs" / "camera-checks.md"
 DEFAULT_TRIALS = 400
@@ -73,7 +71,7 @@ class Cell:
         ]
 
 
-Trial = tuple[object, dict[str, Any], Array]  # (scene, solve's arguments, true friend 1)
+Trial = tuple[Scene, dict[str, Any], Array]  # (scene, solve's arguments, true friend 1)
 
 
 def run(
@@ -124,7 +122,7 @@ def drawn_taps(
         taps = tap(scene, sigma, rng)
         arguments: dict[str, Any] = {"points1": taps.landmarks1, "points2": taps.landmarks2}
         arguments |= {"epipole1": taps.epipole1, "tap_sigma": sigma}
-        arguments |= {"image_size1": scene.image_size1, "image_size2": scene.image_size2}
+        arguments |= scene.sizes
         drawn.append((scene, arguments, scene.epipole2))
     return drawn
 
@@ -198,7 +196,6 @@ def edited_photos(trials: int) -> str:
 def _edited(trials: int, landmarks: int, crop: float, stretch: float) -> list[Trial]:
     drawn: list[Trial] = []
     for scene, taps, _ in phone_taps(trials, 3 * landmarks, 2):
-        assert isinstance(scene, PhoneScene)
         width, height = scene.image_size2
         cut = crop * width
         q = (np.asarray(taps["points2"]) - [cut, 0.0]) * [stretch, 1.0]
@@ -265,8 +262,7 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
                     "points1_sigma": sigmas[0],
                     "points2_sigma": sigmas[1],
                     "epipole1_sigma": friend2_sigma,
-                    "image_size1": scene.image_size1,
-                    "image_size2": scene.image_size2,
+                    **scene.sizes,
                 },
                 scene.epipole2,
             )
@@ -277,12 +273,8 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
 def _with_bootstrap_threshold(threshold: int, drawn: list[Trial]) -> Cell:
     """The phone prior on ``drawn`` with the bootstrap applied up to ``threshold`` degrees of
     freedom (-1: never)."""
-    saved = pinhole_answers.BOOTSTRAP_DOF
-    pinhole_answers.BOOTSTRAP_DOF = threshold
-    try:
+    with mock.patch.object(pinhole_answers, "BOOTSTRAP_DOF", threshold):
         return run(drawn, with_cameras("phone"))
-    finally:
-        pinhole_answers.BOOTSTRAP_DOF = saved
 
 
 # --- 5. ranking with the camera unknown ------------------------------------------------------
@@ -298,16 +290,26 @@ def first_version_key(cue: plausibility.Plausibility) -> tuple[int, int, int, fl
     )
 
 
+# How roots are ranked: before (:func:`first_version_key`) and now.
+RANKINGS: dict[str, Callable[[plausibility.Plausibility], tuple[int, int, int, float]]] = {
+    "first version": first_version_key,
+    "current": plausibility.Plausibility.sort_key,
+}
+
+
 def ranking(trials: int) -> str:
     rows = []
     for kind, make in SCENE_KINDS.items():
-        for given in ("line + 6", "7, nothing marked"):
-            hits = {"first version": 0, "current": 0}
+        for given in GIVENS:
+            hits = dict.fromkeys(RANKINGS, 0)
             counted = 0
             for trial in range(trials):
                 rng = np.random.default_rng((SEED, 6, trial))
                 scene = make(rng, 6 if given == "line + 6" else 7)
-                roots = _roots(scene, given, rng)
+                line = None
+                if given == "line + 6":
+                    line = line_through(scene.epipole1, rng.uniform(0.0, math.pi))
+                roots = exact_roots(scene, given, line)
                 if not roots:
                     continue
                 counted += 1
@@ -320,19 +322,13 @@ def ranking(trials: int) -> str:
                         e2,
                         scene.landmarks1,
                         scene.landmarks2,
-                        image_size1=scene.image_size1,
-                        image_size2=scene.image_size2,
+                        **scene.sizes,
                     )
                     for e1, e2, f in roots
                 ]
-                keys: dict[
-                    str, Callable[[plausibility.Plausibility], tuple[int, int, int, float]]
-                ] = {
-                    "first version": first_version_key,
-                    "current": plausibility.Plausibility.sort_key,
-                }
-                for name, key in keys.items():
-                    hits[name] += _first(cues, key) == truth
+                for name, key in RANKINGS.items():
+                    # The root this ranking puts first.
+                    hits[name] += min(range(len(cues)), key=lambda i: key(cues[i])) == truth
             rows.append(
                 [
                     kind,
@@ -344,25 +340,6 @@ def ranking(trials: int) -> str:
     return markdown_table(
         ["scenes", "taps (exact)", "first version", "current", "scenes with roots"], rows
     )
-
-
-def _first(
-    cues: list[plausibility.Plausibility],
-    key: Callable[[plausibility.Plausibility], tuple[int, int, int, float]],
-) -> int:
-    """Index of the root a ranking puts first."""
-    return min(range(len(cues)), key=lambda i: key(cues[i]))
-
-
-def _roots(scene: object, given: str, rng: np.random.Generator) -> list[tuple[Array, Array, Array]]:
-    p, q = scene.landmarks1, scene.landmarks2  # type: ignore[attr-defined]
-    if given == "line + 6":
-        line = line_through(scene.epipole1, rng.uniform(0.0, math.pi))  # type: ignore[attr-defined]
-        try:
-            return six_point_line_roots(line, p, q)
-        except SolverError:
-            return []
-    return seven_point_roots(p, q)
 
 
 # --- the report -----------------------------------------------------------------------------------

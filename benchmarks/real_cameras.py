@@ -44,7 +44,6 @@ import traceback
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
-from typing import Literal
 
 import cv2
 import numpy as np
@@ -58,10 +57,10 @@ from report import (
     source_state,
     verdict,
 )
+from solverbench.common import Cameras, camera_pair
 
-from shared_solver import Camera, SolverError, SolveResult, solve
+from shared_solver import SolverError, SolveResult, solve
 from shared_solver.estimation.uncertainty import CHI2_2D, chi2_quantile
-from shared_solver.projective import Array
 from testbed.real_cameras import RealPair, Taps, error, group, load_pairs, tap, zoomed
 
 # 100 draws per pair and case: at 50, one of the 44 "a landmark more" comparisons came out
@@ -88,9 +87,7 @@ ZOOM_COVERAGE = 0.90  # the issue's floor for the regions of zoomed photos witho
 FALSE_ALARMS = 0.001
 DEFAULT_OUT = ROOT / "docs" / "real-cameras.md"
 
-CameraCase = Literal["phone", "exif", "unknown"]
-Point = Sequence[float] | Array
-CAMERA_CASES: tuple[CameraCase, ...] = ("phone", "exif", "unknown")
+CAMERA_CASES: tuple[Cameras, ...] = ("phone", "exif", "unknown")
 # The projective route needs 5 landmarks for a point (4 give a curve).
 UNKNOWN_FROM = 5
 
@@ -172,19 +169,10 @@ def judge(pair: RealPair, result: SolveResult, modelled: bool) -> Outcome:
 # --- solving -------------------------------------------------------------------------------
 
 
-def cameras(pair: RealPair, case: CameraCase) -> tuple[Camera | str | None, Camera | str | None]:
-    """``solve``'s ``camera1``/``camera2`` for a case."""
-    if case == "phone":
-        return "phone", "phone"
-    if case == "exif":
-        return Camera.with_focal(pair.focal_35mm1), Camera.with_focal(pair.focal_35mm2)
-    return None, None
-
-
-def attempt(pair: RealPair, taps: Taps, count: int, case: CameraCase, sigma: float) -> Outcome:
+def attempt(pair: RealPair, taps: Taps, count: int, case: Cameras, sigma: float) -> Outcome:
     """``solve`` on the first ``count`` landmarks of ``taps`` and friend 2's mark."""
     points1, points2 = taps.first(count)
-    camera1, camera2 = cameras(pair, case)
+    camera1, camera2 = camera_pair(case, (pair.focal_35mm1, pair.focal_35mm2))
     try:
         result = solve(
             points1,
@@ -400,7 +388,7 @@ def zoom_table(run: Run) -> str:
     return markdown_table(header, rows)
 
 
-def per_pair_table(run: Run, pairs: Sequence[RealPair], case: CameraCase) -> str:
+def per_pair_table(run: Run, pairs: Sequence[RealPair], case: Cameras) -> str:
     """Per pair, 3 px: the median error, and how often the answer fell back or has no
     region, for each number of landmarks."""
     rows = []
@@ -580,74 +568,50 @@ def targets(run: Run, pairs: Sequence[RealPair]) -> list[str]:
 def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, seconds: float) -> str:
     command = " ".join(shlex.quote(a) for a in [".venv/bin/python", *sys.argv])
     crashed = sum(cell.crashed for cell in run.cells.values())
-    lines = [
-        "# The solver on real cameras",
-        "",
-        f"`{command}`: {args.trials} trials per pair and case, seed {args.seed}, "
-        f"{datetime.now():%Y-%m-%d %H:%M}, {seconds:.0f} s; code under test: "
-        f"{source_state('shared_solver')}. Crashes (exceptions other than SolverError): "
-        f"{crashed}.",
-        "",
-        "## Targets",
-        "",
-        *(f"- {line}" for line in targets(run, pairs)),
-        "",
-        "## 1. The pairs",
-        "",
-        pairs_table(pairs),
-        "",
-        "## 2. Friend 1 in or near photo 2: error, region, fallback",
-        "",
-        case_table(run, "near", "error, % of diagonal (median / p90)"),
-        "",
-        "## 3. Friend 1 outside photo 2: the arrow; friend 1 behind camera 2",
-        "",
-        case_table(run, "arrow", "arrow off, deg (median / p90)"),
-        "",
-        f"Per pair, {SIGMA:g} px, phone prior:",
-        "",
-        per_pair_table(run, pairs, "phone"),
-        "",
-        f"Per pair, {SIGMA:g} px, focal length known (EXIF):",
-        "",
-        per_pair_table(run, pairs, "exif"),
-        "",
-        f"## 4. Photo 2 zoomed, phone prior, no EXIF, {SIGMA:g} px",
-        "",
-        zoom_table(run),
-        "",
-        f"## 5. More landmarks never worse? Median per pair, same draws, {SIGMA:g} px",
-        "",
-        "Phone prior:",
-        "",
-        nested_table(run, pairs, _key("solve", "phone", f"{SIGMA:g}")),
-        "",
-        "Focal length known (EXIF):",
-        "",
-        nested_table(run, pairs, _key("solve", "exif", f"{SIGMA:g}")),
-        "",
-    ]
-    for zoom in ZOOMS:
-        lines += [
+    zooms = [
+        block
+        for zoom in ZOOMS
+        for block in (
             f"Photo 2 zoomed {zoom:g}x, phone prior:",
-            "",
             nested_table(
                 run,
                 [zoomed(p, zoom) for p in pairs if len(zoomed(p, zoom).landmarks1) >= 3],
                 _key("zoom", f"{zoom:g}"),
             ),
-            "",
-        ]
-    lines += [
+        )
+    ]
+    blocks = [
+        "# The solver on real cameras",
+        f"`{command}`: {args.trials} trials per pair and case, seed {args.seed}, "
+        f"{datetime.now():%Y-%m-%d %H:%M}, {seconds:.0f} s; code under test: "
+        f"{source_state('shared_solver')}. Crashes (exceptions other than SolverError): "
+        f"{crashed}.",
+        "## Targets",
+        "\n".join(f"- {line}" for line in targets(run, pairs)),
+        "## 1. The pairs",
+        pairs_table(pairs),
+        "## 2. Friend 1 in or near photo 2: error, region, fallback",
+        case_table(run, "near", "error, % of diagonal (median / p90)"),
+        "## 3. Friend 1 outside photo 2: the arrow; friend 1 behind camera 2",
+        case_table(run, "arrow", "arrow off, deg (median / p90)"),
+        f"Per pair, {SIGMA:g} px, phone prior:",
+        per_pair_table(run, pairs, "phone"),
+        f"Per pair, {SIGMA:g} px, focal length known (EXIF):",
+        per_pair_table(run, pairs, "exif"),
+        f"## 4. Photo 2 zoomed, phone prior, no EXIF, {SIGMA:g} px",
+        zoom_table(run),
+        f"## 5. More landmarks never worse? Median per pair, same draws, {SIGMA:g} px",
+        "Phone prior:",
+        nested_table(run, pairs, _key("solve", "phone", f"{SIGMA:g}")),
+        "Focal length known (EXIF):",
+        nested_table(run, pairs, _key("solve", "exif", f"{SIGMA:g}")),
+        *zooms,
         "## 6. Reference: every landmark of the pair, OpenCV's 8-point and solve",
-        "",
         "The GoPro rig's landmarks are nearly all on the floor, a plane: there the 8-point "
         "method is degenerate (F is not determined by points on a plane).",
-        "",
         reference_table(run, sorted({pair.set_name for pair in pairs})),
-        "",
     ]
-    return "\n".join(lines)
+    return "\n\n".join(blocks) + "\n"
 
 
 def main() -> None:

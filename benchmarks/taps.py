@@ -26,6 +26,7 @@ import io
 import json
 import tempfile
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -33,7 +34,7 @@ from typing import Any
 import httpx2
 import numpy as np
 from PIL import Image
-from playwright.sync_api import BrowserContext, Playwright, sync_playwright
+from playwright.sync_api import sync_playwright
 from report import ROOT, command_line, markdown_table, publish, source_state
 
 from deploy.replica import serve
@@ -42,6 +43,7 @@ from shared_solver.estimation.uncertainty import contains
 from testbed import chromium
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import expect
+from testbed.browser.play import inside
 from testbed.phones import PhoneScene, phone_scene
 
 DEFAULT_OUT = ROOT / "docs" / "tap-precision.md"
@@ -138,7 +140,7 @@ def open_session(
 
 def play(
     server: str,
-    phones: tuple[ChromiumPhone, ChromiumPhone],
+    phones: Sequence[ChromiumPhone],
     scene: PhoneScene,
     rng: np.random.Generator,
 ) -> Trial:
@@ -201,7 +203,8 @@ def judge(
     region = mine["region"]
     held = None
     if region is not None:
-        held = in_region(region, truth)
+        ellipse = (*region["axes"], region["angle_deg"])
+        held = bool(inside(truth, np.array(region["center"]), ellipse))  # json counts bool
     points1 = [(t["x"], t["y"]) for t in taps1["landmarks"]]
     points2 = [(t["x"], t["y"]) for t in taps2["landmarks"]]
     friend = (taps1["friend"]["x"], taps1["friend"]["y"])
@@ -229,22 +232,6 @@ def judge(
     return Trial(error, held, held_fixed, sigmas, axis)
 
 
-def in_region(region: dict[str, Any], point: np.ndarray) -> bool:
-    (cx, cy), (a, b) = region["center"], region["axes"]
-    angle = np.radians(region["angle_deg"])
-    dx, dy = point[0] - cx, point[1] - cy
-    u = dx * np.cos(angle) + dy * np.sin(angle)
-    v = -dx * np.sin(angle) + dy * np.cos(angle)
-    return bool((u / a) ** 2 + (v / b) ** 2 <= 1.0)
-
-
-def phones(playwright: Playwright) -> tuple[BrowserContext, BrowserContext]:
-    browser = chromium.launch(playwright)
-    return chromium.phone(playwright, browser, "Pixel 7"), chromium.phone(
-        playwright, browser, "iPhone 13"
-    )
-
-
 def run(trials: int) -> list[Trial]:
     results: list[Trial] = []
     with (
@@ -252,11 +239,11 @@ def run(trials: int) -> list[Trial]:
         serve(Path(folder)) as server,
         sync_playwright() as playwright,
     ):
-        pixel, iphone = phones(playwright)
-        pages = (
-            ChromiumPhone.on(pixel.new_page(), "Pixel 7"),
-            ChromiumPhone.on(iphone.new_page(), "iPhone 13"),
-        )
+        browser = chromium.launch(playwright)
+        pages = [
+            ChromiumPhone.on(chromium.phone(playwright, browser, model).new_page(), model)
+            for model in ("Pixel 7", "iPhone 13")
+        ]
         for trial in range(trials):
             scene = tappable_scene(np.random.default_rng([SEED, trial]))
             rng = np.random.default_rng([SEED, trial, 1])

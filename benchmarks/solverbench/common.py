@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal, Required, TypedDict, Unpack
+from typing import Any, Literal, Required, TypedDict, TypeVar, Unpack
 
 import numpy as np
 from report import markdown_table
@@ -15,7 +15,7 @@ from report import markdown_table
 from shared_solver import Camera, SolverError, SolveResult, solve
 from shared_solver.projective import Array, to_pixel
 from testbed.phones import PhoneScene
-from testbed.scenes import Scene, Taps
+from testbed.scenes import Scene, Taps, line_through
 
 # Chi-square quantile, 2 degrees of freedom, 95 %: -2 ln(0.05) = 5.991.
 CHI2_2DOF_95 = -2.0 * math.log(0.05)
@@ -52,6 +52,10 @@ TAP_STREAM = {
 Given = Literal["e1", "line", "both", "none"]
 # What solve is told about both cameras: nothing (projective), the phone prior, EXIF focal.
 Cameras = Literal["unknown", "phone", "exif"]
+
+
+# A report's target: whether it passed, and its line ("PASS: ...").
+Target = tuple[bool, str]
 
 
 @dataclass(frozen=True)
@@ -121,6 +125,22 @@ class Summary:
         return self.trials - sum(self.failures.values())
 
 
+K = TypeVar("K")
+S = TypeVar("S", bound=Scene)
+
+
+def summaries(
+    methods: Mapping[K, Callable[[S, Taps, float], Outcome]],
+    draws: Iterable[tuple[S, Taps, float]],
+) -> dict[K, Summary]:
+    """Every method on every drawn (scene, taps, tap sigma), summarised per method."""
+    outcomes: dict[K, list[Outcome]] = {name: [] for name in methods}
+    for scene, taps, sigma in draws:
+        for name, method in methods.items():
+            outcomes[name].append(method(scene, taps, sigma))
+    return {name: Summary.of(found) for name, found in outcomes.items()}
+
+
 def percentile(values: Sequence[float], q: float) -> float:
     """numpy's linear-interpolation percentile, made safe for infinite errors."""
     ordered = np.sort(np.asarray(values, dtype=np.float64))
@@ -154,12 +174,6 @@ def ellipse_covers(result: SolveResult, truth: Array) -> bool | None:
     return bool(distance <= CHI2_2DOF_95)
 
 
-def line_through(point: Array, angle: float) -> Array:
-    """(3,) line through a pixel point in direction ``angle`` (radians from x, y down)."""
-    x, y = point
-    return np.cross([x, y, 1.0], [x + math.cos(angle), y + math.sin(angle), 1.0])
-
-
 # --- one call of solve ------------------------------------------------------------------
 
 
@@ -191,13 +205,16 @@ def mixed_taps(
     return taps, Precisions(s1, s2, e1_sigma, e2_sigma)
 
 
-def camera_pair(scene: Scene, cameras: Cameras) -> tuple[Camera | str | None, Camera | str | None]:
-    """What ``solve`` is told about the two cameras (EXIF needs a phone scene)."""
+def camera_pair(
+    cameras: Cameras, exif: tuple[float, float] | None
+) -> tuple[Camera | str | None, Camera | str | None]:
+    """What ``solve`` is told about the two cameras; ``exif``: their focal lengths (35 mm
+    equivalent) as EXIF gives them, needed for ``exif``."""
     if cameras == "phone":
         return "phone", "phone"
     if cameras == "exif":
-        assert isinstance(scene, PhoneScene)
-        return Camera.with_focal(scene.exif_focal_35mm1), Camera.with_focal(scene.exif_focal_35mm2)
+        assert exif is not None
+        return Camera.with_focal(exif[0]), Camera.with_focal(exif[1])
     return None, None
 
 
@@ -218,15 +235,17 @@ def solve_arguments(
     is given: built once, so that timing a call times ``solve`` alone."""
     given, precisions = asked["given"], asked.get("precisions")
     line = line_through(taps.epipole1, asked.get("line_angle", 0.0))
-    camera1, camera2 = camera_pair(scene, asked.get("cameras", "unknown"))
+    exif = None
+    if isinstance(scene, PhoneScene):
+        exif = (scene.exif_focal_35mm1, scene.exif_focal_35mm2)
+    camera1, camera2 = camera_pair(asked.get("cameras", "unknown"), exif)
     both = given == "both"
     options: dict[str, Any] = {
         "epipole1": taps.epipole1 if given in ("e1", "both") else None,
         "epipole2": taps.epipole2 if both else None,
         "epipolar_line1": line if given == "line" else None,
         "tap_sigma": sigma,
-        "image_size1": scene.image_size1,
-        "image_size2": scene.image_size2,
+        **scene.sizes,
         "camera1": camera1,
         "camera2": camera2,
         "points1_sigma": None if precisions is None else precisions.points1[:landmarks],

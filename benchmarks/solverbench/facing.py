@@ -14,7 +14,7 @@ import numpy as np
 from report import markdown_table, verdict
 
 from shared_solver import SolverError, epipoles_from_six
-from testbed.scenes import Scene, Taps, facing_scene, tap
+from testbed.scenes import Scene, Taps, facing_scene, line_through, tap
 
 from .common import (
     Given,
@@ -25,10 +25,10 @@ from .common import (
     errors_cell,
     failures,
     fmt,
-    line_through,
     ours,
     pixel_error,
     scene_rng,
+    summaries,
     tap_rng,
 )
 
@@ -76,15 +76,13 @@ AccuracyTable = dict[float, dict[str, Summary]]
 def accuracy(trials: int) -> AccuracyTable:
     """Per sigma and method, the e2 error over the same scenes and the same noisy taps."""
     drawn = scenes("accuracy", trials, 8)
-    table = {}
-    for sigma in ACCURACY_SIGMAS:
-        outcomes: dict[str, list[Outcome]] = {name: [] for name in ACCURACY_METHODS}
-        for trial, scene in enumerate(drawn):
-            taps = tap(scene, sigma, tap_rng("accuracy", sigma, trial))
-            for name, method in ACCURACY_METHODS.items():
-                outcomes[name].append(method(scene, taps, sigma))
-        table[sigma] = {name: Summary.of(found) for name, found in outcomes.items()}
-    return table
+    return {
+        sigma: summaries(
+            ACCURACY_METHODS,
+            ((s, tap(s, sigma, tap_rng("accuracy", sigma, i)), sigma) for i, s in enumerate(drawn)),
+        )
+        for sigma in ACCURACY_SIGMAS
+    }
 
 
 def accuracy_target(table: AccuracyTable) -> tuple[bool, str]:
@@ -217,8 +215,7 @@ def six_point_rank(count: int) -> RankCount:
                 line,
                 scene.landmarks1,
                 scene.landmarks2,
-                image_size1=scene.image_size1,
-                image_size2=scene.image_size2,
+                **scene.sizes,
             )
         except SolverError as error:
             refused[error.code.value] += 1

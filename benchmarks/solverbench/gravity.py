@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from report import markdown_table, verdict
@@ -86,11 +87,16 @@ class Cell:
 GravityTable = dict[tuple[str, float | None, float | None], Cell]
 
 
-def reading(
-    scene: PhoneScene, photo: int, sigma_deg: float, rng: np.random.Generator
-) -> np.ndarray:
-    """Photo ``photo``'s gravity reading (``testbed.phones.gravity_reading``)."""
-    return gravity_reading(scene.camera1 if photo == 1 else scene.camera2, sigma_deg, rng)
+def gravity_options(
+    scene: PhoneScene, sigma_deg: float, rng: np.random.Generator
+) -> dict[str, Any]:
+    """``solve``'s options for both phones' gravity readings, read with ``sigma_deg`` of noise
+    (``testbed.phones.gravity_reading``)."""
+    return {
+        "gravity1": gravity_reading(scene.camera1, sigma_deg, rng),
+        "gravity2": gravity_reading(scene.camera2, sigma_deg, rng),
+        "gravity_sigma_deg": sigma_deg,
+    }
 
 
 def graded(result: SolveResult, scene: PhoneScene, cell: Cell) -> None:
@@ -135,18 +141,12 @@ def gravity(trials: int) -> GravityTable:
                 continue  # nothing to answer without gravity
             for trial in range(trials):
                 scene, taps, _ = phone_trial(case.stream, TARGET_SIGMA, trial)
-                assert isinstance(scene, PhoneScene)
                 points, options = solve_arguments(
                     scene, taps, TARGET_SIGMA, case.landmarks, given="e1", cameras=case.cameras
                 )
                 if sigma_deg is not None:
                     stream = (SEED, GRAVITY_STREAM, round(1000 * sigma_deg), trial)
-                    rng = np.random.default_rng(stream)
-                    options |= {
-                        "gravity1": reading(scene, 1, sigma_deg, rng),
-                        "gravity2": reading(scene, 2, sigma_deg, rng),
-                        "gravity_sigma_deg": sigma_deg,
-                    }
+                    options |= gravity_options(scene, sigma_deg, np.random.default_rng(stream))
                 if compass_deg is not None:
                     rng = np.random.default_rng((SEED, COMPASS_STREAM, round(compass_deg), trial))
                     options |= {

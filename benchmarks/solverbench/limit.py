@@ -31,6 +31,8 @@ from .common import (
     CHI2_2DOF_95,
     Cameras,
     Given,
+    Row,
+    Target,
     ellipse_covers,
     fmt,
     percent,
@@ -49,9 +51,7 @@ _DISAGREES = (WarningCode.CAMERA_MODEL_DISAGREES, WarningCode.CAMERA_MODEL_UNSUR
 
 
 @dataclass(frozen=True)
-class Case:
-    label: str
-    landmarks: int
+class Case(Row):
     given: Given
     cameras: Cameras
 
@@ -223,9 +223,6 @@ def limit_table(table: LimitTable) -> str:
             for case, cell in row.items()
         ],
     )
-
-
-Target = tuple[bool, str]
 
 
 def limit_targets(table: LimitTable) -> list[Target]:

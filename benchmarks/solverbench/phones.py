@@ -5,7 +5,7 @@ route case by case."""
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
@@ -25,6 +25,7 @@ from .common import (
     Precisions,
     Row,
     Summary,
+    Target,
     cases_table,
     coverage_cell,
     errors_cell,
@@ -35,6 +36,7 @@ from .common import (
     ours,
     pixel_error,
     scene_rng,
+    summaries,
     tap_rng,
 )
 from .facing import opencv
@@ -66,6 +68,13 @@ def phone_trial(stream: str, sigma: float, trial: int) -> tuple[PhoneScene, Taps
     rng = tap_rng(stream, sigma, trial)
     taps = tap(scene, sigma, rng)
     return scene, taps, float(rng.uniform(0.0, math.pi))
+
+
+def draws(stream: str, sigma: float, trials: int) -> Iterator[tuple[PhoneScene, Taps, float]]:
+    """The scenes and taps of :func:`phone_trial`'s first ``trials`` trials, and ``sigma``."""
+    for trial in range(trials):
+        scene, taps, _ = phone_trial(stream, sigma, trial)
+        yield scene, taps, sigma
 
 
 def normalised(intrinsics: Array, pixels: Array) -> Array:
@@ -117,12 +126,9 @@ def exact_roots_true_k(scene: PhoneScene, taps: Taps, _sigma: float) -> Outcome:
     )
 
 
-def camera_aware(landmarks: int, cameras: Cameras) -> PhoneMethod:
+def with_e1(landmarks: int, cameras: Cameras = "unknown") -> PhoneMethod:
+    """``solve`` on the first ``landmarks`` taps and the e1 tap, told ``cameras``."""
     return lambda s, t, sigma: ours(s, t, sigma, landmarks, given="e1", cameras=cameras)
-
-
-def projective(landmarks: int) -> PhoneMethod:
-    return lambda s, t, sigma: ours(s, t, sigma, landmarks, given="e1")
 
 
 # --- 1. accuracy against OpenCV -----------------------------------------------------------------
@@ -132,9 +138,9 @@ OPENCV_5 = "OpenCV 5-point essential, 5, true K (best root by oracle)"
 OPENCV_E8 = "OpenCV essential (RANSAC), 8, true K"
 OPENCV_F8 = "OpenCV 8-point, 8"
 PHONE_METHODS: dict[str, PhoneMethod] = {
-    **{f"projective {n}+e1": projective(n) for n in (5, 8)},
-    **{f"phone prior {n}+e1": camera_aware(n, "phone") for n in (3, 4, 5, 8)},
-    **{f"EXIF focal {n}+e1": camera_aware(n, "exif") for n in (3, 4, 5)},
+    **{f"projective {n}+e1": with_e1(n) for n in (5, 8)},
+    **{f"phone prior {n}+e1": with_e1(n, "phone") for n in (3, 4, 5, 8)},
+    **{f"EXIF focal {n}+e1": with_e1(n, "exif") for n in (3, 4, 5)},
     EXACT_3: exact_roots_true_k,
     OPENCV_5: lambda s, t, sigma: opencv_essential(s, t, sigma, 5),
     OPENCV_E8: lambda s, t, sigma: opencv_essential(s, t, sigma, 8),
@@ -148,17 +154,8 @@ PhoneTable = dict[float, dict[str, Summary]]
 
 def accuracy(trials: int) -> PhoneTable:
     """Per sigma and method, the e2 error over the same phone scenes and the same taps."""
-    outcomes: dict[float, dict[str, list[Outcome]]] = {
-        sigma: {name: [] for name in PHONE_METHODS} for sigma in PHONE_SIGMAS
-    }
-    for trial in range(trials):
-        for sigma in PHONE_SIGMAS:
-            scene, taps, _ = phone_trial("phone", sigma, trial)
-            for name, method in PHONE_METHODS.items():
-                outcomes[sigma][name].append(method(scene, taps, sigma))
     return {
-        sigma: {name: Summary.of(found) for name, found in row.items()}
-        for sigma, row in outcomes.items()
+        sigma: summaries(PHONE_METHODS, draws("phone", sigma, trials)) for sigma in PHONE_SIGMAS
     }
 
 
@@ -201,11 +198,11 @@ def accuracy_tables(table: PhoneTable) -> str:
 # --- 2. zoomed photos without EXIF ----------------------------------------------------------------
 
 ZOOM_METHODS: dict[str, PhoneMethod] = {
-    "phone prior 4+e1": camera_aware(4, "phone"),
-    "phone prior 5+e1": camera_aware(5, "phone"),
-    "projective 5+e1": projective(5),
-    "phone prior 8+e1": camera_aware(8, "phone"),
-    "projective 8+e1": projective(8),
+    "phone prior 4+e1": with_e1(4, "phone"),
+    "phone prior 5+e1": with_e1(5, "phone"),
+    "projective 5+e1": with_e1(5),
+    "phone prior 8+e1": with_e1(8, "phone"),
+    "projective 8+e1": with_e1(8),
 }
 
 ZoomTable = dict[float, dict[str, Summary]]
@@ -213,15 +210,10 @@ ZoomTable = dict[float, dict[str, Summary]]
 
 def zoomed(trials: int) -> ZoomTable:
     """Per zoom of photo 2 and method, at TARGET_SIGMA: the same scenes and taps."""
-    table = {}
-    for zoom in ZOOMS:
-        outcomes: dict[str, list[Outcome]] = {name: [] for name in ZOOM_METHODS}
-        for trial in range(trials):
-            scene, taps, _ = phone_trial(f"zoom{zoom:g}", TARGET_SIGMA, trial)
-            for name, method in ZOOM_METHODS.items():
-                outcomes[name].append(method(scene, taps, TARGET_SIGMA))
-        table[zoom] = {name: Summary.of(found) for name, found in outcomes.items()}
-    return table
+    return {
+        zoom: summaries(ZOOM_METHODS, draws(f"zoom{zoom:g}", TARGET_SIGMA, trials))
+        for zoom in ZOOMS
+    }
 
 
 def zoom_table(table: ZoomTable) -> str:
@@ -289,30 +281,27 @@ def coverage(trials: int) -> CoverageTable:
     outcomes: dict[Case, list[Outcome]] = {case: [] for case in COVERAGE_CASES}
     for trial in range(trials):
         scene, taps, angle = phone_trial("phone", TARGET_SIGMA, trial)
-        mixed, precisions = mixed_taps(scene, tap_rng("mixed", TARGET_SIGMA, trial), MIXED_SIGMAS)
-        other_trials = {
-            stream: phone_trial(stream, TARGET_SIGMA, trial)
-            for stream in (*(f"zoom{z:g}" for z in ZOOMS), "prior")
+        mixed, told = mixed_taps(scene, tap_rng("mixed", TARGET_SIGMA, trial), MIXED_SIGMAS)
+        # Per source: the scene, its taps, the line's angle, the taps' sigma, their own.
+        sources: dict[str, tuple[PhoneScene, Taps, float, float, Precisions | None]] = {
+            "phone": (scene, taps, angle, TARGET_SIGMA, None),
+            "mixed": (scene, mixed, angle, min(MIXED_SIGMAS), told),
         }
+        for stream in (*(f"zoom{z:g}" for z in ZOOMS), "prior"):
+            sources[stream] = (*phone_trial(stream, TARGET_SIGMA, trial), TARGET_SIGMA, None)
         for case in COVERAGE_CASES:
-            case_scene, case_taps, case_angle, sigma = scene, taps, angle, TARGET_SIGMA
-            told: Precisions | None = None
-            if case.source == "mixed":
-                case_taps, told, sigma = mixed, precisions, min(MIXED_SIGMAS)
-            elif case.source != "phone":
-                case_scene, case_taps, case_angle = other_trials[case.source]
-            outcomes[case].append(
-                ours(
-                    case_scene,
-                    case_taps,
-                    sigma,
-                    case.landmarks,
-                    given=case.given,
-                    line_angle=case_angle,
-                    cameras=case.cameras,
-                    precisions=told,
-                )
+            case_scene, case_taps, case_angle, sigma, precisions = sources[case.source]
+            outcome = ours(
+                case_scene,
+                case_taps,
+                sigma,
+                case.landmarks,
+                given=case.given,
+                line_angle=case_angle,
+                cameras=case.cameras,
+                precisions=precisions,
             )
+            outcomes[case].append(outcome)
     return {case: Summary.of(found) for case, found in outcomes.items()}
 
 
@@ -321,8 +310,6 @@ def coverage_table(table: CoverageTable) -> str:
 
 
 # --- targets ------------------------------------------------------------------------------------
-
-Target = tuple[bool, str]
 
 
 def error_target(summary: Summary, label: str, median: float, p90: float) -> Target:

@@ -24,9 +24,9 @@ from shared_solver.minimal.seven_point import seven_point_roots
 from shared_solver.minimal.six_point_line import six_point_line_roots
 from shared_solver.projective import Array, hartley_normaliser
 from testbed.kinds import SCENE_KINDS
-from testbed.scenes import Scene
+from testbed.scenes import Scene, line_through
 
-from .common import line_through, scene_rng
+from .common import scene_rng
 
 TAP_SIGMA = 1.0
 # The true root's F is within this of the scene's (normalised, unit norm): it was found.
@@ -75,14 +75,17 @@ def nearest_root(roots: list[Array], f: Array, t1: Array, t2: Array) -> tuple[in
     return index, gaps[index]
 
 
-def exact_roots(scene: Scene, given: Taps, line: Array) -> list[Array]:
+def exact_roots(scene: Scene, given: Taps, line: Array | None) -> list[tuple[Array, Array, Array]]:
+    """Every exact (e1, e2, F) of the scene's first 6 landmarks and ``line`` (``line + 6``)
+    or of its first 7 (nothing marked)."""
     p, q = scene.landmarks1, scene.landmarks2
     if given == "line + 6":
+        assert line is not None
         try:
-            return [f for _, _, f in six_point_line_roots(line, p[:6], q[:6])]
+            return six_point_line_roots(line, p[:6], q[:6])
         except SolverError:
             return []
-    return [f for _, _, f in seven_point_roots(p[:7], q[:7])]
+    return seven_point_roots(p[:7], q[:7])
 
 
 def rank(scenes_per_kind: int) -> RankTable:
@@ -101,7 +104,7 @@ def rank(scenes_per_kind: int) -> RankTable:
                 landmarks = 6 if given == "line + 6" else 7
                 p, q = scene.landmarks1[:landmarks], scene.landmarks2[:landmarks]
                 t1, t2 = hartley_normaliser(p), hartley_normaliser(q)
-                roots = exact_roots(scene, given, line)
+                roots = [f for _, _, f in exact_roots(scene, given, line)]
                 truth, gap = (-1, math.inf)
                 if roots:
                     truth, gap = nearest_root(roots, scene.fundamental, t1, t2)
@@ -117,8 +120,7 @@ def rank(scenes_per_kind: int) -> RankTable:
                             q,
                             epipolar_line1=line if given == "line + 6" else None,
                             tap_sigma=TAP_SIGMA,
-                            image_size1=scene.image_size1,
-                            image_size2=scene.image_size2,
+                            **scene.sizes,
                             camera1=camera,
                             camera2=camera,
                         )

@@ -19,7 +19,8 @@ import statistics
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from functools import partial
+from typing import Any
 
 import cv2
 import numpy as np
@@ -40,7 +41,7 @@ from .common import (
     solve_arguments,
     tap_rng,
 )
-from .gravity import reading
+from .gravity import gravity_options
 from .phones import MIXED_SIGMAS, TARGET_SIGMA
 
 FACING_SIGMA = 1.0
@@ -53,6 +54,7 @@ SOLVE_BUDGET_US = 2000.0
 REFERENCE_SEVEN_US = 11.5
 SEVEN = "cv2.findFundamentalMat FM_7POINT, 7"
 FIVE = "epipole_from_five (cremona, default)"
+PHONE = "phones: solve "  # the rows of solve on phone scenes: PHONE + the case's label
 
 
 @dataclass(frozen=True)
@@ -133,12 +135,8 @@ def phone_call(case: SolveCase, given: PhoneInput) -> Callable[[], object]:
     )
     if case.gravity_deg is not None:
         rng = np.random.default_rng(int(1000 * case.gravity_deg))  # the same on every run
-        options |= {
-            "gravity1": reading(scene, 1, case.gravity_deg, rng),
-            "gravity2": reading(scene, 2, case.gravity_deg, rng),
-            "gravity_sigma_deg": case.gravity_deg,
-        }
-    return lambda: solve(*points, **options)
+        options |= gravity_options(scene, case.gravity_deg, rng)
+    return partial(solve, *points, **options)
 
 
 def phone_inputs(count: int) -> list[PhoneInput]:
@@ -165,12 +163,12 @@ def phone_inputs(count: int) -> list[PhoneInput]:
     return inputs
 
 
-FacingInput = tuple[Array, Array, Array, tuple[int, int], tuple[int, int]]
+FacingInput = tuple[Array, Array, Array, dict[str, Any]]
 
 
 def facing_inputs(count: int) -> list[FacingInput]:
-    """(e1 tap, landmarks1, landmarks2, sizes) of noisy facing scenes every timed function
-    accepts."""
+    """(e1 tap, landmarks1, landmarks2, ``solve``'s photo sizes) of noisy facing scenes
+    every timed function accepts."""
     inputs = []
     for trial in range(count * 2):
         scene: Scene = facing_scene(scene_rng("speed", trial), 8)
@@ -186,9 +184,7 @@ def facing_inputs(count: int) -> list[FacingInput]:
             epipole_from_five(taps.epipole1, taps.landmarks1[:5], taps.landmarks2[:5])
         except SolverError:
             continue
-        inputs.append(
-            (taps.epipole1, taps.landmarks1, taps.landmarks2, scene.image_size1, scene.image_size2)
-        )
+        inputs.append((taps.epipole1, taps.landmarks1, taps.landmarks2, scene.sizes))
         if len(inputs) == count:
             break
     return inputs
@@ -197,41 +193,26 @@ def facing_inputs(count: int) -> list[FacingInput]:
 def functions(
     facing: list[FacingInput], phones: list[PhoneInput]
 ) -> dict[str, list[Callable[[], object]]]:
-    """Each timed function as one call per scene."""
+    """Each timed function as one call per scene, its arguments built (and copied) beforehand."""
+    five = [(e1, p[:5].copy(), q[:5].copy()) for e1, p, q, _ in facing]
     timed: dict[str, list[Callable[[], object]]] = {
-        FIVE: [_five(e1, p, q) for e1, p, q, _, _ in facing],
+        FIVE: [partial(epipole_from_five, *given) for given in five],
         'epipole_from_five (method="linear")': [
-            _five(e1, p, q, method="linear") for e1, p, q, _, _ in facing
+            partial(epipole_from_five, *given, method="linear") for given in five
         ],
-        SEVEN: [_seven(p, q) for _, p, q, _, _ in facing],
+        SEVEN: [
+            partial(cv2.findFundamentalMat, p[:7].copy(), q[:7].copy(), cv2.FM_7POINT)
+            for _, p, q, _ in facing
+        ],
     }
     for n in FACING_LANDMARKS:
         timed[facing_label(n)] = [
-            _facing_solve(e1, p[:n].copy(), q[:n].copy(), s1, s2) for e1, p, q, s1, s2 in facing
+            partial(solve, p[:n].copy(), q[:n].copy(), epipole1=e1, tap_sigma=FACING_SIGMA, **sizes)
+            for e1, p, q, sizes in facing
         ]
     for case in PHONE_CASES:
-        timed[f"phones: solve {case.label}"] = [phone_call(case, given) for given in phones]
+        timed[f"{PHONE}{case.label}"] = [phone_call(case, given) for given in phones]
     return timed
-
-
-def _five(
-    e1: Array, p: Array, q: Array, method: Literal["cremona", "linear"] = "cremona"
-) -> Callable[[], object]:
-    p5, q5 = p[:5].copy(), q[:5].copy()
-    return lambda: epipole_from_five(e1, p5, q5, method=method)
-
-
-def _seven(p: Array, q: Array) -> Callable[[], object]:
-    p7, q7 = p[:7].copy(), q[:7].copy()
-    return lambda: cv2.findFundamentalMat(p7, q7, cv2.FM_7POINT)
-
-
-def _facing_solve(
-    e1: Array, p: Array, q: Array, size1: tuple[int, int], size2: tuple[int, int]
-) -> Callable[[], object]:
-    return lambda: solve(
-        p, q, epipole1=e1, tap_sigma=FACING_SIGMA, image_size1=size1, image_size2=size2
-    )
 
 
 @dataclass(frozen=True)
@@ -320,25 +301,22 @@ def speed_targets(timings: dict[str, Timing]) -> list[tuple[bool, str]]:
                 f"median call within the budget ({spent / 1000:.2f} ms; {scale})",
             )
         )
-    phone = {name: t.median_us for name, t in timings.items() if name.startswith("phones: solve ")}
+    phone = {
+        name.removeprefix(PHONE): t.median_us
+        for name, t in timings.items()
+        if name.startswith(PHONE)
+    }
     slowest = max(phone, key=lambda name: phone[name])
-    over = [name for name, spent in phone.items() if spent > budget]
-    passed = not over
+    over = ", ".join(
+        f"{name} {spent / 1000:.2f} ms" for name, spent in phone.items() if spent > budget
+    )
     lines.append(
         (
-            passed,
-            f"{verdict(passed)}: phone scenes at {TARGET_SIGMA:g} px, solve's median call within "
+            not over,
+            f"{verdict(not over)}: phone scenes at {TARGET_SIGMA:g} px, solve's median call within "
             f"the budget in every one of the {len(phone)} cases, camera-aware ones included "
-            f"(slowest: {slowest.removeprefix('phones: solve ')} {phone[slowest] / 1000:.2f} ms; "
-            "over budget: "
-            + (
-                ", ".join(
-                    f"{name.removeprefix('phones: solve ')} {phone[name] / 1000:.2f} ms"
-                    for name in over
-                )
-                or "none"
-            )
-            + f"; {scale})",
+            f"(slowest: {slowest} {phone[slowest] / 1000:.2f} ms; over budget: {over or 'none'}; "
+            f"{scale})",
         )
     )
     return lines
