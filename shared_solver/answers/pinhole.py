@@ -393,7 +393,7 @@ def _holding(covariance: Array | None, fit: PinholeFit, alike: list[PinholeFit])
     them: the taps cannot tell those fits from ``fit``, so neither may the region. Without
     it, two turns that fit one landmark exactly, 2.4 to 3 sigmas apart, were one answer
     whose region held only one (tests/solver/test_gravity.py)."""
-    position = None if not alike else far_pixel(fit.epipole2)  # however far (far_pixel)
+    position = None if not alike else far_pixel(fit.epipole2)
     if covariance is None or position is None:
         return covariance
     factor = 1.0

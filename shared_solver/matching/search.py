@@ -69,8 +69,8 @@ class Match:
         as_read_apart: how far along the band that place is from the match, px (a
             fraction of photo B's diagonal once :func:`.suggestion.search_band` has it).
         across: the band's half-width at the match, in strip rows
-            (:meth:`.polar.PolarFrame.across`): more than the strip's margin, and places
-            of the band beside the strip were not searched.
+            (:meth:`.polar.PolarFrame.across`), however many the strip has: beyond its
+            margin, places of the band beside the strip were not searched.
     """
 
     point: Array
