@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import time
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
 
 import cv2
+import httpx2
 import numpy as np
 import pytest
 from phones import PAIR, TEMPLE, in_region, landmarks, stored_photo, temple_pair
@@ -69,6 +71,36 @@ def test_two_phones_find_each_other(server: str) -> None:
     assert starter_events.ended.wait(15)
     assert joiner_events.ended.wait(15)
     assert starter_events.types[-1] == joiner_events.types[-1] == "expired"
+
+
+def test_answers_and_events_come_gzipped_each_event_at_once(server: str) -> None:
+    """A phone asks for gzip: JSON and the event stream come compressed, the stream's
+    compressor flushed after each event (one held back until the next would reach the
+    other phone seconds late, at the next ping); a photo is sent as it is."""
+    http = live(server)
+    gzip = {"Accept-Encoding": "gzip"}
+    created = http.post("/api/sessions").json()
+    starter = Phone(http, created["session_id"], created["token"], "starter")
+    assert http.get("/openapi.json", headers=gzip).headers["content-encoding"] == "gzip"
+    plain = http.get("/openapi.json", headers={"Accept-Encoding": "identity"})
+    assert "content-encoding" not in plain.headers
+    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
+    photo = starter.call("GET", "/photo/starter", headers=gzip)
+    assert photo.headers["content-type"] == "image/jpeg"
+    assert "content-encoding" not in photo.headers  # already compressed
+
+    url = str(http.base_url).rstrip("/") + starter.url("/events")
+    with httpx2.stream("GET", url, params={"token": starter.token}, headers=gzip) as stream:
+        assert stream.headers["content-encoding"] == "gzip"
+        inflate = zlib.decompressobj(16 + zlib.MAX_WBITS)
+        text = ""
+        chunks = stream.iter_raw()
+        # The stream never ends by itself: each event is readable before anything follows.
+        while "event: joined" not in text:
+            text += inflate.decompress(next(chunks)).decode()
+        starter.tapped(landmarks=landmarks(np.array([[10.0, 20.0]])))
+        while "event: taps" not in text:
+            text += inflate.decompress(next(chunks)).decode()
 
 
 def test_the_server_stops_promptly_with_a_phone_listening(
