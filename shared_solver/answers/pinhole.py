@@ -110,10 +110,21 @@ def friend2_marked(request: Request) -> CameraAnswer:
     assert priors is not None
     assert taps.epipole1 is not None
     model = PinholeModel(taps, priors)
-    fits = _refined(model, marked_starts(model), wider=lambda: wider_marked_starts(model))
+    starts = marked_starts(model)
+    fits = _refined(model, starts, wider=lambda: wider_marked_starts(model))
     if taps.gravity is not None:
         # Gravity leaves one landmark two turns that fit exactly: the one that puts the
         # landmarks in front of both phones, and friend 1 in front of friend 2, is the scene.
+        if not any(_physical(model, fit) for fit in fits):
+            # A landmark near the line between the friends has no sure side: noise can put
+            # it behind a camera in the scene's turn, whose start then scored far worse and
+            # was left out, and the turn kept puts friend 1 behind friend 2. Every start is
+            # refined, so that neither turn is claimed alone (_likeliest, _near).
+            fits = sorted(
+                [*fits, *(fit_pinhole(model, pose) for _, pose in starts)],
+                key=lambda fit: fit.cost,
+            )
+            fits = [fit for fit in fits if fit.usable]
         fits = [fit for fit in fits if _physical(model, fit)] or fits
     if not fits:
         return CameraAnswer(None, agrees=False)
