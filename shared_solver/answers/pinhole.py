@@ -44,7 +44,7 @@ from ..minimal.five_point_linear import fundamental_with_epipole
 from ..minimal.seven_point import seven_point_roots
 from ..minimal.six_point_line import six_point_line_roots
 from ..projective import Array, far_pixel, inside, to_pixel
-from ..result import Method, SolveResult, SolverWarning
+from ..result import Method, SolveResult, SolverWarning, Uncertainty
 from .building import (
     Answer,
     calibrated,
@@ -85,6 +85,16 @@ LEVEL = 0.9999
 HEADING_LEVEL = 0.99
 # Starts of the wider search refined at most (it runs when no first start fits).
 _WIDER_REFINED = 12
+# Warnings of where friend 1 is: an answer with no position keeps none of them.
+_WHERE = frozenset(
+    {
+        WarningCode.OUTSIDE_PHOTO,
+        WarningCode.FAR_TO_THE_SIDE,
+        WarningCode.BEHIND_YOU,
+        WarningCode.NOT_PINNED_DOWN,
+        WarningCode.UNCERTAIN,
+    }
+)
 
 
 @dataclass(frozen=True)
@@ -112,19 +122,23 @@ def friend2_marked(request: Request) -> CameraAnswer:
     model = PinholeModel(taps, priors)
     starts = marked_starts(model)
     fits = _refined(model, starts, wider=lambda: wider_marked_starts(model))
+    if not any(_physical(model, fit) for fit in fits):
+        # A landmark near the line between the friends has no sure side: noise can put it
+        # behind a camera in the scene's pose, whose start then scored far worse and was left
+        # out, and the pose kept puts friend 1 behind friend 2 ("behind you", with a sure
+        # region, where taps fit exactly: one landmark and gravity, three and the EXIF focal).
+        # Every start is refined, so that neither is claimed alone (_likeliest, _near).
+        fits = sorted(
+            (
+                fit
+                for fit in (*fits, *(fit_pinhole(model, pose) for _, pose in starts))
+                if fit.usable
+            ),
+            key=lambda fit: fit.cost,
+        )
     if taps.gravity is not None:
         # Gravity leaves one landmark two turns that fit exactly: the one that puts the
         # landmarks in front of both phones, and friend 1 in front of friend 2, is the scene.
-        if not any(_physical(model, fit) for fit in fits):
-            # A landmark near the line between the friends has no sure side: noise can put
-            # it behind a camera in the scene's turn, whose start then scored far worse and
-            # was left out, and the turn kept puts friend 1 behind friend 2. Every start is
-            # refined, so that neither turn is claimed alone (_likeliest, _near).
-            fits = sorted(
-                [*fits, *(fit_pinhole(model, pose) for _, pose in starts)],
-                key=lambda fit: fit.cost,
-            )
-            fits = [fit for fit in fits if fit.usable]
         fits = [fit for fit in fits if _physical(model, fit)] or fits
     if not fits:
         return CameraAnswer(None, agrees=False)
@@ -188,12 +202,15 @@ def line_through_friend2(request: Request) -> CameraAnswer:
     answer = _from_roots(
         request, model, "pinhole_line", fundamentals, np.array(_friend2_places(roots))
     )
-    if answer is None and request.size1 is not None:
-        # No pose near the roots fits: try friend 2 spread along the line too.
+    unpinned = answer is not None and _unpinned(answer)
+    if (answer is None or unpinned) and request.size1 is not None:
+        # No pose near the roots pins friend 1 down: try friend 2 spread along the line too.
         along = np.array(_along(taps.line1, request.size1))
         if len(along):
             starts = unmarked_starts(model, fundamentals, along)
-            answer = _from_starts(request, model, "pinhole_line", starts)
+            found = _from_starts(request, model, "pinhole_line", starts)
+            if found is not None and (found[1] or answer is None):
+                answer = found[0] if found[1] else _unphysical(found[0])
     return CameraAnswer(answer, agrees=answer is not None)
 
 
@@ -224,44 +241,79 @@ def _from_roots(
 ) -> SolveResult | None:
     """The answer from projective solutions ``fundamentals`` (3, 3), read as poses first.
 
-    Only when none of those refines to a fit that puts friend 1 in front of friend 2
-    are the three-landmark solver's poses added, with friend 2 at each solution's own
-    ``friend2_places`` (B, 2): with noisy taps a projective solution can be far from any
-    pair of phone cameras while it puts friend 2 near the right place. Most taps need only
-    the first, cheaper, search (measured: the same accuracy, coverage and ranking,
-    docs/geometry.md).
+    Only when none of those refines to an orientable fit (every landmark in front of both
+    cameras) that puts friend 1 in front of friend 2 are the three-landmark solver's poses
+    added, with friend 2 at each solution's own ``friend2_places`` (B, 2): with noisy taps a
+    projective solution can be far from any pair of phone cameras while it puts friend 2
+    near the right place. Most taps need only the first, cheaper, search (measured: the
+    same accuracy, coverage and ranking, docs/geometry.md). When neither finds an orientable
+    fit, the answer is not pinned down (:func:`_unphysical`).
     """
     first = _from_starts(request, model, method, fundamental_starts(model, fundamentals))
-    if first is not None and first.epipole2 is not None:
-        return first
+    if first is not None and first[0].epipole2 is not None and first[1]:
+        return first[0]
     wider = _from_starts(
         request, model, method, unmarked_starts(model, fundamentals, friend2_places)
     )
-    return wider if wider is not None else first
+    found = wider if wider is not None else first
+    if found is None:
+        return None
+    if not found[1] and first is not None and first[1]:
+        found = first  # orientable, though friend 1 is behind friend 2
+    answer, orientable = found
+    return answer if orientable else _unphysical(answer)
 
 
 def _from_starts(
     request: Request, model: PinholeModel, method: Method, starts: list[tuple[float, Poses]]
-) -> SolveResult | None:
-    """The best of ``starts`` refined (a line or nothing marked) as the answer, or None when
-    no fit agrees with the taps."""
+) -> tuple[SolveResult, bool] | None:
+    """The best of ``starts`` refined (a line or nothing marked) as the answer, and whether
+    its fit is orientable (every landmark in front of both cameras: :func:`_orientable`);
+    None when no fit agrees with the taps."""
     fits = _refined(model, starts)
     if not fits or not consistent(fits[0], LEVEL):
         return None
     fit = _likeliest(fits, request.size2)
+    orientable = _orientable(model, fit)
     others, alike = _near(fit, fits)
     warnings: list[SolverWarning] = []
     if others:
-        return _ambiguous(request, model, method, fit, others, warnings=warnings)
+        return _ambiguous(request, model, method, fit, others, warnings=warnings), orientable
     covariance, inconsistent = widen_if_inconsistent(fit, fit.covariance2, warnings)
     covariance = _holding(covariance, fit, alike)
-    return result(
+    answer = result(
         method,
         request,
-        Answer.of_pinhole(request, fit, covariance, orientable=_orientable(model, fit)),
+        Answer.of_pinhole(request, fit, covariance, orientable=orientable),
         suspects=[],
         warnings=warnings,
         inconsistent=inconsistent,
+    )
+    return answer, orientable
+
+
+def _unpinned(answer: SolveResult) -> bool:
+    return any(warning.code is WarningCode.NOT_PINNED_DOWN for warning in answer.warnings)
+
+
+def _unphysical(answer: SolveResult) -> SolveResult:
+    """An answer whose fit puts a landmark behind a camera, as not pinned down: no position
+    and no region. The taps fit it, but no real pair of cameras; on the benchmark's phone
+    scenes (7 landmarks, or 6 and a line, 3 and 8 px) 21 of 54 such answers put friend 1
+    far outside their region (docs/geometry.md)."""
+    kept = [
+        warning
+        for warning in answer.warnings
+        if warning.code not in _WHERE and warning.code is not WarningCode.AMBIGUOUS
+    ]
+    return answer.model_copy(
+        update={
+            "epipole2": None,
+            "uncertainty": Uncertainty(ellipse=None),
+            "candidates": [],
+            "quality": "poor",
+            "warnings": [*kept, SolverWarning.of(WarningCode.NOT_PINNED_DOWN)],
+        }
     )
 
 
