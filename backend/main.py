@@ -13,7 +13,7 @@ from fastapi import FastAPI
 from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
-from starlette.middleware.gzip import DEFAULT_EXCLUDED_CONTENT_TYPES, GZipMiddleware
+from starlette.middleware.gzip import GZipMiddleware
 from starlette.types import ASGIApp
 
 from backend import __version__, wiring
@@ -36,11 +36,6 @@ from backend.storage.database import make_engine
 ROOT = Path(__file__).resolve().parents[1]
 # How often a process on SQLite looks for other processes' changes: their latency at most.
 WATCH_SECONDS = 0.25
-# Gzipped unless already compressed (photos, crops); the event stream too: Starlette
-# flushes the compressor after each event (Z_SYNC_FLUSH), so none waits for the next. An
-# answer's event is about 4 kB of JSON, 11 ms at a venue's 3 Mbit/s, about a third of it
-# gzipped; later events of a stream compress against the earlier ones.
-COMPRESSED_ALREADY = tuple(t for t in DEFAULT_EXCLUDED_CONTENT_TYPES if t != "text/event-stream")
 # How soon after a deletion its bytes are erased from the database's files (off the request).
 ERASE_SECONDS = 2.0
 DESCRIPTION = """Find a friend across a venue from two phone photos.
@@ -94,7 +89,11 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
     )
     app.state.settings = settings
     errors.install(app, settings.max_body_bytes)
-    app.add_middleware(GZipMiddleware, compresslevel=6, exclude_content_types=COMPRESSED_ALREADY)
+    # Gzipped when asked (Starlette's defaults: not the event stream, whose first bytes it
+    # would hold back, nor photos). Behind nginx, nginx compresses and asks the replicas for
+    # plain answers (deploy/nginx.conf): with gzip in the replicas, their CPU per search
+    # under load rose from 347 to 428 ms (make bench-load).
+    app.add_middleware(GZipMiddleware, compresslevel=6)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.add_middleware(ServerTiming)
     _secure_every_response(app)

@@ -130,9 +130,10 @@ def test_the_compose_file_follows_the_compose_specification(tmp_path: Path) -> N
 @contextmanager
 def serving(
     answer: Callable[[BaseHTTPRequestHandler], tuple[int, dict[str, str]]],
+    body: bytes = b"",
 ) -> Iterator[int]:
     """A loopback HTTP/1.1 server (in threads, logging nothing), its port: ``answer`` gives
-    each GET's status and headers (no body)."""
+    each GET's status and headers; each answer's body is ``body``."""
 
     class Handler(BaseHTTPRequestHandler):
         protocol_version = "HTTP/1.1"
@@ -140,9 +141,10 @@ def serving(
         def do_GET(self) -> None:
             status, headers = answer(self)
             self.send_response(status)
-            for name, value in {**headers, "Content-Length": "0"}.items():
+            for name, value in {**headers, "Content-Length": str(len(body))}.items():
                 self.send_header(name, value)
             self.end_headers()
+            self.wfile.write(body)
 
         def log_message(self, *args: object) -> None:
             pass
@@ -168,12 +170,14 @@ def proxied(certificate: tls.Certificate) -> Iterator[tuple[str, Seen, nginx.Ngi
     def record(request: BaseHTTPRequestHandler) -> tuple[int, dict[str, str]]:
         headers = {name.lower(): value for name, value in request.headers.items()}
         seen.append({"version": request.request_version, "path": request.path, **headers})
-        return 200, {"Strict-Transport-Security": "max-age=1"}
+        kind = "text/event-stream" if request.path == EVENTS_PATH else "application/json"
+        return 200, {"Strict-Transport-Security": "max-age=1", "Content-Type": kind}
 
     listen = nginx.Listen(
         "127.0.0.1", free_port(), free_port(), certificate.certificate, certificate.key
     )
-    with serving(record) as port, nginx.run(listen, [f"127.0.0.1:{port}"]) as running:
+    body = json.dumps({"answer": list(range(500))}).encode()  # 2.4 kB: worth compressing
+    with serving(record, body) as port, nginx.run(listen, [f"127.0.0.1:{port}"]) as running:
         yield f"https://127.0.0.1:{listen.https_port}", seen, running
 
 
@@ -200,6 +204,11 @@ def test_every_request_reaches_the_app_with_the_phones_address_host_and_scheme(
     assert seen["x-forwarded-proto"] == "https"
     # One HSTS header, nginx's: the app's copy is dropped.
     assert answer.headers.get_list("Strict-Transport-Security") == ["max-age=31536000"]
+    # nginx compresses, not the replicas (they are asked for plain answers); an event
+    # stream goes as it is, each event when sent.
+    assert "accept-encoding" not in seen
+    streamed = answer.headers["content-type"] == "text/event-stream"
+    assert answer.headers.get("content-encoding") == (None if streamed else "gzip")
 
 
 def test_nginx_logs_paths_without_their_tokens(
