@@ -120,22 +120,18 @@ def friend2_marked(request: Request) -> CameraAnswer:
     assert priors is not None
     assert taps.epipole1 is not None
     model = PinholeModel(taps, priors)
-    starts = marked_starts(model)
-    fits = _refined(model, starts, wider=lambda: wider_marked_starts(model))
-    if not any(_physical(model, fit) for fit in fits):
-        # A landmark near the line between the friends has no sure side: noise can put it
-        # behind a camera in the scene's pose, whose start then scored far worse and was left
-        # out, and the pose kept puts friend 1 behind friend 2 ("behind you", with a sure
-        # region, where taps fit exactly: one landmark and gravity, three and the EXIF focal).
-        # Every start is refined, so that neither is claimed alone (_likeliest, _near).
-        fits = sorted(
-            (
-                fit
-                for fit in (*fits, *(fit_pinhole(model, pose) for _, pose in starts))
-                if fit.usable
-            ),
-            key=lambda fit: fit.cost,
-        )
+    # A landmark near the line between the friends has no sure side: noise can put it
+    # behind a camera in the scene's pose, whose start then scores far worse and is left
+    # out, and the pose kept puts friend 1 behind friend 2 ("behind you", with a sure region,
+    # where taps fit exactly: one landmark and gravity, three and the EXIF focal). So when no
+    # fit is physical, every start is refined, and neither is claimed alone (_likeliest,
+    # _near).
+    fits = _refined(
+        model,
+        marked_starts(model),
+        wider=lambda: wider_marked_starts(model),
+        physical=lambda fit: _physical(model, fit),
+    )
     if taps.gravity is not None:
         # Gravity leaves one landmark two turns that fit exactly: the one that puts the
         # landmarks in front of both phones, and friend 1 in front of friend 2, is the scene.
@@ -353,20 +349,25 @@ def _refined(
     starts: list[tuple[float, Poses]],
     *,
     wider: Callable[[], list[tuple[float, Poses]]] | None = None,
+    physical: Callable[[PinholeFit], bool] | None = None,
 ) -> list[PinholeFit]:
     """The best start refined, and any other start close enough to it; all of them when
     those do not fit the taps (a start's score is read at the priors' focal lengths, and a
-    poor-looking start may be the right basin), then the best few of the ``wider`` search's.
-    Best fit first."""
+    poor-looking start may be the right basin), then the best few of the ``wider`` search's;
+    and with ``physical``, all of them when no fit so far is. Best fit first."""
     fits: list[PinholeFit] = []
+    refined = 0  # starts refined, best first
     if starts:
         best = starts[0][0]
-        near = [pose for score, pose in starts if score <= best + _REFINE_MARGIN]
-        fits = [fit_pinhole(model, pose) for pose in near]
+        refined = sum(1 for score, _ in starts if score <= best + _REFINE_MARGIN)
+        fits = [fit_pinhole(model, pose) for _, pose in starts[:refined]]
         if not any(consistent(fit, LEVEL) for fit in fits):
-            fits += [fit_pinhole(model, pose) for _, pose in starts[len(near) :]]
+            fits += [fit_pinhole(model, pose) for _, pose in starts[refined:]]
+            refined = len(starts)
     if wider is not None and not any(fit.usable and consistent(fit, LEVEL) for fit in fits):
         fits += [fit_pinhole(model, pose) for _, pose in wider()[:_WIDER_REFINED]]
+    if physical is not None and not any(fit.usable and physical(fit) for fit in fits):
+        fits += [fit_pinhole(model, pose) for _, pose in starts[refined:]]
     return sorted((fit for fit in fits if fit.usable), key=lambda fit: fit.cost)
 
 
