@@ -250,23 +250,16 @@ def _mixed(trials: int, landmarks: int) -> list[Trial]:
         scene = phone_scene(rng, landmarks)
         sigmas = [np.where(rng.random(landmarks) < 0.5, 10.0, 2.0) for _ in range(2)]
         friend2_sigma = float(rng.choice([2.0, 10.0]))
-        p = scene.landmarks1 + rng.normal(size=(landmarks, 2)) * sigmas[0][:, None]
-        q = scene.landmarks2 + rng.normal(size=(landmarks, 2)) * sigmas[1][:, None]
-        drawn.append(
-            (
-                scene,
-                {
-                    "points1": p,
-                    "points2": q,
-                    "epipole1": scene.epipole1 + rng.normal(0.0, friend2_sigma, 2),
-                    "points1_sigma": sigmas[0],
-                    "points2_sigma": sigmas[1],
-                    "epipole1_sigma": friend2_sigma,
-                    **scene.sizes,
-                },
-                scene.epipole2,
-            )
-        )
+        arguments: dict[str, Any] = {
+            "points1": scene.landmarks1 + rng.normal(size=(landmarks, 2)) * sigmas[0][:, None],
+            "points2": scene.landmarks2 + rng.normal(size=(landmarks, 2)) * sigmas[1][:, None],
+            "epipole1": scene.epipole1 + rng.normal(0.0, friend2_sigma, 2),
+            "points1_sigma": sigmas[0],
+            "points2_sigma": sigmas[1],
+            "epipole1_sigma": friend2_sigma,
+            **scene.sizes,
+        }
+        drawn.append((scene, arguments, scene.epipole2))
     return drawn
 
 

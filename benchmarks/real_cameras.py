@@ -119,12 +119,8 @@ class Cell:
         if outcome.refused or outcome.crashed:
             return
         self.errors.append(outcome.error)
-        self.claimed += outcome.claimed
-        self.held += outcome.held
-        self.no_region += outcome.no_region
-        self.fallback += outcome.fallback
-        self.behind += outcome.behind
-        self.confident_misses += outcome.confident_miss
+        for name in ("claimed", "held", "no_region", "fallback", "behind", "confident_misses"):
+            setattr(self, name, getattr(self, name) + getattr(outcome, name))
 
 
 @dataclass(frozen=True)
@@ -139,7 +135,7 @@ class Outcome:
     refused: bool = False
     behind: bool = False
     crashed: bool = False
-    confident_miss: bool = False  # graded above 'poor', the truth far outside its region
+    confident_misses: bool = False  # graded above 'poor', the truth far outside its region
 
 
 # --- the truth of a pair -------------------------------------------------------------------
@@ -162,7 +158,7 @@ def judge(pair: RealPair, result: SolveResult, modelled: bool) -> Outcome:
         no_region=result.epipole2 is None or covariance is None,
         fallback=modelled and result.camera_model == "projective",
         behind=result.epipole2_h is not None and result.epipole2_h[2] < 0,
-        confident_miss=far and result.quality != "poor",
+        confident_misses=far and result.quality != "poor",
     )
 
 
@@ -305,6 +301,10 @@ def pairs_table(pairs: Sequence[RealPair]) -> str:
     return markdown_table(header, rows)
 
 
+# The columns of the regions, fallbacks and refusals that end a table of cases.
+REGION_HEADER = ["95 % region holds the truth", "no region", "fell back to projective", "refused"]
+
+
 def case_table(run: Run, kind: str, error_header: str) -> str:
     """One row per camera case, landmarks and tap noise, for pairs of one ``group``; for the
     arrow, also how often the pairs with friend 1 behind camera 2 are told so."""
@@ -331,17 +331,7 @@ def case_table(run: Run, kind: str, error_header: str) -> str:
                     behind = run.cells.get(("behind", *key))
                     row.append("-" if behind is None else _share(behind.behind, behind.answers))
                 rows.append(row)
-    header = [
-        "camera",
-        "landmarks",
-        "tap px",
-        "trials",
-        error_header,
-        "95 % region holds the truth",
-        "no region",
-        "fell back to projective",
-        "refused",
-    ]
+    header = ["camera", "landmarks", "tap px", "trials", error_header, *REGION_HEADER]
     if kind == "arrow":
         header.append("behind pairs: says behind")
     return markdown_table(header, rows)
@@ -380,10 +370,7 @@ def zoom_table(run: Run) -> str:
         "landmarks",
         "in/near: error, % of diagonal (trials)",
         "outside: arrow off, deg (trials)",
-        "95 % region holds the truth",
-        "no region",
-        "fell back to projective",
-        "refused",
+        *REGION_HEADER,
     ]
     return markdown_table(header, rows)
 
@@ -566,7 +553,7 @@ def targets(run: Run, pairs: Sequence[RealPair]) -> list[str]:
 
 
 def report(pairs: Sequence[RealPair], run: Run, args: argparse.Namespace, seconds: float) -> str:
-    command = " ".join(shlex.quote(a) for a in [".venv/bin/python", *sys.argv])
+    command = shlex.join([".venv/bin/python", *sys.argv])
     crashed = sum(cell.crashed for cell in run.cells.values())
     zooms = [
         block

@@ -51,6 +51,7 @@ from report import ROOT, markdown_table
 import backend
 from backend.main import create_app
 from backend.settings import Settings
+from testbed.client import Phone, start
 
 PHOTO_SIDE = 1600  # as benchmarks/load.py sends them
 SEED = 1
@@ -81,55 +82,41 @@ class Meter:
 def search(client: TestClient, crowd: Crowd, rng: random.Random, meter: Meter) -> None:
     """One search, as benchmarks/searches.py plays it (no pauses, no streams)."""
     starter_taps, joiner_taps, mark = crowd.taps(rng)
+    with meter.measure("POST /api/sessions"):
+        starter, code = start(client)
+    with meter.measure("POST /api/sessions/join"):
+        joined = client.post("/api/sessions/join", json={"code": code})
+    joiner = Phone(client, starter.session_id, joined.raise_for_status().json()["token"], "joiner")
+    phones = (starter, joiner)
 
-    def call(
-        name: str, method: str, path: str, token: str = "", expect: int = 200, **options: Any
-    ) -> Any:
-        headers = {"Authorization": f"Bearer {token}"} if token else {}
+    def call(phone: Phone, name: str, method: str, rest: str = "", **options: Any) -> Any:
+        """``phone``'s call, measured as ``name``: its JSON, if any (fails on an error)."""
         with meter.measure(name):
-            answer = client.request(method, path, headers=headers, **options)
-        if answer.status_code != expect:
-            raise RuntimeError(f"{name}: {answer.status_code} {answer.text[:300]}")
-        return (
-            answer.json()
-            if answer.headers.get("content-type", "").startswith("application/json")
-            else None
-        )
+            answer = phone.ok(method, rest, **options)
+        json = answer.headers.get("content-type", "").startswith("application/json")
+        return answer.json() if json else None
 
-    created = call("POST /api/sessions", "POST", "/api/sessions", expect=201)
-    path = f"/api/sessions/{created['session_id']}"
-    starter = str(created["token"])
-    joined = call(
-        "POST /api/sessions/join", "POST", "/api/sessions/join", json={"code": created["join_code"]}
-    )
-    joiner = str(joined["token"])
-    for token in (starter, joiner):
-        call("GET /api/sessions/{id}", "GET", path, token)
-    for token, photo in zip((starter, joiner), crowd.photos, strict=True):
+    for phone in phones:
+        call(phone, "GET /api/sessions/{id}", "GET")
+    for phone, photo in zip(phones, crowd.photos, strict=True):
         files = {"photo": ("photo.jpg", photo, "image/jpeg")}
-        call("PUT /photo", "PUT", path + "/photo", token, files=files)
+        call(phone, "PUT /photo", "PUT", "/photo", files=files)
     for n in range(1, LANDMARKS + 1):
-        state = call(
-            "PUT /taps",
-            "PUT",
-            path + "/taps",
-            starter,
-            json={"landmarks": starter_taps[:n], "friend": mark},
-        )
+        body = {"landmarks": starter_taps[:n], "friend": mark}
+        state = call(starter, "PUT /taps", "PUT", "/taps", json=body)
         seen = next(t for t in state["taps"]["starter"]["landmarks"] if t["id"] == n)
-        query = {"token": joiner, "v": f"{seen['x']},{seen['y']}"}
-        call(
-            "GET /landmarks/starter/{n}/crop",
-            "GET",
-            f"{path}/landmarks/starter/{n}/crop",
-            params=query,
-        )
-        call("PUT /taps", "PUT", path + "/taps", joiner, json={"landmarks": joiner_taps[:n]})
-    for token in (starter, joiner):
-        final = call("GET /api/sessions/{id}", "GET", path, token)
+        # The crop as the app loads it: an image, its token in the query (no header).
+        query = {"token": joiner.token, "v": f"{seen['x']},{seen['y']}"}
+        with meter.measure("GET /landmarks/starter/{n}/crop"):
+            crop = client.get(joiner.url(f"/landmarks/starter/{n}/crop"), params=query)
+        if crop.status_code != 200:
+            raise RuntimeError(f"crop #{n}: {crop.status_code} {crop.text[:300]}")
+        call(joiner, "PUT /taps", "PUT", "/taps", json={"landmarks": joiner_taps[:n]})
+    for phone in phones:
+        final = call(phone, "GET /api/sessions/{id}", "GET")
     if final.get("answer") is None:
         raise RuntimeError("no answer after the last taps")
-    call("DELETE /api/sessions/{id}", "DELETE", path, starter, expect=204)
+    call(starter, "DELETE /api/sessions/{id}", "DELETE", expect=204)
 
 
 def round_of(

@@ -133,7 +133,7 @@ def report(
     timed += [item.colour for item in absent if item.colour is not None]
     timed += [item.timed for item in asked if item.timed is not None]
     times = [t.seconds for t in timed]
-    passed = result.shown > 0 and result.precision >= tables.TARGET_PRECISION
+    passed = result.offered > 0 and result.precision >= tables.TARGET_PRECISION
     median_ms = 1000 * float(np.median(times)) if times else float("nan")
     sections = [
         header(arguments),
@@ -220,9 +220,9 @@ def report(
             [
                 f"- {'PASS' if passed else 'FAIL'}: at least "
                 f"{100 * tables.TARGET_PRECISION:.0f} % of shown suggestions within 1 % of the "
-                f"diagonal: {result.right} of {result.shown} ({tables.share(result.precision)}).",
-                f"- REPORTED: landmarks that get a suggestion: {result.shown} of "
-                f"{result.searched} ({tables.share(result.coverage)}).",
+                f"diagonal: {result.right} of {result.offered} ({tables.share(result.precision)}).",
+                f"- REPORTED: landmarks that get a suggestion: {result.offered} of "
+                f"{result.asked} ({tables.share(result.coverage)}).",
                 "- REPORTED (a few tens of ms would be good): `suggest` takes "
                 f"{median_ms:.0f} ms per call (median, section 8).",
             ]

@@ -44,6 +44,7 @@ from testbed import chromium
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import expect
 from testbed.browser.play import inside
+from testbed.client import Phone, pair
 from testbed.phones import PhoneScene, phone_scene
 
 DEFAULT_OUT = ROOT / "docs" / "tap-precision.md"
@@ -86,10 +87,6 @@ def blank_photo(size: tuple[int, int]) -> bytes:
     return buffer.getvalue()
 
 
-def spot(point: np.ndarray) -> tuple[float, float]:
-    return float(point[0]), float(point[1])
-
-
 def finger(phone: ChromiumPhone, x: float, y: float, rng: np.random.Generator) -> bool:
     """A quick tap aimed at photo pixel (x, y), missing as a finger does: on the whole
     photo, or zoomed in where a control lies over the spot (then True)."""
@@ -126,9 +123,9 @@ def reachable(phone: ChromiumPhone, x: float, y: float) -> tuple[float, float, b
     raise AssertionError(f"photo pixel ({x:.0f}, {y:.0f}) stays under a control")
 
 
-def open_session(
-    phone: ChromiumPhone, server: str, credentials: dict[str, str], size: tuple[int, int]
-) -> None:
+def open_session(phone: ChromiumPhone, server: str, caller: Phone, size: tuple[int, int]) -> None:
+    """``caller``'s session on ``phone``'s screen, its credentials stored as the app keeps them."""
+    credentials = {"session_id": caller.session_id, "token": caller.token, "role": caller.role}
     phone.goto(f"{server}/")
     phone.evaluate(
         "(c) => localStorage.setItem('buddy-search.session', JSON.stringify(c))", credentials
@@ -146,32 +143,29 @@ def play(
 ) -> Trial:
     """One search through the app; the region photo 2's phone is shown, judged."""
     http = httpx2.Client(base_url=server, timeout=30)
-    started = http.post("/api/sessions").raise_for_status().json()
-    joined = http.post("/api/sessions/join", json={"code": started["join_code"]}).json()
-    path = f"/api/sessions/{started['session_id']}"
+    starter, joiner = pair(http)
     scale1, size1 = stored(scene, 1)
     scale2, size2 = stored(scene, 2)
-    for token, size in ((started["token"], size1), (joined["token"], size2)):
-        files = {"photo": ("photo.jpg", blank_photo(size), "image/jpeg")}
-        http.put(f"{path}/photo", headers=bearer(token), files=files).raise_for_status()
+    for phone, size in ((starter, size1), (joiner, size2)):
+        phone.uploaded(blank_photo(size))
     one, two = phones
-    open_session(one, server, {**started, "role": "starter"}, size1)
-    open_session(two, server, {**joined, "role": "joiner"}, size2)
+    open_session(one, server, starter, size1)
+    open_session(two, server, joiner, size2)
 
     expect(one.get_by_test_id("friend-prompt")).to_be_visible()
     x, y = scale1 * scene.epipole1
     zoomed = int(finger(one, x, y, rng))
     expect(one.get_by_test_id("friend-mark")).to_be_visible()
-    for number, point in enumerate(scene.landmarks1[:LANDMARKS], 1):
-        zoomed += finger(one, *spot(scale1 * point), rng)
+    for number, (x, y) in enumerate(scale1 * scene.landmarks1[:LANDMARKS], 1):
+        zoomed += finger(one, x, y, rng)
         placed(one, number)
     two.get_by_test_id("cannot-see").tap()
-    for number, point in enumerate(scene.landmarks2[:LANDMARKS], 1):
+    for number, (x, y) in enumerate(scale2 * scene.landmarks2[:LANDMARKS], 1):
         expect(two.get_by_test_id("find-prompt")).to_have_attribute("data-id", str(number))
-        zoomed += finger(two, *spot(scale2 * point), rng)
+        zoomed += finger(two, x, y, rng)
         placed(two, number)
-    state = http.get(path, headers=bearer(joined["token"])).json()
-    http.delete(path, headers=bearer(started["token"]))
+    state = joiner.state()
+    starter.call("DELETE")
     http.close()
     return replace(judge(state, scale2 * scene.epipole2, size1, size2), zoomed=zoomed)
 
@@ -182,10 +176,6 @@ def placed(phone: ChromiumPhone, number: int) -> None:
     the finger fell would catch the tap, and no mark would come of it)."""
     expect(phone.locator(f'[data-testid="landmark"][data-id="{number}"]')).to_be_visible()
     expect(phone.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
-
-
-def bearer(token: str) -> dict[str, str]:
-    return {"Authorization": f"Bearer {token}"}
 
 
 def judge(

@@ -43,7 +43,6 @@ from .render import Light, Surface
 from .scenes import Camera
 from .textures import Texture
 
-_OFF_WALL = 0.05  # m: the video board stands this far in front of its wall
 _ABOVE_FLOOR = 0.02  # m: a mat's thickness
 _CLEARANCE = 2.0  # m: a hanging banner's lower edge stays this far above the higher phone
 

@@ -158,12 +158,8 @@ class _Model:
         return _project(k2, (-rotation @ b)[None])[0]
 
     def jacobian(self, function: Callable[[Array], Array], theta: Array) -> Array:
-        columns = []
-        for index in range(self.size):
-            step = _STEP
-            delta = np.zeros(self.size)
-            delta[index] = step
-            columns.append((function(theta + delta) - function(theta - delta)) / (2 * step))
+        steps = np.eye(self.size) * _STEP
+        columns = [(function(theta + d) - function(theta - d)) / (2 * _STEP) for d in steps]
         return np.column_stack(columns)
 
 

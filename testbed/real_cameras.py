@@ -116,6 +116,11 @@ class RealPair:
         return "facing" if _inside(self.epipole2, self.image_size2) else "arrow"
 
     @property
+    def friend_visible(self) -> bool:
+        """Whether friend 2 is in front of camera 1 and inside photo 1 (a person can tap them)."""
+        return bool(self.epipole1_h[2] > 0.0) and _inside(self.epipole1, self.image_size1)
+
+    @property
     def axes_angle_deg(self) -> float:
         """The angle between the cameras' optical axes, degrees (180: aimed at each other)."""
         cosine = float(self.camera1.rotation[2] @ self.camera2.rotation[2])
@@ -130,12 +135,12 @@ class RealPair:
     @property
     def focal_35mm1(self) -> float:
         """Photo 1's 35 mm-equivalent focal length, mm (what EXIF would say)."""
-        return _focal_35mm(self.camera1, self.image_size1)
+        return camera_focal_35mm(self.camera1, self.image_size1)
 
     @property
     def focal_35mm2(self) -> float:
         """Photo 2's 35 mm-equivalent focal length, mm (zoom included)."""
-        return _focal_35mm(self.camera2, self.image_size2)
+        return camera_focal_35mm(self.camera2, self.image_size2)
 
     def sampson(self) -> Array:
         """(N,) each landmark's Sampson distance to the true geometry, px."""
@@ -235,9 +240,7 @@ def load_pairs(sets: Sequence[str] = SETS, directory: Path = DATA) -> list[RealP
     for name in sets:
         for pair in stored_pairs(name, directory):
             pairs += [
-                oriented
-                for oriented in (pair, reversed_pair(pair))
-                if oriented.epipole1_h[2] > 0 and _inside(oriented.epipole1, oriented.image_size1)
+                oriented for oriented in (pair, reversed_pair(pair)) if oriented.friend_visible
             ]
     return pairs
 
@@ -297,7 +300,8 @@ def _seen(camera: Camera, point: Array) -> Array:
     return unit(camera.intrinsics @ (camera.rotation @ point + camera.translation))
 
 
-def _focal_35mm(camera: Camera, size: tuple[int, int]) -> float:
+def camera_focal_35mm(camera: Camera, size: tuple[int, int]) -> float:
+    """The 35 mm-equivalent focal length (mm) of ``camera`` on a photo of ``size``."""
     intrinsics = camera.intrinsics
     return focal_35mm(math.sqrt(intrinsics[0, 0] * intrinsics[1, 1]), size)
 
@@ -362,3 +366,31 @@ def error(
 def _angle(a: Array, b: Array) -> float:
     cosine = float(a @ b) / (float(np.linalg.norm(a)) * float(np.linalg.norm(b)))
     return math.degrees(math.acos(max(-1.0, min(1.0, cosine))))
+
+
+# --- what the sets are made of before they are written (real_cameras_build) ---------------
+
+
+@dataclass(frozen=True)
+class SourceCamera:
+    """A calibrated camera as its source gives it: the lens model and the photo's size."""
+
+    camera: Camera  # K, R, t; K is also the undistorted frame's K
+    distortion: Array  # OpenCV's (k1, k2, p1, p2[, k3])
+    image_size: tuple[int, int]
+
+    def undistort(self, pixels: Array) -> Array:
+        """(N, 2) raw pixels -> (N, 2) pixels of the lens-corrected photo (same K)."""
+        k = self.camera.intrinsics
+        points = pixels.reshape(-1, 1, 2).astype(np.float64)
+        corrected = cv2.undistortPoints(points, k, self.distortion, P=k)
+        return np.asarray(corrected, dtype=np.float64).reshape(-1, 2)
+
+
+@dataclass(frozen=True)
+class Landmark:
+    """One landmark seen by several cameras: its pixel in each (undistorted frame), and a
+    name that says where it comes from."""
+
+    name: str
+    pixels: dict[str, Array]  # camera -> (2,) pixel in the undistorted frame

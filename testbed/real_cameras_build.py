@@ -34,12 +34,17 @@ from typing import Any
 
 import numpy as np
 
-from shared_solver.estimation.camera import focal_35mm
-from testbed.real_cameras import DATA, RealPair, reversed_pair
+from testbed.real_cameras import (
+    DATA,
+    Landmark,
+    RealPair,
+    SourceCamera,
+    camera_focal_35mm,
+    reversed_pair,
+)
 from testbed.real_cameras_gopro import gopro
 from testbed.real_cameras_meva import meva
-from testbed.real_cameras_sources import Landmark, SourceCamera
-from testbed.scenes import Camera, inside
+from testbed.scenes import inside
 
 MAX_SAMPSON_PX = 2.0
 # A pair is kept with at least this many landmarks (3 answer with a phone camera; 6 leave
@@ -116,7 +121,7 @@ def write(
                 "rotation": camera.camera.rotation.tolist(),
                 "translation": camera.camera.translation.tolist(),
                 "distortion": camera.distortion.tolist(),
-                "focal_35mm": round(focal_35mm(_focal(camera.camera), camera.image_size), 1),
+                "focal_35mm": round(camera_focal_35mm(camera.camera, camera.image_size), 1),
             }
             for name, camera in sorted(cameras.items())
         },
@@ -148,7 +153,7 @@ def _pair(
     sampson = probe.sampson()
     kept = (sampson <= max_sampson) & probe.in_front()
     kept &= inside(points1, one.image_size) & inside(points2, two.image_size)
-    friend_visible = any(_friend_visible(p) for p in (probe, reversed_pair(probe)))
+    friend_visible = probe.friend_visible or reversed_pair(probe).friend_visible
     if kept.sum() < MIN_LANDMARKS or not friend_visible:
         return None
     return {
@@ -173,17 +178,9 @@ def _truth(pair: RealPair) -> dict[str, Any]:
     }
 
 
-def _focal(camera: Camera) -> float:
-    return math.sqrt(camera.intrinsics[0, 0] * camera.intrinsics[1, 1])
-
-
 def _compact(text: str) -> str:
     """JSON with every innermost list of numbers on one line."""
     return re.sub(r"\[[^\[\]{}\"]*\]", lambda m: re.sub(r"\s+", " ", m.group(0)), text)
-
-
-def _friend_visible(pair: RealPair) -> bool:
-    return bool(pair.epipole1_h[2] > 0 and inside(pair.epipole1[None], pair.image_size1)[0])
 
 
 if __name__ == "__main__":

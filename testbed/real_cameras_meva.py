@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from shared_solver.projective import Array
-from testbed.real_cameras_sources import Landmark, SourceCamera
+from testbed.real_cameras import Landmark, SourceCamera
 from testbed.scenes import Camera
 
 

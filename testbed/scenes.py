@@ -207,36 +207,6 @@ def in_photo(
     return front & np.all((pixels >= low) & (pixels <= high), axis=1)
 
 
-def visible_points(
-    draw: Callable[[], Array],
-    *,
-    camera1: Camera,
-    camera2: Camera,
-    image_size1: tuple[int, int],
-    image_size2: tuple[int, int],
-    count: int,
-    margin: float = 0.0,
-) -> Array | None:
-    """(count, 3) points from repeated ``draw()`` calls that both cameras see.
-
-    ``draw`` returns (M, 3) candidate world points (m); the first ``count`` that pass
-    :func:`in_photo` for both cameras with ``margin`` are kept, in draw order. None when a
-    bounded number of draws does not find enough (the cameras share too little of the view).
-    """
-    kept: list[Array] = []
-    total = 0
-    for _ in range(_MAX_DRAWS // 10):
-        points = draw()
-        ok = in_photo(camera1, points, image_size1, margin) & in_photo(
-            camera2, points, image_size2, margin
-        )
-        kept.append(points[ok])
-        total += int(ok.sum())
-        if total >= count:
-            return np.vstack(kept)[:count]
-    return None
-
-
 def seen_scene(
     draw: Callable[[], Array],
     cameras: tuple[Camera, Camera],
@@ -244,22 +214,27 @@ def seen_scene(
     landmarks: int,
     margin: float = 0.0,
 ) -> Scene | None:
-    """The scene of ``landmarks`` points from ``draw`` that both cameras see in their
-    photos of ``sizes`` (width, height), ``margin`` inside the borders (:func:`in_photo`).
+    """The scene of ``landmarks`` points from repeated ``draw()`` calls that both cameras
+    see in their photos of ``sizes`` (width, height), ``margin`` inside the borders.
 
-    None when the cameras share too little of the region ``draw`` samples.
+    ``draw`` returns (M, 3) candidate world points (m); the first ``landmarks`` that pass
+    :func:`in_photo` for both cameras are kept, in draw order. None when a bounded number
+    of draws does not find enough (the cameras share too little of the region ``draw``
+    samples).
     """
     camera1, camera2 = cameras
-    points = visible_points(
-        draw,
-        camera1=camera1,
-        camera2=camera2,
-        image_size1=sizes[0],
-        image_size2=sizes[1],
-        count=landmarks,
-        margin=margin,
-    )
-    return None if points is None else Scene(camera1, camera2, points, *sizes)
+    kept: list[Array] = []
+    total = 0
+    for _ in range(_MAX_DRAWS // 10):
+        points = draw()
+        ok = in_photo(camera1, points, sizes[0], margin) & in_photo(
+            camera2, points, sizes[1], margin
+        )
+        kept.append(points[ok])
+        total += int(ok.sum())
+        if total >= landmarks:
+            return Scene(camera1, camera2, np.vstack(kept)[:landmarks], *sizes)
+    return None
 
 
 def temple_cameras(parameters: Path) -> dict[str, Camera]:

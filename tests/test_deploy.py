@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 import json
+import re
 import ssl
 import subprocess
 import sys
@@ -297,11 +298,7 @@ def test_nginx_gets_its_config_ports_and_certificate_where_the_config_says() -> 
         ("ssl_certificate", "TLS_CERTIFICATE"),
         ("ssl_certificate_key", "TLS_CERTIFICATE_KEY"),
     ):
-        (path,) = [
-            line.split()[1].rstrip(";")
-            for line in SHIPPED.splitlines()
-            if line.split()[:1] == [directive]
-        ]
+        (path,) = re.findall(rf"^\s*{directive}\s+([^\s;]+);", SHIPPED, re.M)
         assert mounts[path].startswith(f"${{{setting}:?")
     published = {int(port.rsplit(":", 1)[1]) for port in NGINX["ports"]}
     assert published == {80, 443}
@@ -329,18 +326,14 @@ def test_the_image_runs_uvicorn_as_a_user_behind_the_proxy() -> None:
     assert user.split(":")[0] not in ("root", "0")
 
 
-def healthcheck() -> list[str]:
-    (check,) = runtime("healthcheck")
-    assert check.json
-    assert check.value[0] == "CMD"
-    return list(check.value[1:])
-
-
 def test_the_healthcheck_asks_healthz_and_fails_when_the_database_does_not_answer() -> None:
     """The image's health (which nginx waits for) is GET /healthz on the app's port; it
     answers 503 when the database is gone, and the check must then fail, or nginx keeps
     sending phones to a replica that can only refuse them."""
-    program, flag, code = healthcheck()
+    (check,) = runtime("healthcheck")
+    assert check.json
+    assert check.value[0] == "CMD"
+    program, flag, code = check.value[1:]
     assert program == "python"
     assert f"http://127.0.0.1:{APP_PORT}/healthz" in code
     statuses = {"/healthz": 200}  # a stand-in for the app: /healthz answers this, else 404

@@ -240,14 +240,13 @@ def gravity_table(table: GravityTable) -> str:
 
 def gravity_targets(table: GravityTable) -> list[tuple[bool | None, str]]:
     at = {case.label: table[(case.label, TARGET_DEG, None)] for case in CASES}
-    level = at["0 + e1, EXIF focal"]
-    held = float(np.mean(level.held)) if level.held else 0.0
+    level, one = at["0 + e1, EXIF focal"], at["1 + e1, EXIF focal"]
+    two, three = at["2 + e1, phone prior"], at["3 + e1, phone prior"]
+    # How often each region or band held the truth (none claimed: never).
+    held, one_held, two_held = (
+        float(np.mean(c.held)) if c.held else 0.0 for c in (level, one, two)
+    )
     width = float(np.median(level.widths_deg)) if level.widths_deg else math.inf
-    one = at["1 + e1, EXIF focal"]
-    one_held = float(np.mean(one.held)) if one.held else 0.0
-    two = at["2 + e1, phone prior"]
-    two_held = float(np.mean(two.held)) if two.held else 0.0
-    three = at["3 + e1, phone prior"]
     level_ok = 0.93 <= held <= 0.97 and width <= 3.5
     one_median = percentile(one.errors, 50)
     one_ok = one_median <= 100 and 0.90 <= one_held <= 0.98

@@ -24,7 +24,7 @@ from shared_solver.matching.suggestion import RULES
 from shared_solver.projective import Array
 from testbed.venue import RenderedPair, rendered_arena
 
-from .trials import BEFORE, SEED, Timed, answer, timed_search
+from .trials import BEFORE, SEED, Timed, answer, miss, timed_search
 
 # Held out: stream 6. Streams 4 (held out until its wrong spots, all in bands far wider
 # than the rows searched, led to the rule's max_across) and 5 were looked at for choices.
@@ -63,10 +63,7 @@ class Asked:
 
     def error(self, timed: Timed | None) -> float:
         """The match's distance from the truth, fraction of the diagonal (NaN: none)."""
-        if timed is None or timed.evidence is None:
-            return math.nan
-        match = timed.evidence.match
-        return float(np.hypot(*(match.point - self.truth))) / self.diagonal
+        return miss(timed, self.truth, self.diagonal)
 
 
 @dataclass(frozen=True)

@@ -5,47 +5,79 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numpy as np
 from report import markdown_table, ms, percentile
 
 from shared_solver.estimation.uncertainty import chi2_quantile
 from shared_solver.matching import FLAG_SIGMAS, LEVEL
-from shared_solver.matching.suggestion import RULES, Rules, decide
+from shared_solver.matching.suggestion import RULES, Evidence, Rules, decide
 
+from .arenas import Asked
 from .trials import Absent, SceneRun, Searched, Timed
 
 TARGET_PRECISION = 0.90
 SIFT_SUPPORT = (1, 2, 3)
 FLAGS = (3.0, FLAG_SIGMAS, 4.0)
+# An offered spot farther than this from the truth (fraction of the diagonal) is far off:
+# the arenas' target is none (``arena_tables``).
+FAR = 0.03
+
+Rule = Callable[[Evidence], bool]
+Item = TypeVar("Item", bound=Asked | Searched)
 
 
 @dataclass(frozen=True)
-class Shown:
-    """Suggestions under one rule: how many landmarks searched, shown, and right."""
+class Offered:
+    """Spots offered (suggestions shown) under one rule: of how many landmarks asked for,
+    how many offered, right (within 1 % of the diagonal), far (beyond :data:`FAR`), and the
+    worst error (fraction)."""
 
-    searched: int
-    shown: int
+    asked: int
+    offered: int
     right: int
+    far: int = 0
+    worst: float = 0.0
 
     @property
     def coverage(self) -> float:
-        return self.shown / self.searched if self.searched else math.nan
+        return self.offered / self.asked if self.asked else math.nan
 
     @property
     def precision(self) -> float:
-        return self.right / self.shown if self.shown else math.nan
+        return self.right / self.offered if self.offered else math.nan
 
     def cells(self) -> list[str]:
+        """The halls' cells: offered of asked, right of offered."""
         return [
-            f"{self.shown} of {self.searched} ({share(self.coverage)})",
-            f"{self.right} of {self.shown} ({share(self.precision)})",
+            f"{self.offered} of {self.asked} ({share(self.coverage)})",
+            f"{self.right} of {self.offered} ({share(self.precision)})",
+        ]
+
+    def arena_cells(self) -> list[str]:
+        """The arenas' cells (``arena_tables.HEADER``)."""
+        worst = "-" if self.offered == 0 else f"{100 * self.worst:.1f} %"
+        return [
+            str(self.asked),
+            f"{self.offered} ({share(self.coverage)})",
+            f"{self.right} ({share(self.precision)})",
+            str(self.far),
+            worst,
         ]
 
 
 def share(value: float) -> str:
     """A fraction as a percentage to 0.1 %; "-" for NaN (nothing to count)."""
     return "-" if math.isnan(value) else f"{100 * value:.1f} %"
+
+
+def by_rule(rules: Rules = RULES) -> Rule:
+    """A rule of the code's kind, with these thresholds."""
+    return lambda evidence: decide(evidence, rules) is not None
+
+
+IN_CODE = by_rule()
 
 
 def suggested(timed: Timed | None, rules: Rules) -> bool:
@@ -58,17 +90,21 @@ def suggested(timed: Timed | None, rules: Rules) -> bool:
 
 
 def shown(
-    searched: Sequence[Searched],
-    pick: Callable[[Searched], Timed | None],
-    rules: Rules = RULES,
-) -> Shown:
-    count = right = 0
-    for item in searched:
+    items: Sequence[Item], pick: Callable[[Item], Timed | None], rule: Rule = IN_CODE
+) -> Offered:
+    """The spots ``rule`` offers from each item's search (``pick``), judged."""
+    offered = right = far = 0
+    worst = 0.0
+    for item in items:
         timed = pick(item)
-        if suggested(timed, rules):
-            count += 1
-            right += item.error(timed) <= 0.01
-    return Shown(len(searched), count, right)
+        if timed is None or timed.evidence is None or not rule(timed.evidence):
+            continue
+        error = item.error(timed)
+        offered += 1
+        right += error <= 0.01
+        far += error > FAR
+        worst = max(worst, error)
+    return Offered(len(items), offered, right, far, worst)
 
 
 def scenes_table(runs: Sequence[SceneRun]) -> str:
@@ -150,7 +186,7 @@ def band_sizes(searched: Sequence[Searched]) -> str:
     )
 
 
-def headline(searched: Sequence[Searched], absent: Sequence[Absent]) -> tuple[str, Shown]:
+def headline(searched: Sequence[Searched], absent: Sequence[Absent]) -> tuple[str, Offered]:
     result = shown(searched, lambda s: s.colour)
     rows = [["every landmark", *result.cells(), _median_error(searched)]]
     for direction in (1, 2):
@@ -232,7 +268,7 @@ def methods_table(searched: Sequence[Searched], sift_seconds: Sequence[float]) -
             if point is not None and agreeing >= support:
                 count += 1
                 right += float(np.hypot(*(point - s.truth))) <= 0.01 * s.diagonal
-        result = Shown(len(compared), count, right)
+        result = Offered(len(compared), count, right)
         rows.append([f"SIFT in the band, {support}+ keypoints agreeing", *result.cells(), "-"])
     table = markdown_table(
         ["method", "get a suggestion", "within 1 %", "best match within 1 % (shown or not)"], rows

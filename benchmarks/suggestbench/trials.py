@@ -103,10 +103,15 @@ class Searched:
     moved: float
 
     def error(self, timed: Timed | None) -> float:
-        """The best match's distance from the truth, fraction of the diagonal (NaN: none)."""
-        if timed is None or timed.evidence is None:
-            return math.nan
-        return float(np.hypot(*(timed.evidence.match.point - self.truth))) / self.diagonal
+        """The match's distance from the truth, fraction of the diagonal (NaN: none)."""
+        return miss(timed, self.truth, self.diagonal)
+
+
+def miss(timed: Timed | None, truth: Array, diagonal: float) -> float:
+    """The best match's distance from ``truth``, fraction of the ``diagonal`` (NaN: none)."""
+    if timed is None or timed.evidence is None:
+        return math.nan
+    return float(np.hypot(*(timed.evidence.match.point - truth))) / diagonal
 
 
 @dataclass(frozen=True)

@@ -101,9 +101,6 @@ class ChromiumPhone(Phone):
         event = {"down": "touchStart", "move": "touchMove", "up": "touchEnd"}[kind]
         self._touch.send("Input.dispatchTouchEvent", {"type": event, "touchPoints": fingers})
 
-    def zoom(self, around: tuple[float, float], factor: float) -> None:
-        self.pinch(around, factor)
-
     def resize(self, width: int, height: int) -> None:
         self.page.set_viewport_size({"width": width, "height": height})
 

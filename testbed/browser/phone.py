@@ -169,11 +169,6 @@ class Phone(ABC):
         ``points[i]`` (client px), "move" moves them there, "up" lifts them all where they are."""
 
     @abstractmethod
-    def zoom(self, around: tuple[float, float], factor: float) -> None:
-        """Zoom the photo by about ``factor`` about a client point, as a person would on
-        this engine: a two-finger pinch where there is touch input, else the wheel."""
-
-    @abstractmethod
     def resize(self, width: int, height: int) -> None:
         """The viewport at ``width`` x ``height`` CSS px: the phone turned on its side (the
         sizes swapped) or back upright."""
@@ -311,6 +306,11 @@ class Phone(ABC):
         self.touch("down", [start])
         for k in range(1, steps + 1):
             self.touch("move", [(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps)])
+
+    def zoom(self, around: tuple[float, float], factor: float) -> None:
+        """Zoom the photo by about ``factor`` about a client point, as a person would on
+        this engine: a two-finger pinch (here) where there is touch input, else the wheel."""
+        self.pinch(around, factor)
 
     def pinch(self, around: Point, factor: float, steps: int = 12) -> None:
         """Two fingers spreading (factor > 1) or closing around a client point, in steps,

@@ -4,7 +4,6 @@ control drawn over the photo with its box."""
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +40,7 @@ def screen_pixels(page: Phone, folder: Path, name: str) -> tuple[np.ndarray, flo
     """The visible page as an (H, W, 3) array, and its device px per CSS px."""
     path = folder / f"{name}.png"
     page.screenshot(path=path)
-    with Image.open(io.BytesIO(path.read_bytes())) as shot:
+    with Image.open(path) as shot:
         pixels = np.array(shot.convert("RGB")).astype(int)
     ratio = pixels.shape[1] / float(page.evaluate("() => innerWidth"))
     return pixels, ratio

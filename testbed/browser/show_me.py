@@ -15,6 +15,7 @@ import numpy as np
 from testbed.browser import play
 from testbed.browser.chromium_phone import ChromiumPhone
 from testbed.browser.phone import Element, Phone, expect
+from testbed.browser.webkit_phone import EVERY_16_MS
 from testbed.client import Phone as ApiPhone
 from testbed.client import numbered
 from testbed.opening import MARK_TAP, OPENING_STEPS
@@ -37,11 +38,19 @@ def turned_right(degrees: float) -> tuple[float, float, float, float]:
     return (w * x0, z * x0, z * w0, w * w0)
 
 
-def hold_turned(phone: ChromiumPhone, right_deg: float) -> None:
-    """The phone's relative orientation from now on (Chromium sends a reading when it
-    changes): upright and level, turned right by ``right_deg``. Set first before the page
-    reads it: Chromium takes the override for sensors started after it."""
-    phone.sensors.hold_orientation(turned_right(right_deg))
+def hold_turned(phone: Phone, right_deg: float) -> None:
+    """The phone upright and level, turned right by ``right_deg`` from now on. In Chromium,
+    its relative orientation (Chromium sends a reading when it changes; set it first before
+    the page reads it: Chromium takes the override for sensors started after it). WebKitGTK
+    has no orientation sensor: its angles in a ``deviceorientation`` event every 16 ms, the
+    first at once, until held otherwise, as iOS sends them (alpha is anticlockwise seen from
+    above)."""
+    if isinstance(phone, ChromiumPhone):
+        phone.sensors.hold_orientation(turned_right(right_deg))
+        return
+    held = {"alpha": -right_deg, "beta": 90.0, "gamma": 0.0, "absolute": False}
+    where = ["__orientation", "DeviceOrientationEvent", "deviceorientation", held, True]
+    phone.evaluate(EVERY_16_MS, where)
 
 
 class Motion:

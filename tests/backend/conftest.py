@@ -14,13 +14,14 @@ import psycopg
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from phones import TEMPLE, FakeClock, Phones, photos_uploaded
+from phones import TEMPLE_PHOTOS, FakeClock, Phones, joined, photos_uploaded
 from psycopg import sql
 from sqlalchemy.engine import make_url
 
 from backend.main import create_app
 from backend.settings import Settings
 from backend.storage.database import make_engine
+from backend.wiring import Services
 from deploy.postgres import PostgresServer
 from testbed.client import Phone, start
 
@@ -195,23 +196,26 @@ def client(app: FastAPI) -> Iterator[TestClient]:
 
 
 @pytest.fixture
+def services(client: TestClient) -> Services:
+    """The running app's services: its stores, streams and sweeper, behind the API."""
+    found: Services = client.app.state.services  # type: ignore[attr-defined]
+    return found
+
+
+@pytest.fixture
 def starter(client: TestClient) -> Phone:
     return start(client)[0]
 
 
 @pytest.fixture
 def joiner(client: TestClient, starter: Phone) -> Phone:
-    code = starter.state()["join_code"]
-    joined = client.post("/api/sessions/join", json={"code": code})
-    assert joined.status_code == 200, joined.text
-    body = joined.json()
-    return Phone(client, body["session_id"], body["token"], "joiner")
+    return joined(client, starter.state()["join_code"])
 
 
 @pytest.fixture
 def temple_photos() -> tuple[bytes, bytes]:
     """The facing temple pair as uploaded by the two phones (PNG, 640x480)."""
-    return (TEMPLE / "templeSR0003.png").read_bytes(), (TEMPLE / "templeSR0006.png").read_bytes()
+    return TEMPLE_PHOTOS
 
 
 @pytest.fixture

@@ -4,18 +4,22 @@ live server: a replica, or nginx in front of them)."""
 
 from __future__ import annotations
 
-import math
 from datetime import datetime, timedelta
 from pathlib import Path
 from typing import Any
 
+import cv2
+import httpx2
 import numpy as np
 
-from testbed.client import Listener, Phone
+from testbed.browser.play import inside
+from testbed.client import Listener, Phone, follow, live, pair
 from testbed.scenes import Scene, Taps, tap, temple_scene
 
 TEMPLE = Path(__file__).parents[1] / "data" / "temple"
 PAIR = ("templeSR0003", "templeSR0006")  # the starter's photo, the joiner's
+# Their PNG files' bytes, as the phones upload them (640 x 480).
+TEMPLE_PHOTOS = ((TEMPLE / f"{PAIR[0]}.png").read_bytes(), (TEMPLE / f"{PAIR[1]}.png").read_bytes())
 
 # Streams read the event table only when woken or every 30 s, and ping every 20 s: an
 # event that reaches the other replica's stream within CROSSING_SECONDS was carried by
@@ -38,13 +42,10 @@ class FakeClock:
 
 
 def in_region(region: dict[str, Any], point: Any) -> bool:
-    """Whether ``point`` (x, y) lies in an answer's 95 % ellipse."""
-    (cx, cy), (a, b) = region["center"], region["axes"]
-    angle = math.radians(region["angle_deg"])
-    dx, dy = point[0] - cx, point[1] - cy
-    u = dx * math.cos(angle) + dy * math.sin(angle)
-    v = -dx * math.sin(angle) + dy * math.cos(angle)
-    return (u / a) ** 2 + (v / b) ** 2 <= 1.0
+    """Whether ``point`` (x, y) lies in an answer's 95 % ellipse (as the browser tests read
+    the phone's)."""
+    ellipse = (*region["axes"], region["angle_deg"])
+    return inside(np.asarray(point), np.asarray(region["center"]), ellipse)
 
 
 def landmarks(
@@ -57,24 +58,44 @@ def landmarks(
     return taps if sigma is None else [tap | {"sigma": sigma} for tap in taps]
 
 
-def temple_pair(count: int, rng: np.random.Generator) -> Scene:
-    """``count`` landmarks of the temple PAIR, the starter and the joiner in each other's photo."""
-    return temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, count, rng)
-
-
-def scene(landmarks: int, seed: int = 0) -> Scene:
-    """``landmarks`` of the temple PAIR drawn from ``seed``."""
-    return temple_pair(landmarks, np.random.default_rng(seed))
+def scene(landmarks: int, seed: int | np.random.Generator = 0) -> Scene:
+    """``landmarks`` of the temple PAIR, the starter and the joiner in each other's photo,
+    drawn from ``seed`` (or from a generator, which goes on)."""
+    rng = np.random.default_rng(seed)
+    return temple_scene(TEMPLE / "templeSR_par.txt", *PAIR, landmarks, rng)
 
 
 def scene_taps() -> tuple[Scene, Taps]:
     """Six landmarks of the temple PAIR and the joiner, tapped with 1 px of noise."""
     rng = np.random.default_rng(6)
-    scene = temple_pair(6, rng)
-    return scene, tap(scene, 1.0, rng)
+    drawn = scene(6, rng)
+    return drawn, tap(drawn, 1.0, rng)
 
 
 Phones = tuple[Phone, Phone]  # the starter's and the joiner's
+
+
+def joined(client: httpx2.Client, code: str) -> Phone:
+    """The joiner's calls, once it has joined with ``code`` (failing unless it may)."""
+    answer = client.post("/api/sessions/join", json={"code": code})
+    assert answer.status_code == 200, answer.text
+    body = answer.json()
+    return Phone(client, body["session_id"], body["token"], "joiner")
+
+
+def tapped_scene(starter: Phone, joiner: Phone, s: Scene, count: int | None = None) -> Any:
+    """The starter taps ``s``'s landmarks and marks the joiner; the joiner taps the first
+    ``count`` landmarks (all unless told): the state the joiner's taps answered."""
+    starter.tapped(landmarks=landmarks(s.landmarks1), friend=s.epipole1)
+    return joiner.tapped(landmarks=landmarks(s.landmarks2[:count]))
+
+
+def image_of(answer: httpx2.Response, flags: int = cv2.IMREAD_COLOR) -> np.ndarray:
+    """The picture of a 200 answer, decoded by OpenCV ((H, W, 3) BGR unless ``flags`` say)."""
+    assert answer.status_code == 200, answer.text
+    image = cv2.imdecode(np.frombuffer(answer.content, np.uint8), flags)
+    assert image is not None
+    return image
 
 
 def photos_uploaded(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> None:
@@ -113,9 +134,66 @@ def error_of(response: Any, status: int | None = None) -> str:
     return str(body["error"]["code"])
 
 
-def end(phone: Phone, *streams: Listener) -> None:
-    """Delete now: every stream of the session ends (and the replicas stop promptly)."""
+Followed = tuple[Phone, Phone, Listener, Listener]  # the phones, then their streams
+
+
+def followed(starter_url: str, joiner_url: str | None = None) -> Followed:
+    """A search started on the server at ``starter_url`` and joined on ``joiner_url`` (the
+    same by default), both streams open (:func:`testbed.client.follow`)."""
+    starter, joiner = pair(live(starter_url), live(joiner_url or starter_url))
+    return starter, joiner, *follow(starter, joiner, CROSSING_SECONDS)
+
+
+def photos_and_taps_cross(
+    starter: Phone,
+    joiner: Phone,
+    starter_events: Listener,
+    joiner_events: Listener,
+    seconds: float = CROSSING_SECONDS,
+) -> tuple[Scene, dict[str, Any]]:
+    """Both temple photos (each stored as it came) and both tap sets (:func:`scene_taps`):
+    each change reaches the other phone's stream within ``seconds``, whatever process each
+    phone is on. The scene, and the joiner's state with the answer (computed in the joiner's
+    process)."""
+    assert starter.uploaded(TEMPLE / f"{PAIR[0]}.png") == stored_photo(640, 480)
+    joiner_events.wait_for("photo", role="starter", seconds=seconds)
+    assert joiner.uploaded(TEMPLE / f"{PAIR[1]}.png") == stored_photo(640, 480)
+    starter_events.wait_for("photo", role="joiner", seconds=seconds)
+    scene, taps = scene_taps()
+    starter.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
+    joiner_events.wait_for("taps", role="starter", seconds=seconds)
+    state = joiner.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))
+    starter_events.wait_for("taps", role="joiner", seconds=seconds)
+    starter_events.wait_for("answer", version=state["version"], seconds=seconds)
+    return scene, state
+
+
+def kept(phone: Phone) -> tuple[dict[str, Any], list[bytes]]:
+    """What no failure may lose: the state's photos, taps and version; both photos' bytes."""
+    state = phone.state()
+    photos = [phone.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")]
+    return {key: state[key] for key in ("photos", "taps", "version")}, photos
+
+
+def joiner_tapping(
+    starter: Phone, joiner: Phone, starter_events: Listener
+) -> tuple[Scene, Taps, tuple[dict[str, Any], list[bytes]]]:
+    """Both temple photos up, the starter's taps in (:func:`scene_taps`, the friend marked),
+    the joiner still tapping (3 landmarks), heard by the starter's stream: the scene, the
+    taps, and what the session has :func:`kept`."""
+    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
+    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
+    scene, taps = scene_taps()
+    starter.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
+    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3], sigma=2.0))
+    starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
+    return scene, taps, kept(starter)
+
+
+def end(phone: Phone, *streams: Listener, seconds: float = CROSSING_SECONDS) -> None:
+    """Delete now: every stream of the session ends within ``seconds`` (and the replicas
+    stop promptly)."""
     assert phone.call("DELETE").status_code == 204
     for stream in streams:
-        assert stream.ended.wait(CROSSING_SECONDS)
+        assert stream.ended.wait(seconds)
         assert stream.types[-1] == "expired"

@@ -15,17 +15,22 @@ from typing import Any
 
 import httpx2
 import numpy as np
-import pillow_heif
 import pytest
 from fastapi.testclient import TestClient
-from images import encoded, png_claiming
-from phones import TEMPLE, FakeClock, error_of, landmarks, stored_photo, temple_pair
-from PIL import ExifTags, Image
+from images import encoded, exif_of, png_claiming
+from phones import (
+    TEMPLE_PHOTOS,
+    FakeClock,
+    error_of,
+    landmarks,
+    photos_uploaded,
+    scene,
+    stored_photo,
+)
+from PIL import Image
 
 from backend.settings import Settings
 from testbed.client import Phone, start
-
-pillow_heif.register_heif_opener()
 
 WIDTH, HEIGHT = 400, 300  # of the made-up photos
 
@@ -42,22 +47,15 @@ class Search:
 
     def with_photos(self) -> Search:
         """Both phones have uploaded their temple photo (640 x 480)."""
-        for phone, name in ((self.starter, "templeSR0003"), (self.joiner, "templeSR0006")):
-            stored = phone.upload((TEMPLE / f"{name}.png").read_bytes(), f"{name}.png")
-            assert stored.status_code == 200, stored.text
+        photos_uploaded(self.starter, self.joiner, TEMPLE_PHOTOS)
         return self
 
     def stored_photo(self, role: str = "starter") -> Image.Image:
-        answer = self.client.get(self.starter.url(f"/photo/{role}"), headers=self.starter.auth)
-        assert answer.status_code == 200, answer.text
+        answer = self.starter.ok("GET", f"/photo/{role}")
         assert answer.content.startswith(b"\xff\xd8\xff")  # JPEG, whatever came in
         image = Image.open(io.BytesIO(answer.content))
         image.load()
         return image
-
-    def raw_taps(self, phone: Phone, body: bytes) -> httpx2.Response:
-        """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
-        return phone.call("PUT", "/taps", {"Content-Type": "application/json"}, content=body)
 
 
 @dataclass(frozen=True)
@@ -90,9 +88,7 @@ def grey_ramp_16_bit() -> bytes:
 
 def turned_by_exif() -> bytes:
     """A JPEG coded 400 x 300 whose EXIF says: turn 90 degrees to show it (300 x 400)."""
-    exif = Image.Exif()
-    exif[ExifTags.Base.Orientation] = 6
-    return encoded(noise(), "JPEG", exif=exif, quality=90)
+    return encoded(noise(), "JPEG", exif=exif_of(6), quality=90)
 
 
 def upload(data: bytes, name: str = "photo.jpg") -> Callable[[Search], httpx2.Response]:
@@ -126,20 +122,13 @@ def tap_where_only_the_turned_photo_reaches(search: Search) -> httpx2.Response:
 # --- taps to send ---------------------------------------------------------------------
 
 
-def taps(**fields: Any) -> Callable[[Search], httpx2.Response]:
-    return lambda search: search.with_photos().starter.tap(**fields)
+def taps(role: str = "starter", /, **fields: Any) -> Callable[[Search], httpx2.Response]:
+    """Both photos up, then these taps from ``role``'s phone."""
+    return lambda search: getattr(search.with_photos(), role).tap(**fields)
 
 
-def joiner_taps(**fields: Any) -> Callable[[Search], httpx2.Response]:
-    return lambda search: search.with_photos().joiner.tap(**fields)
-
-
-def one_tap(x: Any, y: Any) -> Callable[[Search], httpx2.Response]:
-    return taps(landmarks=[{"id": 1, "x": x, "y": y}])
-
-
-def one_tap_sigma(sigma: Any) -> Callable[[Search], httpx2.Response]:
-    return taps(landmarks=[{"id": 1, "x": 3, "y": 3, "sigma": sigma}])
+def one_tap(x: Any, y: Any, **more: Any) -> Callable[[Search], httpx2.Response]:
+    return taps(landmarks=[{"id": 1, "x": x, "y": y, **more}])
 
 
 def tap_before_a_photo(search: Search) -> httpx2.Response:
@@ -147,7 +136,9 @@ def tap_before_a_photo(search: Search) -> httpx2.Response:
 
 
 def raw_taps(body: bytes) -> Callable[[Search], httpx2.Response]:
-    return lambda search: search.raw_taps(search.with_photos().starter, body)
+    """Taps as bytes: JSON that Python's encoder would not write (NaN, Infinity)."""
+    json = {"Content-Type": "application/json"}
+    return lambda search: search.with_photos().starter.call("PUT", "/taps", json, content=body)
 
 
 def nothing_stored(search: Search, _: httpx2.Response) -> None:
@@ -170,7 +161,7 @@ def answer_to(starter_taps: dict[str, Any]) -> Callable[[Search], httpx2.Respons
     return send
 
 
-SCENE = temple_pair(5, np.random.default_rng(0))
+SCENE = scene(5)
 COLLINEAR = [(100 + 50 * n, 100 + 30 * n) for n in range(5)]
 
 
@@ -187,10 +178,6 @@ def get_state(
         )
 
     return send
-
-
-def with_token(pick: Callable[[Search], str]) -> Callable[[Search], httpx2.Response]:
-    return lambda search: get_state(pick(search))(search)
 
 
 def expired_token(search: Search) -> httpx2.Response:
@@ -243,6 +230,7 @@ COLLINEAR_TAPS = {"landmarks": landmarks(COLLINEAR), "friend": [500, 100]}
 ON_3 = {"landmarks": landmarks(SCENE.landmarks1), "friend": list(SCENE.landmarks1[2])}
 ZERO_LINE = {"a": 0, "b": 0, "c": 5}
 MARK_AND_LINE = {"friend": [3, 3], "friend_line": {"a": 1, "b": 0, "c": -3}}
+LINE_AS_A_LIST = {"friend_line": [1, 0, -5]}
 MARKED_TWICE = {"friend": [10, 10], "friend_line": {"a": 1, "b": 0, "c": -5}}
 LINE_OFF_THE_PHOTO = {"a": 1, "b": 0, "c": 1000}  # x = -1000
 
@@ -251,8 +239,8 @@ def too_large(search: Search) -> httpx2.Response:
     return search.starter.upload(b"\xff\xd8\xff" + bytes(search.settings.max_body_bytes))
 
 
-def another_token(search: Search) -> str:
-    return start(search.client)[0].token
+def another_token(search: Search) -> httpx2.Response:
+    return get_state(start(search.client)[0].token)(search)
 
 
 def another_session_id(search: Search) -> httpx2.Response:
@@ -283,24 +271,24 @@ TABLE = [
     Row("a landmark id of 0", taps(landmarks=[{"id": 0, "x": 1, "y": 1}]), 422, "invalid_request"),
     Row("a friend mark with a w", taps(friend={"x": 1, "y": 2, "w": 3}), 422, "invalid_request"),
     Row("a field no taps have", taps(epipole1=[1, 2]), 422, "invalid_request"),
-    Row("a friend line as [a, b, c]", joiner_taps(friend_line=[1, 0, -5]), 422, "invalid_request"),
+    Row("a friend line as [a, b, c]", taps("joiner", **LINE_AS_A_LIST), 422, "invalid_request"),
     Row("a number in a string", one_tap("12", 3), 422, "invalid_request"),
     Row("true as a coordinate", taps(friend={"x": True, "y": 3}), 422, "invalid_request"),
     Row("a friend mark as [x, y]", raw_taps(b'{"friend": [3, 3]}'), 422, "invalid_request"),
     Row("a precision of 0", taps(friend={"x": 3, "y": 3, "sigma": 0}), 422, "invalid_request"),
-    Row("a negative precision", one_tap_sigma(-2.0), 422, "invalid_request"),
+    Row("a negative precision", one_tap(3, 3, sigma=-2.0), 422, "invalid_request"),
     Row("1e308 in taps", one_tap(1e308, 3), 422, "outside_photo"),
     Row("a tap outside the photo", one_tap(641, 3), 422, "outside_photo"),
     Row("a tap far right of the photo", one_tap(700, 10), 422, "outside_photo"),
     Row("a tap above the photo", one_tap(10, -1), 422, "outside_photo"),
     Row("a friend mark outside the photo", taps(friend=[-0.5, 3]), 422, "outside_photo"),
     Row("a friend mark right of the photo", taps(friend=[641, 10]), 422, "outside_photo"),
-    Row("the joiner's mark above the photo", joiner_taps(friend=[10, -3]), 422, "outside_photo"),
+    Row("the joiner's mark above the photo", taps("joiner", friend=[10, -3]), 422, "outside_photo"),
     Row("a friend line with a = b = 0", taps(friend_line=ZERO_LINE), 422, "invalid_line"),
     Row("a friend line 0 = 1", taps(friend_line={"a": 0, "b": 0, "c": 1}), 422, "invalid_line"),
     Row("a friend line off the photo", taps(friend_line=LINE_OFF_THE_PHOTO), 422, "invalid_line"),
     Row("a friend mark and a line", taps(**MARK_AND_LINE), 422, "conflicting_inputs"),
-    Row("the joiner's mark and a line", joiner_taps(**MARKED_TWICE), 422, "conflicting_inputs"),
+    Row("the joiner's mark and a line", taps("joiner", **MARKED_TWICE), 422, "conflicting_inputs"),
     Row("duplicate landmark ids", taps(landmarks=DUPLICATES), 422, "duplicate_landmark"),
     Row("landmark #2 twice", taps(landmarks=TWICE_2), 422, "duplicate_landmark"),
     Row("1000 landmarks", taps(landmarks=landmarks(MANY, MANY_IDS)), 422, "too_many_landmarks"),
@@ -314,7 +302,7 @@ TABLE = [
     Row("a wrong token", get_state("b" * 43), 401, "unauthorized"),
     Row("a token that is no token", get_state("not-a-token"), 401, "unauthorized"),
     Row("an expired token", expired_token, 401, "unauthorized"),
-    Row("another session's token", with_token(another_token), 403, "forbidden"),
+    Row("another session's token", another_token, 403, "forbidden"),
     # Join codes: single use, while valid (a used one, an expired one: test_sessions.py).
     Row("a code replayed after the end", join(deleted_sessions_code), 404, "invalid_join_code"),
     # Session ids, unknown or malformed, with the valid token of another session.

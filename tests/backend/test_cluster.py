@@ -24,14 +24,17 @@ from phones import (
     REPLICA_ENV,
     TEMPLE,
     end,
+    followed,
     in_region,
+    joiner_tapping,
+    kept,
     landmarks,
     scene_taps,
 )
 
 from deploy.cluster import Cluster, cluster
 from deploy.postgres import PostgresServer
-from testbed.client import Listener, Phone, follow, live, pair, server_timing
+from testbed.client import Phone, live, pair, server_timing
 
 ROLES = ("starter", "joiner")
 
@@ -69,17 +72,11 @@ def own(tmp_path: Path, postgres: PostgresServer, migrated_database: str) -> Ite
         yield running
 
 
-def through_nginx(running: Cluster) -> tuple[Phone, Phone, Listener, Listener]:
-    """Two phones paired through nginx, both streams open through it."""
-    starter, joiner = pair(live(running.url))
-    return starter, joiner, *follow(starter, joiner, CROSSING_SECONDS)
-
-
 def test_streams_through_nginx_hear_changes_made_on_either_replica(running: Cluster) -> None:
     """Each phone's stream runs through nginx to one replica or the other; changes written
     straight on each replica in turn reach both streams at once, so each stream heard a
     change made on the replica it is not connected to."""
-    starter, joiner, starter_events, joiner_events = through_nginx(running)
+    starter, joiner, starter_events, joiner_events = followed(running.url)  # through nginx
     scene, taps = scene_taps()
     one, two = (replica.base_url for replica in running.replicas)
     on_one = Phone(live(one), starter.session_id, starter.token)
@@ -105,7 +102,7 @@ def test_streams_through_nginx_hear_changes_made_on_either_replica(running: Clus
 def test_nginx_passes_each_event_on_as_it_comes(running: Cluster) -> None:
     """Events of a few dozen bytes, one at a time: each reaches the phone before the next
     is written. A proxy that buffered the stream would hold them until a buffer filled."""
-    starter, joiner, starter_events, _ = through_nginx(running)
+    starter, joiner, starter_events, _ = followed(running.url)
     _, taps = scene_taps()
     joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
     starter_events.wait_for("photo", role="joiner", seconds=CROSSING_SECONDS)
@@ -120,16 +117,8 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     """kill -9 one replica mid-search. The stream it held drops and the phone reconnects
     through nginx with its last event id, reaching the other replica; the other stream
     never notices; every call goes on answering; no event and no write is lost."""
-    starter, joiner, starter_events, joiner_events = through_nginx(own)
-    starter.uploaded(TEMPLE / f"{PAIR[0]}.png")
-    joiner.uploaded(TEMPLE / f"{PAIR[1]}.png")
-    scene, taps = scene_taps()
-    starter.tapped(landmarks=landmarks(taps.landmarks1, sigma=2.0), friend=taps.epipole1)
-    # The joiner is still tapping.
-    joiner.tapped(landmarks=landmarks(taps.landmarks2[:3], sigma=2.0))
-    starter_events.wait_for("taps", role="joiner", seconds=CROSSING_SECONDS)
-    before = starter.state()
-    photos = [starter.call("GET", f"/photo/{role}").content for role in ROLES]
+    starter, joiner, starter_events, joiner_events = followed(own.url)
+    scene, taps, before = joiner_tapping(starter, joiner, starter_events)
 
     os.kill(own.replicas[0].pid, signal.SIGKILL)
     time.sleep(CROSSING_SECONDS)
@@ -141,17 +130,11 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     resumed = phone.listen(last_event_id=streams[dropped].ids[-1])
     resumed.wait_for("joined", role=dropped, online=True)
 
-    after = starter.state()
-    assert {key: after[key] for key in ("photos", "taps", "version")} == {
-        key: before[key] for key in ("photos", "taps", "version")
-    }
-    assert [
-        starter.call("GET", f"/photo/{role}").content for role in ("starter", "joiner")
-    ] == photos
+    assert kept(starter) == before
     state = joiner.tapped(landmarks=landmarks(taps.landmarks2, sigma=2.0))  # the joiner finishes
-    (kept,) = [events for role, events in streams.items() if role != dropped]
-    assert not kept.dropped  # still the same connection
-    for events in (resumed, kept):
+    (steady,) = [events for role, events in streams.items() if role != dropped]
+    assert not steady.dropped  # still the same connection
+    for events in (resumed, steady):
         events.wait_for("answer", version=state["version"], seconds=CROSSING_SECONDS)
     answer = joiner.state()["answer"]
     assert in_region(answer["in_photo"]["joiner"]["region"], scene.epipole2)
@@ -168,7 +151,7 @@ def test_a_replica_killed_under_nginx_loses_nothing(own: Cluster) -> None:
     seen = streams[dropped].ids + resumed.ids
     assert seen == sorted(set(seen))
     assert [i for i in seen if i <= newest] == [i for i in replay.ids if seen[0] <= i]
-    end(starter, resumed, kept, replay)
+    end(starter, resumed, steady, replay)
 
 
 def test_a_slow_upload_through_nginx_is_neither_cut_nor_holding_a_replica(

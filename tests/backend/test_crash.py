@@ -34,12 +34,11 @@ from typing import Any
 
 import httpx2
 import numpy as np
+from images import encoded, store
 from phones import stored_photo
 from PIL import Image
 from sqlalchemy import text
 
-from backend.photos.intake import store_photo
-from backend.settings import Settings
 from backend.storage.database import connect
 from backend.taps.schemas import Taps
 from deploy.replica import Server, serve
@@ -58,23 +57,18 @@ LANDMARKS = 6
 # area taps are drawn in, so every tap set fits every photo.
 PHOTO_SIZES = [(240 + 16 * k, 180 + 8 * k) for k in range(6)]
 TAP_AREA = (240, 180)
-SETTINGS = Settings()
 
 
 def photo(index: int) -> bytes:
     width, height = PHOTO_SIZES[index]
     pixels = np.random.default_rng(index).integers(0, 256, (height, width, 3), dtype=np.uint8)
-    buffer = io.BytesIO()
-    Image.fromarray(pixels).save(buffer, format="JPEG", quality=85)
-    return buffer.getvalue()
+    return encoded(pixels, quality=85)
 
 
 PHOTOS = [photo(index) for index in range(len(PHOTO_SIZES))]
-# What the server stores for each (the same code, deterministic): recognised byte for byte.
-STORED = [
-    store_photo(data, max_pixels=SETTINGS.max_photo_pixels, max_side=SETTINGS.stored_photo_side)
-    for data in PHOTOS
-]
+# What the server stores for each (the same code, deterministic, and none of them near its
+# limits): recognised byte for byte.
+STORED = [store(data) for data in PHOTOS]
 
 
 @dataclass(frozen=True)
@@ -203,10 +197,7 @@ def check_acknowledged_writes(server: Server, phones: list[Writer]) -> None:
             body, stored = reader.state(), reader.ok("GET", f"/photo/{role}")
         session = [p.acknowledged_version for p in phones if p.phone.session_id == session_id]
         assert body["version"] >= max(session)
-        found = PhoneState(
-            photo=next(n for n, photo in enumerate(STORED) if photo.data == stored.content),
-            taps=body["taps"][role],
-        )
+        found = PhoneState([p.data for p in STORED].index(stored.content), body["taps"][role])
         allowed = [phone.known]
         if phone.in_flight is not None:
             allowed.append(phone.in_flight.applied_to(phone.known))

@@ -26,9 +26,7 @@ class Replica:
         self.database = Database(connect(url))
         self.eraser = Eraser(self.database, INTERVAL_SECONDS)
         self.pairings = Pairings(self.database, self.eraser)
-
-    def erase_deleted(self) -> bool:
-        return self.eraser.erase_deleted()
+        self.erase_deleted = self.eraser.erase_deleted
 
 
 def a_deletion(replica: Replica, number: int) -> None:

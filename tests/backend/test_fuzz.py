@@ -18,13 +18,12 @@ from collections.abc import Iterator
 from typing import Any
 
 import hypothesis
-import numpy as np
 import pytest
 import requests
 import schemathesis
 from fastapi import FastAPI
 from hypothesis import strategies as st
-from phones import PAIR, TEMPLE, landmarks, temple_pair
+from phones import PAIR, TEMPLE, scene, tapped_scene
 from schemathesis.checks import not_a_server_error
 from schemathesis.core.result import Ok
 from schemathesis.python import asgi
@@ -77,31 +76,21 @@ class LiveSearch:
             phones = pair(self.client)  # type: ignore[arg-type]
             self.session_id = phones[0].session_id
             self.tokens = {phone.role: phone.token for phone in phones}
-            scene = temple_pair(6, np.random.default_rng(0))
-            for phone, photo, points in zip(
-                phones, PAIR, (scene.landmarks1, scene.landmarks2), strict=True
-            ):
+            for phone, photo in zip(phones, PAIR, strict=True):
                 phone.uploaded(TEMPLE / f"{photo}.png")
-                taps: dict[str, Any] = {"landmarks": landmarks(points)}
-                if phone.role == "starter":
-                    taps["friend"] = scene.epipole1
-                phone.tapped(**taps)
-            assert phones[1].state()["answer"] is not None
+            state = tapped_scene(*phones, scene(6))
+            assert state["answer"] is not None
             self.changed = False
         return self
 
 
 @pytest.fixture(scope="module")
 def fuzzed_app(tmp_path_factory: pytest.TempPathFactory) -> Iterator[FastAPI]:
-    folder = tmp_path_factory.mktemp("fuzz")
-    settings = Settings(
-        database_url=f"sqlite:///{folder / 'buddy.db'}",
-        sweep_interval_seconds=3600,
-        # Fuzzing sends many wrong join codes from one address; the live search still joins.
-        join_failures_per_client=1_000_000,
-        join_failures_overall=1_000_000,
-    )
-    yield create_app(settings)
+    url = f"sqlite:///{tmp_path_factory.mktemp('fuzz') / 'buddy.db'}"
+    settings = Settings(database_url=url, sweep_interval_seconds=3600)
+    # Fuzzing sends many wrong join codes from one address; the live search still joins.
+    limits = {"join_failures_per_client": 1_000_000, "join_failures_overall": 1_000_000}
+    yield create_app(settings.model_copy(update=limits))
     asgi.shutdown_lifespans()  # schemathesis started the app's lifespan (database, sweeper)
 
 

@@ -8,7 +8,7 @@ from typing import Any
 import cv2
 import numpy as np
 import pytest
-from phones import Phones, error_of, landmarks, photos_uploaded, scene
+from phones import Phones, error_of, landmarks, photos_uploaded, scene, tapped_scene
 
 from testbed.client import Phone
 from testbed.venue import RenderedPair, rendered_pair
@@ -28,8 +28,7 @@ def answered(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> Any:
     """Both photos, the starter's 7 landmarks and friend mark, the joiner's first 5."""
     photos_uploaded(starter, joiner, photos)
     s = scene(7, seed=4)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
+    tapped_scene(starter, joiner, s, 5)
     return s
 
 
@@ -97,10 +96,14 @@ def hall() -> RenderedPair:
     return rendered_pair(24)
 
 
-def jpeg(photo: np.ndarray) -> bytes:
-    ok, data = cv2.imencode(".jpg", photo, [cv2.IMWRITE_JPEG_QUALITY, 90])
-    assert ok
-    return data.tobytes()
+def hall_tapped(starter: Phone, joiner: Phone, hall: RenderedPair, found: int) -> Any:
+    """The hall's photos (JPEG, as a phone's), every landmark and the friend tapped by the
+    starter, the first ``found`` by the joiner: the joiner's state."""
+    for phone, photo in ((starter, hall.photo1), (joiner, hall.photo2)):
+        ok, jpeg = cv2.imencode(".jpg", photo, [cv2.IMWRITE_JPEG_QUALITY, 90])
+        assert ok
+        assert phone.upload(jpeg.tobytes()).status_code == 200
+    return tapped_scene(starter, joiner, hall.scene, found)
 
 
 def test_suggested_spots_are_where_the_landmarks_are(
@@ -111,12 +114,9 @@ def test_suggested_spots_are_where_the_landmarks_are(
     a stage, each photo showing other faces of them), at the landmarks (within 1 % of the
     photo's diagonal). How often a suggestion is right over many halls is measured by
     `make bench-suggest` (docs/suggestions.md); this checks the service end to end."""
-    for phone, photo in ((starter, hall.photo1), (joiner, hall.photo2)):
-        assert phone.upload(jpeg(photo)).status_code == 200
+    state = hall_tapped(starter, joiner, hall, 6)
     s = hall.scene
     count = len(s.points)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    state = joiner.tap(landmarks=landmarks(s.landmarks2[:6])).json()
     version = state["answer_version"]
     to_find = range(7, count + 1)
     bands = state["answer"]["in_photo"]["joiner"]["bands"]
@@ -124,16 +124,14 @@ def test_suggested_spots_are_where_the_landmarks_are(
     diagonal = float(np.hypot(*s.image_size2))
     errors = []
     for i in to_find:
-        url = joiner.url(f"/landmarks/joiner/{i}/suggestion")
-        reply = joiner.client.get(url, headers=joiner.auth)
-        assert reply.status_code == 200, reply.text
-        body = reply.json()
+        url = f"/landmarks/joiner/{i}/suggestion"
+        body = joiner.ok("GET", url).json()
         assert (body["id"], body["answer_version"]) == (i, version)
         if body["spot"] is not None:
             spot = np.array([body["spot"]["x"], body["spot"]["y"]])
             errors.append(float(np.hypot(*(spot - s.landmarks2[i - 1]))))
         # Asked again (a phone reconnecting): the same reply, from the kept search.
-        assert joiner.client.get(url, headers=joiner.auth).json() == body
+        assert joiner.call("GET", url).json() == body
     assert len(errors) >= 2
     assert max(errors) < 0.01 * diagonal
 
@@ -146,16 +144,12 @@ def test_a_taken_suggestion_is_a_tap_like_any_other_flagged_when_it_does_not_fit
     Taken after the other phone has moved that landmark elsewhere (a suggestion shown
     before the answer changed), it does not fit the others, and the reply to that very tap
     flags it."""
-    for phone, photo in ((starter, hall.photo1), (joiner, hall.photo2)):
-        assert phone.upload(jpeg(photo)).status_code == 200
-    s = hall.scene
     found = 6
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2[:found]))
+    hall_tapped(starter, joiner, hall, found)
+    s = hall.scene
     spot = None
     for i in range(found + 1, len(s.points) + 1):
-        url = joiner.url(f"/landmarks/joiner/{i}/suggestion")
-        body = joiner.client.get(url, headers=joiner.auth).json()
+        body = joiner.call("GET", f"/landmarks/joiner/{i}/suggestion").json()
         if body["spot"] is not None:
             spot = body["spot"]
             break

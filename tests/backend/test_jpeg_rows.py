@@ -2,15 +2,15 @@
 
 from __future__ import annotations
 
-import io
 from functools import cache
+from typing import Any
 
 import cv2
 import numpy as np
 import pytest
+from images import encoded, store
 from PIL import Image
 
-from backend.photos.intake import store_photo
 from backend.photos.jpeg_rows import row_index
 from backend.photos.pictures import crop_around, decode_photo, encode_image
 
@@ -23,9 +23,7 @@ def noisy_photo(width: int, height: int, grey: bool = False) -> bytes:
     smooth = np.stack([xs * 255 // width, ys * 255 // height, (xs + ys) % 256], axis=2)
     pixels = np.clip(smooth + rng.normal(0, 20, smooth.shape), 0, 255).astype(np.uint8)
     image = Image.fromarray(pixels).convert("L") if grey else Image.fromarray(pixels)
-    buffer = io.BytesIO()
-    image.save(buffer, format="PNG")
-    return store_photo(buffer.getvalue(), max_pixels=50_000_000, max_side=2560).data
+    return store(encoded(image, "PNG")).data
 
 
 SIZES = [(320, 240), (333, 250), (250, 333), (1600, 1200)]
@@ -68,11 +66,7 @@ def test_a_window_of_a_stored_photo_is_its_pixels_bit_for_bit(width: int, height
 def test_a_photo_stored_with_a_marker_per_row_is_cropped_by_rows() -> None:
     """Photos stored before the segments: one restart marker per row of MCUs."""
     pixels = decode_photo(noisy_photo(1600, 1200))
-    buffer = io.BytesIO()
-    Image.fromarray(pixels[:, :, ::-1]).save(
-        buffer, format="JPEG", quality=90, restart_marker_rows=1
-    )
-    data = buffer.getvalue()
+    data = encoded(pixels[:, :, ::-1], quality=90, restart_marker_rows=1)
     rows = row_index(data)
     assert rows is not None
     assert rows.per_row == 1
@@ -101,10 +95,8 @@ def test_a_crop_of_a_stored_photo_is_the_crop_of_the_whole_photo(x: float, y: fl
 def test_what_is_not_a_stored_photo_has_no_row_index() -> None:
     image = Image.fromarray(np.full((64, 96, 3), 90, np.uint8))
 
-    def jpeg(**options: object) -> bytes:
-        buffer = io.BytesIO()
-        image.save(buffer, format="JPEG", **options)
-        return buffer.getvalue()
+    def jpeg(**options: Any) -> bytes:
+        return encoded(image, quality=75, **options)  # PIL's default quality
 
     assert row_index(jpeg()) is None  # no restart markers
     assert row_index(jpeg(progressive=True, restart_marker_rows=1)) is None

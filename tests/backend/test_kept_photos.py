@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 from fastapi.testclient import TestClient
-from phones import Phones, landmarks, photos_uploaded, scene
+from phones import Phones, landmarks, scene
 
 from backend.photos.intake import StoredPhoto
 from backend.photos.kept import KeptPhotos
 from backend.photos.pictures import decode_photo, encode_image
 from backend.photos.repository import Photos
+from backend.wiring import Services
 from testbed.client import Phone
 
 
@@ -76,7 +77,7 @@ def test_no_photo_is_not_kept() -> None:
 def tap_landmarks(starter: Phone) -> None:
     """The starter taps five landmarks."""
     s = scene(5)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
+    starter.tapped(landmarks=landmarks(s.landmarks1), friend=s.epipole1)
 
 
 def test_a_crop_shows_the_photo_as_it_now_is(uploaded: Phones) -> None:
@@ -84,9 +85,7 @@ def test_a_crop_shows_the_photo_as_it_now_is(uploaded: Phones) -> None:
     tap_landmarks(starter)
 
     def crop() -> np.ndarray:
-        answer = joiner.call("GET", "/landmarks/starter/2/crop")
-        assert answer.status_code == 200, answer.text
-        return decode_photo(answer.content).astype(int)
+        return decode_photo(joiner.ok("GET", "/landmarks/starter/2/crop").content).astype(int)
 
     before = crop()
     assert np.array_equal(crop(), before)  # kept, the same
@@ -99,10 +98,9 @@ def test_a_crop_shows_the_photo_as_it_now_is(uploaded: Phones) -> None:
 
 
 def test_a_photo_replaced_since_the_snapshot_is_not_kept_under_the_old_name(
-    client: TestClient, starter: Phone, joiner: Phone, temple_photos: tuple[bytes, bytes]
+    services: Services, uploaded: Phones, temple_photos: tuple[bytes, bytes]
 ) -> None:
-    photos_uploaded(starter, joiner, temple_photos)
-    services = client.app.state.services  # type: ignore[attr-defined]
+    starter = uploaded[0]
     store: Photos = services.pictures.photos
     old = services.answers.snapshot(starter.session_id).photos["starter"].version
     assert old is not None

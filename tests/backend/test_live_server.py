@@ -6,15 +6,22 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
-import cv2
 import httpx2
 import numpy as np
 import pytest
-from phones import PAIR, TEMPLE, in_region, landmarks, stored_photo, temple_pair
+from phones import (
+    PAIR,
+    TEMPLE,
+    end,
+    image_of,
+    in_region,
+    joined,
+    landmarks,
+    photos_and_taps_cross,
+)
 
 from deploy.replica import serve
 from testbed.client import Phone, live, start
-from testbed.scenes import tap
 
 
 @pytest.fixture
@@ -32,24 +39,12 @@ def test_two_phones_find_each_other(server: str) -> None:
     starter_events.wait_for("joined")  # its own presence
 
     # The joiner opens the join link: the code is its last part.
-    code = created["join_url"].rsplit("/", 1)[-1]
-    joined = http.post("/api/sessions/join", json={"code": code}).json()
-    joiner = Phone(http, starter.session_id, joined["token"], "joiner")
+    joiner = joined(http, created["join_url"].rsplit("/", 1)[-1])
     joiner_events = joiner.listen()
     starter_events.wait_for("joined", 3)  # joiner joined, joiner online
 
-    for phone, name in ((starter, PAIR[0]), (joiner, PAIR[1])):
-        stored = phone.uploaded(TEMPLE / f"{name}.png")
-        assert stored == stored_photo(640, 480)
+    scene, state = photos_and_taps_cross(starter, joiner, starter_events, joiner_events, 15)
     starter_events.wait_for("photo", 2)
-
-    rng = np.random.default_rng(6)
-    scene = temple_pair(6, rng)
-    taps = tap(scene, 1.0, rng)
-
-    starter.tap(landmarks=landmarks(taps.landmarks1), friend=taps.epipole1)
-    state = joiner.tap(landmarks=landmarks(taps.landmarks2)).json()
-    starter_events.wait_for("answer")
     joiner_events.wait_for("answer")
 
     answer = state["answer"]
@@ -58,18 +53,11 @@ def test_two_phones_find_each_other(server: str) -> None:
     assert starter.state()["answer"] == answer
 
     for role in ("starter", "joiner"):
-        picture = joiner.call("GET", f"/overlay/{role}")
-        assert picture.status_code == 200
-        image = cv2.imdecode(np.frombuffer(picture.content, np.uint8), cv2.IMREAD_COLOR)
-        assert image is not None
-        assert image.shape == (480, 640, 3)
+        assert image_of(joiner.call("GET", f"/overlay/{role}")).shape == (480, 640, 3)
 
     assert starter_events.ids == sorted(starter_events.ids)
     assert {"joined", "photo", "taps", "answer"} <= set(starter_events.types)
-    assert starter.call("DELETE").status_code == 204
-    assert starter_events.ended.wait(15)
-    assert joiner_events.ended.wait(15)
-    assert starter_events.types[-1] == joiner_events.types[-1] == "expired"
+    end(starter, starter_events, joiner_events, seconds=15)
 
 
 def test_answers_come_gzipped_and_the_event_stream_as_it_is(server: str) -> None:
@@ -78,8 +66,7 @@ def test_answers_come_gzipped_and_the_event_stream_as_it_is(server: str) -> None
     first event) and each event when sent."""
     http = live(server)
     gzip = {"Accept-Encoding": "gzip"}
-    created = http.post("/api/sessions").json()
-    starter = Phone(http, created["session_id"], created["token"], "starter")
+    starter = start(http)[0]
     assert http.get("/openapi.json", headers=gzip).headers["content-encoding"] == "gzip"
     plain = http.get("/openapi.json", headers={"Accept-Encoding": "identity"})
     assert "content-encoding" not in plain.headers

@@ -9,7 +9,6 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pytest
 from alembic import command
 from alembic.autogenerate import compare_metadata
@@ -17,13 +16,14 @@ from alembic.config import Config
 from alembic.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from fastapi.testclient import TestClient
-from phones import TEMPLE, landmarks, temple_pair
+from images import store
+from phones import TEMPLE_PHOTOS, landmarks, scene
 from sqlalchemy import Column, Connection, Engine, String, inspect, text
+from sqlalchemy.engine import make_url
 from sqlalchemy.types import TypeEngine
 
 from backend.main import create_app
 from backend.pairing.tokens import token_hash
-from backend.photos.intake import store_photo
 from backend.settings import Settings
 from backend.storage.database import (
     MIGRATIONS,
@@ -36,6 +36,7 @@ from backend.storage.tables import Base
 from deploy.postgres import PostgresServer
 
 HEAD = ScriptDirectory(str(MIGRATIONS)).get_current_head()
+END = datetime(2099, 1, 1)  # when the sessions made here expire
 
 
 @pytest.fixture(params=["sqlite", "postgresql"])
@@ -91,6 +92,14 @@ def alembic_config(connection: Connection) -> Config:
     return config
 
 
+def insert(connection: Connection, table: str, **row: object) -> None:
+    """One row of ``table`` of the session 's1' (its ``id``, or its rows' ``session_id``), in
+    raw SQL: the tables as of an older migration, not the models."""
+    row = {"id" if table == "sessions" else "session_id": "s1"} | row
+    values = ", ".join(f":{column}" for column in row)
+    connection.execute(text(f"INSERT INTO {table} ({', '.join(row)}) VALUES ({values})"), row)
+
+
 def revision(engine: Engine) -> str | None:
     with engine.connect() as connection:
         return MigrationContext.configure(connection).get_current_revision()
@@ -120,28 +129,18 @@ def test_eight_digit_codes_keep_every_session_and_clear_six_digit_codes(engine: 
     with engine.begin() as connection:
         config = alembic_config(connection)
         command.downgrade(config, "0004")
-        connection.execute(
-            text(
-                "INSERT INTO sessions (id, created_at, expires_at, join_code, "
-                "join_code_expires_at, version) VALUES ('s1', '2026-11-21 20:00', "
-                "'2026-11-21 22:00', '482913', '2026-11-21 20:10', 1)"
-            )
-        )
-        connection.execute(
-            text(
-                "INSERT INTO participants (session_id, role, token_hash, joined_at) "
-                "VALUES ('s1', 'seeker', 'h1', '2026-11-21 20:00')"
-            )
-        )
+        now = datetime(2026, 11, 21, 20)
+        code = {"join_code": "482913", "join_code_expires_at": datetime(2026, 11, 21, 20, 10)}
+        end = datetime(2026, 11, 21, 22)
+        insert(connection, "sessions", created_at=now, expires_at=end, version=1, **code)
+        insert(connection, "participants", role="seeker", token_hash="h1", joined_at=now)
         command.upgrade(config, "0005")
+    query = text(
+        "SELECT s.join_code, s.join_code_failures, s.join_code_renewals, p.role "
+        "FROM sessions s JOIN participants p ON p.session_id = s.id"
+    )
     with engine.connect() as connection:
-        row = connection.execute(
-            text(
-                "SELECT s.join_code, s.join_code_failures, s.join_code_renewals, p.role "
-                "FROM sessions s JOIN participants p ON p.session_id = s.id"
-            )
-        ).one()
-    assert tuple(row) == (None, 0, 0, "seeker")
+        assert tuple(connection.execute(query).one()) == (None, 0, 0, "seeker")
 
 
 # Stored answers of a shape their migration changed: warnings as bare sentences (0009), a
@@ -163,14 +162,9 @@ def test_answers_of_an_old_shape_are_cleared(engine: Engine, revision: str) -> N
     with engine.begin() as connection:
         config = alembic_config(connection)
         command.downgrade(config, f"{int(revision) - 1:04d}")
-        connection.execute(
-            text(
-                "INSERT INTO sessions (id, created_at, expires_at, version, answer, "
-                "answer_version) VALUES ('s1', :now, :end, 7, :answer, 7)"
-            ),
-            {"now": datetime(2026, 11, 26), "end": datetime(2099, 1, 1)}
-            | {"answer": json.dumps(answer)},
-        )
+        times = {"created_at": datetime(2026, 11, 26), "expires_at": END}
+        stored = {"version": 7, "answer": json.dumps(answer), "answer_version": 7}
+        insert(connection, "sessions", **times, **stored)
         command.upgrade(config, revision)
     with engine.connect() as connection:
         row = connection.execute(text("SELECT version, answer, answer_version FROM sessions"))
@@ -183,64 +177,24 @@ def test_a_live_search_of_seeker_and_buddy_carries_on_as_starter_and_joiner(
     """Migration 0006: roles, taps and events in the friends' words, each tap's old
     coordinates kept; the stored answer (of the old shape) is cleared, and the next read of
     the state answers again."""
-    s = temple_pair(6, np.random.default_rng(3))
-    old = {
-        "seeker": {
-            "landmarks": landmarks(s.landmarks1),
-            "epipole1": list(s.epipole1),
-        },
-        "buddy": {"landmarks": landmarks(s.landmarks2), "epipole2": None},
-    }
-    stored = {
-        role: store_photo(
-            (TEMPLE / f"templeSR000{n}.png").read_bytes(), max_pixels=10**8, max_side=2560
-        )
-        for role, n in (("seeker", 3), ("buddy", 6))
-    }
+    s = scene(6, seed=3)
+    seeker = {"landmarks": landmarks(s.landmarks1), "epipole1": list(s.epipole1)}
+    old = {"seeker": seeker, "buddy": {"landmarks": landmarks(s.landmarks2), "epipole2": None}}
+    stored = dict(zip(("seeker", "buddy"), map(store, TEMPLE_PHOTOS), strict=True))
     with engine.begin() as connection:
         command.downgrade(alembic_config(connection), "0005")
-        connection.execute(
-            text(
-                "INSERT INTO sessions (id, created_at, expires_at, version, result, "
-                "result_version) VALUES ('s1', :now, :end, 7, '{\"result\": {}}', 7)"
-            ),
-            {"now": datetime(2026, 11, 25, 8), "end": datetime(2099, 1, 1)},
-        )
+        now = datetime(2026, 11, 25, 8)
+        result = {"result": '{"result": {}}', "result_version": 7}
+        insert(connection, "sessions", created_at=now, expires_at=END, version=7, **result)
         for role in ("seeker", "buddy"):
-            connection.execute(
-                text(
-                    "INSERT INTO participants (session_id, role, token_hash, joined_at, "
-                    "taps) VALUES ('s1', :role, :hash, :now, :taps)"
-                ),
-                {
-                    "role": role,
-                    "hash": token_hash(role),
-                    "now": datetime(2026, 11, 25, 8),
-                    "taps": json.dumps(old[role]),
-                },
-            )
+            person = {"role": role, "token_hash": token_hash(role)}
+            insert(connection, "participants", **person, joined_at=now, taps=json.dumps(old[role]))
             photo = stored[role]
-            connection.execute(
-                text(
-                    "INSERT INTO photos (session_id, role, data, width, height, scale, "
-                    "uploaded_at) VALUES ('s1', :role, :data, :w, :h, 1.0, :now)"
-                ),
-                {
-                    "role": role,
-                    "data": photo.data,
-                    "w": photo.width,
-                    "h": photo.height,
-                    "now": datetime(2026, 11, 25, 8),
-                },
-            )
-        connection.execute(
-            text(
-                "INSERT INTO events (session_id, type, data, created_at) VALUES "
-                "('s1', 'result', '{\"version\": 7}', :now), "
-                "('s1', 'taps', '{\"role\": \"buddy\", \"version\": 7}', :now)"
-            ),
-            {"now": datetime(2026, 11, 25, 8)},
-        )
+            sizes = {"width": photo.width, "height": photo.height, "scale": 1.0}
+            insert(connection, "photos", role=role, data=photo.data, **sizes, uploaded_at=now)
+        old_events = [("result", {"version": 7}), ("taps", {"role": "buddy", "version": 7})]
+        for kind, data in old_events:
+            insert(connection, "events", type=kind, data=json.dumps(data), created_at=now)
     migrate(engine)
     assert differences(engine) == []
     with engine.connect() as connection:
@@ -287,12 +241,8 @@ def test_a_database_from_before_migrations_is_kept_and_adopted(empty_database: s
                 "PRIMARY KEY (session_id, role, format))"
             )
         )
-        connection.execute(
-            text(
-                "INSERT INTO sessions (id, created_at, expires_at, version) "
-                "VALUES ('s1', '2026-11-21 20:00', '2026-11-21 22:00', 1)"
-            )
-        )
+        now = datetime(2026, 11, 21, 20)
+        insert(connection, "sessions", created_at=now, expires_at=END, version=1)
     engine.dispose()
     engine = make_engine(empty_database)
     try:
@@ -337,14 +287,8 @@ def test_replicas_starting_at_once_migrate_one_after_the_other(empty_database: s
 def test_plain_postgresql_urls_mean_psycopg() -> None:
     """As hosting platforms write them: postgres:// and postgresql:// without a driver."""
     for url in ("postgres://u:p@db:5432/buddy", "postgresql://u:p@db:5432/buddy"):
-        parsed = database_url(url)
-        assert parsed.drivername == "postgresql+psycopg"
-        assert (parsed.username, parsed.password, parsed.host, parsed.port) == (
-            "u",
-            "p",
-            "db",
-            5432,
-        )
+        # psycopg's driver, every other part as written
+        assert database_url(url) == make_url("postgresql+psycopg://u:p@db:5432/buddy")
     assert database_url("sqlite:///var/buddy.db").drivername == "sqlite"
 
 
@@ -352,14 +296,11 @@ def test_postgresql_keeps_photo_bytes_uncompressed(fresh_postgres_url: str) -> N
     """Migration 0007: no compression is tried on the photos' JPEG bytes (which do not
     compress), neither at an upload nor when VACUUM FULL copies the photos kept."""
     engine = connect(fresh_postgres_url)
+    data = "attrelid = 'photos'::regclass AND attname = 'data'"  # the photos' bytes
     try:
         with engine.connect() as connection:
-            storage = connection.execute(
-                text(
-                    "SELECT attstorage FROM pg_attribute "
-                    "WHERE attrelid = 'photos'::regclass AND attname = 'data'"
-                )
-            ).scalar_one()
+            query = text(f"SELECT attstorage FROM pg_attribute WHERE {data}")
+            storage = connection.execute(query).scalar_one()
         assert storage == "e"  # EXTERNAL: out of line, never compressed
     finally:
         engine.dispose()

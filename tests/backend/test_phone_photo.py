@@ -10,7 +10,8 @@ import io
 import cv2
 import numpy as np
 import pytest
-from phones import Phones, landmarks, scene
+from images import encoded
+from phones import Phones, image_of, scene, tapped_scene
 from PIL import Image
 
 from backend.limits import STORED_PHOTO_SIDE
@@ -20,10 +21,7 @@ from testbed.client import Phone
 def phone_jpeg(width: int, height: int) -> bytes:
     """A photo as the phone sends it: a canvas's JPEG, no EXIF (downscale.ts)."""
     rng = np.random.default_rng(7)
-    pixels = rng.integers(0, 255, (height, width, 3), dtype=np.uint8)
-    buffer = io.BytesIO()
-    Image.fromarray(pixels).save(buffer, format="JPEG", quality=90)
-    return buffer.getvalue()
+    return encoded(rng.integers(0, 255, (height, width, 3), dtype=np.uint8), quality=90)
 
 
 @pytest.mark.parametrize(
@@ -32,38 +30,27 @@ def phone_jpeg(width: int, height: int) -> bytes:
 def test_the_phones_photo_is_stored_at_the_size_it_was_sent(
     starter: Phone, size: tuple[int, int]
 ) -> None:
-    stored = starter.upload(phone_jpeg(*size))
-    assert stored.status_code == 200, stored.text
-    assert (stored.json()["width"], stored.json()["height"]) == size
-    assert stored.json()["scale"] == 1.0
+    stored = starter.uploaded(phone_jpeg(*size))
+    assert (stored["width"], stored["height"], stored["scale"]) == (*size, 1.0)
     photo = starter.call("GET", "/photo/starter")
     assert Image.open(io.BytesIO(photo.content)).size == size
 
 
 def test_the_answers_layer_is_the_drawing_alone(uploaded: Phones) -> None:
-    starter, joiner = uploaded
-    s = scene(6)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2))
-    get = joiner.client.get
-    url = joiner.url("/overlay/joiner")
-    layer = get(url, params={"layer": "true"}, headers=joiner.auth)
-    assert layer.status_code == 200, layer.text
+    joiner = uploaded[1]
+    tapped_scene(*uploaded, scene(6))
+    layer = joiner.call("GET", "/overlay/joiner", params={"layer": "true"})
     assert layer.headers["content-type"] == "image/png"
-    rgba = cv2.imdecode(np.frombuffer(layer.content, np.uint8), cv2.IMREAD_UNCHANGED)
-    assert rgba is not None
+    rgba = image_of(layer, cv2.IMREAD_UNCHANGED)
     assert rgba.shape == (480, 640, 4)
     drawn = rgba[..., 3] == 255
     assert set(np.unique(rgba[..., 3])) == {0, 255}
     assert 0 < drawn.mean() < 0.5  # a drawing, not a photo
     # Where it is opaque, it is the full overlay's drawing; elsewhere the photo shows.
-    full = get(url, params={"format": "png"}, headers=joiner.auth)
-    overlay = cv2.imdecode(np.frombuffer(full.content, np.uint8), cv2.IMREAD_COLOR)
-    assert overlay is not None
+    full = joiner.call("GET", "/overlay/joiner", params={"format": "png"})
+    overlay = image_of(full)
     assert np.array_equal(rgba[..., :3][drawn], overlay[drawn])
-    photo = get(joiner.url("/photo/joiner"), headers=joiner.auth)
-    pixels = cv2.imdecode(np.frombuffer(photo.content, np.uint8), cv2.IMREAD_COLOR)
-    assert pixels is not None
+    pixels = image_of(joiner.call("GET", "/photo/joiner"))
     assert np.array_equal(overlay[~drawn], pixels[~drawn])
     assert len(layer.content) < len(full.content) / 3
 

@@ -16,13 +16,14 @@ import contextlib
 import io
 import logging
 import time
-from collections.abc import Callable, Coroutine, Sequence
+from collections.abc import Callable, Coroutine
 from pathlib import Path
 
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import FakeClock
+from images import encoded, exif_of
+from phones import FakeClock, joined, photos_uploaded
 from PIL import ExifTags, Image
 from sqlalchemy import Engine
 
@@ -30,7 +31,7 @@ from backend.background import sweep_forever
 from backend.main import ERASE_SECONDS
 from backend.wiring import Services
 from deploy.postgres import PostgresServer
-from testbed.client import Phone, start
+from testbed.client import Phone, numbered, start
 
 # The temple landmarks of the README's example, and where the joiner is in photo 1.
 IN_PHOTO1 = [(263, 352), (493, 129), (458, 242), (502, 382), (134, 238), (517, 208)]
@@ -38,32 +39,18 @@ IN_PHOTO2 = [(266, 108), (490, 358), (461, 209), (504, 76), (189, 202), (517, 26
 BUDDY_IN_PHOTO1 = (523, 384)
 
 
-def taps(points: Sequence[tuple[float, float]]) -> list[dict[str, float]]:
-    return [{"id": n, "x": x, "y": y} for n, (x, y) in enumerate(points, start=1)]
-
-
 def answered(starter: Phone, joiner: Phone, photos: tuple[bytes, bytes]) -> None:
     """Both photos uploaded and tapped: the session has an answer (and overlays to draw)."""
-    for phone, photo in zip((starter, joiner), photos, strict=True):
-        assert phone.upload(photo, "photo.png").status_code == 200
-    assert starter.tap(landmarks=taps(IN_PHOTO1), friend=BUDDY_IN_PHOTO1).status_code == 200
-    state = joiner.tap(landmarks=taps(IN_PHOTO2))
-    assert state.status_code == 200
-    assert state.json()["answer"] is not None
+    photos_uploaded(starter, joiner, photos)
+    starter.tapped(landmarks=numbered(IN_PHOTO1), friend=BUDDY_IN_PHOTO1)
+    assert joiner.tapped(landmarks=numbered(IN_PHOTO2))["answer"] is not None
 
 
 def pictures(client: TestClient, phone: Phone, *, drawn: bool = False) -> list[bytes]:
     """The session's pictures: both stored photos (kept), or both overlays (``drawn``: made
     for each request, never kept)."""
-    found = []
-    paths = (
-        ("/overlay/starter", "/overlay/joiner") if drawn else ("/photo/starter", "/photo/joiner")
-    )
-    for path in paths:
-        response = phone.call("GET", path)
-        assert response.status_code == 200, (path, response.text)
-        found.append(response.content)
-    return found
+    kind = "overlay" if drawn else "photo"
+    return [phone.ok("GET", f"/{kind}/{role}").content for role in ("starter", "joiner")]
 
 
 def variant(photo: bytes, seed: int) -> bytes:
@@ -71,9 +58,7 @@ def variant(photo: bytes, seed: int) -> bytes:
     same upload twice would be stored byte for byte the same)."""
     pixels = np.asarray(Image.open(io.BytesIO(photo)).convert("RGB"), dtype=np.int16)
     noise = np.random.default_rng(seed).integers(-3, 4, pixels.shape)
-    out = io.BytesIO()
-    Image.fromarray(np.clip(pixels + noise, 0, 255).astype(np.uint8)).save(out, "PNG")
-    return out.getvalue()
+    return encoded(np.clip(pixels + noise, 0, 255).astype(np.uint8), "PNG")
 
 
 def runs(picture: bytes, count: int = 16, size: int = 64) -> list[bytes]:
@@ -112,15 +97,9 @@ class Disk:
 
 
 @pytest.fixture
-def disk(request: pytest.FixtureRequest, client: TestClient, database_url: str) -> Disk:
+def disk(request: pytest.FixtureRequest, services: Services, database_url: str) -> Disk:
     postgres = request.getfixturevalue("postgres") if "postgresql" in database_url else None
-    return Disk(client.app.state.services.database.engine, postgres)  # type: ignore[attr-defined]
-
-
-@pytest.fixture
-def services(client: TestClient) -> Services:
-    found: Services = client.app.state.services  # type: ignore[attr-defined]
-    return found
+    return Disk(services.database.engine, postgres)
 
 
 def sweep(services: Services) -> list[str]:
@@ -130,11 +109,10 @@ def sweep(services: Services) -> list[str]:
     return gone
 
 
-def other_session(client: TestClient, photo: bytes) -> tuple[Phone, bytes]:
-    """A second search, still going, with a photo: what erasing must leave alone."""
-    phone, _ = start(client, photo)
-    stored = phone.call("GET", "/photo/starter").content
-    return phone, stored
+def other_session(client: TestClient, photo: bytes) -> bytes:
+    """A second search, still going, with a photo: what erasing must leave alone (its
+    stored photo)."""
+    return start(client, photo)[0].call("GET", "/photo/starter").content
 
 
 def test_a_deleted_session_leaves_no_picture_in_the_database_files(
@@ -153,7 +131,7 @@ def test_a_deleted_session_leaves_no_picture_in_the_database_files(
     kept = pictures(client, starter)
     # Another search uploaded after this one's, so that this one's rows are not simply the
     # end of each table (which any VACUUM cuts off).
-    _, other = other_session(client, variant(temple_photos[0], 2))
+    other = other_session(client, variant(temple_photos[0], 2))
     crop = starter.call("GET", "/landmarks/joiner/3/crop").content
 
     for picture in [replaced, *kept, other]:
@@ -187,7 +165,7 @@ def test_an_expired_session_leaves_no_picture_in_the_database_files(
     answered(starter, joiner, temple_photos)
     kept = pictures(client, joiner)
     clock.advance(3600)
-    _, other = other_session(client, variant(temple_photos[0], 3))  # an hour younger
+    other = other_session(client, variant(temple_photos[0], 3))  # an hour younger
     for picture in [*kept, other]:
         assert disk.holds(picture) >= 12
     clock.advance(3601)
@@ -199,17 +177,11 @@ def test_an_expired_session_leaves_no_picture_in_the_database_files(
 
 def photo_with_gps() -> tuple[bytes, bytes]:
     """A JPEG as a phone writes it, EXIF with a GPS position; and that EXIF block."""
-    exif = Image.Exif()
-    exif[ExifTags.Base.Make] = "BuddyPhone"
-    gps = exif.get_ifd(ExifTags.IFD.GPSInfo)
-    gps[ExifTags.GPS.GPSLatitudeRef] = "N"
-    gps[ExifTags.GPS.GPSLatitude] = (47.0, 22.0, 13.3712)
-    gps[ExifTags.GPS.GPSLongitudeRef] = "E"
-    gps[ExifTags.GPS.GPSLongitude] = (8.0, 32.0, 41.9183)
+    latitude = {"GPSLatitudeRef": "N", "GPSLatitude": (47.0, 22.0, 13.3712)}
+    longitude = {"GPSLongitudeRef": "E", "GPSLongitude": (8.0, 32.0, 41.9183)}
+    exif = exif_of(None, "BuddyPhone", **latitude, **longitude)
     pixels = np.random.default_rng(7).integers(0, 255, (480, 640, 3), dtype=np.uint8)
-    out = io.BytesIO()
-    Image.fromarray(pixels).save(out, "JPEG", quality=90, exif=exif)
-    return out.getvalue(), exif.tobytes()
+    return encoded(pixels, quality=90, exif=exif), exif.tobytes()
 
 
 # Made once, before any test captures logs (Pillow logs the tags it writes).
@@ -275,17 +247,15 @@ def test_logs_hold_no_token_code_or_position(
     code = created["join_code"]
     wrong = f"{(int(code) + 1) % 10**8:08d}"
     assert client.post("/api/sessions/join", json={"code": wrong}).status_code == 404
-    joined = client.post("/api/sessions/join", json={"code": code}).json()
     starter = Phone(client, created["session_id"], created["token"], "starter")
-    joiner = Phone(client, joined["session_id"], joined["token"], "joiner")
+    joiner = joined(client, code)
     assert starter.upload(GPS_PHOTO).status_code == 200
-    assert starter.upload(temple_photos[0], "photo.png").status_code == 200
-    assert joiner.upload(temple_photos[1], "photo.png").status_code == 200
+    photos_uploaded(starter, joiner, temple_photos)
     # Positions nobody else would write: taps with three decimals.
     photo1 = [(x + 0.417, y + 0.583) for x, y in IN_PHOTO1]
     photo2 = [(x + 0.271, y + 0.829) for x, y in IN_PHOTO2]
-    assert starter.tap(landmarks=taps(photo1), friend=(523.613, 384.347)).status_code == 200
-    state = joiner.tap(landmarks=taps(photo2)).json()
+    starter.tapped(landmarks=numbered(photo1), friend=(523.613, 384.347))
+    state = joiner.tapped(landmarks=numbered(photo2))
     position = state["answer"]["in_photo"]["joiner"]["friend"]
     for path in ("/overlay/joiner", "/landmarks/starter/2/crop", "/photo/joiner"):
         answer = client.get(joiner.url(path), params={"token": joiner.token})
@@ -304,7 +274,7 @@ def test_logs_hold_no_token_code_or_position(
     assert "/api/sessions/{session_id}/overlay/{role}" in written
     assert "deleted 1 expired session" in written
     assert "INSERT INTO photos" in written  # the statements, without their parameters
-    secrets = [created["token"], joined["token"], code, created["join_url"]]
+    secrets = [starter.token, joiner.token, code, created["join_url"]]
     positions = [f"{v:.3f}" for point in photo1 + photo2 for v in point]
     positions += ["523.613", "384.347", f"{position[0]:.2f}", f"{position[1]:.2f}"]
     exif = ["13.3712", "41.9183", "BuddyPhone"]

@@ -26,6 +26,7 @@ from shared_solver.errors import (
     WARNING_OF_ONE_PHOTO,
     WARNING_PHOTO,
 )
+from testbed.client import numbered
 
 SIGMA = 2.0
 SIZES: dict[Role, tuple[int, int]] = {"starter": (640, 480), "joiner": (640, 480)}
@@ -44,14 +45,11 @@ PARAMETERS: dict[WarningCode, dict[str, Any]] = {
 def tapped(marker: Role) -> dict[Role, Taps | None]:
     """Six landmarks in both photos; ``marker`` marked the other friend (its photo is 1)."""
     s = scene(6, seed=3)
-
-    def taps(points: Any) -> list[Landmark]:
-        return [Landmark(id=i, x=float(x), y=float(y)) for i, (x, y) in enumerate(points, 1)]
-
-    x, y = s.epipole1
+    x, y = s.epipole1.tolist()
+    mine = {"landmarks": numbered(s.landmarks1), "friend": {"x": x, "y": y}}
     return {
-        marker: Taps(landmarks=taps(s.landmarks1), friend=Mark(x=float(x), y=float(y))),
-        other(marker): Taps(landmarks=taps(s.landmarks2)),
+        marker: Taps.model_validate(mine),
+        other(marker): Taps.model_validate({"landmarks": numbered(s.landmarks2)}),
     }
 
 
@@ -220,8 +218,5 @@ def test_a_reworded_sentence_is_said_of_the_same_photo(monkeypatch: pytest.Monke
     monkeypatch.setattr(words, "refusal", lambda reason, _, *, reader=None: f"{reader}: photo 2")
     said = shown(taps, stored, SIGMA).answer_error
     assert said is not None
-    assert {role: said[role].message for role in ROLES} == {
-        "starter": "1: photo 2",
-        "joiner": "2: photo 2",
-    }
+    assert [said[role].message for role in ("starter", "joiner")] == ["1: photo 2", "2: photo 2"]
     assert {said[role].photo for role in ROLES} == {2}

@@ -13,24 +13,28 @@ import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
+from images import encoded, exif_of
 from phones import (
     FakeClock,
     Phones,
     error_of,
+    image_of,
     in_region,
     landmarks,
     photos_uploaded,
     scene,
     stored_photo,
+    tapped_scene,
 )
 from PIL import ExifTags, Image
 from sqlalchemy import text
 
 from backend.pairing.tokens import token_hash
-from backend.participants import ROLES, Role
+from backend.participants import ROLES
 from backend.storage.snapshot import read_snapshot
 from backend.storage.tables import Base
 from backend.taps.schemas import StoredAnswer
+from backend.wiring import Services
 from shared_solver import SolveResult
 from shared_solver.drawing.layout import answer_drawing
 from shared_solver.drawing.overlay import render
@@ -42,7 +46,7 @@ from testbed.scenes import (
     NO_PHONES_FRIEND,
     NO_PHONES_LANDMARKS1,
     NO_PHONES_LANDMARKS2,
-    Scene,
+    Camera,
 )
 
 # --- pairing --------------------------------------------------------------------------
@@ -99,10 +103,10 @@ def test_malformed_join_codes_are_refused(client: TestClient, code: str) -> None
 # --- who may do what ------------------------------------------------------------------
 
 
-def test_tokens_are_stored_hashed(client: TestClient, starter: Phone) -> None:
-    engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
+def test_tokens_are_stored_hashed(services: Services, starter: Phone) -> None:
+    engine = services.database.engine
     if engine.dialect.name == "sqlite":  # the file and its write-ahead log, byte for byte
-        files = (Path(engine.url.database), Path(f"{engine.url.database}-wal"))
+        files = (Path(f"{engine.url.database}"), Path(f"{engine.url.database}-wal"))
         stored = b"".join(file.read_bytes() for file in files if file.exists())
     else:  # every row of every table, as PostgreSQL writes it out
         with engine.connect() as connection:
@@ -230,11 +234,10 @@ def test_each_taps_precision_sizes_the_region(uploaded: Phones) -> None:
     s = scene(8, seed=23)
     axes = []
     for sigma in (0.5, 5.0):
-        taps = [{**tap, "sigma": sigma} for tap in landmarks(s.landmarks1)]
-        starter.tap(landmarks=taps, friend={"x": s.epipole1[0], "y": s.epipole1[1], "sigma": sigma})
-        state = joiner.tap(landmarks=[{**t, "sigma": sigma} for t in landmarks(s.landmarks2)])
-        region = state.json()["answer"]["in_photo"]["joiner"]["region"]
-        axes.append(np.array(region["axes"]))
+        friend = {"x": s.epipole1[0], "y": s.epipole1[1], "sigma": sigma}
+        starter.tapped(landmarks=landmarks(s.landmarks1, sigma=sigma), friend=friend)
+        state = joiner.tapped(landmarks=landmarks(s.landmarks2, sigma=sigma))
+        axes.append(np.array(state["answer"]["in_photo"]["joiner"]["region"]["axes"]))
     assert np.all(axes[1] > 3 * axes[0])
     assert np.all(axes[1] < 11 * axes[0])
 
@@ -245,16 +248,12 @@ def test_the_lens_a_photo_tells_reaches_the_answer(
     """A photo's own EXIF focal length is read by the server; a shrunk photo's comes from
     the phone's form fields; the answer uses each as that camera's focal length."""
     starter_photo = with_exif_focal(temple_photos[0], focal_35mm=31)
-    assert starter.upload(starter_photo, "photo.jpg").json()["lens"] == {
-        "focal_35mm": 31.0,
-        "told_by": "photo",
-    }
+    lens = starter.upload(starter_photo, "photo.jpg").json()["lens"]
+    assert lens == {"focal_35mm": 31.0, "told_by": "photo"}
     told_by_phone = {"focal_35mm": "44", "make": "Google", "model": "Pixel 7"}
     told = joiner.upload(temple_photos[1], "photo.png", "image/png", told_by_phone)
     assert told.json()["lens"] == {"focal_35mm": 44.0, "told_by": "phone"}
-    s = scene(5, seed=24)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    state = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
+    state = tapped_scene(starter, joiner, scene(5, seed=24))
     assert state["photos"]["starter"]["lens"]["told_by"] == "photo"
     focal = {role: state["answer"]["in_photo"][role]["focal_35mm"] for role in ROLES}
     # Known to 2 %: the fit keeps each within a few percent of what the photo said.
@@ -262,9 +261,14 @@ def test_the_lens_a_photo_tells_reaches_the_answer(
     assert abs(focal["joiner"] / 44 - 1) < 0.1
 
 
-def with_gravity(phone: Phone, photo: bytes, down: np.ndarray, **more: str) -> Any:
-    """Upload ``photo`` with the phone's gravity reading ``down`` (the form field three
-    times)."""
+def with_gravity(phone: Phone, photo: bytes, seen_by: Camera | np.ndarray, **more: str) -> Any:
+    """Upload ``photo`` with the phone's gravity reading (the form field three times): a
+    down direction, or a scene camera's. A camera's is the temple's vertical (its y axis: any
+    world direction read by both phones), and its lens goes as the phone's EXIF would tell
+    it (the temple's long lenses: no phone's main camera)."""
+    if isinstance(seen_by, Camera):
+        more = {"focal_35mm": f"{focal_35mm(seen_by.intrinsics[0, 0], (640, 480)):.1f}"} | more
+    down = seen_by.down if isinstance(seen_by, Camera) else seen_by
     gravity = {"gravity": [f"{value:.9f}" for value in down], **more}
     return phone.upload(photo, "photo.png", "image/png", gravity)
 
@@ -275,17 +279,11 @@ def test_both_phones_gravity_gives_the_level_then_a_point(
     """Both photos with the phones' gravity: the friend mark alone gives the joiner the level
     the starter is on (a band through the truth), one landmark a point."""
     s = scene(2, seed=30)
-    # The temple's vertical (its y axis) as down: any world direction read by both phones.
-    downs = [s.camera1.down, s.camera2.down]
-    # The temple's long lenses as the phones' EXIF would tell them (no phone's main camera).
-    lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
-    stored = with_gravity(
-        starter, temple_photos[0], downs[0], gravity_sigma_deg="0.5", focal_35mm=lenses[0]
-    )
+    stored = with_gravity(starter, temple_photos[0], s.camera1, gravity_sigma_deg="0.5")
     assert stored.status_code == 200, stored.text
     assert stored.json()["gravity"]["sigma_deg"] == 0.5
-    assert np.allclose(stored.json()["gravity"]["down"], downs[0])
-    joined = with_gravity(joiner, temple_photos[1], downs[1], focal_35mm=lenses[1])
+    assert np.allclose(stored.json()["gravity"]["down"], s.camera1.down)
+    joined = with_gravity(joiner, temple_photos[1], s.camera2)
     assert joined.json()["gravity"]["sigma_deg"] == 1.0
     state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
     assert state["landmarks_needed"] == 1
@@ -315,22 +313,17 @@ def test_both_phones_headings_give_the_stretch_of_the_level(
     compasses point to, drawn bolder on the band; the truth is on it. One heading is not
     enough: the level comes without a stretch."""
     s = scene(2, seed=30)
-    lenses = [f"{focal_35mm(c.intrinsics[0, 0], (640, 480)):.1f}" for c in (s.camera1, s.camera2)]
     # Any north both phones share: 100 degrees off the scene's, and one said a turn later.
     headings = [f"{s.camera1.heading + 100:.6f}", f"{s.camera2.heading + 100 - 360:.6f}"]
-    with_gravity(starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0])
-    joined = with_gravity(
-        joiner, temple_photos[1], s.camera2.down, focal_35mm=lenses[1], heading=headings[1]
-    )
+    with_gravity(starter, temple_photos[0], s.camera1)
+    joined = with_gravity(joiner, temple_photos[1], s.camera2, heading=headings[1])
     assert joined.json()["heading"] == pytest.approx((s.camera2.heading + 100) % 360)
     state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
     assert state["answer"]["method"] == "pinhole_level"
     assert state["answer"]["used_heading"] is False
     assert state["answer"]["in_photo"]["joiner"]["level_stretch"] is None
 
-    with_gravity(
-        starter, temple_photos[0], s.camera1.down, focal_35mm=lenses[0], heading=headings[0]
-    )
+    with_gravity(starter, temple_photos[0], s.camera1, heading=headings[0])
     state = starter.tap(landmarks=[], friend=list(s.epipole1)).json()
     assert state["answer"]["method"] == "pinhole_level"
     assert state["answer"]["used_heading"] is True
@@ -384,13 +377,9 @@ def test_a_reading_that_is_no_direction_is_refused(
 def with_exif_focal(png: bytes, *, focal_35mm: int) -> bytes:
     """The photo as a phone's JPEG whose EXIF gives its lens (and a GPS position, which
     must not be kept)."""
-    exif = Image.Exif()
-    exif[ExifTags.Base.Make] = "Apple"
+    exif = exif_of(make="Apple", GPSLatitudeRef="N")
     exif.get_ifd(ExifTags.IFD.Exif)[ExifTags.Base.FocalLengthIn35mmFilm] = focal_35mm
-    exif.get_ifd(ExifTags.IFD.GPSInfo)[ExifTags.GPS.GPSLatitudeRef] = "N"
-    buffer = io.BytesIO()
-    Image.open(io.BytesIO(png)).convert("RGB").save(buffer, "JPEG", quality=95, exif=exif)
-    return buffer.getvalue()
+    return encoded(Image.open(io.BytesIO(png)).convert("RGB"), quality=95, exif=exif)
 
 
 def test_both_friends_marked_one_landmark_is_enough(uploaded: Phones) -> None:
@@ -455,18 +444,23 @@ def test_the_reply_to_taps_is_the_state_a_fetch_then_shows(uploaded: Phones) -> 
     assert reply["answer"]["method"] == "pinhole_epipole"  # 6 landmarks + e1, phone cameras
 
 
-def overtake_the_joiner(
-    app: Any, starter: Phone, s: Scene, then: Callable[[], httpx2.Response] | None = None
-) -> list[httpx2.Response]:
-    """Make the joiner's next taps overtaken: the starter's taps of all ``s``'s landmarks land
-    between the joiner's request reading the session and writing its own. Filled in as it
-    happens: the starter's reply, then (if given) what ``then`` got right after the joiner's
-    write, before its request answered the session again."""
+def overtaken(
+    app: Any, phones: Phones, tapped: int, then: Callable[[], httpx2.Response] | None = None
+) -> tuple[dict[str, Any], list[httpx2.Response]]:
+    """Five landmarks of ``scene(6, seed=4)`` tapped by the starter, ``tapped`` by the joiner;
+    then the joiner taps all six, overtaken: the starter's taps of all six land between the
+    joiner's request reading the session and writing its own. The joiner's reply, and what
+    was got as it happened: the starter's reply, then (if given) what ``then`` got right
+    after the joiner's write, before its request answered the session again."""
+    starter, joiner = phones
+    s = scene(6, seed=4)
+    starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
+    joiner.tap(landmarks=landmarks(s.landmarks2[:tapped]))
     store = app.state.services.taps.taps
     write = store.put_taps
     got: list[httpx2.Response] = []
 
-    def overtaken(participant: Any, *args: Any, **options: Any) -> Any:
+    def overtaking(participant: Any, *args: Any, **options: Any) -> Any:
         if got or participant.role != "joiner":
             return write(participant, *args, **options)
         got.append(starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1)))
@@ -475,19 +469,15 @@ def overtake_the_joiner(
             got.append(then())
         return written
 
-    store.put_taps = overtaken
-    return got
+    store.put_taps = overtaking
+    return joiner.tap(landmarks=landmarks(s.landmarks2)).json(), got
 
 
 def test_taps_overtaken_by_the_other_phone_are_answered_afresh(app: Any, uploaded: Phones) -> None:
     """The other phone's taps land between reading the session and writing these: the
     answer computed before that would be stale, so the new version is answered again."""
-    starter, joiner = uploaded
-    s = scene(6, seed=4)
-    starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2[:4]))
-    sneaked = overtake_the_joiner(app, starter, s)
-    reply = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
+    joiner = uploaded[1]
+    reply, sneaked = overtaken(app, uploaded, tapped=4)
     assert sneaked[0].status_code == 200
     # Answered with the starter's 6 landmarks, which came in after the joiner's request did.
     assert reply["answer"]["method"] == "pinhole_epipole"
@@ -515,9 +505,7 @@ def test_a_new_photo_clears_its_taps_and_the_answer(
     uploaded: Phones, temple_photos: tuple[bytes, bytes]
 ) -> None:
     starter, joiner = uploaded
-    s = scene(5)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    assert joiner.tap(landmarks=landmarks(s.landmarks2)).json()["answer"] is not None
+    assert tapped_scene(starter, joiner, scene(5))["answer"] is not None
     assert joiner.upload(temple_photos[1], "again.png").status_code == 200
     state = starter.state()
     assert state["taps"]["joiner"] is None
@@ -532,17 +520,12 @@ def test_overlays_show_the_answer_on_each_photo(client: TestClient, uploaded: Ph
     starter, joiner = uploaded
     before = starter.call("GET", "/overlay/joiner")
     assert error_of(before, 409) == "no_result"
-    s = scene(6)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2))
+    tapped_scene(starter, joiner, scene(6))
     for role, fmt, magic in (("joiner", "png", b"\x89PNG"), ("starter", "jpeg", b"\xff\xd8\xff")):
         response = joiner.call("GET", f"/overlay/{role}", params={"format": fmt})
-        assert response.status_code == 200
         assert response.content.startswith(magic)
         assert response.headers["content-type"] == f"image/{fmt}"
-        image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
-        assert image is not None
-        assert image.shape == (480, 640, 3)
+        assert image_of(response).shape == (480, 640, 3)
     again = joiner.call("GET", "/overlay/joiner")
     assert again.headers["content-type"] == "image/jpeg"  # the default for a phone
     assert again.content == joiner.call("GET", "/overlay/joiner").content
@@ -552,43 +535,30 @@ def test_overlays_show_the_answer_on_each_photo(client: TestClient, uploaded: Ph
 
 
 def test_an_overlay_renders_the_drawing_the_phone_gets(
-    client: TestClient, uploaded: Phones
+    services: Services, uploaded: Phones
 ) -> None:
     """The overlay is the state's ``in_photo[role].drawing`` rendered on the stored photo:
     the shapes the phone draws as SVG, which are the solver's answer's shapes for that
     photo."""
     starter, joiner = uploaded
     s = scene(6)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    state = joiner.tapped(landmarks=landmarks(s.landmarks2))
-    database = client.app.state.services.database  # type: ignore[attr-defined]
-    snapshot = read_snapshot(database, joiner.session_id)
+    state = tapped_scene(starter, joiner, s)
+    snapshot = read_snapshot(services.database, joiner.session_id)
     stored = None if snapshot is None else StoredAnswer.read(snapshot.answer)
     assert stored is not None
     assert stored.solution is not None
     assert stored.order is not None
     result = SolveResult.model_validate(stored.solution)
-    photos: tuple[tuple[Role, np.ndarray], ...] = (
-        ("starter", s.landmarks1),
-        ("joiner", s.landmarks2),
-    )
-    for role, tapped in photos:
-        got = joiner.call("GET", f"/overlay/{role}", params={"format": "png"})
-        overlay = cv2.imdecode(np.frombuffer(got.content, np.uint8), cv2.IMREAD_COLOR)
-        assert overlay is not None
-        photo = joiner.call("GET", f"/photo/{role}").content
-        pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
-        assert pixels is not None
+    for role, tapped in zip(ROLES, (s.landmarks1, s.landmarks2), strict=True):
+        overlay = image_of(joiner.call("GET", f"/overlay/{role}", params={"format": "png"}))
+        pixels = image_of(joiner.call("GET", f"/photo/{role}"))
         number = stored.order.number(role)
         drawing = AnswerDrawing.model_validate(state["answer"]["in_photo"][role]["drawing"])
         # render draws on a copy of the photo's pixels (astype copies)
         assert np.array_equal(overlay, render(pixels.astype(np.uint8), drawing, photo=number))
+        labels = state["answer"]["landmark_ids"]
         shapes = answer_drawing(
-            result,
-            photo=number,
-            size=(640, 480),
-            landmarks=np.asarray(tapped),
-            labels=state["answer"]["landmark_ids"],
+            result, photo=number, size=(640, 480), landmarks=tapped, labels=labels
         )
         # The same shapes, to the 0.01 px the state keeps.
         assert drawing.model_dump_json() == shapes.model_dump_json()
@@ -602,13 +572,9 @@ def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(uploaded: P
     frame = {"frame": ("frame.jpg", b"", "image/jpeg")}
     before = joiner.call("POST", "/reanchor", files=frame)
     assert error_of(before) == "no_result"
-    s = scene(6)
-    starter.tap(landmarks=landmarks(s.landmarks1), friend=list(s.epipole1))
-    state = joiner.tapped(landmarks=landmarks(s.landmarks2))
+    state = tapped_scene(starter, joiner, scene(6))
     focal = state["answer"]["in_photo"]["joiner"]["focal_px"]
-    photo = joiner.call("GET", "/photo/joiner").content
-    pixels = cv2.imdecode(np.frombuffer(photo, np.uint8), cv2.IMREAD_COLOR)
-    assert pixels is not None
+    pixels = image_of(joiner.call("GET", "/photo/joiner"))
     height, width = pixels.shape[:2]
     k_photo = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
     k_frame = np.diag([0.75, 0.75, 1.0]) @ k_photo
@@ -619,9 +585,7 @@ def test_a_live_frame_gives_the_turn_since_the_photo_and_is_not_kept(uploaded: P
     ok, jpeg = cv2.imencode(".jpg", seen, [cv2.IMWRITE_JPEG_QUALITY, 90])
     assert ok
     frame = {"frame": ("frame.jpg", jpeg.tobytes(), "image/jpeg")}
-    got = joiner.call("POST", "/reanchor", files=frame)
-    assert got.status_code == 200, got.text
-    found = got.json()
+    found = joiner.ok("POST", "/reanchor", files=frame).json()
     off = cv2.Rodrigues(np.array(found["rotation"]) @ turn.T)[0]
     assert np.degrees(np.linalg.norm(off)) < 0.2
     assert found["frame_focal_px"] == pytest.approx(0.75 * focal, rel=0.01)
@@ -641,16 +605,8 @@ def test_an_overlay_asked_for_while_the_answer_is_renewed_is_drawn(
     (stale) answer, and the answer for the session as it now is comes a moment later. An
     overlay asked for in that moment is answered then and there, not refused."""
     starter, joiner = uploaded
-    s = scene(6, seed=4)
-    starter.tap(landmarks=landmarks(s.landmarks1[:5]), friend=list(s.epipole1))
-    joiner.tap(landmarks=landmarks(s.landmarks2[:5]))
-    got = overtake_the_joiner(app, starter, s, then=lambda: starter.call("GET", "/overlay/joiner"))
-    reply = joiner.tap(landmarks=landmarks(s.landmarks2)).json()
-    overlay = got[1]
-    assert overlay.status_code == 200, overlay.text
-    image = cv2.imdecode(np.frombuffer(overlay.content, np.uint8), cv2.IMREAD_COLOR)
-    assert image is not None
-    assert image.shape == (480, 640, 3)
+    reply, got = overtaken(app, uploaded, 5, then=lambda: starter.call("GET", "/overlay/joiner"))
+    assert image_of(got[1]).shape == (480, 640, 3)
     assert reply["answer"]["landmark_ids"] == [1, 2, 3, 4, 5, 6]
     assert reply == joiner.state()
 
@@ -660,10 +616,8 @@ def test_the_other_phone_gets_a_crop_of_each_landmark(uploaded: Phones) -> None:
     s = scene(3)
     starter.tap(landmarks=landmarks(s.landmarks1))
     crop = joiner.call("GET", "/landmarks/starter/2/crop")
-    assert crop.status_code == 200
     assert crop.headers["content-type"] == "image/jpeg"
-    image = cv2.imdecode(np.frombuffer(crop.content, np.uint8), cv2.IMREAD_COLOR)
-    assert image is not None
+    image = image_of(crop)
     assert image.shape[0] == image.shape[1] > 50
     missing = joiner.call("GET", "/landmarks/starter/9/crop")
     assert error_of(missing, 404) == "landmark_not_found"
@@ -673,31 +627,26 @@ def test_the_other_phone_gets_a_crop_of_each_landmark(uploaded: Phones) -> None:
 
 
 def test_delete_now_removes_everything_for_both_phones(
-    client: TestClient, uploaded: Phones
+    services: Services, uploaded: Phones
 ) -> None:
     starter, joiner = uploaded
-    deleted = joiner.call("DELETE")
-    assert deleted.status_code == 204
+    assert joiner.call("DELETE").status_code == 204
     for phone in (starter, joiner):
-        gone = phone.call("GET")
-        assert gone.status_code == 401
-    engine = client.app.state.services.database.engine  # type: ignore[attr-defined]
-    with engine.connect() as connection:
+        assert phone.call("GET").status_code == 401
+    with services.database.engine.connect() as connection:
         for table in ("sessions", "participants", "photos", "events"):
             assert connection.exec_driver_sql(f"SELECT COUNT(*) FROM {table}").scalar() == 0
 
 
 def test_expired_sessions_are_swept_away(
-    client: TestClient, uploaded: Phones, clock: FakeClock
+    services: Services, uploaded: Phones, clock: FakeClock
 ) -> None:
     starter, _ = uploaded
-    services = client.app.state.services  # type: ignore[attr-defined]
     assert services.pairing.sweep() == []
     clock.advance(7201)
     assert starter.call("GET").status_code == 401
     assert services.pairing.sweep() == [starter.session_id]
-    engine = services.database.engine
-    with engine.connect() as connection:
+    with services.database.engine.connect() as connection:
         assert connection.exec_driver_sql("SELECT COUNT(*) FROM photos").scalar() == 0
 
 
@@ -720,11 +669,8 @@ def test_each_phone_can_fetch_the_stored_photos(
     photos_uploaded(starter, joiner, temple_photos)
     for role in ("starter", "joiner"):
         stored = client.get(starter.url(f"/photo/{role}"), params={"token": starter.token})
-        assert stored.status_code == 200
         assert stored.headers["content-type"] == "image/jpeg"
-        image = cv2.imdecode(np.frombuffer(stored.content, np.uint8), cv2.IMREAD_COLOR)
-        assert image is not None
-        assert image.shape == (480, 640, 3)
+        assert image_of(stored).shape == (480, 640, 3)
 
 
 def test_the_same_photo_sent_twice_at_once_is_stored_once(

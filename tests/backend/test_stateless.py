@@ -10,9 +10,9 @@ import httpx2
 import numpy as np
 import pytest
 from fastapi.testclient import TestClient
-from phones import TEMPLE, error_of, temple_pair
+from phones import TEMPLE, error_of, image_of, scene
 
-from shared_solver import Camera, solve
+from shared_solver import Camera, SolveResult, solve
 from testbed.phones import phone_scene
 from testbed.scenes import Scene, facing_scene, solved
 
@@ -36,6 +36,18 @@ def request_for(seed: int, landmarks: int = 6) -> dict[str, Any]:
     return request_of(facing_scene(np.random.default_rng(seed), landmarks), tap_sigma=1.5)
 
 
+def answered(client: TestClient, body: dict[str, Any]) -> Any:
+    """``POST /api/solve``'s answer to ``body``, failing unless 200."""
+    response = client.post("/api/solve", json=body)
+    assert response.status_code == 200, response.text
+    return response.json()
+
+
+def as_sent(result: SolveResult) -> Any:
+    """The solver's ``result`` as the API sends it (JSON, read back)."""
+    return json.loads(json.dumps(result.model_dump(mode="json")))
+
+
 def refused_for_too_few_landmarks(client: TestClient, body: dict[str, object]) -> None:
     refused = client.post("/api/solve", json=body)
     assert error_of(refused, 422) == "too_few_landmarks"
@@ -44,10 +56,8 @@ def refused_for_too_few_landmarks(client: TestClient, body: dict[str, object]) -
 @pytest.mark.parametrize("seed", range(3))
 def test_solve_returns_exactly_what_the_solver_returns(client: TestClient, seed: int) -> None:
     body = request_for(seed)
-    response = client.post("/api/solve", json=body)
-    assert response.status_code == 200
-    expected = solve(**body)  # the request's fields are solve's arguments
-    assert response.json() == json.loads(json.dumps(expected.model_dump(mode="json")))
+    # The request's fields are solve's arguments.
+    assert answered(client, body) == as_sent(solve(**body))
 
 
 def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> None:
@@ -62,9 +72,7 @@ def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> N
         "points1_sigma": [1.0, 2.0, 1.0],
         "epipole1_sigma": [[2.0, 0.5], [0.5, 1.0]],
     }
-    answer = client.post("/api/solve", json=phones)
-    assert answer.status_code == 200
-    result = answer.json()
+    result = answered(client, phones)
     assert result["method"] == "pinhole_epipole"
     assert result["camera_model"] == "pinhole"
     assert [c["known"] for c in result["cameras"]] == ["phone", "known_focal"]
@@ -76,7 +84,7 @@ def test_solve_with_phone_cameras_needs_three_landmarks(client: TestClient) -> N
         points1_sigma=[1.0, 2.0, 1.0],
         epipole1_sigma=[[2.0, 0.5], [0.5, 1.0]],
     )
-    assert result == json.loads(json.dumps(expected.model_dump(mode="json")))
+    assert result == as_sent(expected)
 
 
 def test_solve_with_both_friends_marked_needs_one_landmark_from_phones(
@@ -85,9 +93,7 @@ def test_solve_with_both_friends_marked_needs_one_landmark_from_phones(
     s = phone_scene(np.random.default_rng(7), 1)
     body = request_of(s, epipole2=s.epipole2.tolist(), tap_sigma=1.0)
     refused_for_too_few_landmarks(client, body)
-    answer = client.post("/api/solve", json=body | {"camera1": "phone", "camera2": "phone"})
-    assert answer.status_code == 200, answer.text
-    result = answer.json()
+    result = answered(client, body | {"camera1": "phone", "camera2": "phone"})
     assert result["method"] == "pinhole_two_epipoles"
     assert result["camera_model"] == "pinhole"
     assert [c["known"] for c in result["cameras"]] == ["phone", "phone"]
@@ -98,26 +104,18 @@ def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) ->
     """The friend mark and both phones' gravity: the level from no landmark, a point from
     one; the answers are the solver's own."""
     s = phone_scene(np.random.default_rng(8), 1, centre_sd=0.0)
-    down = np.array([0.0, 1.0, 0.0])
-    readings = {
-        "gravity1": (s.camera1.rotation @ down).tolist(),
-        "gravity2": (s.camera2.rotation @ down).tolist(),
-        "camera1": "phone",
-        "camera2": "phone",
-        "tap_sigma": 1.0,
-    }
+    gravity = {"gravity1": s.camera1.down.tolist(), "gravity2": s.camera2.down.tolist()}
+    readings = gravity | {"camera1": "phone", "camera2": "phone", "tap_sigma": 1.0}
     level = request_of(s, **readings) | {"points1": [], "points2": []}
     refused_for_too_few_landmarks(client, level | {"gravity2": None})
-    answer = client.post("/api/solve", json=level)
-    assert answer.status_code == 200, answer.text
-    result = answer.json()
+    result = answered(client, level)
     assert result["method"] == "pinhole_level"
     assert result["used_gravity"] is True
     assert result["epipole2"] is None
     assert result["curve2"]
     assert result["curve2_halfwidth"] > 0
-    assert result == json.loads(json.dumps(solve(**level).model_dump(mode="json")))
-    point = client.post("/api/solve", json=request_of(s, **readings)).json()
+    assert result == as_sent(solve(**level))
+    point = answered(client, request_of(s, **readings))
     assert point["method"] == "pinhole_epipole"
     assert point["used_gravity"] is True
     assert point["epipole2"] is not None
@@ -126,10 +124,9 @@ def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) ->
     assert "gravity1" in bad.json()["error"]["message"]
     # Both compass headings point to a stretch of the level.
     headings = {"heading1": s.camera1.heading, "heading2": s.camera2.heading}
-    hinted = client.post("/api/solve", json=level | headings | {"heading_sigma_deg": 5})
-    assert hinted.status_code == 200, hinted.text
-    assert hinted.json()["used_heading"] is True
-    assert hinted.json()["curve2_stretch"]
+    hinted = answered(client, level | headings | {"heading_sigma_deg": 5})
+    assert hinted["used_heading"] is True
+    assert hinted["curve2_stretch"]
     bent = client.post("/api/solve", json=level | headings | {"heading1": "north"})
     assert error_of(bent, 422) == "invalid_shape"
     assert "heading1" in bent.json()["error"]["message"]
@@ -138,14 +135,13 @@ def test_solve_with_both_phones_gravity_needs_no_landmark(client: TestClient) ->
 def test_unknown_cameras_are_the_projective_model(client: TestClient) -> None:
     """Null cameras (the default) and "unknown" are what scripts got before cameras."""
     body = request_for(1)
-    plain = client.post("/api/solve", json=body).json()
+    plain = answered(client, body)
     assert plain["camera_model"] == "projective"
     assert plain["cameras"] == []
     for unknown in (None, "unknown", {"kind": "unknown"}):
-        said = client.post("/api/solve", json=body | {"camera1": unknown, "camera2": unknown})
-        assert said.status_code == 200
-        assert said.json()["camera_model"] == "projective"
-        assert said.json()["epipole2"] == plain["epipole2"]
+        said = answered(client, body | {"camera1": unknown, "camera2": unknown})
+        assert said["camera_model"] == "projective"
+        assert said["epipole2"] == plain["epipole2"]
 
 
 def test_each_taps_own_precision_weighs_in(client: TestClient) -> None:
@@ -158,12 +154,10 @@ def test_each_taps_own_precision_weighs_in(client: TestClient) -> None:
         "points2_sigma": [[[s**2, 0.0], [0.0, 1.0]] for s in sharp],
         "epipole1_sigma": 0.5,
     }
-    response = client.post("/api/solve", json=precise)
-    assert response.status_code == 200, response.text
-    expected = solve(**precise)
-    assert response.json() == json.loads(json.dumps(expected.model_dump(mode="json")))
-    plain = client.post("/api/solve", json=body).json()
-    assert response.json()["uncertainty"]["covariance"] != plain["uncertainty"]["covariance"]
+    weighed = answered(client, precise)
+    assert weighed == as_sent(solve(**precise))
+    plain = answered(client, body)
+    assert weighed["uncertainty"]["covariance"] != plain["uncertainty"]["covariance"]
 
 
 @pytest.mark.parametrize(
@@ -207,22 +201,18 @@ def test_cameras_and_precisions_are_documented(client: TestClient) -> None:
         assert len(fields[name]["description"]) > 20, name
         assert fields[name]["anyOf"], name
     assert {"$ref": "#/components/schemas/Camera"} in fields["camera1"]["anyOf"]
-    assert set(schemas["Camera"]["properties"]["kind"]["enum"]) == {
-        "unknown",
-        "phone",
-        "known_focal",
-    }
+    kinds = schemas["Camera"]["properties"]["kind"]["enum"]
+    assert set(kinds) == {"unknown", "phone", "known_focal"}
     requests = schemas["SolveRequest"]["examples"]
     phones = next(r for r in requests if "camera1" in r)
-    answers = spec["paths"]["/api/solve"]["post"]["responses"]["200"]["content"][
-        "application/json"
-    ]["examples"]
+    answered_by = spec["paths"]["/api/solve"]["post"]["responses"]["200"]
+    answers = answered_by["content"]["application/json"]["examples"]
     documented = answers["phones"]["value"]
     assert documented["camera_model"] == "pinhole"
     assert documented["landmark_count"] == 3
     # The schema leaves out nulls (FastAPI writes it without them).
-    assert without_nulls(client.post("/api/solve", json=phones).json()) == documented
-    projective = client.post("/api/solve", json=requests[0]).json()
+    assert without_nulls(answered(client, phones)) == documented
+    projective = answered(client, requests[0])
     assert without_nulls(projective) == answers["projective"]["value"]
 
 
@@ -273,8 +263,8 @@ def test_solve_refuses_malformed_requests(client: TestClient, body: bytes) -> No
 PHOTO2 = TEMPLE / "templeSR0006.png"
 
 
-def temple_request() -> dict[str, object]:
-    s = temple_pair(6, np.random.default_rng(4))
+def temple_request() -> dict[str, Any]:
+    s = scene(6, seed=4)
     return request_of(s, image_size1=[640, 480], image_size2=[640, 480])
 
 
@@ -291,9 +281,8 @@ def overlay(
 
 
 def drawn_on_photo2(response: httpx2.Response) -> None:
-    """An image of photo 2's size, with something drawn on it."""
-    drawn = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
-    assert drawn is not None
+    """A 200 answer: an image of photo 2's size, with something drawn on it."""
+    drawn = image_of(response)
     plain = cv2.imread(str(PHOTO2))
     assert plain is not None
     assert drawn.shape == plain.shape
@@ -303,9 +292,8 @@ def drawn_on_photo2(response: httpx2.Response) -> None:
 @pytest.mark.parametrize(("fmt", "magic"), [("png", b"\x89PNG"), ("jpeg", b"\xff\xd8\xff")])
 def test_overlay_draws_on_photo_2(client: TestClient, fmt: str, magic: bytes) -> None:
     response = overlay(client, temple_request(), format=fmt)
-    assert response.status_code == 200, response.text
-    assert response.content.startswith(magic)
     drawn_on_photo2(response)
+    assert response.content.startswith(magic)
 
 
 def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> None:
@@ -320,17 +308,10 @@ def test_overlay_refuses_a_non_image_and_a_bad_request(client: TestClient) -> No
 def test_overlay_takes_the_cameras_and_precisions_of_solve(client: TestClient) -> None:
     """The temple photos as two phone photos: three landmarks and friend 2 marked are enough for
     a drawing; a malformed camera is refused with the solver's code, as by /api/solve."""
-    three = (
-        temple_request()
-        | {
-            "points1": temple_request()["points1"][:3],  # type: ignore[index]
-            "points2": temple_request()["points2"][:3],  # type: ignore[index]
-        }
-    )
+    temple = temple_request()
+    three = temple | {"points1": temple["points1"][:3], "points2": temple["points2"][:3]}
     assert overlay(client, three).json()["error"]["code"] == "too_few_landmarks"
     phones = three | {"camera1": {"kind": "phone"}, "camera2": "phone", "points1_sigma": [2, 3, 2]}
-    drawn = overlay(client, phones)
-    assert drawn.status_code == 200, drawn.text
-    drawn_on_photo2(drawn)
+    drawn_on_photo2(overlay(client, phones))
     bad = overlay(client, phones | {"camera2": {"kind": "known_focal"}})
     assert error_of(bad, 422) == "invalid_parameter"

@@ -10,10 +10,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def run_benchmark(name: str, *options: str, out: Path, timeout: float) -> tuple[str, str]:
-    """``benchmarks/<name>.py`` with ``options`` and ``--out out``: what it printed and the
-    report it wrote. Fails unless it exits cleanly within ``timeout`` s (beyond it hangs)."""
+def run_benchmark(name: str, *options: str, folder: Path, timeout: float) -> tuple[str, str]:
+    """``benchmarks/<name>.py`` with ``options``: what it printed and its report (in ``folder``).
+    Fails unless it exits cleanly within ``timeout`` s (beyond it hangs)."""
     script = ROOT / "benchmarks" / f"{name}.py"
+    out = folder / f"{name}.md"
     done = subprocess.run(
         [sys.executable, str(script), *options, "--out", str(out)],
         cwd=ROOT,

@@ -10,8 +10,7 @@ from benchmark_scripts import assert_report_has, run_benchmark
 
 
 def test_camera_checks_run_and_report_every_section(tmp_path: Path) -> None:
-    out = tmp_path / "camera-checks.md"
-    _, text = run_benchmark("camera_checks", "--trials", "3", out=out, timeout=120)
+    _, text = run_benchmark("camera_checks", "--trials", "3", folder=tmp_path, timeout=120)
     sections = """
         ## 1. The focal-length prior
         ## 2. The principal point at the centre

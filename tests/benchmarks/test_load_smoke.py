@@ -22,8 +22,7 @@ def found(pattern: str, text: str) -> tuple[str, ...]:
 
 
 def test_load_benchmark_runs_every_search_through_the_cluster(tmp_path: Path) -> None:
-    out = tmp_path / "load-benchmark.md"
-    printed, report = run_benchmark("load", *TINY, out=out, timeout=HUNG_SECONDS)
+    printed, report = run_benchmark("load", *TINY, folder=tmp_path, timeout=HUNG_SECONDS)
     assert printed == report  # printed and written alike
     sections = ("# Load benchmark", "## Targets", "## Calls", "## Per search", "## Errors")
     for section in (*sections, "## Where the replicas' time goes"):

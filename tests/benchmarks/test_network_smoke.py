@@ -18,8 +18,7 @@ HUNG_SECONDS = 300  # one search per profile takes about 30 s: beyond this it ha
 
 
 def test_network_benchmark_runs_both_profiles_and_reports(tmp_path: Path) -> None:
-    out = tmp_path / "network.md"
-    printed, report = run_benchmark("network", "--runs", "1", out=out, timeout=HUNG_SECONDS)
+    printed, report = run_benchmark("network", "--runs", "1", folder=tmp_path, timeout=HUNG_SECONDS)
     assert report == printed.split("{", 1)[0]  # printed, then the JSON summary line
     for profile in ("loopback", "venue"):
         for phone in ("starter (Pixel 7)", "joiner (iPhone 13)"):

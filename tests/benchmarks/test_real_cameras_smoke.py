@@ -23,8 +23,7 @@ SECTIONS = """
 
 
 def test_real_cameras_run_and_report_every_section(tmp_path: Path) -> None:
-    out = tmp_path / "real-cameras.md"
-    _, text = run_benchmark("real_cameras", "--trials", "1", out=out, timeout=300)
+    _, text = run_benchmark("real_cameras", "--trials", "1", folder=tmp_path, timeout=300)
     assert_report_has(text, sections=SECTIONS)
     assert "Crashes (exceptions other than SolverError): 0." in text
     for pair in load_pairs():

@@ -77,8 +77,7 @@ TARGETS = (
 
 
 def test_solver_benchmark_runs_and_reports_every_section(tmp_path: Path) -> None:
-    out = tmp_path / "solver-benchmark.md"
-    printed, text = run_benchmark("solver", *TINY.split(), out=out, timeout=120)
+    printed, text = run_benchmark("solver", *TINY.split(), folder=tmp_path, timeout=120)
     assert printed == text  # printed and written alike
     assert_report_has(text, sections=SECTIONS, rows=ROWS)
     lines = targets_of(text, end="Wall time")

@@ -41,8 +41,7 @@ ROWS = """
 
 
 def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> None:
-    out = tmp_path / "suggestions.md"
-    printed, text = run_benchmark("suggestions", *TINY.split(), out=out, timeout=600)
+    printed, text = run_benchmark("suggestions", *TINY.split(), folder=tmp_path, timeout=600)
     assert printed == text  # printed and written alike
     assert_report_has(text, sections=SECTIONS, rows=ROWS)  # | 0.1 |: a stricter lead, held out
     lines = targets_of(text)

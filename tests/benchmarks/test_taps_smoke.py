@@ -14,8 +14,7 @@ from benchmark_scripts import run_benchmark
 
 
 def test_the_apps_tap_precision_gives_honest_regions(tmp_path: Path) -> None:
-    out = tmp_path / "tap-precision.md"
-    printed, text = run_benchmark("taps", "--trials", "6", out=out, timeout=600)
+    printed, text = run_benchmark("taps", "--trials", "6", folder=tmp_path, timeout=600)
     held = json.loads(printed.strip().splitlines()[-1])
     assert text.startswith("# Tap precision through the app")
     assert "| the app's (each tap's own, docs/app.md) |" in text

@@ -143,7 +143,15 @@ def phone(
         yield from closed_after(ChromiumPhone(playwright, browser, model), request)
         return
     if engine == "chromium":
-        yield from _pooled_chromium(model, playwright, request)
+        contexts: ChromiumPool = request.getfixturevalue("chromium_pool")
+        kept = contexts.take(model)
+        started = ChromiumPhone(playwright, contexts.browser, model, context=kept.context)
+
+        def give_back(passed: bool) -> None:
+            reuse = passed and not started.beyond_the_page
+            contexts.give_back(model, kept, started.origins, reuse=reuse)
+
+        yield from _lent(started, give_back, request)
         return
     turns = request.node.get_closest_marker("turns") is not None
     shown = screen(playwright, model)
@@ -159,44 +167,25 @@ def phone(
     yield from _lent(taken, lambda passed: pool.give_back(kind, taken, reuse=passed), request)
 
 
-def _pooled_chromium(
-    model: str, playwright: Playwright, request: pytest.FixtureRequest
-) -> Iterator[Phone]:
-    pool: ChromiumPool = request.getfixturevalue("chromium_pool")
-    kept = pool.take(model)
-    started = ChromiumPhone(playwright, pool.browser, model, context=kept.context)
-
-    def give_back(passed: bool) -> None:
-        reuse = passed and not started.beyond_the_page
-        pool.give_back(model, kept, started.origins, reuse=reuse)
-
-    yield from _lent(started, give_back, request)
-
-
 def _lent(
-    lent: Phone, give_back: Callable[[bool], None], request: pytest.FixtureRequest
-) -> Iterator[Phone]:
-    """``lent``, a pool's phone, for the test; then ``give_back(passed)``: whether the test
-    passed and its pages reported no error it did not expect (the test fails if they did)."""
+    started: P, give_back: Callable[[bool], None], request: pytest.FixtureRequest
+) -> Iterator[P]:
+    """``started`` for the test; then ``give_back(passed)``: whether the test passed and its
+    pages reported no error it did not expect (the test fails if they did)."""
     found: list[str] | None = None
     try:
-        yield lent
-        found = unexpected(lent.console_errors(), request)
+        yield started
+        found = unexpected(started.console_errors(), request)
     finally:
         call = request.node.stash.get(REPORTS, {}).get("call")
         give_back(found == [] and call is not None and call.passed)
-    assert found == [], f"the {lent}'s pages reported errors"
+    assert found == [], f"the {started}'s pages reported errors"
 
 
 def closed_after(started: P, request: pytest.FixtureRequest) -> Iterator[P]:
     """``started`` for the test, then closed; the test fails if its pages reported errors
     it did not expect."""
-    try:
-        yield started
-        errors = started.console_errors()
-    finally:
-        started.close()
-    assert unexpected(errors, request) == [], f"the {started}'s pages reported errors"
+    yield from _lent(started, lambda _: started.close(), request)
 
 
 @pytest.fixture

@@ -22,7 +22,7 @@ import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, Playwright, expect
 
 from testbed.browser import play
-from testbed.client import start
+from testbed.client import Phone, numbered, start
 
 LANGUAGES = ("en", "es", "fr", "de", "ja")
 MODEL = "Pixel 7"
@@ -201,7 +201,9 @@ def each_status(page: Page, screen: str, shots: Path) -> tuple[list[list[str]], 
     return found, opened
 
 
-def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots: Path) -> None:
+def test_no_words_overflow_at_200_percent(
+    server: str, api: httpx2.Client, zoomed: Page, screenshots: Path
+) -> None:
     page = zoomed
     found: list[list[str]] = []
     page.goto(f"{server}/")
@@ -215,8 +217,8 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
 
     # The friend joins (over the API): the starter's photo step, then tapping on its photo.
     code = "".join(ch for ch in shown.inner_text() if ch.isdigit())
-    friend = httpx2.post(f"{server}/api/sessions/join", json={"code": code}).raise_for_status()
-    joined = friend.json()
+    joined = api.post("/api/sessions/join", json={"code": code}).raise_for_status().json()
+    friend = Phone(api, joined["session_id"], joined["token"], "joiner")
     page.get_by_test_id("open-camera").wait_for()
     found += each_language(page, "photo")
     page.get_by_test_id("open-camera").tap()  # the in-app camera, on Chromium's fake camera
@@ -238,14 +240,8 @@ def test_no_words_overflow_at_200_percent(server: str, zoomed: Page, screenshots
     found += each_language(page, "landmarks")
 
     # The friend's photo and two landmarks on it: this phone is asked to find #1.
-    session = f"{server}/api/sessions/{joined['session_id']}"
-    auth = {"Authorization": f"Bearer {joined['token']}"}
-    with (play.TEMPLE / "templeSR0003.png").open("rb") as photo:
-        files = {"photo": ("joiner.png", photo, "image/png")}
-        httpx2.put(f"{session}/photo", headers=auth, files=files).raise_for_status()
-    landmarks = [{"id": 1, "x": 200.0, "y": 150.0}, {"id": 2, "x": 420.0, "y": 300.0}]
-    taps = {"landmarks": landmarks}
-    httpx2.put(f"{session}/taps", headers=auth, json=taps).raise_for_status()
+    friend.uploaded(play.TEMPLE / "templeSR0003.png")
+    friend.tapped(landmarks=numbered([(200.0, 150.0), (420.0, 300.0)]))
     page.get_by_test_id("find-prompt").wait_for()
     found += each_language(page, "find")
 
@@ -262,28 +258,25 @@ CUT = """() => [...document.querySelectorAll(".top-bar .peer-words, .top-bar .sa
 
 
 def test_the_top_bar_says_friend_online_in_full(
-    server: str, playwright: Playwright, browser: Browser
+    server: str, api: httpx2.Client, playwright: Playwright, browser: Browser
 ) -> None:
     """On an iPhone 13 (390 px), with a photo, the friend online and the taps saved, the
     top bar says so in full in every language: its words give way only when more must fit
     (reconnecting, not saved: test_layout.py)."""
-    with httpx2.Client(base_url=server, timeout=30) as http:
-        starter, code = start(http)
-        events = starter.listen()  # the friend is online
-        opened = context(playwright, browser, None, model="iPhone 13")
-        try:
-            page = opened.new_page()
-            page.goto(f"{server}/join/{code}")
-            page.get_by_test_id("photo-input").set_input_files(play.TEMPLE / "templeSR0006.png")
-            expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
-            expect(page.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
-            cut = [
-                [language, words]
-                for language in in_each_language(page)
-                for words in page.evaluate(CUT)
-            ]
-            assert cut == []
-        finally:
-            opened.close()
-            starter.ok("DELETE", expect=204)  # which ends the friend's stream
-            assert events.ended.wait(10)
+    starter, code = start(api)
+    events = starter.listen()  # the friend is online
+    opened = context(playwright, browser, None, model="iPhone 13")
+    try:
+        page = opened.new_page()
+        page.goto(f"{server}/join/{code}")
+        page.get_by_test_id("photo-input").set_input_files(play.TEMPLE / "templeSR0006.png")
+        expect(page.get_by_test_id("save-state")).to_have_attribute("data-state", "saved")
+        expect(page.get_by_test_id("peer-online")).to_have_attribute("data-online", "true")
+        cut = [
+            [language, words] for language in in_each_language(page) for words in page.evaluate(CUT)
+        ]
+        assert cut == []
+    finally:
+        opened.close()
+        starter.ok("DELETE", expect=204)  # which ends the friend's stream
+        assert events.ended.wait(10)

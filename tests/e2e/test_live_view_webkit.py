@@ -55,10 +55,11 @@ from testbed.browser.show_me import (
     OPENING_BOUND_MS,
     answered,
     drifted,
+    hold_turned,
     placed_marker,
     show_me,
+    video_on_screen,
 )
-from testbed.browser.webkit_phone import EVERY_16_MS
 from testbed.opening import OPENING_STEPS
 
 pytestmark = pytest.mark.engines("webkit")
@@ -90,15 +91,6 @@ WALK = r"""([seconds, still]) => {
 }"""
 
 
-def hold_turned(phone: Phone, right_deg: float) -> None:
-    """The phone upright and level, turned right by ``right_deg`` from where it was at the
-    start (DeviceOrientation's alpha is anticlockwise seen from above): its angles in an
-    event every 16 ms, the first at once, until held otherwise."""
-    held = {"alpha": -right_deg, "beta": 90.0, "gamma": 0.0, "absolute": False}
-    where = ["__orientation", "DeviceOrientationEvent", "deviceorientation", held, True]
-    phone.evaluate(EVERY_16_MS, where)
-
-
 def test_show_me_in_webkit(api: httpx2.Client, pixel: Phone) -> None:
     starter = play.joined_by_link(api, pixel, play.temple(play.PAIR[0]))
     truth = play.scene(3, seed=12)
@@ -127,13 +119,8 @@ def test_show_me_in_webkit(api: httpx2.Client, pixel: Phone) -> None:
     # Show me, held as at the shutter.
     live, opened = show_me(pixel)
     print(f"Show me (WebKit): the first marker {opened:.0f} ms after the tap")
-    video = pixel.evaluate(
-        """() => {
-            const v = document.querySelector('[data-testid="live-video"]');
-            return [v.videoWidth, v.videoHeight];
-        }"""
-    )
-    print(f"the mock camera's live video: {video}")
+    _, _, video = video_on_screen(pixel, np.zeros(2))
+    print(f"the mock camera's live video: {video.astype(int).tolist()}")
     # The view's quiet check of its video's focal length: the server does not match the mock
     # camera's moving pattern to the photo (one frame of it), so the assumption stays, and
     # nothing is said.

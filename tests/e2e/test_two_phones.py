@@ -31,14 +31,13 @@ pytestmark = pytest.mark.engines("chromium", "webkit")
 SERVER_LOGIC = pytest.mark.engines("chromium")
 
 
-def landscape(page: ChromiumPhone, path: Path) -> None:
+def landscape(page: Phone, path: Path) -> None:
     """A screenshot of the page with the phone on its side; then upright again."""
-    size = page.page.viewport_size
-    assert size is not None
-    page.page.set_viewport_size({"width": size["height"], "height": size["width"]})
+    width, height = page.evaluate("() => [innerWidth, innerHeight]")
+    page.resize(height, width)
     expect(page.get_by_test_id("answer-frame")).to_be_visible()
     page.screenshot(path=path)
-    page.page.set_viewport_size(size)
+    page.resize(width, height)
 
 
 def step(page: Phone, title: str, to_tap: int | None = None) -> None:

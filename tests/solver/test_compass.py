@@ -104,10 +104,8 @@ def test_without_both_headings_or_gravity_nothing_changes() -> None:
     rng = np.random.default_rng(1)
     p = scene.landmarks1[:1]
     q = scene.landmarks2[:1]
-    common: dict[str, Any] = phones_of(scene) | {
-        "camera1": exif_of(scene)[0],
-        "camera2": exif_of(scene)[1],
-    }
+    camera1, camera2 = exif_of(scene)
+    common: dict[str, Any] = phones_of(scene) | {"camera1": camera1, "camera2": camera2}
     gravity: dict[str, Any] = {
         "gravity1": down(scene, 1, rng, 0.0),
         "gravity2": down(scene, 2, rng, 0.0),

@@ -1,15 +1,16 @@
 """Exact minimal solvers for calibrated cameras: every root fits, the true rotation is a root.
 
-Scenes are built here: two phone cameras (focal ~3000 px, 4032x3024 landscape or 3024x4032
-portrait) facing each other across a venue, landmarks between them in front of both.
-Convention: ``X2 = R X1 + t``; ``b1`` points from friend 1 to friend 2 (frame 1), ``b2``
-from friend 2 to friend 1 (frame 2), ``b2 = -R b1``.
+Scenes are the test bed's phone scenes (``testbed.phones``): two phone cameras (focal ~3000
+px, 4032x3024 landscape or 3024x4032 portrait) facing each other across a venue, landmarks
+between them in front of both. Convention: ``X2 = R X1 + t``; ``b1`` points from friend 1
+to friend 2 (frame 1), ``b2`` from friend 2 to friend 1 (frame 2), ``b2 = -R b1``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 import pytest
 
@@ -20,6 +21,7 @@ from shared_solver.minimal.gravity_and_one import (
     rotations_from_gravity,
     turns_from_gravity,
 )
+from testbed.phones import phone_scene
 from testbed.scenes import pixel
 
 SCENES = 200
@@ -27,106 +29,61 @@ ROOT = 1e-9  # Frobenius distance of the true rotation from the nearest root
 ORTHONORMAL = 1e-12
 CONSTRAINT = 1e-10  # |q . R (b1 x p)| for unit rays
 EXACT_PX = 1e-6
-DOWN = np.array([0.0, 0.0, -1.0])  # world z is up
 
 
 @dataclass(frozen=True)
 class Scene:
-    k1: np.ndarray  # (3, 3) intrinsics
-    k2: np.ndarray
+    k2: np.ndarray  # (3, 3) intrinsics of camera 2
     rotation: np.ndarray  # (3, 3) relative rotation, X2 = R X1 + t
-    b1: np.ndarray  # (3,) unit, from friend 1's pixel of friend 2 (e1)
-    b2: np.ndarray  # (3,) unit, from friend 2's pixel of friend 1 (e2)
+    b1: np.ndarray  # (3,) unit, towards friend 2 in frame 1
+    b2: np.ndarray  # (3,) unit, towards friend 1 in frame 2
     rays1: np.ndarray  # (n, 3) rays K1^-1 (x, 1) of the landmarks' pixels
     rays2: np.ndarray
     e2: np.ndarray  # (2,) friend 1's pixel in photo 2
-    gravity1: np.ndarray  # (3,) unit, down (world -z) in frame 1
+    gravity1: np.ndarray  # (3,) unit, down in frame 1
     gravity2: np.ndarray  # (3,) unit, down in frame 2
-
-
-def random_rotation(rng: np.random.Generator) -> np.ndarray:
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q = q * np.sign(np.diag(r))
-    return q if np.linalg.det(q) > 0 else -q
 
 
 def axis_angle(axis: np.ndarray, angle: float) -> np.ndarray:
     """Rodrigues: the rotation by ``angle`` about the unit ``axis``."""
-    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
+    return np.asarray(cv2.Rodrigues(angle * np.asarray(axis, float))[0])
+
+
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
+    axis = rng.normal(size=3)
+    return axis_angle(axis / np.linalg.norm(axis), rng.uniform(0.0, np.pi))
 
 
 def half_turn(axis: np.ndarray) -> np.ndarray:
     return 2.0 * np.outer(axis, axis) - np.eye(3)
 
 
-def intrinsics(rng: np.random.Generator, portrait: bool) -> tuple[np.ndarray, tuple[int, int]]:
-    width, height = (3024, 4032) if portrait else (4032, 3024)
-    focal = rng.uniform(2800.0, 3200.0)
-    k = np.array([[focal, 0.0, width / 2], [0.0, focal, height / 2], [0.0, 0.0, 1.0]])
-    return k, (width, height)
-
-
-def looking_at(
-    rng: np.random.Generator, centre: np.ndarray, target: np.ndarray, portrait: bool
-) -> np.ndarray:
-    """World-to-camera rotation: optical axis towards ``target``, y down, a little roll."""
-    forward = (target - centre) / np.linalg.norm(target - centre)
-    right = np.cross(forward, [0.0, 0.0, 1.0])  # world z is up
-    right /= np.linalg.norm(right)
-    down = np.cross(forward, right)
-    camera = np.array([right, down, forward])
-    roll = rng.uniform(-0.15, 0.15) + (np.pi / 2 if portrait else 0.0)
-    return axis_angle(np.array([0.0, 0.0, 1.0]), roll) @ camera
-
-
-def ray(k: np.ndarray, px: np.ndarray) -> np.ndarray:
-    return np.linalg.solve(k, np.append(px, 1.0))
-
-
-def make_scene(rng: np.random.Generator, n: int = 3) -> Scene:
-    """Friends 10-80 m apart, each photographing the other; landmarks in both photos."""
-    c1 = rng.uniform(-5.0, 5.0, size=3)
-    heading = rng.uniform(0.0, 2 * np.pi)
-    distance = rng.uniform(10.0, 80.0)
-    c2 = c1 + distance * np.array([np.cos(heading), np.sin(heading), rng.uniform(-0.1, 0.1)])
-    portrait1, portrait2 = (bool(flag) for flag in rng.integers(0, 2, size=2))
-    k1, size1 = intrinsics(rng, portrait1)
-    k2, size2 = intrinsics(rng, portrait2)
-    aim = 0.2 * distance
-    r1 = looking_at(rng, c1, c2 + rng.uniform(-aim, aim, size=3), portrait1)
-    r2 = looking_at(rng, c2, c1 + rng.uniform(-aim, aim, size=3), portrait2)
-    rays1: list[np.ndarray] = []
-    rays2: list[np.ndarray] = []
-    while len(rays1) < n:
-        point = c1 + rng.uniform(0.15, 0.85) * (c2 - c1) + rng.uniform(-0.3, 0.3, 3) * distance
-        in1, in2 = r1 @ (point - c1), r2 @ (point - c2)
-        if min(in1[2], in2[2]) < 1.0:
-            continue  # behind a camera
-        x1, x2 = pixel(k1 @ in1), pixel(k2 @ in2)
-        if not (np.all((x1 >= 0) & (x1 <= size1)) and np.all((x2 >= 0) & (x2 <= size2))):
-            continue
-        rays1.append(ray(k1, x1))
-        rays2.append(ray(k2, x2))
-    e1, e2 = pixel(k1 @ (r1 @ (c2 - c1))), pixel(k2 @ (r2 @ (c1 - c2)))
-    b1, b2 = ray(k1, e1), ray(k2, e2)
-    return Scene(
-        k1=k1,
-        k2=k2,
-        rotation=r2 @ r1.T,
-        b1=b1 / np.linalg.norm(b1),
-        b2=b2 / np.linalg.norm(b2),
-        rays1=np.array(rays1),
-        rays2=np.array(rays2),
-        e2=e2,
-        gravity1=r1 @ DOWN,
-        gravity2=r2 @ DOWN,
-    )
-
-
 def scenes(seed: int, count: int = SCENES, n: int = 3) -> list[Scene]:
+    """``count`` phone scenes of ``n`` landmarks, as rays and directions in each frame."""
     rng = np.random.default_rng(seed)
-    return [make_scene(rng, n) for _ in range(count)]
+    found = []
+    for _ in range(count):
+        s = phone_scene(rng, n)
+        one, two = s.camera1, s.camera2
+        b1, b2 = one.rotation @ (two.centre - one.centre), two.rotation @ (one.centre - two.centre)
+        rays1, rays2 = (
+            np.column_stack([px, np.ones(n)]) @ np.linalg.inv(camera.intrinsics).T
+            for camera, px in ((one, s.landmarks1), (two, s.landmarks2))
+        )
+        found.append(
+            Scene(
+                k2=two.intrinsics,
+                rotation=two.rotation @ one.rotation.T,
+                b1=b1 / np.linalg.norm(b1),
+                b2=b2 / np.linalg.norm(b2),
+                rays1=rays1,
+                rays2=rays2,
+                e2=s.epipole2,
+                gravity1=one.down,
+                gravity2=two.down,
+            )
+        )
+    return found
 
 
 def unit_rows(rays: np.ndarray) -> np.ndarray:

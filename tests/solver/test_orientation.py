@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from shared_solver import draw_overlay
-from testbed.scenes import Camera, Scene, facing_scene, look_at, solved, tap
+from testbed.scenes import Camera, Scene, facing_scene, in_photo, look_at, solved, tap
 
 INTRINSICS = np.array([[1400.0, 0.0, 800.0], [0.0, 1400.0, 600.0], [0.0, 0.0, 1.0]])
 SIZE = (1600, 1200)
@@ -17,15 +17,7 @@ def scene_with(centre2: np.ndarray, target2: np.ndarray, points: np.ndarray) -> 
     ``target2``; the landmarks that both see."""
     camera1 = Camera(INTRINSICS, *look_at(np.zeros(3), centre2 + np.array([2.0, 1.0, 0.0])))
     camera2 = Camera(INTRINSICS, *look_at(centre2, target2))
-    seen = np.array(
-        [
-            camera1.depth(x[None])[0] > 0
-            and camera2.depth(x[None])[0] > 0
-            and all(0 <= c <= s for c, s in zip(camera1.project(x[None])[0], SIZE, strict=True))
-            and all(0 <= c <= s for c, s in zip(camera2.project(x[None])[0], SIZE, strict=True))
-            for x in points
-        ]
-    )
+    seen = in_photo(camera1, points, SIZE) & in_photo(camera2, points, SIZE)
     return Scene(camera1, camera2, points[seen][:8], SIZE, SIZE)
 
 

@@ -221,20 +221,11 @@ def test_the_uncertainty_ellipse_is_drawn_where_opencv_draws_it() -> None:
     assert ellipse is not None
     photo = grey(s.image_size2)
     drawn = draw_overlay(photo, result)
-    # Oracle: OpenCV's own ellipse (fine at these moderate sizes), 1 px wide, to 1/16 px.
+    # Oracle: OpenCV's own ellipse (fine at these moderate sizes), 1 px wide, to 1/16 px
+    # (4 fractional bits).
     oracle = np.zeros(photo.shape[:2], np.uint8)
-    cv2.ellipse(
-        oracle,
-        (round(16 * ellipse.center[0]), round(16 * ellipse.center[1])),
-        (round(16 * ellipse.axes[0]), round(16 * ellipse.axes[1])),
-        ellipse.angle_deg,
-        0,
-        360,
-        255,
-        1,
-        cv2.LINE_8,
-        4,
-    )
+    centre, axes = (tuple(round(16 * v) for v in pair) for pair in (ellipse.center, ellipse.axes))
+    cv2.ellipse(oracle, centre, axes, ellipse.angle_deg, 0, 360, 255, 1, cv2.LINE_8, 4)
     # Inside the brackets' box (they are on its edges, the label outside it) only the
     # ellipse is drawn. Clearly painted: not the faint anti-aliased fringe around strokes.
     a, b = ellipse.axes
@@ -248,11 +239,9 @@ def test_the_uncertainty_ellipse_is_drawn_where_opencv_draws_it() -> None:
         np.abs(rows - ellipse.center[1]) < reach[1] + 4
     )
     paint = (np.abs(drawn.astype(int) - photo).max(axis=2) > 16) & inside
-    to_oracle = cv2.distanceTransform((oracle == 0).astype(np.uint8), cv2.DIST_L2, 0)
-    to_paint = cv2.distanceTransform((~paint).astype(np.uint8), cv2.DIST_L2, 0)
     assert paint.sum() > 200
-    assert to_oracle[paint].max() < 6  # every stroke pixel hugs the true ellipse
-    assert to_paint[oracle > 0].max() < 2  # and all of it is drawn
+    assert gap_to(oracle > 0, paint) < 6  # every stroke pixel hugs the true ellipse
+    assert gap_to(paint, oracle > 0) < 2  # and all of it is drawn
 
 
 def test_an_arrow_at_the_right_border_points_to_friend1_beyond_it() -> None:

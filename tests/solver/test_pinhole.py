@@ -18,11 +18,6 @@ CHI2_95 = -2.0 * math.log(0.05)
 SEEDS = range(25)
 
 
-def exact_scene(seed: int, landmarks: int) -> PhoneScene:
-    """Phones with their principal points exactly at the centres: the model holds exactly."""
-    return phone_scene(np.random.default_rng(seed), landmarks, centre_sd=0.0)
-
-
 def known(scene: PhoneScene) -> dict[str, Any]:
     """Both cameras' true focal lengths, as EXIF would give them without rounding."""
     return {
@@ -49,7 +44,8 @@ def phones(scene: PhoneScene) -> dict[str, Any]:
 def test_exact_taps_and_known_focal_give_friend1_exactly(
     seed: int, landmarks: int, given: str, method: str
 ) -> None:
-    s = exact_scene(seed, landmarks)
+    # Principal points exactly at the centres: the model holds exactly.
+    s = phone_scene(np.random.default_rng(seed), landmarks, centre_sd=0.0)
     friends = marks(s, given, np.random.default_rng(seed).uniform(0, np.pi))
     result = solve(s.landmarks1, s.landmarks2, **friends, tap_sigma=1.0, **known(s))
     assert result.camera_model == "pinhole"

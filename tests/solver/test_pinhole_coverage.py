@@ -18,9 +18,10 @@ from typing import Any
 import numpy as np
 import pytest
 
-from shared_solver import Camera, SolverError, solve
+from shared_solver import SolverError, solve
 from shared_solver.estimation.uncertainty import contains
 from testbed.phones import PhoneScene, phone_scene, zoom_from_prior
+from testbed.readings import exif_of
 from testbed.scenes import line_through
 
 TRIALS = 500
@@ -100,14 +101,8 @@ def _taps(s: PhoneScene, case: Case, rng: np.random.Generator) -> dict[str, Any]
 
 
 def _cameras(s: PhoneScene, case: Case) -> dict[str, Any]:
-    if case.exif:
-        cameras = (
-            Camera.with_focal(s.exif_focal_35mm1),
-            Camera.with_focal(s.exif_focal_35mm2),
-        )
-    else:
-        cameras = (Camera.phone(), Camera.phone())
-    return {"camera1": cameras[0], "camera2": cameras[1], **s.sizes}
+    camera1, camera2 = exif_of(s) if case.exif else ("phone", "phone")
+    return {"camera1": camera1, "camera2": camera2, **s.sizes}
 
 
 HONEST = [

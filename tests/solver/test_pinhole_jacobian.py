@@ -20,19 +20,14 @@ from shared_solver.estimation.pinhole.model import PinholeModel
 from shared_solver.estimation.pinhole.pose import PARAMETERS, Poses
 from shared_solver.estimation.pinhole.predictions import friend1_positions
 from shared_solver.estimation.taps import Gravity, Heading, Taps
-from testbed.phones import phone_scene
+from testbed.phones import gravity_reading, phone_scene
 from testbed.scenes import line_through
 
 STEP = 1e-6
 # Central differences of order-one residuals at this step are good to about 1e-9; a wrong
 # term is off by order one.
 TOLERANCE = 1e-6
-
-
-def _down(rotation: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """A phone's noisy gravity reading: world y is down in the test bed's scenes."""
-    down = rotation @ np.array([0.0, 1.0, 0.0]) + rng.normal(0.0, 0.02, 3)
-    return down / np.linalg.norm(down)
+READING_DEG = np.degrees(0.02)  # each phone's gravity reading: 0.02 rad of noise per axis
 
 
 def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel, Poses]:
@@ -67,7 +62,10 @@ def model_and_pose(seed: int, marks: str, elongated: bool) -> tuple[PinholeModel
         gravity=None
         if marks not in ("gravity", "compass")
         else Gravity(
-            _down(scene.camera1.rotation, rng), _down(scene.camera2.rotation, rng), 0.02, 0.01
+            gravity_reading(scene.camera1, READING_DEG, rng),
+            gravity_reading(scene.camera2, READING_DEG, rng),
+            0.02,
+            0.01,
         ),
         heading=None
         if marks != "compass"

@@ -9,7 +9,7 @@ import pytest
 
 from testbed.kinds import SCENE_KINDS
 from testbed.phones import PhoneScene, phone_scene
-from testbed.scenes import Camera, Scene, tap
+from testbed.scenes import Scene, in_photo, tap
 
 LANDMARKS = 12
 SEEDS = range(40)
@@ -29,19 +29,11 @@ def same(a: Scene, b: Scene) -> bool:
     return sizes and all(np.array_equal(x, y) for x, y in arrays)
 
 
-def seen(camera: Camera, points: np.ndarray, size: tuple[int, int], margin: float) -> np.ndarray:
-    """Which points are in front of the camera and inside the photo, ``margin`` from the edge."""
-    pixels = camera.project(points)
-    low = margin * np.array(size)
-    high = (1 - margin) * np.array(size)
-    return (camera.depth(points) > 0) & np.all((pixels >= low) & (pixels <= high), axis=1)
-
-
 def epipoles_seen(s: Scene) -> tuple[bool, bool]:
     """Whether camera 2 is in photo 1, and camera 1 in photo 2."""
     return (
-        bool(seen(s.camera1, s.camera2.centre[None], s.image_size1, 0.0)[0]),
-        bool(seen(s.camera2, s.camera1.centre[None], s.image_size2, 0.0)[0]),
+        bool(in_photo(s.camera1, s.camera2.centre[None], s.image_size1)[0]),
+        bool(in_photo(s.camera2, s.camera1.centre[None], s.image_size2)[0]),
     )
 
 
@@ -71,8 +63,8 @@ def test_a_kind_is_reproducible_from_the_seed(kind: str) -> None:
 def test_every_landmark_is_seen_by_both_cameras(kind: str) -> None:
     for s in kind_scenes(kind):
         assert s.points.shape == (LANDMARKS, 3)
-        assert seen(s.camera1, s.points, s.image_size1, 0.02).all()
-        assert seen(s.camera2, s.points, s.image_size2, 0.02).all()
+        assert in_photo(s.camera1, s.points, s.image_size1, 0.02).all()
+        assert in_photo(s.camera2, s.points, s.image_size2, 0.02).all()
 
 
 @pytest.mark.parametrize("kind", sorted(SCENE_KINDS))
