@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
 import { describeAnswer, surenessText } from "./answer";
+import { answer, joinerAt7 } from "./fixtures/joiner";
 import { t } from "./i18n";
 
 const CURVE_TEXT = t("answer.curve");
@@ -25,34 +26,14 @@ function inPhoto(starter: Partial<FriendInPhoto> = {}, joiner: Partial<FriendInP
 }
 
 function state(in_photo: Answer["in_photo"] | null, extra: Partial<SessionState> = {}): SessionState {
-  return {
-    session_id: "s",
-    you: "joiner",
+  return joinerAt7({
     version: 9,
     expires_at: "",
-    join_code: null,
-    join_code_renewals: 0,
-    join_url: null,
-    participants: { starter: { joined: true, online: true }, joiner: { joined: true, online: true } },
-    photos: { starter: { width: 640, height: 480, scale: 1 }, joiner: { width: 640, height: 480, scale: 1 } },
     taps: { starter: null, joiner: null },
-    landmarks_needed: 0,
-    answer:
-      in_photo === null
-        ? null
-        : {
-            method: "five_point_epipole",
-            camera_model: "pinhole",
-            quality: "good",
-            landmark_ids: [1, 2, 4, 5, 7],
-            suspects: [],
-            used_heading: false,
-            in_photo,
-          },
+    answer: in_photo && { ...answer(1, 2, 4, 5, 7), method: "five_point_epipole", suspects: [], in_photo },
     answer_version: in_photo === null ? null : 9,
-    answer_error: null,
     ...extra,
-  };
+  });
 }
 
 describe("the answer on each phone", () => {

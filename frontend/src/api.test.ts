@@ -1,5 +1,6 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
-import { ApiError, deleteSession, fetchState, joinSession, putTaps } from "./api";
+import { ApiError, deleteSession, fetchState, joinSession, putTaps, reanchor } from "./api";
+import { IDENTITY } from "./live/orientation";
 import type { Credentials } from "./types";
 
 const PHONE: Credentials = { session_id: "s1", token: "t1", role: "joiner" };
@@ -69,11 +70,7 @@ describe("the API's calls", () => {
 describe("re-anchoring (Show me)", () => {
   let sent: { url: string; init: RequestInit | undefined }[];
   let reply: () => Promise<Response>;
-  const ROTATION = [
-    [1, 0, 0],
-    [0, 1, 0],
-    [0, 0, 1],
-  ];
+  const ROTATION = IDENTITY;
 
   beforeEach(() => {
     sent = [];
@@ -87,7 +84,6 @@ describe("re-anchoring (Show me)", () => {
   afterEach(() => vi.unstubAllGlobals());
 
   it("posts the frame, with the token, for the server to measure its focal length", async () => {
-    const { reanchor } = await import("./api");
     const answer = await reanchor(PHONE, new Blob(["jpeg"], { type: "image/jpeg" }));
     expect(answer).toMatchObject({ rotation: ROTATION, frame_focal_px: 800 });
     const [call] = sent;
@@ -100,14 +96,12 @@ describe("re-anchoring (Show me)", () => {
   });
 
   it("says a frame that did not match by its reason", async () => {
-    const { reanchor } = await import("./api");
     const error = { code: "no_solution", reason: "frame_not_matched", message: "The frame does not match the photo." };
     reply = () => Promise.resolve(Response.json({ error }, { status: 422 }));
     await expect(reanchor(PHONE, new Blob(["jpeg"]))).rejects.toMatchObject({ status: 422, code: "no_solution", reason: "frame_not_matched" });
   });
 
   it("refuses an answer that is no rotation", async () => {
-    const { reanchor } = await import("./api");
     reply = () => Promise.resolve(Response.json({ rotation: [[1, 0], [0, 1]], frame_focal_px: 800 }));
     await expect(reanchor(PHONE, new Blob(["jpeg"]))).rejects.toBeInstanceOf(ApiError);
   });

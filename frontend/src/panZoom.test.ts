@@ -1,11 +1,12 @@
 import { describe, expect, it } from "vitest";
 import { FOCUS_ZOOM, PanZoom, QUIET_MS, type Frames, type PanZoomState } from "./panZoom";
 import { GLIDE_MS, boxInView, frameTarget, type Box } from "./reframe";
-import { fitTransform, isFitted, openingTransform, toScreen, zoomAbout, type Size } from "./viewTransform";
+import { NO_INSETS, fitTransform, isFitted, openingTransform, toScreen, zoomAbout, type Size } from "./viewTransform";
 
 const phone = { width: 412, height: 560 };
 const photo = { width: 640, height: 480 };
-const NO_INSETS = { top: 0, right: 0, bottom: 0, left: 0 };
+/** The phone turned to landscape. */
+const turned = { width: 560, height: 412 };
 
 /** Animation frames run by hand: `run(ms)` lets that much time pass, frame by frame. */
 class ManualFrames implements Frames {
@@ -68,7 +69,6 @@ describe("the view's size", () => {
     const opened = panZoom.state.transform!;
     expect(photo.height * opened.scale).toBeCloseTo(phone.height); // the height filled
     expect(isFitted(opened, phone, photo)).toBe(false); // the whole photo is a button away
-    const turned = { width: 560, height: 412 };
     panZoom.resize(turned); // a landscape view: the photo fits it well, whole
     expect(panZoom.state.transform).toEqual(fitTransform(turned, photo));
     panZoom.fit();
@@ -86,7 +86,7 @@ describe("the view's size", () => {
     const shown = toScreen(opened, friend);
     expect(shown.x).toBeGreaterThan(0);
     expect(shown.x).toBeLessThan(phone.width);
-    panZoom.resize({ width: 560, height: 412 }); // turned: the whole photo
+    panZoom.resize(turned); // the whole photo
     panZoom.resize(phone); // and back, not moved by hand: around the friend again
     expect(panZoom.state.transform).toEqual(opened);
     panZoom.showPhoto(photo); // another photo, nothing marked: its middle
@@ -95,7 +95,6 @@ describe("the view's size", () => {
 
   it("a fitted view fits again when turned; a zoomed one stays zoomed", () => {
     const { panZoom } = made();
-    const turned = { width: 560, height: 412 };
     panZoom.resize(turned);
     expect(panZoom.state.transform).toEqual(fitTransform(turned, photo));
     panZoom.set(zoomAbout(panZoom.state.transform!, 3, { x: 280, y: 206 }, turned, photo));
@@ -147,7 +146,6 @@ describe("bringing the answer into view", () => {
     frames.run(GLIDE_MS);
     expect(boxInView(top, panZoom.state.transform!, phone, status)).toBe(true);
     // The phone turned: the view is measured again, and the answer is still clear.
-    const turned = { width: 560, height: 412 };
     panZoom.resize(turned);
     frames.run(GLIDE_MS);
     expect(boxInView(top, panZoom.state.transform!, turned, status)).toBe(true);

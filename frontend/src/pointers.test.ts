@@ -64,9 +64,9 @@ function pointer(id: number, x: number, y: number, more: Partial<PointerInput> =
   };
 }
 
-/** A fresh view at fit, and the pointer gestures that drive it. */
-function touched(): { view: View; gestures: PointerGestures } {
-  const view = new View();
+/** A fresh view (at fit unless given its transform), and the pointer gestures that drive it. */
+function touched(transform?: ViewTransform): { view: View; gestures: PointerGestures } {
+  const view = new View(transform);
   return { view, gestures: new PointerGestures(view) };
 }
 
@@ -125,9 +125,8 @@ describe("a finger", () => {
 
 describe("two fingers", () => {
   it("spreading zooms about their midpoint and places nothing, whichever lifts first", () => {
-    const view = new View();
+    const { view, gestures } = touched();
     const fitted = view.transform;
-    const gestures = new PointerGestures(view);
     gestures.down(pointer(1, 190, 290));
     gestures.down(pointer(2, 210, 310));
     expect(view.gesture?.kind).toBe("pinch");
@@ -167,8 +166,7 @@ describe("a mouse", () => {
 
   it("a drag pans a zoomed photo and places nothing", () => {
     const zoomed = zoomAbout(fitTransform(size, photo), 3, { x: 200, y: 280 }, size, photo);
-    const view = new View(zoomed);
-    const gestures = new PointerGestures(view);
+    const { view, gestures } = touched(zoomed);
     const mouse = { pointerType: "mouse" };
     gestures.down(pointer(1, 200, 280, mouse));
     gestures.move(pointer(1, 180, 270, mouse));
@@ -179,9 +177,8 @@ describe("a mouse", () => {
   });
 
   it("the wheel zooms about the pointer and stops a glide", () => {
-    const view = new View();
+    const { view, gestures } = touched();
     const before = view.transform;
-    const gestures = new PointerGestures(view);
     gestures.wheel({ clientX: ORIGIN.x + 206, clientY: ORIGIN.y + 280, deltaY: -100, deltaMode: 0 });
     expect(view.transform.scale).toBeCloseTo(before.scale * Math.exp(0.2));
     expect(view.calls).toEqual(["started"]);

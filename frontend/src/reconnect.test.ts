@@ -1,14 +1,8 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { ApiError, isRetryable } from "./api";
 import type { Change } from "./changes";
-import {
-  LiveStream,
-  Refetcher,
-  backoffDelay,
-  withRetry,
-  type EventSourceLike,
-  type StreamStatus,
-} from "./reconnect";
+import { FakeSource } from "./fixtures/eventSource";
+import { LiveStream, Refetcher, backoffDelay, withRetry, type StreamStatus } from "./reconnect";
 
 describe("backoff", () => {
   const exact = { jitter: 0 };
@@ -113,53 +107,8 @@ describe("fetching the state", () => {
   });
 });
 
-class FakeSource implements EventSourceLike {
-  static opened: FakeSource[] = [];
-  readyState = 0;
-  onopen: ((event: Event) => void) | null = null;
-  onerror: ((event: Event) => void) | null = null;
-  closed = false;
-  private listeners = new Map<string, Array<(event: Event) => void>>();
-
-  constructor(readonly url: string) {
-    FakeSource.opened.push(this);
-  }
-
-  addEventListener(type: string, listener: (event: Event) => void): void {
-    this.listeners.set(type, [...(this.listeners.get(type) ?? []), listener]);
-  }
-
-  close(): void {
-    this.closed = true;
-    this.readyState = 2;
-  }
-
-  open(): void {
-    this.readyState = 1;
-    this.onopen?.(new Event("open"));
-  }
-
-  /** The connection dropped; EventSource reconnects by itself (CONNECTING). */
-  drop(): void {
-    this.readyState = 0;
-    this.onerror?.(new Event("error"));
-  }
-
-  /** EventSource gave up (an HTTP error such as 401): CLOSED. */
-  fail(): void {
-    this.readyState = 2;
-    this.onerror?.(new Event("error"));
-  }
-
-  emit(type: string, data = "{}"): void {
-    for (const listener of this.listeners.get(type) ?? []) {
-      listener(new MessageEvent(type, { data }));
-    }
-  }
-}
-
 describe("the event stream", () => {
-  let changes: number;
+  /** What each change told, in order: as many as there were changes. */
   let told: Array<Change | undefined>;
   let ended: number;
   let statuses: StreamStatus[];
@@ -167,7 +116,6 @@ describe("the event stream", () => {
   beforeEach(() => {
     vi.useFakeTimers();
     FakeSource.opened = [];
-    changes = 0;
     told = [];
     ended = 0;
     statuses = [];
@@ -180,10 +128,7 @@ describe("the event stream", () => {
   function stream(): LiveStream {
     const live = new LiveStream({
       url: "/events",
-      onChange: (change) => {
-        changes++;
-        told.push(change);
-      },
+      onChange: (change) => told.push(change),
       onEnded: () => ended++,
       onStatus: (status) => statuses.push(status),
       open: (url) => new FakeSource(url),
@@ -203,9 +148,9 @@ describe("the event stream", () => {
     stream();
     latest().open();
     expect(statuses).toEqual(["up"]);
-    expect(changes).toBe(1);
+    expect(told).toHaveLength(1);
     for (const type of ["joined", "code", "photo", "taps", "answer", "left"]) latest().emit(type);
-    expect(changes).toBe(7);
+    expect(told).toHaveLength(7);
   });
 
   it("tells what changed with the event's data", () => {
@@ -232,13 +177,13 @@ describe("the event stream", () => {
     expect(FakeSource.opened).toHaveLength(1); // EventSource retries by itself
     latest().open();
     expect(statuses).toEqual(["up", "down", "up"]);
-    expect(changes).toBe(2);
+    expect(told).toHaveLength(2);
   });
 
   it("opens a new stream with backoff when EventSource gives up", () => {
     stream();
     latest().fail();
-    expect(changes).toBe(1); // maybe the session ended: the state says
+    expect(told).toHaveLength(1); // maybe the session ended: the state says
     expect(FakeSource.opened).toHaveLength(1);
     vi.advanceTimersByTime(999);
     expect(FakeSource.opened).toHaveLength(1);
@@ -260,11 +205,11 @@ describe("the event stream", () => {
     latest().fail();
     live.wake();
     expect(FakeSource.opened).toHaveLength(2);
-    expect(changes).toBe(2);
+    expect(told).toHaveLength(2);
     latest().open();
     live.wake(); // an open stream is kept; only the state is fetched
     expect(FakeSource.opened).toHaveLength(2);
-    expect(changes).toBe(4);
+    expect(told).toHaveLength(4);
   });
 
   it("drops the stream when the browser says the network is gone, until woken", () => {
@@ -299,7 +244,7 @@ describe("the event stream", () => {
     expect(source.closed).toBe(true);
     source.emit("taps");
     live.wake();
-    expect(changes).toBe(0);
+    expect(told).toHaveLength(0);
     expect(FakeSource.opened).toHaveLength(1);
   });
 });

@@ -1,39 +1,9 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { FakeSource } from "./fixtures/eventSource";
 import { answer, joinerAt7, taps } from "./fixtures/joiner";
 import { stubLocalStorage } from "./fixtures/localStorage";
 import { SessionController } from "./session";
 import type { Taps } from "./types";
-
-/** The browser's EventSource, driven by the test. */
-class FakeSource {
-  static opened: FakeSource[] = [];
-  readyState = 0;
-  onopen: ((event: Event) => void) | null = null;
-  onerror: ((event: Event) => void) | null = null;
-  private readonly listeners = new Map<string, Array<(event: Event) => void>>();
-
-  constructor(readonly url: string) {
-    FakeSource.opened.push(this);
-  }
-
-  addEventListener(type: string, listener: (event: Event) => void): void {
-    this.listeners.set(type, [...(this.listeners.get(type) ?? []), listener]);
-  }
-
-  close(): void {
-    this.readyState = 2;
-  }
-
-  open(): void {
-    this.readyState = 1;
-    this.onopen?.(new Event("open"));
-  }
-
-  emit(type: string, data: unknown): void {
-    const event = { data: JSON.stringify(data) } as MessageEvent<string>;
-    for (const listener of this.listeners.get(type) ?? []) listener(event);
-  }
-}
 
 const AT_7 = joinerAt7();
 

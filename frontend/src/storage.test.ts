@@ -8,6 +8,12 @@ async function page(): Promise<typeof import("./storage")> {
   return import("./storage");
 }
 
+beforeEach(() => {
+  stubLocalStorage();
+});
+
+afterEach(() => vi.unstubAllGlobals());
+
 const ANCHOR = [
   [1, 0, 0],
   [0, 0, -1],
@@ -15,12 +21,6 @@ const ANCHOR = [
 ];
 
 describe("the orientation at the shutter, kept with the photo", () => {
-  beforeEach(() => {
-    stubLocalStorage();
-  });
-
-  afterEach(() => vi.unstubAllGlobals());
-
   it("is read back for its session, on the page that read it", async () => {
     const storage = await page();
     storage.saveShutterAnchor("s1", ANCHOR);
@@ -40,12 +40,6 @@ describe("the orientation at the shutter, kept with the photo", () => {
 });
 
 describe("the server's last state, kept for a reload with no signal", () => {
-  beforeEach(() => {
-    stubLocalStorage();
-  });
-
-  afterEach(() => vi.unstubAllGlobals());
-
   it("is read back after a reload, for its own session only", async () => {
     const storage = await page();
     storage.keepState("s1", joinerAt7());

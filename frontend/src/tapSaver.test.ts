@@ -1,15 +1,8 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { ApiError } from "./api";
+import { taps } from "./fixtures/joiner";
 import { TapSaver, type SaveStatus } from "./tapSaver";
 import type { SessionState, Taps } from "./types";
-
-function taps(...ids: number[]): Taps {
-  return {
-    landmarks: ids.map((id) => ({ id, x: id, y: id, sigma: 2 })),
-    friend: null,
-    friend_line: null,
-  };
-}
 
 const STATE = { version: 1 } as SessionState;
 

@@ -60,17 +60,13 @@ describe("the photo's form fields", () => {
   /** The status of each request in turn (then 200). */
   let statuses: number[];
 
-  /** XMLHttpRequest as uploadPhoto uses it: the form is kept, the answer comes at once. */
+  /** XMLHttpRequest as uploadPhoto reads it (what it only sets is left out): the form is
+   * kept, the answer comes at once. */
   class FakeRequest {
     status = 0;
     responseText = "";
-    responseType = "";
-    timeout = 0;
     upload: { onprogress: ((event: ProgressEvent) => void) | null } = { onprogress: null };
     onload: (() => void) | null = null;
-    onerror: (() => void) | null = null;
-    ontimeout: (() => void) | null = null;
-    onabort: (() => void) | null = null;
     open(): void {}
     setRequestHeader(): void {}
     send(form: FormData): void {

@@ -17,6 +17,9 @@ import {
 
 const phone = { width: 412, height: 560 };
 const photo = { width: 640, height: 480 };
+const fitted = fitTransform(phone, photo);
+/** Zoomed in 4 times about a point left of the view's middle. */
+const zoomed = zoomAbout(fitted, 4, { x: 200, y: 280 }, phone, photo);
 
 function near(a: Point, b: Point, digits = 6): void {
   expect(a.x).toBeCloseTo(b.x, digits);
@@ -33,11 +36,10 @@ function fingers(x1: number, y1: number, x2: number, y2: number): readonly [Poin
 
 describe("the fitted photo", () => {
   it("fills the width of a portrait phone and is centred vertically", () => {
-    const t = fitTransform(phone, photo);
-    expect(t.scale).toBeCloseTo(412 / 640);
-    expect(t.tx).toBeCloseTo(0);
-    expect(t.ty).toBeCloseTo((560 - 480 * t.scale) / 2);
-    near(toScreen(t, { x: 320, y: 240 }), { x: 206, y: 280 });
+    expect(fitted.scale).toBeCloseTo(412 / 640);
+    expect(fitted.tx).toBeCloseTo(0);
+    expect(fitted.ty).toBeCloseTo((560 - 480 * fitted.scale) / 2);
+    near(toScreen(fitted, { x: 320, y: 240 }), { x: 206, y: 280 });
   });
 
   it("fills the height of a wide view and is centred horizontally", () => {
@@ -60,9 +62,8 @@ describe("the fitted photo", () => {
   });
 
   it("counts as fitted, and a zoomed view does not", () => {
-    const t = fitTransform(phone, photo);
-    expect(isFitted(t, phone, photo)).toBe(true);
-    expect(isFitted(zoomAbout(t, 2, { x: 200, y: 280 }, phone, photo), phone, photo)).toBe(false);
+    expect(isFitted(fitted, phone, photo)).toBe(true);
+    expect(isFitted(zoomAbout(fitted, 2, { x: 200, y: 280 }, phone, photo), phone, photo)).toBe(false);
   });
 });
 
@@ -90,43 +91,38 @@ describe("screen <-> photo", () => {
     expect(isInsidePhoto({ x: 640, y: 480 }, photo)).toBe(true);
     expect(isInsidePhoto({ x: -0.5, y: 10 }, photo)).toBe(false);
     expect(isInsidePhoto({ x: 10, y: 481 }, photo)).toBe(false);
-    const t = fitTransform(phone, photo);
-    expect(isInsidePhoto(toPhoto(t, { x: 200, y: 20 }), photo)).toBe(false); // black band above
+    expect(isInsidePhoto(toPhoto(fitted, { x: 200, y: 20 }), photo)).toBe(false); // black band above
   });
 });
 
 describe("zoom", () => {
   it("about a point keeps that point where it is", () => {
-    const t = fitTransform(phone, photo);
     const centre = { x: 180, y: 300 };
-    const under = toPhoto(t, centre);
-    const zoomed = zoomAbout(t, 3, centre, phone, photo);
-    expect(zoomed.scale).toBeCloseTo(3 * t.scale);
+    const under = toPhoto(fitted, centre);
+    const zoomed = zoomAbout(fitted, 3, centre, phone, photo);
+    expect(zoomed.scale).toBeCloseTo(3 * fitted.scale);
     near(toScreen(zoomed, under), centre);
     // and zooming back out the same way returns to the fitted view
     const back = zoomAbout(zoomed, 1 / 3, centre, phone, photo);
-    expect(back.scale).toBeCloseTo(t.scale);
+    expect(back.scale).toBeCloseTo(fitted.scale);
   });
 
   it("stays between the fitted photo and the largest zoom", () => {
-    const t = fitTransform(phone, photo);
     const { min, max } = scaleLimits(phone, photo);
-    expect(zoomAbout(t, 0.1, { x: 100, y: 100 }, phone, photo).scale).toBeCloseTo(min);
-    expect(zoomAbout(t, 1000, { x: 100, y: 100 }, phone, photo).scale).toBeCloseTo(max);
+    expect(zoomAbout(fitted, 0.1, { x: 100, y: 100 }, phone, photo).scale).toBeCloseTo(min);
+    expect(zoomAbout(fitted, 1000, { x: 100, y: 100 }, phone, photo).scale).toBeCloseTo(max);
     expect(max).toBeGreaterThanOrEqual(2);
   });
 
   it("pinching out grows the scale about the fingers' midpoint", () => {
-    const t = fitTransform(phone, photo);
     const [from, to] = [fingers(190, 290, 210, 310), fingers(175, 275, 225, 325)];
-    const under = toPhoto(t, { x: 200, y: 300 });
-    const pinched = pinchTransform(t, from, to, phone, photo);
-    expect(pinched.scale).toBeCloseTo(t.scale * 2.5);
+    const under = toPhoto(fitted, { x: 200, y: 300 });
+    const pinched = pinchTransform(fitted, from, to, phone, photo);
+    expect(pinched.scale).toBeCloseTo(fitted.scale * 2.5);
     near(toScreen(pinched, under), { x: 200, y: 300 }, 4);
   });
 
   it("two fingers moving together pan the zoomed photo", () => {
-    const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
     const [from, to] = [fingers(150, 250, 250, 250), fingers(130, 240, 230, 240)];
     const moved = pinchTransform(zoomed, from, to, phone, photo);
     expect(moved.scale).toBeCloseTo(zoomed.scale);
@@ -137,7 +133,6 @@ describe("zoom", () => {
 
 describe("clamping", () => {
   it("never pans the photo away from the view's edges", () => {
-    const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
     const farLeft = panBy(zoomed, 10_000, 10_000, phone, photo);
     expect(farLeft.tx).toBe(0);
     expect(farLeft.ty).toBe(0);
@@ -154,15 +149,13 @@ describe("clamping", () => {
   });
 
   it("cannot pan the fitted photo", () => {
-    const t = fitTransform(phone, photo);
-    const panned = panBy(t, 50, 50, phone, photo);
-    expect(panned.tx).toBeCloseTo(t.tx);
-    expect(panned.ty).toBeCloseTo(t.ty);
+    const panned = panBy(fitted, 50, 50, phone, photo);
+    expect(panned.tx).toBeCloseTo(fitted.tx);
+    expect(panned.ty).toBeCloseTo(fitted.ty);
   });
 
   it("lets the photo's edge come in as far as a covered band, no further", () => {
     const bands = { top: 100, right: 0, bottom: 60, left: 0 };
-    const zoomed = zoomAbout(fitTransform(phone, photo), 4, { x: 200, y: 280 }, phone, photo);
     const down = panBy(zoomed, 0, 10_000, phone, photo, bands);
     expect(down.ty).toBe(100); // the photo's top at the status's bottom edge
     const up = panBy(zoomed, 0, -10_000, phone, photo, bands);
@@ -170,7 +163,6 @@ describe("clamping", () => {
     // Sideways there is no band: the edges stay at the view's.
     expect(panBy(zoomed, 10_000, 0, phone, photo, bands).tx).toBe(0);
     // A photo smaller than the view along an axis: centred, or moved within the band.
-    const fitted = fitTransform(phone, photo);
     const moved = panBy(fitted, 0, 500, phone, photo, { ...bands, top: 200 });
     expect(moved.ty).toBe(200);
     expect(isFitted(moved, phone, photo)).toBe(false); // not the whole photo as fitted any more

@@ -12,6 +12,13 @@ import { describeAnswerPlace, describeLandmark, describeMarks, directionWords, p
 
 const PHOTO = { width: 640, height: 480 };
 
+/** An answer far off the photo, above it. */
+const FAR: AnswerView = {
+  ...NOTHING,
+  kind: "elsewhere",
+  drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
+};
+
 function at(x: number, y: number, how: "solved" | "marked" | "on_line" = "solved", sure = true): AnswerView {
   const ellipse = sure ? { axes: [10, 5] as [number, number], angle_deg: 0 } : null;
   return {
@@ -84,12 +91,7 @@ describe("describeAnswerPlace", () => {
 
   it("says which way off the photo the friend is", () => {
     expect(describeAnswerPlace(at(900, 240), PHOTO)).toBe("your friend is off the photo to the right");
-    const far: AnswerView = {
-      ...NOTHING,
-      kind: "elsewhere",
-      drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
-    };
-    expect(describeAnswerPlace(far, PHOTO)).toBe("your friend is far off the photo, above");
+    expect(describeAnswerPlace(FAR, PHOTO)).toBe("your friend is far off the photo, above");
   });
 
   it("names the eight directions", () => {
@@ -111,11 +113,6 @@ describe("in the language shown", () => {
     ["fr", fr, "repère 3, placé par toi, en haut à gauche, à revoir", "ton ami est hors de la photo, à droite", "ton ami est loin hors de la photo, vers le haut"],
     ["ja", ja, "あなたが置いた目印3、左上、要確認", "友だちは写真の外の右側にいます", "友だちは写真のはるか外、上の方にいます"],
   ];
-  const far: AnswerView = {
-    ...NOTHING,
-    kind: "elsewhere",
-    drawing: { arrow: { direction: [0, -1] } } as unknown as AnswerView["drawing"],
-  };
 
   for (const [language, words, landmark, off, away] of CASES) {
     it(`${language}: says a landmark and the friend's place in its own words`, async () => {
@@ -124,7 +121,7 @@ describe("in the language shown", () => {
       expect(said).not.toBe("landmark 3, placed by you, upper left, to re-check");
       expect(said).toBe(landmark);
       expect(describeAnswerPlace(at(900, 240), PHOTO)).toBe(off);
-      expect(describeAnswerPlace(far, PHOTO)).toBe(away);
+      expect(describeAnswerPlace(FAR, PHOTO)).toBe(away);
     });
   }
 });

@@ -31,24 +31,14 @@ function angleDeg(a: Vector3, b: Vector3): number {
 }
 
 describe("down in the photo, from one reading", () => {
-  it("portrait, upright and level: the photo's down is its y", () => {
-    expectVector(downInPhoto([0, g, 0], 0), [0, 1, 0]);
-  });
-
-  it("lying flat, screen up: the lens looks down, into the scene", () => {
-    expectVector(downInPhoto([0, 0, g], 0), [0, 0, 1]);
-  });
-
-  it("lying flat, screen down: the lens looks at the sky, down is behind it", () => {
-    expectVector(downInPhoto([0, 0, -g], 0), [0, 0, -1]);
-  });
-
-  it("portrait upside down (angle 180, the picture turned back upright): still its y", () => {
-    expectVector(downInPhoto([0, -g, 0], 180), [0, 1, 0]);
-  });
-
-  it("landscape, turned anticlockwise (angle 90): the phone's right side is up", () => {
-    expectVector(downInPhoto([g, 0, 0], 90), [0, 1, 0]);
+  it.each<[string, Vector3, number, Vector3]>([
+    ["portrait, upright and level: the photo's down is its y", [0, g, 0], 0, [0, 1, 0]],
+    ["lying flat, screen up: the lens looks down, into the scene", [0, 0, g], 0, [0, 0, 1]],
+    ["lying flat, screen down: the lens looks at the sky, down is behind it", [0, 0, -g], 0, [0, 0, -1]],
+    ["portrait upside down (angle 180, the picture turned back upright): still its y", [0, -g, 0], 180, [0, 1, 0]],
+    ["landscape, turned anticlockwise (angle 90): the phone's right side is up", [g, 0, 0], 90, [0, 1, 0]],
+  ])("%s", (_, reading, angle, down) => {
+    expectVector(downInPhoto(reading, angle), down);
   });
 
   it("landscape, turned clockwise (angle 270, window.orientation -90): its left side is up", () => {

@@ -2,6 +2,7 @@ import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { GRAVITY } from "./gravity";
 import { COMPASS_SIGMA_DEG } from "./heading";
 import { cameraProblem, sensorFields, stillnessWords } from "./InAppCamera";
+import type { MotionRecorder } from "./motion";
 
 /** motion.ts afresh (its answer is kept per page). */
 async function motion(): Promise<typeof import("./motion")> {
@@ -80,10 +81,15 @@ describe("the accelerometer while the camera is open", () => {
     }
   }
 
-  it("reads down in the photo from a still phone, for the screen's turn", async () => {
-    const { MotionRecorder } = await motion();
-    const recorder = new MotionRecorder();
+  /** A new page's recorder, started. */
+  async function recording(): Promise<MotionRecorder> {
+    const recorder = new (await motion()).MotionRecorder();
     recorder.start();
+    return recorder;
+  }
+
+  it("reads down in the photo from a still phone, for the screen's turn", async () => {
+    const recorder = await recording();
     shake(() => [GRAVITY, 0, 0]); // landscape, turned anticlockwise, level
     const reading = recorder.reading();
     expect(reading.kind === "still" && reading.gravity).toEqual([0, 1, 0]);
@@ -92,9 +98,7 @@ describe("the accelerometer while the camera is open", () => {
   });
 
   it("reads the lens's heading beside down where the phone has an absolute orientation", async () => {
-    const { MotionRecorder } = await motion();
-    const recorder = new MotionRecorder();
-    recorder.start();
+    const recorder = await recording();
     // On its side (its right edge up: the reading above), level, looking east, its top to the
     // north: turned -90 degrees about its top from flat (a hair off, where the angles lock).
     shake(() => [GRAVITY, 0, 0], 500, [0, 0, -89.9]);
@@ -114,9 +118,7 @@ describe("the accelerometer while the camera is open", () => {
   });
 
   it("sends nothing from a phone that moves at the shutter, and says so", async () => {
-    const { MotionRecorder } = await motion();
-    const recorder = new MotionRecorder();
-    recorder.start();
+    const recorder = await recording();
     shake((k) => [GRAVITY, k % 2 ? 3 : -3, 0]);
     const reading = recorder.reading();
     expect(reading).toEqual({ kind: "moving" });
@@ -125,9 +127,7 @@ describe("the accelerometer while the camera is open", () => {
   });
 
   it("reads nothing once stopped, nor from a browser without a sensor", async () => {
-    const { MotionRecorder } = await motion();
-    const recorder = new MotionRecorder();
-    recorder.start();
+    const recorder = await recording();
     shake(() => null);
     expect(recorder.reading()).toEqual({ kind: "none" });
     recorder.stop();

@@ -107,20 +107,14 @@ describe("the catalogues", () => {
     });
   }
 
-  it("words every warning code the server sends", () => {
-    for (const code of union("WarningCode")) expect(englishBases.has(`warning.${code}`), code).toBe(true);
-  });
-
-  it("words every refusal a phone can be told, by its reason", () => {
-    for (const reason of union("Reason")) {
-      if (SCRIPT_ONLY.has(reason)) continue;
-      expect(englishBases.has(`refusal.${reason}`), reason).toBe(true);
-    }
-  });
-
-  it("words every error code of the service and of the solver", () => {
-    const codes = [...serviceCodes(), ...union("ErrorCode")];
-    expect(codes.length).toBeGreaterThan(40);
-    for (const code of codes) expect(englishBases.has(`error.${code}`), code).toBe(true);
+  const refusals = (): string[] => union("Reason").filter((reason) => !SCRIPT_ONLY.has(reason));
+  const errors = (): string[] => [...serviceCodes(), ...union("ErrorCode")];
+  it.each([
+    ["words every warning code the server sends", "warning", () => union("WarningCode"), 0],
+    ["words every refusal a phone can be told, by its reason", "refusal", refusals, 0],
+    ["words every error code of the service and of the solver", "error", errors, 40],
+  ] as const)("%s", (_, section, codes, least) => {
+    expect(codes().length).toBeGreaterThan(least);
+    for (const code of codes()) expect(englishBases.has(`${section}.${code}`), code).toBe(true);
   });
 });

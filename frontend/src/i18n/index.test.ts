@@ -1,16 +1,19 @@
-import { afterAll, describe, expect, it, vi } from "vitest";
+import { afterAll, beforeEach, describe, expect, it, vi } from "vitest";
 import { stubLocalStorage } from "../fixtures/localStorage";
 import { currentLanguage, formatNumber, speak, startLanguage, switchLanguage, t, type Key } from "./index";
 import { LANGUAGE_KEY } from "./languages";
 import fr from "./locales/fr.json";
 
 describe("the language shown", () => {
+  beforeEach(() => {
+    stubLocalStorage();
+  });
+
   afterAll(async () => {
     await switchLanguage("en");
   });
 
   it("switches in place, fetching the catalogue, and keeps the choice", async () => {
-    stubLocalStorage();
     await switchLanguage("fr");
     expect(currentLanguage()).toBe("fr");
     expect(t("start.start")).toBe("Lancer une recherche");
@@ -19,7 +22,6 @@ describe("the language shown", () => {
   });
 
   it("starts in the kept choice over the phone's languages", async () => {
-    stubLocalStorage();
     localStorage.setItem(LANGUAGE_KEY, "ja");
     vi.stubGlobal("navigator", { languages: ["de-DE"], language: "de-DE" });
     await startLanguage();
@@ -30,7 +32,6 @@ describe("the language shown", () => {
   });
 
   it("remembers words per language and options, and forgets them on a switch", async () => {
-    stubLocalStorage();
     await switchLanguage("en");
     expect(t("step.findHere", { id: 3 })).toBe(t("step.findHere", { id: 3 }));
     const three = t("step.findHere", { id: 3 });
@@ -44,7 +45,6 @@ describe("the language shown", () => {
   });
 
   it("says a count in its language's plural form, else `_other`, else the plain key; a key it lacks as itself", async () => {
-    stubLocalStorage();
     await switchLanguage("en");
     expect(t("step.tapMore", { count: 1 })).toBe("Tap 1 more landmark");
     expect(t("step.tapMore", { count: 2 })).toBe("Tap 2 more landmarks");

@@ -18,6 +18,10 @@ const PHOTO = { width: 2560, height: 1920 };
 const VIDEO = { width: 1280, height: 960 };
 /** A Pixel 7's screen, portrait: the 4:3 video cropped at its sides. */
 const SCREEN = { width: 412, height: 915 };
+/** The photo's focal length (px), the video's, and the video on the screen. */
+const f = 2000;
+const fv = liveFocal(f, PHOTO, VIDEO);
+const c = cover(VIDEO, SCREEN);
 
 /** The phone upright, level, turned `alpha` (degrees; right is negative) and tilted up `up`. */
 function phone(alpha: number, up = 0) {
@@ -40,8 +44,6 @@ describe("the focal lengths", () => {
 });
 
 describe("the photo's drawing in the live video", () => {
-  const f = 2000;
-  const fv = liveFocal(f, PHOTO, VIDEO);
 
   it("is the photo, scaled, while the phone has not turned", () => {
     const h = homography(IDENTITY, f, PHOTO, fv, VIDEO);
@@ -71,7 +73,6 @@ describe("the photo's drawing in the live video", () => {
 
 describe("the video on the screen (object-fit: cover)", () => {
   it("crops the 4:3 video's sides on a portrait screen", () => {
-    const c = cover(VIDEO, SCREEN);
     expect(c.scale).toBeCloseTo(915 / 960, 12);
     expect(c.offset.y).toBeCloseTo(0, 12);
     expect(c.offset.x).toBeCloseTo((412 - 1280 * (915 / 960)) / 2, 12);
@@ -84,9 +85,6 @@ describe("the video on the screen (object-fit: cover)", () => {
 });
 
 describe("pointing at the friend", () => {
-  const f = 2000;
-  const fv = liveFocal(f, PHOTO, VIDEO);
-  const c = cover(VIDEO, SCREEN);
   const ahead: [number, number, number] = [PHOTO.width / 2, PHOTO.height / 2, 1];
 
   function pointing(alpha: number, up = 0, friend = ahead) {
@@ -139,9 +137,6 @@ describe("pointing at the friend", () => {
 });
 
 describe("pointing at a curve with no part in view", () => {
-  const f = 2000;
-  const fv = liveFocal(f, PHOTO, VIDEO);
-  const c = cover(VIDEO, SCREEN);
   // The friend's level: across the whole photo, 5 degrees above its centre, a point every
   // 400 px (as the server's polylines come).
   const level = [[-400, 0, 400, 800, 1200, 1600, 2000, 2400, 2800].map((x) => [x, 960 - f * Math.tan(5 * DEGREE)])];

@@ -1,4 +1,4 @@
-import { beforeEach, describe, expect, it, vi } from "vitest";
+import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
 import { stubLocalStorage } from "../fixtures/localStorage";
 import { loadDraft } from "../storage";
 import { TapSaver } from "../tapSaver";
@@ -6,30 +6,38 @@ import type { SessionState, Taps } from "../types";
 import { TapEditing } from "./taps";
 import { ViewStore } from "./view";
 
+/** A fresh page's taps, saved as the app saves them (session.ts): each PUT kept in `sent`,
+ * its reply on its way until the test gives it (`replies`). */
+function editing() {
+  stubLocalStorage();
+  const store = new ViewStore({ session_id: "s", token: "t", role: "joiner" });
+  const sent: Taps[] = [];
+  const replies: Array<(state: SessionState) => void> = [];
+  const saver = new TapSaver({
+    send: (put) => {
+      sent.push(put);
+      return new Promise<SessionState>((resolve) => replies.push(resolve));
+    },
+    onSaved: () => undefined,
+    onStatus: (save) => taps.showSaved(save),
+    onEnded: () => undefined,
+  });
+  const taps = new TapEditing(store, saver);
+  return { store, taps, sent, replies };
+}
+
+afterEach(() => {
+  vi.useRealTimers();
+  vi.unstubAllGlobals();
+});
+
 describe("this phone's taps", () => {
   let store: ViewStore;
   let sent: Taps[];
   let taps: TapEditing;
 
   beforeEach(() => {
-    stubLocalStorage();
-    sent = [];
-    store = new ViewStore({ session_id: "s", token: "t", role: "joiner" });
-    // Each PUT stays on its way: what the phone sends is what these tests look at.
-    const saver = new TapSaver({
-      send: (put) => {
-        sent.push(put);
-        return new Promise<SessionState>(() => undefined);
-      },
-      onSaved: () => undefined,
-      onStatus: (save) => store.set({ save }),
-      onEnded: () => undefined,
-    });
-    taps = new TapEditing(store, saver);
-    return () => {
-      vi.useRealTimers();
-      vi.unstubAllGlobals();
-    };
+    ({ store, taps, sent } = editing());
   });
 
   it("marks the friend first, then places landmarks, sending each at once", () => {
@@ -96,16 +104,7 @@ describe("this phone's taps", () => {
 describe("what this phone says of its taps' saving", () => {
   it("never says saved while a tap waits for the screen, and says it once they are all saved", async () => {
     vi.useFakeTimers();
-    stubLocalStorage();
-    const store = new ViewStore({ session_id: "s", token: "t", role: "joiner" });
-    const replies: ((state: SessionState) => void)[] = [];
-    const saver = new TapSaver({
-      send: () => new Promise<SessionState>((resolve) => replies.push(resolve)),
-      onSaved: () => undefined,
-      onStatus: (save) => taps.showSaved(save),
-      onEnded: () => undefined,
-    });
-    const taps = new TapEditing(store, saver);
+    const { store, taps, replies } = editing();
     taps.tap({ x: 100, y: 50, sigma: 3 }); // the friend: its PUT goes at once
     expect(replies).toHaveLength(1);
     replies[0]?.({} as SessionState); // and answers before the screen shows the mark
@@ -125,7 +124,5 @@ describe("what this phone says of its taps' saving", () => {
     await vi.advanceTimersByTimeAsync(0);
     expect(store.view.save.status).toBe("saved");
     expect(loadDraft("s")?.taps?.landmarks).toHaveLength(0);
-    vi.useRealTimers();
-    vi.unstubAllGlobals();
   });
 });

@@ -52,14 +52,14 @@ async function started(controller: FakeWorker | null): Promise<{ container: Fake
   return { container, reload };
 }
 
+afterEach(() => {
+  vi.useRealTimers();
+  vi.unstubAllGlobals();
+});
+
 describe("moving the page to a new build", () => {
   beforeEach(() => {
     vi.stubGlobal("document", Object.assign(new EventTarget(), { visibilityState: "visible" }));
-  });
-
-  afterEach(() => {
-    vi.useRealTimers();
-    vi.unstubAllGlobals();
   });
 
   it("does not reload a first visit that the first worker claims, even when told twice", async () => {
@@ -153,8 +153,12 @@ describe("after a lazily loaded chunk failed", () => {
   /** index.html as a server of the build whose entry is `entry` answers it. */
   const index = (entry: string): Response =>
     new Response(`<script type="module" crossorigin src="${entry}"></script>`, { status: 200 });
+  /** The server, moved on to another build. */
+  const moved = (): Promise<Response> => Promise.resolve(index("/assets/index-BBBB.js"));
+  let reload: ReturnType<typeof vi.fn>;
 
   beforeEach(() => {
+    reload = vi.fn();
     const stored = new Map<string, string>();
     vi.stubGlobal("document", {
       querySelector: () => ({ src: `https://buddy.example${ENTRY}` }),
@@ -166,13 +170,7 @@ describe("after a lazily loaded chunk failed", () => {
     });
   });
 
-  afterEach(() => {
-    vi.useRealTimers();
-    vi.unstubAllGlobals();
-  });
-
   it("stays with no signal: a reload would show the browser's error page", async () => {
-    const reload = vi.fn();
     const offline = vi.fn(() => Promise.reject(new TypeError("Load failed")));
     await expect(reloadIfBuildGone(offline, reload)).resolves.toBe(false);
     expect(offline).toHaveBeenCalledTimes(1);
@@ -180,7 +178,6 @@ describe("after a lazily loaded chunk failed", () => {
   });
 
   it("stays when the server is still on this build, or answers with an error", async () => {
-    const reload = vi.fn();
     await expect(reloadIfBuildGone(() => Promise.resolve(index(ENTRY)), reload)).resolves.toBe(false);
     const failing = (): Promise<Response> => Promise.resolve(new Response("", { status: 502 }));
     await expect(reloadIfBuildGone(failing, reload)).resolves.toBe(false);
@@ -189,8 +186,6 @@ describe("after a lazily loaded chunk failed", () => {
 
   it("reloads once when the server is on another build, not again within 10 s", async () => {
     vi.useFakeTimers();
-    const reload = vi.fn();
-    const moved = (): Promise<Response> => Promise.resolve(index("/assets/index-BBBB.js"));
     await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(true);
     vi.advanceTimersByTime(5_000);
     await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(false);
@@ -202,10 +197,9 @@ describe("after a lazily loaded chunk failed", () => {
   it("stays while the page holds a photo not sent yet", async () => {
     const release = holdsUnsent(() => true);
     try {
-      const reload = vi.fn();
-      const moved = vi.fn(() => Promise.resolve(index("/assets/index-BBBB.js")));
-      await expect(reloadIfBuildGone(moved, reload)).resolves.toBe(false);
-      expect(moved).not.toHaveBeenCalled();
+      const asked = vi.fn(moved);
+      await expect(reloadIfBuildGone(asked, reload)).resolves.toBe(false);
+      expect(asked).not.toHaveBeenCalled();
       expect(reload).not.toHaveBeenCalled();
     } finally {
       release();
