@@ -106,7 +106,9 @@ def test_malformed_join_codes_are_refused(client: TestClient, code: str) -> None
 def test_tokens_are_stored_hashed(services: Services, starter: Phone) -> None:
     engine = services.database.engine
     if engine.dialect.name == "sqlite":  # the file and its write-ahead log, byte for byte
-        files = (Path(f"{engine.url.database}"), Path(f"{engine.url.database}-wal"))
+        database = engine.url.database
+        assert database is not None
+        files = (Path(database), Path(f"{database}-wal"))
         stored = b"".join(file.read_bytes() for file in files if file.exists())
     else:  # every row of every table, as PostgreSQL writes it out
         with engine.connect() as connection:
