@@ -24,6 +24,10 @@ RENEW_API_TYPES ?= yes
 API_SOURCES := $(shell find backend shared_solver -name '*.py' -o -name '*.json')
 # uv, pinned: it installs the lock file (make test, make run) and writes it (make lock).
 UV_VERSION := 0.13.9
+# Bytecode caches are written even where the environment turns them off
+# (PYTHONDONTWRITEBYTECODE): pytest then rewrites the tests' asserts once rather than in
+# every process of every run (collecting the solver's tests took 5.7 s, then 2.6 s).
+unexport PYTHONDONTWRITEBYTECODE
 # Root needs no sudo (CI, containers); anyone else gets asked once.
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
