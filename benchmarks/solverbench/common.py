@@ -103,6 +103,10 @@ class Summary:
     coverage: float  # of those claims, the fraction that hold the truth
     methods: Counter[str] = field(default_factory=Counter)
     camera_models: Counter[str] = field(default_factory=Counter)
+    # 95 % intervals of the median and the p90 of the population the trials were drawn from
+    # (:func:`quantile_interval`): how far another seed could move them.
+    median_interval: tuple[float, float] = (math.nan, math.nan)
+    p90_interval: tuple[float, float] = (math.nan, math.nan)
 
     @classmethod
     def of(cls, outcomes: Sequence[Outcome]) -> Summary:
@@ -112,6 +116,8 @@ class Summary:
             trials=len(outcomes),
             median=percentile(errors, 50),
             p90=percentile(errors, 90),
+            median_interval=quantile_interval(errors, 0.5),
+            p90_interval=quantile_interval(errors, 0.9),
             failures=Counter(o.failure for o in outcomes if o.failure is not None),
             claims=claims,
             coverage=sum(o.covered for o in outcomes) / max(1, claims),
@@ -151,6 +157,37 @@ def percentile(values: Sequence[float], q: float) -> float:
     if math.isinf(ordered[high]):
         return math.inf
     return float(ordered[low] + (position - low) * (ordered[high] - ordered[low]))
+
+
+def quantile_interval(
+    values: Sequence[float] | Array, q: float, level: float = 0.95
+) -> tuple[float, float]:
+    """A distribution-free ``level`` interval for the ``q``-quantile (0 < q < 1) of the
+    population ``values`` were drawn from: two of their order statistics, X(r) <= X(s),
+    which hold it between them with probability at least ``level``, since the count of
+    values below it is binomial (n, q) (Conover, Practical Nonparametric Statistics, 3rd
+    ed., section 3.2). Written out: the binomial's CDF is a few lines of numpy, and SciPy is
+    not otherwise needed. Ends beyond the values are infinite (too few of them); empty: NaN.
+    """
+    ordered = np.sort(np.asarray(values, dtype=np.float64))
+    n = len(ordered)
+    if n == 0:
+        return math.nan, math.nan
+    k = np.arange(n + 1)
+    log_pmf = (
+        math.lgamma(n + 1)
+        - np.array([math.lgamma(j + 1) + math.lgamma(n - j + 1) for j in k])
+        + k * math.log(q)
+        + (n - k) * math.log1p(-q)
+    )
+    cdf = np.cumsum(np.exp(log_pmf))  # P(B <= j), B the count below the quantile
+    tail = (1.0 - level) / 2.0
+    # X(r) <= quantile when B >= r; X(s) >= quantile when B <= s - 1 (ranks from 1).
+    r = int(np.searchsorted(cdf, tail, side="right"))
+    s = int(np.searchsorted(cdf, 1.0 - tail, side="left")) + 1
+    low = float(ordered[r - 1]) if r >= 1 else -math.inf
+    high = float(ordered[s - 1]) if s <= n else math.inf
+    return low, high
 
 
 def pixel_error(estimate_h: Sequence[float] | Array | None, truth: Array) -> float:
@@ -303,6 +340,11 @@ def fmt(value: float) -> str:
     if math.isinf(value) or math.isnan(value):
         return "inf"
     return f"{value:.2f}" if value < 10 else f"{value:.1f}" if value < 100 else f"{value:.0f}"
+
+
+def interval(bounds: tuple[float, float]) -> str:
+    """An interval of errors in px, as :func:`fmt` writes each end."""
+    return f"{fmt(bounds[0])}-{fmt(bounds[1])}"
 
 
 def percent(fraction: float) -> str:

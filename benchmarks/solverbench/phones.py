@@ -32,6 +32,7 @@ from .common import (
     failures,
     fell_back,
     fmt,
+    interval,
     mixed_taps,
     ours,
     pixel_error,
@@ -317,7 +318,8 @@ def error_target(summary: Summary, label: str, median: float, p90: float) -> Tar
     return passed, (
         f"{verdict(passed)}: phone scenes, {label} at {TARGET_SIGMA:g} px: median <= {median:g} px "
         f"and p90 <= {p90:g} px ({fmt(summary.median)} / {fmt(summary.p90)} px, "
-        f"{summary.trials} trials)"
+        f"{summary.trials} trials; 95 % intervals {interval(summary.median_interval)} / "
+        f"{interval(summary.p90_interval)} px)"
     )
 
 
