@@ -1,5 +1,5 @@
 """Shared test fixtures: the real temple calibration and reproducible random sources; the
-settings of every property-based test (Hypothesis)."""
+settings of every property-based test (Hypothesis); the longest tests first."""
 
 from __future__ import annotations
 
@@ -39,3 +39,14 @@ def temple_parameters() -> Path:
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261121)
+
+
+# The files whose tests each take tens of seconds of the solver's: run first. Under
+# ``--dist worksteal`` each worker starts with a contiguous half of the collection and steals
+# from the other's tail, so a minute of real-camera answers left at the end (their file sorts
+# late) ran on one worker while the other sat idle (make test-solver).
+_LONGEST = ("test_real_cameras.py",)
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    items.sort(key=lambda item: item.path.name not in _LONGEST)
