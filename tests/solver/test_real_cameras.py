@@ -42,6 +42,10 @@ class Answer:
     camera_model_fits: bool
 
 
+# The answers of one case, by (pair, landmarks).
+Answers = dict[tuple[str, int], list[Answer]]
+
+
 def _answer(pair: RealPair, result: SolveResult | None) -> Answer:
     if result is None:
         return Answer(float("inf"), None, "refused", camera_model_fits=True)
@@ -57,11 +61,11 @@ def _answer(pair: RealPair, result: SolveResult | None) -> Answer:
     return Answer(error(pair, result.epipole2, result.epipole2_h), distance, result.quality, fits)
 
 
-def _answers(camera: str, zoom: float, draws: int) -> dict[tuple[str, int], list[Answer]]:
+def _answers(camera: str, zoom: float, draws: int) -> Answers:
     """Every real pair that puts friend 1 in front of camera 2 (photo 2 zoomed ``zoom``
     times), ``draws`` people tapping its landmarks at SIGMA px, 3 to MOST of them: the
     answers by (pair, landmarks)."""
-    found: dict[tuple[str, int], list[Answer]] = {}
+    found: Answers = {}
     for pair in _pairs(zoom):
         if camera == "exif":
             cameras: dict[str, Any] = {
@@ -112,9 +116,7 @@ def test_real_pairs_answered_as_a_person_needs(camera: str, zoom: float) -> None
         _a_zoomed_photo_without_exif_never_gets_a_confident_wrong_marker(answers)
 
 
-def _a_landmark_more_never_makes_the_median_worse(
-    answers: dict[tuple[str, int], list[Answer]], zoom: float
-) -> None:
+def _a_landmark_more_never_makes_the_median_worse(answers: Answers, zoom: float) -> None:
     """Over the pairs that have k + 1 landmarks, the median error with k + 1 is no worse
     than with k (on the same draws), friend in or near the photo and outside it alike; and
     on every pair with six or more, the most beat three. (With four a pair's median can be
@@ -147,7 +149,7 @@ def _a_landmark_more_never_makes_the_median_worse(
 
 
 def _phone_like_real_cameras_keep_the_camera_model(
-    answers: dict[tuple[str, int], list[Answer]],
+    answers: Answers,
 ) -> None:
     """No real pair's honest taps are told they do not fit two phone photos, the friend far
     outside photo 2 (up to 65 degrees off its axis) included, and the regions hold the truth
@@ -161,7 +163,7 @@ def _phone_like_real_cameras_keep_the_camera_model(
 
 
 def _a_zoomed_photo_without_exif_never_gets_a_confident_wrong_marker(
-    answers: dict[tuple[str, int], list[Answer]],
+    answers: Answers,
 ) -> None:
     """Photo 2 zoomed 2x, 3x or 5x (real cameras up to 79 mm, so up to a 400 mm-equivalent
     photo), told only that it is a phone's: no answer graded better than 'poor' puts the
