@@ -214,7 +214,7 @@ def report(
         tables.time_table(timed),
         "## Targets",
         "Arenas, held out (section 4), over every tap noise:",
-        "\n".join(arena_tables.targets(total)),
+        "\n".join(arena_tables.targets(total, asked)),
         "Halls (section 3) and time:",
         "\n".join(
             [

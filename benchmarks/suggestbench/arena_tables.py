@@ -169,14 +169,32 @@ def _cell(result: Offered, chosen: bool) -> str:
     return f"**{text}**" if chosen else text
 
 
-def targets(total: Offered) -> list[str]:
+def far_sources(asked: Sequence[Asked], rule: Rule = IN_CODE) -> tuple[int, int]:
+    """(landmarks, arenas) behind the spots offered beyond :data:`.tables.FAR`: one
+    landmark looked for in one photo is asked for at every tap noise and count of
+    landmarks found, so one look-alike can be offered several times."""
+    far = [
+        a
+        for a in asked
+        if a.timed is not None
+        and a.timed.evidence is not None
+        and rule(a.timed.evidence)
+        and a.error(a.timed) > FAR
+    ]
+    landmarks = {(a.scene, a.direction, *np.round(a.truth, 3).tolist()) for a in far}
+    return len(landmarks), len({a.scene for a in far})
+
+
+def targets(total: Offered, asked: Sequence[Asked]) -> list[str]:
+    landmarks, arenas = far_sources(asked)
     return [
         f"- {verdict(total.precision >= TARGET_RIGHT)}: at least "
         f"{100 * TARGET_RIGHT:.0f} % of offered spots within 1 % of the diagonal: "
         f"{total.right} of {total.offered} ({share(total.precision)}).",
         f"- {verdict(total.offered > 0 and total.far == 0)}: none beyond "
         f"{100 * FAR:.0f} % of the diagonal: {total.far} (worst "
-        f"{100 * total.worst:.1f} %).",
+        f"{100 * total.worst:.1f} %), of {landmarks} landmarks looked for in "
+        f"{arenas} of the {len({a.scene for a in asked})} arenas.",
         f"- {verdict(total.coverage >= TARGET_OFFERED)}: at least "
         f"{100 * TARGET_OFFERED:.0f} % of landmarks offered a spot: {total.offered} of "
         f"{total.asked} ({share(total.coverage)}).",

@@ -48,6 +48,7 @@ def test_suggestion_benchmark_runs_and_reports_every_section(tmp_path: Path) -> 
     assert len(lines) == 6
     assert re.match(r"- (PASS|FAIL): at least 95 % of offered spots within 1 %", lines[0])
     assert re.match(r"- (PASS|FAIL): none beyond 3 %", lines[1])
+    assert re.search(r"of \d+ landmarks looked for in \d+ of the \d+ arenas\.$", lines[1])
     assert re.match(r"- (PASS|FAIL): at least 25 % of landmarks offered a spot", lines[2])
     assert re.match(r"- (PASS|FAIL): at least 90 % of shown suggestions", lines[3])
     assert "**" in text.split("## 5. Choosing the rule", 1)[1].split("## 6.", 1)[0]
