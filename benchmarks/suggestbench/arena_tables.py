@@ -27,6 +27,10 @@ MARGINS = (0.0, 0.03, 0.05, 0.08)
 VIEW_LEADS = (0.0, 0.1, 0.15, 0.2)
 # Stricter least leads over the runner-up, counted on the held-out arenas (trade-off).
 STRICTER_MARGINS = (0.06, 0.08, 0.1, 0.15)
+# The context's least lead over every other place (infinite: never instead of the
+# margin) and its least score, tried the same way.
+CONTEXT_MARGINS = (0.05, 0.1, 0.15, 0.2, math.inf)
+MIN_CONTEXTS = (-1.0, 0.3, 0.4, 0.5)
 
 HEADER = ["asked", "offered a spot", "within 1 % of the diagonal", "beyond 3 %", "worst"]
 
@@ -149,6 +153,22 @@ def view_table(items: Sequence[Asked | Searched]) -> str:
         cells.append(_cell(shown(items, now, by_rule(rules)), rules == RULES))
     names = [f"lead {lead:g}" for lead in VIEW_LEADS] + ["none (as read alone)"]
     return markdown_table(names, [cells])
+
+
+def context_table(items: Sequence[Asked | Searched]) -> str:
+    """Offered / right / beyond 3 % for each least score in context and least lead of the
+    context over every other place (the rest as in the code)."""
+    rows = []
+    for least in MIN_CONTEXTS:
+        cells = ["none" if least < 0 else f"{least:g}"]
+        for margin in CONTEXT_MARGINS:
+            rules = replace(RULES, min_context=least, context_margin=margin)
+            cells.append(_cell(shown(items, now, by_rule(rules)), rules == RULES))
+        rows.append(cells)
+    names = [
+        f"lead {m:g}" if math.isfinite(m) else "no lead (the margin alone)" for m in CONTEXT_MARGINS
+    ]
+    return markdown_table(["least score in context", *names], rows)
 
 
 def tradeoff_table(asked: Sequence[Asked]) -> str:

@@ -40,6 +40,7 @@ from shared_solver.matching.suggestion import (
     gather,
     leads,
     offerable,
+    stands_out,
 )
 from shared_solver.projective import Array, Indices
 from testbed.venue import RenderedPair, rendered_pair
@@ -56,8 +57,10 @@ WRONG_OFFSET = (0.02, 0.10)  # a wrong tap's distance from the truth, fraction o
 ALSO_USED = (3, 8)  # other numbers of landmarks whose bands are checked (no image work)
 TAP = SIGMA**2 * np.eye(2)
 # The search before it had two views: the patch as read alone; its rule then: a score of 0.7
-# and a lead of 0.05 (no other view), the search back landing within 1 % of the tap.
-BEFORE = Rules(min_score=0.7, min_margin=0.05, views=("as read",), max_across=math.inf)
+# and a lead of 0.05 (no other view, no context), the search back landing within 1 % of the tap.
+BEFORE = Rules(
+    min_score=0.7, min_margin=0.05, views=("as read",), max_across=math.inf, context_radius=0
+)
 
 
 @dataclass(frozen=True)
@@ -323,9 +326,10 @@ def timed_search(
 ) -> Timed:
     """The evidence, and the wall and CPU time ``suggest`` spends on it: the search along
     the band, and the search back only when the match may be offered (as ``suggest`` does).
-    The search back is made for every match that leads, offered or not (to count the rule
-    without ``max_across`` too), and with ``always_back`` for every match (to weigh other
-    rules), but timed only as ``suggest`` would make it."""
+    The search back is made for every match that leads or stands out in its context,
+    offered or not (to count the rule without ``max_across`` too), and with
+    ``always_back`` for every match (to weigh other rules), but timed only as ``suggest``
+    would make it."""
     search = LandmarkSearch(photo_a, photo_b, point, epipolar, band, point_covariance=covariance)
     wall, cpu = time.perf_counter(), time.process_time()
     evidence = gather(search, rules=rules)
@@ -333,7 +337,7 @@ def timed_search(
     if evidence is None:
         return Timed(None, *forward)
     counted = offerable(evidence.match, rules)
-    if not (leads(evidence.match, rules) or always_back):
+    if not (leads(evidence.match, rules) or stands_out(evidence.match, rules) or always_back):
         return Timed(evidence, *forward)
     wall, cpu = time.perf_counter(), time.process_time()
     checked = check_back(evidence, search, rules=rules)

@@ -24,6 +24,12 @@ patch as read: the rule (:mod:`.suggestion`) can ask it to lead that, but by def
 not offer it, since on the rendered halls and arenas that view found look-alikes (a box's
 corner, a floor marking, a pillar's edge read the other way) too often beside the banners
 seen from behind it finds (docs/geometry.md, "Finding a landmark in the other photo").
+
+Each place found is also scored in its **context**: a patch twice the size around the tap,
+read the same way, stretched and sheared as the place found it, and matched at it (within
+2 px along the lines and a row across). Look-alikes (a mat or a sign alike, another banner
+of one design) are alike in the small patch, seldom in what surrounds them; the rule can
+then tell apart two places the small patch cannot.
 """
 
 from __future__ import annotations
@@ -71,6 +77,9 @@ class Match:
         across: the band's half-width at the match, in strip rows
             (:meth:`.polar.PolarFrame.across`), however many the strip has: beyond its
             margin, places of the band beside the strip were not searched.
+        context: the match's score in its context (module docstring; -1 when not scored).
+        context_runner_up: the best context score of any other place found further than
+            ``exclusion`` along the band (-1 if none).
     """
 
     point: Array
@@ -82,6 +91,8 @@ class Match:
     as_read: float = -1.0
     as_read_apart: float = 0.0
     across: float = 0.0
+    context: float = -1.0
+    context_runner_up: float = -1.0
 
 
 @dataclass
@@ -151,6 +162,7 @@ def best_match(
     *,
     exclusion: float,
     views: tuple[str, ...] = tuple(VIEWS),
+    context: PolarFrame | None = None,
 ) -> Match | None:
     """The best place for ``frame.patch`` at distances ``t`` (1 px apart) from ``e_B``.
 
@@ -160,6 +172,8 @@ def best_match(
         exclusion: px along the band within which two places are the same one.
         views: the views searched, "as read" among them (:data:`VIEWS`; before there were
             views, the patch was searched as read alone).
+        context: the same frame with a larger patch (the same margin, so the same rows),
+            to score every place found in its context; None: not scored.
     """
     found = places(frame, t, exclusion=exclusion, views=views)
     if not found:
@@ -172,10 +186,12 @@ def best_match(
     )
     if abs(read.column - best.column) <= exclusion:
         best = read  # both views find one spot: the patch as read places it
-    runner_up = max(
-        (place.score for place in found if abs(place.column - best.column) > exclusion),
-        default=-1.0,
-    )
+    others = [place for place in found if abs(place.column - best.column) > exclusion]
+    runner_up = max((place.score for place in others), default=-1.0)
+    own = rivals = -1.0
+    if context is not None:
+        own = in_context(context, t, best)
+        rivals = max((in_context(context, t, place) for place in others), default=-1.0)
     return Match(
         point_of(frame, t, best),
         best.score,
@@ -186,7 +202,34 @@ def best_match(
         read.score if read.view == "as read" else -1.0,
         float(abs(read.column - best.column)),
         float(frame.across(t[best.column : best.column + 1])[0]),
+        own,
+        rivals,
     )
+
+
+_CONTEXT_ALONG = 2  # columns either side of a place where its context may match best
+
+
+def in_context(frame: PolarFrame, t: Array, place: Place) -> float:
+    """The score of ``frame.patch`` (the larger one) at ``place``: read in the place's
+    view, stretched and sheared as it found, its top row within one of the place's (the
+    frames share their margin, so their templates' top rows count alike) and its centre
+    within ``_CONTEXT_ALONG`` columns."""
+    patch = np.ascontiguousarray(frame.patch[:, :: VIEWS[place.view]])
+    height = patch.shape[0]
+    width = max(3, round(patch.shape[1] * place.stretch))
+    template = cv2.resize(
+        patch,
+        (width, height),
+        interpolation=cv2.INTER_AREA if place.stretch < 1 else cv2.INTER_LINEAR,
+    )
+    reach = width // 2 + _CONTEXT_ALONG + 1
+    along = float(t[place.column]) + np.arange(-reach, reach + 1, dtype=float)
+    scores = cv2.matchTemplate(frame.strip(along, place.shear), template, cv2.TM_CCOEFF_NORMED)
+    centres = np.arange(scores.shape[1]) + (width - 1) // 2
+    near = np.abs(centres - reach) <= _CONTEXT_ALONG
+    rows = scores[max(0, place.row - 1) : place.row + 2][:, near]
+    return float(rows.max()) if rows.size else -1.0
 
 
 def point_of(frame: PolarFrame, t: Array, place: Place) -> Array:

@@ -16,6 +16,12 @@ on rendered halls and arenas, and are measured on others, in docs/suggestions.md
 - searched back from photo B along its own band in photo A, the same way, the match leads
   to the tapped point again (within 1 % of A's diagonal), and as clearly (the same least
   score and margin): the left-right check, which a look-alike in photo A also defeats;
+- or, where the small patch cannot tell two places apart, its context can: the patch
+  twice the size scores at the match ``context_margin`` above any other place found
+  (:mod:`.search`), and the search back leads to the tapped point again with the least
+  score;
+- in its context the match still scores ``min_context``: a look-alike of the patch with
+  other surroundings does not;
 - the search back scores about as the match does (``max_score_gap``): both are the same
   pair of patches;
 - it is the patch as read: a match read reversed along the lines (a banner seen from
@@ -67,6 +73,11 @@ class Rules:
             on each side (``max_margin``). Wider (few landmarks, quick taps), the band
             holds many places beside the rows searched, never compared, and a look-alike
             among the rows searched leads (docs/geometry.md; infinite: no limit).
+        context_radius: half size of the context's patch, px (``radius`` or less: no
+            context, and a match must lead by ``min_margin``).
+        context_margin: least lead of the match's context score over every other place's
+            that stands in for ``min_margin`` (here and on the search back).
+        min_context: least context score of a match offered.
     """
 
     min_score: float = 0.7
@@ -79,6 +90,9 @@ class Rules:
     view_apart: float = 0.015
     max_score_gap: float = 0.2
     max_across: float = 32.0
+    context_radius: int = 32
+    context_margin: float = 0.1
+    min_context: float = 0.3
 
 
 RULES = Rules()
@@ -180,7 +194,10 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
         or evidence.sigmas > FLAG_SIGMAS
         or back is None
         or evidence.returned > rules.tolerance
-        or not leads(back, rules)
+        or not (
+            leads(back, rules)
+            or (stands_out(match, rules) and leads(replace(back, runner_up=-1.0), rules))
+        )
         or abs(match.score - back.score) > rules.max_score_gap
     ):
         return None
@@ -208,10 +225,28 @@ def leads(match: Match, rules: Rules = RULES) -> bool:
     )
 
 
+def stands_out(match: Match, rules: Rules = RULES) -> bool:
+    """Whether the match's context scores ``context_margin`` above every other place's
+    (never without a context)."""
+    return (
+        rules.context_radius > rules.radius
+        and match.context - match.context_runner_up >= rules.context_margin
+    )
+
+
 def offerable(match: Match, rules: Rules = RULES) -> bool:
     """Whether the match along the band may be offered, before its search back: it leads
-    (:func:`leads`), and the band is not too wide there (``max_across``)."""
-    return leads(match, rules) and match.across <= rules.max_across
+    (:func:`leads`), or it would with no runner-up and stands out in its context
+    (:func:`stands_out`); the band is not too wide there (``max_across``); and it keeps
+    ``min_context`` in its context (where one is scored)."""
+    return (
+        (
+            leads(match, rules)
+            or (stands_out(match, rules) and leads(replace(match, runner_up=-1.0), rules))
+        )
+        and match.across <= rules.max_across
+        and (rules.context_radius <= rules.radius or match.context >= rules.min_context)
+    )
 
 
 def search_back(search: LandmarkSearch, match: Match, *, rules: Rules = RULES) -> Match | None:
@@ -227,7 +262,9 @@ def search_back(search: LandmarkSearch, match: Match, *, rules: Rules = RULES) -
     )
     if back_band is None:
         return None
-    return search_band(search.photo_b, search.photo_a, match.point, back, back_band, rules=rules)
+    return search_band(
+        search.photo_b, search.photo_a, match.point, back, back_band, rules=rules, context=False
+    )
 
 
 def search_band(
@@ -238,9 +275,11 @@ def search_band(
     band: Band,
     *,
     rules: Rules = RULES,
+    context: bool = True,
 ) -> Match | None:
     """The best place along ``band`` for the patch at ``point`` (both halves of the line
-    when ``epipolar`` is not oriented: each searched as a half-line from ``e_B``)."""
+    when ``epipolar`` is not oriented: each searched as a half-line from ``e_B``), each
+    place scored in its context too (with ``context``, where ``rules`` have one)."""
     height_b, width_b = photo_b.shape[:2]
     exclusion = rules.tolerance * math.hypot(width_b, height_b)
     geometries = [epipolar] if epipolar.sign != 0 else [replace(epipolar, sign=s) for s in (1, -1)]
@@ -263,13 +302,35 @@ def search_band(
         low, high = max(0.0, float(ends.min())), float(ends.max())
         if high - low < 1.0:
             continue
-        match = best_match(frame, np.arange(low, high, 1.0), exclusion=exclusion, views=rules.views)
+        surroundings = None
+        if context and rules.context_radius > rules.radius:
+            surroundings = polar_frame(
+                photo_a,
+                photo_b,
+                point,
+                geometry,
+                band,
+                radius=rules.context_radius,
+                max_margin=rules.max_margin,
+            )
+        match = best_match(
+            frame,
+            np.arange(low, high, 1.0),
+            exclusion=exclusion,
+            views=rules.views,
+            context=surroundings,
+        )
         if match is not None:
             found.append(match)
     if not found:
         return None
     found.sort(key=lambda match: -match.score)
     best = replace(found[0], as_read_apart=found[0].as_read_apart / math.hypot(width_b, height_b))
-    if len(found) > 1:  # the other half-line's best competes as a runner-up
-        best = replace(best, runner_up=max(best.runner_up, found[1].score))
+    if len(found) > 1:  # the other half-line's places compete as runners-up
+        other = found[1]
+        best = replace(
+            best,
+            runner_up=max(best.runner_up, other.score),
+            context_runner_up=max(best.context_runner_up, other.context, other.context_runner_up),
+        )
     return best

@@ -33,6 +33,7 @@ ROWS = """
     | 0.7 |
     | 0.1 |
     | none (as read alone) |
+    | least score in context | lead 0.05 |
     | template matching in epipolar coordinates, colour (the rule above) |
     | SIFT in the band, 2+ keypoints agreeing |
     | 3.5 sd (the rule) |
