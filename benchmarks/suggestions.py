@@ -172,7 +172,7 @@ def report(
         "alone) and decided by the rule before (score 0.7, lead 0.05 over the runner-up, "
         "the search back landing within 1 % of the tap, however unsurely), and by the rule "
         "in the code but where the band is wider than `max_across` too (the rule before "
-        "that limit):",
+        "that limit) or without the context:",
         arena_tables.before_table(asked),
         "What a stricter rule would give on the same held-out arenas (shown, not chosen "
         "from: the rule was fixed before this run):",

@@ -125,6 +125,10 @@ def before_table(asked: Sequence[Asked]) -> str:
             "now, and where the band is wider than `max_across` too",
             *shown(compared, now, by_rule(replace(RULES, max_across=math.inf))).arena_cells(),
         ],
+        [
+            "now, without the context (the rule before it)",
+            *shown(compared, now, by_rule(replace(RULES, context_radius=0))).arena_cells(),
+        ],
         ["now (the rule in the code)", *shown(compared, now, IN_CODE).arena_cells()],
     ]
     return markdown_table(["search and rule", *HEADER], rows)

@@ -29,6 +29,7 @@ ROWS = """
     | tapped in photo 2 |
     | 3 | 8 px |
     | **all** |
+    | now, without the context (the rule before it) |
     | now (the rule in the code) |
     | 0.7 |
     | 0.1 |
