@@ -238,7 +238,8 @@ def offerable(match: Match, rules: Rules = RULES) -> bool:
     """Whether the match along the band may be offered, before its search back: it leads
     (:func:`leads`), or it would with no runner-up and stands out in its context
     (:func:`stands_out`); the band is not too wide there (``max_across``); and it keeps
-    ``min_context`` in its context (where one is scored)."""
+    ``min_context`` in its context, where the rules have one (so not within two context
+    radii of ``e_A``, where no context is read: a spot unchecked is not offered)."""
     return (
         (
             leads(match, rules)
