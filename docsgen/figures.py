@@ -100,8 +100,10 @@ def one_code(commits: list[str]) -> str:
         ]
     except subprocess.CalledProcessError:  # a commit this clone does not have
         return f"The reports are of commits {listed}; this clone cannot compare them."
-    if any(changed):
-        return f"The reports are of commits {listed}, whose app code differs."
+    folders = sorted({str(Path(name).parent) for diff in changed for name in diff.split()})
+    if folders:
+        places = ", ".join(f"`{folder}`" for folder in folders)
+        return f"The reports are of commits {listed}, whose app code differs (in {places})."
     return (
         f"The reports are of commits {listed}, with the same app code "
         f"({', '.join(f'`{path}`' for path in APP_CODE)}): one version of the app measured."
