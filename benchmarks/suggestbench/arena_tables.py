@@ -12,7 +12,7 @@ from report import markdown_table, verdict
 from shared_solver.matching.suggestion import RULES, Evidence, leads
 
 from .arenas import FOUND, SIGMAS, ArenaRun, Asked
-from .tables import FAR, IN_CODE, Offered, Rule, by_rule, share, shown
+from .tables import FAR, IN_CODE, Offered, Rule, by_rule, offers, share, shown
 from .trials import BEFORE, Searched, Timed
 
 # The issue's targets, on the evaluation arenas over every noise: of the spots offered, at
@@ -197,14 +197,7 @@ def far_sources(asked: Sequence[Asked], rule: Rule = IN_CODE) -> tuple[int, int]
     """(landmarks, arenas) behind the spots offered beyond :data:`.tables.FAR`: one
     landmark looked for in one photo is asked for at every tap noise and count of
     landmarks found, so one look-alike can be offered several times."""
-    far = [
-        a
-        for a in asked
-        if a.timed is not None
-        and a.timed.evidence is not None
-        and rule(a.timed.evidence)
-        and a.error(a.timed) > FAR
-    ]
+    far = [a for a, error in offers(asked, now, rule) if error > FAR]
     landmarks = {(a.scene, a.direction, *np.round(a.truth, 3).tolist()) for a in far}
     return len(landmarks), len({a.scene for a in far})
 

@@ -93,18 +93,27 @@ def shown(
     items: Sequence[Item], pick: Callable[[Item], Timed | None], rule: Rule = IN_CODE
 ) -> Offered:
     """The spots ``rule`` offers from each item's search (``pick``), judged."""
-    offered = right = far = 0
-    worst = 0.0
+    errors = [error for _, error in offers(items, pick, rule)]
+    return Offered(
+        len(items),
+        len(errors),
+        sum(error <= 0.01 for error in errors),
+        sum(error > FAR for error in errors),
+        max(errors, default=0.0),
+    )
+
+
+def offers(
+    items: Sequence[Item], pick: Callable[[Item], Timed | None], rule: Rule = IN_CODE
+) -> list[tuple[Item, float]]:
+    """Each item whose search (``pick``) ``rule`` offers a spot for, with that spot's
+    distance from the truth (fraction of the diagonal)."""
+    found = []
     for item in items:
         timed = pick(item)
-        if timed is None or timed.evidence is None or not rule(timed.evidence):
-            continue
-        error = item.error(timed)
-        offered += 1
-        right += error <= 0.01
-        far += error > FAR
-        worst = max(worst, error)
-    return Offered(len(items), offered, right, far, worst)
+        if timed is not None and timed.evidence is not None and rule(timed.evidence):
+            found.append((item, item.error(timed)))
+    return found
 
 
 def scenes_table(runs: Sequence[SceneRun]) -> str:

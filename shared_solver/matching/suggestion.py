@@ -194,10 +194,7 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
         or evidence.sigmas > FLAG_SIGMAS
         or back is None
         or evidence.returned > rules.tolerance
-        or not (
-            leads(back, rules)
-            or (stands_out(match, rules) and leads(replace(back, runner_up=-1.0), rules))
-        )
+        or not (leads(back, rules) or (stands_out(match, rules) and clears(back, rules)))
         or abs(match.score - back.score) > rules.max_score_gap
     ):
         return None
@@ -209,18 +206,19 @@ def decide(evidence: Evidence, rules: Rules = RULES) -> Suggestion | None:
 
 
 def leads(match: Match, rules: Rules = RULES) -> bool:
-    """Whether a match scores high enough and clearly above anything else on its band,
-    and, in a view other than as read, clearly above the patch as read anywhere and not
-    beside it."""
-    return (
-        match.score >= rules.min_score
-        and match.score - match.runner_up >= rules.min_margin
-        and (
-            match.view == "as read"
-            or (
-                match.score - match.as_read >= rules.min_view_lead
-                and match.as_read_apart > rules.view_apart
-            )
+    """Whether a match clears the bar (:func:`clears`) and scores clearly above anything
+    else on its band."""
+    return clears(match, rules) and match.score - match.runner_up >= rules.min_margin
+
+
+def clears(match: Match, rules: Rules = RULES) -> bool:
+    """Whether a match scores high enough and, in a view other than as read, clearly above
+    the patch as read anywhere and not beside it: :func:`leads` but for the runner-up."""
+    return match.score >= rules.min_score and (
+        match.view == "as read"
+        or (
+            match.score - match.as_read >= rules.min_view_lead
+            and match.as_read_apart > rules.view_apart
         )
     )
 
@@ -236,15 +234,12 @@ def stands_out(match: Match, rules: Rules = RULES) -> bool:
 
 def offerable(match: Match, rules: Rules = RULES) -> bool:
     """Whether the match along the band may be offered, before its search back: it leads
-    (:func:`leads`), or it would with no runner-up and stands out in its context
-    (:func:`stands_out`); the band is not too wide there (``max_across``); and it keeps
+    (:func:`leads`), or it clears the bar and stands out in its context (:func:`clears`,
+    :func:`stands_out`); the band is not too wide there (``max_across``); and it keeps
     ``min_context`` in its context, where the rules have one (so not within two context
     radii of ``e_A``, where no context is read: a spot unchecked is not offered)."""
     return (
-        (
-            leads(match, rules)
-            or (stands_out(match, rules) and leads(replace(match, runner_up=-1.0), rules))
-        )
+        (leads(match, rules) or (stands_out(match, rules) and clears(match, rules)))
         and match.across <= rules.max_across
         and (rules.context_radius <= rules.radius or match.context >= rules.min_context)
     )
