@@ -43,6 +43,7 @@ ROWS = """
     | EXIF focal: 5 + e1 | 8 px |
     | camera unknown: 5 + e1 | 1 px |
     | 0 + e1, EXIF focal | 1 deg |
+    | 2 + e1, EXIF focal | 1 deg |
     | 2 + e1, phone prior | none | - | nothing to answer |
     | 5 + e1, phone prior | none |
     | 1 + e1, EXIF focal | 1 deg | 10 deg |
