@@ -157,10 +157,7 @@ def friend2_marked(request: Request) -> CameraAnswer:
     agrees = consistent(fit, LEVEL) or not tested
     others, alike = _near(fit, fits)
     covariance = fit.covariance2
-    # Not with gravity: the bootstrap re-taps the landmarks only, so it cannot see the
-    # readings' share, and with and without it the regions of 1 and 2 landmarks held the
-    # truth as often (92.0 % and 92.3 % of 300, EXIF and phone prior); first order has it.
-    if fit.dof <= BOOTSTRAP_DOF and taps.gravity is None:
+    if fit.dof <= BOOTSTRAP_DOF:
         used = taps.without(suspects)
         covariance = calibrated(
             fit.epipole2, covariance, lambda: bootstrap.pinhole_samples(fit, used, priors)

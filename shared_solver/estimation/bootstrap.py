@@ -98,7 +98,13 @@ def pinhole_samples(fit: PinholeFit, taps: Taps, priors: tuple[FocalPrior, Focal
         None if mark is None or cov is None else next(remade_marks) for mark, cov in pairs
     )
     model = PinholeModel(
-        taps, priors, p=remade[:, :n], q=remade[:, n : 2 * n], epipole1=epipole1, epipole2=epipole2
+        taps,
+        priors,
+        p=remade[:, :n],
+        q=remade[:, n : 2 * n],
+        epipole1=epipole1,
+        epipole2=epipole2,
+        readings=None if taps.gravity is None else _reading_noise(),
     )
     # The Gauss-Newton step -(J^T J)^-1 J^T r for every row r, with the fit's (J^T J)^-1.
     gain = fit.jacobian @ fit.covariance
@@ -136,6 +142,16 @@ def _stacked_noise(landmarks: int, marks: int) -> Array:
     stacked = np.concatenate([p, q, *(friend[:, None] for friend in friends)], axis=1)
     stacked.setflags(write=False)
     return stacked
+
+
+@functools.lru_cache(maxsize=1)
+def _reading_noise() -> Array:
+    """(PINHOLE_SAMPLES, 3) standard normal draws re-making the phones' readings (gravity's
+    two residuals, the compass's), from a seed of their own: the taps' draws stay as they
+    were."""
+    draws = np.random.default_rng(_SEED + 1).normal(size=(PINHOLE_SAMPLES, 3))
+    draws.setflags(write=False)
+    return draws
 
 
 @functools.lru_cache(maxsize=32)

@@ -53,6 +53,9 @@ class PinholeModel:
         priors: the focal priors of photo 1 and photo 2 (centres = principal points).
         p, q: (K, N, 2) landmark positions per batch member (default: the taps', K = 1).
         epipole1, epipole2: (K, 2) the friends' marks per member (default: the taps').
+        readings: (K, 3) standard normal draws re-making the phones' readings per member
+            (the bootstrap): gravity's two whitened residuals, then the compass's; default
+            none, the readings as measured.
     """
 
     def __init__(
@@ -64,8 +67,10 @@ class PinholeModel:
         q: Array | None = None,
         epipole1: Array | None = None,
         epipole2: Array | None = None,
+        readings: Array | None = None,
     ) -> None:
         self.taps, self.priors = taps, priors
+        self.readings = readings
         self.p = taps.p[None] if p is None else p  # (K, N, 2)
         self.q = taps.q[None] if q is None else q
         self.centres = np.array([priors[0].centre, priors[1].centre])
@@ -154,11 +159,16 @@ class PinholeModel:
             position = friend1_positions(poses, self.centres[1])
             out[:, column : column + 2] = (position - self.friend1.position) @ self.friend1.whiten.T
             column += 2
+        # A reading made again with fresh noise moves its whitened residual by that noise.
         if self.gravity is not None:
             out[:, column : column + 2] = self.gravity.offsets(poses.rotation)
+            if self.readings is not None:
+                out[:, column : column + 2] -= self.readings[:, :2]
             column += 2
         if self.compass is not None:
             out[:, column] = self.compass.offsets(poses.rotation)
+            if self.readings is not None:
+                out[:, column] -= self.readings[:, 2]
             column += 1
         out[:, column:] = (poses.log_focals - self.prior_mean) / self.prior_sigma
         return out
