@@ -28,7 +28,7 @@ from backend.background import (
 )
 from backend.clock import Clock, utc_now
 from backend.frontend import serve_app
-from backend.middleware import BodySizeLimit, ServerTiming
+from backend.middleware import BodySizeLimit, EventStreamGzip, ServerTiming
 from backend.security import SecurityHeaders, inline_script_policy, quiet_chatty_loggers
 from backend.settings import Settings, get_settings
 from backend.storage.database import make_engine
@@ -89,11 +89,13 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
     )
     app.state.settings = settings
     errors.install(app, settings.max_body_bytes)
-    # Gzipped when asked (Starlette's defaults: not the event stream, whose first bytes it
-    # would hold back, nor photos). Behind nginx, nginx compresses and asks the replicas for
-    # plain answers (deploy/nginx.conf): with gzip in the replicas, their CPU per search
-    # under load rose from 347 to 428 ms (make bench-load).
+    # Gzipped when asked (Starlette's defaults: not photos, nor the event stream, whose
+    # first bytes it would hold back: that one event by event). Behind nginx, nginx
+    # compresses answers and asks the replicas for plain ones (deploy/nginx.conf): with gzip
+    # in the replicas, their CPU per search under load rose from 347 to 428 ms (make
+    # bench-load); event streams it passes through as the replicas send them.
     app.add_middleware(GZipMiddleware, compresslevel=6)
+    app.add_middleware(EventStreamGzip)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
     app.add_middleware(ServerTiming)
     _secure_every_response(app)

@@ -1,16 +1,23 @@
-"""Request-level middleware: refuse bodies over the size limit, report server time (and the
-base of every HTTP middleware of the app, ``security.SecurityHeaders`` too)."""
+"""Request-level middleware: refuse bodies over the size limit, report server time, gzip the
+event stream (and the base of every HTTP middleware of the app, ``security.SecurityHeaders``
+too)."""
 
 from __future__ import annotations
 
 import time
+import zlib
 from abc import ABC, abstractmethod
+from typing import Any
 
+from starlette.datastructures import MutableHeaders
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from backend import timing
 from backend.api.errors import error_response
 from backend.errors import ErrorCode
+
+# A gzip stream (16 +) with an 8 kB window (2 ** 13).
+GZIP_WINDOW = 16 + 13
 
 
 class HttpMiddleware(ABC):
@@ -96,3 +103,46 @@ class ServerTiming(HttpMiddleware):
                 await send(message)
 
             await self.app(scope, receive, timed)
+
+
+class EventStreamGzip(HttpMiddleware):
+    """ASGI middleware: an event stream (``text/event-stream``) gzipped for a phone that
+    accepts gzip, each of the app's writes flushed as it comes (``Z_SYNC_FLUSH``), so an
+    event is readable on arrival as before, and its first bytes (``retry``) leave at once.
+
+    Starlette's ``GZipMiddleware`` leaves event streams alone: it would hold an event back
+    until its buffer fills. One compressor for the whole stream finds each event's keys and
+    most of its numbers in the events before: on a venue's link an answer event of 3.6 kB
+    goes as 0.5 kB (make bench-network). Its window is 8 kB (an answer event fits with
+    room), not zlib's 32 kB: a compressor's memory, ~64 kB instead of ~256 kB, lives as
+    long as its stream."""
+
+    def __init__(self, app: ASGIApp, level: int = 6) -> None:
+        super().__init__(app)
+        self.level = level
+
+    async def http(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if b"gzip" not in dict(scope["headers"]).get(b"accept-encoding", b""):
+            await self.app(scope, receive, send)
+            return
+        compressor: Any = None  # zlib's compressor type is not public
+
+        async def compressed(message: Message) -> None:
+            nonlocal compressor
+            if message["type"] == "http.response.start":
+                headers = MutableHeaders(raw=list(message.get("headers", [])))
+                stream = headers.get("content-type", "").startswith("text/event-stream")
+                if stream and "content-encoding" not in headers:
+                    compressor = zlib.compressobj(self.level, zlib.DEFLATED, GZIP_WINDOW, 6)
+                    headers["content-encoding"] = "gzip"
+                    headers.add_vary_header("Accept-Encoding")
+                    del headers["content-length"]
+                    message = {**message, "headers": headers.raw}
+            elif message["type"] == "http.response.body" and compressor is not None:
+                more = message.get("more_body", False)
+                body = compressor.compress(message.get("body", b""))
+                body += compressor.flush(zlib.Z_SYNC_FLUSH if more else zlib.Z_FINISH)
+                message = {**message, "body": body}
+            await send(message)
+
+        await self.app(scope, receive, compressed)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -60,10 +61,10 @@ def test_two_phones_find_each_other(server: str) -> None:
     end(starter, starter_events, joiner_events, seconds=15)
 
 
-def test_answers_come_gzipped_and_the_event_stream_as_it_is(server: str) -> None:
-    """A phone asks for gzip: JSON comes compressed; a photo (JPEG) and the event stream go
-    as they are, the stream's first bytes at once (gzip would hold them back until its
-    first event) and each event when sent."""
+def test_answers_and_events_come_gzipped_each_event_readable_when_sent(server: str) -> None:
+    """A phone asks for gzip: JSON comes compressed, a photo (JPEG) as it is; the event
+    stream compressed too, but each write flushed: its first bytes at once and each event
+    readable from the bytes that came, before anything follows."""
     http = live(server)
     gzip = {"Accept-Encoding": "gzip"}
     starter = start(http)[0]
@@ -77,15 +78,28 @@ def test_answers_come_gzipped_and_the_event_stream_as_it_is(server: str) -> None
 
     url = str(http.base_url).rstrip("/") + starter.url("/events")
     with httpx2.stream("GET", url, params={"token": starter.token}, headers=gzip) as stream:
-        assert "content-encoding" not in stream.headers
-        text = ""
+        assert stream.headers["content-encoding"] == "gzip"
+        assert "Accept-Encoding" in stream.headers["vary"]
+        # The raw bytes, inflated here as they come: one gzip stream, never ended by itself.
+        gunzip = zlib.decompressobj(16 + zlib.MAX_WBITS)
         chunks = stream.iter_raw()
-        # The stream never ends by itself: each event is readable before anything follows.
+        text = ""
         while "event: joined" not in text:
-            text += next(chunks).decode()
+            text += gunzip.decompress(next(chunks)).decode()
+        assert text.startswith("retry: ")
         starter.tapped(landmarks=landmarks(np.array([[10.0, 20.0]])))
+        sent = len(text)
+        raw = 0
         while "event: taps" not in text:
-            text += next(chunks).decode()
+            chunk = next(chunks)
+            raw += len(chunk)
+            text += gunzip.decompress(chunk).decode()
+        assert raw < len(text) - sent  # compressed
+
+    identity = {"Accept-Encoding": "identity"}
+    with httpx2.stream("GET", url, params={"token": starter.token}, headers=identity) as plain:
+        assert "content-encoding" not in plain.headers
+        assert next(plain.iter_raw()).startswith(b"retry: ")
 
 
 def test_the_server_stops_promptly_with_a_phone_listening(
