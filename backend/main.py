@@ -89,11 +89,12 @@ def create_app(settings: Settings | None = None, clock: Clock = utc_now) -> Fast
     )
     app.state.settings = settings
     errors.install(app, settings.max_body_bytes)
-    # Gzipped when asked (Starlette's defaults: not photos, nor the event stream, whose
-    # first bytes it would hold back: that one event by event). Behind nginx, nginx
-    # compresses answers and asks the replicas for plain ones (deploy/nginx.conf): with gzip
-    # in the replicas, their CPU per search under load rose from 347 to 428 ms (make
-    # bench-load); event streams it passes through as the replicas send them.
+    # Gzipped when asked: answers by Starlette's middleware (not photos, nor the event
+    # stream, whose events it would hold back), the event stream event by event by ours.
+    # Behind nginx, nginx compresses answers and asks the replicas for plain ones
+    # (deploy/nginx.conf): with gzip in the replicas, their CPU per search under load rose
+    # from 347 to 428 ms (make bench-load); event streams it passes on as the replicas
+    # gzipped them.
     app.add_middleware(GZipMiddleware, compresslevel=6)
     app.add_middleware(EventStreamGzip)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
